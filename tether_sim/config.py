@@ -1,0 +1,52 @@
+"""The whole run configuration: one frozen dataclass tree built from a parameter file.
+
+Sections (YAML keys under ``tether_sim: ros__parameters:``): ``solver``, ``duration``, ``cable``,
+``environment``, ``ship_end``, ``vehicle_end``, ``body``, ``dg``, ``hybrid``, ``initial``,
+``motion``, ``snap``, ``node``. ``io.schema`` derives the flat key list from these classes.
+"""
+
+from dataclasses import dataclass, field
+
+from tether_sim.physics.bodies import RigidBodyProperties
+from tether_sim.physics.boundary import EndCondition
+from tether_sim.physics.cable import CableProperties
+from tether_sim.physics.environment import Environment
+from tether_sim.physics.motion import MotionConfig
+from tether_sim.physics.snap import SnapConfig
+from tether_sim.solvers.config import DGOptions, HybridOptions, InitialState
+from tether_sim.spec import param
+
+
+@dataclass(frozen=True)
+class NodeOptions:
+    """ROS node and offline-runner output options (topics are remappable too)."""
+
+    output_rate: float = param(50.0, unit="Hz", doc="rate of the stepping timer and of the outputs", min=0.1, max=1000.0)
+    output_points: int = param(41, doc="number of equally spaced output points along the cable", min=2, max=10000)
+    world_frame: str = param("map", doc="world frame id (ENU)")
+    ship_frame: str = param("ship/base_link", doc="ship body frame id (FLU)")
+    vehicle_frame: str = param("rov/base_link", doc="vehicle body frame id (FLU)")
+    ship_attachment: tuple = param((0.0, 0.0, 0.0), unit="m", doc="fairlead position in the ship body frame")
+    vehicle_attachment: tuple = param((0.0, 0.0, 0.0), unit="m", doc="tether attachment in the vehicle body frame")
+    max_end_speed: float = param(20.0, unit="m/s", doc="a pose implying a faster end motion is rejected as a jump", min=0.0, max=1e4)
+    input_timeout: float = param(1.0, unit="s", doc="an input silent this long is reported stale", min=0.0, max=1e4)
+    max_substeps_per_tick: int = param(200000, doc="cap on substeps in one tick; beyond it the node falls behind (reported)", min=1, max=100000000)
+
+
+@dataclass(frozen=True)
+class SimConfig:
+    """Everything a run needs; the solvers receive this, never YAML or a Node."""
+
+    solver: str = param("dg", doc="which solver: dg (Palm & Eskilsson) or hybrid (Goyal & Perkins)", choices=("dg", "hybrid"))
+    duration: float = param(60.0, unit="s", doc="simulated duration of an offline run", min=0.0, max=1e7)
+    cable: CableProperties = field(default_factory=CableProperties)
+    environment: Environment = field(default_factory=Environment)
+    ship_end: EndCondition = field(default_factory=EndCondition)
+    vehicle_end: EndCondition = field(default_factory=lambda: EndCondition(kind="body", position=(0.0, 0.0, -200.0)))
+    body: RigidBodyProperties = field(default_factory=RigidBodyProperties)
+    dg: DGOptions = field(default_factory=DGOptions)
+    hybrid: HybridOptions = field(default_factory=HybridOptions)
+    initial: InitialState = field(default_factory=InitialState)
+    motion: MotionConfig = field(default_factory=MotionConfig)
+    snap: SnapConfig = field(default_factory=SnapConfig)
+    node: NodeOptions = field(default_factory=NodeOptions)

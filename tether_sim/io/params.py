@@ -1,0 +1,158 @@
+"""Parameter files -> validated, typed :class:`tether_sim.config.SimConfig` (no rclpy).
+
+Files use the ROS 2 layout (``<node or /**>: ros__parameters: {...}``, nested sections allowed) so
+``--ros-args --params-file`` takes them unchanged. Unknown keys, wrong types and out-of-range
+values raise :class:`ConfigError` naming the key and the file.
+"""
+
+import difflib
+import math
+from dataclasses import fields, is_dataclass, replace
+from pathlib import Path
+
+import yaml
+
+from tether_sim.config import SimConfig
+from tether_sim.errors import ConfigError
+from tether_sim.io.schema import key_map
+
+NODE_SECTION_NAMES = ("tether_sim", "/tether_sim", "/**")
+
+
+def flatten(tree: dict, prefix: str = "") -> dict:
+    """Nested dict -> {"a.b.c": value}."""
+    flat = {}
+    for k, v in tree.items():
+        name = f"{prefix}{k}"
+        if isinstance(v, dict):
+            flat.update(flatten(v, name + "."))
+        else:
+            flat[name] = v
+    return flat
+
+
+def _parameters_of(document, where: str) -> dict:
+    if not isinstance(document, dict):
+        raise ConfigError(f"{where}: expected a mapping at the top level")
+    merged = {}
+    found = False
+    for node_name, body in document.items():
+        if node_name not in NODE_SECTION_NAMES and not str(node_name).endswith("tether_sim"):
+            continue
+        if not isinstance(body, dict) or "ros__parameters" not in body:
+            raise ConfigError(f"{where}: section {node_name!r} has no 'ros__parameters' mapping")
+        params = body["ros__parameters"] or {}
+        if not isinstance(params, dict):
+            raise ConfigError(f"{where}: {node_name}.ros__parameters must be a mapping")
+        merged.update(flatten(params))
+        found = True
+    if not found:
+        raise ConfigError(f"{where}: no 'tether_sim' (or '/**') section with ros__parameters")
+    return merged
+
+
+def read_param_file(path) -> dict:
+    """Flat {key: value} of the tether_sim section(s) of a ROS 2 parameter YAML file."""
+    path = Path(path)
+    try:
+        document = yaml.safe_load(path.read_text())
+    except OSError as exc:
+        raise ConfigError(f"{path}: cannot read parameter file ({exc})") from exc
+    except yaml.YAMLError as exc:
+        raise ConfigError(f"{path}: malformed YAML ({exc})") from exc
+    return _parameters_of(document, str(path))
+
+
+def _check_value(key, value, where):
+    name = f"{where}: {key.name}"
+    if key.kind == "float":
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ConfigError(f"{name}: expected a number, got {value!r}")
+        value = float(value)
+        if not math.isfinite(value):
+            raise ConfigError(f"{name}: must be finite, got {value!r}")
+    elif key.kind == "int":
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise ConfigError(f"{name}: expected an integer, got {value!r}")
+    elif key.kind == "bool":
+        if not isinstance(value, bool):
+            raise ConfigError(f"{name}: expected true or false, got {value!r}")
+    elif key.kind == "str":
+        if not isinstance(value, str):
+            raise ConfigError(f"{name}: expected a string, got {value!r}")
+    elif key.kind in ("float_array", "str_array"):
+        if not isinstance(value, (list, tuple)):
+            raise ConfigError(f"{name}: expected a list, got {value!r}")
+        items = []
+        for x in value:
+            if isinstance(x, str) and key.kind == "str_array":
+                items.append(x)
+            elif not isinstance(x, bool) and isinstance(x, (int, float)) and key.kind == "float_array":
+                if not math.isfinite(float(x)):
+                    raise ConfigError(f"{name}: array entries must be finite, got {x!r}")
+                items.append(float(x))
+            else:
+                raise ConfigError(f"{name}: bad array entry {x!r}")
+        value = tuple(items)
+        if key.default and len(key.default) in (2, 3, 4) and len(value) != len(key.default):
+            raise ConfigError(f"{name}: expected {len(key.default)} values, got {len(value)}")
+    if key.min is not None and key.kind in ("float", "int") and value < key.min:
+        raise ConfigError(f"{name}: {value} is below the minimum {key.min} {key.unit}".rstrip())
+    if key.max is not None and key.kind in ("float", "int") and value > key.max:
+        raise ConfigError(f"{name}: {value} is above the maximum {key.max} {key.unit}".rstrip())
+    if key.choices and value not in key.choices:
+        raise ConfigError(f"{name}: {value!r} is not one of {', '.join(key.choices)}")
+    return value
+
+
+def from_flat(flat: dict, where: str = "parameters", base: SimConfig | None = None) -> SimConfig:
+    """Validate a flat {dotted key: value} mapping and apply it over ``base`` (default values)."""
+    keys = key_map()
+    checked = {}
+    for name, value in flat.items():
+        if name in ("use_sim_time",):
+            continue  # standard ROS parameter, handled by the node
+        if name not in keys:
+            close = difflib.get_close_matches(name, keys, n=1, cutoff=0.7)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise ConfigError(f"{where}: unknown parameter {name!r}{hint}")
+        checked[name] = _check_value(keys[name], value, where)
+    return _apply(base or SimConfig(), checked)
+
+
+def _apply(obj, checked: dict, prefix: str = ""):
+    changes = {}
+    for f in fields(obj):
+        value = getattr(obj, f.name)
+        name = prefix + f.name
+        if is_dataclass(value):
+            sub = {k: v for k, v in checked.items() if k.startswith(name + ".")}
+            if sub:
+                changes[f.name] = _apply(value, sub, name + ".")
+        elif name in checked:
+            changes[f.name] = checked[name]
+    return replace(obj, **changes) if changes else obj
+
+
+def load_config(path, overrides: dict | None = None) -> SimConfig:
+    """Read a parameter file (plus optional flat overrides) into a validated SimConfig."""
+    flat = read_param_file(path)
+    if overrides:
+        flat.update(overrides)
+    return from_flat(flat, where=str(path))
+
+
+def to_flat(config: SimConfig) -> dict:
+    """SimConfig -> flat {dotted key: value} (the inverse of :func:`from_flat`)."""
+    out = {}
+
+    def walk(obj, prefix):
+        for f in fields(obj):
+            value = getattr(obj, f.name)
+            if is_dataclass(value):
+                walk(value, prefix + f.name + ".")
+            else:
+                out[prefix + f.name] = value
+
+    walk(config, "")
+    return out

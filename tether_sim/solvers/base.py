@@ -1,0 +1,102 @@
+"""The one solver interface that both solvers implement (DG/LDG and hybrid rod-catenary).
+
+The ROS node, the offline runner, the scenarios and the benchmarks use only this interface.
+Ends are named ``"ship"`` (s = 0) and ``"vehicle"`` (s = L). World frame ENU (z up), SI units.
+
+Contract
+--------
+- ``set_end_motion(end, position, velocity)`` gives the state a ``prescribed`` end must have at the
+  target time of the next ``advance_to``; the solver moves the end from its current state to that
+  one by cubic Hermite interpolation over the interval (position and velocity stay consistent).
+- ``set_end_load(end, force, moment)`` sets the point load of a ``force`` end (held constant).
+- ``advance_to(t)`` takes stable substeps (all inside compiled code) until ``time == t`` and returns
+  the number of substeps. It raises ``SolverDivergedError`` when the state becomes non-finite.
+- ``drain_end_tensions()`` returns the end tensions at every substep since the last call, so that
+  snap detection sees every peak even when the node samples at 50 Hz.
+- ``snapshot()`` / ``restore(snap)`` copy the full state (for recovery after divergence).
+"""
+
+from dataclasses import dataclass, field
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+
+@dataclass
+class SolverState:
+    """Cable state sampled at output points (n points)."""
+
+    time: float
+    arc_length: np.ndarray  # (n,) unstretched s, m
+    position: np.ndarray  # (n, 3) m, world ENU
+    velocity: np.ndarray  # (n, 3) m/s
+    tension: np.ndarray  # (n,) axial tension T, N
+    strain: np.ndarray  # (n,) axial strain eps
+    curvature: np.ndarray  # (n,) |kappa|, 1/m (0 where the model has none)
+    bending_moment: np.ndarray  # (n,) |M|, N m (0 where the model has none)
+    time_step: float = 0.0  # the substep in use, s
+    extra: dict = field(default_factory=dict)  # solver-specific fields (e.g. hybrid zone flags)
+
+
+@dataclass
+class EndForces:
+    """Force (and moment) exerted BY the cable ON each end attachment, world frame."""
+
+    ship_force: np.ndarray  # (3,) N
+    vehicle_force: np.ndarray  # (3,) N
+    ship_moment: np.ndarray = field(default_factory=lambda: np.zeros(3))  # N m
+    vehicle_moment: np.ndarray = field(default_factory=lambda: np.zeros(3))  # N m
+    ship_tension: float = 0.0  # axial tension at s = 0, N
+    vehicle_tension: float = 0.0  # axial tension at s = L, N
+
+
+@dataclass
+class BodyState:
+    """State of a simulated rigid body at an end (world ENU; quaternion x, y, z, w)."""
+
+    position: np.ndarray  # (3,) centre of gravity, m
+    orientation: np.ndarray  # (4,) quaternion x, y, z, w (body FLU -> world)
+    velocity: np.ndarray  # (3,) m/s
+    angular_velocity: np.ndarray  # (3,) rad/s, world frame
+    acceleration: np.ndarray  # (3,) m/s^2
+
+
+@runtime_checkable
+class TetherSolver(Protocol):
+    """What every tether solver provides."""
+
+    name: str  # "dg" or "hybrid"
+    time: float  # current simulated time, s
+
+    def set_end_motion(self, end: str, position, velocity) -> None: ...
+
+    def set_end_load(self, end: str, force, moment=(0.0, 0.0, 0.0)) -> None: ...
+
+    def stable_time_step(self) -> float: ...
+
+    def step(self, dt: float) -> None: ...
+
+    def advance_to(self, t: float) -> int: ...
+
+    def state(self, arc_lengths=None) -> SolverState: ...
+
+    def end_forces(self) -> EndForces: ...
+
+    def body_state(self, end: str) -> BodyState | None: ...
+
+    def drain_end_tensions(self) -> tuple: ...  # (t (k,), T_ship (k,), T_vehicle (k,))
+
+    def snapshot(self) -> object: ...
+
+    def restore(self, snap: object) -> None: ...
+
+
+END_INDEX = {"ship": 0, "vehicle": 1}
+
+
+def end_index(end: str) -> int:
+    """0 for the ship end (s = 0), 1 for the vehicle end (s = L); ValueError otherwise."""
+    try:
+        return END_INDEX[end]
+    except KeyError:
+        raise ValueError(f"unknown end {end!r}; expected 'ship' or 'vehicle'") from None
