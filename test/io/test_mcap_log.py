@@ -19,7 +19,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from tether_sim.io.mcap_log import (McapLogError, MessageDefinitionError, RosMcapWriter, iter_raw,
                                     read_messages, read_summary)
 from tether_sim.io.mcap_scan import TruncatedMcapWarning
-from tether_sim.io.msg_definitions import SEPARATOR, MessageDefinitions, split_schema
+from tether_sim.io.msg_definitions import SEPARATOR, MessageDefinitions, export_rosbags_definitions
 
 REPO = Path(__file__).resolve().parents[2]
 SAMPLE_MSG = "# One sample along the cable.\nfloat64 s  # arclength [m]\nfloat32 tension  # [N]\nint64[] ids\n"
@@ -43,14 +43,7 @@ STANDARD_TYPES = ["geometry_msgs/msg/PoseStamped", "geometry_msgs/msg/WrenchStam
 def prefix(tmp_path_factory):
     """An ament-style prefix holding the .msg files of the types used here."""
     root = tmp_path_factory.mktemp("prefix")
-    jazzy = get_typestore(Stores.ROS2_JAZZY)
-    for type_name in STANDARD_TYPES:
-        text, _ = jazzy.generate_msgdef(type_name, ros_version=2)
-        for name, part in split_schema(type_name, text).items():
-            pkg, _, typ = name.split("/")
-            path = root / "share" / pkg / "msg" / f"{typ}.msg"
-            path.parent.mkdir(parents=True, exist_ok=True)
-            path.write_text(part.rstrip("\n") + "\n")
+    export_rosbags_definitions(root, STANDARD_TYPES)
     custom = root / "share" / "tether_test_msgs" / "msg"
     custom.mkdir(parents=True)
     (custom / "Sample.msg").write_text(SAMPLE_MSG)

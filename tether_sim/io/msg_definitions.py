@@ -201,3 +201,23 @@ def rihs01_from_schema(type_name: str, text: str) -> str:
         return typestore.hash_rihs01(type_name)
     except Exception:  # noqa: BLE001 - rosbags parse errors have no common base; the hash is optional
         return ""
+
+
+def export_rosbags_definitions(prefix, type_names, store: str = "ros2_jazzy") -> list[Path]:
+    """Write <prefix>/share/<pkg>/msg/<Type>.msg for the types (and dependencies) rosbags knows.
+
+    For machines without the ROS wheels: rosbags' built-in definitions are comment-free but
+    field-for-field those of the distribution, so schemas and RIHS01 hashes come out the same."""
+    from rosbags.typesys import Stores, get_typestore
+
+    typestore = get_typestore(Stores(store))
+    written = []
+    for type_name in type_names:
+        text, _ = typestore.generate_msgdef(type_name, ros_version=2)
+        for name, part in split_schema(type_name, text).items():
+            pkg, namespace, typ = split_type_name(name)
+            path = Path(prefix) / "share" / pkg / namespace / f"{typ}.msg"
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(part.rstrip("\n") + "\n", encoding="utf-8")
+            written.append(path)
+    return written
