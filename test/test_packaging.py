@@ -28,6 +28,7 @@ ROSDEP_KEY = {
     "numba": "python3-numba",
     "mcap": "python3-mcap-pip",
     "mcap-ros2-support": "python3-mcap-ros2-support-pip",
+    "rosbags": "python3-rosbags-pip",
 }
 # import name -> distribution, where they differ
 DISTRIBUTION_OF_IMPORT = {"yaml": "PyYAML", "mcap_ros2": "mcap-ros2-support"}
