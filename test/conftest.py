@@ -4,14 +4,17 @@ ROS isolation (applied when this file is imported, before any test imports rclpy
 process, including each pytest-xdist worker, does it for itself):
 
 - ``ROS_DOMAIN_ID``: a domain id of this process's own, claimed with an exclusive lock file
-  (``<tmp>/tether_sim_ros_domain_<id>.lock``, held until the process exits), so concurrent test
-  runs on one machine, and the workers of one run, never share a domain.
+  (``<tmp>/tether_sim_ros_domain_<id>.lock``, held until the process exits; the kernel drops
+  the lock even when the process is killed), so concurrent test runs on one machine, and the
+  workers of one run, never share a domain.
 - ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``: discovery never leaves the machine (Jazzy).
 - ``FASTRTPS_DEFAULT_PROFILES_FILE``: tools/fastdds_localhost.xml (UDP on 127.0.0.1 + shared
   memory, unicast discovery to 127.0.0.1), so no socket is opened on an external interface.
   Set ``TETHER_SIM_TEST_FASTDDS_PROFILE=none`` to run with Fast DDS defaults instead.
 
-Child processes started by tests inherit all of it through ``os.environ``.
+Child processes started by tests inherit all of it through ``os.environ``; the fixture
+``isolated_ros_env`` gives a copy of the environment with another reserved domain id, for a
+group of processes that must not see this process's nodes.
 
 Tests under ``test/ros/`` are marked ``ros``. Without rclpy (e.g. a plain dev venv) they are
 skipped, unless ``TETHER_SIM_REQUIRE_ROS=1`` (set by ``make test``) turns that into a failure.
@@ -31,14 +34,11 @@ FASTDDS_PROFILE = REPO_ROOT / "tools" / "fastdds_localhost.xml"
 # Fast DDS unicast ports are 7400 + 250 * domain + ..., which stays below 32768 for domain <= 101
 DOMAIN_IDS = range(1, 102)
 
-_domain_lock = None  # the open lock file that reserves this process's domain id
+_domain_locks = {}  # domain id -> open lock file: the domain ids this process holds
 
 
 def claim_ros_domain_id() -> int:
-    """Reserve a ROS domain id no other process on this machine holds; keep it for this process."""
-    global _domain_lock
-    if _domain_lock is not None:
-        return int(os.environ["ROS_DOMAIN_ID"])
+    """Reserve a new ROS domain id that no other process on this machine holds, until exit."""
     ids = list(DOMAIN_IDS)
     start = random.SystemRandom().randrange(len(ids))
     for domain in ids[start:] + ids[:start]:
@@ -51,9 +51,16 @@ def claim_ros_domain_id() -> int:
             if exc.errno in (errno.EWOULDBLOCK, errno.EACCES):
                 continue
             raise
-        _domain_lock = handle
+        _domain_locks[domain] = handle
         return domain
-    raise RuntimeError("no free ROS domain id: more than 101 test processes are running")
+    raise RuntimeError("no free ROS domain id: more than 101 are held by running test processes")
+
+
+def release_ros_domain_id(domain: int) -> None:
+    """Give back a domain id reserved with :func:`claim_ros_domain_id` (closing drops the lock)."""
+    handle = _domain_locks.pop(domain, None)
+    if handle is not None:
+        handle.close()
 
 
 def _isolate_ros() -> None:
@@ -96,6 +103,16 @@ def pytest_collection_modifyitems(config, items):
 def ros_domain_id() -> int:
     """The ROS domain id reserved for this test process."""
     return int(os.environ["ROS_DOMAIN_ID"])
+
+
+@pytest.fixture
+def isolated_ros_env():
+    """Environment for a group of child processes in a domain of their own (reserved for the test)."""
+    domain = claim_ros_domain_id()
+    env = dict(os.environ)
+    env["ROS_DOMAIN_ID"] = str(domain)
+    yield env
+    release_ros_domain_id(domain)
 
 
 @pytest.fixture

@@ -70,3 +70,19 @@ def test_data_files_are_linked_and_stale_links_removed(tmp_path):
     assert len(made) == 2
     assert not (prefix / "share" / "demo" / "config" / "b.yaml").is_symlink()
     assert a.is_symlink()
+
+
+def test_each_process_holds_its_own_ros_domain(ros_domain_id, isolated_ros_env):
+    """The conftest reserved this process's domain with a lock no second claimant can take."""
+    import fcntl
+    import os
+    import tempfile
+
+    assert os.environ["ROS_DOMAIN_ID"] == str(ros_domain_id)
+    assert os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] == "LOCALHOST"
+    other = int(isolated_ros_env["ROS_DOMAIN_ID"])
+    assert other != ros_domain_id and 1 <= other <= 101
+    for domain in (ros_domain_id, other):
+        with open(Path(tempfile.gettempdir()) / f"tether_sim_ros_domain_{domain}.lock", "a+") as handle:
+            with pytest.raises(BlockingIOError):  # held by this process's earlier open file
+                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
