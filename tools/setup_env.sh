@@ -102,7 +102,8 @@ if ! venv_works || ! stamp_ok deps "$DEPS_HASH"; then
     BASE_PY="$(find_base_python)" || die "Python 3.11 is required (the ROS 2 Jazzy wheels are cp311); set PYTHON=/path/to/python3.11"
     if ! venv_works; then
         say "creating virtual environment $VENV with $BASE_PY"
-        rm -rf "$STAMPS"
+        # start from an empty folder (a broken or foreign venv goes), keeping the lock we hold
+        find "$VENV" -mindepth 1 -maxdepth 1 ! -name .setup.lock -exec rm -rf {} +
         "$BASE_PY" -m venv "$VENV"
     fi
     rm -f "$STAMPS/deps" "$STAMPS/msgs" "$STAMPS/pkg"
