@@ -7,7 +7,7 @@ differences (exact structure, ~1e-8 relative entries) and factorised with a spar
 
 Group kinds (rows): CAT_CELL (6), ROD_CELL (12), JOINT_CR / JOINT_RC (9), UNIT (1), CAT_VEL (3),
 CAT_FORCE (3), CAT_FREE (3), ROD_END (6). Group parameters gpar (G, 9) hold boundary vectors.
-Node arrays: Y, Yn, Ytn (K, 12); Ln (K, 3, 3) rod frames at t_n; zn (K,) heights at t_n; s (K,).
+Node arrays: Y, Yn, Ytn (K, 12); Ln (K, 3, 3) rod frames at t_n; rn (K, 3) positions at t_n; s (K,).
 """
 
 import numpy as np
@@ -23,12 +23,12 @@ GROUP_ROWS = np.array([6, 12, 9, 9, 1, 3, 3, 3, 6], dtype=np.int64)
 
 
 @jit
-def group_residual(kind, a, b, gp, Y, Yn, Ytn, Ln, zn, s, P, cz, cx, cy, out):
+def group_residual(kind, a, b, gp, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, out):
     """Residual of one equation group into out[:rows]."""
     if kind == CAT_CELL:
-        catenary_cell_residual(Y[a], Yn[a], Ytn[a], zn[a], Y[b], Yn[b], Ytn[b], zn[b], s[b] - s[a], P, cz, cx, cy, out)
+        catenary_cell_residual(Y[a], Yn[a], Ytn[a], rn[a], Y[b], Yn[b], Ytn[b], rn[b], s[b] - s[a], P, cz, cx, cy, out)
     elif kind == ROD_CELL:
-        rod_cell_residual(Y[a], Yn[a], Ytn[a], Ln[a], zn[a], Y[b], Yn[b], Ytn[b], Ln[b], zn[b], s[b] - s[a],
+        rod_cell_residual(Y[a], Yn[a], Ytn[a], Ln[a], rn[a], Y[b], Yn[b], Ytn[b], Ln[b], rn[b], s[b] - s[a],
                           P, cz, cx, cy, out)
     elif kind == JOINT_CR:
         joint_residual(Y[a], Y[b], Yn[b], Ln[b], P, out)
@@ -47,18 +47,18 @@ def group_residual(kind, a, b, gp, Y, Yn, Ytn, Ln, zn, s, P, cz, cx, cy, out):
 
 
 @jit
-def assemble_residual(gkind, ga, gb, grow, gpar, Y, Yn, Ytn, Ln, zn, s, P, cz, cx, cy, R):
+def assemble_residual(gkind, ga, gb, grow, gpar, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, R):
     """R (n_rows,) = all group residuals."""
     out = np.empty(12)
     for g in range(gkind.shape[0]):
         k = gkind[g]
-        group_residual(k, ga[g], gb[g], gpar[g], Y, Yn, Ytn, Ln, zn, s, P, cz, cx, cy, out)
+        group_residual(k, ga[g], gb[g], gpar[g], Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, out)
         for r in range(GROUP_ROWS[k]):
             R[grow[g] + r] = out[r]
 
 
 @jit
-def assemble_jacobian(gkind, ga, gb, grow, gpar, noff, nslot, Y, Yn, Ytn, Ln, zn, s, P, cz, cx, cy,
+def assemble_jacobian(gkind, ga, gb, grow, gpar, noff, nslot, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy,
                       rows, cols, vals):
     """Forward-difference Jacobian in COO form (group by group); returns the number of entries."""
     base = np.empty(12)
@@ -69,7 +69,7 @@ def assemble_jacobian(gkind, ga, gb, grow, gpar, noff, nslot, Y, Yn, Ytn, Ln, zn
         nr = GROUP_ROWS[k]
         a = ga[g]
         b = gb[g]
-        group_residual(k, a, b, gpar[g], Y, Yn, Ytn, Ln, zn, s, P, cz, cx, cy, base)
+        group_residual(k, a, b, gpar[g], Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, base)
         for which in range(2):
             node = a if which == 0 else b
             if node < 0 or (which == 1 and b == a):
@@ -79,7 +79,7 @@ def assemble_jacobian(gkind, ga, gb, grow, gpar, noff, nslot, Y, Yn, Ytn, Ln, zn
                 yp = y0 + 1e-7 * (1.0 + abs(y0))
                 h = yp - y0
                 Y[node, slot] = yp
-                group_residual(k, a, b, gpar[g], Y, Yn, Ytn, Ln, zn, s, P, cz, cx, cy, pert)
+                group_residual(k, a, b, gpar[g], Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, pert)
                 Y[node, slot] = y0
                 hinv = 1.0 / h
                 for r in range(nr):

@@ -8,10 +8,14 @@ unknowns plus the algebraic constraint |t|^2 = 1 at every node ("direct unit-tan
 no chart, no singularity, and Eq. 2-3 stay linear in t. The constraint replaces the one equation
 that the angles would have saved, so counts balance (6 cell equations + 1 node equation per node).
 
-Discretisation: box scheme in s (generalized-alpha with rho_s = 1) at t_{n+alpha_f}, generalized-
-alpha in time for the rates [GP Sec. 3]:
-    (v_b - v_a)/ds - mean_{a,b}[ c_k dT/dt t + (1 + c_k T) dt/dt ]           = 0   [GP Eq. 2]
-    ((T t)_b - (T t)_a)/ds + mean_{a,b}[ F - m dv/dt ]                         = 0   [GP Eq. 3]
+Discretisation: box scheme in s (generalized-alpha with rho_s = 1), generalized-alpha in time
+[GP Sec. 3]. Eq. 2 is used in its time-integrated (position) form at t_{n+1}, with node positions
+advanced by the same gamma relation r_{n+1} = r_n + dt [(1 - gamma) v_n + gamma v_{n+1}]:
+    (r_b - r_a)/ds - mean_{a,b}[ (1 + c_k T) t ]                                = 0   [GP Eq. 2]
+    ((T t)_b - (T t)_a)/ds + mean_{a,b}[ F - m dv/dt ]   at the alpha levels    = 0   [GP Eq. 3]
+For rho_inf = 1 the first line is exactly the box form of Eq. 2 summed over steps; for rho_inf < 1
+it keeps positions, tangents and strain consistent (the rate form lets the length drift by the
+truncation error, which a taut tether turns into a tension error).
 (T t)_b - (T t)_a = Tbar (t_b - t_a) + tbar (T_b - T_a) exactly, i.e. the K_c ds-term of Eq. 25.
 """
 
@@ -20,43 +24,43 @@ import math
 import numpy as np
 
 from tether_sim.numerics.jit import jit
-from tether_sim.solvers.hybrid.kernels import CAT_SLOTS, P_CK, P_M, alpha_levels, external_force
+from tether_sim.solvers.hybrid.kernels import CAT_SLOTS, P_CK, P_DT, P_GAM, P_M, alpha_levels, external_force
 
 
 @jit
-def catenary_node_terms(Y, Yn, Ytn, zn, P, cz, cx, cy, out_rate, out_load, out_tension_vec):
-    """Per-node terms of the cell equations: d((1+eps) t)/dt, F - m dv/dt, and T t (alpha levels)."""
+def catenary_node_terms(Y, Yn, Ytn, rn, P, cz, cx, cy, out_pos, out_q, out_load, out_tension_vec):
+    """Per-node terms: r_{n+1}, (1+eps) t at t_{n+1}; F - m dv/dt and T t at the alpha levels."""
     Yf = np.empty(CAT_SLOTS)
     Ym = np.empty(CAT_SLOTS)
     alpha_levels(Y, Yn, Ytn, CAT_SLOTS, P, Yf, Ym)
     ck = P[P_CK]
-    T = Yf[3]
+    dt = P[P_DT]
+    g = P[P_GAM]
     for k in range(3):
-        out_rate[k] = ck * Ym[3] * Yf[4 + k] + (1.0 + ck * T) * Ym[4 + k]
-        out_tension_vec[k] = T * Yf[4 + k]
+        out_pos[k] = rn[k] + dt * ((1.0 - g) * Yn[k] + g * Y[k])
+        out_q[k] = (1.0 + ck * Y[3]) * Y[4 + k]
+        out_tension_vec[k] = Yf[3] * Yf[4 + k]
     F = np.empty(3)
-    external_force(Yf[0:3], Yf[4:7], Ym[0:3], zn, ck * T, P, cz, cx, cy, F)
+    external_force(Yf[0:3], Yf[4:7], Ym[0:3], rn[2], ck * Yf[3], P, cz, cx, cy, F)
     for k in range(3):
         out_load[k] = F[k] - P[P_M] * Ym[k]
-    # spatial differences use the alpha_f level values: return them through Y-slots
-    return Yf[0], Yf[1], Yf[2]
 
 
 @jit
-def catenary_cell_residual(Ya, Yna, Ytna, za, Yb, Ynb, Ytnb, zb, ds, P, cz, cx, cy, out):
-    """The 6 box equations of one catenary cell [GP Eq. 2-3, 5]."""
-    ra = np.empty(3)
+def catenary_cell_residual(Ya, Yna, Ytna, rna, Yb, Ynb, Ytnb, rnb, ds, P, cz, cx, cy, out):
+    """The 6 box equations of one catenary cell [GP Eq. 2-3, 5] (Eq. 2 in its position form)."""
+    pa = np.empty(3)
+    qa = np.empty(3)
     la = np.empty(3)
     ta = np.empty(3)
-    rb = np.empty(3)
+    pb = np.empty(3)
+    qb = np.empty(3)
     lb = np.empty(3)
     tb = np.empty(3)
-    va0, va1, va2 = catenary_node_terms(Ya, Yna, Ytna, za, P, cz, cx, cy, ra, la, ta)
-    vb0, vb1, vb2 = catenary_node_terms(Yb, Ynb, Ytnb, zb, P, cz, cx, cy, rb, lb, tb)
-    out[0] = (vb0 - va0) / ds - 0.5 * (ra[0] + rb[0])
-    out[1] = (vb1 - va1) / ds - 0.5 * (ra[1] + rb[1])
-    out[2] = (vb2 - va2) / ds - 0.5 * (ra[2] + rb[2])
+    catenary_node_terms(Ya, Yna, Ytna, rna, P, cz, cx, cy, pa, qa, la, ta)
+    catenary_node_terms(Yb, Ynb, Ytnb, rnb, P, cz, cx, cy, pb, qb, lb, tb)
     for k in range(3):
+        out[k] = (pb[k] - pa[k]) / ds - 0.5 * (qa[k] + qb[k])
         out[3 + k] = (tb[k] - ta[k]) / ds + 0.5 * (la[k] + lb[k])
 
 

@@ -31,7 +31,7 @@ def frame_at(Y, Yn, Ln, frac, out):
 
 
 @jit
-def rod_node_terms(Y, Yn, Ytn, Ln, zn, P, cz, cx, cy, Yf, Ym, Fb):
+def rod_node_terms(Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, Yf, Ym, Fb):
     """Alpha-level values (Yf, Ym) and the body-frame external load Fb (N/m) of one rod node."""
     alpha_levels(Y, Yn, Ytn, ROD_SLOTS, P, Yf, Ym)
     La = np.empty((3, 3))
@@ -49,13 +49,13 @@ def rod_node_terms(Y, Yn, Ytn, Ln, zn, P, cz, cx, cy, Yf, Ym, Fb):
             vw[i] += La[k, i] * Yf[k]
             aw[i] += La[k, i] * acc_b[k]
     Fw = np.empty(3)
-    external_force(vw, tw, aw, zn, 0.0, P, cz, cx, cy, Fw)
+    external_force(vw, tw, aw, rn[2], 0.0, P, cz, cx, cy, Fw)
     for k in range(3):
         Fb[k] = La[k, 0] * Fw[0] + La[k, 1] * Fw[1] + La[k, 2] * Fw[2]
 
 
 @jit
-def rod_cell_residual(Ya, Yna, Ytna, La, za, Yb, Ynb, Ytnb, Lb, zb, ds, P, cz, cx, cy, out):
+def rod_cell_residual(Ya, Yna, Ytna, La, ra, Yb, Ynb, Ytnb, Lb, rb, ds, P, cz, cx, cy, out):
     """The 12 box equations of one rod cell [GP Eq. 7-11]."""
     Yfa = np.empty(ROD_SLOTS)
     Yma = np.empty(ROD_SLOTS)
@@ -63,8 +63,8 @@ def rod_cell_residual(Ya, Yna, Ytna, La, za, Yb, Ynb, Ytnb, Lb, zb, ds, P, cz, c
     Ymb = np.empty(ROD_SLOTS)
     Fa = np.empty(3)
     Fb = np.empty(3)
-    rod_node_terms(Ya, Yna, Ytna, La, za, P, cz, cx, cy, Yfa, Yma, Fa)
-    rod_node_terms(Yb, Ynb, Ytnb, Lb, zb, P, cz, cx, cy, Yfb, Ymb, Fb)
+    rod_node_terms(Ya, Yna, Ytna, La, ra, P, cz, cx, cy, Yfa, Yma, Fa)
+    rod_node_terms(Yb, Ynb, Ytnb, Lb, rb, P, cz, cx, cy, Yfb, Ymb, Fb)
     Y = np.empty(ROD_SLOTS)
     Yd = np.empty(ROD_SLOTS)
     for k in range(ROD_SLOTS):

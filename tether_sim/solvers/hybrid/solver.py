@@ -113,30 +113,58 @@ class HybridRodCatenarySolver:
         chord = p1 - p0
         dist = float(np.linalg.norm(chord))
         d = chord / dist if dist > 1e-12 else np.array([0.0, 0.0, -1.0])
-        T_grid = self._straight_tension(d, dist)
-        self.zones = self._initial_zones(0.5 * (T_grid[1:] + T_grid[:-1]))
+        tangents, T_grid = self._initial_shape(d, dist)
+        target = self._initial_zones(0.5 * (T_grid[1:] + T_grid[:-1]))
+        self.zones = np.full(self.n_seg, zoning.CATENARY)  # built as catenary, then converted
         self._set_chain()
         K = self.chain.grid.size
         self.Y = np.zeros((K, 12))
         self.Yt = np.zeros((K, 12))
-        L0 = frame_with_tangent(d)
-        self.Lf = np.repeat(L0[None], K, axis=0)
-        for c in range(K):
-            T0 = T_grid[self.chain.grid[c]]
-            if self.chain.kind[c] == zoning.ROD:
-                self.Y[c, 9] = T0
-            else:
-                self.Y[c, 3] = T0
-                self.Y[c, 4:7] = d
-        for e, node in ((0, 0), (1, K - 1)):  # a held end starts with its prescribed tangent
-            if self.end_modes[e] in ("clamped", "force_hold") and self.chain.kind[node] == zoning.ROD:
-                self.Lf[node] = frame_with_tangent(self.ends[e].direction, L0)
+        self.Y[:, 3] = T_grid
+        self.Y[:, 4:7] = tangents
+        self.Lf = np.stack([frame_with_tangent(t) for t in tangents])
         self.r0 = p0.copy()
         self.positions = reconstruct_positions(self)
+        if np.any(target == zoning.ROD):
+            from tether_sim.solvers.hybrid.state_io import convert_state
+            self.Y, self.Yt, self.Lf, self.positions = convert_state(self, target)
+            self.zones = target
+            self._set_chain()
+            K = self.chain.grid.size
+        for e, node in ((0, 0), (1, K - 1)):  # a held end starts with its prescribed tangent
+            if self.end_modes[e] in ("clamped", "force_hold") and self.chain.kind[node] == zoning.ROD:
+                self.Lf[node] = frame_with_tangent(self.ends[e].direction, self.Lf[node])
         kind = cfg.initial.kind
         relax = cfg.initial.relax_time if kind == "relax" else (self.opt.static_relax_time if kind == "static" else 0.0)
         if relax > 0.0:
             self._relax(relax)
+
+    def _initial_shape(self, d, dist):
+        """Tangents and tensions on the grid: straight (stretched) if the chord is >= L, else a circular
+        arc of length L through both ends sagging along gravity (tension w R)."""
+        if dist >= self.length or self.end_modes[1] not in ("velocity", "clamped"):
+            return np.repeat(d[None], self.n_seg + 1, axis=0), self._straight_tension(d, dist)
+        sag = np.array([0.0, 0.0, -1.0]) - d[2] * d
+        sag = sag / np.linalg.norm(sag) if np.linalg.norm(sag) > 1e-9 else np.array([1.0, 0.0, 0.0])
+        floor = 1e-3 * self.net_weight * self.length
+        T = floor
+        for _ in range(50):  # arc of stretched length L (1 + c_k T) with T = w R (fixed point)
+            theta = self._arc_angle(dist / (self.length * (1.0 + self.ck * T)))
+            radius = self.length * (1.0 + self.ck * T) / (2.0 * theta)
+            T = max(self.net_weight * radius, floor)
+        phi = theta - self.s_grid * (1.0 + self.ck * T) / radius
+        tangents = np.cos(phi)[:, None] * d[None] + np.sin(phi)[:, None] * sag[None]
+        return tangents, np.full(self.n_seg + 1, T)
+
+    @staticmethod
+    def _arc_angle(ratio):
+        """Half angle theta of a circular arc with chord/arc = sin(theta)/theta = ratio."""
+        theta = 1.0
+        for _ in range(60):
+            f = math.sin(theta) / theta - ratio
+            df = (theta * math.cos(theta) - math.sin(theta)) / theta**2
+            theta = min(max(theta - f / df, 1e-6), math.pi - 1e-6)
+        return theta
 
     def _straight_tension(self, d, dist):
         """Tension along the initial straight line: tangential equilibrium dT/ds = w_z d_z [GP Eq. 3]
@@ -161,6 +189,7 @@ class HybridRodCatenarySolver:
         while self.time < t_end - 1e-12:
             self._step_with_retry(min(self.opt.time_step, t_end - self.time))
         self._rho = None
+        self.stats["relax_final_speed"] = float(np.abs(self._world_velocities()).max())
         self.Y[:, 0:3] = 0.0
         self.Y[self.chain.kind == zoning.ROD, 3:6] = 0.0
         self.Yt[:] = 0.0
@@ -239,13 +268,13 @@ class HybridRodCatenarySolver:
 
     def snapshot(self):
         return copy.deepcopy({"Y": self.Y, "Yt": self.Yt, "Lf": self.Lf, "zones": self.zones, "time": self.time,
-                              "r0": self.r0, "positions": self.positions, "motion": self.end_motion,
+                              "positions": self.positions, "motion": self.end_motion,
                               "load": self.end_load, "stats": self.stats})
 
     def restore(self, snap):
         snap = copy.deepcopy(snap)
         self.Y, self.Yt, self.Lf, self.zones = snap["Y"], snap["Yt"], snap["Lf"], snap["zones"]
-        self.time, self.r0, self.positions = snap["time"], snap["r0"], snap["positions"]
+        self.time, self.positions = snap["time"], snap["positions"]
         self.end_motion, self.end_load, self.stats = snap["motion"], snap["load"], snap["stats"]
         self._set_chain()
         self._record = ([], [], [])
@@ -308,7 +337,7 @@ class HybridRodCatenarySolver:
         P = self._parameters(dt)
         t_new = self.time + dt
         self._update_end_groups(t_new)
-        zn = np.ascontiguousarray(self.positions[:, 2])
+        rn = self.positions
         Yn, Ytn, Ln = self.Y, self.Yt, self.Lf
         Y = Yn + dt * Ytn
         cat = ch.kind != zoning.ROD
@@ -319,11 +348,11 @@ class HybridRodCatenarySolver:
         scale = self._unknown_scales(Yn)
         tangent_unknowns = (ch.idx_slot >= 4) & (ch.idx_slot < 7) & (ch.kind[ch.idx_node] != zoning.ROD)
         for it in range(1, self.opt.max_newton_iterations + 1):
-            assemble_residual(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, Y, Yn, Ytn, Ln, zn, ch.s, P,
+            assemble_residual(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, Y, Yn, Ytn, Ln, rn, ch.s, P,
                               self.cz, self.cx, self.cy, R)
             if not np.all(np.isfinite(R)):
                 raise _NewtonFailure("non-finite residual")
-            nnz = assemble_jacobian(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, ch.noff, ch.nslot, Y, Yn, Ytn, Ln, zn,
+            nnz = assemble_jacobian(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, ch.noff, ch.nslot, Y, Yn, Ytn, Ln, rn,
                                     ch.s, P, self.cz, self.cx, self.cy, rows, cols, vals)
             J = csr_matrix((vals[:nnz], (rows[:nnz], cols[:nnz])), shape=(n, n))
             rs = 1.0 / np.maximum(abs(J).max(axis=1).toarray().ravel(), 1e-300)
@@ -360,22 +389,21 @@ class HybridRodCatenarySolver:
     def _commit(self, Y, dt, P, iterations):
         ch = self.chain
         g = P[-1]
-        Ynew_dot = ((Y - self.Y) / dt - (1.0 - g) * self.Yt) / g
+        v_old = self._world_velocities()
+        self.Yt = ((Y - self.Y) / dt - (1.0 - g) * self.Yt) / g
         for c in np.nonzero(ch.kind == zoning.ROD)[0]:
             out = np.empty((3, 3))
             frame_at(Y[c], self.Y[c], self.Lf[c], dt, out)
             self.Lf[c] = out
-        v0_old = self._node_velocity(0)
         self.Y = Y
         if self.opt.frames_from_curvature:
             self._integrate_frames()
-        self.Yt = Ynew_dot
         self.time += dt
-        if self.ends[0].kind == "prescribed":
-            self.r0 = self.end_motion[0].position_at(self.time)
-        elif self.end_modes[0] in ("force", "force_hold"):
-            self.r0 = self.r0 + 0.5 * dt * (v0_old + self._node_velocity(0))
-        self.positions = reconstruct_positions(self)
+        # node positions by the same gamma relation as every other variable: dr/dt = v
+        self.positions = self.positions + dt * ((1.0 - g) * v_old + g * self._world_velocities())
+        for first, last in rod_blocks(ch):  # rod shape by integrating its tangents from the block start
+            for c in range(first + 1, last + 1):
+                self.positions[c] = self.positions[c - 1] + 0.5 * (ch.s[c] - ch.s[c - 1]) * (self.Lf[c - 1, 0] + self.Lf[c, 0])
         st = self.stats
         st["steps"] += 1
         st["newton_iterations"] += iterations
@@ -408,10 +436,11 @@ class HybridRodCatenarySolver:
                 rotate_frame(self.Lf[nb], -kap, out)
                 self.Lf[c] = out
 
-    def _node_velocity(self, c):
-        if self.chain.kind[c] == zoning.ROD:
-            return self.Lf[c].T @ self.Y[c, 0:3]
-        return self.Y[c, 0:3].copy()
+    def _world_velocities(self):
+        v = self.Y[:, 0:3].copy()
+        rod = self.chain.kind == zoning.ROD
+        v[rod] = np.einsum("kji,kj->ki", self.Lf[rod], self.Y[rod, 0:3])
+        return v
 
     def _node_tension(self, c):
         return float(self.Y[c, 9] if self.chain.kind[c] == zoning.ROD else self.Y[c, 3])
@@ -424,7 +453,7 @@ class HybridRodCatenarySolver:
         if np.array_equal(new, self.zones):
             return
         from tether_sim.solvers.hybrid.state_io import convert_state
-        self.Y, self.Yt, self.Lf = convert_state(self, new)
+        self.Y, self.Yt, self.Lf, self.positions = convert_state(self, new)
         self.zones = new
         self._set_chain()
         self.stats["rezonings"] += 1
