@@ -33,15 +33,24 @@ def gen_alpha_coefficients(rho_inf: float) -> tuple:
     return alpha_m, alpha_f, gamma
 
 
-def amplification_factor(rho_inf: float, lam_h: complex) -> complex:
-    """Growth factor of y' = lam*y per step (for stability/accuracy checks of the coefficients)."""
+def _step_matrix(rho_inf, lam_h):
+    """2x2 one-step matrix of y' = lam*y on (y, h y') [first-order generalized-alpha]."""
     am, af, g = gen_alpha_coefficients(rho_inf)
-    # unknowns (y1, y1'): y1 = y0 + h[(1-g) y0' + g y1'];  am*y1' + (1-am) y0' = lam (af y1 + (1-af) y0)
-    # with y0' = lam*y0 initially; use the 2x2 recurrence on (y, h y') and return its spectral radius.
+    # y1 = y0 + h[(1-g) y0' + g y1'];  am*y1' + (1-am) y0' = lam (af y1 + (1-af) y0)
     a = np.array([[1.0, -g], [-af * lam_h, am]], dtype=complex)
     b = np.array([[1.0, 1.0 - g], [(1.0 - af) * lam_h, -(1.0 - am)]], dtype=complex)
-    eig = np.linalg.eigvals(np.linalg.solve(a, b))
-    return eig[np.argmax(np.abs(eig))]
+    return np.linalg.solve(a, b)
+
+
+def amplification_factor(rho_inf: float, lam_h: complex) -> complex:
+    """Principal root (the one approximating exp(lam*h)) of the step of y' = lam*y."""
+    eig = np.linalg.eigvals(_step_matrix(rho_inf, lam_h))
+    return eig[np.argmin(np.abs(eig - np.exp(lam_h)))] if abs(lam_h) < 1e3 else eig[np.argmax(np.abs(eig))]
+
+
+def spectral_radius(rho_inf: float, lam_h: complex) -> float:
+    """Largest |root| of the step (stability: <= 1; at lam*h -> -inf it tends to rho_inf)."""
+    return float(np.abs(np.linalg.eigvals(_step_matrix(rho_inf, lam_h))).max())
 
 
 @jit

@@ -7,7 +7,7 @@ differences (exact structure, ~1e-8 relative entries) and factorised with a spar
 
 Group kinds (rows): CAT_CELL (6), ROD_CELL (12), JOINT_CR / JOINT_RC (9), UNIT (1), CAT_VEL (3),
 CAT_FORCE (3), CAT_FREE (3), ROD_END (6). Group parameters gpar (G, 9) hold boundary vectors.
-Node arrays: Y, Yn, Ytn (K, 12); Ln (K, 3, 3) rod frames at t_n; rn (K, 3) positions at t_n; s (K,).
+Node arrays: Y, Yn, Ytn (K, 12); Ln (K, 3, 3) rod frames at t_n; rn (K, 6) positions and their generalized-alpha rates at t_n; s (K,).
 """
 
 import numpy as np

@@ -10,7 +10,7 @@ that the angles would have saved, so counts balance (6 cell equations + 1 node e
 
 Discretisation: box scheme in s (generalized-alpha with rho_s = 1), generalized-alpha in time
 [GP Sec. 3]. Eq. 2 is used in its time-integrated (position) form at t_{n+1}, with node positions
-advanced by the same gamma relation r_{n+1} = r_n + dt [(1 - gamma) v_n + gamma v_{n+1}]:
+advanced as generalized-alpha variables of dr/dt = v (rate r' with r'_{n+a_m} = v_{n+a_f}):
     (r_b - r_a)/ds - mean_{a,b}[ (1 + c_k T) t ]                                = 0   [GP Eq. 2]
     ((T t)_b - (T t)_a)/ds + mean_{a,b}[ F - m dv/dt ]   at the alpha levels    = 0   [GP Eq. 3]
 For rho_inf = 1 the first line is exactly the box form of Eq. 2 summed over steps; for rho_inf < 1
@@ -24,20 +24,24 @@ import math
 import numpy as np
 
 from tether_sim.numerics.jit import jit
-from tether_sim.solvers.hybrid.kernels import CAT_SLOTS, P_CK, P_DT, P_GAM, P_M, alpha_levels, external_force
+from tether_sim.solvers.hybrid.kernels import CAT_SLOTS, P_AF, P_AM, P_CK, P_DT, P_GAM, P_M, alpha_levels, external_force
 
 
 @jit
 def catenary_node_terms(Y, Yn, Ytn, rn, P, cz, cx, cy, out_pos, out_q, out_load, out_tension_vec):
-    """Per-node terms: r_{n+1}, (1+eps) t at t_{n+1}; F - m dv/dt and T t at the alpha levels."""
+    """rn = (r_n, r'_n) (6,). Per-node terms: r_{n+1}, (1+eps) t at t_{n+1}; F - m dv/dt and T t at the alpha levels."""
     Yf = np.empty(CAT_SLOTS)
     Ym = np.empty(CAT_SLOTS)
     alpha_levels(Y, Yn, Ytn, CAT_SLOTS, P, Yf, Ym)
     ck = P[P_CK]
     dt = P[P_DT]
     g = P[P_GAM]
+    am = P[P_AM]
+    af = P[P_AF]
     for k in range(3):
-        out_pos[k] = rn[k] + dt * ((1.0 - g) * Yn[k] + g * Y[k])
+        # r is a generalized-alpha variable with dr/dt = v collocated at the alpha levels
+        rdot = ((1.0 - af) * Yn[k] + af * Y[k] - (1.0 - am) * rn[3 + k]) / am
+        out_pos[k] = rn[k] + dt * ((1.0 - g) * rn[3 + k] + g * rdot)
         out_q[k] = (1.0 + ck * Y[3]) * Y[4 + k]
         out_tension_vec[k] = Yf[3] * Yf[4 + k]
     F = np.empty(3)

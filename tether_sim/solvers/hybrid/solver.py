@@ -19,7 +19,7 @@ from tether_sim.solvers.base import EndForces, SolverState, end_index
 from tether_sim.solvers.hybrid import zoning
 from tether_sim.solvers.hybrid.assembly import assemble_jacobian, assemble_residual
 from tether_sim.solvers.hybrid.chain import build_chain, rod_blocks
-from tether_sim.solvers.hybrid.kernels import pack_parameters
+from tether_sim.solvers.hybrid.kernels import P_AF, P_AM, pack_parameters
 from tether_sim.solvers.hybrid.rod import frame_at
 from tether_sim.solvers.hybrid.state_io import EndMotion, node_profile, reconstruct_positions
 
@@ -125,9 +125,10 @@ class HybridRodCatenarySolver:
         self.Lf = np.stack([frame_with_tangent(t) for t in tangents])
         self.r0 = p0.copy()
         self.positions = reconstruct_positions(self)
+        self.rdot = np.zeros_like(self.positions)
         if np.any(target == zoning.ROD):
             from tether_sim.solvers.hybrid.state_io import convert_state
-            self.Y, self.Yt, self.Lf, self.positions = convert_state(self, target)
+            self.Y, self.Yt, self.Lf, self.positions, self.rdot = convert_state(self, target)
             self.zones = target
             self._set_chain()
             K = self.chain.grid.size
@@ -193,6 +194,7 @@ class HybridRodCatenarySolver:
         self.Y[:, 0:3] = 0.0
         self.Y[self.chain.kind == zoning.ROD, 3:6] = 0.0
         self.Yt[:] = 0.0
+        self.rdot[:] = 0.0
         self.time = 0.0
         self._record = ([], [], [])
         for m in self.end_motion:
@@ -268,13 +270,13 @@ class HybridRodCatenarySolver:
 
     def snapshot(self):
         return copy.deepcopy({"Y": self.Y, "Yt": self.Yt, "Lf": self.Lf, "zones": self.zones, "time": self.time,
-                              "positions": self.positions, "motion": self.end_motion,
+                              "positions": self.positions, "rdot": self.rdot, "motion": self.end_motion,
                               "load": self.end_load, "stats": self.stats})
 
     def restore(self, snap):
         snap = copy.deepcopy(snap)
         self.Y, self.Yt, self.Lf, self.zones = snap["Y"], snap["Yt"], snap["Lf"], snap["zones"]
-        self.time, self.positions = snap["time"], snap["positions"]
+        self.time, self.positions, self.rdot = snap["time"], snap["positions"], snap["rdot"]
         self.end_motion, self.end_load, self.stats = snap["motion"], snap["load"], snap["stats"]
         self._set_chain()
         self._record = ([], [], [])
@@ -337,7 +339,7 @@ class HybridRodCatenarySolver:
         P = self._parameters(dt)
         t_new = self.time + dt
         self._update_end_groups(t_new)
-        rn = self.positions
+        rn = np.ascontiguousarray(np.hstack([self.positions, self.rdot]))
         Yn, Ytn, Ln = self.Y, self.Yt, self.Lf
         Y = Yn + dt * Ytn
         cat = ch.kind != zoning.ROD
@@ -378,9 +380,11 @@ class HybridRodCatenarySolver:
         ch = self.chain
         cat = ch.kind != zoning.ROD
         rod = ~cat
+        loads = max(float(np.linalg.norm(f)) for f, _ in self.end_load)
         tension = max(np.abs(Y[cat, 3]).max(initial=0.0), np.abs(Y[rod, 9:12]).max(initial=0.0),
-                      self.net_weight * self.length, 1e-12)
-        speed = max(np.abs(Y[:, 0:3]).max(initial=0.0), 1e-3 * math.sqrt(self.config.environment.g * self.length))
+                      self.net_weight * self.length, loads, 1e-12)
+        speed = max(np.abs(Y[:, 0:3]).max(initial=0.0), 1e-3 * math.sqrt(self.config.environment.g * self.length),
+                    1e-3 * self.length / self.opt.time_step)
         per_slot_cat = np.array([speed] * 3 + [tension] + [1.0] * 3 + [0.0] * 5)
         per_slot_rod = np.array([speed] * 3 + [speed / self.length] * 3 + [1.0 / self.length] * 3 + [tension] * 3)
         table = np.where(cat[:, None], per_slot_cat[None, :], per_slot_rod[None, :])
@@ -399,8 +403,18 @@ class HybridRodCatenarySolver:
         if self.opt.frames_from_curvature:
             self._integrate_frames()
         self.time += dt
-        # node positions by the same gamma relation as every other variable: dr/dt = v
-        self.positions = self.positions + dt * ((1.0 - g) * v_old + g * self._world_velocities())
+        # node positions: generalized-alpha variables of dr/dt = v (their rate r' collocated: r'_am = v_af)
+        am, af = P[P_AM], P[P_AF]
+        v_af = (1.0 - af) * v_old + af * self._world_velocities()
+        rdot = (v_af - (1.0 - am) * self.rdot) / am
+        self.positions = self.positions + dt * ((1.0 - g) * self.rdot + g * rdot)
+        self.rdot = rdot
+        K = ch.grid.size
+        for e, node in ((0, 0), (1, K - 1)):  # kinematic ends sit exactly where they are driven
+            if self.ends[e].kind == "prescribed":
+                self.positions[node] = self.end_motion[e].position_at(self.time)
+            elif self.ends[e].kind in ("fixed", "clamped"):
+                self.positions[node] = self.ends[e].position
         for first, last in rod_blocks(ch):  # rod shape by integrating its tangents from the block start
             for c in range(first + 1, last + 1):
                 self.positions[c] = self.positions[c - 1] + 0.5 * (ch.s[c] - ch.s[c - 1]) * (self.Lf[c - 1, 0] + self.Lf[c, 0])
@@ -453,7 +467,7 @@ class HybridRodCatenarySolver:
         if np.array_equal(new, self.zones):
             return
         from tether_sim.solvers.hybrid.state_io import convert_state
-        self.Y, self.Yt, self.Lf, self.positions = convert_state(self, new)
+        self.Y, self.Yt, self.Lf, self.positions, self.rdot = convert_state(self, new)
         self.zones = new
         self._set_chain()
         self.stats["rezonings"] += 1

@@ -123,7 +123,7 @@ def node_profile(solver):
 
 
 def convert_state(solver, new_zones):
-    """(Y, Yt, Lf, positions) on the chain of ``new_zones``, converting nodes whose model changed [GP Eq. 13-14]."""
+    """(Y, Yt, Lf, positions, position rates) on the chain of ``new_zones``, converting nodes whose model changed [GP Eq. 13-14]."""
     old = solver.chain
     nodes = zoning.chain_nodes(new_zones)
     K = len(nodes)
@@ -131,6 +131,7 @@ def convert_state(solver, new_zones):
     Yt = np.zeros((K, 12))
     Lf = np.zeros((K, 3, 3))
     pos = np.zeros((K, 3))
+    rdot = np.zeros((K, 3))
     src = []
     for j, kind in nodes:
         cands = np.nonzero(old.grid == j)[0]
@@ -139,6 +140,7 @@ def convert_state(solver, new_zones):
     for n, ((j, kind), (c, same)) in enumerate(zip(nodes, src)):
         Lf[n] = solver.Lf[c]
         pos[n] = solver.positions[c]
+        rdot[n] = solver.rdot[c]
         if same or kind == zoning.CATENARY:
             if same:
                 Y[n], Yt[n] = solver.Y[c], solver.Yt[c]
@@ -171,4 +173,4 @@ def convert_state(solver, new_zones):
             if kap:
                 Y[i, 6:9] = np.mean(kap, axis=0)
         n = m + 1
-    return Y, Yt, Lf, pos
+    return Y, Yt, Lf, pos, rdot
