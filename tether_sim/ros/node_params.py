@@ -67,11 +67,14 @@ def declare_all(node, where: str = "parameters"):
     config = from_flat(raw, where=where)  # names unknown / out-of-range keys and the file
     validated = to_flat(config)
     for name in raw:
-        overrides[name] = _as_parameter(keys[name], validated[name])
+        if keys[name].kind.endswith("array") and len(validated[name]) == 0:
+            del overrides[name]  # rclpy types an empty list as a byte array
+        else:
+            overrides[name] = _as_parameter(keys[name], validated[name])
     for key in all_keys():
         d = descriptor(key)
-        if key.kind.endswith("array") and len(key.default) == 0 and len(validated[key.name]) == 0:
-            node.declare_parameter(key.name, _TYPES[key.kind], d)  # empty arrays carry no type
+        if key.kind.endswith("array") and len(validated[key.name]) == 0:
+            node.declare_parameter(key.name, _TYPES[key.kind], d)  # empty: declared by type, read as ()
         else:
             node.declare_parameter(key.name, _as_parameter(key, key.default).value, d)
     return read_config(node)
