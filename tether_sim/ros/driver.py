@@ -47,14 +47,14 @@ class TickReport:
 
 
 class MotionSource:
-    """A prescribed end driven by an analytic motion ``motion.at(t) -> (position, velocity)``."""
+    """A prescribed end driven by an analytic motion ``motion.at(t) -> (position, velocity, ...)``."""
 
     def __init__(self, motion):
         self.motion = motion
 
     def attachment_at(self, t):
-        p, v = self.motion.at(t)
-        return np.asarray(p, float), np.asarray(v, float)
+        result = self.motion.at(t)
+        return np.asarray(result[0], float), np.asarray(result[1], float)
 
     def orientation_at(self, t):
         return np.array([0.0, 0.0, 0.0, 1.0])
