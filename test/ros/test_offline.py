@@ -3,7 +3,6 @@ of poses; parameter errors are clear."""
 
 import math
 
-import numpy as np
 import pytest
 import yaml
 
