@@ -69,9 +69,8 @@ class SimHarness:
         for end, pose in poses.items():
             msg = pose if isinstance(pose, PoseStamped) else self.pose_msg(t, pose)
             self.pose_pubs[end].publish(msg)
-        self.spin(2)
         self.clock.publish(Clock(clock=time_msg(t)))
-        self.spin()
+        self.spin(4)
         self.time = t
 
     def run(self, t_end, dt=0.02, **poses):

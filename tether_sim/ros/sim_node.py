@@ -117,10 +117,15 @@ class TetherSimNode(Node):
             self._publish_description()
             self.get_logger().info(f"{self.config.solver} solver started; static end tensions "
                                    f"{self.driver.static_tensions[0]:.1f} N (ship), {self.driver.static_tensions[1]:.1f} N (vehicle)")
-        report = self.driver.tick(now)
-        self._handle_report(now, report)
-        for topic, msg in convert.tick_outputs(self.driver, self.arc_lengths):
-            self.pubs[topic].publish(msg)
+        try:
+            report = self.driver.tick(now)
+            self._handle_report(now, report)
+            for topic, msg in convert.tick_outputs(self.driver, self.arc_lengths):
+                self.pubs[topic].publish(msg)
+        except Exception as exc:  # noqa: BLE001 - the node must stay up; the error is reported
+            self._period["errors"] += 1
+            self.driver.last_error = f"{type(exc).__name__}: {exc}"
+            self.get_logger().error(f"tick failed: {self.driver.last_error}", throttle_duration_sec=WARN_PERIOD)
 
     def _handle_report(self, now, report):
         log = self.get_logger()
