@@ -63,8 +63,8 @@ def tether_state(state, forces, solver_name: str, t: float, frame_id: str, real_
     """TetherState from a SolverState sampled at the output points and the EndForces."""
     msg = TetherState(header=header(t, frame_id), solver=solver_name)
     msg.arc_length = np.asarray(state.arc_length, float).tolist()
-    msg.position = [_point(p) for p in state.position]
-    msg.velocity = [_vector(v) for v in state.velocity]
+    msg.position = [Point(x=x, y=y, z=z) for x, y, z in np.asarray(state.position, float).tolist()]
+    msg.velocity = [Vector3(x=x, y=y, z=z) for x, y, z in np.asarray(state.velocity, float).tolist()]
     msg.tension = np.asarray(state.tension, float).tolist()
     msg.curvature = np.asarray(state.curvature, float).tolist()
     msg.bending_moment = np.asarray(state.bending_moment, float).tolist()
@@ -87,7 +87,7 @@ def marker(state, t: float, frame_id: str, tension_scale: float, width: float = 
     msg.pose.orientation.w = 1.0
     msg.scale.x = float(width)
     msg.color = ColorRGBA(r=1.0, g=1.0, b=0.0, a=1.0)
-    msg.points = [_point(p) for p in state.position]
+    msg.points = [Point(x=x, y=y, z=z) for x, y, z in np.asarray(state.position, float).tolist()]
     msg.colors = [tension_colour(float(T), tension_scale) for T in state.tension]
     msg.frame_locked = False
     return msg
@@ -95,10 +95,13 @@ def marker(state, t: float, frame_id: str, tension_scale: float, width: float = 
 
 def path(state, t: float, frame_id: str) -> Path:
     """nav_msgs/Path of the output points (orientation identity)."""
-    msg = Path(header=header(t, frame_id))
-    for p in state.position:
-        pose = PoseStamped(header=header(t, frame_id))
-        pose.pose.position = _point(p)
+    hdr = header(t, frame_id)
+    msg = Path(header=hdr)
+    for x, y, z in np.asarray(state.position, float).tolist():
+        pose = PoseStamped()
+        pose.header = hdr
+        pos = pose.pose.position
+        pos.x, pos.y, pos.z = x, y, z
         pose.pose.orientation.w = 1.0
         msg.poses.append(pose)
     return msg
