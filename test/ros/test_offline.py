@@ -61,6 +61,10 @@ def test_motion_generator_run_writes_every_topic_with_sim_time_log_times(tmp_pat
         t = log_ns * 1e-9
         p = m.position[0]
         assert (p.x, p.z) == pytest.approx((0.5 * math.cos(w * t), 0.5 * math.sin(w * t)), abs=1e-6)
+    marker = msgs["/tether/marker"][-1][1]
+    assert marker.type == 4 and len(marker.colors) == len(marker.points) == 11  # LINE_STRIP, per-vertex colours
+    path = msgs["/tether/path"][-1][1]
+    assert [p.pose.position.z for p in path.poses] == [p.z for p in states[-1][1].position]
     assert msgs["/tether/description"][0][1].length == 55.0
     assert len(msgs["/diagnostics"]) == 2
 
