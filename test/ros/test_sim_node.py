@@ -15,10 +15,12 @@ from tether_sim.ros.sim_node import main  # noqa: E402
 
 pytestmark = pytest.mark.ros
 
-L, EA, GAMMA0, RHO_C, RHO_F, G = 200.0, 45.5e6, 3.01, 7153.0, 1025.0, 9.81
+# ROPOS tether properties [PE2020 Table 3] with a softer EA and a 100 m length, so the explicit
+# substep (~ h / (c P^2)) stays cheap in a unit test; the catenary closed form holds for any EA.
+L, EA, GAMMA0, RHO_C, RHO_F, G = 100.0, 2.0e6, 3.01, 7153.0, 1025.0, 9.81
 W = GAMMA0 * G * (1.0 - RHO_F / RHO_C)  # submerged weight per unstretched metre, N/m [PE2020 Eq. 14]
 SHIP = (0.0, 0.0, 0.0)
-VEHICLE = (80.0, 0.0, -160.0)  # attachment point; chord 178.9 m < L: a sagging catenary
+VEHICLE = (40.0, 0.0, -80.0)  # attachment point; chord 89.4 m < L: a sagging catenary
 ATTACH = (0.0, 0.0, 0.5)  # tether attachment in the vehicle frame
 
 
@@ -38,7 +40,7 @@ def elastic_catenary(span, height):
 
 def base_params(**extra):
     flat = {"solver": "dg", "cable.length": L, "cable.EA": EA, "cable.gamma0": GAMMA0, "cable.density": RHO_C,
-            "cable.damping": 45500.0, "environment.fluid_density": RHO_F,
+            "cable.damping": 2000.0, "dg.n_elements": 8, "dg.order": 3, "environment.fluid_density": RHO_F,
             "ship_end.kind": "prescribed", "ship_end.position": SHIP,
             "vehicle_end.kind": "prescribed", "vehicle_end.position": VEHICLE,
             "node.vehicle_attachment": ATTACH, "node.output_points": 21, "node.output_rate": 50.0,
@@ -69,8 +71,8 @@ def test_static_poses_give_the_catenary_tensions_and_wrenches(harness):
     H, V = elastic_catenary(VEHICLE[0] - SHIP[0], SHIP[2] - VEHICLE[2])
     T_vehicle, T_ship = math.hypot(H, V), math.hypot(H, V + W * L)
     last = states[-1]
-    # Discretisation (20 elements, P = 4) and 1 s of residual motion after the static solve: the end
-    # tensions match Irvine's closed form to 1 % (the weight term W*L is ~5.5 kN of ~6 kN at the top).
+    # Discretisation (8 elements, P = 3) and 1 s of residual motion after the static solve: the end
+    # tensions match Irvine's closed form to 1 % (tolerances to be checked against the measured error).
     assert last.ship_end_tension == pytest.approx(T_ship, rel=0.01)
     assert last.vehicle_end_tension == pytest.approx(T_vehicle, rel=0.02)
     assert last.solver == "dg" and len(last.position) == 21 and last.header.frame_id == "map"
