@@ -211,3 +211,29 @@ def test_slack_then_retension_gives_a_slack_warning_and_a_snap_event():
     assert snap.peak_tension == pytest.approx(3.0e4, rel=0.01)
     assert snap.amplification == pytest.approx(3.0, rel=0.01)
     assert 1.0 < snap.slack_start < 1.2 and snap.time > 2.0
+
+
+def test_wall_budget_limits_the_substeps_of_one_tick(monkeypatch):
+    # substeps that cost 2 ms each on a fake wall clock; a 10 ms budget allows 5 substeps per tick
+    import tether_sim.ros.driver as driver_module
+
+    clock = {"t": 0.0}
+
+    class FakeWall:
+        @staticmethod
+        def perf_counter():
+            return clock["t"]
+
+    class SlowString(ElasticString):
+        def advance_to(self, t):
+            n = super().advance_to(t)
+            clock["t"] += 0.002 * n
+            return n
+
+    monkeypatch.setattr(driver_module, "wallclock", FakeWall)
+    driver = SimulationDriver(make_config(max_lag=10.0), solver_factory=SlowString, wall_budget=0.01)
+    driver.start(0.0)
+    driver.tick(0.02)  # the first tick measures the cost (2 substeps, 4 ms)
+    r = driver.tick(1.0)
+    assert r.capped and r.substeps == 5 and r.lag == pytest.approx(0.93)
+    assert driver.real_time_factor == pytest.approx(0.05 / 0.01)  # 5 substeps of 0.01 s in 10 ms

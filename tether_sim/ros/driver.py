@@ -8,7 +8,8 @@ the solver towards ``now - anchor``:
    so that the simulation continues from its current state (reported as a clock jump).
 2. If the lag ``now - anchor - t_sim`` exceeds ``node.max_lag``, the excess is dropped by moving the
    anchor (the simulation skips that stretch of clock time; reported).
-3. At most ``node.max_substeps_per_tick`` stable substeps are taken, so one tick never blocks the
+3. At most ``node.max_substeps_per_tick`` stable substeps are taken, and (node only) no more than
+   fit in ``wall_budget`` seconds at the measured cost per substep, so one tick never blocks the
    caller for long; the remaining lag carries over to the next tick (reported).
 4. Prescribed ends get the attachment position/velocity at the target time from their source
    (a validated pose input, an analytic motion, or their fixed configured position).
@@ -63,11 +64,13 @@ class MotionSource:
 class SimulationDriver:
     """Owns the solver, the clock mapping, recovery and the snap detector."""
 
-    def __init__(self, config, sources: dict | None = None, *, solver_factory=build_solver):
+    def __init__(self, config, sources: dict | None = None, *, solver_factory=build_solver, wall_budget=None):
         self.config = config
         self.sources = dict(sources or {})  # end -> EndPoseInput | MotionSource (prescribed ends)
         self.solver_factory = solver_factory
         self.solver = None
+        self.wall_budget = wall_budget  # s of wall time one tick may spend stepping (None: no limit)
+        self.wall_per_substep = 0.0
         self._solver_config = config
         self._commanded = {}
         self.anchor = 0.0
@@ -165,7 +168,10 @@ class SimulationDriver:
         if target <= self.solver.time:
             report.lag = max(0.0, target - self.solver.time)
             return report
-        cap = self.solver.time + node.max_substeps_per_tick * self.solver.stable_time_step()
+        max_steps = node.max_substeps_per_tick
+        if self.wall_budget is not None and self.wall_per_substep > 0.0:
+            max_steps = min(max_steps, max(1, int(self.wall_budget / self.wall_per_substep)))
+        cap = self.solver.time + max_steps * self.solver.stable_time_step()
         if target > cap:
             target, report.capped = cap, True
             self.capped_ticks += 1
@@ -180,6 +186,9 @@ class SimulationDriver:
             self._recover(now, str(exc), report)
             return report
         self._update_rate(self.solver.time - t0, wall0)
+        if report.substeps > 0:  # running estimate of the wall time of one substep
+            cost = (wallclock.perf_counter() - wall0) / report.substeps
+            self.wall_per_substep = cost if self.wall_per_substep == 0.0 else 0.7 * self.wall_per_substep + 0.3 * cost
         times, t_ship, t_vehicle = self.solver.drain_end_tensions()
         if len(times):
             report.events = self.detector.update(np.asarray(times) + self.anchor,

@@ -52,7 +52,8 @@ class TetherSimNode(Node):
                                          qos_profile_sensor_data)
                 self.create_subscription(TwistStamped, f"/{end}/twist", lambda m, e=end: self._on_twist(e, m),
                                          qos_profile_sensor_data)
-        self.driver = SimulationDriver(self.config, self.inputs, solver_factory=solver_factory)
+        self.driver = SimulationDriver(self.config, self.inputs, solver_factory=solver_factory,
+                                       wall_budget=node.tick_budget / node.output_rate)
         self.arc_lengths = np.linspace(0.0, self.config.cable.length, node.output_points)
         self.pubs = {}
         for topic, (type_name, qos) in convert.TOPICS.items():
