@@ -237,3 +237,21 @@ def test_wall_budget_limits_the_substeps_of_one_tick(monkeypatch):
     r = driver.tick(1.0)
     assert r.capped and r.substeps == 5 and r.lag == pytest.approx(0.93)
     assert driver.real_time_factor == pytest.approx(0.05 / 0.01)  # 5 substeps of 0.01 s in 10 ms
+
+
+def test_an_input_appearing_far_from_the_held_end_restarts_the_solver_there():
+    built = []
+
+    def factory(c):
+        built.append(ElasticString(c))
+        return built[-1]
+
+    inp = EndPoseInput("ship")
+    driver = SimulationDriver(make_config(), {"ship": inp}, solver_factory=factory)
+    driver.start(0.0)
+    driver.tick(0.1)  # held at the configured (0, 0, 0)
+    inp.add_pose(0.15, (-50.0, 0.0, 0.0), (0, 0, 0, 1))  # first pose, 50 m away
+    r = driver.tick(0.2)
+    assert r.restart and "ship" in r.restart and len(built) == 2
+    np.testing.assert_allclose(built[-1].ends["ship"], (-50.0, 0.0, 0.0))
+    assert driver.stamp == pytest.approx(0.2) and driver.tick(0.3).restart is None

@@ -13,6 +13,8 @@ the solver towards ``now - anchor``:
    caller for long; the remaining lag carries over to the next tick (reported).
 4. Prescribed ends get the attachment position/velocity at the target time from their source
    (a validated pose input, an analytic motion, or their fixed configured position).
+   If an end would move faster than ``node.max_end_speed`` (a held end whose input appears far
+   away), the solver restarts from a static equilibrium at the new positions (reported).
 5. A :class:`SolverDivergedError` is caught: the last good snapshot is restored (or, if that fails
    again from the same snapshot, the solver is rebuilt from a fresh static equilibrium at the
    current end positions); the anchor moves so the lost time is skipped; the error is reported.
@@ -45,6 +47,7 @@ class TickReport:
     events: list = field(default_factory=list)  # SlackStarted / SnapEvent
     error: str | None = None  # divergence message, if any
     recovery: str | None = None  # "snapshot" or "static"
+    restart: str | None = None  # why the solver was restarted at new end positions
 
 
 class MotionSource:
@@ -73,6 +76,7 @@ class SimulationDriver:
         self.wall_per_substep = 0.0
         self._solver_config = config
         self._commanded = {}
+        self._last_position = {}
         self.anchor = 0.0
         self.last_now = None
         self.divergences = 0
@@ -107,6 +111,7 @@ class SimulationDriver:
         """Build the solver (static equilibrium at the current end positions) at clock time ``now``."""
         self._solver_config = self._start_config(now)
         self._commanded = {}
+        self._last_position = {}
         self.solver = self.solver_factory(self._solver_config)
         self.anchor = now - self.solver.time
         self.last_now = now
@@ -176,10 +181,19 @@ class SimulationDriver:
             target, report.capped = cap, True
             self.capped_ticks += 1
         t0, wall0 = self.solver.time, wallclock.perf_counter()
-        for end in END_NAMES:
-            if self._prescribed(end):
-                position, velocity = self.end_target(end, self.anchor + target)
-                self.solver.set_end_motion(end, position, velocity)
+        targets = {end: self.end_target(end, self.anchor + target) for end in END_NAMES if self._prescribed(end)}
+        held = {end: self._last_position.get(end) for end in targets}
+        self._last_position = {end: p for end, (p, _) in targets.items()}
+        for end, (position, _) in targets.items():
+            reach = node.max_end_speed * (target - t0) + 1e-6
+            if held[end] is not None and np.linalg.norm(position - held[end]) > reach:
+                # an end that was held (no input) got its first pose far away: restart there
+                report.restart = f"{end} end moved {np.linalg.norm(position - held[end]):.3g} m in one tick"
+                self._rebuild(now)
+                report.stamp = self.stamp
+                return report
+        for end, (position, velocity) in targets.items():
+            self.solver.set_end_motion(end, position, velocity)
         try:
             report.substeps = self.solver.advance_to(target)
         except SolverDivergedError as exc:
@@ -220,14 +234,22 @@ class SimulationDriver:
             self.solver.drain_end_tensions()
             self.anchor = now - self.solver.time
         else:
-            self._solver_config = self._start_config(now)
-            self.solver = self.solver_factory(self._solver_config)
-            self.solver.drain_end_tensions()
-            self.anchor = now - self.solver.time
-            self._take_snapshot()
+            self._rebuild(now)
             report.recovery = "static"
         self._build_detector()
         report.stamp = self.stamp
+
+    def _rebuild(self, now):
+        """A fresh solver (static equilibrium) at the current end positions, clock ``now``."""
+        self._solver_config = self._start_config(now)
+        self.solver = self.solver_factory(self._solver_config)
+        self.solver.drain_end_tensions()
+        self.anchor = now - self.solver.time
+        self._last_position = {}
+        forces = self.solver.end_forces()
+        self.static_tensions = (float(forces.ship_tension), float(forces.vehicle_tension))
+        self._build_detector()
+        self._take_snapshot()
 
     # ------------------------------------------------------------------ queries
     @property

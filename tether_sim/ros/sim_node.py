@@ -134,6 +134,9 @@ class TetherSimNode(Node):
             self._period["errors"] += 1
             log.error(f"solver diverged ({report.error}); recovered from {'the last snapshot' if report.recovery == 'snapshot' else 'a fresh static equilibrium'}")
             self._publish_diagnostics()
+        if report.restart:
+            log.warning(f"{report.restart}: solver restarted from a static equilibrium at the new end positions")
+            self._publish_description()
         if report.clock_jump:
             log.warning("clock jumped backwards: pose histories reset, simulation continues")
         if report.dropped > 0 or report.capped:
