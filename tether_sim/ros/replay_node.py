@@ -47,6 +47,8 @@ class ReplayNode(Node):
         p("input", "", _describe("MCAP file to replay, path"))
         p("rate", 1.0, _describe("playback speed factor (2 = twice real time)", 0.01, 100.0))
         p("start_offset_s", 0.0, _describe("skip this much of the recording, s", 0.0, 1e7))
+        p("duration_s", 0.0, _describe("replay only this much of the recording after the start "
+                                       "offset, s; 0 = to the end", 0.0, 1e7))
         p("loop", False, _describe("restart at the end"))
         p("clock", True, _describe("publish /clock"))
         p("clock_hz", 100.0, _describe("/clock publication rate, Hz", MIN_CLOCK_HZ, 1000.0))
@@ -55,7 +57,7 @@ class ReplayNode(Node):
         p("wait_for_subscribers_s", 0.0, _describe("before playing, wait up to this long for a "
                                                    "subscriber on every replayed topic, s", 0.0, 600.0))
         values = {name: self.get_parameter(name).value for name in
-                  ("input", "rate", "start_offset_s", "loop", "clock", "clock_hz", "topics",
+                  ("input", "rate", "start_offset_s", "duration_s", "loop", "clock", "clock_hz", "topics",
                    "depth", "wait_for_subscribers_s")}
         values.update({k: v for k, v in (overrides or {}).items() if v is not None})
         if path:
@@ -66,6 +68,7 @@ class ReplayNode(Node):
             raise ValueError(f"rate must be > 0, got {values['rate']}")
         self.path, self.rate = str(values["input"]), float(values["rate"])
         self.start_offset_ns = int(float(values["start_offset_s"]) * 1e9)
+        self.duration_ns = int(float(values["duration_s"]) * 1e9)
         self.loop, self.wait_s = bool(values["loop"]), float(values["wait_for_subscribers_s"])
         self.clock_period = 1.0 / max(MIN_CLOCK_HZ, float(values["clock_hz"]))
         summary = read_summary(self.path)
@@ -135,6 +138,8 @@ class ReplayNode(Node):
                 return
             if raw.log_time_ns < t_start:
                 continue
+            if self.duration_ns and raw.log_time_ns > t_start + self.duration_ns:
+                break
             wait_until(w0 + (raw.log_time_ns - t_start) / (self.rate * 1e9))
             if self.stopped:
                 return
@@ -161,6 +166,7 @@ def parse_args(argv):
     parser.add_argument("input", nargs="?", help="MCAP file (default: parameter 'input')")
     parser.add_argument("-r", "--rate", type=float, help="speed factor")
     parser.add_argument("-s", "--start-offset", type=float, dest="start_offset_s", help="skip seconds")
+    parser.add_argument("-d", "--duration", type=float, dest="duration_s", help="replay only S seconds")
     parser.add_argument("-l", "--loop", action="store_true", default=None)
     parser.add_argument("--clock-hz", type=float)
     parser.add_argument("--no-clock", dest="clock", action="store_false", default=None)
