@@ -13,8 +13,8 @@ Two deliberate choices, identical for every code that runs the case:
 * The orbit centre is ``ORBIT_DEPTH`` = 3 m below the still-water level (the paper puts the
   fairlead at z = 0), so that no cable node ever leaves the water: MoorDyn cuts buoyancy and drag
   of emerged segments, our solvers do not model the free surface.
-* The orbit amplitude is ramped in over the first period with a C1 smoothstep so that the
-  fairlead starts from rest (no velocity jump that would launch a spurious transverse wave).
+* The orbit amplitude is ramped in over the first period (the project's C2 quintic ramp) so that
+  the fairlead starts from rest (no velocity jump that would launch a spurious transverse wave).
 
 The same forcing function :func:`fairlead_motion` drives our solvers (through
 ``set_end_motion`` / ``advance_to``) and MoorDyn (through its coupled point), so the snap peaks
@@ -38,7 +38,7 @@ from tether_sim.physics.bodies import RigidBodyProperties
 from tether_sim.physics.boundary import EndCondition
 from tether_sim.physics.cable import CableProperties
 from tether_sim.physics.environment import Environment
-from tether_sim.physics.motion import MotionConfig
+from tether_sim.physics.motion import MotionConfig, build_motion
 from tether_sim.solvers.config import DGOptions, HybridOptions, InitialState
 
 # ---- tether [PE2020 Table 3] ----
@@ -70,22 +70,22 @@ RAMP_TIME = 1.0 / ORBIT_FREQUENCY  # s, one period
 LENGTHS = (200.0, 1730.0)
 
 
-def fairlead_motion(t, amplitude=ORBIT_AMPLITUDE, frequency=ORBIT_FREQUENCY, ramp_time=RAMP_TIME):
-    """Fairlead position and velocity (world ENU) at time t (s).
+def motion_config():
+    """The fairlead motion as the project configures it (``motion`` section of the SimConfig)."""
+    return MotionConfig(kind="circle", amplitude=ORBIT_AMPLITUDE, frequency=ORBIT_FREQUENCY,
+                        plane_azimuth=0.0, ramp_time=RAMP_TIME)
 
-    p(t) = c + a s(t) (sin wt, 0, -cos wt), c = (0, 0, -ORBIT_DEPTH), w = 2 pi f, with the
-    smoothstep ramp s = 3x^2 - 2x^3, x = t / ramp_time (s = 1 afterwards): the fairlead starts
-    at rest at the orbit centre and spirals out to the circle of radius a in the x-z plane.
-    """
-    w = 2.0 * math.pi * frequency
-    if ramp_time > 0.0 and t < ramp_time:
-        x = max(t, 0.0) / ramp_time
-        s, ds = x * x * (3.0 - 2.0 * x), 6.0 * x * (1.0 - x) / ramp_time
-    else:
-        s, ds = 1.0, 0.0
-    sn, cs = math.sin(w * t), math.cos(w * t)
-    pos = np.array([amplitude * s * sn, 0.0, -ORBIT_DEPTH - amplitude * s * cs])
-    vel = np.array([amplitude * (ds * sn + s * w * cs), 0.0, amplitude * (-ds * cs + s * w * sn)])
+
+ORBIT_ORIGIN = (0.0, 0.0, -ORBIT_DEPTH)
+_MOTION = build_motion(motion_config(), ORBIT_ORIGIN)
+
+
+def fairlead_motion(t):
+    """Fairlead position and velocity (world ENU) at time t (s): the project's own generator
+    (``tether_sim.physics.motion.CircleMotion``: d = a r(t) (sin wt e_x + cos wt e_z) about the
+    orbit centre, C2 quintic ramp r over one period), so the node, our solvers and MoorDyn all
+    see the same forcing."""
+    pos, vel, _ = _MOTION.at(t)
     return pos, vel
 
 
@@ -125,8 +125,7 @@ def ropos_config(length, alpha=0.0, solver="dg", n_elements=20, order=4, duratio
         dg=DGOptions(n_elements=int(n_elements), order=int(order), cfl=float(cfl)),
         hybrid=HybridOptions(n_segments=int(hybrid_segments), time_step=float(hybrid_dt)),
         initial=InitialState(kind="static"),
-        motion=MotionConfig(kind="circle", amplitude=ORBIT_AMPLITUDE, frequency=ORBIT_FREQUENCY,
-                            ramp_time=RAMP_TIME),
+        motion=motion_config(),
     )
 
 

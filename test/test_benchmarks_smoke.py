@@ -39,7 +39,7 @@ def test_fairlead_motion_velocity_is_derivative_and_orbit_radius():
         assert np.allclose(v, fd, atol=1e-4)
     p0, v0 = rc.fairlead_motion(0.0)
     assert np.allclose(v0, 0.0) and p0[2] == pytest.approx(-rc.ORBIT_DEPTH)
-    for t in np.linspace(6.0, 30.0, 17):
+    for t in np.linspace(rc.RAMP_TIME, 30.0, 17):
         p, _ = rc.fairlead_motion(t)
         assert math.hypot(p[0], p[2] + rc.ORBIT_DEPTH) == pytest.approx(rc.ORBIT_AMPLITUDE)
 
