@@ -151,3 +151,35 @@ def sag_below_chord(position):
     span = np.linalg.norm((p1 - p0)[:2])
     chord_z = p0[2] + (p1[2] - p0[2]) * horiz / span
     return float(np.max(chord_z - r[:, 2]))
+
+
+def scenario_config_path(name):
+    """Path of a scenario parameter file ``config/<name>.yaml`` (source tree or ament share)."""
+    from pathlib import Path
+
+    local = Path(__file__).resolve().parents[2] / "config" / f"{name}.yaml"
+    if local.exists():
+        return local
+    try:
+        from ament_index_python.packages import get_package_share_directory
+
+        return Path(get_package_share_directory("tether_sim")) / "config" / f"{name}.yaml"
+    except Exception:  # noqa: BLE001 - no ament index: report the source-tree path
+        return local
+
+
+def load_scenario(name, overrides=None):
+    """(config, solver) from ``config/<name>.yaml`` with flat overrides."""
+    from tether_sim.io.params import load_config
+
+    config = load_config(scenario_config_path(name), overrides=dict(overrides or {}))
+    return config, build_solver(config)
+
+
+def figure_dir(out=None):
+    """Directory for PNG figures (created): ``out`` or ``docs/figures`` of the source tree."""
+    from pathlib import Path
+
+    path = Path(out) if out else Path(__file__).resolve().parents[2] / "docs" / "figures"
+    path.mkdir(parents=True, exist_ok=True)
+    return path
