@@ -26,7 +26,7 @@ W = ref.submerged_weight(GAMMA0, RHO_C, RHO_F)
 def flat(ship_kind):
     return {
         "solver": "dg", "dg.n_elements": 4, "dg.order": 4,
-        "cable.length": L, "cable.EA": 1.0e5, "cable.gamma0": GAMMA0, "cable.density": RHO_C,
+        "cable.length": L, "cable.EA": 1.0e6, "cable.gamma0": GAMMA0, "cable.density": RHO_C,
         "cable.diameter": D, "cable.Cdn": 0.0, "cable.Cdt": 0.0, "cable.Cmn": 0.0, "cable.Cmt": 0.0,
         "cable.EI": 0.0, "cable.damping": 50.0,
         "environment.g": 9.81, "environment.fluid_density": RHO_F,
@@ -70,5 +70,8 @@ def test_friction_opposes_sliding(speed):
     print(f"U={speed}: ship force {force}, expected +x {expected:.3f} N")
     assert force[0] == pytest.approx(expected, rel=0.01)  # cable pulls the ship back: friction opposes sliding
     assert abs(force[1]) < 1e-6 * expected
-    # The whole cable slides at U (steady state), in the direction the ship moves.
-    np.testing.assert_allclose(res["velocity"][-1][:, 0], -speed, rtol=0.02)
+    # The whole cable slides at U in the direction the ship moves: displacement of every point over the
+    # last second (a small undamped axial oscillation, ~2 mm at U = 0.2, rides on it: 2% + 1 mm).
+    i0 = np.searchsorted(res["t"], 3.0)
+    moved = res["position"][-1][:, 0] - res["position"][i0][:, 0]
+    np.testing.assert_allclose(moved, -speed * (res["t"][-1] - res["t"][i0]), rtol=0.02, atol=1e-3)

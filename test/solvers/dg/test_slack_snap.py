@@ -63,7 +63,7 @@ def test_snap_front_speed():
             return {"ship": ([0.0, 0.0, 0.0], [0.0, 0.0, 0.0])}
         return {"ship": ([-V * (t - t_start - 0.5 * ramp), 0.0, 0.0], [-V, 0.0, 0.0])}
 
-    times = np.concatenate([[t_start, t_start + ramp], np.arange(t_start + 2e-4, t_start + 1.8 * L / C, 2e-4)])
+    times = np.concatenate([[t_start, t_start + ramp], np.arange(t_start + 2e-4, t_start + 2.6 * L / C, 2e-4)])
     res = harness.run_sampled(solver, times, motion=motion, keep=("tension",))
     t, ts, tv = res["sub_t"], res["sub_ship"], res["sub_vehicle"]
     t0 = t_start + 0.5 * ramp
