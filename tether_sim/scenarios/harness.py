@@ -168,12 +168,12 @@ def scenario_config_path(name):
         return local
 
 
-def load_scenario(name, overrides=None):
-    """(config, solver) from ``config/<name>.yaml`` with flat overrides."""
+def load_scenario(name, overrides=None, build=True):
+    """(config, solver) from ``config/<name>.yaml`` with flat overrides (solver None if not build)."""
     from tether_sim.io.params import load_config
 
     config = load_config(scenario_config_path(name), overrides=dict(overrides or {}))
-    return config, build_solver(config)
+    return config, (build_solver(config) if build else None)
 
 
 def figure_dir(out=None):
