@@ -54,17 +54,21 @@ def our_ladder(solver, length, rungs, duration, alpha=0.0, repeats=3, speed_dura
         res = drive.run(cfg, duration, motion=rc.fairlead_motion)
         tension = drive.resample(res["t"], res["ship"], grid)
         metrics = rc.snap_metrics(grid, tension)
-        walls = [res["wall"] / duration]
+        walls, cpus = [res["wall"] / duration], [res["cpu"] / duration]
         if res["wall"] < 60.0:
-            walls += [drive.run(cfg, speed_duration, motion=rc.fairlead_motion)["wall"] / speed_duration
-                      for _ in range(repeats)]
+            for _ in range(repeats):
+                again = drive.run(cfg, speed_duration, motion=rc.fairlead_motion)
+                walls.append(again["wall"] / speed_duration)
+                cpus.append(again["cpu"] / speed_duration)
         rows.append({"rung": rung, "length": length, "time_step": res["time_step"], **metrics,
                      "substep_max": float(np.max(res["ship"][res["t"] >= rc.PEAK_WINDOW[0]])),
-                     "wall_per_s": min(walls), "rtf": 1.0 / min(walls)})
+                     "wall_per_s": min(walls), "rtf": 1.0 / min(walls),
+                     "cpu_per_s": min(cpus), "rtf_cpu": 1.0 / min(cpus), "load": os.getloadavg()[0]})
         r = rows[-1]
         print(f"  {solver} L={length:6.0f} {rung:>8s} dt={r['time_step']:.3g}s mean-peak={r['mean_peak'] / 1e3:8.2f} kN "
               f"first={r['first_peak'] / 1e3:8.2f} max={r['max_peak'] / 1e3:8.2f} kN  "
-              f"wall/sim-s={1e3 * r['wall_per_s']:9.2f} ms RTF={r['rtf']:8.2f}", flush=True)
+              f"wall/sim-s={1e3 * r['wall_per_s']:9.2f} ms cpu/sim-s={1e3 * r['cpu_per_s']:9.2f} ms "
+              f"RTF={r['rtf']:8.2f} load={r['load']:.1f}", flush=True)
     for key in bench_moordyn.METRICS:
         ref = rows[-1][key]
         for r in rows:
@@ -76,7 +80,8 @@ def _print_ladder(label, rows, name_key):
     for r in rows:
         print(f"    {label} {str(r[name_key]):>8s}  mean-peak={r['mean_peak'] / 1e3:8.2f} kN  "
               f"err={100 * r['mean_peak_error']:6.2f} % (first {100 * r['first_peak_error']:6.2f} %, "
-              f"max {100 * r['max_peak_error']:6.2f} %)  wall/sim-s={1e3 * r['wall_per_s']:9.2f} ms")
+              f"max {100 * r['max_peak_error']:6.2f} %)  wall/sim-s={1e3 * r['wall_per_s']:9.2f} ms  "
+              f"cpu/sim-s={1e3 * r['cpu_per_s']:9.2f} ms")
 
 
 def main(argv=None):
@@ -108,14 +113,15 @@ def main(argv=None):
               f"MoorDyn {md[-1]['mean_peak'] / 1e3:.2f} kN)")
         equal = {}
         for tol in (0.01, 0.05):
-            a = bench_moordyn.wall_at_accuracy(ours, tol)
-            b = bench_moordyn.wall_at_accuracy(md, tol)
-            fa = f"{args.solver} {a['rung']}: {1e3 * a['wall_per_s']:.2f} ms/s" if a else f"{args.solver}: not reached"
-            fb = f"MoorDyn N={b['segments']}: {1e3 * b['wall_per_s']:.2f} ms/s" if b else "MoorDyn: not reached"
-            ratio = a["wall_per_s"] / b["wall_per_s"] if (a and b) else None
-            rtxt = f"ratio ours/MoorDyn = {ratio:.2f}" if ratio else "ratio n/a"
-            print(f"    at {100 * tol:.0f} %: {fa} | {fb} | {rtxt}")
-            equal[str(tol)] = {"ours": a, "moordyn": b, "ratio": ratio}
+            for cost in ("wall_per_s", "cpu_per_s"):
+                a = bench_moordyn.wall_at_accuracy(ours, tol, cost=cost)
+                b = bench_moordyn.wall_at_accuracy(md, tol, cost=cost)
+                fa = f"{args.solver} {a['rung']}: {1e3 * a[cost]:.2f} ms/s" if a else f"{args.solver}: not reached"
+                fb = f"MoorDyn N={b['segments']}: {1e3 * b[cost]:.2f} ms/s" if b else "MoorDyn: not reached"
+                ratio = a[cost] / b[cost] if (a and b) else None
+                rtxt = f"ratio ours/MoorDyn = {ratio:.2f}" if ratio else "ratio n/a"
+                print(f"    at {100 * tol:.0f} % ({cost[:-6]}): {fa} | {fb} | {rtxt}")
+                equal[f"{tol}_{cost}"] = {"ours": a, "moordyn": b, "ratio": ratio}
         out[str(int(length))] = {"ours": ours, "moordyn": md, "equal_accuracy": equal, "reference_gap": ref_gap}
     Path(args.json).parent.mkdir(parents=True, exist_ok=True)
     Path(args.json).write_text(json.dumps(out, indent=1, default=float))

@@ -109,18 +109,28 @@ def cage_properties(top_z):
 
 
 def ropos_config(length, alpha=0.0, solver="dg", n_elements=20, order=4, duration=60.0,
-                 hybrid_segments=100, hybrid_dt=0.01, cfl=0.5):
-    """SimConfig of the ROPOS case (ship end prescribed, cage as a simulated body)."""
+                 hybrid_segments=100, hybrid_dt=0.01, cfl=0.5, cage="body"):
+    """SimConfig of the ROPOS case (ship end prescribed, cage as a simulated body).
+
+    ``cage="force"`` replaces the cage by its submerged weight as a point load at s = L (no cage
+    inertia or drag: a different snap, only for cost figures while a solver lacks body coupling).
+    """
     p0, _ = fairlead_motion(0.0)
     top = tuple(float(v) for v in p0)
     bottom_z = p0[2] - float(length)
+    if cage == "force":
+        vehicle = EndCondition(kind="force", position=(0.0, 0.0, bottom_z), force=(0.0, 0.0, -cage_wet_weight()))
+    elif cage == "body":
+        vehicle = EndCondition(kind="body", position=(0.0, 0.0, bottom_z))
+    else:
+        raise ValueError(f"cage: 'body' or 'force', got {cage!r}")
     return SimConfig(
         solver=solver,
         duration=float(duration),
         cable=cable_properties(length, alpha),
         environment=Environment(g=G, fluid_density=RHO_F, seabed=False, seabed_z=-(float(length) + 500.0)),
         ship_end=EndCondition(kind="prescribed", position=top),
-        vehicle_end=EndCondition(kind="body", position=(0.0, 0.0, bottom_z)),
+        vehicle_end=vehicle,
         body=cage_properties(bottom_z),
         dg=DGOptions(n_elements=int(n_elements), order=int(order), cfl=float(cfl)),
         hybrid=HybridOptions(n_segments=int(hybrid_segments), time_step=float(hybrid_dt)),
