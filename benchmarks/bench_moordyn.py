@@ -151,11 +151,12 @@ def ladder(length, segments, duration, workdir, repeats=3, speed_duration=20.0):
 
 
 def wall_at_accuracy(rows, tol, key="first_peak", cost="wall_per_s"):
-    """Cheapest ladder rung whose error (and that of every finer rung below the reference) is
-    within tol of the reference; the reference rung itself is excluded. None if none is."""
-    coarse = rows[:-1]
+    """Cheapest ladder rung within tol of the reference such that every costlier rung (the
+    reference, the last row, excluded) is within tol too -- a lucky coarse hit does not count.
+    None if no rung qualifies."""
+    coarse = sorted(rows[:-1], key=lambda r: r[cost])
     ok = [r for i, r in enumerate(coarse) if all(q[key + "_error"] <= tol for q in coarse[i:])]
-    return min(ok, key=lambda r: r[cost]) if ok else None
+    return ok[0] if ok else None
 
 
 def main(argv=None):
