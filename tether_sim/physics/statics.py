@@ -82,7 +82,8 @@ def _integral(T0, w, law, s):
     H = float(np.linalg.norm(Th))
     eh = Th / H if H > 0 else np.zeros(3)
     V0 = float(T0[2])
-    if law.code == 2 or abs(w) * (s.max() if s.size else 0.0) < 1e-12 * max(H + abs(V0), 1e-300):
+    # closed form unless it would cancel catastrophically (weight tiny against the tension)
+    if law.code == 2 or abs(w) * (s.max() if s.size else 0.0) < 1e-4 * max(H + abs(V0), 1e-300):
         return _integral_numeric(T0, w, law, s)
     V = V0 + w * s
     EA = law.EA
@@ -91,7 +92,8 @@ def _integral(T0, w, law, s):
         z = (np.hypot(H, V) - math.hypot(H, V0)) / w + (V0 * s + 0.5 * w * s**2) / EA
     else:  # vertical: dz/ds = sign(V) (1 + |V| / EA)
         xh = np.zeros_like(s)
-        z = (np.abs(V) - abs(V0)) / w + (np.abs(V) * V - abs(V0) * V0) / (2.0 * w * EA)
+        geo = np.where(V * V0 > 0, np.sign(V0) * s, (np.abs(V) - abs(V0)) / w)
+        z = geo + (V0 * s + 0.5 * w * s**2) / EA
     return xh[:, None] * eh[None, :] + z[:, None] * np.array([0.0, 0.0, 1.0])[None, :]
 
 

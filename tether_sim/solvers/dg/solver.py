@@ -164,6 +164,20 @@ class DGCableSolver:
         if relax > 0:
             self.relax(relax)
 
+    def set_shape(self, tangent, velocity=None, origin=None):
+        """Replace the state: q = tangent(s) (n, 3) = dr/ds and cable velocity velocity(s) (n, 3) (m/s),
+        both L2-projected on the modes; origin (3,) = r(0) (default: the current r(0))."""
+        r0 = self.positions_at(np.array([0.0]))[0] if origin is None else np.asarray(origin, float)
+        g0 = self.config.cable.gamma0
+        for e in range(self.N):
+            a, b = self.s_edges[e], self.s_edges[e + 1]
+            self.U[e, :, 0:3] = project_function(self.P, tangent, a, b)
+            self.U[e, :, 3:6] = 0.0 if velocity is None else g0 * project_function(self.P, velocity, a, b)
+        if self.iprm[Y.I_ANCHOR] == 0:
+            self.ra[:] = r0
+        else:
+            self.ra[:] = r0 + np.sum(self.h[:, None] * self.U[:, 0, 0:3], axis=0)
+
     def _default_relax_time(self):
         """Several pendulum periods 2 pi sqrt(L / g) of the whole cable."""
         return 5.0 * 2.0 * math.pi * math.sqrt(self.L / max(self.config.environment.g, 1e-3))
