@@ -1,0 +1,108 @@
+"""Snap detector on synthetic tension signals whose events are known exactly."""
+
+import numpy as np
+import pytest
+
+from tether_sim.physics.snap import SlackStarted, SnapConfig, SnapDetector, SnapEvent
+
+STATIC = 1000.0
+DT = 1e-3
+
+
+def piecewise(t, knots):
+    """Piecewise-linear signal through (time, tension) knots."""
+    kt, ky = zip(*knots)
+    return np.interp(t, kt, ky)
+
+
+# Static 1000 N; linear drop 1000 -> 0 over [1, 2] s (crosses 100 N at 1.9 s), slack at 0 until
+# 3 s, rise 0 -> 2500 N over [3, 3.05] s (crosses 100 N at 3.002 s), then decay back to 1000 N.
+KNOTS = [(0, STATIC), (1, STATIC), (2, 0), (3, 0), (3.05, 2500), (3.5, STATIC), (10, STATIC)]
+
+
+def run(detector, t, y, chunk=777):
+    events = []
+    for k in range(0, t.size, chunk):  # odd chunking: results must not depend on it
+        events += detector.update(t[k:k + chunk], y[k:k + chunk])
+    return events + detector.flush()
+
+
+def test_single_slack_snap_event_is_measured():
+    t = np.arange(0.0, 6.0, DT)
+    y = piecewise(t, KNOTS)[:, None]
+    det = SnapDetector(SnapConfig(), ["vehicle"], [STATIC], [200.0])
+    events = run(det, t, y)
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent]
+    slack, snap = events
+    # Crossing times are interpolated linearly, exact for a piecewise-linear signal (float roundoff only).
+    assert slack.time == pytest.approx(1.9, abs=1e-9)
+    assert slack.threshold == pytest.approx(100.0)
+    assert snap.slack_start == pytest.approx(1.9, abs=1e-9)
+    assert snap.slack_duration == pytest.approx(3.002 - 1.9, abs=1e-9)
+    assert snap.peak_tension == pytest.approx(2500.0)
+    assert snap.time == pytest.approx(3.05, abs=DT / 2)
+    assert snap.rise_time == pytest.approx(3.05 - 3.002, abs=DT / 2)
+    assert snap.min_tension == 0.0
+    assert snap.amplification == pytest.approx(2.5)
+    assert snap.static_tension == STATIC and snap.arc_length == 200.0 and snap.location == "vehicle"
+    assert "DNV" in snap.criterion
+
+
+def test_no_event_without_slack_even_with_big_oscillation():
+    # Oscillation between 150 N and 1850 N: never below 10% of static -> no slack, no snap.
+    t = np.arange(0.0, 20.0, DT)
+    y = (STATIC + 850.0 * np.sin(2 * np.pi * 0.2 * t))[:, None]
+    det = SnapDetector(SnapConfig(), ["ship"], [STATIC], [0.0])
+    assert run(det, t, y) == []
+    # The same signal with the threshold raised live to 20% of static goes slack every cycle.
+    det = SnapDetector(SnapConfig(), ["ship"], [STATIC], [0.0])
+    det.update(t[:1000], y[:1000])
+    det.set_config(SnapConfig(slack_fraction=0.2, retension_fraction=0.3))
+    events = run(det, t[1000:], y[1000:])
+    slacks = [e for e in events if isinstance(e, SlackStarted)]
+    snaps = [e for e in events if isinstance(e, SnapEvent)]
+    assert len(slacks) == 4 and len(snaps) == 4
+    # Minimum at t = 3.75 + 5n; 150 + 850(1 - cos(w dt')) = 200 -> slack lasts 2 acos(1 - 50/850)/w.
+    w = 2 * np.pi * 0.2
+    assert snaps[0].slack_duration == pytest.approx(2 * np.arccos(1 - 50 / 850) / w, abs=2 * DT)
+    assert snaps[0].min_tension == pytest.approx(150.0, abs=1e-3)
+
+
+def test_locations_are_independent_and_thresholds_absolute():
+    t = np.arange(0.0, 6.0, DT)
+    cage = piecewise(t, KNOTS)
+    ship = cage + 44e3  # a long tether's ship end: offset by its weight, never slack
+    det = SnapDetector(SnapConfig(), ["ship", "vehicle"], [44e3 + STATIC, STATIC], [0.0, 1730.0])
+    events = run(det, t, np.c_[ship, cage])
+    assert {e.location for e in events} == {"vehicle"}
+    det = SnapDetector(SnapConfig(slack_threshold=500.0), ["vehicle"], [STATIC], [0.0])
+    slack = run(det, t, cage[:, None])[0]
+    assert slack.time == pytest.approx(1.5, abs=1e-9) and slack.threshold == 500.0
+    assert "absolute" in det.criterion
+
+
+def test_short_slack_ignored_and_second_slack_closes_window():
+    t = np.arange(0.0, 4.0, DT)
+    # Two dips below 100 N: the first 20 ms long, then a second one 0.3 s after re-tensioning.
+    knots = [(0, STATIC), (1.0, STATIC), (1.01, 50), (1.03, 50), (1.04, 1500), (1.2, 800),
+             (1.34, 50), (1.8, 50), (1.9, 2000), (2.5, STATIC), (4, STATIC)]
+    y = piecewise(t, knots)[:, None]
+    det = SnapDetector(SnapConfig(min_slack_duration=0.1), ["vehicle"], [STATIC], [0.0])
+    events = run(det, t, y)
+    snaps = [e for e in events if isinstance(e, SnapEvent)]
+    assert sum(isinstance(e, SlackStarted) for e in events) == 2  # the warning fires for both
+    assert len(snaps) == 1 and snaps[0].peak_tension == pytest.approx(2000.0)
+    det = SnapDetector(SnapConfig(), ["vehicle"], [STATIC], [0.0])
+    snaps = [e for e in run(det, t, y) if isinstance(e, SnapEvent)]
+    # Without the minimum duration the first snap (1500 N) is closed by the second slack at 1.33 s.
+    assert [round(e.peak_tension) for e in snaps] == [1500, 2000]
+
+
+def test_bad_input_is_rejected_clearly():
+    with pytest.raises(ValueError, match="2 locations"):
+        SnapDetector(SnapConfig(), ["ship", "vehicle"], [1.0], [0.0, 1.0])
+    det = SnapDetector(SnapConfig(), ["ship"], [1.0], [0.0])
+    with pytest.raises(ValueError, match="shape"):
+        det.update(np.zeros(3), np.zeros((3, 2)))
+    with pytest.raises(ValueError, match="non-finite"):
+        det.update(np.zeros(2), np.array([[1.0], [np.nan]]))

@@ -1,0 +1,101 @@
+"""ROPOS tether-cage case [PE2020 Sec. 6, Table 3]: configuration, statics, snap front, slack-snap.
+
+The solver runs here are the cheap subsets; the 48-case study and the mesh study are scripts
+(``python -m tether_sim.scenarios.ropos_study``) whose numbers are in docs/ropos.md.
+"""
+
+import importlib.util
+import math
+
+import numpy as np
+import pytest
+
+from tether_sim.io.params import load_config
+from tether_sim.physics.snap import SnapEvent
+from tether_sim.scenarios.ropos import (
+    CONFIG_DIR,
+    point_load_config,
+    ropos_config,
+    run_case,
+    static_end_tensions,
+)
+from tether_sim.solvers.factory import build_solver
+
+# Until the DG solver is merged the solver runs cannot happen; they are skipped, not faked.
+needs_dg = pytest.mark.skipif(importlib.util.find_spec("tether_sim.solvers.dg.solver") is None,
+                              reason="DG solver (tether_sim.solvers.dg.solver) not on this branch yet")
+
+
+@pytest.mark.parametrize("length", [200, 500, 975, 1730])
+def test_config_files_carry_table3_and_calibration(length):
+    cfg = load_config(CONFIG_DIR / f"ropos_L{length}.yaml")
+    c, b = cfg.cable, cfg.body
+    assert c.length == length and (c.EA, c.gamma0, c.density, c.diameter) == (45.5e6, 3.01, 7153.0, 0.03)
+    assert (c.damping, c.Cdn, c.Cdt, c.Cmn, c.Cmt) == (45.5e3, 1.0, 0.02, 1.0, 0.0)
+    assert (b.mass, b.density, b.added_mass[2], b.drag_coefficients[2], b.inertia[1]) == (4995.0, 8448.0, 9200.0, 2.7, 19e3)
+    assert b.drag_areas[2] == pytest.approx(math.pi / 4 * 3.01**2, rel=1e-4)  # lid area of D = 3.01 m
+    assert b.drag_areas[0] == pytest.approx(3.01 * 4.2, rel=1e-4)  # side area D x H
+    assert b.attachment == (0.0, 0.0, 2.1)  # top of a 4.2 m high cage, CoG at its centre
+    assert (cfg.dg.n_elements, cfg.dg.order, cfg.vehicle_end.kind) == (20, 4, "body")
+    # c = sqrt(EA/gamma0) = 3888 m/s: L/c = 0.445 s at 1730 m [PE2020 Sec. 6.1]
+    assert 1730.0 / c.wave_speed == pytest.approx(0.445, abs=5e-4)
+
+
+def test_validation_config_uses_the_synthetic_record():
+    cfg = load_config(CONFIG_DIR / "ropos_validation.yaml")
+    assert cfg.motion.kind == "record" and cfg.motion.record_scale == 1.2 and cfg.cable.length == 1730.0
+    assert (CONFIG_DIR.parent / cfg.motion.record_path).is_file()
+
+
+def test_closed_form_static_tensions():
+    ship, cage = static_end_tensions(ropos_config(1730.0))
+    assert cage == pytest.approx(4995 * 9.81 * (1 - 1025 / 8448), rel=1e-12)
+    # The tether's submerged weight at L = 1730 m: "44 kN" [PE2020 Sec. 6.1]
+    assert (ship - cage) / 1e3 == pytest.approx(44.0, abs=0.5)
+    cfg = ropos_config(500.0, alpha=10.0, frequency=0.25, n_elements=7)
+    assert (cfg.cable.EI, cfg.motion.frequency, cfg.dg.n_elements, cfg.duration) == (26.2e3, 0.25, 7, 48.0)
+
+
+@needs_dg
+@pytest.mark.parametrize("point_load", [False, True], ids=["cage_body", "point_load"])
+def test_static_L1730_end_tensions(point_load):
+    cfg = ropos_config(1730.0)
+    if point_load:
+        cfg = point_load_config(cfg)
+    ship, cage = static_end_tensions(cfg)
+    forces = build_solver(cfg).end_forces()
+    # Acceptance [issue 5]: both within 0.5% of the closed form.
+    assert forces.vehicle_tension == pytest.approx(cage, rel=5e-3)
+    assert forces.ship_tension - forces.vehicle_tension == pytest.approx(ship - cage, rel=5e-3)
+
+
+@needs_dg
+def test_snap_front_reaches_the_ship_after_L_over_c():
+    """A tension step at the cage end (point load) arrives at the ship after L/c = 0.445 s."""
+    cfg = point_load_config(ropos_config(1730.0))
+    ship, cage = static_end_tensions(cfg)
+    solver = build_solver(cfg)
+    solver.drain_end_tensions()
+    t_step, step = 0.02, 20e3
+    solver.advance_to(t_step)
+    solver.set_end_load("vehicle", (0.0, 0.0, -(cage + step)))
+    solver.advance_to(0.8)
+    t, T_ship, _ = (np.asarray(a) for a in solver.drain_end_tensions())
+    # The front doubles on reflection at the pinned ship end: its middle is at T0 + step.
+    i = np.nonzero(T_ship > ship + step)[0][0]
+    t_half = t[i - 1] + (ship + step - T_ship[i - 1]) * (t[i] - t[i - 1]) / (T_ship[i] - T_ship[i - 1])
+    lag = t_half - t_step
+    assert lag == pytest.approx(1730.0 / cfg.cable.wave_speed, rel=0.02)
+
+
+@needs_dg
+def test_slack_and_snap_at_cage_L200():
+    """a = 2 m orbit at L = 200 m: slack + snap at the cage for f = 0.25 Hz, none at 0.10 Hz."""
+    fast = run_case(ropos_config(200.0, frequency=0.25, periods=4.0), output_rate=50.0)
+    assert not fast.error
+    snaps = [e for e in fast.events if isinstance(e, SnapEvent) and e.location == "vehicle"]
+    assert fast.slacks("vehicle") and snaps
+    assert all(e.peak_tension > e.static_tension for e in snaps)
+    slow = run_case(ropos_config(200.0, frequency=0.10, periods=2.0), output_rate=20.0)
+    assert not slow.error and not slow.events
+    assert slow.vehicle_tension.min() > 0.1 * slow.static[1]

@@ -1,0 +1,140 @@
+"""tether-sim-report on a synthetic output MCAP whose slack period and snap event are known exactly.
+
+The MCAP is written with RosMcapWriter from CDR made by rosbags (types parsed from the shipped
+msg_defs/), so the report reads it through the same decoder path as a recording.
+"""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from matplotlib.image import imread
+from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+from tether_sim.io.mcap_log import RosMcapWriter
+from tether_sim.io.msg_definitions import export_rosbags_definitions
+from tether_sim.report import ReportError, below_intervals, main, make_report
+
+REPO = Path(__file__).resolve().parents[1]
+MSG_DIR = REPO / "msg_defs" / "msg"
+T0_NS = 50 * 10**9           # first state stamp: 50 s of sim time
+DT = 0.1                     # 10 Hz output
+N_T, N_S, L = 201, 11, 100.0
+SLACK = (6.0, 7.0)           # vehicle end below the threshold on these samples (inclusive)
+THRESHOLD, PEAK, T_PEAK = 100.0, 12_000.0, 7.3
+
+
+@pytest.fixture(scope="module")
+def store():
+    ts = get_typestore(Stores.ROS2_JAZZY)
+    for name in ("TetherState", "SnapLoadEvent", "SlackWarning"):
+        ts.register(get_types_from_msg((MSG_DIR / f"{name}.msg").read_text(),
+                                       f"tether_sim_msgs/msg/{name}"))
+    return ts
+
+
+def _stamp(ts, seconds):
+    ns = T0_NS + int(round(seconds * 1e9))
+    return ts.types["builtin_interfaces/msg/Time"](sec=ns // 10**9, nanosec=ns % 10**9)
+
+
+def _header(ts, seconds):
+    return ts.types["std_msgs/msg/Header"](stamp=_stamp(ts, seconds), frame_id="map")
+
+
+def vehicle_tension(t):
+    """Static 2000 N, a slack period on SLACK (50 N), then the snap peak at T_PEAK."""
+    if SLACK[0] - 1e-9 <= t <= SLACK[1] + 1e-9:
+        return 50.0
+    return PEAK if abs(t - T_PEAK) < 1e-9 else 2000.0
+
+
+def write_output(path, prefix, ts):
+    T = ts.types
+    s = np.linspace(0.0, L, N_S)
+    with RosMcapWriter(path, msg_search_path=[prefix]) as w:
+        w.add_topic("/tether/state", "tether_sim_msgs/msg/TetherState")
+        w.add_topic("/tether/snap_events", "tether_sim_msgs/msg/SnapLoadEvent")
+        w.add_topic("/tether/slack_warnings", "tether_sim_msgs/msg/SlackWarning")
+        w.add_topic("/tether/ship_wrench", "geometry_msgs/msg/WrenchStamped")
+        for k in range(N_T):
+            t = k * DT
+            tv = vehicle_tension(t)
+            ship = tv + 9.81 * 5.0 * L  # weight of 100 m of 5 kg/m cable in air, as a simple offset
+            state = T["tether_sim_msgs/msg/TetherState"](
+                header=_header(ts, t), solver="dg", arc_length=s,
+                position=[T["geometry_msgs/msg/Point"](x=0.1 * t, y=0.0, z=-si) for si in s],
+                velocity=[T["geometry_msgs/msg/Vector3"](x=0.1, y=0.0, z=0.0) for _ in s],
+                tension=np.linspace(ship, tv, N_S), curvature=np.zeros(N_S),
+                bending_moment=np.zeros(N_S), ship_end_tension=ship, vehicle_end_tension=tv,
+                time_step=1e-3, real_time_factor=1.0)
+            log = T0_NS + k * 10**8
+            w.write("/tether/state", ts.serialize_cdr(state, "tether_sim_msgs/msg/TetherState"), log)
+            wrench = T["geometry_msgs/msg/WrenchStamped"](header=_header(ts, t), wrench=T["geometry_msgs/msg/Wrench"](
+                force=T["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=-ship),
+                torque=T["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0)))
+            w.write("/tether/ship_wrench", ts.serialize_cdr(wrench, "geometry_msgs/msg/WrenchStamped"), log)
+            if abs(t - SLACK[0]) < 1e-9:
+                warn = T["tether_sim_msgs/msg/SlackWarning"](header=_header(ts, t), end="vehicle",
+                                                             arc_length=L, tension=50.0,
+                                                             threshold=THRESHOLD, static_tension=2000.0)
+                w.write("/tether/slack_warnings", ts.serialize_cdr(warn, "tether_sim_msgs/msg/SlackWarning"), log)
+            if abs(t - T_PEAK) < 1e-9:
+                snap = T["tether_sim_msgs/msg/SnapLoadEvent"](
+                    header=_header(ts, t), end="vehicle", arc_length=L, peak_tension=PEAK,
+                    min_tension=50.0, slack_start=_stamp(ts, SLACK[0]), slack_duration=1.0,
+                    rise_time=0.3, static_tension=2000.0, amplification=PEAK / 2000.0,
+                    criterion="slack_threshold")
+                w.write("/tether/snap_events", ts.serialize_cdr(snap, "tether_sim_msgs/msg/SnapLoadEvent"), log)
+    return path
+
+
+@pytest.fixture(scope="module")
+def prefix(tmp_path_factory):
+    root = tmp_path_factory.mktemp("prefix")
+    export_rosbags_definitions(root, ["geometry_msgs/msg/WrenchStamped", "geometry_msgs/msg/Point",
+                                      "geometry_msgs/msg/Vector3", "std_msgs/msg/Header"])
+    return root
+
+
+def test_below_intervals_exact():
+    t = np.arange(10.0)
+    v = np.array([5, 1, 1, 5, 5, 0, 5, 5, 1, 1.0])
+    assert below_intervals(t, v, 2.0) == [(1.0, 2.0), (5.0, 5.0), (8.0, 9.0)]
+
+
+def test_report_on_known_run(tmp_path, prefix, store):
+    path = write_output(tmp_path / "out.mcap", prefix, store)
+    result = make_report(path, tmp_path / "fig")
+    run = result["run"]
+    assert len(run.t) == N_T and run.t[0] == 0.0 and run.t[-1] == pytest.approx(20.0)
+    # slack: samples 6.0..7.0 s are below the 100 N threshold the node reported; the event's own
+    # slack interval (6.0 + 1.0 s) coincides, so exactly one period results.
+    (period,) = result["periods"]["vehicle"]
+    assert (period["start"], period["end"]) == pytest.approx(SLACK, abs=1e-6)
+    assert period["min_tension"] == 50.0 and period["threshold"] == THRESHOLD
+    assert result["periods"]["ship"] == []
+    assert result["static"] == {"ship": pytest.approx(2000.0 + 9.81 * 500.0), "vehicle": 2000.0}
+    (snap,) = run.snaps
+    assert snap["t_peak"] == pytest.approx(T_PEAK) and snap["slack_start"] == pytest.approx(SLACK[0])
+    md = result["markdown"]
+    assert "| 1 | vehicle | 100.0 | 7.300 | 12000.0 | 2000.0 | 6.00 |" in md
+    assert "| vehicle | 6.000 | 7.000 | 1.000 | 50.0 | 100.0 |" in md
+    assert result["report_path"].read_text() == md
+    for png in result["figures"].values():
+        image = imread(png)
+        assert image.shape[0] > 400 and image.shape[1] > 800
+        assert image[..., :3].std() > 0.05  # not a blank canvas
+    wrench_t, wrench_f = run.wrench["ship"]
+    assert np.allclose(wrench_f, run.end_tension["ship"])
+
+
+def test_report_without_states_is_a_clear_error(tmp_path, prefix, store, capsys):
+    path = tmp_path / "poses.mcap"
+    with RosMcapWriter(path, msg_search_path=[prefix]) as w:
+        w.add_topic("/ship/wrench", "geometry_msgs/msg/WrenchStamped")
+    with pytest.raises(ReportError, match="no tether_sim_msgs/msg/TetherState topic"):
+        make_report(path, tmp_path / "fig")
+    assert main([str(path)]) == 2
+    assert "poses.mcap" in capsys.readouterr().err
+    assert main([str(tmp_path / "missing.mcap")]) == 2

@@ -1,0 +1,247 @@
+"""Reading rosbag2-style MCAP files, tolerant of a tail cut off by a crash (no rclpy).
+
+A complete file (footer + summary) is read through its chunk index in log-time order with chunk
+CRCs checked. A file without a usable summary (the writer was killed) is scanned record by record
+from the start; every complete record counts, the incomplete tail is dropped with a
+:class:`TruncatedMcapWarning`. Anything else that is wrong (not an MCAP file, a CRC mismatch, a
+record that does not parse) raises :class:`McapLogError` naming the file.
+"""
+
+from __future__ import annotations
+
+import io
+import struct
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import yaml
+from mcap.data_stream import ReadDataStream
+from mcap.opcode import Opcode
+from mcap.reader import SeekingReader
+from mcap.records import Channel, Chunk, Header, Message, Metadata, Schema
+from mcap.stream_reader import breakup_chunk
+
+from tether_sim.errors import TetherSimError
+
+MCAP_MAGIC = b"\x89MCAP0\r\n"
+_RECORD_PREFIX = 9  # opcode (1 byte) + record length (uint64)
+
+
+class McapLogError(TetherSimError, ValueError):
+    """An MCAP file cannot be read: missing, not MCAP, corrupt, or undecodable (names the file)."""
+
+
+class TruncatedMcapWarning(UserWarning):
+    """The file ends inside a record (the writer died); only its complete records were read."""
+
+
+@dataclass(frozen=True)
+class RawMessage:
+    """One stored message: topic, type, times (ns), sequence and the CDR bytes as written."""
+
+    topic: str
+    type_name: str
+    log_time_ns: int
+    publish_time_ns: int
+    sequence: int
+    data: bytes
+    channel: Channel
+    schema: Schema | None
+
+
+@dataclass
+class TopicInfo:
+    type_name: str
+    message_encoding: str
+    offered_qos_profiles: list = field(default_factory=list)
+    type_hash: str = ""
+    message_count: int = 0
+
+    @property
+    def latched(self) -> bool:
+        """True when every offer was TRANSIENT_LOCAL (a 'latched' topic)."""
+        offers = self.offered_qos_profiles
+        return bool(offers) and all(str(q.get("durability")) in ("transient_local", "1")
+                                    for q in offers)
+
+
+@dataclass
+class McapSummary:
+    profile: str
+    topics: dict[str, TopicInfo]
+    message_count: int
+    start_ns: int
+    end_ns: int
+    metadata: dict[str, dict]
+    complete: bool
+
+    @property
+    def rosbag2_metadata(self) -> dict | None:
+        """The parsed 'rosbag2' serialized_metadata (BagMetadata) or None."""
+        text = self.metadata.get("rosbag2", {}).get("serialized_metadata")
+        return yaml.safe_load(text) if text else None
+
+
+def _open_mcap(path: Path):
+    if not path.is_file():
+        raise McapLogError(f"{path}: no such MCAP file")
+    handle = open(path, "rb")  # noqa: SIM115 - returned to the caller, who closes it
+    if handle.read(len(MCAP_MAGIC)) != MCAP_MAGIC:
+        handle.close()
+        raise McapLogError(f"{path}: not an MCAP file (missing the MCAP magic bytes)")
+    handle.seek(0)
+    return handle
+
+
+def _complete_summary(handle):
+    """The summary of a complete file, or None when the footer/summary is missing or unusable."""
+    try:
+        summary = SeekingReader(handle).get_summary()
+    except Exception:  # noqa: BLE001 - a truncated footer raises assorted errors; scan instead
+        return None
+    if summary is None or not summary.chunk_indexes:
+        return None
+    return summary
+
+
+def _qos_list(channel: Channel) -> list:
+    text = channel.metadata.get("offered_qos_profiles", "")
+    try:
+        value = yaml.safe_load(text) if text else []
+    except yaml.YAMLError:
+        return []
+    return value if isinstance(value, list) else []
+
+
+def _type_name(channel: Channel, schemas: dict) -> str:
+    schema = schemas.get(channel.schema_id)
+    return schema.name if schema is not None else ""
+
+
+def _scan_records(path: Path):
+    """Yield every complete top-level record (chunks broken up); warn at a truncated tail."""
+    data = path.read_bytes()
+    pos, size, n_chunks = len(MCAP_MAGIC), len(data), 0
+    while pos < size:
+        if pos + _RECORD_PREFIX > size:
+            break
+        opcode = data[pos]
+        (length,) = struct.unpack_from("<Q", data, pos + 1)
+        end = pos + _RECORD_PREFIX + length
+        if end > size:
+            break
+        body = ReadDataStream(io.BytesIO(data[pos + _RECORD_PREFIX:end]))
+        try:
+            if opcode == Opcode.FOOTER:
+                return
+            if opcode == Opcode.CHUNK:
+                records = breakup_chunk(Chunk.read(body), validate_crc=True)
+                n_chunks += 1
+            elif opcode == Opcode.MESSAGE:
+                records = [Message.read(body, length)]
+            elif opcode == Opcode.SCHEMA:
+                records = [Schema.read(body)]
+            elif opcode == Opcode.CHANNEL:
+                records = [Channel.read(body)]
+            elif opcode == Opcode.METADATA:
+                records = [Metadata.read(body)]
+            elif opcode == Opcode.HEADER:
+                records = [Header.read(body)]
+            else:
+                records = []
+        except Exception as exc:  # noqa: BLE001 - CRC, zstd and struct errors all mean corrupt
+            raise McapLogError(f"{path}: corrupt record (opcode {opcode:#04x}) at byte {pos}: "
+                               f"{exc}") from exc
+        yield from records
+        pos = end
+    where = f"ends inside a record at byte {pos} of {size}" if pos < size else "has no footer"
+    warnings.warn(f"{path}: file {where} (the writer stopped without closing it); read the "
+                  f"{n_chunks} complete chunk(s) before that point",
+                  TruncatedMcapWarning, stacklevel=3)
+
+
+def iter_raw(path, topics=None):
+    """Yield :class:`RawMessage` (log-time order), reading a crash-truncated file up to its tail."""
+    path = Path(path)
+    wanted = None if topics is None else {topics} if isinstance(topics, str) else set(topics)
+    handle = _open_mcap(path)
+    try:
+        summary = _complete_summary(handle)
+        if summary is None:
+            schemas, channels, found = {}, {}, []
+            for record in _scan_records(path):
+                if isinstance(record, Schema):
+                    schemas[record.id] = record
+                elif isinstance(record, Channel):
+                    channels[record.id] = record
+                elif isinstance(record, Message):
+                    channel = channels.get(record.channel_id)
+                    if channel is None:
+                        raise McapLogError(f"{path}: message on unknown channel {record.channel_id}")
+                    if wanted is None or channel.topic in wanted:
+                        found.append((record, channel, schemas.get(channel.schema_id)))
+            found.sort(key=lambda item: item[0].log_time)
+            items = found
+        else:
+            handle.seek(0)
+            reader = SeekingReader(handle, validate_crcs=True)
+            items = ((m, c, s) for s, c, m in reader.iter_messages(topics=wanted,
+                                                                   log_time_order=True))
+        try:
+            for message, channel, schema in items:
+                yield RawMessage(channel.topic, schema.name if schema else "", message.log_time,
+                                 message.publish_time, message.sequence, message.data, channel,
+                                 schema)
+        except McapLogError:
+            raise
+        except Exception as exc:  # noqa: BLE001 - CRC, zstd and struct errors all mean corrupt
+            raise McapLogError(f"{path}: corrupt MCAP data: {exc}") from exc
+    finally:
+        handle.close()
+
+
+def read_summary(path) -> McapSummary:
+    """Profile, topics (type, QoS offers, hash, count), time range and metadata records."""
+    path = Path(path)
+    handle = _open_mcap(path)
+    try:
+        summary = _complete_summary(handle)
+        if summary is not None:
+            handle.seek(0)
+            reader = SeekingReader(handle)
+            try:
+                header = reader.get_header()
+                metadata = {m.name: dict(m.metadata) for m in reader.iter_metadata()}
+            except Exception as exc:  # noqa: BLE001
+                raise McapLogError(f"{path}: corrupt MCAP summary: {exc}") from exc
+            stats = summary.statistics
+            counts = stats.channel_message_counts if stats else {}
+            topics = {c.topic: TopicInfo(_type_name(c, summary.schemas), c.message_encoding,
+                                         _qos_list(c), c.metadata.get("topic_type_hash", ""),
+                                         counts.get(c.id, 0))
+                      for c in summary.channels.values()}
+            return McapSummary(header.profile, topics, stats.message_count if stats else 0,
+                               stats.message_start_time if stats else 0,
+                               stats.message_end_time if stats else 0, metadata, True)
+        profile, schemas, channels, metadata, topics = "", {}, {}, {}, {}
+        times = []
+        for record in _scan_records(path):
+            if isinstance(record, Schema):
+                schemas[record.id] = record
+            elif isinstance(record, Channel):
+                channels[record.id] = record
+                topics[record.topic] = TopicInfo(_type_name(record, schemas),
+                                                 record.message_encoding, _qos_list(record),
+                                                 record.metadata.get("topic_type_hash", ""))
+            elif isinstance(record, Message) and record.channel_id in channels:
+                topics[channels[record.channel_id].topic].message_count += 1
+                times.append(record.log_time)
+            elif isinstance(record, Metadata):
+                metadata[record.name] = dict(record.metadata)
+            elif isinstance(record, Header):
+                profile = record.profile
+        return McapSummary(profile, topics, len(times), min(times, default=0),
+                           max(times, default=0), metadata, False)
+    finally:
+        handle.close()

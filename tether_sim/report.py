@@ -1,0 +1,245 @@
+"""tether-sim-report: figures and an event table from an output MCAP (no rclpy).
+
+Works on any file holding the node's outputs (the recorder's or the offline runner's): topics are
+found by type, so remapped names work. Times are header stamps (simulation time) relative to the
+first TetherState. Figures (PNG): ``end_tensions.png`` (ship and vehicle end tension vs time, slack
+periods shaded, snap-load peaks marked, |force| of the wrench topics overlaid as a cross-check),
+``shapes.png`` (cable shape snapshots, x-z and y-z, ENU), ``tension_map.png`` (tension along the
+cable over time, s-t colour map). ``report.md`` holds the summary and the event tables.
+
+Slack periods of an end are the intervals where its recorded tension is below the slack threshold
+the node reported for that end (SlackWarning.threshold; 0 N when it reported none), merged with
+the slack interval of each SnapLoadEvent (slack_start .. slack_start + slack_duration).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from tether_sim.errors import TetherSimError
+from tether_sim.io.mcap_log import McapLogError, read_messages, read_summary
+
+STATE_TYPE = "tether_sim_msgs/msg/TetherState"
+SNAP_TYPE = "tether_sim_msgs/msg/SnapLoadEvent"
+SLACK_TYPE = "tether_sim_msgs/msg/SlackWarning"
+WRENCH_TYPE = "geometry_msgs/msg/WrenchStamped"
+ENDS = ("ship", "vehicle")
+
+
+class ReportError(TetherSimError, ValueError):
+    """The MCAP holds nothing a report can be made from (message names the file)."""
+
+
+def stamp_seconds(value) -> float:
+    """builtin_interfaces/Time (sec, nanosec) or a plain number -> seconds."""
+    if hasattr(value, "sec"):
+        return float(value.sec) + 1e-9 * float(value.nanosec)
+    return float(value)
+
+
+@dataclass
+class RunData:
+    """Everything the report reads from one MCAP, times in s from the first state."""
+
+    path: Path
+    t0: float
+    solver: str
+    t: np.ndarray                       # (n_t,)
+    arc_length: np.ndarray              # (n_s,)
+    positions: np.ndarray               # (n_t, n_s, 3)
+    tension: np.ndarray                 # (n_t, n_s)
+    end_tension: dict                   # end -> (n_t,)
+    snaps: list = field(default_factory=list)      # dicts, times relative to t0
+    warnings: list = field(default_factory=list)   # dicts
+    wrench: dict = field(default_factory=dict)     # end -> (t (n,), |F| (n,))
+
+
+def _topics_of(summary, type_name):
+    return sorted(t for t, info in summary.topics.items() if info.type_name == type_name)
+
+
+def load_run(path) -> RunData:
+    """Read states, events, warnings and wrenches from an output MCAP."""
+    path = Path(path)
+    summary = read_summary(path)
+    state_topics = _topics_of(summary, STATE_TYPE)
+    if not state_topics:
+        found = ", ".join(f"{t} ({i.type_name})" for t, i in sorted(summary.topics.items())) or "none"
+        raise ReportError(f"{path}: no {STATE_TYPE} topic to report on (topics: {found})")
+    state_topic = "/tether/state" if "/tether/state" in state_topics else state_topics[0]
+    wrench_topics = {end: t for t in _topics_of(summary, WRENCH_TYPE) for end in ENDS if end in t}
+    wanted = [state_topic, *_topics_of(summary, SNAP_TYPE), *_topics_of(summary, SLACK_TYPE),
+              *wrench_topics.values()]
+    times, positions, tensions, ends, snaps, warns = [], [], [], {e: [] for e in ENDS}, [], []
+    wrench = {end: ([], []) for end in wrench_topics}
+    arc, solver = None, ""
+    for topic, type_name, _, msg in read_messages(path, wanted):
+        if topic == state_topic:
+            s = np.asarray(msg.arc_length, dtype=float)
+            if arc is None:
+                arc, solver = s, msg.solver
+            if s.shape != arc.shape:
+                continue  # a resized output grid cannot share the s-t map; skip such states
+            times.append(stamp_seconds(msg.header.stamp))
+            positions.append([(p.x, p.y, p.z) for p in msg.position])
+            tensions.append(np.asarray(msg.tension, dtype=float))
+            ends["ship"].append(msg.ship_end_tension)
+            ends["vehicle"].append(msg.vehicle_end_tension)
+        elif type_name == SNAP_TYPE:
+            snaps.append({"end": msg.end, "arc_length": msg.arc_length,
+                          "t_peak": stamp_seconds(msg.header.stamp), "peak": msg.peak_tension,
+                          "min": msg.min_tension, "slack_start": stamp_seconds(msg.slack_start),
+                          "slack_duration": msg.slack_duration, "rise_time": msg.rise_time,
+                          "static": msg.static_tension, "amplification": msg.amplification,
+                          "criterion": msg.criterion})
+        elif type_name == SLACK_TYPE:
+            warns.append({"end": msg.end, "arc_length": msg.arc_length,
+                          "t": stamp_seconds(msg.header.stamp), "tension": msg.tension,
+                          "threshold": msg.threshold})
+        elif type_name == WRENCH_TYPE:
+            end = next(e for e, t in wrench_topics.items() if t == topic)
+            f = msg.wrench.force
+            wrench[end][0].append(stamp_seconds(msg.header.stamp))
+            wrench[end][1].append(float(np.sqrt(f.x * f.x + f.y * f.y + f.z * f.z)))
+    if not times:
+        raise ReportError(f"{path}: topic {state_topic} holds no TetherState messages")
+    t = np.asarray(times)
+    order = np.argsort(t, kind="stable")
+    t0 = float(t[order[0]])
+    for item in snaps:
+        item["t_peak"] -= t0
+        item["slack_start"] -= t0
+    for item in warns:
+        item["t"] -= t0
+    return RunData(path, t0, solver, t[order] - t0, arc, np.asarray(positions)[order],
+                   np.asarray(tensions)[order],
+                   {e: np.asarray(v, dtype=float)[order] for e, v in ends.items()}, snaps, warns,
+                   {e: (np.asarray(tw) - t0, np.asarray(fw)) for e, (tw, fw) in wrench.items()})
+
+
+def below_intervals(t: np.ndarray, values: np.ndarray, threshold: float) -> list[tuple[float, float]]:
+    """Maximal [start, end] time intervals of consecutive samples with values < threshold."""
+    below = np.concatenate([[False], values < threshold, [False]])
+    edges = np.flatnonzero(np.diff(below.astype(np.int8)))
+    return [(float(t[a]), float(t[b - 1])) for a, b in zip(edges[::2], edges[1::2])]
+
+
+def _merge(intervals):
+    merged = []
+    for a, b in sorted(intervals):
+        if merged and a <= merged[-1][1]:
+            merged[-1] = (merged[-1][0], max(b, merged[-1][1]))
+        else:
+            merged.append((a, b))
+    return merged
+
+
+def slack_periods(run: RunData) -> dict:
+    """end -> list of {start, end, duration, min_tension, threshold} (see module docstring)."""
+    out = {}
+    for end in ENDS:
+        thresholds = [w["threshold"] for w in run.warnings if w["end"] == end]
+        threshold = float(thresholds[-1]) if thresholds else 0.0
+        series = run.end_tension[end]
+        spans = below_intervals(run.t, series, threshold)
+        spans += [(e["slack_start"], e["slack_start"] + e["slack_duration"])
+                  for e in run.snaps if e["end"] == end]
+        periods = []
+        for a, b in _merge(spans):
+            inside = (run.t >= a) & (run.t <= b)
+            low = float(series[inside].min()) if inside.any() else float("nan")
+            periods.append({"start": a, "end": b, "duration": b - a, "min_tension": low,
+                            "threshold": threshold})
+        out[end] = periods
+    return out
+
+
+def static_tensions(run: RunData) -> dict:
+    """end -> tension of the first state (the initial static equilibrium), N."""
+    return {end: float(run.end_tension[end][0]) for end in ENDS}
+
+
+def summary_markdown(run: RunData, periods: dict, figures: dict) -> str:
+    """The summary and event tables as markdown."""
+    duration = float(run.t[-1]) if len(run.t) else 0.0
+    rate = (len(run.t) - 1) / duration if duration > 0 else float("nan")
+    lines = [f"# Tether report: `{run.path.name}`", "",
+             f"Solver `{run.solver}`, {len(run.t)} states over {duration:.2f} s "
+             f"({rate:.1f} Hz), {len(run.arc_length)} output points, L = {run.arc_length[-1]:.1f} m.",
+             "", "| end | static (first state) [N] | mean [N] | min [N] | max [N] |",
+             "|---|---|---|---|---|"]
+    for end, value in static_tensions(run).items():
+        series = run.end_tension[end]
+        lines.append(f"| {end} | {value:.1f} | {series.mean():.1f} | {series.min():.1f} | "
+                     f"{series.max():.1f} |")
+    lines += ["", "## Slack periods", "", "| end | start [s] | end [s] | duration [s] | "
+              "min tension [N] | threshold [N] |", "|---|---|---|---|---|---|"]
+    for end in ENDS:
+        for p in periods[end]:
+            lines.append(f"| {end} | {p['start']:.3f} | {p['end']:.3f} | {p['duration']:.3f} | "
+                         f"{p['min_tension']:.1f} | {p['threshold']:.1f} |")
+    if not any(periods.values()):
+        lines.append("| (none) | | | | | |")
+    lines += ["", "## Snap-load events", "", "| # | end | s [m] | peak at [s] | peak [N] | "
+              "static [N] | amplification | min [N] | slack start [s] | slack [s] | rise [s] | "
+              "criterion |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for i, e in enumerate(sorted(run.snaps, key=lambda e: e["t_peak"]), 1):
+        lines.append(f"| {i} | {e['end']} | {e['arc_length']:.1f} | {e['t_peak']:.3f} | "
+                     f"{e['peak']:.1f} | {e['static']:.1f} | {e['amplification']:.2f} | "
+                     f"{e['min']:.1f} | {e['slack_start']:.3f} | {e['slack_duration']:.3f} | "
+                     f"{e['rise_time']:.3f} | {e['criterion']} |")
+    if not run.snaps:
+        lines.append("| (none) | | | | | | | | | | | |")
+    counts = {end: sum(w["end"] == end for w in run.warnings) for end in ("ship", "vehicle", "span")}
+    lines += ["", "Slack warnings: " + ", ".join(f"{k} {v}" for k, v in counts.items()) + ".",
+              "", "## Figures", ""] + [f"- {name}: `{path}`" for name, path in figures.items()]
+    return "\n".join(lines) + "\n"
+
+
+def render(run: RunData, periods: dict, out_dir: Path, n_snapshots: int = 8) -> dict:
+    """Write the three PNG figures; returns {name: path}."""
+    from tether_sim.report_figures import plot_end_tensions, plot_shapes, plot_tension_map
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    return {"end tensions": plot_end_tensions(run, periods, out_dir / "end_tensions.png"),
+            "shape snapshots": plot_shapes(run, out_dir / "shapes.png", n_snapshots),
+            "tension map": plot_tension_map(run, out_dir / "tension_map.png")}
+
+
+def make_report(mcap_path, out_dir=None, n_snapshots: int = 8) -> dict:
+    """Load, plot and summarise; returns {run, periods, static, figures, markdown, report_path}."""
+    mcap_path = Path(mcap_path)
+    out_dir = Path(out_dir) if out_dir is not None else mcap_path.parent / "figures"
+    run = load_run(mcap_path)
+    periods = slack_periods(run)
+    figures = render(run, periods, out_dir, n_snapshots)
+    markdown = summary_markdown(run, periods, figures)
+    report_path = out_dir / "report.md"
+    report_path.write_text(markdown)
+    return {"run": run, "periods": periods, "static": static_tensions(run), "figures": figures,
+            "markdown": markdown, "report_path": report_path}
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="tether-sim-report", description=__doc__.split("\n")[0])
+    parser.add_argument("mcap", help="output MCAP (recorder or offline runner)")
+    parser.add_argument("--out-dir", help="where figures and report.md go (default: <mcap dir>/figures)")
+    parser.add_argument("--snapshots", type=int, default=8, help="number of shape snapshots")
+    args = parser.parse_args(argv)
+    try:
+        result = make_report(args.mcap, args.out_dir, args.snapshots)
+    except (McapLogError, ReportError) as exc:
+        print(f"tether-sim-report: {exc}", file=sys.stderr)
+        return 2
+    print(result["markdown"])
+    print(f"report written to {result['report_path']}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
