@@ -15,13 +15,14 @@ Shapes and channel indices: see ``layout.py``. The right-hand side is evaluated 
 Boundary fluxes (rows of Table 1): velocity ends (prescribed, fixed, clamped, body) take
 v_hat = v_BC and T_hat = T+ + n lambda (gamma0 v_BC - v+); force ends (free, force) take
 T_hat = n F_BC and v_hat = v+. The lambda term is the upwind (exact Riemann) correction of the
-linear axial problem, which vanishes when the interior agrees with the boundary value.
+linear axial problem, which vanishes when the interior agrees with the boundary value. For laws
+without compression the axial part of a velocity end's T_hat is clipped at zero.
 """
 
 import math
 
 from tether_sim.numerics.jit import jit
-from tether_sim.physics.constitutive import axial_tension, tension_slope
+from tether_sim.physics.constitutive import LAW_LINEAR, axial_tension, tension_slope
 from tether_sim.physics.hydrodynamics import add_morison_drag, current_at, solve_added_mass
 from tether_sim.physics.seabed import add_seabed_force
 from tether_sim.solvers.dg.elementops import eval_points, eval_traces, project_points, strong_derivative
@@ -184,6 +185,9 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
             fl[N, F_V + c] = bc[1, B_F + c]
         else:  # n = +1
             fl[N, F_V + c] = tr[N - 1, 1, T_TV + c] + lam1 * (g0 * vbc[1, 3 + c] - tr[N - 1, 1, T_V + c])
+    if law != LAW_LINEAR:
+        clip_compression(fl, tr, 0, 0, 0)
+        clip_compression(fl, tr, N, N - 1, 1)
     end_outputs(N, tr, fl, endf, k0, k1, bc)
     # 5. sources, added mass, projection
     needpos = iprm[I_NEEDPOS] != 0
@@ -237,6 +241,29 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
     a = iprm[I_ANCHOR]
     for c in range(3):
         dra[c] = fl[a * N, F_Q + c]
+
+
+@jit
+def clip_compression(fl, tr, k, e, side):
+    """Remove a compressive axial part of the boundary flux T_hat (laws without compression).
+
+    The Riemann solution of a cable that cannot push has T* >= 0: a boundary moving into the cable
+    faster than the upwind term allows produces slack, not compression.
+    """
+    q0 = tr[e, side, T_Q]
+    q1 = tr[e, side, T_Q + 1]
+    q2 = tr[e, side, T_Q + 2]
+    lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
+    if lq <= 1e-300:
+        return
+    i0 = q0 / lq
+    i1 = q1 / lq
+    i2 = q2 / lq
+    a = fl[k, F_V] * i0 + fl[k, F_V + 1] * i1 + fl[k, F_V + 2] * i2
+    if a < 0.0:
+        fl[k, F_V] -= a * i0
+        fl[k, F_V + 1] -= a * i1
+        fl[k, F_V + 2] -= a * i2
 
 
 @jit

@@ -81,7 +81,6 @@ class DGCableSolver:
         self._drained = 0
         self._out = np.zeros(2)
         self.time = 0.0
-        self._set_initial_state(config)
         self._dt_rule = self.stable_time_step()
         self.fixed_dt = float(opt.fixed_time_step)
         if self.fixed_dt > 0.0 and self.fixed_dt > self._dt_rule / opt.cfl:
@@ -89,6 +88,7 @@ class DGCableSolver:
                 f"dg.fixed_time_step = {self.fixed_dt:g} s exceeds the stability limit "
                 f"{self._dt_rule / opt.cfl:g} s (cfl = 1; automatic step with dg.cfl = {opt.cfl:g} "
                 f"would be {self._dt_rule:g} s): reduce it, or use fewer elements / a lower order")
+        self._set_initial_state(config)
 
     # ------------------------------------------------------------------ set-up
     def _element_sizes(self, opt):
@@ -179,8 +179,23 @@ class DGCableSolver:
             self.ra[:] = r0 + np.sum(self.h[:, None] * self.U[:, 0, 0:3], axis=0)
 
     def _default_relax_time(self):
-        """Several pendulum periods 2 pi sqrt(L / g) of the whole cable."""
+        """Ten decay times of the automatic relaxation damping (or 5 pendulum periods)."""
+        if self.config.initial.relax_damping > 0 or self.config.cable.EI > 0:
+            return 20.0 / self.relax_rate()
         return 5.0 * 2.0 * math.pi * math.sqrt(self.L / max(self.config.environment.g, 1e-3))
+
+    def relax_rate(self):
+        """Automatic relaxation damping: twice the lowest of the pendulum and cantilever frequencies
+        (near-critical for the slowest mode), or initial.relax_damping when set."""
+        if self.config.initial.relax_damping > 0:
+            return float(self.config.initial.relax_damping)
+        cab = self.config.cable
+        rates = []
+        if self.config.environment.g > 0:
+            rates.append(math.sqrt(self.config.environment.g / self.L))
+        if cab.EI > 0:
+            rates.append((1.875 / self.L) ** 2 * math.sqrt(cab.EI / cab.gamma0))
+        return 2.0 * (min(rates) if rates else 1.0 / self._default_relax_time())
 
     def relax(self, duration):
         """Dynamic relaxation: run with the ends held and linear momentum damping; the clock is reset.
@@ -188,8 +203,7 @@ class DGCableSolver:
         The momentum is kept (not zeroed): at a discrete DG equilibrium v balances the
         Lax-Friedrichs penalty on the small jumps of q, and zeroing it would leave a spurious
         strain rate (and damping tension zeta * deps/dt) at restart."""
-        g = max(self.config.environment.g, 1e-3)
-        self.prm[Y.P_RELAX] = 2.0 * math.sqrt(g / self.L)  # near-critical for the slowest pendulum mode
+        self.prm[Y.P_RELAX] = self.relax_rate()
         t0 = self.time
         saved = [(p.copy(), v.copy()) for p, v in zip(self._end_pos, self._end_vel)]
         try:
@@ -340,13 +354,17 @@ class DGCableSolver:
         eps = l - 1.0
         tension = self.law.tension(eps, np.einsum("nc,nc->n", i, dq))
         curv = np.zeros_like(s)
-        mom = np.zeros_like(s)
+        mvec = np.zeros((s.size, 3))
+        shear = np.zeros((s.size, 3))
         if self.iprm[Y.I_BENDING]:
             curv = np.linalg.norm(ev(self._wm, Y.M_KAP), axis=1)
-            mom = np.linalg.norm(ev(self._wm, Y.M_MS), axis=1) * l**2
+            mvec = ev(self._wm, Y.M_MS) * (l**2)[:, None]
+            shear = np.cross(i, ev(self._wm, Y.M_TAU)) / np.where(l > 0, l, 1.0)[:, None]
+        extra = {"moment_vector": mvec, "shear_force": shear, "tension_vector": ev(self._wm, Y.M_TV)}
         return SolverState(time=self.time, arc_length=s, position=self.positions_at(s),
                            velocity=v / self.config.cable.gamma0, tension=tension, strain=eps,
-                           curvature=curv, bending_moment=mom, time_step=self._substep())
+                           curvature=curv, bending_moment=np.linalg.norm(mvec, axis=1), time_step=self._substep(),
+                           extra=extra)
 
     def end_forces(self) -> EndForces:
         """Force (and moment) BY the cable ON each end: -n T_hat at the boundary fluxes."""
