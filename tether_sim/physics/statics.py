@@ -250,9 +250,10 @@ def hanging_from(A, length, w, law, end_load, at_start=True):
     return StaticSolution(length, T0, w, law, np.asarray(A, float) - rL, method="hanging")
 
 
-def solve_static(config, vehicle_load=None):
-    """Static shape for a SimConfig's ends (see module docstring); vehicle_load overrides the load of
-    a non-kinematic vehicle end (e.g. a body's submerged weight). Raises RuntimeError if unsolvable."""
+def solve_static(config, vehicle_load=None, ship_load=None):
+    """Static shape for a SimConfig's ends (see module docstring); vehicle_load / ship_load (3,) override
+    the point load on a non-kinematic end (e.g. a body's submerged weight, (0, 0, -W)).
+    Raises RuntimeError if unsolvable."""
     cable, env = config.cable, config.environment
     law = TensionLaw(cable)
     w = net_weight_per_length(cable, env)
@@ -271,5 +272,7 @@ def solve_static(config, vehicle_load=None):
         return hanging_from(A, L, w, law, load, at_start=True)
     if kv in KINEMATIC_KINDS:
         load = np.asarray(config.ship_end.force, float) if ks == "force" else np.zeros(3)
+        if ship_load is not None:
+            load = np.asarray(ship_load, float)
         return hanging_from(B, L, w, law, load, at_start=False)
     raise RuntimeError("static equilibrium needs at least one end held in place")
