@@ -54,32 +54,39 @@ def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
             body_node[e] = K + sum(1 for x in body_node if x >= 0)
     nslot = np.concatenate([nslot, np.full(sum(1 for x in body_node if x >= 0), 13)]).astype(np.int64)
     noff = np.concatenate([[0], np.cumsum(nslot)[:-1]]).astype(np.int64)
-    groups = []  # (kind, a, b)
+    # groups in node order (ship end, then per node its unit-tangent row and the link to the next node,
+    # then the vehicle end) so the Jacobian is banded in this row order
+    links = []
     for c in range(K - 1):
         if grid[c] == grid[c + 1]:
-            groups.append((JOINT_CR if kind[c] != ROD else JOINT_RC, c, c + 1))
+            links.append((JOINT_CR if kind[c] != ROD else JOINT_RC, c, c + 1))
         else:
-            groups.append((ROD_CELL if kind[c] == ROD else CAT_CELL, c, c + 1))
-    for c in range(K):
-        if kind[c] != ROD:
-            groups.append((UNIT, c, -1))
-    end_group = []
+            links.append((ROD_CELL if kind[c] == ROD else CAT_CELL, c, c + 1))
+    ends = []
     for e, (node, neighbour) in enumerate(((0, 1), (K - 1, K - 2))):
         mode = end_modes[e]
         if body_node[e] >= 0:
-            groups.append((ROD_BODY if kind[node] == ROD else CAT_BODY, node, body_node[e]))
+            ends.append((ROD_BODY if kind[node] == ROD else CAT_BODY, node, body_node[e]))
         elif kind[node] == ROD:
-            groups.append((ROD_END, node, -1))
+            ends.append((ROD_END, node, -1))
         elif mode in ("velocity", "clamped"):
-            groups.append((CAT_VEL, node, -1))
+            ends.append((CAT_VEL, node, -1))
         elif free_ends[e]:
-            groups.append((CAT_FREE, node, neighbour))
+            ends.append((CAT_FREE, node, neighbour))
         else:
-            groups.append((CAT_FORCE, node, -1))
-        end_group.append(len(groups) - 1)
-    for e, node in ((0, 0), (1, K - 1)):
-        if body_node[e] >= 0:
-            groups.append((BODY_DYN, body_node[e], node))
+            ends.append((CAT_FORCE, node, -1))
+    groups = [ends[0]]
+    if body_node[0] >= 0:
+        groups.append((BODY_DYN, body_node[0], 0))
+    for c in range(K):
+        if kind[c] != ROD:
+            groups.append((UNIT, c, -1))
+        if c < K - 1:
+            groups.append(links[c])
+    groups.append(ends[1])
+    end_group = [0, len(groups) - 1]
+    if body_node[1] >= 0:
+        groups.append((BODY_DYN, body_node[1], K - 1))
     gkind = np.array([g[0] for g in groups], dtype=np.int64)
     rows = GROUP_ROWS[gkind]
     grow = np.concatenate([[0], np.cumsum(rows)[:-1]]).astype(np.int64)
