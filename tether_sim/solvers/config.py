@@ -14,6 +14,9 @@ class DGOptions:
     beta: float = param(0.0, doc="LDG flux bias beta [PE2020 Eq. 29-30]", min=-0.5, max=0.5)
     cfl: float = param(0.5, doc="safety factor on the stable time step (see docs/dg_solver.md)", min=0.01, max=2.0)
     fixed_time_step: float = param(0.0, unit="s", doc="fixed substep; 0 = automatic from the stability rule", min=0.0, max=10.0)
+    element_lengths: tuple = param((), unit="-", doc="relative element sizes from s = 0 (N positive weights, scaled to L); empty = uniform")
+    lambda_floor: float = param(0.0, unit="m/s", doc="lower bound of the Lax-Friedrichs speed (adds dissipation in slack parts; 0 = paper)", min=0.0, max=1e5)
+    tension_buffer: int = param(65536, doc="capacity of the per-substep end-tension ring buffer (drain_end_tensions)", min=16, max=100000000)
 
 
 @dataclass(frozen=True)
