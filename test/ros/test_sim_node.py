@@ -44,7 +44,8 @@ def base_params(**extra):
             "ship_end.kind": "prescribed", "ship_end.position": SHIP,
             "vehicle_end.kind": "prescribed", "vehicle_end.position": VEHICLE,
             "node.vehicle_attachment": ATTACH, "node.output_points": 21, "node.output_rate": 50.0,
-            "initial.kind": "static"}
+            "initial.kind": "static",
+            "node.tick_budget": 100.0}  # sim time: never cap a tick on wall time (deterministic runs)
     flat.update(extra)
     return flat
 

@@ -83,6 +83,7 @@ class SimulationDriver:
         self.dropped_total = 0.0
         self.capped_ticks = 0
         self.last_error = None
+        self.last_recovery = None  # "snapshot" or "static" after a divergence
         self._snapshot = None
         self._snapshot_time = -np.inf
         self._snapshot_failed = False
@@ -226,16 +227,17 @@ class SimulationDriver:
         """Restore the last good snapshot, or rebuild from a static equilibrium (see module doc)."""
         self.divergences += 1
         self.last_error = message
+        self.last_recovery = None
         report.error = message
         if self._snapshot is not None and not self._snapshot_failed:
             self.solver.restore(self._snapshot)
             self._snapshot_failed = True  # a second divergence before a new snapshot -> rebuild
-            report.recovery = "snapshot"
+            report.recovery = self.last_recovery = "snapshot"
             self.solver.drain_end_tensions()
             self.anchor = now - self.solver.time
         else:
             self._rebuild(now)
-            report.recovery = "static"
+            report.recovery = self.last_recovery = "static"
         self._build_detector()
         report.stamp = self.stamp
 
