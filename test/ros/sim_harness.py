@@ -70,7 +70,13 @@ class SimHarness:
             msg = pose if isinstance(pose, PoseStamped) else self.pose_msg(t, pose)
             self.pose_pubs[end].publish(msg)
         self.clock.publish(Clock(clock=time_msg(t)))
-        self.spin(4)
+        states = self.received["/tether/state"]
+        n = len(states)
+        self.spin(2)
+        for _ in range(30):  # a running node publishes once per tick: wait for that state
+            if len(states) > n or self.node.driver.solver is None:
+                break
+            self.spin(1)
         self.time = t
 
     def run(self, t_end, dt=0.02, **poses):

@@ -55,12 +55,12 @@ def test_motion_generator_run_writes_every_topic_with_sim_time_log_times(tmp_pat
     for log_ns, m in states:  # log time = header stamp = sim time
         assert log_ns == m.header.stamp.sec * 1_000_000_000 + m.header.stamp.nanosec
     assert states[-1][0] == 2_000_000_000
-    # the ship end follows the orbit x = a cos(w t), z = a sin(w t) at every output instant
+    # the ship end follows the orbit (starting at its top) x = a sin(w t), z = a cos(w t)
     w = 2 * math.pi * 0.5
     for log_ns, m in states[::5]:
         t = log_ns * 1e-9
         p = m.position[0]
-        assert (p.x, p.z) == pytest.approx((0.5 * math.cos(w * t), 0.5 * math.sin(w * t)), abs=1e-6)
+        assert (p.x, p.z) == pytest.approx((0.5 * math.sin(w * t), 0.5 * math.cos(w * t)), abs=1e-6)
     marker = msgs["/tether/marker"][-1][1]
     assert marker.type == 4 and len(marker.colors) == len(marker.points) == 11  # LINE_STRIP, per-vertex colours
     path = msgs["/tether/path"][-1][1]
