@@ -131,3 +131,20 @@ def test_console_script_rejects_a_misspelt_key_naming_key_and_file(tmp_path, cap
     assert main(["tether-sim", "--ros-args", "--params-file", str(bad)]) == 2
     err = capsys.readouterr().err
     assert "cable.EAA" in err and str(bad) in err and "cable.EA" in err
+
+
+def test_live_snap_thresholds_change_and_solver_keys_are_refused(harness):
+    from rclpy.parameter import Parameter
+
+    h = harness(base_params())
+    h.run(0.1, ship=SHIP, vehicle=np.subtract(VEHICLE, ATTACH))
+    static = h.node.driver.static_tensions
+    ok = h.node.set_parameters([Parameter("snap.slack_fraction", Parameter.Type.DOUBLE, 0.3)])[0]
+    assert ok.successful
+    assert h.node.driver.detector.thresholds == pytest.approx([0.3 * static[0], 0.3 * static[1]])
+    refused = h.node.set_parameters([Parameter("dg.order", Parameter.Type.INTEGER, 2)])[0]
+    assert not refused.successful and refused.reason
+    assert h.node.driver.config.dg.order == 3
+    h.run(0.3, ship=SHIP, vehicle=np.subtract(VEHICLE, ATTACH))  # still running
+    assert h.received["/tether/state"][-1].header.stamp.nanosec == 300_000_000
+    assert h.received["/tether/description"][-1].parameters  # re-published on the change
