@@ -20,7 +20,7 @@ pytestmark = pytest.mark.ros
 L, EA, GAMMA0, RHO_C, RHO_F, G = 100.0, 2.0e6, 3.01, 7153.0, 1025.0, 9.81
 W = GAMMA0 * G * (1.0 - RHO_F / RHO_C)  # submerged weight per unstretched metre, N/m [PE2020 Eq. 14]
 SHIP = (0.0, 0.0, 0.0)
-VEHICLE = (40.0, 0.0, -80.0)  # attachment point; chord 89.4 m < L: a sagging catenary
+VEHICLE = (60.0, 0.0, -75.0)  # attachment point; chord 96.0 m < L: a catenary rising from both ends
 ATTACH = (0.0, 0.0, 0.5)  # tether attachment in the vehicle frame
 
 
@@ -66,16 +66,17 @@ def harness():
 def test_static_poses_give_the_catenary_tensions_and_wrenches(harness):
     h = harness(base_params())
     vehicle_origin = np.subtract(VEHICLE, ATTACH)
-    h.run(1.0, ship=SHIP, vehicle=vehicle_origin)
+    h.run(1.1, ship=SHIP, vehicle=vehicle_origin)
     states = h.received["/tether/state"]
-    assert len(states) >= 40  # 50 Hz over ~1 s of sim time
+    assert len(states) >= 50  # 50 Hz over 1.1 s of sim time
     H, V = elastic_catenary(VEHICLE[0] - SHIP[0], SHIP[2] - VEHICLE[2])
     T_vehicle, T_ship = math.hypot(H, V), math.hypot(H, V + W * L)
     last = states[-1]
-    # Discretisation (8 elements, P = 3) and 1 s of residual motion after the static solve: the end
-    # tensions match Irvine's closed form to 1 % (tolerances to be checked against the measured error).
+    # 8 elements of order 3 and 1 s of dynamics after the static solve: measured errors against
+    # Irvine's closed form are 0.03 % (ship, 2885 N) and 0.1 % (vehicle, 989 N); 1 % leaves room for
+    # the pose interpolation and the solver's settling, and still catches a wrong end or frame.
     assert last.ship_end_tension == pytest.approx(T_ship, rel=0.01)
-    assert last.vehicle_end_tension == pytest.approx(T_vehicle, rel=0.02)
+    assert last.vehicle_end_tension == pytest.approx(T_vehicle, rel=0.01)
     assert last.solver == "dg" and len(last.position) == 21 and last.header.frame_id == "map"
     np.testing.assert_allclose([last.position[0].x, last.position[0].y, last.position[0].z], SHIP, atol=1e-6)
     np.testing.assert_allclose([last.position[-1].x, last.position[-1].y, last.position[-1].z], VEHICLE, atol=1e-6)
@@ -84,7 +85,7 @@ def test_static_poses_give_the_catenary_tensions_and_wrenches(harness):
     wrench = h.received["/tether/vehicle_wrench"][-1]
     assert wrench.header.frame_id == "rov/base_link"
     f = np.array([wrench.wrench.force.x, wrench.wrench.force.y, wrench.wrench.force.z])
-    np.testing.assert_allclose(f, (-H, 0.0, V), atol=0.02 * T_vehicle)
+    np.testing.assert_allclose(f, (-H, 0.0, V), atol=0.01 * T_vehicle)
     tq = np.array([wrench.wrench.torque.x, wrench.wrench.torque.y, wrench.wrench.torque.z])
     np.testing.assert_allclose(tq, np.cross(ATTACH, f), atol=1e-6 * T_vehicle)
     ship = h.received["/tether/ship_wrench"][-1]
@@ -106,8 +107,9 @@ def vehicle_heave(t):
 
 
 def test_snap_scenario_publishes_slack_warning_and_snap_load_event(harness):
-    # Raising the lower end at 3 m/s outruns the cable's sinking (terminal speed in water
-    # sqrt(2 W / (rho Cd d)) = 1.3 m/s), so the lower end slackens; lowering it again snaps it taut.
+    # Starting the lower end upwards at 3 m/s drops the tension there by about gamma0*c*v =
+    # 3.01 * 815 * 3 = 7.4 kN (axial wave, c = sqrt(EA/gamma0)) > the 1 kN static tension: slack;
+    # lowering it again re-tensions the cable with a snap [PE2020 Sec. 6].
     h = harness(base_params())
     t = 0.0
     while t < 5.0:
@@ -145,6 +147,7 @@ def test_live_snap_thresholds_change_and_solver_keys_are_refused(harness):
     refused = h.node.set_parameters([Parameter("dg.order", Parameter.Type.INTEGER, 2)])[0]
     assert not refused.successful and refused.reason
     assert h.node.driver.config.dg.order == 3
-    h.run(0.3, ship=SHIP, vehicle=np.subtract(VEHICLE, ATTACH))  # still running
-    assert h.received["/tether/state"][-1].header.stamp.nanosec == 300_000_000
+    n = len(h.received["/tether/state"])
+    h.run(0.3, ship=SHIP, vehicle=np.subtract(VEHICLE, ATTACH))
+    assert len(h.received["/tether/state"]) >= n + 5  # still running (50 Hz over 0.2 s)
     assert h.received["/tether/description"][-1].parameters  # re-published on the change
