@@ -190,6 +190,9 @@ def main(argv=None) -> int:
     except ConfigError as exc:
         print(f"tether-sim-offline: {exc}", file=sys.stderr)
         return 2
+    except ValueError as exc:  # a configuration the solver does not support
+        print(f"tether-sim-offline: cannot run this configuration: {exc}", file=sys.stderr)
+        return 2
     s = summary
     print(f"wrote {s['output']}: {s['duration']:.3g} s simulated in {s['wall_time']:.3g} s "
           f"({s['speed']:.3g} x real time); static tensions ship {s['static_tensions'][0]:.1f} N, "

@@ -220,6 +220,9 @@ def main(args=None):
     except ConfigError as exc:
         print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
         return 2
+    except ValueError as exc:  # raised by the solver's constructor at start-up
+        print(f"tether-sim: cannot start the solver for this configuration: {exc}", file=sys.stderr)
+        return 2
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
