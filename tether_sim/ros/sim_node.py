@@ -124,6 +124,8 @@ class TetherSimNode(Node):
             for topic, msg in convert.tick_outputs(self.driver, self.arc_lengths):
                 self.pubs[topic].publish(msg)
         except Exception as exc:  # noqa: BLE001 - the node must stay up; the error is reported
+            if not self.context.ok():
+                return  # shutting down (Ctrl-C): publishers are gone
             self._period["errors"] += 1
             self.driver.last_error = f"{type(exc).__name__}: {exc}"
             self.get_logger().error(f"tick failed: {self.driver.last_error}", throttle_duration_sec=WARN_PERIOD)
