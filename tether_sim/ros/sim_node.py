@@ -219,14 +219,19 @@ def main(args=None):
     try:
         node = TetherSimNode(where=", ".join(files) or "command-line parameters")
         rclpy.spin(node)
-    except ConfigError as exc:
-        print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
-        return 2
-    except ValueError as exc:  # raised by the solver's constructor at start-up
-        print(f"tether-sim: cannot start the solver for this configuration: {exc}", file=sys.stderr)
-        return 2
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
+    except Exception as exc:
+        if not rclpy.ok():
+            pass  # SIGINT/SIGTERM arrived while a callback was publishing: a normal shutdown
+        elif isinstance(exc, ConfigError):
+            print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
+            return 2
+        elif isinstance(exc, ValueError):  # raised by the solver's constructor at start-up
+            print(f"tether-sim: cannot start the solver for this configuration: {exc}", file=sys.stderr)
+            return 2
+        else:
+            raise
     finally:
         if node is not None:
             node.destroy_node()
