@@ -18,7 +18,8 @@ from tether_sim.ros.sim_node import TetherSimNode
 
 OUTPUTS = {"/tether/state": TetherState, "/tether/ship_wrench": WrenchStamped,
            "/tether/vehicle_wrench": WrenchStamped, "/tether/snap_events": SnapLoadEvent,
-           "/tether/slack_warnings": SlackWarning, "/diagnostics": DiagnosticArray}
+           "/tether/slack_warnings": SlackWarning, "/diagnostics": DiagnosticArray,
+           "/vehicle/sim_pose": PoseStamped}
 
 
 def overrides(flat: dict) -> list:

@@ -151,3 +151,26 @@ def test_live_snap_thresholds_change_and_solver_keys_are_refused(harness):
     h.run(0.3, ship=SHIP, vehicle=np.subtract(VEHICLE, ATTACH))
     assert len(h.received["/tether/state"]) >= n + 5  # still running (50 Hz over 0.2 s)
     assert h.received["/tether/description"][-1].parameters  # re-published on the change
+
+
+def test_vehicle_body_end_publishes_its_pose_and_the_wrench_of_a_hanging_cage(harness):
+    # ROPOS cage [PE2020 Table 3] on the (softened, 100 m) tether, hanging still below the ship:
+    # tension at the cage = its submerged weight m g (1 - rho_f / rho_body); at the ship that plus W L.
+    m, rho_body = 4995.0, 8448.0
+    weight = m * G * (1.0 - RHO_F / rho_body)
+    h = harness(base_params(**{"vehicle_end.kind": "body", "vehicle_end.position": (0.0, 0.0, -100.0),
+                               "body.initial_position": (0.0, 0.0, -102.1)}))
+    h.run(0.5, ship=SHIP)
+    last = h.received["/tether/state"][-1]
+    # static equilibrium of the discretised cable and body, 0.5 s later: 0.5 %
+    assert last.vehicle_end_tension == pytest.approx(weight, rel=0.005)
+    assert last.ship_end_tension == pytest.approx(weight + W * L, rel=0.005)
+    poses = h.received["/vehicle/sim_pose"]
+    assert poses and poses[-1].header.frame_id == "map"
+    p = poses[-1].pose.position
+    # the cage hangs straight below the ship: CoG = attachment - (0, 0, 2.1), about L (1 + eps) down
+    assert abs(p.x) < 1e-6 and abs(p.y) < 1e-6 and -106.0 < p.z < -102.0
+    wrench = h.received["/tether/vehicle_wrench"][-1].wrench
+    assert (wrench.force.x, wrench.force.y) == pytest.approx((0.0, 0.0), abs=1e-3 * weight)
+    assert wrench.force.z == pytest.approx(weight, rel=0.005)  # the tether holds the cage up
+    assert (wrench.torque.x, wrench.torque.y, wrench.torque.z) == pytest.approx((0.0, 0.0, 0.0), abs=1e-3 * weight)
