@@ -67,6 +67,17 @@ def test_motion_generator_run_writes_every_topic_with_sim_time_log_times(tmp_pat
     assert [p.pose.position.z for p in path.poses] == [p.z for p in states[-1][1].position]
     assert msgs["/tether/description"][0][1].length == 55.0
     assert len(msgs["/diagnostics"]) == 2
+    # an independent reader decodes every message, custom types from the schema text in the file
+    from pathlib import Path
+
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
+
+    with AnyReader([Path(out)], default_typestore=get_typestore(Stores.EMPTY)) as reader:
+        decoded = [(c.topic, reader.deserialize(raw, c.msgtype)) for c, _, raw in reader.messages()]
+    assert len(decoded) == sum(len(v) for v in msgs.values())
+    last = [m for topic, m in decoded if topic == "/tether/state"][-1]
+    assert last.ship_end_tension == states[-1][1].ship_end_tension and len(last.position) == 11
 
 
 def test_input_mcap_poses_drive_the_ship_and_bad_samples_are_skipped(tmp_path):
