@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 from tether_sim.io.params import load_config
-from tether_sim.physics.snap import SnapEvent
 from tether_sim.scenarios.ropos import (
     CONFIG_DIR,
     point_load_config,
@@ -89,13 +88,18 @@ def test_snap_front_reaches_the_ship_after_L_over_c():
 
 
 @needs_dg
-def test_slack_and_snap_at_cage_L200():
-    """a = 2 m orbit at L = 200 m: slack + snap at the cage for f = 0.25 Hz, none at 0.10 Hz."""
-    fast = run_case(ropos_config(200.0, frequency=0.25, periods=4.0), output_rate=50.0)
+def test_slack_and_snap_at_cage_L1730():
+    """a = 2 m orbit (PE2020 Sec. 6.2): slack + snap at the cage for f = 0.25 Hz, none at 0.10 Hz.
+
+    L = 1730 m is the cheapest depth for the explicit DG (largest elements); the full L x alpha x f
+    grid is the study script (docs/ropos.md).
+    """
+    fast = run_case(ropos_config(1730.0, frequency=0.25, periods=3.0), output_rate=25.0)
     assert not fast.error
-    snaps = [e for e in fast.events if isinstance(e, SnapEvent) and e.location == "vehicle"]
+    snaps = fast.snaps("vehicle")
     assert fast.slacks("vehicle") and snaps
     assert all(e.peak_tension > e.static_tension for e in snaps)
-    slow = run_case(ropos_config(200.0, frequency=0.10, periods=2.0), output_rate=20.0)
+    slow = run_case(ropos_config(1730.0, frequency=0.10, periods=1.5), output_rate=10.0)
     assert not slow.error and not slow.events
-    assert slow.vehicle_tension.min() > 0.1 * slow.static[1]
+    # The 1-D model gives a cage minimum of 18 kN (41% of static) at f = 0.1 Hz: far from slack.
+    assert slow.vehicle_tension.min() > 0.2 * slow.static[1]
