@@ -1,0 +1,247 @@
+"""The main job (`make run`): the ROPOS validation run, live, then its report.
+
+1. Pre-flight: the shipped record (data/ropos_ship_heave.mcap), the parameters
+   (config/ropos_validation.yaml), the simulation node and the solver must all be present; the
+   solver is built once here (its static equilibrium gives the expected static tensions, and the
+   numba cache is warm before the node starts). A missing piece stops the job, named.
+2. In a private ROS_DOMAIN_ID with localhost discovery: the recorder (config/recorder.yaml, sim
+   time), the simulation node (``tether-sim --ros-args --params-file config/ropos_validation.yaml
+   -p use_sim_time:=true``); once the graph shows the node's outputs matched by the recorder, the
+   replay of the record with /clock (config/replay.yaml) at ``--rate``.
+3. When the replay ends: the node and the recorder are stopped (SIGINT / SIGTERM), then
+   tether-sim-report writes figures and report.md next to the MCAP, and the findings are printed.
+
+Outputs: out/ropos_validation/ropos_validation.mcap, out/ropos_validation/figures/*.png and
+report.md, out/ropos_validation/logs/*.log. Exit code 0 only when every step worked.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import signal
+import sys
+import time
+from pathlib import Path
+
+from tether_sim.ros.processes import ProcessGroup, StepFailed, command_for, isolated_env
+
+REPO = Path(__file__).resolve().parents[2]
+RECORD = Path("data/ropos_ship_heave.mcap")
+PARAMS = Path("config/ropos_validation.yaml")
+OUT = Path("out/ropos_validation")
+MCAP_NAME = "ropos_validation.mcap"
+NODE_OUTPUTS = ("/tether/state", "/tether/ship_wrench", "/tether/vehicle_wrench",
+                "/tether/snap_events", "/tether/slack_warnings")
+
+
+def say(text: str) -> None:
+    print(f"[main_job {time.strftime('%H:%M:%S')}] {text}", flush=True)
+
+
+def preflight(root: Path, build: bool = True) -> dict:
+    """Check every piece the run needs; returns {config, static, record}. Raises StepFailed."""
+    import importlib.util
+
+    missing = []
+    if not (root / RECORD).is_file():
+        missing.append(f"the ship-motion record {RECORD} (tools/make_ropos_record.py, ROPOS issue)")
+    if not (root / PARAMS).is_file():
+        missing.append(f"the parameter file {PARAMS} (ROPOS issue)")
+    if importlib.util.find_spec("tether_sim.ros.sim_node") is None:
+        missing.append("the simulation node tether_sim/ros/sim_node.py (console script tether-sim)")
+    if importlib.util.find_spec("tether_sim_msgs") is None:
+        missing.append("the interface package tether_sim_msgs (run `make setup`)")
+    if missing:
+        raise StepFailed("cannot run the ROPOS validation: missing " + "; ".join(missing))
+    from tether_sim.errors import ConfigError
+    from tether_sim.io.mcap_log import McapLogError, read_summary
+    from tether_sim.io.params import load_config
+
+    try:
+        config = load_config(root / PARAMS)
+    except ConfigError as exc:
+        raise StepFailed(f"{PARAMS} is not valid: {exc}") from exc
+    try:
+        record = read_summary(root / RECORD)
+    except McapLogError as exc:
+        raise StepFailed(str(exc)) from exc
+    if "/ship/pose" not in record.topics:
+        raise StepFailed(f"{RECORD} has no /ship/pose topic (topics: {sorted(record.topics)})")
+    static = None
+    if build:
+        from tether_sim.solvers.factory import build_solver
+
+        t = time.monotonic()
+        try:
+            solver = build_solver(config)
+            forces = solver.end_forces()
+        except Exception as exc:  # noqa: BLE001 - any failure here means the solver is unusable
+            raise StepFailed(f"the {config.solver!r} solver is not available in this checkout "
+                             f"({type(exc).__name__}: {exc})") from exc
+        static = (float(forces.ship_tension), float(forces.vehicle_tension))
+        say(f"solver {config.solver!r} built in {time.monotonic() - t:.1f} s; static end tensions "
+            f"{static[0]:.0f} N (ship), {static[1]:.0f} N (vehicle)")
+    return {"config": config, "static": static, "record": record}
+
+
+class GraphProbe:
+    """A small node in the job's domain that watches the graph (publishers, subscriptions)."""
+
+    def __init__(self):
+        import rclpy
+        from rclpy.context import Context
+
+        self.rclpy = rclpy
+        self.context = Context()
+        rclpy.init(context=self.context)
+        self.node = rclpy.create_node("tether_sim_main_job", context=self.context)
+
+    def recorder_matched(self, topics) -> list[str]:
+        """Topics among ``topics`` that have a publisher but no recorder subscription yet."""
+        waiting = []
+        for topic in topics:
+            pubs = self.node.get_publishers_info_by_topic(topic)
+            subs = [s.node_name for s in self.node.get_subscriptions_info_by_topic(topic)]
+            if not pubs or "tether_sim_recorder" not in subs:
+                waiting.append(topic)
+        return waiting
+
+    def close(self):
+        self.node.destroy_node()
+        self.rclpy.try_shutdown(context=self.context)
+
+
+def run_live(root: Path, out: Path, args, group: ProcessGroup) -> Path:
+    """Recorder + node, wait for discovery, replay, stop. Returns the recorded MCAP path."""
+    mcap = out / MCAP_NAME
+    if mcap.exists():
+        mcap.unlink()
+    recorder = group.start("recorder", command_for("tether-sim-record") + [
+        "--ros-args", "--params-file", str(root / "config/recorder.yaml"),
+        "-p", f"output:={mcap}", "-p", "use_sim_time:=true"])
+    node = group.start("tether_sim", command_for("tether-sim") + [
+        "--ros-args", "--params-file", str(root / PARAMS), "-p", "use_sim_time:=true"])
+    say(f"started recorder (pid {recorder.proc.pid}) and simulation node (pid {node.proc.pid}) "
+        f"in ROS_DOMAIN_ID={group.env['ROS_DOMAIN_ID']}")
+    probe = GraphProbe()
+    try:
+        deadline = time.monotonic() + args.discovery_timeout
+        waiting = list(NODE_OUTPUTS)
+        while waiting:
+            group.check_alive()
+            if not node.alive or not recorder.alive:
+                gone = node if not node.alive else recorder
+                raise StepFailed(f"{gone.name} stopped during start-up; last lines of "
+                                 f"{gone.log_path}:\n{gone.tail()}")
+            if time.monotonic() > deadline:
+                raise StepFailed(f"after {args.discovery_timeout:.0f} s the recorder is still not "
+                                 f"subscribed to {', '.join(waiting)} (is the node publishing "
+                                 f"them?); node log {node.log_path}:\n{node.tail()}")
+            time.sleep(0.2)
+            waiting = probe.recorder_matched(NODE_OUTPUTS)
+        say("discovery complete: the recorder is subscribed to the node's outputs")
+    finally:
+        probe.close()
+    replay_args = ["--ros-args", "--params-file", str(root / "config/replay.yaml"),
+                   "-p", f"input:={root / RECORD}", "-p", f"rate:={args.rate}",
+                   "-p", f"start_offset_s:={args.start_offset}", "-p", f"duration_s:={args.duration}",
+                   "-p", "wait_for_subscribers_s:=20.0", "-p", "topics:=['/ship/pose']"]
+    replay = group.start("replay", command_for("tether-sim-replay") + replay_args)
+    span = (args.duration or 600.0) / args.rate
+    say(f"replaying {RECORD} at x{args.rate:g} (about {span:.0f} s of wall time)")
+    t0, last_note = time.monotonic(), time.monotonic()
+    while replay.alive:
+        group.check_alive()
+        if not node.alive:
+            raise StepFailed(f"the simulation node stopped during the run; last lines of "
+                             f"{node.log_path}:\n{node.tail()}")
+        if time.monotonic() - t0 > span + args.discovery_timeout + 60:
+            raise StepFailed(f"the replay did not finish within {span + 60:.0f} s")
+        if time.monotonic() - last_note > 15:
+            last_note = time.monotonic()
+            say(f"... {time.monotonic() - t0:.0f} s of {span:.0f} s, recording "
+                f"{mcap.stat().st_size / 1e6 if mcap.exists() else 0:.1f} MB")
+        time.sleep(0.5)
+    if replay.proc.returncode != 0:
+        raise StepFailed(f"the replay failed (exit {replay.proc.returncode}); last lines of "
+                         f"{replay.log_path}:\n{replay.tail()}")
+    time.sleep(1.0)  # the last ticks of the node reach the recorder
+    code_node = node.stop()
+    code_rec = recorder.stop(sig=signal.SIGTERM)
+    if code_rec != 0:
+        raise StepFailed(f"the recorder exited with {code_rec}; see {recorder.log_path}:\n{recorder.tail()}")
+    if code_node not in (0, -2, 130):
+        say(f"warning: the simulation node exited with {code_node}; see {node.log_path}")
+    return mcap
+
+
+def print_findings(result: dict, static_expected, out: Path) -> None:
+    from tether_sim.report import ENDS
+
+    run, periods = result["run"], result["periods"]
+    say(f"recorded {len(run.t)} tether states over {run.t[-1]:.1f} s of simulated time "
+        f"(solver {run.solver})")
+    for end in ENDS:
+        line = f"static tension, {end} end: {result['static'][end]:.0f} N (first recorded state)"
+        if static_expected:
+            line += f"; solver equilibrium {static_expected[ENDS.index(end)]:.0f} N"
+        say(line)
+    for end in ENDS:
+        spans = periods[end]
+        total = sum(p["duration"] for p in spans)
+        say(f"slack periods, {end} end: {len(spans)} (total {total:.2f} s)" +
+            "".join(f"\n    {p['start']:8.2f} s - {p['end']:8.2f} s  min {p['min_tension']:.0f} N"
+                    for p in spans[:10]) + ("\n    ..." if len(spans) > 10 else ""))
+    snaps = sorted(run.snaps, key=lambda e: e["t_peak"])
+    say(f"snap-load events: {len(snaps)}" + "".join(
+        f"\n    {e['end']:7s} s={e['arc_length']:7.1f} m  peak {e['peak']:.0f} N at {e['t_peak']:.2f} s "
+        f"(static {e['static']:.0f} N, x{e['amplification']:.2f}, slack {e['slack_duration']:.2f} s)"
+        for e in snaps[:15]) + ("\n    ..." if len(snaps) > 15 else ""))
+    say(f"MCAP:    {out / MCAP_NAME}")
+    for name, path in result["figures"].items():
+        say(f"figure:  {path}  ({name})")
+    say(f"summary: {result['report_path']}")
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m tether_sim.ros.main_job", description=__doc__.split("\n")[0])
+    parser.add_argument("--rate", type=float, default=4.0, help="replay speed factor (default 4)")
+    parser.add_argument("--start-offset", type=float, default=0.0, help="skip seconds of the record")
+    parser.add_argument("--duration", type=float, default=0.0, help="replay seconds (0: whole record)")
+    parser.add_argument("--out", default=str(OUT), help="output directory")
+    parser.add_argument("--domain-id", type=int, default=None, help="ROS_DOMAIN_ID (default: from the PID)")
+    parser.add_argument("--discovery-timeout", type=float, default=90.0, help="s to wait for the graph")
+    args = parser.parse_args(argv)
+    root = Path.cwd() if (Path.cwd() / "config").is_dir() else REPO
+    os.chdir(root)
+    out = (root / args.out).resolve()
+    out.mkdir(parents=True, exist_ok=True)
+    domain = args.domain_id if args.domain_id is not None else 30 + os.getpid() % 70
+    os.environ.update(isolated_env(domain))  # the graph probe joins the same private domain
+    t_start = time.monotonic()
+    group = ProcessGroup(isolated_env(domain), out / "logs", root)
+    try:
+        checked = preflight(root)
+        mcap = run_live(root, out, args, group)
+        from tether_sim.report import ReportError, make_report
+
+        try:
+            result = make_report(mcap, out / "figures")
+        except ReportError as exc:
+            raise StepFailed(f"the recording has nothing to report: {exc}") from exc
+        print_findings(result, checked["static"], out)
+        say(f"done in {time.monotonic() - t_start:.0f} s")
+        return 0
+    except StepFailed as exc:
+        say(f"FAILED: {exc}")
+        return 1
+    except KeyboardInterrupt:
+        say("interrupted")
+        return 130
+    finally:
+        group.stop_all()
+
+
+if __name__ == "__main__":
+    sys.exit(main())
