@@ -63,6 +63,7 @@ class TetherSimNode(Node):
             profile = LATCHED if qos == "latched" else EVENTS if "events" in topic or "warnings" in topic else RELIABLE
             self.pubs[topic] = self.create_publisher(_TYPES[type_name.rsplit("/", 1)[1]], topic, profile)
         self._first_tick = None
+        self._last_output = -float("inf")
         self._period = {"snaps": 0, "errors": 0, "rejected": {e: 0 for e in self.inputs}, "behind": False}
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.create_timer(1.0 / node.output_rate, self._on_tick)
@@ -121,8 +122,10 @@ class TetherSimNode(Node):
         try:
             report = self.driver.tick(now)
             self._handle_report(now, report)
-            for topic, msg in convert.tick_outputs(self.driver, self.arc_lengths):
-                self.pubs[topic].publish(msg)
+            if self.driver.stamp > self._last_output:  # one output per simulated instant
+                self._last_output = self.driver.stamp
+                for topic, msg in convert.tick_outputs(self.driver, self.arc_lengths):
+                    self.pubs[topic].publish(msg)
         except Exception as exc:  # noqa: BLE001 - the node must stay up; the error is reported
             if not self.context.ok():
                 return  # shutting down (Ctrl-C): publishers are gone
@@ -140,6 +143,7 @@ class TetherSimNode(Node):
             log.warning(f"{report.restart}: solver restarted from a static equilibrium at the new end positions")
             self._publish_description()
         if report.clock_jump:
+            self._last_output = -float("inf")
             log.warning("clock jumped backwards: pose histories reset, simulation continues")
         if report.dropped > 0 or report.capped:
             self._period["behind"] = True
