@@ -19,7 +19,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profi
 from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription, TetherState
 from visualization_msgs.msg import Marker
 
-from tether_sim.errors import ConfigError
+from tether_sim.errors import ConfigError, TetherSimError
 from tether_sim.io.inputs import EndPoseInput
 from tether_sim.io.params import load_config
 from tether_sim.ros import convert, node_params
@@ -231,7 +231,7 @@ def main(args=None):
         elif isinstance(exc, ConfigError):
             print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
             return 2
-        elif isinstance(exc, ValueError):  # raised by the solver's constructor at start-up
+        elif isinstance(exc, (ValueError, TetherSimError)):  # the solver could not be built at start-up
             print(f"tether-sim: cannot start the solver for this configuration: {exc}", file=sys.stderr)
             return 2
         else:
