@@ -74,6 +74,7 @@ class SimulationDriver:
         self.solver = None
         self.wall_budget = wall_budget  # s of wall time one tick may spend stepping (None: no limit)
         self.wall_per_substep = 0.0
+        self._ticks_advanced = 0
         self._solver_config = config
         self._commanded = {}
         self._last_position = {}
@@ -215,9 +216,10 @@ class SimulationDriver:
             self._recover(now, str(exc), report)
             return report
         self._update_rate(self.solver.time - t0, wall0)
-        if report.substeps > 0:  # running estimate of the wall time of one substep
+        if report.substeps > 0 and self._ticks_advanced > 0:  # the first advance includes JIT compiling
             cost = (wallclock.perf_counter() - wall0) / report.substeps
             self.wall_per_substep = cost if self.wall_per_substep == 0.0 else 0.7 * self.wall_per_substep + 0.3 * cost
+        self._ticks_advanced += 1
         times, t_ship, t_vehicle = self.solver.drain_end_tensions()
         if len(times):
             report.events = self.detector.update(np.asarray(times) + self.anchor,
