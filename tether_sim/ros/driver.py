@@ -201,7 +201,8 @@ class SimulationDriver:
         held = {end: self._last_position.get(end) for end in targets}
         self._last_position = {end: p for end, (p, _) in targets.items()}
         for end, (position, _) in targets.items():
-            reach = node.max_end_speed * (target - t0) + 1e-6
+            # (time dropped by re-anchoring counts: the end really moved during the skipped time)
+            reach = node.max_end_speed * (target - t0 + report.dropped) + 1e-6
             if held[end] is not None and np.linalg.norm(position - held[end]) > reach:
                 # an end that was held (no input) got its first pose far away: restart there
                 report.restart = f"{end} end moved {np.linalg.norm(position - held[end]):.3g} m in one tick"
