@@ -7,6 +7,7 @@ the outputs built by :mod:`tether_sim.ros.convert`; diagnostics go out at 1 Hz.
 """
 
 import sys
+import time
 
 import numpy as np
 import rclpy
@@ -52,6 +53,7 @@ class TetherSimNode(Node):
                                          qos_profile_sensor_data)
                 self.create_subscription(TwistStamped, f"/{end}/twist", lambda m, e=end: self._on_twist(e, m),
                                          qos_profile_sensor_data)
+        self._warm_up(solver_factory)
         self.driver = SimulationDriver(self.config, self.inputs, solver_factory=solver_factory,
                                        wall_budget=node.tick_budget / node.output_rate)
         self.arc_lengths = np.linspace(0.0, self.config.cable.length, node.output_points)
@@ -68,6 +70,19 @@ class TetherSimNode(Node):
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.create_timer(1.0 / node.output_rate, self._on_tick)
         self.create_timer(1.0, self._publish_diagnostics)
+
+    def _warm_up(self, solver_factory):
+        """Build a throw-away solver and take two substeps before any publisher exists, so JIT
+        compiling happens now (not in the first tick) and a configuration the solver cannot build
+        fails at start-up; a recorder or test waiting for our topics waits for this too."""
+        t0 = time.perf_counter()
+        solver = solver_factory(self.config)
+        for end in END_NAMES:
+            cond = getattr(self.config, f"{end}_end")
+            if cond.kind == "prescribed":
+                solver.set_end_motion(end, cond.position, (0.0, 0.0, 0.0))
+        solver.advance_to(solver.time + 2.0 * solver.stable_time_step())
+        self.get_logger().info(f"{self.config.solver} solver warmed up in {time.perf_counter() - t0:.1f} s")
 
     # ------------------------------------------------------------------ inputs
     def _now(self) -> float:
