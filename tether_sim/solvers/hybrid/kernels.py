@@ -18,7 +18,9 @@ from tether_sim.numerics.jit import jit
 P_M, P_CK, P_G, P_RHOF, P_AREA, P_D, P_CDN, P_CDT, P_CMN, P_CMT = range(10)
 P_B0, P_I0 = 10, 13  # B (torsion, bend, bend) and rotary inertia I (same order), body axis 0 = tangent
 P_DT, P_AM, P_AF, P_GAM = 16, 17, 18, 19
-P_SIZE = 20
+P_CKC = 20  # compliance under compression (softened for a no-compression material)
+P_TW = 21  # width of the smooth transition of the compliance into compression (N)
+P_SIZE = 22
 
 # chain-node slot layout: catenary v(0:3) T(3) t(4:7); rod v(0:3) omega(3:6) kappa(6:9) f(9:12)
 N_SLOTS = 13  # node arrays are 13 wide so that a rigid-body node (13 states) fits
@@ -26,7 +28,8 @@ CAT_SLOTS = 7
 ROD_SLOTS = 12
 
 
-def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia_b, inertia_t):
+def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia_b, inertia_t, compression_factor=1.0,
+                    compression_width=1.0):
     """P vector of the kernels from CableProperties/Environment and the step coefficients."""
     P = np.zeros(P_SIZE)
     P[P_M] = cable.gamma0
@@ -39,7 +42,31 @@ def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia
     P[P_B0:P_B0 + 3] = (tors, bend, bend)
     P[P_I0:P_I0 + 3] = (inertia_t, inertia_b, inertia_b)
     P[P_DT], P[P_AM], P[P_AF], P[P_GAM] = dt, alpha_m, alpha_f, gamma
+    P[P_CKC] = P[P_CK] * (compression_factor if cable.material == "bilinear" else 1.0)
+    P[P_TW] = compression_width
     return P
+
+
+@jit
+def compliance(T, P):
+    """d(eps)/dT: c_k = 1/EA in tension [GP Eq. 1], ramping linearly over T_w to the softened value
+    in compression (a C1 law, so Newton does not cycle across T = 0)."""
+    if T >= 0.0:
+        return P[P_CK]
+    if T <= -P[P_TW]:
+        return P[P_CKC]
+    return P[P_CK] + (P[P_CKC] - P[P_CK]) * (-T / P[P_TW])
+
+
+@jit
+def strain(T, P):
+    """eps(T), the integral of compliance(): c_k T in tension [GP Eq. 1; PE2020 Eq. 22 regularised]."""
+    if T >= 0.0:
+        return P[P_CK] * T
+    d = P[P_CKC] - P[P_CK]
+    if T <= -P[P_TW]:
+        return P[P_CKC] * T + 0.5 * d * P[P_TW]
+    return P[P_CK] * T - 0.5 * d * T * T / P[P_TW]
 
 
 @jit
