@@ -17,6 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from tether_sim.errors import SolverDivergedError  # noqa: E402
 from tether_sim.io.params import load_config  # noqa: E402
 from tether_sim.physics.motion import build_motion  # noqa: E402
 from tether_sim.solvers.hybrid.solver import HybridRodCatenarySolver  # noqa: E402
@@ -33,7 +34,11 @@ def run(cfg, duration, dt):
         t = k * dt
         p, v, _ = motion.at(t)
         solver.set_end_motion("ship", p, v)
-        solver.advance_to(t)
+        try:
+            solver.advance_to(t)
+        except SolverDivergedError as exc:
+            print(f"stopped: {exc}", flush=True)
+            break
         tt, a, b = solver.drain_end_tensions()
         rec["t"].extend(tt)
         rec["Ts"].extend(a)
@@ -49,6 +54,8 @@ def main():
     ap.add_argument("--EI", type=float, default=2620.0)
     ap.add_argument("--duration", type=float, default=40.0)
     ap.add_argument("--segments", type=int, default=100)
+    ap.add_argument("--frequency", type=float, default=0.2)
+    ap.add_argument("--rho", type=float, default=0.8)
     ap.add_argument("--steps", type=float, nargs="+", default=[0.02])
     ap.add_argument("--out", default="docs/figures")
     args = ap.parse_args()
@@ -56,11 +63,13 @@ def main():
     first = None
     for dt in args.steps:
         cfg = replace(base, solver="hybrid", cable=replace(base.cable, EI=args.EI),
-                      hybrid=replace(base.hybrid, time_step=dt, n_segments=args.segments, zoning="adaptive"),
+                      motion=replace(base.motion, frequency=args.frequency),
+                      hybrid=replace(base.hybrid, time_step=dt, n_segments=args.segments, zoning="adaptive",
+                                     rho_inf=args.rho),
                       initial=replace(base.initial, kind="static"))
         rec, cpu, solver = run(cfg, args.duration, dt)
         rod_frac = np.array([z.mean() for z in rec["zones"]])
-        print(f"dt {dt:g} s: cage tension max {rec['Tv'].max():.0f} N min {rec['Tv'].min():.0f} N; ship max "
+        print(f"dt {dt:g} s, f {args.frequency:g} Hz, rho_inf {args.rho:g}: reached t = {rec['t'][-1]:.2f} s; cage tension max {rec['Tv'].max():.0f} N min {rec['Tv'].min():.0f} N; ship max "
               f"{rec['Ts'].max():.0f} N; rod fraction max {rod_frac.max():.3f}; cpu {cpu:.1f} s for {args.duration:g} s; "
               f"{solver.stats}", flush=True)
         if first is None:
@@ -69,7 +78,7 @@ def main():
     fig, ax = plt.subplots(2, 1, figsize=(10, 7), sharex=True)
     ax[0].plot(rec["t"], rec["Ts"] / 1e3, label="ship (s = 0)")
     ax[0].plot(rec["t"], rec["Tv"] / 1e3, label="cage (s = L)")
-    ax[0].set(ylabel="tension (kN)", title=f"ROPOS L = 200 m, f = 0.2 Hz, EI = {args.EI:g} N m$^2$, hybrid dt = {dt:g} s")
+    ax[0].set(ylabel="tension (kN)", title=f"ROPOS L = 200 m, f = {args.frequency:g} Hz, EI = {args.EI:g} N m$^2$, hybrid dt = {dt:g} s")
     ax[0].legend()
     ax[0].grid(alpha=0.3)
     Z = np.array(rec["zones"]).T

@@ -48,25 +48,27 @@ def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia
 
 
 @jit
+def _softplus(x):
+    return x + math.log1p(math.exp(-x)) if x > 0.0 else math.log1p(math.exp(x))
+
+
+@jit
 def compliance(T, P):
-    """d(eps)/dT: c_k = 1/EA in tension [GP Eq. 1], ramping linearly over T_w to the softened value
-    in compression (a C1 law, so Newton does not cycle across T = 0)."""
-    if T >= 0.0:
-        return P[P_CK]
-    if T <= -P[P_TW]:
-        return P[P_CKC]
-    return P[P_CK] + (P[P_CKC] - P[P_CK]) * (-T / P[P_TW])
+    """d(eps)/dT: c_k = 1/EA in tension [GP Eq. 1], rising smoothly (logistic, centred 6 T_w below
+    zero) to the softened value in compression: a smooth law, so Newton does not cycle at T = 0."""
+    x = (-T - 6.0 * P[P_TW]) / P[P_TW]
+    sig = 1.0 / (1.0 + math.exp(-x)) if x > -700.0 else 0.0
+    return P[P_CK] + (P[P_CKC] - P[P_CK]) * sig
 
 
 @jit
 def strain(T, P):
-    """eps(T), the integral of compliance(): c_k T in tension [GP Eq. 1; PE2020 Eq. 22 regularised]."""
-    if T >= 0.0:
-        return P[P_CK] * T
+    """eps(T) = integral of compliance() from 0 (so eps(0) = 0) [GP Eq. 1; PE2020 Eq. 22 regularised]."""
+    tw = P[P_TW]
     d = P[P_CKC] - P[P_CK]
-    if T <= -P[P_TW]:
-        return P[P_CKC] * T + 0.5 * d * P[P_TW]
-    return P[P_CK] * T - 0.5 * d * T * T / P[P_TW]
+    if d == 0.0:
+        return P[P_CK] * T
+    return P[P_CK] * T - d * tw * (_softplus((-T - 6.0 * tw) / tw) - _softplus(-6.0))
 
 
 @jit

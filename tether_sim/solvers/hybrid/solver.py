@@ -424,6 +424,10 @@ class HybridRodCatenarySolver:
             lam = min(1.0, MAX_TURN / turn) if turn > 0.0 else 1.0
             Y[ch.idx_node, ch.idx_slot] -= lam * dx
             err = float(np.max(np.abs(dx) / scale)) / self.opt.newton_tolerance
+            if getattr(self, "_debug", False):
+                i = int(np.argmax(np.abs(dx) / scale))
+                print(it, f"{err:.3g}", f"{lam:.3g}", ch.idx_node[i], ch.idx_slot[i], f"{np.abs(rs * R).max():.3g}",
+                      int(np.argmax(np.abs(rs * R))), ch.kind[min(ch.idx_node[i], K - 1)])
             # converged, or stagnating at round-off within 1000x of the tolerance
             if lam == 1.0 and (err <= 1.0 or (err <= 1e3 and err >= 0.5 * err_prev)):
                 break
@@ -536,8 +540,12 @@ class HybridRodCatenarySolver:
     def _rezone(self, boost=1.0):
         """Re-evaluate the zones (after each step; with boost > 1 after a failed step); True if changed."""
         prof = node_profile(self)
-        T_grid = np.interp(self.s_grid, prof["s"], prof["tension"])
-        T_elem = 0.5 * (T_grid[1:] + T_grid[:-1])
+        # the lower tension of each element's two nodes (at a joint: the lower of both sides), so that
+        # no catenary node is left slack
+        T_node = prof["tension"]
+        T_grid = np.full(self.s_grid.size, np.inf)
+        np.minimum.at(T_grid, self.chain.grid, T_node)
+        T_elem = np.minimum(T_grid[1:], T_grid[:-1])
         new = self._classify(T_elem, self.zones, boost)
         if boost > 1.0:
             new = np.maximum(new, self.zones)  # only add rod elements
