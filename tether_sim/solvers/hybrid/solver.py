@@ -424,10 +424,6 @@ class HybridRodCatenarySolver:
             lam = min(1.0, MAX_TURN / turn) if turn > 0.0 else 1.0
             Y[ch.idx_node, ch.idx_slot] -= lam * dx
             err = float(np.max(np.abs(dx) / scale)) / self.opt.newton_tolerance
-            if getattr(self, "_debug", False):
-                i = int(np.argmax(np.abs(dx) / scale))
-                print(it, f"{err:.3g}", f"{lam:.3g}", ch.idx_node[i], ch.idx_slot[i], f"{np.abs(rs * R).max():.3g}",
-                      int(np.argmax(np.abs(rs * R))), ch.kind[min(ch.idx_node[i], K - 1)])
             # converged, or stagnating at round-off within 1000x of the tolerance
             if lam == 1.0 and (err <= 1.0 or (err <= 1e3 and err >= 0.5 * err_prev)):
                 break
