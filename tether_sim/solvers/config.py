@@ -50,3 +50,4 @@ class InitialState:
 
     kind: str = param("static", doc="static (equilibrium solve), straight (line between ends), relax (straight + dynamic relaxation)", choices=("static", "straight", "relax"))
     relax_time: float = param(0.0, unit="s", doc="damped dynamic relaxation after the initial shape", min=0.0, max=1e5)
+    relax_damping: float = param(0.0, unit="1/s", doc="momentum damping rate during relaxation; 0 = automatic (2 x lowest pendulum or bending frequency)", min=0.0, max=1e6)
