@@ -240,9 +240,10 @@ def test_wall_budget_limits_the_substeps_of_one_tick(monkeypatch):
     monkeypatch.setattr(driver_module, "wallclock", FakeWall)
     driver = SimulationDriver(make_config(max_lag=10.0), solver_factory=SlowString, wall_budget=0.01)
     driver.start(0.0)
-    driver.tick(0.02)  # the first tick measures the cost (2 substeps, 4 ms)
+    driver.tick(0.01)  # the first advance is not measured (it includes JIT compiling)
+    driver.tick(0.03)  # the second measures the cost (2 substeps, 4 ms)
     r = driver.tick(1.0)
-    assert r.capped and r.substeps == 5 and r.lag == pytest.approx(0.93)
+    assert r.capped and r.substeps == 5 and r.lag == pytest.approx(0.92)
     assert driver.real_time_factor == pytest.approx(0.05 / 0.01)  # 5 substeps of 0.01 s in 10 ms
 
 

@@ -74,6 +74,7 @@ class SimulationDriver:
         self.solver = None
         self.wall_budget = wall_budget  # s of wall time one tick may spend stepping (None: no limit)
         self.wall_per_substep = 0.0
+        self._ticks_advanced = 0
         self._solver_config = config
         self._commanded = {}
         self._last_position = {}
@@ -200,7 +201,8 @@ class SimulationDriver:
         held = {end: self._last_position.get(end) for end in targets}
         self._last_position = {end: p for end, (p, _) in targets.items()}
         for end, (position, _) in targets.items():
-            reach = node.max_end_speed * (target - t0) + 1e-6
+            # (time dropped by re-anchoring counts: the end really moved during the skipped time)
+            reach = node.max_end_speed * (target - t0 + report.dropped) + 1e-6
             if held[end] is not None and np.linalg.norm(position - held[end]) > reach:
                 # an end that was held (no input) got its first pose far away: restart there
                 report.restart = f"{end} end moved {np.linalg.norm(position - held[end]):.3g} m in one tick"
@@ -215,9 +217,10 @@ class SimulationDriver:
             self._recover(now, str(exc), report)
             return report
         self._update_rate(self.solver.time - t0, wall0)
-        if report.substeps > 0:  # running estimate of the wall time of one substep
+        if report.substeps > 0 and self._ticks_advanced > 0:  # the first advance includes JIT compiling
             cost = (wallclock.perf_counter() - wall0) / report.substeps
             self.wall_per_substep = cost if self.wall_per_substep == 0.0 else 0.7 * self.wall_per_substep + 0.3 * cost
+        self._ticks_advanced += 1
         times, t_ship, t_vehicle = self.solver.drain_end_tensions()
         if len(times):
             report.events = self.detector.update(np.asarray(times) + self.anchor,

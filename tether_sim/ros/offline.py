@@ -22,7 +22,7 @@ import numpy as np
 from rclpy.serialization import serialize_message
 from tqdm import tqdm
 
-from tether_sim.errors import ConfigError
+from tether_sim.errors import ConfigError, TetherSimError
 from tether_sim.io.inputs import EndPoseInput
 from tether_sim.io.params import load_config
 from tether_sim.ros import convert
@@ -192,7 +192,7 @@ def main(argv=None) -> int:
     except ConfigError as exc:
         print(f"tether-sim-offline: {exc}", file=sys.stderr)
         return 2
-    except ValueError as exc:  # a configuration the solver does not support
+    except (ValueError, TetherSimError) as exc:  # a configuration the solver cannot build or start
         print(f"tether-sim-offline: cannot run this configuration: {exc}", file=sys.stderr)
         return 2
     s = summary
