@@ -25,7 +25,7 @@ EI_STAR = 2.62e3  # N m^2, solid section of d = 0.03 m with EA = 45.5 MN [PE2020
 
 
 def ropos_config(length=1730.0, alpha=0.0, frequency=0.2, amplitude=2.0, n_elements=None, order=None,
-                 periods=12.0, solver=None, **sections):
+                 periods=12.0, solver=None, cfl=None, **sections):
     """SimConfig of ``config/ropos_L<length>.yaml`` with the study's alpha, f, a and mesh.
 
     ``periods`` sets the duration (12 periods: the paper's Figure 6 looks at period 8.65) and the
@@ -43,7 +43,8 @@ def ropos_config(length=1730.0, alpha=0.0, frequency=0.2, amplitude=2.0, n_eleme
                   motion=replace(cfg.motion, kind="circle", amplitude=float(amplitude), frequency=float(frequency),
                                  ramp_time=1.0 / float(frequency) if frequency > 0 else 0.0),
                   duration=float(periods) / float(frequency) if frequency > 0 else cfg.duration)
-    dg = replace(cfg.dg, n_elements=int(n_elements or cfg.dg.n_elements), order=int(order or cfg.dg.order))
+    dg = replace(cfg.dg, n_elements=int(n_elements or cfg.dg.n_elements), order=int(order or cfg.dg.order),
+                 cfl=float(cfl or cfg.dg.cfl))
     cfg = replace(cfg, dg=dg, **sections)
     return replace(cfg, solver=solver) if solver else cfg
 
