@@ -77,10 +77,17 @@ def test_static_L1730_end_tensions(point_load):
     if point_load:
         cfg = point_load_config(cfg)
     ship, cage = static_end_tensions(cfg)
-    forces = build_solver(cfg).end_forces()
+    solver = build_solver(cfg)
+    forces = solver.end_forces()
     # Acceptance [issue 5]: both within 0.5% of the closed form.
     assert forces.vehicle_tension == pytest.approx(cage, rel=5e-3)
     assert forces.ship_tension - forces.vehicle_tension == pytest.approx(ship - cage, rel=5e-3)
+    # ... and the dynamic equations keep that state (body weight, buoyancy, end coupling consistent).
+    solver.drain_end_tensions()
+    solver.advance_to(2.0)
+    _, T_ship, T_vehicle = (np.asarray(a) for a in solver.drain_end_tensions())
+    assert np.abs(T_vehicle / cage - 1.0).max() < 5e-3
+    assert np.abs((T_ship - T_vehicle) / (ship - cage) - 1.0).max() < 5e-3
 
 
 @needs_dg
