@@ -198,7 +198,9 @@ def test_slack_then_retension_gives_a_slack_warning_and_a_snap_event():
     xs = np.interp(t_samples, [p[0] for p in path], [p[1] for p in path])
     for t, x in zip(t_samples, xs):
         assert inp.add_pose(t, (x, 0.0, 0.0), (0, 0, 0, 1)) is None
-    driver = SimulationDriver(make_config(), {"ship": inp}, solver_factory=ElasticString)
+    cfg = make_config()
+    cfg = replace(cfg, snap=replace(cfg.snap, monitor_arc_lengths=(50.0,)))
+    driver = SimulationDriver(cfg, {"ship": inp}, solver_factory=ElasticString)
     driver.start(0.0)
     assert driver.static_tensions == pytest.approx((1.0e4, 1.0e4))
     events = []
@@ -211,6 +213,11 @@ def test_slack_then_retension_gives_a_slack_warning_and_a_snap_event():
     assert snap.peak_tension == pytest.approx(3.0e4, rel=0.01)
     assert snap.amplification == pytest.approx(3.0, rel=0.01)
     assert 1.0 < snap.slack_start < 1.2 and snap.time > 2.0
+    # the span point (same uniform tension) is sampled once per tick: its peak is the tick maximum
+    span = [e for e in events if e.location == "span s=50 m"]
+    assert [type(e).__name__ for e in span] == ["SlackStarted", "SnapEvent"]
+    assert span[1].arc_length == 50.0 and span[1].peak_tension == pytest.approx(3.0e4, rel=0.01)
+    assert driver.static_by_location["span s=50 m"] == pytest.approx(1.0e4)
 
 
 def test_wall_budget_limits_the_substeps_of_one_tick(monkeypatch):

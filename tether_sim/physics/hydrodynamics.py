@@ -37,22 +37,27 @@ def current_at(z, cz, cx, cy, out):
 
 
 @jit
-def add_morison_drag(i, l, nu, uc, half_rho_d, Cdt, Cdn, out):
-    """out += f_d = 0.5 rho_f d sqrt(l) (Cdt |v_t*| v_t* + Cdn |v_n*| v_n*) [PE2020 Eq. 17], v* = uc - nu."""
-    w0 = uc[0] - nu[0]
-    w1 = uc[1] - nu[1]
-    w2 = uc[2] - nu[2]
-    wt = w0 * i[0] + w1 * i[1] + w2 * i[2]
-    n0 = w0 - wt * i[0]
-    n1 = w1 - wt * i[1]
-    n2 = w2 - wt * i[2]
+def morison_drag(i0, i1, i2, l, w0, w1, w2, half_rho_d, Cdt, Cdn):
+    """f_d = 0.5 rho_f d sqrt(l) (Cdt |v_t*| v_t* + Cdn |v_n*| v_n*) [PE2020 Eq. 17] for the relative
+    flow velocity v* = (w0, w1, w2) = u_current - nu and tangent (i0, i1, i2); returns (fx, fy, fz)."""
+    wt = w0 * i0 + w1 * i1 + w2 * i2
+    n0 = w0 - wt * i0
+    n1 = w1 - wt * i1
+    n2 = w2 - wt * i2
     wn = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
     f = half_rho_d * math.sqrt(l) if l > 0.0 else 0.0
     ft = f * Cdt * abs(wt) * wt
     fn = f * Cdn * wn
-    out[0] += ft * i[0] + fn * n0
-    out[1] += ft * i[1] + fn * n1
-    out[2] += ft * i[2] + fn * n2
+    return ft * i0 + fn * n0, ft * i1 + fn * n1, ft * i2 + fn * n2
+
+
+@jit
+def add_morison_drag(i, l, nu, uc, half_rho_d, Cdt, Cdn, out):
+    """out += f_d [PE2020 Eq. 17] with v* = uc - nu (array form of :func:`morison_drag`)."""
+    fx, fy, fz = morison_drag(i[0], i[1], i[2], l, uc[0] - nu[0], uc[1] - nu[1], uc[2] - nu[2], half_rho_d, Cdt, Cdn)
+    out[0] += fx
+    out[1] += fy
+    out[2] += fz
 
 
 @jit
@@ -64,12 +69,19 @@ def solve_added_mass(i, force, gamma0, m_t, m_n, out):
     The cable acceleration appears on both sides of Eq. 4 + Eq. 13; splitting along the tangent
     solves it exactly per point.
     """
-    ft = force[0] * i[0] + force[1] * i[1] + force[2] * i[2]
+    out[0], out[1], out[2] = added_mass_rate(i[0], i[1], i[2], force[0], force[1], force[2], gamma0, m_t, m_n)
+
+
+@jit
+def added_mass_rate(i0, i1, i2, f0, f1, f2, gamma0, m_t, m_n):
+    """Scalar form of :func:`solve_added_mass`: returns dv/dt = gamma0 a (3 floats)."""
+    ft = f0 * i0 + f1 * i1 + f2 * i2
     ct = gamma0 / (gamma0 + m_t)
     cn = gamma0 / (gamma0 + m_n)
-    for k in range(3):
-        par = ft * i[k]
-        out[k] = ct * par + cn * (force[k] - par)
+    p0 = ft * i0
+    p1 = ft * i1
+    p2 = ft * i2
+    return ct * p0 + cn * (f0 - p0), ct * p1 + cn * (f1 - p1), ct * p2 + cn * (f2 - p2)
 
 
 def net_weight_per_length(cable, env) -> float:

@@ -82,7 +82,8 @@ def _integral(T0, w, law, s):
     H = float(np.linalg.norm(Th))
     eh = Th / H if H > 0 else np.zeros(3)
     V0 = float(T0[2])
-    if law.code == 2 or abs(w) * (s.max() if s.size else 0.0) < 1e-12 * max(H + abs(V0), 1e-300):
+    # closed form unless it would cancel catastrophically (weight tiny against the tension)
+    if law.code == 2 or abs(w) * (s.max() if s.size else 0.0) < 1e-4 * max(H + abs(V0), 1e-300):
         return _integral_numeric(T0, w, law, s)
     V = V0 + w * s
     EA = law.EA
@@ -91,7 +92,8 @@ def _integral(T0, w, law, s):
         z = (np.hypot(H, V) - math.hypot(H, V0)) / w + (V0 * s + 0.5 * w * s**2) / EA
     else:  # vertical: dz/ds = sign(V) (1 + |V| / EA)
         xh = np.zeros_like(s)
-        z = (np.abs(V) - abs(V0)) / w + (np.abs(V) * V - abs(V0) * V0) / (2.0 * w * EA)
+        geo = np.where(V * V0 > 0, np.sign(V0) * s, (np.abs(V) - abs(V0)) / w)
+        z = geo + (V0 * s + 0.5 * w * s**2) / EA
     return xh[:, None] * eh[None, :] + z[:, None] * np.array([0.0, 0.0, 1.0])[None, :]
 
 
@@ -248,9 +250,10 @@ def hanging_from(A, length, w, law, end_load, at_start=True):
     return StaticSolution(length, T0, w, law, np.asarray(A, float) - rL, method="hanging")
 
 
-def solve_static(config, vehicle_load=None):
-    """Static shape for a SimConfig's ends (see module docstring); vehicle_load overrides the load of
-    a non-kinematic vehicle end (e.g. a body's submerged weight). Raises RuntimeError if unsolvable."""
+def solve_static(config, vehicle_load=None, ship_load=None):
+    """Static shape for a SimConfig's ends (see module docstring); vehicle_load / ship_load (3,) override
+    the point load on a non-kinematic end (e.g. a body's submerged weight, (0, 0, -W)).
+    Raises RuntimeError if unsolvable."""
     cable, env = config.cable, config.environment
     law = TensionLaw(cable)
     w = net_weight_per_length(cable, env)
@@ -269,5 +272,7 @@ def solve_static(config, vehicle_load=None):
         return hanging_from(A, L, w, law, load, at_start=True)
     if kv in KINEMATIC_KINDS:
         load = np.asarray(config.ship_end.force, float) if ks == "force" else np.zeros(3)
+        if ship_load is not None:
+            load = np.asarray(ship_load, float)
         return hanging_from(B, L, w, law, load, at_start=False)
     raise RuntimeError("static equilibrium needs at least one end held in place")

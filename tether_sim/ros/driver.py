@@ -83,14 +83,17 @@ class SimulationDriver:
         self.dropped_total = 0.0
         self.capped_ticks = 0
         self.last_error = None
+        self.last_recovery = None  # "snapshot" or "static" after a divergence
         self._snapshot = None
         self._snapshot_time = -np.inf
         self._snapshot_failed = False
         self.real_time_factor = 0.0
         self._last_wall = None
         self.static_tensions = (0.0, 0.0)
-        self.detector = None
+        self.detector = self.span_detector = None
         self.slack = {"ship": False, "vehicle": False}
+        self.static_by_location = {}
+        self.span_arc = np.zeros(0)
 
     # ------------------------------------------------------------------ set-up
     def _prescribed(self, end):
@@ -123,15 +126,27 @@ class SimulationDriver:
         self._take_snapshot()
 
     def _build_detector(self):
+        """Ends: every substep (drained end tensions). Span points (``snap.monitor_arc_lengths``):
+        sampled once per tick from the state, so their peaks are resolved at the output rate only."""
         L = self.config.cable.length
         self.detector = SnapDetector(self.config.snap, list(END_NAMES), list(self.static_tensions), [0.0, L])
         self.slack = {end: False for end in END_NAMES}
+        self.static_by_location = dict(zip(END_NAMES, self.static_tensions))
+        self.span_arc = np.array([s for s in self.config.snap.monitor_arc_lengths if 0.0 < s < L], float)
+        self.span_detector = None
+        if self.span_arc.size:
+            names = [f"span s={s:g} m" for s in self.span_arc]
+            static = self.solver.state(self.span_arc).tension
+            self.span_detector = SnapDetector(self.config.snap, names, list(static), list(self.span_arc))
+            self.static_by_location.update(zip(names, (float(x) for x in static)))
+            self.slack.update({name: False for name in names})
 
     def set_snap_config(self, snap_config) -> None:
         """Live change of the snap thresholds (slack state kept)."""
         self.config = replace(self.config, snap=snap_config)
-        if self.detector is not None:
-            self.detector.set_config(snap_config)
+        for detector in (self.detector, self.span_detector):
+            if detector is not None:
+                detector.set_config(snap_config)
 
     def _take_snapshot(self):
         self._snapshot = self.solver.snapshot()
@@ -207,8 +222,11 @@ class SimulationDriver:
         if len(times):
             report.events = self.detector.update(np.asarray(times) + self.anchor,
                                                  np.column_stack([t_ship, t_vehicle]))
-            for ev in report.events:
-                self.slack[ev.location] = isinstance(ev, SlackStarted)
+        if self.span_detector is not None:
+            tension = self.solver.state(self.span_arc).tension
+            report.events += self.span_detector.update(np.array([self.stamp]), np.asarray(tension, float).reshape(1, -1))
+        for ev in report.events:
+            self.slack[ev.location] = isinstance(ev, SlackStarted)
         if self.solver.time - self._snapshot_time >= node.snapshot_interval:
             self._take_snapshot()
         report.stamp = self.stamp
@@ -226,16 +244,17 @@ class SimulationDriver:
         """Restore the last good snapshot, or rebuild from a static equilibrium (see module doc)."""
         self.divergences += 1
         self.last_error = message
+        self.last_recovery = None
         report.error = message
         if self._snapshot is not None and not self._snapshot_failed:
             self.solver.restore(self._snapshot)
             self._snapshot_failed = True  # a second divergence before a new snapshot -> rebuild
-            report.recovery = "snapshot"
+            report.recovery = self.last_recovery = "snapshot"
             self.solver.drain_end_tensions()
             self.anchor = now - self.solver.time
         else:
             self._rebuild(now)
-            report.recovery = "static"
+            report.recovery = self.last_recovery = "static"
         self._build_detector()
         report.stamp = self.stamp
 

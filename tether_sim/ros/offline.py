@@ -160,7 +160,9 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
                 write([("/diagnostics", convert.diagnostics(now, "tether_sim_offline", sim, health))])
             bar.update(1)
         bar.close()
-        write(convert.event_outputs(driver.detector.flush(), driver))
+        for detector in (driver.detector, driver.span_detector):
+            if detector is not None:
+                write(convert.event_outputs(detector.flush(), driver))
     wall = wallclock.perf_counter() - wall0
     return {"output": str(output), "duration": duration, "ticks": n_ticks, "wall_time": wall,
             "speed": duration / wall if wall > 0 else math.inf, "static_tensions": driver.static_tensions,
@@ -189,6 +191,9 @@ def main(argv=None) -> int:
                               progress=not args.no_progress)
     except ConfigError as exc:
         print(f"tether-sim-offline: {exc}", file=sys.stderr)
+        return 2
+    except ValueError as exc:  # a configuration the solver does not support
+        print(f"tether-sim-offline: cannot run this configuration: {exc}", file=sys.stderr)
         return 2
     s = summary
     print(f"wrote {s['output']}: {s['duration']:.3g} s simulated in {s['wall_time']:.3g} s "

@@ -124,6 +124,8 @@ class TetherSimNode(Node):
             for topic, msg in convert.tick_outputs(self.driver, self.arc_lengths):
                 self.pubs[topic].publish(msg)
         except Exception as exc:  # noqa: BLE001 - the node must stay up; the error is reported
+            if not self.context.ok():
+                return  # shutting down (Ctrl-C): publishers are gone
             self._period["errors"] += 1
             self.driver.last_error = f"{type(exc).__name__}: {exc}"
             self.get_logger().error(f"tick failed: {self.driver.last_error}", throttle_duration_sec=WARN_PERIOD)
@@ -217,11 +219,19 @@ def main(args=None):
     try:
         node = TetherSimNode(where=", ".join(files) or "command-line parameters")
         rclpy.spin(node)
-    except ConfigError as exc:
-        print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
-        return 2
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
+    except Exception as exc:
+        if not rclpy.ok():
+            pass  # SIGINT/SIGTERM arrived while a callback was publishing: a normal shutdown
+        elif isinstance(exc, ConfigError):
+            print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
+            return 2
+        elif isinstance(exc, ValueError):  # raised by the solver's constructor at start-up
+            print(f"tether-sim: cannot start the solver for this configuration: {exc}", file=sys.stderr)
+            return 2
+        else:
+            raise
     finally:
         if node is not None:
             node.destroy_node()

@@ -56,3 +56,15 @@ def test_static_equilibrium_of_the_whole_cable(profiles):
     expected = np.asarray(cfg.vehicle_end.force) + np.array([0.0, 0.0, -w * cfg.cable.length])
     for prof in profiles.values():
         assert np.allclose(prof["force"][0], expected, atol=2e-2 * END_FORCE)
+
+
+def test_parameter_file_matches_the_scenario():
+    from pathlib import Path
+
+    from tether_sim.io.params import load_config
+
+    path = Path(__file__).resolve().parents[3] / "config" / "goyal_perkins.yaml"
+    cfg = load_config(path)
+    ref = goyal_perkins_config()
+    for section in ("cable", "environment", "ship_end", "vehicle_end", "hybrid", "initial"):
+        assert getattr(cfg, section) == getattr(ref, section), section  # exact float reprs in the file

@@ -15,20 +15,21 @@ Shapes and channel indices: see ``layout.py``. The right-hand side is evaluated 
 Boundary fluxes (rows of Table 1): velocity ends (prescribed, fixed, clamped, body) take
 v_hat = v_BC and T_hat = T+ + n lambda (gamma0 v_BC - v+); force ends (free, force) take
 T_hat = n F_BC and v_hat = v+. The lambda term is the upwind (exact Riemann) correction of the
-linear axial problem, which vanishes when the interior agrees with the boundary value.
+linear axial problem, which vanishes when the interior agrees with the boundary value. For laws
+without compression the axial part of a velocity end's T_hat is clipped at zero.
 """
 
 import math
 
 from tether_sim.numerics.jit import jit
-from tether_sim.physics.constitutive import axial_tension, tension_slope
-from tether_sim.physics.hydrodynamics import add_morison_drag, current_at, solve_added_mass
-from tether_sim.physics.seabed import add_seabed_force
+from tether_sim.physics.constitutive import LAW_LINEAR, axial_tension, tension_slope
+from tether_sim.physics.hydrodynamics import added_mass_rate, current_at, morison_drag
+from tether_sim.physics.seabed import seabed_force
 from tether_sim.solvers.dg.elementops import eval_points, eval_traces, project_points, strong_derivative
 from tether_sim.solvers.dg.layout import (
     B_F, B_M, B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, E_F, E_M, E_T, E_VHAT, F_MS, F_NU, F_Q, F_V,
     I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_SEABED, K_CLAMPED,
-    K_FORCE, K_FREE, M_DQ, M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDT, P_EA, P_FBZ, P_GAMMA0, P_HALF_RHO_D,
+    K_FORCE, K_FREE, M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDT, P_EA, P_FBZ, P_GAMMA0, P_HALF_RHO_D,
     P_KD, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
     T_TV, T_V, W_ACC, W_DT, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TV, W_V,
 )
@@ -116,62 +117,66 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
     nq = V.shape[0]
     nm = V.shape[1]
     g0 = prm[P_GAMMA0]
+    ig0 = 1.0 / g0
     law = iprm[I_LAW]
     k0 = iprm[I_KIND0]
     k1 = iprm[I_KIND1]
     # 1. values at Gauss points and traces
     for e in range(N):
-        eval_points(V, U[e], 0, wq[e], W_Q, 6, 1.0)
-        eval_traces(Tr, U[e], 0, tr[e], T_Q, 6, 1.0)
+        eval_points(V, U, e, 0, wq, W_Q, 6, 1.0)
+        eval_traces(Tr, U, e, 0, tr, T_Q, 6, 1.0)
         for j in range(nq):
-            w = wq[e, j]
-            l = math.sqrt(w[W_Q] ** 2 + w[W_Q + 1] ** 2 + w[W_Q + 2] ** 2)
-            w[W_L] = l
+            q0 = wq[e, j, W_Q]
+            q1 = wq[e, j, W_Q + 1]
+            q2 = wq[e, j, W_Q + 2]
+            l = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
+            wq[e, j, W_L] = l
             il = 1.0 / l if l > 1e-300 else 0.0
-            for c in range(3):
-                w[W_I + c] = w[W_Q + c] * il
+            wq[e, j, W_I] = q0 * il
+            wq[e, j, W_I + 1] = q1 * il
+            wq[e, j, W_I + 2] = q2 * il
         for side in range(2):
-            t_ = tr[e, side]
-            t_[T_LAM] = local_speed(prm, law, t_[T_Q], t_[T_Q + 1], t_[T_Q + 2], tab_eps, tab_T)
+            tr[e, side, T_LAM] = local_speed(prm, law, tr[e, side, T_Q], tr[e, side, T_Q + 1], tr[e, side, T_Q + 2],
+                                             tab_eps, tab_T)
     # 2. fluxes of F_q = v / gamma0 and dq/dt
-    interface_fluxes(fl, tr, N, F_Q, T_Q, T_V, 1.0 / g0, 0)
+    interface_fluxes(fl, tr, N, F_Q, T_Q, T_V, ig0, 0)
     for c in range(3):
-        fl[0, F_Q + c] = tr[0, 0, T_V + c] / g0 if is_force_end(k0) else vbc[0, 3 + c]
-        fl[N, F_Q + c] = tr[N - 1, 1, T_V + c] / g0 if is_force_end(k1) else vbc[1, 3 + c]
+        fl[0, F_Q + c] = tr[0, 0, T_V + c] * ig0 if is_force_end(k0) else vbc[0, 3 + c]
+        fl[N, F_Q + c] = tr[N - 1, 1, T_V + c] * ig0 if is_force_end(k1) else vbc[1, 3 + c]
     EA = prm[P_EA]
     zeta = prm[P_ZETA]
     damped = iprm[I_AXDAMP] != 0
     if damped:  # central fluxes for the strain-rate gradient of the damping terms (LDG-style)
         for k in range(1, N):
             for c in range(3):
-                fl[k, F_NU + c] = 0.5 * (tr[k - 1, 1, T_V + c] + tr[k, 0, T_V + c]) / g0
+                fl[k, F_NU + c] = 0.5 * (tr[k - 1, 1, T_V + c] + tr[k, 0, T_V + c]) * ig0
         for c in range(3):
             fl[0, F_NU + c] = fl[0, F_Q + c]
             fl[N, F_NU + c] = fl[N, F_Q + c]
     for e in range(N):
-        strong_derivative(h[e], D, Lf, U[e], 3, 1.0 / g0, tr[e], T_V, fl[e], fl[e + 1], F_Q, wm[e], M_DQ, 3)
-        for k in range(nm):
-            for c in range(3):
-                dU[e, k, c] = wm[e, k, M_DQ + c]
+        strong_derivative(h[e], D, Lf, U, e, 3, ig0, tr, T_V, fl, F_Q, dU, 0, 3)
         if damped:
-            strong_derivative(h[e], D, Lf, U[e], 3, 1.0 / g0, tr[e], T_V, fl[e], fl[e + 1], F_NU, wm[e], M_NUS, 3)
-            eval_points(V, wm[e], M_NUS, wq[e], W_NUS, 3, 1.0)
+            strong_derivative(h[e], D, Lf, U, e, 3, ig0, tr, T_V, fl, F_NU, wm, M_NUS, 3)
+            eval_points(V, wm, e, M_NUS, wq, W_NUS, 3, 1.0)
         # 3. strain rate and axial tension at the Gauss points
         for j in range(nq):
-            w = wq[e, j]
+            i0 = wq[e, j, W_I]
+            i1 = wq[e, j, W_I + 1]
+            i2 = wq[e, j, W_I + 2]
             edot = 0.0
             if damped:
-                edot = w[W_I] * w[W_NUS] + w[W_I + 1] * w[W_NUS + 1] + w[W_I + 2] * w[W_NUS + 2]
-            w[W_EDOT] = edot
-            T = axial_tension(law, w[W_L] - 1.0, edot, EA, zeta, tab_eps, tab_T)
-            for c in range(3):
-                w[W_TV + c] = T * w[W_I + c]
+                edot = i0 * wq[e, j, W_NUS] + i1 * wq[e, j, W_NUS + 1] + i2 * wq[e, j, W_NUS + 2]
+            wq[e, j, W_EDOT] = edot
+            T = axial_tension(law, wq[e, j, W_L] - 1.0, edot, EA, zeta, tab_eps, tab_T)
+            wq[e, j, W_TV] = T * i0
+            wq[e, j, W_TV + 1] = T * i1
+            wq[e, j, W_TV + 2] = T * i2
     if iprm[I_BENDING] != 0:
         ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, bc, wq, wm, tr, fl)
     # 4. tension vector on the modes, fluxes, dT/ds
     for e in range(N):
-        project_points(Pj, wq[e], W_TV, wm[e], M_TV, 3)
-        eval_traces(Tr, wm[e], M_TV, tr[e], T_TV, 3, 1.0)
+        project_points(Pj, wq, e, W_TV, wm, M_TV, 3)
+        eval_traces(Tr, wm, e, M_TV, tr, T_TV, 3, 1.0)
     interface_fluxes(fl, tr, N, F_V, T_V, T_TV, 1.0, 0)
     lam0 = tr[0, 0, T_LAM]
     lam1 = tr[N - 1, 1, T_LAM]
@@ -184,22 +189,30 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
             fl[N, F_V + c] = bc[1, B_F + c]
         else:  # n = +1
             fl[N, F_V + c] = tr[N - 1, 1, T_TV + c] + lam1 * (g0 * vbc[1, 3 + c] - tr[N - 1, 1, T_V + c])
+    if law != LAW_LINEAR:
+        clip_compression(fl, tr, 0, 0, 0)
+        clip_compression(fl, tr, N, N - 1, 1)
     end_outputs(N, tr, fl, endf, k0, k1, bc)
     # 5. sources, added mass, projection
     needpos = iprm[I_NEEDPOS] != 0
+    current = iprm[I_CURRENT] != 0
+    seabed = iprm[I_SEABED] != 0
     if needpos:
         element_positions(U, ra, h, iprm, rs)
     fbz = prm[P_FBZ]
     mt = prm[P_MT]
     mn = prm[P_MN]
     relax = prm[P_RELAX]
+    hrd = prm[P_HALF_RHO_D]
+    cdt = prm[P_CDT]
+    cdn = prm[P_CDN]
     uc = tmp[0:3]
-    frc = tmp[3:6]
-    nu = tmp[6:9]
-    acc = tmp[9:12]
+    uc[0] = 0.0
+    uc[1] = 0.0
+    uc[2] = 0.0
     for e in range(N):
-        strong_derivative(h[e], D, Lf, wm[e], M_TV, 1.0, tr[e], T_TV, fl[e], fl[e + 1], F_V, wm[e], M_DT, 3)
-        eval_points(V, wm[e], M_DT, wq[e], W_DT, 3, 1.0)
+        strong_derivative(h[e], D, Lf, wm, e, M_TV, 1.0, tr, T_TV, fl, F_V, wm, M_DT, 3)
+        eval_points(V, wm, e, M_DT, wq, W_DT, 3, 1.0)
         if needpos:
             for j in range(nq):
                 for c in range(3):
@@ -208,35 +221,56 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
                         s += Iq[j, k] * U[e, k, c]
                     wq[e, j, W_R + c] = rs[e, c] + 0.5 * h[e] * s
         for j in range(nq):
-            w = wq[e, j]
-            l = w[W_L]
-            i_ = w[W_I:W_I + 3]
-            for c in range(3):
-                frc[c] = w[W_DT + c]
-                nu[c] = w[W_V + c] / g0
-            frc[2] += fbz
-            if iprm[I_CURRENT] != 0:
-                current_at(w[W_R + 2], cz, cx, cy, uc)
-            else:
-                uc[0] = 0.0
-                uc[1] = 0.0
-                uc[2] = 0.0
-            add_morison_drag(i_, l, nu, uc, prm[P_HALF_RHO_D], prm[P_CDT], prm[P_CDN], frc)
-            if iprm[I_SEABED] != 0:
-                add_seabed_force(w[W_R + 2], nu, l, prm[P_ZG], prm[P_KD], prm[P_CCRIT], prm[P_SBZETA],
-                                 prm[P_MU], prm[P_VMU], fbz, frc)
-            solve_added_mass(i_, frc, g0, mt, mn, acc)
-            for c in range(3):
-                w[W_ACC + c] = acc[c] - relax * w[W_V + c]
-        for k in range(nm):
-            for c in range(3):
-                s = 0.0
-                for j in range(nq):
-                    s += Pj[k, j] * wq[e, j, W_ACC + c]
-                dU[e, k, 3 + c] = s
+            l = wq[e, j, W_L]
+            i0 = wq[e, j, W_I]
+            i1 = wq[e, j, W_I + 1]
+            i2 = wq[e, j, W_I + 2]
+            n0 = wq[e, j, W_V] * ig0
+            n1 = wq[e, j, W_V + 1] * ig0
+            n2 = wq[e, j, W_V + 2] * ig0
+            if current:
+                current_at(wq[e, j, W_R + 2], cz, cx, cy, uc)
+            fx, fy, fz = morison_drag(i0, i1, i2, l, uc[0] - n0, uc[1] - n1, uc[2] - n2, hrd, cdt, cdn)
+            fx += wq[e, j, W_DT]
+            fy += wq[e, j, W_DT + 1]
+            fz += wq[e, j, W_DT + 2] + fbz
+            if seabed:
+                sx, sy, sz = seabed_force(wq[e, j, W_R + 2], n0, n1, n2, l, prm[P_ZG], prm[P_KD], prm[P_CCRIT],
+                                          prm[P_SBZETA], prm[P_MU], prm[P_VMU], fbz)
+                fx += sx
+                fy += sy
+                fz += sz
+            a0, a1, a2 = added_mass_rate(i0, i1, i2, fx, fy, fz, g0, mt, mn)
+            wq[e, j, W_ACC] = a0 - relax * wq[e, j, W_V]
+            wq[e, j, W_ACC + 1] = a1 - relax * wq[e, j, W_V + 1]
+            wq[e, j, W_ACC + 2] = a2 - relax * wq[e, j, W_V + 2]
+        project_points(Pj, wq, e, W_ACC, dU, 3, 3)
     a = iprm[I_ANCHOR]
     for c in range(3):
         dra[c] = fl[a * N, F_Q + c]
+
+
+@jit
+def clip_compression(fl, tr, k, e, side):
+    """Remove a compressive axial part of the boundary flux T_hat (laws without compression).
+
+    The Riemann solution of a cable that cannot push has T* >= 0: a boundary moving into the cable
+    faster than the upwind term allows produces slack, not compression.
+    """
+    q0 = tr[e, side, T_Q]
+    q1 = tr[e, side, T_Q + 1]
+    q2 = tr[e, side, T_Q + 2]
+    lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
+    if lq <= 1e-300:
+        return
+    i0 = q0 / lq
+    i1 = q1 / lq
+    i2 = q2 / lq
+    a = fl[k, F_V] * i0 + fl[k, F_V + 1] * i1 + fl[k, F_V + 2] * i2
+    if a < 0.0:
+        fl[k, F_V] -= a * i0
+        fl[k, F_V + 1] -= a * i1
+        fl[k, F_V + 2] -= a * i2
 
 
 @jit

@@ -47,15 +47,14 @@ def ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, bc, wq, wm, tr, fl):
     k0 = iprm[I_KIND0]
     k1 = iprm[I_KIND1]
     for e in range(N):
-        project_points(Pj, wq[e], W_I, wm[e], M_I, 3)
-        eval_traces(Tr, wm[e], M_I, tr[e], T_I, 3, 1.0)
+        project_points(Pj, wq, e, W_I, wm, M_I, 3)
+        eval_traces(Tr, wm, e, M_I, tr, T_I, 3, 1.0)
         if damp:
             for j in range(nq):
-                w = wq[e, j]
                 for c in range(3):
-                    w[W_IDOT + c] = (w[W_NUS + c] - w[W_I + c] * w[W_EDOT]) / w[W_L]
-            project_points(Pj, wq[e], W_IDOT, wm[e], M_IDOT, 3)
-            eval_traces(Tr, wm[e], M_IDOT, tr[e], T_IDOT, 3, 1.0)
+                    wq[e, j, W_IDOT + c] = (wq[e, j, W_NUS + c] - wq[e, j, W_I + c] * wq[e, j, W_EDOT]) / wq[e, j, W_L]
+            project_points(Pj, wq, e, W_IDOT, wm, M_IDOT, 3)
+            eval_traces(Tr, wm, e, M_IDOT, tr, T_IDOT, 3, 1.0)
     _ldg_fluxes(fl, tr, N, F_I, T_I, beta)
     if damp:
         _ldg_fluxes(fl, tr, N, F_IDOT, T_IDOT, beta)
@@ -73,30 +72,28 @@ def ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, bc, wq, wm, tr, fl):
             fl[N, F_I + c] = tr[N - 1, 1, T_I + c]
             fl[N, F_IDOT + c] = tr[N - 1, 1, T_IDOT + c]
     for e in range(N):
-        strong_derivative(h[e], D, Lf, wm[e], M_I, 1.0, tr[e], T_I, fl[e], fl[e + 1], F_I, wm[e], M_KAP, 3)
-        eval_points(V, wm[e], M_KAP, wq[e], W_KAP, 3, 1.0)
+        strong_derivative(h[e], D, Lf, wm, e, M_I, 1.0, tr, T_I, fl, F_I, wm, M_KAP, 3)
+        eval_points(V, wm, e, M_KAP, wq, W_KAP, 3, 1.0)
         if damp:
-            strong_derivative(h[e], D, Lf, wm[e], M_IDOT, 1.0, tr[e], T_IDOT, fl[e], fl[e + 1], F_IDOT,
-                              wm[e], M_KDOT, 3)
-            eval_points(V, wm[e], M_KDOT, wq[e], W_KDOT, 3, 1.0)
+            strong_derivative(h[e], D, Lf, wm, e, M_IDOT, 1.0, tr, T_IDOT, fl, F_IDOT, wm, M_KDOT, 3)
+            eval_points(V, wm, e, M_KDOT, wq, W_KDOT, 3, 1.0)
         for j in range(nq):
-            w = wq[e, j]
-            b0 = EI * w[W_KAP]
-            b1 = EI * w[W_KAP + 1]
-            b2 = EI * w[W_KAP + 2]
+            b0 = EI * wq[e, j, W_KAP]
+            b1 = EI * wq[e, j, W_KAP + 1]
+            b2 = EI * wq[e, j, W_KAP + 2]
             if damp:
-                b0 += zb * w[W_KDOT]
-                b1 += zb * w[W_KDOT + 1]
-                b2 += zb * w[W_KDOT + 2]
-            i0 = w[W_I]
-            i1 = w[W_I + 1]
-            i2 = w[W_I + 2]
-            il2 = 1.0 / (w[W_L] * w[W_L])
-            w[W_MS] = (i1 * b2 - i2 * b1 + torque * i0) * il2
-            w[W_MS + 1] = (i2 * b0 - i0 * b2 + torque * i1) * il2
-            w[W_MS + 2] = (i0 * b1 - i1 * b0 + torque * i2) * il2
-        project_points(Pj, wq[e], W_MS, wm[e], M_MS, 3)
-        eval_traces(Tr, wm[e], M_MS, tr[e], T_MS, 3, 1.0)
+                b0 += zb * wq[e, j, W_KDOT]
+                b1 += zb * wq[e, j, W_KDOT + 1]
+                b2 += zb * wq[e, j, W_KDOT + 2]
+            i0 = wq[e, j, W_I]
+            i1 = wq[e, j, W_I + 1]
+            i2 = wq[e, j, W_I + 2]
+            il2 = 1.0 / (wq[e, j, W_L] * wq[e, j, W_L])
+            wq[e, j, W_MS] = (i1 * b2 - i2 * b1 + torque * i0) * il2
+            wq[e, j, W_MS + 1] = (i2 * b0 - i0 * b2 + torque * i1) * il2
+            wq[e, j, W_MS + 2] = (i0 * b1 - i1 * b0 + torque * i2) * il2
+        project_points(Pj, wq, e, W_MS, wm, M_MS, 3)
+        eval_traces(Tr, wm, e, M_MS, tr, T_MS, 3, 1.0)
     _ldg_fluxes(fl, tr, N, F_MS, T_MS, -beta)
     for c in range(3):
         if k0 == K_CLAMPED:
@@ -112,17 +109,16 @@ def ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, bc, wq, wm, tr, fl):
         else:
             fl[N, F_MS + c] = 0.0
     for e in range(N):
-        strong_derivative(h[e], D, Lf, wm[e], M_MS, 1.0, tr[e], T_MS, fl[e], fl[e + 1], F_MS, wm[e], M_TAU, 3)
-        eval_points(V, wm[e], M_TAU, wq[e], W_TAU, 3, 1.0)
+        strong_derivative(h[e], D, Lf, wm, e, M_MS, 1.0, tr, T_MS, fl, F_MS, wm, M_TAU, 3)
+        eval_points(V, wm, e, M_TAU, wq, W_TAU, 3, 1.0)
         for j in range(nq):
-            w = wq[e, j]
-            il = 1.0 / w[W_L]
-            i0 = w[W_I]
-            i1 = w[W_I + 1]
-            i2 = w[W_I + 2]
-            t0 = w[W_TAU]
-            t1 = w[W_TAU + 1]
-            t2 = w[W_TAU + 2]
-            w[W_TV] += (i1 * t2 - i2 * t1) * il
-            w[W_TV + 1] += (i2 * t0 - i0 * t2) * il
-            w[W_TV + 2] += (i0 * t1 - i1 * t0) * il
+            il = 1.0 / wq[e, j, W_L]
+            i0 = wq[e, j, W_I]
+            i1 = wq[e, j, W_I + 1]
+            i2 = wq[e, j, W_I + 2]
+            t0 = wq[e, j, W_TAU]
+            t1 = wq[e, j, W_TAU + 1]
+            t2 = wq[e, j, W_TAU + 2]
+            wq[e, j, W_TV] += (i1 * t2 - i2 * t1) * il
+            wq[e, j, W_TV + 1] += (i2 * t0 - i0 * t2) * il
+            wq[e, j, W_TV + 2] += (i0 * t1 - i1 * t0) * il

@@ -15,10 +15,13 @@ import numpy as np
 from tether_sim.errors import SolverDivergedError, UnstableTimeStepError
 from tether_sim.numerics.operators import element_operators, project_function
 from tether_sim.numerics.polys import legendre_at, legendre_integral_at
+from tether_sim.physics.bodies import (
+    BODY_STATE_SIZE, body_acceleration, initial_body_state, pack_body_params, submerged_weight,
+)
 from tether_sim.physics.constitutive import TensionLaw
 from tether_sim.physics.hydrodynamics import added_mass_per_length, current_table, net_weight_per_length
 from tether_sim.physics.statics import solve_static
-from tether_sim.solvers.base import EndForces, SolverState, end_index
+from tether_sim.solvers.base import BodyState, EndForces, SolverState, end_index
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.stepper import STATUS_DIVERGED, dg_advance, dg_evaluate
 from tether_sim.solvers.dg.timestep import stable_dt
@@ -38,8 +41,6 @@ class DGCableSolver:
         for end, kind in zip(("ship_end", "vehicle_end"), self.kinds):
             if kind not in Y.KIND_CODES:
                 raise ValueError(f"{end}.kind: unknown end kind {kind!r}")
-            if kind == "body":
-                raise ValueError(f"{end}.kind: 'body' needs the rigid-body kernels (not wired yet)")
         self.law = TensionLaw(cab)
         self.N, self.P = int(opt.n_elements), int(opt.order)
         self.L = float(cab.length)
@@ -80,8 +81,12 @@ class DGCableSolver:
         self._cnt = np.zeros(1, dtype=np.int64)
         self._drained = 0
         self._out = np.zeros(2)
+        self._bs = np.zeros((2, BODY_STATE_SIZE))
+        self._bs0 = np.zeros((2, BODY_STATE_SIZE))
+        self._dbs = np.zeros((2, BODY_STATE_SIZE))
+        bp = pack_body_params(config.body, env)
+        self._bp = np.ascontiguousarray(np.stack([bp, bp]))
         self.time = 0.0
-        self._set_initial_state(config)
         self._dt_rule = self.stable_time_step()
         self.fixed_dt = float(opt.fixed_time_step)
         if self.fixed_dt > 0.0 and self.fixed_dt > self._dt_rule / opt.cfl:
@@ -89,6 +94,7 @@ class DGCableSolver:
                 f"dg.fixed_time_step = {self.fixed_dt:g} s exceeds the stability limit "
                 f"{self._dt_rule / opt.cfl:g} s (cfl = 1; automatic step with dg.cfl = {opt.cfl:g} "
                 f"would be {self._dt_rule:g} s): reduce it, or use fewer elements / a lower order")
+        self._set_initial_state(config)
 
     # ------------------------------------------------------------------ set-up
     def _element_sizes(self, opt):
@@ -137,15 +143,20 @@ class DGCableSolver:
     def _set_initial_state(self, config):
         kind = config.initial.kind
         shape = None
+        body_load = np.array([0.0, 0.0, -submerged_weight(config.body, config.environment)])
         if kind == "static":
             try:
-                shape = solve_static(config)
+                shape = solve_static(config, vehicle_load=body_load if self.kinds[1] == "body" else None,
+                                     ship_load=body_load if self.kinds[0] == "body" else None)
             except RuntimeError:
                 shape = None  # fall back to dynamic relaxation from the straight line
         if shape is not None:
             tangent, origin = shape.tangent, shape.position(np.array([0.0]))[0]
             end_pos = shape.position(np.array([0.0, self.L]))
         else:
+            for e in range(2):
+                if self.kinds[e] == "body":
+                    self._end_pos[e] = initial_body_state(config.body)[0:3] + np.asarray(config.body.attachment, float)
             A, B = self._end_pos
             q = (B - A) / self.L
             tangent = (lambda s, q=q: np.repeat(q[None, :], np.atleast_1d(s).size, axis=0))
@@ -156,17 +167,48 @@ class DGCableSolver:
         a = self.iprm[Y.I_ANCHOR]
         self.ra[:] = end_pos[a]
         for e in range(2):
-            if self.kinds[e] in ("free", "force"):
+            if self.kinds[e] in ("free", "force", "body"):
                 self._end_pos[e] = end_pos[e].copy()
+            if self.kinds[e] == "body":
+                self._bs[e] = initial_body_state(config.body, attachment_world=end_pos[e])
         relax = config.initial.relax_time
         if kind == "relax" or (kind == "static" and shape is None):
             relax = relax if relax > 0 else self._default_relax_time()
         if relax > 0:
             self.relax(relax)
 
+    def set_shape(self, tangent, velocity=None, origin=None):
+        """Replace the state: q = tangent(s) (n, 3) = dr/ds and cable velocity velocity(s) (n, 3) (m/s),
+        both L2-projected on the modes; origin (3,) = r(0) (default: the current r(0))."""
+        r0 = self.positions_at(np.array([0.0]))[0] if origin is None else np.asarray(origin, float)
+        g0 = self.config.cable.gamma0
+        for e in range(self.N):
+            a, b = self.s_edges[e], self.s_edges[e + 1]
+            self.U[e, :, 0:3] = project_function(self.P, tangent, a, b)
+            self.U[e, :, 3:6] = 0.0 if velocity is None else g0 * project_function(self.P, velocity, a, b)
+        if self.iprm[Y.I_ANCHOR] == 0:
+            self.ra[:] = r0
+        else:
+            self.ra[:] = r0 + np.sum(self.h[:, None] * self.U[:, 0, 0:3], axis=0)
+
     def _default_relax_time(self):
-        """Several pendulum periods 2 pi sqrt(L / g) of the whole cable."""
+        """Ten decay times of the automatic relaxation damping (or 5 pendulum periods)."""
+        if self.config.initial.relax_damping > 0 or self.config.cable.EI > 0:
+            return 20.0 / self.relax_rate()
         return 5.0 * 2.0 * math.pi * math.sqrt(self.L / max(self.config.environment.g, 1e-3))
+
+    def relax_rate(self):
+        """Automatic relaxation damping: twice the lowest of the pendulum and cantilever frequencies
+        (near-critical for the slowest mode), or initial.relax_damping when set."""
+        if self.config.initial.relax_damping > 0:
+            return float(self.config.initial.relax_damping)
+        cab = self.config.cable
+        rates = []
+        if self.config.environment.g > 0:
+            rates.append(math.sqrt(self.config.environment.g / self.L))
+        if cab.EI > 0:
+            rates.append((1.875 / self.L) ** 2 * math.sqrt(cab.EI / cab.gamma0))
+        return 2.0 * (min(rates) if rates else 1.0 / self._default_relax_time())
 
     def relax(self, duration):
         """Dynamic relaxation: run with the ends held and linear momentum damping; the clock is reset.
@@ -174,8 +216,7 @@ class DGCableSolver:
         The momentum is kept (not zeroed): at a discrete DG equilibrium v balances the
         Lax-Friedrichs penalty on the small jumps of q, and zeroing it would leave a spurious
         strain rate (and damping tension zeta * deps/dt) at restart."""
-        g = max(self.config.environment.g, 1e-3)
-        self.prm[Y.P_RELAX] = 2.0 * math.sqrt(g / self.L)  # near-critical for the slowest pendulum mode
+        self.prm[Y.P_RELAX] = self.relax_rate()
         t0 = self.time
         saved = [(p.copy(), v.copy()) for p, v in zip(self._end_pos, self._end_vel)]
         try:
@@ -183,6 +224,7 @@ class DGCableSolver:
         finally:
             self.prm[Y.P_RELAX] = 0.0
         self.time = t0
+        self._bs[:, 7:13] = 0.0  # bodies start at rest (their velocity was damped anyway)
         for e in range(2):
             if self.kinds[e] in _HELD:
                 self._end_pos[e], self._end_vel[e] = saved[e]
@@ -252,7 +294,8 @@ class DGCableSolver:
         dg_advance(nsteps, self.time, dt, self.U, self.ra, self.prm, self.iprm, self.h, self.V, self.Pj,
                    self.D, self.Lf, self.Tr, self.Iq, self.law.tab_eps, self.law.tab_T, self.cz, self.cx,
                    self.cy, self.bc, self._vbc, self._wq, self._wm, self._tr, self._fl, self._rs, self._tmp,
-                   self._dU, self._dra, self._endf, self._U0, self._ra0, self._buf, self._cnt, self._out)
+                   self._dU, self._dra, self._endf, self._bs, self._bp, self._dbs, self._bs0, self._U0, self._ra0,
+                   self._buf, self._cnt, self._out)
         if self._out[1] == STATUS_DIVERGED:
             done = int(self._out[0])
             raise SolverDivergedError(
@@ -292,7 +335,7 @@ class DGCableSolver:
         dg_evaluate(self.time, self.U, self.ra, self.prm, self.iprm, self.h, self.V, self.Pj, self.D, self.Lf,
                     self.Tr, self.Iq, self.law.tab_eps, self.law.tab_T, self.cz, self.cx, self.cy, self.bc,
                     self._vbc, self._wq, self._wm, self._tr, self._fl, self._rs, self._tmp, self._dU,
-                    self._dra, self._endf)
+                    self._dra, self._endf, self._bs, self._bp, self._dbs)
 
     def _locate(self, s):
         s = np.clip(np.atleast_1d(np.asarray(s, float)), 0.0, self.L)
@@ -326,13 +369,17 @@ class DGCableSolver:
         eps = l - 1.0
         tension = self.law.tension(eps, np.einsum("nc,nc->n", i, dq))
         curv = np.zeros_like(s)
-        mom = np.zeros_like(s)
+        mvec = np.zeros((s.size, 3))
+        shear = np.zeros((s.size, 3))
         if self.iprm[Y.I_BENDING]:
             curv = np.linalg.norm(ev(self._wm, Y.M_KAP), axis=1)
-            mom = np.linalg.norm(ev(self._wm, Y.M_MS), axis=1) * l**2
+            mvec = ev(self._wm, Y.M_MS) * (l**2)[:, None]
+            shear = np.cross(i, ev(self._wm, Y.M_TAU)) / np.where(l > 0, l, 1.0)[:, None]
+        extra = {"moment_vector": mvec, "shear_force": shear, "tension_vector": ev(self._wm, Y.M_TV)}
         return SolverState(time=self.time, arc_length=s, position=self.positions_at(s),
                            velocity=v / self.config.cable.gamma0, tension=tension, strain=eps,
-                           curvature=curv, bending_moment=mom, time_step=self._substep())
+                           curvature=curv, bending_moment=np.linalg.norm(mvec, axis=1), time_step=self._substep(),
+                           extra=extra)
 
     def end_forces(self) -> EndForces:
         """Force (and moment) BY the cable ON each end: -n T_hat at the boundary fluxes."""
@@ -343,8 +390,20 @@ class DGCableSolver:
                          ship_tension=float(f[0, Y.E_T]), vehicle_tension=float(f[1, Y.E_T]))
 
     def body_state(self, end):
-        end_index(end)
-        return None
+        """State of the rigid body at a "body" end (None for other kinds)."""
+        e = end_index(end)
+        if self.kinds[e] != "body":
+            return None
+        self._evaluate()
+        b = self._bs[e]
+        acc = np.zeros(3)
+        uc = np.zeros(3)
+        if self.cz.size:
+            from tether_sim.physics.hydrodynamics import current_at
+            current_at(b[2], self.cz, self.cx, self.cy, uc)
+        body_acceleration(b, self._bp[e], self._endf[e, Y.E_F:Y.E_F + 3].copy(), uc, acc)
+        return BodyState(position=b[0:3].copy(), orientation=b[3:7].copy(), velocity=b[7:10].copy(),
+                         angular_velocity=b[10:13].copy(), acceleration=acc)
 
     def drain_end_tensions(self):
         """(t, T_ship, T_vehicle) at the start of every substep since the last call (newest cap kept)."""
@@ -357,7 +416,7 @@ class DGCableSolver:
         return out[:, 0].copy(), out[:, 1].copy(), out[:, 2].copy()
 
     def snapshot(self):
-        return dict(time=self.time, U=self.U.copy(), ra=self.ra.copy(), bc=self.bc.copy(),
+        return dict(time=self.time, U=self.U.copy(), ra=self.ra.copy(), bc=self.bc.copy(), bodies=self._bs.copy(),
                     end_pos=[p.copy() for p in self._end_pos], end_vel=[v.copy() for v in self._end_vel])
 
     def restore(self, snap) -> None:
@@ -365,6 +424,7 @@ class DGCableSolver:
         self.U[...] = snap["U"]
         self.ra[:] = snap["ra"]
         self.bc[...] = snap["bc"]
+        self._bs[...] = snap["bodies"]
         self._end_pos = [p.copy() for p in snap["end_pos"]]
         self._end_vel = [v.copy() for v in snap["end_vel"]]
         self._target = [None, None]

@@ -21,7 +21,7 @@ P_DT, P_AM, P_AF, P_GAM = 16, 17, 18, 19
 P_SIZE = 20
 
 # chain-node slot layout: catenary v(0:3) T(3) t(4:7); rod v(0:3) omega(3:6) kappa(6:9) f(9:12)
-N_SLOTS = 12
+N_SLOTS = 13  # node arrays are 13 wide so that a rigid-body node (13 states) fits
 CAT_SLOTS = 7
 ROD_SLOTS = 12
 

@@ -127,8 +127,8 @@ def convert_state(solver, new_zones):
     old = solver.chain
     nodes = zoning.chain_nodes(new_zones)
     K = len(nodes)
-    Y = np.zeros((K, 12))
-    Yt = np.zeros((K, 12))
+    Y = np.zeros((K, 13))
+    Yt = np.zeros((K, 13))
     Lf = np.zeros((K, 3, 3))
     pos = np.zeros((K, 3))
     rdot = np.zeros((K, 3))
@@ -145,7 +145,7 @@ def convert_state(solver, new_zones):
             if same:
                 Y[n], Yt[n] = solver.Y[c], solver.Yt[c]
             else:
-                Y[n], Yt[n] = zoning.rod_to_cat(solver.Y[c], solver.Yt[c], solver.Lf[c])
+                Y[n, :12], Yt[n, :12] = zoning.rod_to_cat(solver.Y[c], solver.Yt[c], solver.Lf[c])
     n = 0
     while n < K:  # rod blocks: frames by minimal rotation from kept frames, then variables
         if nodes[n][1] != zoning.ROD:
@@ -164,7 +164,7 @@ def convert_state(solver, new_zones):
             if keep[k]:
                 continue
             Lf[i] = frames[k]
-            Y[i], Yt[i] = zoning.cat_to_rod(solver.Y[src[i][0]], solver.Yt[src[i][0]], frames[k])
+            Y[i, :12], Yt[i, :12] = zoning.cat_to_rod(solver.Y[src[i][0]], solver.Yt[src[i][0]], frames[k])
             kap = []
             if k > 0:
                 kap.append(zoning.curvature_between(frames[k - 1], frames[k], ds))
