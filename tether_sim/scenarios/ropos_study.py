@@ -211,12 +211,22 @@ def study(lengths=LENGTHS, alphas=ALPHAS, freqs=FREQUENCIES, out=DEFAULT_OUT, pr
     return results
 
 
+def _merge_split_bins(r):
+    """Results of runs before the binning fix could hold a bin twice (split at an output time): merge."""
+    if r.t.size and np.any(np.diff(r.t) <= 0):
+        t, first = np.unique(r.t, return_index=True)
+        r.ship_tension = np.maximum.reduceat(r.ship_tension, first)
+        r.vehicle_tension = np.maximum.reduceat(r.vehicle_tension, first)
+        r.t = t
+
+
 def load_results(out):
     """All study pickles of ``out`` merged; a later file replaces a case (L, alpha, f) of an earlier one."""
     cases = {}
     for path in sorted(Path(out).glob("study_results_*.pkl"), key=lambda p: p.stat().st_mtime):
         with open(path, "rb") as fh:
             for r in pickle.load(fh):
+                _merge_split_bins(r)
                 cases[(r.length, r.alpha, r.frequency)] = r
     return [cases[k] for k in sorted(cases)]
 
