@@ -93,8 +93,10 @@ def test_replay_to_recorder_keeps_bytes_timing_and_clock(tmp_path):
     src, rec = tmp_path / "input.mcap", tmp_path / "rec.mcap"
     payloads = write_input(src)
     env = ros_env(domain_for(1))
+    # the recorder runs on sim time (as in the ROPOS run): log_time = its /clock-driven now()
     recorder = start("tether_sim.ros.recorder_node", "-o", rec, "/ship/pose", "/tether/description",
-                     "/clock", "--ros-args", "-p", "flush_interval_s:=0.2", env=env)
+                     "/clock", "--ros-args", "-p", "flush_interval_s:=0.2", "-p", "use_sim_time:=true",
+                     env=env)
     replay = start("tether_sim.ros.replay_node", src, "--wait-for-subscribers", 15, env=env)
     try:
         replay_out, _ = replay.communicate(timeout=40)
@@ -113,11 +115,16 @@ def test_replay_to_recorder_keeps_bytes_timing_and_clock(tmp_path):
         poses = [(m.log_time, m.publish_time, m.data) for _, c, m in reader.iter_messages(["/ship/pose"])]
     # the stored CDR bytes went out as they are: recorded payloads equal the input payloads
     assert [p[2] for p in poses] == payloads
-    # recorded timing: inter-arrival times follow the 20 ms spacing (2 cores shared with other
-    # jobs: the median within 3 ms, the whole 1.48 s span within 15 %)
-    arrivals = np.diff([p[0] for p in poses]) / 1e9
-    assert abs(np.median(arrivals) - 1 / RATE_HZ) < 3e-3
-    assert abs(sum(arrivals) - (N_POSES - 1) / RATE_HZ) < 0.15 * (N_POSES - 1) / RATE_HZ
+    # sim-time log times: /clock goes out just before each pose, so a pose is logged at its own
+    # stamp or, if the recorder handled it before that clock tick, at the previous tick (<= 10 ms
+    # at 100 Hz; 25 ms allowed on 2 busy cores)
+    lag = np.array([p[0] for p in poses]) - np.array([T0_NS + i * 10**9 // RATE_HZ for i in range(N_POSES)])
+    assert np.all(np.abs(lag) <= 25_000_000), lag
+    # wall timing of the replay: publish times (source timestamps) follow the 20 ms spacing
+    # (median within 3 ms, the whole 1.48 s span within 15 %)
+    sent = np.diff([p[1] for p in poses]) / 1e9
+    assert abs(np.median(sent) - 1 / RATE_HZ) < 3e-3
+    assert abs(sum(sent) - (N_POSES - 1) / RATE_HZ) < 0.15 * (N_POSES - 1) / RATE_HZ
     decoded = {}
     for topic, _, _, msg in read_messages(rec):
         decoded.setdefault(topic, []).append(msg)
