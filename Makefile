@@ -19,8 +19,9 @@ setup:
 run: setup
 	$(PY) -m tether_sim.ros.main_job
 
+# TETHER_SIM_REQUIRE_ROS=1: a missing rclpy fails the ROS tests instead of skipping them
 test: setup
-	$(PY) -m pytest -q -n $(PYTEST_WORKERS) $(PYTEST_ARGS)
+	TETHER_SIM_REQUIRE_ROS=1 $(PY) -m pytest -q -n $(PYTEST_WORKERS) --dist loadfile $(PYTEST_ARGS)
 
 bench: setup
 	@shopt -s nullglob; scripts=(benchmarks/*.py); \

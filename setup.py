@@ -31,6 +31,7 @@ setup(
         "tqdm",
         "mcap",
         "mcap-ros2-support",
+        "rosbags",
     ],
     zip_safe=True,
     data_files=[

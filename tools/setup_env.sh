@@ -37,6 +37,12 @@ hash_of() {  # hash of the given strings and files (missing files hash as their 
     done | sha256sum | cut -c1-32
 }
 
+links_ok() {  # every data-file link made by tools/link_data_files.py is still there
+    [[ -f "$STAMPS/data_files.txt" ]] || return 1
+    local link
+    while IFS= read -r link; do [[ -e "$link" ]] || return 1; done < "$STAMPS/data_files.txt"
+}
+
 stamp_ok() { [[ -f "$STAMPS/$1" && "$(cat "$STAMPS/$1")" == "$2" ]]; }
 stamp_set() { mkdir -p "$STAMPS"; printf '%s\n' "$2" > "$STAMPS/$1"; }
 
@@ -78,7 +84,7 @@ SITE_GLOB=("$VENV"/lib/python3.11/site-packages)
 SITE="${SITE_GLOB[0]}"
 
 if venv_works && stamp_ok deps "$DEPS_HASH" && stamp_ok msgs "$MSGS_HASH" && stamp_ok pkg "$PKG_HASH" &&
-    [[ -d "$SITE/tether_sim_msgs" ]]; then
+    [[ -d "$SITE/tether_sim_msgs" ]] && links_ok; then
     say "environment up to date ($VENV)"
     exit 0
 fi
@@ -96,7 +102,8 @@ if ! venv_works || ! stamp_ok deps "$DEPS_HASH"; then
     BASE_PY="$(find_base_python)" || die "Python 3.11 is required (the ROS 2 Jazzy wheels are cp311); set PYTHON=/path/to/python3.11"
     if ! venv_works; then
         say "creating virtual environment $VENV with $BASE_PY"
-        rm -rf "$STAMPS"
+        # start from an empty folder (a broken or foreign venv goes), keeping the lock we hold
+        find "$VENV" -mindepth 1 -maxdepth 1 ! -name .setup.lock -exec rm -rf {} +
         "$BASE_PY" -m venv "$VENV"
     fi
     rm -f "$STAMPS/deps" "$STAMPS/msgs" "$STAMPS/pkg"
@@ -150,8 +157,10 @@ if ! stamp_ok pkg "$PKG_HASH"; then
     say "installing tether_sim in development mode (pip install -e .)"
     quiet_pip install --quiet --disable-pip-version-check --no-deps --no-build-isolation --use-pep517 -e "$ROOT"
     # pip -e leaves out data_files (ament index marker, package.xml, config/, data/): link them
-    (cd "$ROOT" && "$VENV/bin/python" tools/link_data_files.py "$ROOT" "$VENV")
+    "$VENV/bin/python" "$ROOT/tools/link_data_files.py" "$ROOT" "$VENV"
     stamp_set pkg "$PKG_HASH"
+elif ! links_ok; then
+    "$VENV/bin/python" "$ROOT/tools/link_data_files.py" "$ROOT" "$VENV"
 fi
 
 say "environment ready ($VENV) in $((SECONDS - T0)) s"

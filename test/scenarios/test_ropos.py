@@ -11,12 +11,12 @@ import numpy as np
 import pytest
 
 from tether_sim.io.params import load_config
-from tether_sim.physics.snap import SnapEvent
 from tether_sim.scenarios.ropos import (
     CONFIG_DIR,
     point_load_config,
     ropos_config,
     run_case,
+    snap_lag,
     static_end_tensions,
 )
 from tether_sim.solvers.factory import build_solver
@@ -24,6 +24,20 @@ from tether_sim.solvers.factory import build_solver
 # Until the DG solver is merged the solver runs cannot happen; they are skipped, not faked.
 needs_dg = pytest.mark.skipif(importlib.util.find_spec("tether_sim.solvers.dg.solver") is None,
                               reason="DG solver (tether_sim.solvers.dg.solver) not on this branch yet")
+
+
+def _dg_has_body_ends():
+    try:
+        build_solver(ropos_config(1730.0))
+    except ValueError as exc:  # only the solver's own "not wired yet" refusal counts
+        if "not wired" in str(exc):
+            return False
+        raise
+    return True
+
+
+needs_body = pytest.mark.skipif(not (importlib.util.find_spec("tether_sim.solvers.dg.solver") and _dg_has_body_ends()),
+                                reason="DG body coupling (vehicle_end.kind = body) not on this branch yet")
 
 
 @pytest.mark.parametrize("length", [200, 500, 975, 1730])
@@ -43,7 +57,7 @@ def test_config_files_carry_table3_and_calibration(length):
 
 def test_validation_config_uses_the_synthetic_record():
     cfg = load_config(CONFIG_DIR / "ropos_validation.yaml")
-    assert cfg.motion.kind == "record" and cfg.motion.record_scale == 1.2 and cfg.cable.length == 1730.0
+    assert cfg.motion.kind == "record" and cfg.motion.record_scale == 1.0 and cfg.cable.length == 1730.0
     assert (CONFIG_DIR.parent / cfg.motion.record_path).is_file()
 
 
@@ -57,7 +71,7 @@ def test_closed_form_static_tensions():
 
 
 @needs_dg
-@pytest.mark.parametrize("point_load", [False, True], ids=["cage_body", "point_load"])
+@pytest.mark.parametrize("point_load", [pytest.param(False, marks=needs_body), True], ids=["cage_body", "point_load"])
 def test_static_L1730_end_tensions(point_load):
     cfg = ropos_config(1730.0)
     if point_load:
@@ -88,14 +102,25 @@ def test_snap_front_reaches_the_ship_after_L_over_c():
     assert lag == pytest.approx(1730.0 / cfg.cable.wave_speed, rel=0.02)
 
 
-@needs_dg
-def test_slack_and_snap_at_cage_L200():
-    """a = 2 m orbit at L = 200 m: slack + snap at the cage for f = 0.25 Hz, none at 0.10 Hz."""
-    fast = run_case(ropos_config(200.0, frequency=0.25, periods=4.0), output_rate=50.0)
+@needs_body
+def test_slack_and_snap_at_cage_L1730():
+    """a = 2 m orbit (PE2020 Sec. 6.2): slack + snap at the cage for f = 0.25 Hz, none at 0.10 Hz.
+
+    L = 1730 m is the cheapest depth for the explicit DG (largest elements); the full L x alpha x f
+    grid is the study script (docs/ropos.md).
+    """
+    cfg = ropos_config(1730.0, frequency=0.25, periods=3.0)
+    fast_wave_speed = cfg.cable.wave_speed
+    fast = run_case(cfg, output_rate=25.0)
     assert not fast.error
-    snaps = [e for e in fast.events if isinstance(e, SnapEvent) and e.location == "vehicle"]
+    snaps = fast.snaps("vehicle")
     assert fast.slacks("vehicle") and snaps
     assert all(e.peak_tension > e.static_tension for e in snaps)
-    slow = run_case(ropos_config(200.0, frequency=0.10, periods=2.0), output_rate=20.0)
+    # The snap front at the cage reaches the ship L/c = 0.445 s later (2%; tensions kept at 1 kHz).
+    wave = 1730.0 / fast_wave_speed
+    for e in snaps:
+        assert snap_lag(fast.t, fast.ship_tension, fast.vehicle_tension, e, wave) == pytest.approx(wave, rel=0.02)
+    slow = run_case(ropos_config(1730.0, frequency=0.10, periods=1.5), output_rate=10.0)
     assert not slow.error and not slow.events
-    assert slow.vehicle_tension.min() > 0.1 * slow.static[1]
+    # The 1-D model gives a cage minimum of 18 kN (41% of static) at f = 0.1 Hz: far from slack.
+    assert slow.vehicle_tension.min() > 0.2 * slow.static[1]

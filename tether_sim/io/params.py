@@ -7,6 +7,7 @@ values raise :class:`ConfigError` naming the key and the file.
 
 import difflib
 import math
+import re
 from dataclasses import fields, is_dataclass, replace
 from pathlib import Path
 
@@ -17,6 +18,17 @@ from tether_sim.errors import ConfigError
 from tether_sim.io.schema import key_map
 
 NODE_SECTION_NAMES = ("tether_sim", "/tether_sim", "/**")
+
+
+class _Loader(yaml.SafeLoader):
+    """SafeLoader that also reads YAML 1.2 floats such as ``45.5e6`` (PyYAML's 1.1 rules see a string)."""
+
+
+_Loader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?(?:[0-9][0-9_]*)?(?:\.[0-9_]*)?[eE][-+]?[0-9]+$"),
+    list("-+0123456789."),
+)
 
 
 def flatten(tree: dict, prefix: str = "") -> dict:
@@ -55,7 +67,7 @@ def read_param_file(path) -> dict:
     """Flat {key: value} of the tether_sim section(s) of a ROS 2 parameter YAML file."""
     path = Path(path)
     try:
-        document = yaml.safe_load(path.read_text())
+        document = yaml.load(path.read_text(), Loader=_Loader)
     except OSError as exc:
         raise ConfigError(f"{path}: cannot read parameter file ({exc})") from exc
     except yaml.YAMLError as exc:

@@ -41,13 +41,12 @@ def _kind_of(default, annotation) -> str:
     raise TypeError(f"unsupported parameter default {default!r} ({annotation})")
 
 
-def _walk(cls, prefix, out):
-    instance = cls()
-    for f in fields(cls):
+def _walk(instance, prefix, out):
+    for f in fields(instance):
         value = getattr(instance, f.name)
         name = prefix + f.name
         if is_dataclass(value):
-            _walk(type(value), name + ".", out)
+            _walk(value, name + ".", out)  # the instance: a section's default_factory may differ from its class defaults
             continue
         meta = f.metadata
         if "doc" not in meta:
@@ -60,7 +59,7 @@ def _walk(cls, prefix, out):
 def all_keys() -> tuple:
     """Every key of :class:`SimConfig`, in declaration order."""
     out = []
-    _walk(SimConfig, "", out)
+    _walk(SimConfig(), "", out)
     return tuple(out)
 
 

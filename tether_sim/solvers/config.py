@@ -14,6 +14,9 @@ class DGOptions:
     beta: float = param(0.0, doc="LDG flux bias beta [PE2020 Eq. 29-30]", min=-0.5, max=0.5)
     cfl: float = param(0.5, doc="safety factor on the stable time step (see docs/dg_solver.md)", min=0.01, max=2.0)
     fixed_time_step: float = param(0.0, unit="s", doc="fixed substep; 0 = automatic from the stability rule", min=0.0, max=10.0)
+    element_lengths: tuple = param((), unit="-", doc="relative element sizes from s = 0 (N positive weights, scaled to L); empty = uniform")
+    lambda_floor: float = param(0.0, unit="m/s", doc="lower bound of the Lax-Friedrichs speed (adds dissipation in slack parts; 0 = paper)", min=0.0, max=1e5)
+    tension_buffer: int = param(65536, doc="capacity of the per-substep end-tension ring buffer (drain_end_tensions)", min=16, max=100000000)
 
 
 @dataclass(frozen=True)
@@ -25,6 +28,19 @@ class HybridOptions:
     rho_inf: float = param(0.8, doc="generalized-alpha spectral radius at infinity (1 = no dissipation)", min=0.0, max=1.0)
     zoning: str = param("adaptive", doc="rod/catenary partition: adaptive, fixed, all_rod, all_catenary", choices=("adaptive", "fixed", "all_rod", "all_catenary"))
     joint_arc_length: float = param(0.0, unit="m", doc="s of the spherical joint for zoning=fixed (catenary below, rod above)", min=0.0, max=1e6)
+    chi_on: float = param(0.3, doc="adaptive zoning: element becomes rod when sqrt(EI w^2/T^3) exceeds this (docs/hybrid_solver.md)", min=1e-6, max=1e6)
+    chi_off: float = param(0.15, doc="adaptive zoning: rod element returns to catenary below this (hysteresis, < chi_on)", min=1e-6, max=1e6)
+    min_zone_elements: int = param(4, doc="adaptive zoning: shortest rod or catenary zone, in elements", min=1, max=100000)
+    end_rod_length: float = param(0.0, unit="m", doc="rod zone kept at an end that holds its tangent (clamped or hold_direction_*)", min=0.0, max=1e6)
+    hold_direction_ship: bool = param(False, doc="force/free ship end also holds its tangent at ship_end.direction (frame fixed)")
+    hold_direction_vehicle: bool = param(False, doc="force/free vehicle end also holds its tangent at vehicle_end.direction (GP benchmark)")
+    rotary_inertia_bend: float = param(0.0, unit="kg m", doc="rotary inertia per length about a bending axis; 0 = gamma0*A/(4 pi)", min=0.0, max=1e6)
+    rotary_inertia_torsion: float = param(0.0, unit="kg m", doc="rotary inertia per length about the tangent; 0 = 2 x bending value", min=0.0, max=1e6)
+    max_newton_iterations: int = param(25, doc="Newton iterations per implicit step before the step is halved", min=2, max=1000)
+    newton_tolerance: float = param(1e-9, doc="Newton stops when every update is below this times its variable scale", min=1e-15, max=1e-2)
+    frames_from_curvature: bool = param(True, doc="re-derive rod frames from kappa along s after each step (else pure incremental rotations in time)")
+    relax_time_step: float = param(1.0, unit="s", doc="step of the initial damped relaxation (large steps damp fastest); 0 = time_step", min=0.0, max=100.0)
+    static_relax_time: float = param(60.0, unit="s", doc="initial.kind=static: duration of the damped (rho_inf=0) relaxation to rest", min=0.0, max=1e6)
 
 
 @dataclass(frozen=True)
@@ -33,3 +49,4 @@ class InitialState:
 
     kind: str = param("static", doc="static (equilibrium solve), straight (line between ends), relax (straight + dynamic relaxation)", choices=("static", "straight", "relax"))
     relax_time: float = param(0.0, unit="s", doc="damped dynamic relaxation after the initial shape", min=0.0, max=1e5)
+    relax_damping: float = param(0.0, unit="1/s", doc="momentum damping rate during relaxation; 0 = automatic (2 x lowest pendulum or bending frequency)", min=0.0, max=1e6)

@@ -1,0 +1,162 @@
+"""Parameter files -> SimConfig (tether_sim.io.params): layouts, error messages, round trips."""
+
+from dataclasses import replace
+
+import pytest
+import yaml
+
+from tether_sim.config import SimConfig
+from tether_sim.errors import ConfigError
+from tether_sim.io.params import flatten, from_flat, load_config, read_param_file, to_flat
+
+
+def write(tmp_path, text, name="params.yaml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def unflatten(flat: dict) -> dict:
+    tree = {}
+    for name, value in flat.items():
+        *sections, key = name.split(".")
+        node = tree
+        for section in sections:
+            node = node.setdefault(section, {})
+        node[key] = list(value) if isinstance(value, tuple) else value
+    return tree
+
+
+def test_nested_yaml_sets_the_fields(tmp_path):
+    path = write(tmp_path, """
+tether_sim:
+  ros__parameters:
+    solver: hybrid
+    cable:
+      length: 975.0
+      EA: 1.2e+8
+    node:
+      output_points: 101
+      ship_attachment: [1.0, 0.0, -2.5]
+""")
+    config = load_config(path)
+    assert config.solver == "hybrid"
+    assert config.cable.length == 975.0 and config.cable.EA == 1.2e8
+    assert config.node.output_points == 101
+    assert config.node.ship_attachment == (1.0, 0.0, -2.5)
+    assert config.cable.gamma0 == SimConfig().cable.gamma0  # untouched keys keep their defaults
+
+
+def test_flat_dotted_keys_and_wildcard_section(tmp_path):
+    path = write(tmp_path, """
+/**:
+  ros__parameters:
+    use_sim_time: true
+    cable.length: 500.0
+other_node:
+  ros__parameters:
+    not_ours: 1
+""")
+    config = load_config(path)
+    assert config.cable.length == 500.0
+
+
+def test_node_section_overrides_wildcard_in_file_order(tmp_path):
+    path = write(tmp_path, """
+/**:
+  ros__parameters:
+    cable: {length: 500.0, EA: 1.0e+6}
+/tether_sim:
+  ros__parameters:
+    cable: {length: 750.0}
+""")
+    config = load_config(path)
+    assert (config.cable.length, config.cable.EA) == (750.0, 1.0e6)
+
+
+def test_exponent_without_sign_is_a_float(tmp_path):
+    """45.5e6 is a YAML 1.2 float (as for rcl's parser); PyYAML's 1.1 rules alone would give a string."""
+    config = load_config(write(tmp_path, "tether_sim:\n  ros__parameters:\n    cable: {EA: 45.5e6, gamma0: 3e0}\n"))
+    assert config.cable.EA == 45.5e6 and config.cable.gamma0 == 3.0
+
+
+def test_integers_are_accepted_for_floats(tmp_path):
+    config = load_config(write(tmp_path, "tether_sim:\n  ros__parameters:\n    cable: {length: 300}\n"))
+    assert config.cable.length == 300.0 and isinstance(config.cable.length, float)
+
+
+def test_misspelt_key_names_key_file_and_suggestion(tmp_path):
+    path = write(tmp_path, "tether_sim:\n  ros__parameters:\n    cable:\n      lenght: 200.0\n", "ropos.yaml")
+    with pytest.raises(ConfigError) as err:
+        load_config(path)
+    text = str(err.value)
+    assert "cable.lenght" in text and str(path) in text and "cable.length" in text
+
+
+@pytest.mark.parametrize("body, words", [
+    ("cable: {length: -5.0}", ("cable.length", "below the minimum", "m")),
+    ("snap: {slack_fraction: 1.5}", ("snap.slack_fraction", "above the maximum")),
+    ("cable: {EA: stiff}", ("cable.EA", "expected a number")),
+    ("cable: {EA: true}", ("cable.EA", "expected a number")),
+    ("cable: {EA: .nan}", ("cable.EA", "finite")),
+    ("node: {output_points: 4.5}", ("node.output_points", "expected an integer")),
+    ("solver: fem", ("solver", "not one of", "dg", "hybrid")),
+    ("node: {ship_attachment: [1.0, 2.0]}", ("node.ship_attachment", "expected 3 values")),
+    ("node: {ship_attachment: 1.0}", ("node.ship_attachment", "expected a list")),
+    ("node: {world_frame: 3}", ("node.world_frame", "expected a string")),
+])
+def test_bad_values_are_named(tmp_path, body, words):
+    path = write(tmp_path, f"tether_sim:\n  ros__parameters:\n    {body}\n")
+    with pytest.raises(ConfigError) as err:
+        load_config(path)
+    for word in words + (str(path),):
+        assert word in str(err.value), f"{word!r} missing from {err.value}"
+
+
+@pytest.mark.parametrize("text, words", [
+    ("tether_sim: [1, 2]\n", ("ros__parameters",)),
+    ("some_other_node:\n  ros__parameters: {a: 1}\n", ("no 'tether_sim'",)),
+    ("tether_sim:\n  ros__parameters: [1, 2]\n", ("must be a mapping",)),
+    ("tether_sim: {ros__parameters: {cable: {length: [}}\n", ("malformed YAML",)),
+    ("- just\n- a list\n", ("mapping at the top level",)),
+])
+def test_malformed_files_are_errors(tmp_path, text, words):
+    path = write(tmp_path, text)
+    with pytest.raises(ConfigError) as err:
+        load_config(path)
+    for word in words + (str(path),):
+        assert word in str(err.value)
+
+
+def test_missing_file_is_a_config_error(tmp_path):
+    with pytest.raises(ConfigError, match="cannot read"):
+        read_param_file(tmp_path / "absent.yaml")
+
+
+def test_overrides_apply_over_the_file(tmp_path):
+    path = write(tmp_path, "tether_sim:\n  ros__parameters:\n    cable: {length: 300.0}\n")
+    config = load_config(path, overrides={"cable.length": 310.0, "dg.order": SimConfig().dg.order})
+    assert config.cable.length == 310.0
+
+
+def test_flatten_nested_mapping():
+    assert flatten({"a": {"b": 1, "c": {"d": 2}}, "e": 3}) == {"a.b": 1, "a.c.d": 2, "e": 3}
+
+
+def test_round_trip_flat_and_config():
+    default = SimConfig()
+    assert from_flat(to_flat(default)) == default
+    changed = replace(default, solver="hybrid", cable=replace(default.cable, length=1730.0, EA=2.0e8))
+    flat = to_flat(changed)
+    assert flat["cable.length"] == 1730.0 and flat["solver"] == "hybrid"
+    assert from_flat(flat) == changed
+    assert set(flat) == set(to_flat(default))
+
+
+def test_round_trip_through_a_written_file(tmp_path):
+    default = SimConfig()
+    changed = replace(default, cable=replace(default.cable, length=1730.0, EA=2.0e8),
+                      node=replace(default.node, vehicle_attachment=(0.1, 0.0, 0.7)))
+    document = {"tether_sim": {"ros__parameters": unflatten(to_flat(changed))}}
+    path = write(tmp_path, yaml.safe_dump(document))
+    assert load_config(path) == changed

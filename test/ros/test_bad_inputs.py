@@ -1,0 +1,124 @@
+"""Every bad input of issue 7 against the running node: rejected, reported, and the node goes on."""
+
+import math
+
+import numpy as np
+import pytest
+
+pytest.importorskip("rclpy")
+pytest.importorskip("tether_sim_msgs")
+from sim_harness import SimHarness, status, values  # noqa: E402
+
+from tether_sim.errors import SolverDivergedError  # noqa: E402
+
+pytestmark = pytest.mark.ros
+
+SHIP = (0.0, 0.0, 0.0)
+VEHICLE = (30.0, 0.0, -40.0)
+PARAMS = {"cable.length": 55.0, "cable.EA": 1.0e6, "cable.damping": 1.0e3,
+          "ship_end.kind": "prescribed", "ship_end.position": SHIP,
+          "vehicle_end.kind": "fixed", "vehicle_end.position": VEHICLE,
+          "dg.n_elements": 6, "dg.order": 3, "node.output_points": 11, "node.max_end_speed": 10.0,
+          "node.input_timeout": 0.5, "node.snapshot_interval": 0.2,
+          "node.tick_budget": 100.0}  # sim time: never cap a tick on wall time, so runs are deterministic
+
+
+@pytest.fixture
+def h():
+    harness = SimHarness(PARAMS)
+    harness.run(0.4, ship=SHIP)
+    assert harness.received["/tether/state"], "node did not start"
+    yield harness
+    harness.close()
+
+
+def still_running(h, since):
+    """TetherStates keep coming after ``since`` with finite values and monotonic stamps."""
+    later = h.received["/tether/state"][since:]
+    stamps = [m.header.stamp.sec + 1e-9 * m.header.stamp.nanosec for m in later]
+    assert len(later) >= 5 and np.all(np.diff(stamps) > 0)
+    assert all(math.isfinite(m.ship_end_tension) and all(map(math.isfinite, m.tension)) for m in later)
+    return later
+
+
+def ship_input_status(h):
+    diag = [d for d in h.received["/diagnostics"] if status(d, "ship input")]
+    return status(diag[-1], "ship input")
+
+
+def ship_end_x(state):
+    return state.position[0].x
+
+
+def send_bad(h, msg, reason):
+    """Publish one bad ship sample and spin (clock still) until the node has seen it."""
+    before = h.node.inputs["ship"].rejected[reason]
+    h.pose_pubs["ship"].publish(msg)
+    for _ in range(200):  # best-effort delivery: wait for it, with no other pose to crowd it out
+        h.spin(1)
+        if h.node.inputs["ship"].rejected[reason] > before:
+            return
+    raise AssertionError(f"the node never received the bad sample ({reason})")
+
+
+@pytest.mark.parametrize("position, orientation, reason", [
+    ((math.nan, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), "non-finite"),
+    ((0.0, math.inf, 0.0), (0.0, 0.0, 0.0, 1.0), "non-finite"),
+    ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0), "bad quaternion"),
+    ((50.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0), "jump"),  # 50 m in 0.02 s
+])
+def test_bad_pose_values_are_rejected(h, position, orientation, reason):
+    n = len(h.received["/tether/state"])
+    send_bad(h, h.pose_msg(h.time + 0.01, position, orientation), reason)
+    h.run(h.time + 1.2, ship=SHIP)
+    later = still_running(h, n)
+    assert max(abs(ship_end_x(m)) for m in later) < 1e-6  # the bad sample never reached the solver
+    st = ship_input_status(h)
+    assert int(values(st)[f"rejected_{reason}"]) == 1
+
+
+def test_stamp_going_backwards_is_rejected(h):
+    n = len(h.received["/tether/state"])
+    send_bad(h, h.pose_msg(h.time - 5.0, (1.0, 0.0, 0.0)), "stamp not increasing")
+    h.run(h.time + 1.2, ship=SHIP)
+    later = still_running(h, n)
+    assert max(abs(ship_end_x(m)) for m in later) < 1e-6
+    assert int(values(ship_input_status(h))["rejected_stamp not increasing"]) == 1
+
+
+def test_pose_in_a_foreign_frame_is_rejected(h):
+    n = len(h.received["/tether/state"])
+    send_bad(h, h.pose_msg(h.time + 0.01, (0.1, 0.0, 0.0), frame="odom"), "wrong frame")
+    h.run(h.time + 1.2, ship=SHIP)
+    still_running(h, n)
+    assert int(values(ship_input_status(h))["rejected_wrong frame"]) == 1
+
+
+def test_missing_input_is_reported_stale_and_the_simulation_goes_on(h):
+    n = len(h.received["/tether/state"])
+    h.run(h.time + 2.0)  # the ship pose stops
+    still_running(h, n)
+    st = ship_input_status(h)
+    assert st.level == b"\x03" and "no valid ship pose" in st.message  # STALE
+
+
+def test_diverging_solver_is_reported_and_recovered(h):
+    solver = h.node.driver.solver
+    original = solver.advance_to
+    calls = {"n": 0}
+
+    def diverge_once(t):
+        calls["n"] += 1
+        if calls["n"] == 1:
+            raise SolverDivergedError("state became non-finite (injected)")
+        return original(t)
+
+    solver.advance_to = diverge_once
+    n = len(h.received["/tether/state"])
+    h.run(h.time + 1.2, ship=SHIP)
+    still_running(h, n)
+    assert h.node.driver.divergences == 1
+    errors = [status(d, "simulation") for d in h.received["/diagnostics"] if status(d, "simulation").level == b"\x02"]
+    assert errors and "injected" in errors[0].message
+    # recovered from the last good snapshot (taken every 0.2 s), not rebuilt
+    assert h.node.driver.last_recovery == "snapshot"

@@ -1,0 +1,102 @@
+"""Parameter declaration of the simulation node: descriptors, file validation, live changes."""
+
+import pytest
+
+rclpy = pytest.importorskip("rclpy")
+from rclpy.node import Node  # noqa: E402
+from rclpy.parameter import Parameter  # noqa: E402
+
+from tether_sim.errors import ConfigError  # noqa: E402
+from tether_sim.ros import node_params  # noqa: E402
+
+pytestmark = pytest.mark.ros
+
+
+def make_node(tmp_path, text, extra=()):
+    path = tmp_path / "params.yaml"
+    path.write_text(text)
+    ctx = rclpy.Context()
+    rclpy.init(args=["--ros-args", "--params-file", str(path), *extra], context=ctx)
+    return Node("tether_sim", context=ctx), ctx, str(path)
+
+
+@pytest.fixture
+def node_factory(tmp_path):
+    made = []
+
+    def factory(text, extra=()):
+        node, ctx, path = make_node(tmp_path, text, extra)
+        made.append((node, ctx))
+        return node, path
+
+    yield factory
+    for node, ctx in made:
+        node.destroy_node()
+        rclpy.shutdown(context=ctx)
+
+
+GOOD = """
+tether_sim:
+  ros__parameters:
+    cable:
+      length: 150.0
+      EA: 45500000          # an integer for a double key is accepted
+    body:
+      attachment: [0, 0, 2]  # integers in a double array too
+    snap:
+      monitor_arc_lengths: []
+"""
+
+
+def test_every_key_is_declared_with_unit_range_and_read_only(node_factory):
+    node, path = node_factory(GOOD)
+    config = node_params.declare_all(node, path)
+    assert config.cable.length == 150.0 and config.cable.EA == 45.5e6
+    assert config.body.attachment == (0.0, 0.0, 2.0)
+    d = node.describe_parameter("cable.EA")
+    assert "axial stiffness" in d.description and "[N]" in d.description
+    assert d.read_only and d.floating_point_range[0].to_value == 1e12
+    assert not node.describe_parameter("snap.slack_fraction").read_only
+    assert node.describe_parameter("dg.order").integer_range[0].from_value == 1
+    assert "dg, hybrid" in node.describe_parameter("solver").additional_constraints
+
+
+@pytest.mark.parametrize("text, needle", [
+    ("tether_sim:\n  ros__parameters:\n    cable:\n      EAA: 1.0\n", "cable.EAA"),
+    ("tether_sim:\n  ros__parameters:\n    cable:\n      length: -5.0\n", "cable.length"),
+    ("tether_sim:\n  ros__parameters:\n    solver: fem\n", "solver"),
+])
+def test_bad_keys_in_the_file_name_the_key_and_the_file(node_factory, text, needle):
+    node, path = node_factory(text)
+    with pytest.raises(ConfigError) as err:
+        node_params.declare_all(node, path)
+    assert needle in str(err.value) and path in str(err.value)
+
+
+def test_live_keys_change_and_other_keys_are_refused_with_a_reason(node_factory):
+    node, path = node_factory(GOOD)
+    config = node_params.declare_all(node, path)
+    seen = {}
+
+    def callback(params):
+        result, new = node_params.check_live_change(params, seen.get("config", config))
+        if new is not None:
+            seen["config"] = new
+        return result
+
+    node.add_on_set_parameters_callback(callback)
+    ok = node.set_parameters([Parameter("snap.slack_fraction", Parameter.Type.DOUBLE, 0.25)])[0]
+    assert ok.successful and seen["config"].snap.slack_fraction == 0.25
+    refused = node.set_parameters([Parameter("cable.EA", Parameter.Type.DOUBLE, 1.0e6)])[0]
+    assert not refused.successful and "read-only" in refused.reason
+    # the callback itself refuses non-live keys with the reason (also when read_only is bypassed)
+    result, new = node_params.check_live_change([Parameter("cable.EA", Parameter.Type.DOUBLE, 1.0e6)], config)
+    assert not result.successful and "restart" in result.reason and new is None
+    out_of_range = node.set_parameters([Parameter("snap.slack_fraction", Parameter.Type.DOUBLE, 3.0)])[0]
+    assert not out_of_range.successful
+
+
+def test_command_line_override_is_validated_too(node_factory):
+    node, path = node_factory(GOOD, extra=["-p", "dg.order:=99"])
+    with pytest.raises(ConfigError, match="dg.order"):
+        node_params.declare_all(node, path)

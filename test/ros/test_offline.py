@@ -1,0 +1,122 @@
+"""Offline runner: same messages as the node, straight to MCAP, from a motion generator or an MCAP
+of poses; parameter errors are clear."""
+
+import math
+
+import pytest
+import yaml
+
+pytest.importorskip("rclpy")
+pytest.importorskip("tether_sim_msgs")
+from geometry_msgs.msg import PoseStamped  # noqa: E402
+from rclpy.serialization import serialize_message  # noqa: E402
+
+from tether_sim.io.mcap_log import RosMcapWriter, read_messages  # noqa: E402
+from tether_sim.ros.convert import TOPICS, time_msg  # noqa: E402
+from tether_sim.ros.offline import main  # noqa: E402
+
+pytestmark = pytest.mark.ros
+
+SHIP = [0.0, 0.0, 0.0]
+VEHICLE = [30.0, 0.0, -40.0]
+
+
+def write_params(path, **extra):
+    p = {"solver": "dg", "duration": 2.0,
+         "cable": {"length": 55.0, "EA": 1.0e6, "damping": 1.0e3},
+         "ship_end": {"kind": "prescribed", "position": SHIP},
+         "vehicle_end": {"kind": "fixed", "position": VEHICLE},
+         "dg": {"n_elements": 6, "order": 3},
+         "node": {"output_rate": 20.0, "output_points": 11}}
+    for k, v in extra.items():
+        p[k] = {**p.get(k, {}), **v} if isinstance(v, dict) else v
+    path.write_text(yaml.safe_dump({"tether_sim": {"ros__parameters": p}}))
+    return str(path)
+
+
+def by_topic(path):
+    out = {}
+    for topic, _type, log_ns, msg in read_messages(str(path)):
+        out.setdefault(topic, []).append((log_ns, msg))
+    return out
+
+
+def test_motion_generator_run_writes_every_topic_with_sim_time_log_times(tmp_path, capsys):
+    # circular fairlead orbit a = 0.5 m, f = 0.5 Hz [PE2020 Sec. 6.2] about the ship end
+    params = write_params(tmp_path / "p.yaml", motion={"kind": "circle", "amplitude": 0.5, "frequency": 0.5})
+    out = tmp_path / "out.mcap"
+    assert main(["--params", params, "--output", str(out), "--no-progress"]) == 0
+    assert "static tensions" in capsys.readouterr().out
+    msgs = by_topic(out)
+    expected = {t for t in TOPICS if not t.endswith("sim_pose")}
+    assert set(msgs) == expected
+    states = msgs["/tether/state"]
+    assert len(states) == 2.0 * 20 + 1  # the initial state and one per tick
+    for log_ns, m in states:  # log time = header stamp = sim time
+        assert log_ns == m.header.stamp.sec * 1_000_000_000 + m.header.stamp.nanosec
+    assert states[-1][0] == 2_000_000_000
+    # the ship end follows the orbit (starting at its top) x = a sin(w t), z = a cos(w t)
+    w = 2 * math.pi * 0.5
+    for log_ns, m in states[::5]:
+        t = log_ns * 1e-9
+        p = m.position[0]
+        assert (p.x, p.z) == pytest.approx((0.5 * math.sin(w * t), 0.5 * math.cos(w * t)), abs=1e-6)
+    marker = msgs["/tether/marker"][-1][1]
+    assert marker.type == 4 and len(marker.colors) == len(marker.points) == 11  # LINE_STRIP, per-vertex colours
+    path = msgs["/tether/path"][-1][1]
+    assert [p.pose.position.z for p in path.poses] == [p.z for p in states[-1][1].position]
+    assert msgs["/tether/description"][0][1].length == 55.0
+    assert len(msgs["/diagnostics"]) == 2
+    # an independent reader decodes every message, custom types from the schema text in the file
+    from pathlib import Path
+
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
+
+    with AnyReader([Path(out)], default_typestore=get_typestore(Stores.EMPTY)) as reader:
+        decoded = [(c.topic, reader.deserialize(raw, c.msgtype)) for c, _, raw in reader.messages()]
+    assert len(decoded) == sum(len(v) for v in msgs.values())
+    last = [m for topic, m in decoded if topic == "/tether/state"][-1]
+    assert last.ship_end_tension == states[-1][1].ship_end_tension and len(last.position) == 11
+
+
+def test_input_mcap_poses_drive_the_ship_and_bad_samples_are_skipped(tmp_path):
+    poses = tmp_path / "poses.mcap"
+    t0 = 1000.0  # recorded clock: the run starts at the first pose
+    with RosMcapWriter(str(poses)) as w:
+        w.add_topic("/ship/pose", "geometry_msgs/msg/PoseStamped", "best_effort")
+        for k in range(31):
+            t = t0 + 0.05 * k
+            msg = PoseStamped()
+            msg.header.stamp = time_msg(t)
+            msg.header.frame_id = "map"
+            msg.pose.position.x = 0.4 * (t - t0)  # 0.4 m/s east
+            msg.pose.position.y = math.nan if k == 17 else 0.0  # one corrupt sample
+            msg.pose.orientation.w = 1.0
+            w.write("/ship/pose", serialize_message(msg), int(round(t * 1e9)))
+    params = write_params(tmp_path / "p.yaml")
+    out = tmp_path / "out.mcap"
+    assert main(["--params", params, "--input", str(poses), "--output", str(out), "--no-progress"]) == 0
+    states = by_topic(out)["/tether/state"]
+    assert states[0][0] == 1_000_000_000_000  # clock of the recording
+    assert len(states) == 1.5 * 20 + 1  # duration = span of the poses
+    for log_ns, m in states:
+        t = log_ns * 1e-9
+        # linear motion: Hermite interpolation with finite-difference slopes is exact; the NaN
+        # sample (rejected) leaves a longer interval, still on the same line
+        assert m.position[0].x == pytest.approx(0.4 * (t - t0), abs=1e-6)
+        assert m.position[0].y == pytest.approx(0.0, abs=1e-9)
+    diag = by_topic(out)["/diagnostics"][-1][1]
+    ship = next(s for s in diag.status if s.name.endswith("ship input"))
+    assert {kv.key: kv.value for kv in ship.values}["rejected_non-finite"] == "1"
+
+
+@pytest.mark.parametrize("extra, needle", [
+    ({"cable": {"lenght": 5.0}}, "cable.lenght"),
+    ({"dg": {"order": 40}}, "dg.order"),
+])
+def test_parameter_errors_name_the_key_and_the_file(tmp_path, capsys, extra, needle):
+    params = write_params(tmp_path / "bad.yaml", **extra)
+    assert main(["--params", params, "--output", str(tmp_path / "o.mcap"), "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert needle in err and params in err

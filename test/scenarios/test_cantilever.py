@@ -1,0 +1,28 @@
+"""Vibrating cantilever [PE2020 Sec. 4.2, Eq. 41-46, Fig. 2] through the scenario driver.
+
+Modes 1, 3 and 5 (the paper's Phi_0, Phi_2, Phi_4), each excited by a resonant Hann-windowed tip
+force to a 1 mm tip amplitude, then free. Asserted: the free-vibration period within 0.5% of
+Eq. 45 (the issue's tolerance; measured errors are ~1e-5), and the normalised envelopes of
+position, moment and shear within 3% / 3% / 8% of A|Phi|, EI A|Phi''|, EI A|Phi'''| (Fig. 2).
+Envelope errors are dominated by the off-resonant modes the 4-8 cycle burst leaves (~1-2%) and,
+for the shear, by the finite-difference derivative of the sampled moment (the interface gives
+|M| only), ~1-6%. To stay within the pytest budget modes 3 and 5 run on N = 8 and mode 1 on N = 4
+(P = 4: the paper's N = 16 is in docs/verification.md, with smaller errors); coarser meshes only
+make the check harder.
+"""
+
+import pytest
+
+from tether_sim.scenarios import cantilever
+
+CASES = {1: dict(n_elements=4, cycles=2), 3: dict(n_elements=8, cycles=6), 5: dict(n_elements=8, cycles=8)}
+
+
+@pytest.mark.parametrize("mode", sorted(CASES))
+def test_cantilever_mode(mode):
+    r = cantilever.run_mode(mode, order=4, **CASES[mode])
+    print(cantilever.format_table([r]))
+    assert abs(r["period_error"]) < 5e-3
+    assert r["tip_amplitude"] == pytest.approx(1e-3, rel=0.1)  # the burst is sized for A = 1 mm
+    ez, em, ev = r["envelope_error"]
+    assert ez < 0.03 and em < 0.03 and ev < 0.08

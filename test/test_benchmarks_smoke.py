@@ -1,0 +1,85 @@
+"""The benchmark case builders produce valid, physically consistent inputs (no timing asserted)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from benchmarks import ropos_case as rc
+from tether_sim.io.params import from_flat, to_flat
+
+
+@pytest.mark.parametrize("length,alpha,solver", [(200.0, 0.0, "dg"), (1730.0, 100.0, "dg"), (1730.0, 1.0, "hybrid")])
+def test_ropos_config_is_valid(length, alpha, solver):
+    """The ROPOS SimConfig survives the validating loader unchanged (every key within bounds)."""
+    cfg = rc.ropos_config(length, alpha=alpha, solver=solver)
+    assert from_flat(to_flat(cfg)) == cfg
+    assert cfg.cable.EI == pytest.approx(alpha * rc.EI_STAR)
+    # the cage attachment point hangs L below the fairlead start point
+    top = np.array(cfg.ship_end.position)
+    attach = np.array(cfg.body.initial_position) + np.array(cfg.body.attachment)
+    assert top[2] - attach[2] == pytest.approx(length)
+
+
+def test_tether_weight_matches_paper():
+    """PE2020 Sec. 6.1: the tether weighs 44 kN in water at L = 1730 m (2 significant figures,
+    hence the 1.5% tolerance)."""
+    assert rc.wet_weight_per_metre() * 1730.0 == pytest.approx(44e3, rel=0.015)
+
+
+def test_fairlead_motion_velocity_is_derivative_and_orbit_radius():
+    """The analytic velocity is the time derivative of the position (central differences, h =
+    1e-5 s: truncation ~ a w^3 h^2 ~ 1e-9 m/s); after the ramp the orbit has radius a."""
+    h = 1e-5
+    for t in (0.0, 1.3, 4.99, 7.7, 33.3):
+        p_minus, _ = rc.fairlead_motion(t - h) if t > h else rc.fairlead_motion(t)
+        p_plus, _ = rc.fairlead_motion(t + h)
+        _, v = rc.fairlead_motion(t)
+        fd = (p_plus - p_minus) / (2 * h if t > h else h)
+        assert np.allclose(v, fd, atol=1e-4)
+    p0, v0 = rc.fairlead_motion(0.0)
+    assert np.allclose(v0, 0.0) and p0[2] == pytest.approx(-rc.ORBIT_DEPTH)
+    for t in np.linspace(rc.RAMP_TIME, 30.0, 17):
+        p, _ = rc.fairlead_motion(t)
+        assert math.hypot(p[0], p[2] + rc.ORBIT_DEPTH) == pytest.approx(rc.ORBIT_AMPLITUDE)
+
+
+def test_moordyn_line_type_gives_same_forces_per_metre():
+    """MoorDyn's single diameter is rescaled so that buoyancy, drag and added mass per metre equal
+    ours [PE2020 Eq. 13, 14, 17]; BA equals zeta because MoorDyn's damping is BA * deps/dt."""
+    lt = rc.moordyn_line_type()
+    d_v = lt["diam"]
+    assert math.pi / 4 * d_v**2 == pytest.approx(rc.material_area())  # buoyancy volume
+    assert lt["Cd"] * d_v == pytest.approx(rc.CDN * rc.DIAMETER)  # normal drag per metre
+    assert lt["CdAx"] * math.pi * d_v == pytest.approx(rc.CDT * rc.DIAMETER)  # tangential drag
+    assert lt["Ca"] * d_v**2 == pytest.approx(rc.CMN * rc.DIAMETER**2)  # normal added mass
+    assert lt["BA"] == rc.ZETA
+
+
+def test_moordyn_static_top_tension(tmp_path):
+    """MoorDyn's static solve of the generated input carries cable + cage wet weight at the
+    fairlead: 48.1 kN at L = 200 m. Tolerance 0.5%: the lumped end node's half segment and the
+    IC solver's residual (< 1e-3 m/s^2) are far smaller."""
+    moordyn = pytest.importorskip("moordyn")
+    length, n_seg = 200.0, 20
+    path = tmp_path / "ropos.txt"
+    path.write_text(rc.moordyn_input(length, n_seg, rc.moordyn_time_step(length, n_seg, 0.005)))
+    system = moordyn.Create(str(path))
+    p0, v0 = rc.fairlead_motion(0.0)
+    assert moordyn.Init(system, list(p0), list(v0)) == 0
+    force = moordyn.Step(system, list(p0), [0.0, 0.0, 0.0], 0.0, 0.005)
+    moordyn.Close(system)
+    assert np.linalg.norm(force) == pytest.approx(rc.static_ship_tension(length), rel=5e-3)
+
+
+def test_snap_metrics_on_synthetic_record():
+    """Per-period peaks of a known signal: peaks 100 + k at t = 20.5 + 5k (k = 0..7)."""
+    t = np.arange(0.0, 60.0, 0.01)
+    tension = np.zeros_like(t)
+    for k in range(12):
+        tension[np.argmin(abs(t - (0.5 + 5 * k)))] = 100.0 + (k - 4)
+    m = rc.snap_metrics(t, tension)
+    assert m["cycle_peaks"] == pytest.approx([100.0 + k for k in range(8)])
+    assert m["mean_peak"] == pytest.approx(103.5)
+    assert m["first_peak"] == pytest.approx(97.0)
+    assert m["max_peak"] == pytest.approx(107.0)

@@ -1,0 +1,38 @@
+"""Gauss-Legendre and Gauss-Lobatto quadrature on the reference element xi in [-1, 1]."""
+
+import numpy as np
+
+from tether_sim.numerics.polys import legendre_at
+
+
+def gauss_legendre(n: int):
+    """Nodes and weights of the n-point Gauss-Legendre rule (exact to degree 2n - 1)."""
+    if n < 1:
+        raise ValueError("gauss_legendre: need at least one point")
+    x, w = np.polynomial.legendre.leggauss(n)
+    return np.ascontiguousarray(x), np.ascontiguousarray(w)
+
+
+def gauss_lobatto(n: int):
+    """Nodes and weights of the n-point Gauss-Lobatto rule (exact to degree 2n - 3), ends included."""
+    if n < 2:
+        raise ValueError("gauss_lobatto: need at least two points")
+    p = n - 1
+    # interior nodes are the roots of P'_p; weights 2 / (p (p+1) P_p(x)^2)
+    coef = np.zeros(p + 1)
+    coef[p] = 1.0
+    interior = np.polynomial.legendre.legroots(np.polynomial.legendre.legder(coef)) if p > 1 else np.zeros(0)
+    x = np.concatenate(([-1.0], np.sort(interior.real), [1.0]))
+    pp = legendre_at(p, x)[:, p]
+    w = 2.0 / (p * (p + 1) * pp**2)
+    return np.ascontiguousarray(x), np.ascontiguousarray(w)
+
+
+def dg_quadrature_points(order: int) -> int:
+    """Gauss points used for an order-P DG element: Q = ceil((3P + 1) / 2).
+
+    The nonlinear fluxes and sources are at least quadratic in the state (|v| v drag, T(eps) i
+    with eps ~ |q|); a quadratic term of degree-P fields tested against a degree-P basis function
+    is a degree-3P polynomial, integrated exactly when 2Q - 1 >= 3P (no quadratic aliasing).
+    """
+    return max(order + 1, (3 * order + 2) // 2)

@@ -1,0 +1,278 @@
+"""Static equilibrium of an elastic cable under its submerged weight (initial states of both solvers).
+
+The internal force T(s) (the force the part beyond s exerts on [0, s]) satisfies dT/ds = w z_hat
+with w the submerged weight per unstretched metre [PE2020 Eq. 14], so T(s) = T0 + w s z_hat,
+and dr/ds = (1 + eps(|T|)) T / |T|. For the linear and bilinear laws eps = |T| / EA and r(s)
+has the closed form of the elastic catenary (H = |T_h|, V = T_z):
+
+    r_h(s) = e_h [ (H / w)(asinh(V(s)/H) - asinh(V0/H)) + H s / EA ]
+    r_z(s) = (sqrt(H^2 + V(s)^2) - sqrt(H^2 + V0^2)) / w + (V0 s + w s^2 / 2) / EA
+
+Solved cases: two fixed points (Newton on T0), a cable hanging from one end with a point load at
+the other (a cage's submerged weight, a force end, or nothing), and a cable partly lying on a
+frictionless seabed (touchdown point and horizontal tension, the lying part sunk by w / (K_g d)).
+Bending stiffness and current are ignored here; ``initial.relax_time`` relaxes them dynamically.
+Tabulated laws use numerical quadrature of the same integrals.
+"""
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from tether_sim.physics.constitutive import TensionLaw
+from tether_sim.physics.hydrodynamics import net_weight_per_length
+
+KINEMATIC_KINDS = ("prescribed", "fixed", "clamped")
+
+
+@dataclass
+class StaticSolution:
+    """A static shape; ``position(s)`` and ``tension(s)`` evaluate it at unstretched arc lengths."""
+
+    length: float
+    T0: np.ndarray  # (3,) internal force at s = 0 (the force by the cable on the s = 0 end)
+    w: float  # submerged weight per metre (N/m)
+    law: TensionLaw
+    origin: np.ndarray  # (3,) r(0)
+    touchdown: float = -1.0  # arc length where the cable meets the seabed (-1: no contact)
+    seabed_z: float = 0.0
+    sink: float = 0.0
+    method: str = "catenary"
+
+    def force_at(self, s):
+        """Internal force vector T(s), (n, 3)."""
+        s = np.atleast_1d(np.asarray(s, float))
+        T = np.repeat(self.T0[None, :], s.size, axis=0)
+        T[:, 2] += self.w * np.minimum(s, self.touchdown if self.touchdown >= 0 else np.inf)
+        return T
+
+    def tension(self, s):
+        """Axial tension |T(s)| (N)."""
+        return np.linalg.norm(self.force_at(s), axis=1)
+
+    def tangent(self, s):
+        """dr/ds = (1 + eps) T / |T| (n, 3) (straight down where |T| = 0)."""
+        T = self.force_at(s)
+        n = np.linalg.norm(T, axis=1)
+        eps = np.array([self.law.strain_at(x) for x in n])
+        d = np.where(n[:, None] > 0, T / np.where(n > 0, n, 1.0)[:, None], np.array([0.0, 0.0, -1.0]))
+        return (1.0 + eps)[:, None] * d
+
+    def position(self, s):
+        """r(s) (n, 3)."""
+        s = np.atleast_1d(np.asarray(s, float))
+        if self.touchdown < 0:
+            return self.origin + _integral(self.T0, self.w, self.law, s)
+        sh = np.minimum(s, self.touchdown)
+        r = self.origin + _integral(self.T0, self.w, self.law, sh)
+        lying = s > self.touchdown
+        if np.any(lying):
+            Ttd = self.force_at([self.touchdown])[0]
+            H = np.linalg.norm(Ttd)
+            d = Ttd / H if H > 0 else np.array([1.0, 0.0, 0.0])
+            r[lying] += np.outer(s[lying] - self.touchdown, d * (1.0 + self.law.strain_at(H)))
+        return r
+
+
+def _integral(T0, w, law, s):
+    """r(s) - r(0) of the hanging catenary with T(s) = T0 + w s z_hat (see module docstring)."""
+    s = np.atleast_1d(np.asarray(s, float))
+    Th = np.array([T0[0], T0[1], 0.0])
+    H = float(np.linalg.norm(Th))
+    eh = Th / H if H > 0 else np.zeros(3)
+    V0 = float(T0[2])
+    # closed form unless it would cancel catastrophically (weight tiny against the tension)
+    if law.code == 2 or abs(w) * (s.max() if s.size else 0.0) < 1e-4 * max(H + abs(V0), 1e-300):
+        return _integral_numeric(T0, w, law, s)
+    V = V0 + w * s
+    EA = law.EA
+    if H > 1e-12 * max(abs(V0), abs(w) * s.max(), 1e-300):
+        xh = (H / w) * (np.arcsinh(V / H) - math.asinh(V0 / H)) + H * s / EA
+        z = (np.hypot(H, V) - math.hypot(H, V0)) / w + (V0 * s + 0.5 * w * s**2) / EA
+    else:  # vertical: dz/ds = sign(V) (1 + |V| / EA)
+        xh = np.zeros_like(s)
+        geo = np.where(V * V0 > 0, np.sign(V0) * s, (np.abs(V) - abs(V0)) / w)
+        z = geo + (V0 * s + 0.5 * w * s**2) / EA
+    return xh[:, None] * eh[None, :] + z[:, None] * np.array([0.0, 0.0, 1.0])[None, :]
+
+
+def _integral_numeric(T0, w, law, s, n=4000):
+    """Same integral by composite Gauss quadrature (tabulated laws, weightless cables)."""
+    smax = float(np.max(s)) if s.size else 0.0
+    edges = np.linspace(0.0, max(smax, 1e-12), n + 1)
+    x, wq = np.polynomial.legendre.leggauss(4)
+    out = np.zeros((s.size, 3))
+    for idx, si in enumerate(s):
+        k = np.searchsorted(edges, si, side="right") - 1
+        acc = np.zeros(3)
+        segs = list(zip(edges[:k], edges[1:k + 1])) + [(edges[min(k, n)], si)]
+        a = np.array([p[0] for p in segs])
+        b = np.array([p[1] for p in segs])
+        pts = (a[:, None] + (x[None, :] + 1.0) * (b - a)[:, None] / 2.0).ravel()
+        T = np.repeat(T0[None, :], pts.size, axis=0)
+        T[:, 2] += w * pts
+        nT = np.linalg.norm(T, axis=1)
+        eps = np.array([law.strain_at(v) for v in nT])
+        d = np.where(nT[:, None] > 0, T / np.where(nT > 0, nT, 1.0)[:, None], np.array([0.0, 0.0, -1.0]))
+        f = (1.0 + eps)[:, None] * d
+        wts = (np.repeat(((b - a) / 2.0)[:, None], 4, axis=1) * wq[None, :]).ravel()
+        acc = (f * wts[:, None]).sum(axis=0)
+        out[idx] = acc
+    return out
+
+
+def catenary_between(A, B, length, w, law, *, seabed_z=None, sink=0.0, tol=1e-11, max_iter=100):
+    """Elastic catenary from A (s = 0) to B (s = L) under weight w; touchdown if seabed_z is given.
+
+    Raises RuntimeError when Newton does not converge (callers fall back to dynamic relaxation).
+    """
+    A = np.asarray(A, float)
+    B = np.asarray(B, float)
+    d = B - A
+    dh = float(np.hypot(d[0], d[1]))
+    eh = np.array([d[0], d[1], 0.0]) / dh if dh > 0 else np.array([1.0, 0.0, 0.0])
+    chord = float(np.linalg.norm(d))
+    scale = max(abs(w) * length, law.EA * 1e-6, 1e-9)
+
+    def T0_of(x):
+        return np.array([x[0] * eh[0], x[0] * eh[1], x[1]])
+
+    def resid(x):
+        r = _integral(T0_of(x), w, law, np.array([length]))[0]
+        return np.array([np.dot(r, eh) - dh, r[2] - d[2]])
+
+    # initial guess: Irvine/Peyrot for slack chords, taut straight line otherwise
+    if chord >= length:
+        T = law.EA * (chord / length - 1.0) + 0.5 * abs(w) * length
+        x = np.array([T * dh / max(chord, 1e-300), T * d[2] / max(chord, 1e-300) - 0.5 * w * length])
+    else:
+        lam = math.sqrt(max(3.0 * (length**2 - d[2] ** 2) / max(dh, 1e-6 * length) ** 2 - 3.0, 1e-6)) if dh > 0 else 1e3
+        H = abs(w) * dh / (2.0 * lam)
+        V = -0.5 * w * (length - d[2] / math.tanh(lam)) if lam < 50 else -0.5 * w * length
+        x = np.array([max(H, 1e-6 * scale), V])
+    if dh == 0.0:
+        x[0] = 0.0
+    for _ in range(max_iter):
+        f = resid(x)
+        if np.max(np.abs(f)) < tol * max(length, 1.0):
+            break
+        J = np.empty((2, 2))
+        for k in range(2):
+            dx = np.zeros(2)
+            dx[k] = 1e-7 * max(abs(x[k]), scale * 1e-3)
+            J[:, k] = (resid(x + dx) - resid(x - dx)) / (2.0 * dx[k])
+        if dh == 0.0:
+            step = np.array([0.0, f[1] / J[1, 1]])
+        else:
+            step = np.linalg.solve(J, f)
+        alpha = 1.0
+        while alpha > 1e-4:
+            xn = x - alpha * step
+            if (dh == 0.0 or xn[0] > 0.0) and np.linalg.norm(resid(xn)) < np.linalg.norm(f):
+                break
+            alpha *= 0.5
+        x = xn
+    else:
+        raise RuntimeError("static catenary: Newton did not converge")
+    if np.max(np.abs(resid(x))) > 1e-6 * max(length, 1.0):
+        raise RuntimeError("static catenary: Newton did not converge")
+    sol = StaticSolution(length, T0_of(x), w, law, A.copy())
+    if seabed_z is not None and w > 0:
+        zmin = _lowest_z(sol)
+        if zmin < seabed_z - sink or B[2] <= seabed_z - sink + 1e-9 * length:
+            return _touchdown(A, B, length, w, law, seabed_z, sink, eh, dh)
+    return sol
+
+
+def _lowest_z(sol):
+    s = np.linspace(0.0, sol.length, 2001)
+    return float(sol.position(s)[:, 2].min())
+
+
+def _touchdown(A, B, length, w, law, zg, sink, eh, dh):
+    """Catenary from A down to a touchdown point, then straight along the seabed to B."""
+    zt = zg - sink
+    if A[2] <= zt:
+        raise RuntimeError("static catenary: the upper end is below the seabed")
+
+    def hanging(x):
+        H, std = x
+        T0 = np.array([H * eh[0], H * eh[1], -w * std])
+        r = _integral(T0, w, law, np.array([std]))[0]
+        return T0, r
+
+    def resid(x):
+        H, std = x
+        T0, r = hanging(x)
+        lying = (length - std) * (1.0 + law.strain_at(H))
+        return np.array([A[2] + r[2] - zt, np.dot(r, eh) + lying - dh])
+
+    depth = A[2] - zt
+    std = min(math.sqrt(max(depth * (2.0 * depth), 1e-12)) * 1.5, 0.9 * length)
+    x = np.array([max(w * depth, 1e-6), std])
+    for _ in range(200):
+        f = resid(x)
+        if np.max(np.abs(f)) < 1e-11 * max(length, 1.0):
+            break
+        J = np.empty((2, 2))
+        for k in range(2):
+            dx = np.zeros(2)
+            dx[k] = 1e-7 * max(abs(x[k]), 1e-3)
+            J[:, k] = (resid(x + dx) - resid(x - dx)) / (2.0 * dx[k])
+        step = np.linalg.solve(J, f)
+        alpha = 1.0
+        while alpha > 1e-4:
+            xn = x - alpha * step
+            if xn[0] > 0 and 0 < xn[1] <= length and np.linalg.norm(resid(xn)) < np.linalg.norm(f):
+                break
+            alpha *= 0.5
+        x = xn
+    if np.max(np.abs(resid(x))) > 1e-6 * max(length, 1.0):
+        raise RuntimeError("static catenary with touchdown: Newton did not converge")
+    T0, _ = hanging(x)
+    return StaticSolution(length, T0, w, law, np.asarray(A, float).copy(), touchdown=float(x[1]),
+                          seabed_z=zg, sink=sink, method="catenary+seabed")
+
+
+def hanging_from(A, length, w, law, end_load, at_start=True):
+    """Cable hanging from the fixed point A with a point load end_load (3,) on its other end.
+
+    at_start=True: A is the s = 0 end and the load acts on s = L (T(L) = load);
+    otherwise A is the s = L end and the load acts on s = 0 (T(0) = -load).
+    """
+    load = np.asarray(end_load, float)
+    if at_start:
+        T0 = load - np.array([0.0, 0.0, w * length])
+        return StaticSolution(length, T0, w, law, np.asarray(A, float).copy(), method="hanging")
+    T0 = -load
+    rL = _integral(T0, w, law, np.array([length]))[0]
+    return StaticSolution(length, T0, w, law, np.asarray(A, float) - rL, method="hanging")
+
+
+def solve_static(config, vehicle_load=None, ship_load=None):
+    """Static shape for a SimConfig's ends (see module docstring); vehicle_load / ship_load (3,) override
+    the point load on a non-kinematic end (e.g. a body's submerged weight, (0, 0, -W)).
+    Raises RuntimeError if unsolvable."""
+    cable, env = config.cable, config.environment
+    law = TensionLaw(cable)
+    w = net_weight_per_length(cable, env)
+    L = cable.length
+    ks, kv = config.ship_end.kind, config.vehicle_end.kind
+    A = np.asarray(config.ship_end.position, float)
+    B = np.asarray(config.vehicle_end.position, float)
+    seabed = env.seabed_z if env.seabed else None
+    sink = w / (env.seabed_stiffness * cable.diameter) if env.seabed and env.seabed_stiffness > 0 else 0.0
+    if ks in KINEMATIC_KINDS and kv in KINEMATIC_KINDS:
+        return catenary_between(A, B, L, w, law, seabed_z=seabed, sink=sink)
+    if ks in KINEMATIC_KINDS:
+        load = np.asarray(config.vehicle_end.force, float) if kv == "force" else np.zeros(3)
+        if vehicle_load is not None:
+            load = np.asarray(vehicle_load, float)
+        return hanging_from(A, L, w, law, load, at_start=True)
+    if kv in KINEMATIC_KINDS:
+        load = np.asarray(config.ship_end.force, float) if ks == "force" else np.zeros(3)
+        if ship_load is not None:
+            load = np.asarray(ship_load, float)
+        return hanging_from(B, L, w, law, load, at_start=False)
+    raise RuntimeError("static equilibrium needs at least one end held in place")

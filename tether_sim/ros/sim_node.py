@@ -1,0 +1,244 @@
+"""The real-time tether simulation node (console script ``tether-sim``). See docs/node.md.
+
+Inputs: ``/ship/pose``, ``/vehicle/pose`` (PoseStamped, best effort) and optionally
+``/ship/twist``, ``/vehicle/twist`` (TwistStamped) for every end of kind ``prescribed``.
+A timer at ``node.output_rate`` drives :class:`SimulationDriver` to the node clock and publishes
+the outputs built by :mod:`tether_sim.ros.convert`; diagnostics go out at 1 Hz.
+"""
+
+import sys
+
+import numpy as np
+import rclpy
+from diagnostic_msgs.msg import DiagnosticArray
+from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
+from nav_msgs.msg import Path
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription, TetherState
+from visualization_msgs.msg import Marker
+
+from tether_sim.errors import ConfigError
+from tether_sim.io.inputs import EndPoseInput
+from tether_sim.io.params import load_config
+from tether_sim.ros import convert, node_params
+from tether_sim.ros.driver import END_NAMES, SimulationDriver
+from tether_sim.solvers.factory import build_solver
+
+RELIABLE = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+EVENTS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
+LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+_TYPES = {"TetherState": TetherState, "Marker": Marker, "Path": Path, "WrenchStamped": WrenchStamped,
+          "SnapLoadEvent": SnapLoadEvent, "SlackWarning": SlackWarning, "TetherDescription": TetherDescription,
+          "DiagnosticArray": DiagnosticArray, "PoseStamped": PoseStamped}
+WARN_PERIOD = 2.0  # s between repeated warnings of one kind
+
+
+class TetherSimNode(Node):
+    """Simulation node: validated inputs -> solver -> outputs (docs/node.md)."""
+
+    def __init__(self, *, node_name="tether_sim", where="parameters", solver_factory=build_solver, **kwargs):
+        super().__init__(node_name, **kwargs)
+        self.config = node_params.declare_all(self, where)
+        node = self.config.node
+        self.inputs = {}
+        for end in END_NAMES:
+            if getattr(self.config, f"{end}_end").kind == "prescribed":
+                inp = EndPoseInput(end, getattr(node, f"{end}_attachment"), max_end_speed=node.max_end_speed,
+                                   input_timeout=node.input_timeout, max_extrapolation=node.max_extrapolation)
+                self.inputs[end] = inp
+                self.create_subscription(PoseStamped, f"/{end}/pose", lambda m, e=end: self._on_pose(e, m),
+                                         qos_profile_sensor_data)
+                self.create_subscription(TwistStamped, f"/{end}/twist", lambda m, e=end: self._on_twist(e, m),
+                                         qos_profile_sensor_data)
+        self.driver = SimulationDriver(self.config, self.inputs, solver_factory=solver_factory,
+                                       wall_budget=node.tick_budget / node.output_rate)
+        self.arc_lengths = np.linspace(0.0, self.config.cable.length, node.output_points)
+        self.pubs = {}
+        for topic, (type_name, qos) in convert.TOPICS.items():
+            end = topic.split("/")[1]
+            if topic.endswith("sim_pose") and getattr(self.config, f"{end}_end").kind != "body":
+                continue
+            profile = LATCHED if qos == "latched" else EVENTS if "events" in topic or "warnings" in topic else RELIABLE
+            self.pubs[topic] = self.create_publisher(_TYPES[type_name.rsplit("/", 1)[1]], topic, profile)
+        self._first_tick = None
+        self._period = {"snaps": 0, "errors": 0, "rejected": {e: 0 for e in self.inputs}, "behind": False}
+        self.add_on_set_parameters_callback(self._on_set_parameters)
+        self.create_timer(1.0 / node.output_rate, self._on_tick)
+        self.create_timer(1.0, self._publish_diagnostics)
+
+    # ------------------------------------------------------------------ inputs
+    def _now(self) -> float:
+        return self.get_clock().now().nanoseconds * 1e-9
+
+    def _reject(self, end, what, reason):
+        self._period["rejected"][end] += 1
+        self.get_logger().warning(f"{end} {what} rejected: {reason}", throttle_duration_sec=WARN_PERIOD)
+
+    def _on_pose(self, end, msg: PoseStamped):
+        frame = msg.header.frame_id
+        if frame and frame.lstrip("/") != self.config.node.world_frame.lstrip("/"):
+            self.inputs[end].rejected["wrong frame"] += 1
+            return self._reject(end, "pose", f"frame {frame!r} is not the world frame {self.config.node.world_frame!r}")
+        stamp = convert.to_seconds(msg.header.stamp) or self._now()
+        p, q = msg.pose.position, msg.pose.orientation
+        reason = self.inputs[end].add_pose(stamp, (p.x, p.y, p.z), (q.x, q.y, q.z, q.w))
+        if reason is not None:
+            self._reject(end, "pose", reason)
+
+    def _on_twist(self, end, msg: TwistStamped):
+        stamp = convert.to_seconds(msg.header.stamp) or self._now()
+        frame = msg.header.frame_id.lstrip("/")
+        body = bool(frame) and frame != self.config.node.world_frame.lstrip("/")
+        lin, ang = msg.twist.linear, msg.twist.angular
+        reason = self.inputs[end].add_twist(stamp, (lin.x, lin.y, lin.z), (ang.x, ang.y, ang.z), body_frame=body)
+        if reason is not None:
+            self._reject(end, "twist", reason)
+
+    # ------------------------------------------------------------------ stepping
+    def _ready(self, now) -> bool:
+        if self._first_tick is None:
+            self._first_tick = now
+        if all(inp.has_data for inp in self.inputs.values()):
+            return True
+        return now - self._first_tick >= self.config.node.input_timeout
+
+    def _on_tick(self):
+        now = self._now()
+        if now <= 0.0:
+            return  # use_sim_time and no /clock yet
+        if self.driver.solver is None:
+            if not self._ready(now):
+                return
+            missing = [e for e, inp in self.inputs.items() if not inp.has_data]
+            if missing:
+                self.get_logger().warning(f"starting without {', '.join(missing)} pose(s): holding the configured positions")
+            self.driver.start(now)
+            self._publish_description()
+            self.get_logger().info(f"{self.config.solver} solver started; static end tensions "
+                                   f"{self.driver.static_tensions[0]:.1f} N (ship), {self.driver.static_tensions[1]:.1f} N (vehicle)")
+        try:
+            report = self.driver.tick(now)
+            self._handle_report(now, report)
+            for topic, msg in convert.tick_outputs(self.driver, self.arc_lengths):
+                self.pubs[topic].publish(msg)
+        except Exception as exc:  # noqa: BLE001 - the node must stay up; the error is reported
+            if not self.context.ok():
+                return  # shutting down (Ctrl-C): publishers are gone
+            self._period["errors"] += 1
+            self.driver.last_error = f"{type(exc).__name__}: {exc}"
+            self.get_logger().error(f"tick failed: {self.driver.last_error}", throttle_duration_sec=WARN_PERIOD)
+
+    def _handle_report(self, now, report):
+        log = self.get_logger()
+        if report.error:
+            self._period["errors"] += 1
+            log.error(f"solver diverged ({report.error}); recovered from {'the last snapshot' if report.recovery == 'snapshot' else 'a fresh static equilibrium'}")
+            self._publish_diagnostics()
+        if report.restart:
+            log.warning(f"{report.restart}: solver restarted from a static equilibrium at the new end positions")
+            self._publish_description()
+        if report.clock_jump:
+            log.warning("clock jumped backwards: pose histories reset, simulation continues")
+        if report.dropped > 0 or report.capped:
+            self._period["behind"] = True
+            log.warning(f"behind the clock: lag {report.lag:.3f} s, dropped {report.dropped:.3f} s", throttle_duration_sec=WARN_PERIOD)
+        for end, inp in self.inputs.items():
+            if inp.is_stale(now):
+                log.warning(f"{end} pose input stale (age {inp.age(now):.3g} s): holding/extrapolating", throttle_duration_sec=WARN_PERIOD)
+        for topic, msg in convert.event_outputs(report.events, self.driver):
+            if topic == "/tether/snap_events":
+                self._period["snaps"] += 1
+                log.warning(f"snap load at {msg.end}: peak {msg.peak_tension:.1f} N ({msg.amplification:.2f} x static)")
+            self.pubs[topic].publish(msg)
+
+    # ------------------------------------------------------------------ parameters, description, diagnostics
+    def _on_set_parameters(self, parameters):
+        result, config = node_params.check_live_change(parameters, self.config)
+        if config is not None:
+            self.config = config
+            self.driver.set_snap_config(config.snap)
+            if self.driver.solver is not None:
+                self._publish_description()
+        return result
+
+    def _publish_description(self):
+        self.pubs["/tether/description"].publish(convert.description(self.config, self.arc_lengths, self._now()))
+
+    def _publish_diagnostics(self):
+        now, d, p = self._now(), self.driver, self._period
+        running = d.solver is not None
+        sim = {"running": running, "real_time_factor": float(d.real_time_factor),
+               "time_step": float(d.solver.stable_time_step()) if running else 0.0,
+               "lag": float(max(0.0, now - d.stamp)) if running else 0.0, "dropped_total": float(d.dropped_total),
+               "capped_ticks": d.capped_ticks, "behind": p["behind"], "divergences": d.divergences,
+               "error_recent": p["errors"] > 0, "last_error": d.last_error or "", "snaps": p["snaps"],
+               "slack": dict(d.slack)}
+        inputs = {}
+        for end, inp in self.inputs.items():
+            inputs[end] = inp.health(now)
+            inputs[end]["rejected_recent"] = p["rejected"][end]
+        self.pubs["/diagnostics"].publish(convert.diagnostics(now, self.get_name(), sim, inputs))
+        self._period = {"snaps": 0, "errors": 0, "rejected": {e: 0 for e in self.inputs}, "behind": False}
+
+
+def params_files(argv) -> list:
+    """The files given with ``--params-file`` inside ``--ros-args`` sections of ``argv``."""
+    files, in_ros = [], False
+    for i, a in enumerate(argv):
+        if a == "--ros-args":
+            in_ros = True
+        elif a == "--":
+            in_ros = False
+        elif in_ros and a == "--params-file" and i + 1 < len(argv):
+            files.append(argv[i + 1])
+    return files
+
+
+def check_params_files(files) -> None:
+    """Validate the tether_sim sections of parameter files (ConfigError names key and file)."""
+    for f in files:
+        try:
+            load_config(f)
+        except ConfigError as exc:
+            if "no 'tether_sim'" not in str(exc):  # a file for other nodes only is fine
+                raise
+
+
+def main(args=None):
+    argv = list(sys.argv if args is None else args)
+    files = params_files(argv)
+    try:
+        check_params_files(files)
+    except ConfigError as exc:
+        print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
+        return 2
+    rclpy.init(args=argv)
+    node = None
+    try:
+        node = TetherSimNode(where=", ".join(files) or "command-line parameters")
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    except Exception as exc:
+        if not rclpy.ok():
+            pass  # SIGINT/SIGTERM arrived while a callback was publishing: a normal shutdown
+        elif isinstance(exc, ConfigError):
+            print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
+            return 2
+        elif isinstance(exc, ValueError):  # raised by the solver's constructor at start-up
+            print(f"tether-sim: cannot start the solver for this configuration: {exc}", file=sys.stderr)
+            return 2
+        else:
+            raise
+    finally:
+        if node is not None:
+            node.destroy_node()
+        if rclpy.ok():
+            rclpy.shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

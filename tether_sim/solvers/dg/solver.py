@@ -1,0 +1,430 @@
+"""DGCableSolver: the high-order DG / nested-LDG cable solver of Palm & Eskilsson 2020.
+
+Implements :class:`tether_sim.solvers.base.TetherSolver`. The state is the modal expansion of
+u = [q, v] per element (``layout.py``); positions are r(s) = r_a + int_{s_a}^{s} q ds from an
+anchor end s_a (the ship end unless only the vehicle end is held), whose position r_a follows the
+boundary flux velocity v_hat / gamma0 in the same Runge-Kutta stages and is set exactly to the
+prescribed position of a held end after every substep. Because the DG update conserves
+int q ds up to the boundary fluxes, r(L) - r(0) follows v_hat(L) - v_hat(0) to round-off.
+"""
+
+import math
+
+import numpy as np
+
+from tether_sim.errors import SolverDivergedError, UnstableTimeStepError
+from tether_sim.numerics.operators import element_operators, project_function
+from tether_sim.numerics.polys import legendre_at, legendre_integral_at
+from tether_sim.physics.bodies import (
+    BODY_STATE_SIZE, body_acceleration, initial_body_state, pack_body_params, submerged_weight,
+)
+from tether_sim.physics.constitutive import TensionLaw
+from tether_sim.physics.hydrodynamics import added_mass_per_length, current_table, net_weight_per_length
+from tether_sim.physics.statics import solve_static
+from tether_sim.solvers.base import BodyState, EndForces, SolverState, end_index
+from tether_sim.solvers.dg import layout as Y
+from tether_sim.solvers.dg.stepper import STATUS_DIVERGED, dg_advance, dg_evaluate
+from tether_sim.solvers.dg.timestep import stable_dt
+
+_HELD = ("prescribed", "fixed", "clamped", "body")
+
+
+class DGCableSolver:
+    """Discontinuous Galerkin cable solver [PE2020 Sec. 2-3]; see docs/dg_solver.md."""
+
+    name = "dg"
+
+    def __init__(self, config):
+        self.config = config
+        cab, env, opt = config.cable, config.environment, config.dg
+        self.kinds = (config.ship_end.kind, config.vehicle_end.kind)
+        for end, kind in zip(("ship_end", "vehicle_end"), self.kinds):
+            if kind not in Y.KIND_CODES:
+                raise ValueError(f"{end}.kind: unknown end kind {kind!r}")
+        self.law = TensionLaw(cab)
+        self.N, self.P = int(opt.n_elements), int(opt.order)
+        self.L = float(cab.length)
+        self.h = self._element_sizes(opt)
+        self.s_edges = np.concatenate(([0.0], np.cumsum(self.h)))
+        self.ops = element_operators(self.P)
+        o = self.ops
+        self.V, self.Pj, self.D, self.Lf, self.Tr, self.Iq = o.vandermonde, o.projection, o.derivative, o.lift, o.trace, o.integral
+        self.cz, self.cx, self.cy = current_table(env)
+        self.prm, self.iprm = self._parameters(cab, env, opt)
+        self.bc = np.zeros((2, Y.N_BC))
+        for e, ec in enumerate((config.ship_end, config.vehicle_end)):
+            self.bc[e, Y.B_P0:Y.B_P0 + 3] = ec.position
+            self.bc[e, Y.B_P1:Y.B_P1 + 3] = ec.position
+            self.bc[e, Y.B_F:Y.B_F + 3] = ec.force
+            self.bc[e, Y.B_M:Y.B_M + 3] = ec.moment
+            d = np.asarray(ec.direction, float)
+            nd = np.linalg.norm(d)
+            if ec.kind == "clamped" and nd == 0.0:
+                raise ValueError(f"{('ship_end', 'vehicle_end')[e]}.direction: must be a nonzero vector")
+            self.bc[e, Y.B_DIR:Y.B_DIR + 3] = d / nd if nd > 0 else d
+        self._end_pos = [np.array(config.ship_end.position, float), np.array(config.vehicle_end.position, float)]
+        self._end_vel = [np.zeros(3), np.zeros(3)]
+        self._target = [None, None]
+        N, nm, nq = self.N, self.P + 1, self.V.shape[0]
+        self.U = np.zeros((N, nm, 6))
+        self.ra = np.zeros(3)
+        self._U0, self._ra0, self._dU, self._dra = np.zeros_like(self.U), np.zeros(3), np.zeros_like(self.U), np.zeros(3)
+        self._wq = np.zeros((N, nq, Y.NWQ))
+        self._wm = np.zeros((N, nm, Y.NWM))
+        self._tr = np.zeros((N, 2, Y.NTR))
+        self._fl = np.zeros((N + 1, Y.NFL))
+        self._rs = np.zeros((N, 3))
+        self._tmp = np.zeros(16)
+        self._vbc = np.zeros((2, 6))
+        self._endf = np.zeros((2, Y.N_ENDF))
+        self._buf = np.zeros((int(opt.tension_buffer), 3))
+        self._cnt = np.zeros(1, dtype=np.int64)
+        self._drained = 0
+        self._out = np.zeros(2)
+        self._bs = np.zeros((2, BODY_STATE_SIZE))
+        self._bs0 = np.zeros((2, BODY_STATE_SIZE))
+        self._dbs = np.zeros((2, BODY_STATE_SIZE))
+        bp = pack_body_params(config.body, env)
+        self._bp = np.ascontiguousarray(np.stack([bp, bp]))
+        self.time = 0.0
+        self._dt_rule = self.stable_time_step()
+        self.fixed_dt = float(opt.fixed_time_step)
+        if self.fixed_dt > 0.0 and self.fixed_dt > self._dt_rule / opt.cfl:
+            raise UnstableTimeStepError(
+                f"dg.fixed_time_step = {self.fixed_dt:g} s exceeds the stability limit "
+                f"{self._dt_rule / opt.cfl:g} s (cfl = 1; automatic step with dg.cfl = {opt.cfl:g} "
+                f"would be {self._dt_rule:g} s): reduce it, or use fewer elements / a lower order")
+        self._set_initial_state(config)
+
+    # ------------------------------------------------------------------ set-up
+    def _element_sizes(self, opt):
+        if len(opt.element_lengths) == 0:
+            return np.full(self.N, self.L / self.N)
+        wts = np.asarray(opt.element_lengths, float)
+        if wts.size != self.N or np.any(wts <= 0):
+            raise ValueError(f"dg.element_lengths: need {self.N} positive weights (dg.n_elements), got {wts.size}")
+        return np.ascontiguousarray(wts / wts.sum() * self.L)
+
+    def _parameters(self, cab, env, opt):
+        prm = np.zeros(Y.N_PRM)
+        prm[Y.P_GAMMA0] = cab.gamma0
+        prm[Y.P_EA] = cab.EA
+        prm[Y.P_ZETA] = cab.damping
+        mt, mn = added_mass_per_length(cab, env)
+        prm[Y.P_MT], prm[Y.P_MN] = mt, mn
+        prm[Y.P_FBZ] = -net_weight_per_length(cab, env)
+        prm[Y.P_HALF_RHO_D] = 0.5 * env.fluid_density * cab.diameter
+        prm[Y.P_CDT], prm[Y.P_CDN] = cab.Cdt, cab.Cdn
+        prm[Y.P_ZG] = env.seabed_z
+        kd = env.seabed_stiffness * cab.diameter
+        prm[Y.P_KD] = kd
+        prm[Y.P_CCRIT] = 2.0 * math.sqrt(kd * cab.gamma0)
+        prm[Y.P_SBZETA] = env.seabed_damping
+        prm[Y.P_MU] = env.seabed_friction
+        prm[Y.P_VMU] = env.seabed_friction_speed
+        prm[Y.P_EI] = cab.EI
+        prm[Y.P_ZETAB] = cab.bending_damping
+        prm[Y.P_BETA] = opt.beta
+        prm[Y.P_TORQUE] = cab.torque
+        prm[Y.P_LAMBDA_FLOOR] = opt.lambda_floor
+        ip = np.zeros(Y.N_IPRM, dtype=np.int64)
+        ip[Y.I_N], ip[Y.I_P], ip[Y.I_Q] = self.N, self.P, self.V.shape[0]
+        ip[Y.I_LAW] = self.law.code
+        ip[Y.I_SEABED] = int(env.seabed)
+        ip[Y.I_CURRENT] = int(self.cz.size > 0)
+        ip[Y.I_BENDING] = int(cab.EI > 0.0 or cab.bending_damping > 0.0 or cab.torque != 0.0)
+        ip[Y.I_BENDDAMP] = int(cab.bending_damping > 0.0)
+        ip[Y.I_AXDAMP] = int(cab.damping > 0.0 or cab.bending_damping > 0.0)
+        ip[Y.I_KIND0], ip[Y.I_KIND1] = Y.KIND_CODES[self.kinds[0]], Y.KIND_CODES[self.kinds[1]]
+        ip[Y.I_ANCHOR] = 1 if (self.kinds[0] not in _HELD and self.kinds[1] in _HELD) else 0
+        ip[Y.I_NEEDPOS] = int(env.seabed or self.cz.size > 0)
+        return prm, ip
+
+    def _set_initial_state(self, config):
+        kind = config.initial.kind
+        shape = None
+        body_load = np.array([0.0, 0.0, -submerged_weight(config.body, config.environment)])
+        if kind == "static":
+            try:
+                shape = solve_static(config, vehicle_load=body_load if self.kinds[1] == "body" else None,
+                                     ship_load=body_load if self.kinds[0] == "body" else None)
+            except RuntimeError:
+                shape = None  # fall back to dynamic relaxation from the straight line
+        if shape is not None:
+            tangent, origin = shape.tangent, shape.position(np.array([0.0]))[0]
+            end_pos = shape.position(np.array([0.0, self.L]))
+        else:
+            for e in range(2):
+                if self.kinds[e] == "body":
+                    self._end_pos[e] = initial_body_state(config.body)[0:3] + np.asarray(config.body.attachment, float)
+            A, B = self._end_pos
+            q = (B - A) / self.L
+            tangent = (lambda s, q=q: np.repeat(q[None, :], np.atleast_1d(s).size, axis=0))
+            origin, end_pos = A, np.array([A, B])
+        for e in range(self.N):
+            self.U[e, :, 0:3] = project_function(self.P, tangent, self.s_edges[e], self.s_edges[e + 1])
+        self.U[:, :, 3:6] = 0.0
+        a = self.iprm[Y.I_ANCHOR]
+        self.ra[:] = end_pos[a]
+        for e in range(2):
+            if self.kinds[e] in ("free", "force", "body"):
+                self._end_pos[e] = end_pos[e].copy()
+            if self.kinds[e] == "body":
+                self._bs[e] = initial_body_state(config.body, attachment_world=end_pos[e])
+        relax = config.initial.relax_time
+        if kind == "relax" or (kind == "static" and shape is None):
+            relax = relax if relax > 0 else self._default_relax_time()
+        if relax > 0:
+            self.relax(relax)
+
+    def set_shape(self, tangent, velocity=None, origin=None):
+        """Replace the state: q = tangent(s) (n, 3) = dr/ds and cable velocity velocity(s) (n, 3) (m/s),
+        both L2-projected on the modes; origin (3,) = r(0) (default: the current r(0))."""
+        r0 = self.positions_at(np.array([0.0]))[0] if origin is None else np.asarray(origin, float)
+        g0 = self.config.cable.gamma0
+        for e in range(self.N):
+            a, b = self.s_edges[e], self.s_edges[e + 1]
+            self.U[e, :, 0:3] = project_function(self.P, tangent, a, b)
+            self.U[e, :, 3:6] = 0.0 if velocity is None else g0 * project_function(self.P, velocity, a, b)
+        if self.iprm[Y.I_ANCHOR] == 0:
+            self.ra[:] = r0
+        else:
+            self.ra[:] = r0 + np.sum(self.h[:, None] * self.U[:, 0, 0:3], axis=0)
+
+    def _default_relax_time(self):
+        """Ten decay times of the automatic relaxation damping (or 5 pendulum periods)."""
+        if self.config.initial.relax_damping > 0 or self.config.cable.EI > 0:
+            return 20.0 / self.relax_rate()
+        return 5.0 * 2.0 * math.pi * math.sqrt(self.L / max(self.config.environment.g, 1e-3))
+
+    def relax_rate(self):
+        """Automatic relaxation damping: twice the lowest of the pendulum and cantilever frequencies
+        (near-critical for the slowest mode), or initial.relax_damping when set."""
+        if self.config.initial.relax_damping > 0:
+            return float(self.config.initial.relax_damping)
+        cab = self.config.cable
+        rates = []
+        if self.config.environment.g > 0:
+            rates.append(math.sqrt(self.config.environment.g / self.L))
+        if cab.EI > 0:
+            rates.append((1.875 / self.L) ** 2 * math.sqrt(cab.EI / cab.gamma0))
+        return 2.0 * (min(rates) if rates else 1.0 / self._default_relax_time())
+
+    def relax(self, duration):
+        """Dynamic relaxation: run with the ends held and linear momentum damping; the clock is reset.
+
+        The momentum is kept (not zeroed): at a discrete DG equilibrium v balances the
+        Lax-Friedrichs penalty on the small jumps of q, and zeroing it would leave a spurious
+        strain rate (and damping tension zeta * deps/dt) at restart."""
+        self.prm[Y.P_RELAX] = self.relax_rate()
+        t0 = self.time
+        saved = [(p.copy(), v.copy()) for p, v in zip(self._end_pos, self._end_vel)]
+        try:
+            self.advance_to(t0 + duration)
+        finally:
+            self.prm[Y.P_RELAX] = 0.0
+        self.time = t0
+        self._bs[:, 7:13] = 0.0  # bodies start at rest (their velocity was damped anyway)
+        for e in range(2):
+            if self.kinds[e] in _HELD:
+                self._end_pos[e], self._end_vel[e] = saved[e]
+        self.drain_end_tensions()
+
+    # ------------------------------------------------------------------ time step
+    def stable_time_step(self) -> float:
+        """Automatic substep = dg.cfl x the stability limit of docs/dg_solver.md."""
+        cab = self.config.cable
+        return self.config.dg.cfl * stable_dt(self.h, self.P, self.law.max_slope(), cab.gamma0, cab.damping,
+                                              cab.EI, cab.bending_damping, self.config.dg.lambda_floor)
+
+    def _substep(self):
+        return self.fixed_dt if self.fixed_dt > 0 else self._dt_rule
+
+    # ------------------------------------------------------------------ ends
+    def set_end_motion(self, end, position, velocity) -> None:
+        """Target position/velocity of a prescribed end at the target time of the next advance_to."""
+        e = end_index(end)
+        if self.kinds[e] != "prescribed":
+            raise ValueError(f"set_end_motion: the {end} end is {self.kinds[e]!r}, not 'prescribed'")
+        p = np.asarray(position, float).reshape(3)
+        v = np.asarray(velocity, float).reshape(3)
+        if not (np.all(np.isfinite(p)) and np.all(np.isfinite(v))):
+            raise ValueError(f"set_end_motion: non-finite position or velocity for the {end} end")
+        self._target[e] = (p.copy(), v.copy())
+
+    def set_end_load(self, end, force, moment=(0.0, 0.0, 0.0)) -> None:
+        """Point force (and moment) applied on a force end (held until changed)."""
+        e = end_index(end)
+        if self.kinds[e] != "force":
+            raise ValueError(f"set_end_load: the {end} end is {self.kinds[e]!r}, not 'force'")
+        f = np.asarray(force, float).reshape(3)
+        m = np.asarray(moment, float).reshape(3)
+        if not (np.all(np.isfinite(f)) and np.all(np.isfinite(m))):
+            raise ValueError(f"set_end_load: non-finite load for the {end} end")
+        self.bc[e, Y.B_F:Y.B_F + 3] = f
+        self.bc[e, Y.B_M:Y.B_M + 3] = m
+
+    def _prepare_ends(self, t1):
+        for e in range(2):
+            if self.kinds[e] != "prescribed":
+                continue
+            p0, v0 = self._end_pos[e], self._end_vel[e]
+            if self._target[e] is None:  # no new input: keep the current velocity
+                p1, v1 = p0 + (t1 - self.time) * v0, v0.copy()
+            else:
+                p1, v1 = self._target[e]
+            b = self.bc[e]
+            b[Y.B_T0], b[Y.B_T1] = self.time, t1
+            b[Y.B_P0:Y.B_P0 + 3], b[Y.B_V0:Y.B_V0 + 3] = p0, v0
+            b[Y.B_P1:Y.B_P1 + 3], b[Y.B_V1:Y.B_V1 + 3] = p1, v1
+
+    def _finish_ends(self):
+        for e in range(2):
+            if self.kinds[e] == "prescribed":
+                b = self.bc[e]
+                self._end_pos[e] = b[Y.B_P1:Y.B_P1 + 3].copy()
+                self._end_vel[e] = b[Y.B_V1:Y.B_V1 + 3].copy()
+                b[Y.B_T0] = b[Y.B_T1] = self.time
+                b[Y.B_P0:Y.B_P0 + 3], b[Y.B_V0:Y.B_V0 + 3] = self._end_pos[e], self._end_vel[e]
+                self._target[e] = None
+
+    # ------------------------------------------------------------------ stepping
+    def _run(self, nsteps, dt, t_end):
+        self._prepare_ends(t_end)
+        dg_advance(nsteps, self.time, dt, self.U, self.ra, self.prm, self.iprm, self.h, self.V, self.Pj,
+                   self.D, self.Lf, self.Tr, self.Iq, self.law.tab_eps, self.law.tab_T, self.cz, self.cx,
+                   self.cy, self.bc, self._vbc, self._wq, self._wm, self._tr, self._fl, self._rs, self._tmp,
+                   self._dU, self._dra, self._endf, self._bs, self._bp, self._dbs, self._bs0, self._U0, self._ra0,
+                   self._buf, self._cnt, self._out)
+        if self._out[1] == STATUS_DIVERGED:
+            done = int(self._out[0])
+            raise SolverDivergedError(
+                f"DG state became non-finite at t = {self.time + (done + 1) * dt:.6g} s "
+                f"(substep {dt:.3g} s); restore a snapshot and reduce dg.cfl or check the inputs")
+        self.time = t_end
+        self._finish_ends()
+        return nsteps
+
+    def advance_to(self, t) -> int:
+        """Advance to time t in equal stable substeps (compiled loop); returns the substep count."""
+        t = float(t)
+        if not math.isfinite(t) or t < self.time - 1e-12:
+            raise ValueError(f"advance_to: target time {t} is before the current time {self.time}")
+        span = t - self.time
+        if span <= 0.0:
+            return 0
+        n = max(1, math.ceil(span / self._substep() * (1.0 - 1e-12)))
+        return self._run(n, span / n, t)
+
+    def step(self, dt) -> None:
+        """One substep of size dt (UnstableTimeStepError above the stability limit)."""
+        limit = self._dt_rule / self.config.dg.cfl
+        if dt <= 0 or dt > limit:
+            raise UnstableTimeStepError(f"step: dt = {dt:g} s outside (0, {limit:g}] s (stability limit)")
+        self._run(1, float(dt), self.time + float(dt))
+
+    # ------------------------------------------------------------------ outputs
+    def _evaluate(self):
+        kin = [k in _HELD for k in self.kinds]
+        for e in range(2):
+            if self.kinds[e] == "prescribed":
+                b = self.bc[e]
+                b[Y.B_T0] = b[Y.B_T1] = self.time
+                b[Y.B_P0:Y.B_P0 + 3], b[Y.B_V0:Y.B_V0 + 3] = self._end_pos[e], self._end_vel[e]
+        del kin
+        dg_evaluate(self.time, self.U, self.ra, self.prm, self.iprm, self.h, self.V, self.Pj, self.D, self.Lf,
+                    self.Tr, self.Iq, self.law.tab_eps, self.law.tab_T, self.cz, self.cx, self.cy, self.bc,
+                    self._vbc, self._wq, self._wm, self._tr, self._fl, self._rs, self._tmp, self._dU,
+                    self._dra, self._endf, self._bs, self._bp, self._dbs)
+
+    def _locate(self, s):
+        s = np.clip(np.atleast_1d(np.asarray(s, float)), 0.0, self.L)
+        e = np.clip(np.searchsorted(self.s_edges, s, side="right") - 1, 0, self.N - 1)
+        xi = np.clip(2.0 * (s - self.s_edges[e]) / self.h[e] - 1.0, -1.0, 1.0)
+        return s, e, xi
+
+    def positions_at(self, arc_lengths):
+        """r(s) (n, 3) from the anchor and int q ds."""
+        s, e, xi = self._locate(arc_lengths)
+        starts = np.empty((self.N, 3))
+        if self.iprm[Y.I_ANCHOR] == 0:
+            starts[:] = self.ra + np.concatenate(([np.zeros(3)], np.cumsum(self.h[:, None] * self.U[:, 0, 0:3], axis=0)[:-1]))
+        else:
+            tail = np.cumsum((self.h[:, None] * self.U[:, 0, 0:3])[::-1], axis=0)[::-1]
+            starts[:] = self.ra - tail
+        I = legendre_integral_at(self.P, xi)
+        return starts[e] + 0.5 * self.h[e][:, None] * np.einsum("nk,nkc->nc", I, self.U[e, :, 0:3])
+
+    def state(self, arc_lengths=None) -> SolverState:
+        """Position, velocity, strain, tension, curvature and bending moment at arc lengths s."""
+        if arc_lengths is None:
+            arc_lengths = np.linspace(0.0, self.L, self.config.node.output_points)
+        self._evaluate()
+        s, e, xi = self._locate(arc_lengths)
+        phi = legendre_at(self.P, xi)
+        ev = lambda arr, c0: np.einsum("nk,nkc->nc", phi, arr[e, :, c0:c0 + 3])  # noqa: E731
+        q, v, dq = ev(self.U, 0), ev(self.U, 3), ev(self._wm, Y.M_NUS)
+        l = np.linalg.norm(q, axis=1)
+        i = q / np.where(l > 0, l, 1.0)[:, None]
+        eps = l - 1.0
+        tension = self.law.tension(eps, np.einsum("nc,nc->n", i, dq))
+        curv = np.zeros_like(s)
+        mvec = np.zeros((s.size, 3))
+        shear = np.zeros((s.size, 3))
+        if self.iprm[Y.I_BENDING]:
+            curv = np.linalg.norm(ev(self._wm, Y.M_KAP), axis=1)
+            mvec = ev(self._wm, Y.M_MS) * (l**2)[:, None]
+            shear = np.cross(i, ev(self._wm, Y.M_TAU)) / np.where(l > 0, l, 1.0)[:, None]
+        extra = {"moment_vector": mvec, "shear_force": shear, "tension_vector": ev(self._wm, Y.M_TV)}
+        return SolverState(time=self.time, arc_length=s, position=self.positions_at(s),
+                           velocity=v / self.config.cable.gamma0, tension=tension, strain=eps,
+                           curvature=curv, bending_moment=np.linalg.norm(mvec, axis=1), time_step=self._substep(),
+                           extra=extra)
+
+    def end_forces(self) -> EndForces:
+        """Force (and moment) BY the cable ON each end: -n T_hat at the boundary fluxes."""
+        self._evaluate()
+        f = self._endf
+        return EndForces(ship_force=f[0, Y.E_F:Y.E_F + 3].copy(), vehicle_force=f[1, Y.E_F:Y.E_F + 3].copy(),
+                         ship_moment=f[0, Y.E_M:Y.E_M + 3].copy(), vehicle_moment=f[1, Y.E_M:Y.E_M + 3].copy(),
+                         ship_tension=float(f[0, Y.E_T]), vehicle_tension=float(f[1, Y.E_T]))
+
+    def body_state(self, end):
+        """State of the rigid body at a "body" end (None for other kinds)."""
+        e = end_index(end)
+        if self.kinds[e] != "body":
+            return None
+        self._evaluate()
+        b = self._bs[e]
+        acc = np.zeros(3)
+        uc = np.zeros(3)
+        if self.cz.size:
+            from tether_sim.physics.hydrodynamics import current_at
+            current_at(b[2], self.cz, self.cx, self.cy, uc)
+        body_acceleration(b, self._bp[e], self._endf[e, Y.E_F:Y.E_F + 3].copy(), uc, acc)
+        return BodyState(position=b[0:3].copy(), orientation=b[3:7].copy(), velocity=b[7:10].copy(),
+                         angular_velocity=b[10:13].copy(), acceleration=acc)
+
+    def drain_end_tensions(self):
+        """(t, T_ship, T_vehicle) at the start of every substep since the last call (newest cap kept)."""
+        total = int(self._cnt[0])
+        cap = self._buf.shape[0]
+        first = max(self._drained, total - cap)
+        idx = np.arange(first, total) % cap
+        self._drained = total
+        out = self._buf[idx]
+        return out[:, 0].copy(), out[:, 1].copy(), out[:, 2].copy()
+
+    def snapshot(self):
+        return dict(time=self.time, U=self.U.copy(), ra=self.ra.copy(), bc=self.bc.copy(), bodies=self._bs.copy(),
+                    end_pos=[p.copy() for p in self._end_pos], end_vel=[v.copy() for v in self._end_vel])
+
+    def restore(self, snap) -> None:
+        self.time = snap["time"]
+        self.U[...] = snap["U"]
+        self.ra[:] = snap["ra"]
+        self.bc[...] = snap["bc"]
+        self._bs[...] = snap["bodies"]
+        self._end_pos = [p.copy() for p in snap["end_pos"]]
+        self._end_vel = [v.copy() for v in snap["end_vel"]]
+        self._target = [None, None]

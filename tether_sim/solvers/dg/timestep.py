@@ -1,0 +1,41 @@
+"""Stable SSP-RK3 substep of the DG cable (see docs/dg_solver.md for the derivation and tables).
+
+The semi-discrete operator has three kinds of eigenvalues on an element of size h and order P:
+axial waves ~ c (P+1)^2 / h (hyperbolic, Lax-Friedrichs), axial material damping
+~ (zeta / gamma0) ((P+1)^2 / h)^2 (parabolic) and bending waves ~ sqrt(EI / gamma0)
+((P+1)^2 / h)^2 (dispersive), bending damping ~ (zeta_b / gamma0) ((P+1)^2 / h)^4. The limit is
+
+    dt = 1 / max_e [ A_P c / h + B_P (zeta / gamma0) / h^2 + C_P sqrt(EI / gamma0) / h^2
+                     + E_P (zeta_b / gamma0) / h^4 ]
+
+with A_P..E_P measured from the spectrum of the linearised DG operator (``calibrate_timestep``
+in docs/dg_solver.md) so that dt is at the SSP-RK3 stability boundary for a straight taut cable;
+the solver then multiplies by the safety factor dg.cfl (default 0.5).
+"""
+
+import numpy as np
+
+# Coefficients per order P = 1..12, measured by benchmarks/calibrate_timestep.py (see docs).
+_A = {1: 2.4398, 2: 4.775, 3: 7.9559, 4: 11.9302, 5: 16.6979, 6: 22.2589, 7: 28.6133, 8: 35.761, 9: 43.702, 10: 52.4363, 11: 61.9639, 12: 72.2848}
+_B = {1: 6.319, 2: 25.7774, 3: 68.3371, 4: 151.323, 5: 294.064, 6: 519.196, 7: 853.848, 8: 1329.01, 9: 1979.52, 10: 2844.1, 11: 3965.34, 12: 5389.69}
+_C = {1: 8.9859, 2: 36.6578, 3: 97.1828, 4: 215.201, 5: 418.198, 6: 738.367, 7: 1214.29, 8: 1890.03, 9: 2815.16, 10: 4044.72, 11: 5639.28, 12: 7664.91}
+_E = {1: 96.4163, 2: 1604.48, 3: 11276.4, 4: 55293, 5: 208806, 6: 650913, 7: 1.76044e+06, 8: 4.26496e+06, 9: 9.46195e+06, 10: 1.95322e+07, 11: 3.79684e+07, 12: 7.01437e+07}
+
+
+def _coef(table, P, power):
+    """Tabulated coefficient, or the P = 12 value scaled by ((P + 1) / 13)^power beyond the table."""
+    if P in table:
+        return table[P]
+    return table[12] * ((P + 1) / 13.0) ** power
+
+
+def stable_dt(h, P, max_slope, gamma0, zeta, EI, zeta_b, lambda_floor=0.0):
+    """SSP-RK3 stability limit (s) of the DG cable on element sizes h (array) at order P."""
+    h = np.asarray(h, float)
+    c = max((max_slope / gamma0) ** 0.5, lambda_floor)
+    rate = (_coef(_A, P, 2) * c / h
+            + _coef(_B, P, 4) * (zeta / gamma0) / h**2
+            + _coef(_C, P, 4) * (EI / gamma0) ** 0.5 / h**2
+            + _coef(_E, P, 8) * (zeta_b / gamma0) / h**4)
+    rmax = float(np.max(rate))
+    return 1.0 / rmax if rmax > 0 else 1.0

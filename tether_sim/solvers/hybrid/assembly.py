@@ -1,0 +1,97 @@
+"""Residual and sparse Jacobian of one implicit step of the whole chain (all zones, joints, ends).
+
+The discretised step is one nonlinear system in the unknowns Y_{n+1} of every chain node (a joint
+is two chain nodes at the same s, one per zone). Equations come in groups, each touching one or two
+neighbouring nodes, so the Jacobian is block-banded; it is built group by group with forward
+differences (exact structure, ~1e-8 relative entries) and factorised with a sparse LU.
+
+Group kinds (rows): CAT_CELL (6), ROD_CELL (12), JOINT_CR / JOINT_RC (9), UNIT (1), CAT_VEL (3),
+CAT_FORCE (3), CAT_FREE (3), ROD_END (6), BODY_DYN (13), CAT_BODY (3), ROD_BODY (6). Group parameters gpar (G, GPAR_SIZE) hold boundary vectors.
+Node arrays: Y, Yn, Ytn (K, 13) (cable nodes, then body nodes); Ln (K, 3, 3) rod frames at t_n; rn (K, 6) positions and their generalized-alpha rates at t_n; s (K,).
+"""
+
+import numpy as np
+
+from tether_sim.numerics.jit import jit
+from tether_sim.solvers.hybrid.body import body_dynamics_residual, body_end_residual
+from tether_sim.solvers.hybrid.catenary import (catenary_cell_residual, catenary_force_bc, catenary_free_bc,
+                                                catenary_velocity_bc, unit_tangent_residual)
+from tether_sim.solvers.hybrid.joint import joint_residual
+from tether_sim.solvers.hybrid.rod import rod_cell_residual, rod_end_residual
+
+CAT_CELL, ROD_CELL, JOINT_CR, JOINT_RC, UNIT, CAT_VEL, CAT_FORCE, CAT_FREE, ROD_END, BODY_DYN, CAT_BODY, ROD_BODY = range(12)
+GROUP_ROWS = np.array([6, 12, 9, 9, 1, 3, 3, 3, 6, 13, 3, 6], dtype=np.int64)
+
+
+@jit
+def group_residual(kind, a, b, gp, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, out):
+    """Residual of one equation group into out[:rows]."""
+    if kind == CAT_CELL:
+        catenary_cell_residual(Y[a], Yn[a], Ytn[a], rn[a], Y[b], Yn[b], Ytn[b], rn[b], s[b] - s[a], P, cz, cx, cy, out)
+    elif kind == ROD_CELL:
+        rod_cell_residual(Y[a], Yn[a], Ytn[a], Ln[a], rn[a], Y[b], Yn[b], Ytn[b], Ln[b], rn[b], s[b] - s[a],
+                          P, cz, cx, cy, out)
+    elif kind == JOINT_CR:
+        joint_residual(Y[a], Y[b], Yn[b], Ln[b], P, out)
+    elif kind == JOINT_RC:
+        joint_residual(Y[b], Y[a], Yn[a], Ln[a], P, out)
+    elif kind == UNIT:
+        unit_tangent_residual(Y[a], out)
+    elif kind == CAT_VEL:
+        catenary_velocity_bc(Y[a], gp[0:3], out)
+    elif kind == CAT_FORCE:
+        catenary_force_bc(Y[a], gp[0:3], out)
+    elif kind == CAT_FREE:
+        catenary_free_bc(Y[a], Y[b], gp[0:3], gp[3:6], gp[6], out)
+    elif kind == ROD_END:
+        rod_end_residual(int(gp[0]), Y[a], Yn[a], Ln[a], P, gp[1:4], gp[4:7], out)
+    elif kind == BODY_DYN:  # a: body node, b: cable end node (gp[1] = 1 if it is a rod node)
+        body_dynamics_residual(Y[a], Yn[a], Ytn[a], Y[b], Yn[b], Ln[b], gp[1] > 0.5, gp, P, cz, cx, cy, out)
+    else:  # CAT_BODY / ROD_BODY: a: cable end node, b: body node
+        body_end_residual(Y[a], Yn[a], Ln[a], kind == ROD_BODY, Y[b], gp, P, out)
+
+
+@jit
+def assemble_residual(gkind, ga, gb, grow, gpar, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, R):
+    """R (n_rows,) = all group residuals."""
+    out = np.empty(13)
+    for g in range(gkind.shape[0]):
+        k = gkind[g]
+        group_residual(k, ga[g], gb[g], gpar[g], Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, out)
+        for r in range(GROUP_ROWS[k]):
+            R[grow[g] + r] = out[r]
+
+
+@jit
+def assemble_jacobian(gkind, ga, gb, grow, gpar, noff, nslot, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy,
+                      rows, cols, vals):
+    """Forward-difference Jacobian in COO form (group by group); returns the number of entries."""
+    base = np.empty(13)
+    pert = np.empty(13)
+    nnz = 0
+    for g in range(gkind.shape[0]):
+        k = gkind[g]
+        nr = GROUP_ROWS[k]
+        a = ga[g]
+        b = gb[g]
+        group_residual(k, a, b, gpar[g], Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, base)
+        for which in range(2):
+            node = a if which == 0 else b
+            if node < 0 or (which == 1 and b == a):
+                continue
+            for slot in range(nslot[node]):
+                y0 = Y[node, slot]
+                yp = y0 + 1e-7 * (1.0 + abs(y0))
+                h = yp - y0
+                Y[node, slot] = yp
+                group_residual(k, a, b, gpar[g], Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, pert)
+                Y[node, slot] = y0
+                hinv = 1.0 / h
+                for r in range(nr):
+                    d = (pert[r] - base[r]) * hinv
+                    if d != 0.0:
+                        rows[nnz] = grow[g] + r
+                        cols[nnz] = noff[node] + slot
+                        vals[nnz] = d
+                        nnz += 1
+    return nnz

@@ -1,0 +1,121 @@
+"""Shared point kernels of the hybrid solver: parameter layout, environment forces, alpha levels.
+
+Environment forces are those of the DG solver [PE2020 Eq. 12-17] so that both solvers see the same
+water: buoyant weight A g (rho_f - rho_c) z with A = gamma0/rho_c [PE2020 Eq. 14, GP Eq. 21],
+Morison drag with sqrt(1+eps) [PE2020 Eq. 17; GP Eq. 19 with C_t -> C_dt/pi], added mass
+rho_f A (C_mn a_perp + C_mt a_par) [PE2020 Eq. 13; GP Eq. 20], depth-varying current.
+All per unit unstretched length, world (ENU) components.
+
+Parameter vector P (float64): see the P_* indices below.
+"""
+
+import math
+
+import numpy as np
+
+from tether_sim.numerics.jit import jit
+
+P_M, P_CK, P_G, P_RHOF, P_AREA, P_D, P_CDN, P_CDT, P_CMN, P_CMT = range(10)
+P_B0, P_I0 = 10, 13  # B (torsion, bend, bend) and rotary inertia I (same order), body axis 0 = tangent
+P_DT, P_AM, P_AF, P_GAM = 16, 17, 18, 19
+P_SIZE = 20
+
+# chain-node slot layout: catenary v(0:3) T(3) t(4:7); rod v(0:3) omega(3:6) kappa(6:9) f(9:12)
+N_SLOTS = 13  # node arrays are 13 wide so that a rigid-body node (13 states) fits
+CAT_SLOTS = 7
+ROD_SLOTS = 12
+
+
+def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia_b, inertia_t):
+    """P vector of the kernels from CableProperties/Environment and the step coefficients."""
+    P = np.zeros(P_SIZE)
+    P[P_M] = cable.gamma0
+    P[P_CK] = 1.0 / cable.EA if cable.EA > 0 else 0.0
+    P[P_G] = env.g
+    P[P_RHOF] = env.fluid_density
+    P[P_AREA] = cable.area
+    P[P_D] = cable.diameter
+    P[P_CDN], P[P_CDT], P[P_CMN], P[P_CMT] = cable.Cdn, cable.Cdt, cable.Cmn, cable.Cmt
+    P[P_B0:P_B0 + 3] = (tors, bend, bend)
+    P[P_I0:P_I0 + 3] = (inertia_t, inertia_b, inertia_b)
+    P[P_DT], P[P_AM], P[P_AF], P[P_GAM] = dt, alpha_m, alpha_f, gamma
+    return P
+
+
+@jit
+def current_at(z, cz, cx, cy, out):
+    """Current velocity at height z: linear in z between profile points, constant outside."""
+    out[0] = 0.0
+    out[1] = 0.0
+    out[2] = 0.0
+    n = cz.shape[0]
+    if n == 0:
+        return
+    if z <= cz[0]:
+        out[0] = cx[0]
+        out[1] = cy[0]
+        return
+    if z >= cz[n - 1]:
+        out[0] = cx[n - 1]
+        out[1] = cy[n - 1]
+        return
+    for k in range(n - 1):
+        if z <= cz[k + 1]:
+            w = (z - cz[k]) / (cz[k + 1] - cz[k])
+            out[0] = (1.0 - w) * cx[k] + w * cx[k + 1]
+            out[1] = (1.0 - w) * cy[k] + w * cy[k + 1]
+            return
+
+
+@jit
+def external_force(v, t, a, z, eps, P, cz, cx, cy, out):
+    """Distributed force F (N/m, world) on a cable point [PE2020 Eq. 13, 14, 17; GP Eq. 19-22].
+
+    v: velocity, t: tangent (normalised here), a: inertial acceleration, z: height, eps: strain.
+    """
+    nt = math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+    tu = np.empty(3)
+    for k in range(3):
+        tu[k] = t[k] / nt
+    uc = np.empty(3)
+    current_at(z, cz, cx, cy, uc)
+    vr = np.empty(3)
+    for k in range(3):
+        vr[k] = uc[k] - v[k]
+    vrt = vr[0] * tu[0] + vr[1] * tu[1] + vr[2] * tu[2]
+    vn = np.empty(3)
+    for k in range(3):
+        vn[k] = vr[k] - vrt * tu[k]
+    vnn = math.sqrt(vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2])
+    le = 1.0 + eps
+    if le < 0.0:
+        le = 0.0
+    cdrag = 0.5 * P[P_D] * P[P_RHOF] * math.sqrt(le)
+    at = a[0] * tu[0] + a[1] * tu[1] + a[2] * tu[2]
+    ma = P[P_RHOF] * P[P_AREA]
+    for k in range(3):
+        drag = cdrag * (P[P_CDT] * abs(vrt) * vrt * tu[k] + P[P_CDN] * vnn * vn[k])
+        added = -ma * (P[P_CMN] * (a[k] - at * tu[k]) + P[P_CMT] * at * tu[k])
+        out[k] = drag + added
+    out[2] -= (P[P_M] - P[P_RHOF] * P[P_AREA]) * P[P_G]
+
+
+@jit
+def alpha_levels(Y, Yn, Ytn, nslot, P, Yf, Ym):
+    """Y at t_{n+alpha_f} and dY/dt at t_{n+alpha_m} from the gamma relation [GP Sec. 3]."""
+    dt = P[P_DT]
+    am = P[P_AM]
+    af = P[P_AF]
+    g = P[P_GAM]
+    for k in range(nslot):
+        ydot = ((Y[k] - Yn[k]) / dt - (1.0 - g) * Ytn[k]) / g
+        Yf[k] = (1.0 - af) * Yn[k] + af * Y[k]
+        Ym[k] = (1.0 - am) * Ytn[k] + am * ydot
+
+
+@jit
+def cross(a, b, out):
+    """out = a x b."""
+    out[0] = a[1] * b[2] - a[2] * b[1]
+    out[1] = a[2] * b[0] - a[0] * b[2]
+    out[2] = a[0] * b[1] - a[1] * b[0]

@@ -1,0 +1,140 @@
+"""Kirchhoff rod elements [GP Sec. 2.2, Eq. 6-11, Appendix 2 Eq. 27-29].
+
+Field variables per node, body-frame components: v (0:3), omega (3:6), kappa (6:9), f (9:12).
+Body axis 0 is the tangent (torsion axis), axes 1-2 the bending axes; B = diag(GJ, EI, EI),
+I = diag(I_t, I_b, I_b). The frame L (world -> body) of each node is advanced in time by the
+incremental rotation theta = dt (omega_n + omega_{n+1})/2 [GP Eq. 15-18]; the alpha_f-level frame
+used to express gravity/drag/current in body components is exp(-alpha_f theta~) L_n.
+
+Box scheme in s at t_{n+alpha_f}, generalized-alpha rates at t_{n+alpha_m} [GP Sec. 3]:
+    dv/ds + kappa x v - omega x t                                   = 0   [GP Eq. 7]
+    domega/ds + kappa x omega - dkappa/dt                           = 0   [GP Eq. 8]
+    B dkappa/ds + kappa x B kappa - I domega/dt - omega x I omega
+                - f x t + Q                                          = 0   [GP Eq. 9, q = B kappa]
+    df/ds + kappa x f - m (dv/dt + omega x v) + F                   = 0   [GP Eq. 10]
+"""
+
+import numpy as np
+
+from tether_sim.numerics.jit import jit
+from tether_sim.numerics.rotations import rotate_frame
+from tether_sim.solvers.hybrid.kernels import P_AF, P_B0, P_DT, P_I0, P_M, ROD_SLOTS, alpha_levels, cross, external_force
+
+
+@jit
+def frame_at(Y, Yn, Ln, frac, out):
+    """Frame at t_n + frac*dt: exp(-frac*theta~) L_n, theta = dt (omega_n + omega_{n+1})/2 [GP Eq. 15-16]."""
+    th = np.empty(3)
+    for k in range(3):
+        th[k] = frac * 0.5 * (Yn[3 + k] + Y[3 + k])
+    rotate_frame(Ln, th, out)
+
+
+@jit
+def rod_node_terms(Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, Yf, Ym, Fb):
+    """Alpha-level values (Yf, Ym) and the body-frame external load Fb (N/m) of one rod node."""
+    alpha_levels(Y, Yn, Ytn, ROD_SLOTS, P, Yf, Ym)
+    La = np.empty((3, 3))
+    frame_at(Y, Yn, Ln, P[P_AF] * P[P_DT], La)
+    acc_b = np.empty(3)
+    cross(Yf[3:6], Yf[0:3], acc_b)
+    for k in range(3):
+        acc_b[k] += Ym[k]
+    vw = np.zeros(3)
+    tw = np.zeros(3)
+    aw = np.zeros(3)
+    for i in range(3):
+        tw[i] = La[0, i]
+        for k in range(3):
+            vw[i] += La[k, i] * Yf[k]
+            aw[i] += La[k, i] * acc_b[k]
+    Fw = np.empty(3)
+    external_force(vw, tw, aw, rn[2], 0.0, P, cz, cx, cy, Fw)
+    for k in range(3):
+        Fb[k] = La[k, 0] * Fw[0] + La[k, 1] * Fw[1] + La[k, 2] * Fw[2]
+
+
+@jit
+def rod_cell_residual(Ya, Yna, Ytna, La, ra, Yb, Ynb, Ytnb, Lb, rb, ds, P, cz, cx, cy, out):
+    """The 12 box equations of one rod cell [GP Eq. 7-11]."""
+    Yfa = np.empty(ROD_SLOTS)
+    Yma = np.empty(ROD_SLOTS)
+    Yfb = np.empty(ROD_SLOTS)
+    Ymb = np.empty(ROD_SLOTS)
+    Fa = np.empty(3)
+    Fb = np.empty(3)
+    rod_node_terms(Ya, Yna, Ytna, La, ra, P, cz, cx, cy, Yfa, Yma, Fa)
+    rod_node_terms(Yb, Ynb, Ytnb, Lb, rb, P, cz, cx, cy, Yfb, Ymb, Fb)
+    Y = np.empty(ROD_SLOTS)
+    Yd = np.empty(ROD_SLOTS)
+    for k in range(ROD_SLOTS):
+        Y[k] = 0.5 * (Yfa[k] + Yfb[k])
+        Yd[k] = 0.5 * (Yma[k] + Ymb[k])
+    v = Y[0:3]
+    om = Y[3:6]
+    ka = Y[6:9]
+    f = Y[9:12]
+    B = P[P_B0:P_B0 + 3]
+    II = P[P_I0:P_I0 + 3]
+    c = np.empty(3)
+    Bk = np.empty(3)
+    Iw = np.empty(3)
+    for k in range(3):
+        Bk[k] = B[k] * ka[k]
+        Iw[k] = II[k] * om[k]
+    # Eq. 7: dv/ds + kappa x v - omega x e1
+    cross(ka, v, c)
+    out[0] = (Yfb[0] - Yfa[0]) / ds + c[0]
+    out[1] = (Yfb[1] - Yfa[1]) / ds + c[1] - om[2]
+    out[2] = (Yfb[2] - Yfa[2]) / ds + c[2] + om[1]
+    # Eq. 8: domega/ds + kappa x omega - dkappa/dt
+    cross(ka, om, c)
+    for k in range(3):
+        out[3 + k] = (Yfb[3 + k] - Yfa[3 + k]) / ds + c[k] - Yd[6 + k]
+    # Eq. 9: B dkappa/ds + kappa x B kappa - I domega/dt - omega x I omega - f x e1 (+ Q = 0)
+    cross(ka, Bk, c)
+    w = np.empty(3)
+    cross(om, Iw, w)
+    fxt = np.empty(3)
+    fxt[0] = 0.0
+    fxt[1] = f[2]
+    fxt[2] = -f[1]
+    for k in range(3):
+        out[6 + k] = B[k] * (Yfb[6 + k] - Yfa[6 + k]) / ds + c[k] - II[k] * Yd[3 + k] - w[k] - fxt[k]
+    # Eq. 10: df/ds + kappa x f - m (dv/dt + omega x v) + F
+    cross(ka, f, c)
+    cross(om, v, w)
+    m = P[P_M]
+    for k in range(3):
+        out[9 + k] = (Yfb[9 + k] - Yfa[9 + k]) / ds + c[k] - m * (Yd[k] + w[k]) + 0.5 * (Fa[k] + Fb[k])
+
+
+@jit
+def rod_end_residual(kind, Y, Yn, Ln, P, vec_a, vec_b, out):
+    """Six end conditions of a rod end at t_{n+1}; vectors in world components.
+
+    kind 0: v = vec_a, kappa = 0 (pinned: prescribed/fixed/body)
+    kind 1: v = vec_a, omega = 0 (clamped: frame held)
+    kind 2: f = vec_a, B kappa = vec_b (point force and moment; free: both 0)
+    kind 3: f = vec_a, omega = 0 (point force with the end frame held, GP benchmark right end)
+    """
+    L1 = np.empty((3, 3))
+    frame_at(Y, Yn, Ln, P[P_DT], L1)
+    a = np.empty(3)
+    b = np.empty(3)
+    for i in range(3):
+        a[i] = L1[i, 0] * vec_a[0] + L1[i, 1] * vec_a[1] + L1[i, 2] * vec_a[2]
+        b[i] = L1[i, 0] * vec_b[0] + L1[i, 1] * vec_b[1] + L1[i, 2] * vec_b[2]
+    if kind <= 1:
+        for k in range(3):
+            out[k] = Y[k] - a[k]
+    else:
+        for k in range(3):
+            out[k] = Y[9 + k] - a[k]
+    for k in range(3):
+        if kind == 0:
+            out[3 + k] = Y[6 + k]
+        elif kind == 2:
+            out[3 + k] = P[P_B0 + k] * Y[6 + k] - b[k]
+        else:
+            out[3 + k] = Y[3 + k]

@@ -1,0 +1,534 @@
+"""Hybrid rod-catenary tether solver [GP]: catenary elements where tension dominates, Kirchhoff rod
+elements where it does not, joined by spherical joints; implicit generalized-alpha in time, box
+scheme in arc length, the whole discretised step solved by Newton with a sparse LU.
+
+See docs/hybrid_solver.md for the method, the choices made and the measured iteration counts.
+"""
+
+import copy
+import math
+
+import numpy as np
+from scipy.sparse import csr_matrix, diags
+from scipy.sparse.linalg import splu
+
+from tether_sim.errors import ConfigError, SolverDivergedError
+from tether_sim.numerics.gen_alpha import gen_alpha_coefficients
+from tether_sim.physics.bodies import body_acceleration, initial_body_state, pack_body_params, submerged_weight
+from tether_sim.numerics.rotations import frame_with_tangent, rotate_frame
+from tether_sim.solvers.base import BodyState, EndForces, SolverState, end_index
+from tether_sim.solvers.hybrid import zoning
+from tether_sim.solvers.hybrid.assembly import assemble_jacobian, assemble_residual
+from tether_sim.solvers.hybrid.chain import build_chain, rod_blocks
+from tether_sim.solvers.hybrid.kernels import P_AF, P_AM, pack_parameters
+from tether_sim.solvers.hybrid.rod import frame_at
+from tether_sim.solvers.hybrid.state_io import EndMotion, node_profile, reconstruct_positions
+
+MAX_HALVINGS = 6
+MAX_TURN = 0.3  # rad, largest tangent change per Newton iteration
+
+
+class _NewtonFailure(Exception):
+    pass
+
+
+class HybridRodCatenarySolver:
+    """TetherSolver of Goyal & Perkins (see tether_sim.solvers.base for the interface contract)."""
+
+    name = "hybrid"
+
+    def __init__(self, config):
+        self.config = config
+        cab, env, opt = config.cable, config.environment, config.hybrid
+        self.opt = opt
+        self.length = cab.length
+        self.n_seg = opt.n_segments
+        self.s_grid = np.linspace(0.0, cab.length, self.n_seg + 1)
+        self.ds = cab.length / self.n_seg
+        if cab.EI <= 0.0 and opt.zoning in ("all_rod", "fixed"):
+            raise ConfigError(f"hybrid.zoning={opt.zoning!r} needs rod elements, but cable.EI = 0")
+        self.EI = cab.EI
+        self.ck = 1.0 / cab.EA if cab.EA > 0.0 else 0.0  # compliance c_k [GP Eq. 1]
+        self.GJ = cab.GIp if cab.GIp > 0.0 else cab.EI  # torsion needs a stiffness; default GJ = EI
+        self.inertia_b = cab.gamma0 * cab.area / (4.0 * math.pi)  # rho_c * pi r^4 / 4 with pi r^2 = A
+        self.inertia_t = 2.0 * self.inertia_b
+        if opt.rotary_inertia_bend > 0.0:
+            self.inertia_b = opt.rotary_inertia_bend
+        if opt.rotary_inertia_torsion > 0.0:
+            self.inertia_t = opt.rotary_inertia_torsion
+        self.cz = np.asarray(env.current_z, dtype=float)
+        self.cx = np.asarray(env.current_x, dtype=float)
+        self.cy = np.asarray(env.current_y, dtype=float)
+        self.net_weight = abs(cab.gamma0 - env.fluid_density * cab.area) * env.g
+        self.ends = (config.ship_end, config.vehicle_end)
+        self.body_params = tuple(pack_body_params(config.body, env) if e.kind == "body" else None for e in self.ends)
+        holds = (opt.hold_direction_ship, opt.hold_direction_vehicle)
+        self.end_modes = []
+        for e, hold in zip(self.ends, holds):
+            if e.kind in ("prescribed", "fixed"):
+                self.end_modes.append("velocity")
+            elif e.kind == "body":
+                self.end_modes.append("body")
+            elif e.kind == "clamped":
+                self.end_modes.append("clamped")
+            else:
+                self.end_modes.append("force_hold" if hold else "force")
+        self.free_ends = [e.kind == "free" or (e.kind == "force" and not np.any(e.force)) for e in self.ends]
+        self.end_motion = [EndMotion(np.asarray(e.position, dtype=float)) for e in self.ends]
+        self.end_load = [(np.asarray(e.force, dtype=float), np.asarray(e.moment, dtype=float)) for e in self.ends]
+        self.time = 0.0
+        self.stats = {"steps": 0, "newton_iterations": 0, "max_iterations": 0, "halvings": 0, "rezonings": 0}
+        self._record = ([], [], [])
+        self._init_state()
+
+    # ------------------------------------------------------------------ set-up
+    def _initial_zones(self, tension):
+        opt = self.opt
+        n = self.n_seg
+        if opt.zoning == "all_rod":
+            return np.full(n, zoning.ROD)
+        if opt.zoning == "all_catenary" or self.EI <= 0.0:
+            return np.full(n, zoning.CATENARY)
+        if opt.zoning == "fixed":
+            centres = 0.5 * (self.s_grid[1:] + self.s_grid[:-1])
+            return np.where(centres < opt.joint_arc_length, zoning.CATENARY, zoning.ROD)
+        return self._classify(tension, np.full(n, zoning.CATENARY))
+
+    def _end_rod_elements(self):
+        out = []
+        for mode in self.end_modes:
+            held = mode in ("clamped", "force_hold")
+            out.append(max(1, int(math.ceil(self.opt.end_rod_length / self.ds))) if held else 0)
+        return tuple(out)
+
+    def _classify(self, T_elem, previous):
+        o = self.opt
+        return zoning.classify(T_elem, previous, self.EI, max(self.net_weight, 1e-12), o.chi_on, o.chi_off,
+                               o.min_zone_elements, self._end_rod_elements())
+
+    def _init_state(self):
+        cfg = self.config
+        p0 = np.asarray(self.ends[0].position, dtype=float)
+        p1 = np.asarray(self.ends[1].position, dtype=float)
+        chord = p1 - p0
+        dist = float(np.linalg.norm(chord))
+        d = chord / dist if dist > 1e-12 else np.array([0.0, 0.0, -1.0])
+        tangents, T_grid = self._initial_shape(d, dist)
+        target = self._initial_zones(0.5 * (T_grid[1:] + T_grid[:-1]))
+        self.zones = np.full(self.n_seg, zoning.CATENARY)  # built as catenary, then converted
+        self._set_chain()
+        K = self.chain.grid.size
+        self.Y = np.zeros((K, 13))
+        self.Yt = np.zeros((K, 13))
+        self.Y[:, 3] = T_grid
+        self.Y[:, 4:7] = tangents
+        self.Lf = np.stack([frame_with_tangent(t) for t in tangents])
+        self.r0 = p0.copy()
+        self.positions = reconstruct_positions(self)
+        self.rdot = np.zeros_like(self.positions)
+        if np.any(target == zoning.ROD):
+            from tether_sim.solvers.hybrid.state_io import convert_state
+            self.Y, self.Yt, self.Lf, self.positions, self.rdot = convert_state(self, target)
+            self.zones = target
+            self._set_chain()
+            K = self.chain.grid.size
+        self.body_x = [None, None]
+        self.body_xd = [None, None]
+        for e, node in ((0, 0), (1, K - 1)):
+            if self.body_params[e] is not None:
+                self.body_x[e] = initial_body_state(self.config.body, attachment_world=self.positions[node])
+                self.body_xd[e] = np.zeros(13)
+        for e, node in ((0, 0), (1, K - 1)):  # a held end starts with its prescribed tangent
+            if self.end_modes[e] in ("clamped", "force_hold") and self.chain.kind[node] == zoning.ROD:
+                self.Lf[node] = frame_with_tangent(self.ends[e].direction, self.Lf[node])
+        kind = cfg.initial.kind
+        relax = cfg.initial.relax_time if kind == "relax" else (self.opt.static_relax_time if kind == "static" else 0.0)
+        if relax > 0.0:
+            self._relax(relax)
+
+    def _initial_shape(self, d, dist):
+        """Tangents and tensions on the grid: straight (stretched) if the chord is >= L, else a circular
+        arc of length L through both ends sagging along gravity (tension w R)."""
+        if dist >= self.length or self.end_modes[1] not in ("velocity", "clamped"):
+            return np.repeat(d[None], self.n_seg + 1, axis=0), self._straight_tension(d, dist)
+        sag = np.array([0.0, 0.0, -1.0]) - d[2] * d
+        sag = sag / np.linalg.norm(sag) if np.linalg.norm(sag) > 1e-9 else np.array([1.0, 0.0, 0.0])
+        floor = 1e-3 * self.net_weight * self.length
+        T = floor
+        for _ in range(50):  # arc of stretched length L (1 + c_k T) with T = w R (fixed point)
+            theta = self._arc_angle(dist / (self.length * (1.0 + self.ck * T)))
+            radius = self.length * (1.0 + self.ck * T) / (2.0 * theta)
+            T = max(self.net_weight * radius, floor)
+        phi = theta - self.s_grid * (1.0 + self.ck * T) / radius
+        tangents = np.cos(phi)[:, None] * d[None] + np.sin(phi)[:, None] * sag[None]
+        return tangents, np.full(self.n_seg + 1, T)
+
+    @staticmethod
+    def _arc_angle(ratio):
+        """Half angle theta of a circular arc with chord/arc = sin(theta)/theta = ratio."""
+        theta = 1.0
+        for _ in range(60):
+            f = math.sin(theta) / theta - ratio
+            df = (theta * math.cos(theta) - math.sin(theta)) / theta**2
+            theta = min(max(theta - f / df, 1e-6), math.pi - 1e-6)
+        return theta
+
+    def _straight_tension(self, d, dist):
+        """Tension along the initial straight line: tangential equilibrium dT/ds = w_z d_z [GP Eq. 3]
+        from an end whose tension is known (force/free), else from the chord strain; kept > 0."""
+        w = self.net_weight if self.config.cable.gamma0 > self.config.environment.fluid_density * \
+            self.config.cable.area else -self.net_weight
+        Tlin = w * d[2] * self.s_grid  # T(s) - T(0) for F = -w z
+        force_end = [m in ("force", "force_hold") for m in self.end_modes]
+        if self.end_modes[1] == "body":
+            weight = submerged_weight(self.config.body, self.config.environment)
+            T = weight * max(-d[2], 0.0) + Tlin - Tlin[-1]
+        elif force_end[1]:
+            T = float(np.dot(self.end_load[1][0], d)) + Tlin - Tlin[-1]
+        elif force_end[0]:
+            T = -float(np.dot(self.end_load[0][0], d)) + Tlin
+        else:
+            T_strain = self.config.cable.EA * max(dist / self.length - 1.0, 0.0)
+            T = Tlin - Tlin.min() + T_strain
+        return np.maximum(T, 1e-3 * self.net_weight * self.length)
+
+    def _relax(self, duration):
+        """Damped dynamic relaxation with rho_inf = 0 (maximum numerical dissipation), then rest at t = 0."""
+        self._rho = 0.0
+        t_end = self.time + duration
+        step = self.opt.relax_time_step if self.opt.relax_time_step > 0.0 else self.opt.time_step
+        while self.time < t_end - 1e-12:
+            self._step_with_retry(min(step, t_end - self.time))
+        self._rho = None
+        self.stats["relax_final_speed"] = float(np.abs(self._world_velocities()).max())
+        self.Y[:, 0:3] = 0.0
+        self.Y[self.chain.kind == zoning.ROD, 3:6] = 0.0
+        self.Yt[:] = 0.0
+        self.rdot[:] = 0.0
+        for e in range(2):
+            if self.body_x[e] is not None:
+                self.body_x[e][7:13] = 0.0
+                self.body_xd[e][:] = 0.0
+        self.time = 0.0
+        self._record = ([], [], [])
+        for m in self.end_motion:
+            m.reset_time(0.0)
+
+    def _set_chain(self):
+        self.chain = build_chain(self.zones, self.s_grid, self.end_modes, self.free_ends, self.body_params)
+        n = self.chain.nnz_max
+        self._coo = (np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n))
+
+    # ------------------------------------------------------------------ interface
+    def set_end_motion(self, end, position, velocity):
+        self.end_motion[end_index(end)].set_target(np.asarray(position, dtype=float), np.asarray(velocity, dtype=float))
+
+    def set_end_load(self, end, force, moment=(0.0, 0.0, 0.0)):
+        self.end_load[end_index(end)] = (np.asarray(force, dtype=float), np.asarray(moment, dtype=float))
+
+    def stable_time_step(self):
+        return self.opt.time_step
+
+    def step(self, dt):
+        self._step_with_retry(float(dt))
+
+    def advance_to(self, t):
+        t = float(t)
+        for m in self.end_motion:
+            m.begin(self.time, t)
+        n = 0
+        dt = self.opt.time_step
+        while self.time < t - 1e-12 * max(1.0, abs(t)):
+            h = min(dt, t - self.time)
+            if t - self.time - h < 1e-3 * dt:
+                h = t - self.time
+            self._step_with_retry(h)
+            n += 1
+        self.time = max(self.time, t)
+        for m in self.end_motion:
+            m.finish(t)
+        return n
+
+    def state(self, arc_lengths=None):
+        if arc_lengths is None:
+            arc_lengths = np.linspace(0.0, self.length, self.config.node.output_points)
+        s = np.asarray(arc_lengths, dtype=float)
+        prof = node_profile(self)
+        order = prof["s"]
+        pos = np.stack([np.interp(s, order, prof["position"][:, k]) for k in range(3)], axis=1)
+        vel = np.stack([np.interp(s, order, prof["velocity"][:, k]) for k in range(3)], axis=1)
+        elem = np.clip((s / self.ds).astype(int), 0, self.n_seg - 1)
+        extra = {"zone": self.zones[elem].astype(np.int64), "shear": np.interp(s, order, prof["shear"]),
+                 "torsion_moment": np.interp(s, order, prof["torsion"]), "newton": dict(self.stats)}
+        return SolverState(time=self.time, arc_length=s, position=pos, velocity=vel,
+                           tension=np.interp(s, order, prof["tension"]), strain=np.interp(s, order, prof["strain"]),
+                           curvature=np.interp(s, order, prof["curvature"]),
+                           bending_moment=np.interp(s, order, prof["moment"]), time_step=self.opt.time_step,
+                           extra=extra)
+
+    def end_forces(self):
+        prof = node_profile(self)
+        f = prof["force"]
+        q = prof["moment_vec"]
+        return EndForces(ship_force=f[0].copy(), vehicle_force=-f[-1], ship_moment=q[0].copy(), vehicle_moment=-q[-1],
+                         ship_tension=float(prof["tension"][0]), vehicle_tension=float(prof["tension"][-1]))
+
+    def body_state(self, end):
+        e = end_index(end)
+        x = self.body_x[e]
+        if x is None:
+            return None
+        acc = np.empty(3)
+        F = self.end_forces()
+        force = F.ship_force if e == 0 else F.vehicle_force
+        uc = np.zeros(3)
+        if self.cz.size:
+            uc[0] = np.interp(x[2], self.cz, self.cx)
+            uc[1] = np.interp(x[2], self.cz, self.cy)
+        body_acceleration(x, self.body_params[e], np.asarray(force, dtype=float), uc, acc)
+        return BodyState(position=x[0:3].copy(), orientation=x[3:7].copy(), velocity=x[7:10].copy(),
+                         angular_velocity=x[10:13].copy(), acceleration=acc)
+
+    def drain_end_tensions(self):
+        t, a, b = (np.asarray(x, dtype=float) for x in self._record)
+        self._record = ([], [], [])
+        return t, a, b
+
+    def snapshot(self):
+        return copy.deepcopy({"Y": self.Y, "Yt": self.Yt, "Lf": self.Lf, "zones": self.zones, "time": self.time,
+                              "positions": self.positions, "rdot": self.rdot, "motion": self.end_motion,
+                              "load": self.end_load, "stats": self.stats, "body_x": self.body_x,
+                              "body_xd": self.body_xd})
+
+    def restore(self, snap):
+        snap = copy.deepcopy(snap)
+        self.Y, self.Yt, self.Lf, self.zones = snap["Y"], snap["Yt"], snap["Lf"], snap["zones"]
+        self.time, self.positions, self.rdot = snap["time"], snap["positions"], snap["rdot"]
+        self.end_motion, self.end_load, self.stats = snap["motion"], snap["load"], snap["stats"]
+        self.body_x, self.body_xd = snap["body_x"], snap["body_xd"]
+        self._set_chain()
+        self._record = ([], [], [])
+
+    # ------------------------------------------------------------------ stepping
+    _rho = None
+
+    def _parameters(self, dt):
+        rho = self.opt.rho_inf if self._rho is None else self._rho
+        am, af, g = gen_alpha_coefficients(rho)
+        return pack_parameters(self.config.cable, self.config.environment, dt, am, af, g, self.EI, self.GJ,
+                               self.inertia_b, self.inertia_t)
+
+    def _step_with_retry(self, dt):
+        pieces = [dt]
+        level = 0
+        while pieces:
+            h = pieces.pop(0)
+            snap = (self.Y.copy(), self.Yt.copy(), self.Lf.copy())
+            try:
+                self._step(h)
+            except _NewtonFailure as exc:
+                self.Y, self.Yt, self.Lf = snap
+                level += 1
+                self.stats["halvings"] += 1
+                if level > MAX_HALVINGS:
+                    raise SolverDivergedError(f"hybrid solver: Newton failed at t = {self.time:.6g} s "
+                                              f"even with dt = {h:.3g} s ({exc})") from None
+                pieces = [0.5 * h, 0.5 * h] + pieces
+
+    def _update_end_groups(self, t_new):
+        ch = self.chain
+        K = ch.grid.size
+        for e, node in ((0, 0), (1, K - 1)):
+            g = ch.end_group[e]
+            sign = -1.0 if e == 0 else 1.0  # internal force f(0) = -F_applied, f(L) = +F_applied
+            mode = self.end_modes[e]
+            rod = ch.kind[node] == zoning.ROD
+            if mode in ("velocity", "clamped"):
+                v = self.end_motion[e].velocity_at(t_new) if self.ends[e].kind == "prescribed" else np.zeros(3)
+                ch.gpar[g, 1:4] = v if rod else 0.0
+                if not rod:
+                    ch.gpar[g, 0:3] = v
+            else:
+                F, M = self.end_load[e]
+                if rod:
+                    ch.gpar[g, 1:4] = sign * F
+                    ch.gpar[g, 4:7] = sign * M
+                elif self.free_ends[e]:
+                    t = self.Y[node, 4:7]
+                    from tether_sim.solvers.hybrid.catenary import tangent_normals
+                    p1, p2 = tangent_normals(t)
+                    ch.gpar[g, 0:3], ch.gpar[g, 3:6] = p1, p2
+                    ch.gpar[g, 6] = max(self.net_weight * self.length, 1e-12)
+                else:
+                    ch.gpar[g, 0:3] = sign * F
+
+    def _step(self, dt):
+        ch = self.chain
+        P = self._parameters(dt)
+        t_new = self.time + dt
+        self._update_end_groups(t_new)
+        K = ch.grid.size
+        bodies = [e for e in (0, 1) if ch.body_node[e] >= 0]
+        bodies.sort(key=lambda e: ch.body_node[e])
+        nb = len(bodies)
+        # body nodes follow the cable nodes in every node array
+        rn = np.ascontiguousarray(np.vstack([np.hstack([self.positions, self.rdot]), np.zeros((nb, 6))]))
+        Yn = np.vstack([self.Y] + [self.body_x[e][None] for e in bodies])
+        Ytn = np.vstack([self.Yt] + [self.body_xd[e][None] for e in bodies])
+        Ln = np.ascontiguousarray(np.concatenate([self.Lf, np.repeat(np.eye(3)[None], nb, axis=0)]))
+        Y = Yn.copy()  # predictor: the state at t_n (robust after abrupt starts)
+        cat = ch.kind != zoning.ROD
+        Y[:K][cat, 4:7] /= np.linalg.norm(Y[:K][cat, 4:7], axis=1)[:, None]
+        n = ch.n_unknowns
+        R = np.empty(n)
+        rows, cols, vals = self._coo
+        scale = self._unknown_scales(Yn)
+        kind_ext = np.concatenate([ch.kind, np.full(nb, 2)])
+        tangent_unknowns = (ch.idx_slot >= 4) & (ch.idx_slot < 7) & (kind_ext[ch.idx_node] == zoning.CATENARY)
+        lu = None
+        res_prev = np.inf
+        err_prev = np.inf
+        for it in range(1, self.opt.max_newton_iterations + 1):
+            assemble_residual(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, Y, Yn, Ytn, Ln, rn, ch.s, P,
+                              self.cz, self.cx, self.cy, R)
+            if not np.all(np.isfinite(R)):
+                raise _NewtonFailure("non-finite residual")
+            # modified Newton: keep the factorised Jacobian while the scaled residual falls fast enough
+            res = np.abs(rs * R).max() if lu is not None else np.inf
+            if lu is None or res > 0.1 * res_prev:
+                nnz = assemble_jacobian(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, ch.noff, ch.nslot, Y, Yn, Ytn, Ln,
+                                        rn, ch.s, P, self.cz, self.cx, self.cy, rows, cols, vals)
+                J = csr_matrix((vals[:nnz], (rows[:nnz], cols[:nnz])), shape=(n, n))
+                rs = 1.0 / np.maximum(abs(J).max(axis=1).toarray().ravel(), 1e-300)
+                try:
+                    lu = splu((diags(rs) @ J).tocsc(), permc_spec="NATURAL" if nb == 0 or bodies == [1] else "COLAMD")
+                except RuntimeError as exc:
+                    raise _NewtonFailure(f"singular Jacobian ({exc})") from None
+                self.stats["jacobians"] = self.stats.get("jacobians", 0) + 1
+                res = np.abs(rs * R).max()
+            res_prev = res
+            dx = lu.solve(rs * R)
+            if not np.all(np.isfinite(dx)):
+                raise _NewtonFailure("non-finite Newton update")
+            # damping: a catenary tangent may turn at most MAX_TURN per iteration, so Newton cannot jump
+            # to the mirror solution (T, t) -> (-T, -t) of the unit-tangent parameterisation
+            turn = np.abs(dx[tangent_unknowns]).max(initial=0.0)
+            lam = min(1.0, MAX_TURN / turn) if turn > 0.0 else 1.0
+            Y[ch.idx_node, ch.idx_slot] -= lam * dx
+            err = float(np.max(np.abs(dx) / scale)) / self.opt.newton_tolerance
+            # converged, or stagnating at round-off within 1000x of the tolerance
+            if lam == 1.0 and (err <= 1.0 or (err <= 1e3 and err >= 0.5 * err_prev)):
+                break
+            err_prev = err
+        else:
+            raise _NewtonFailure(f"no convergence in {self.opt.max_newton_iterations} iterations")
+        for e in bodies:
+            x = Y[ch.body_node[e]].copy()
+            self.body_xd[e] = ((x - self.body_x[e]) / dt - (1.0 - P[-1]) * self.body_xd[e]) / P[-1]
+            x[3:7] /= np.linalg.norm(x[3:7])
+            self.body_x[e] = x
+        self._commit(np.ascontiguousarray(Y[:K]), dt, P, it)
+
+    def _unknown_scales(self, Y):
+        """Per-unknown magnitude used by the Newton stopping test |dx| <= tol * scale."""
+        ch = self.chain
+        cat = ch.kind != zoning.ROD
+        rod = ~cat
+        Y = np.asarray(Y)
+        Yc = Y[:cat.size]
+        loads = max(float(np.linalg.norm(f)) for f, _ in self.end_load)
+        tension = max(np.abs(Yc[cat, 3]).max(initial=0.0), np.abs(Yc[rod, 9:12]).max(initial=0.0),
+                      self.net_weight * self.length, loads, 1e-12)
+        speed = max(np.abs(Yc[:, 0:3]).max(initial=0.0), 1e-3 * math.sqrt(self.config.environment.g * self.length),
+                    1e-3 * self.length / self.opt.time_step)
+        per_slot_cat = np.array([speed] * 3 + [tension] + [1.0] * 3 + [1.0] * 5)
+        per_slot_rod = np.array([speed] * 3 + [speed / self.length] * 3 + [1.0 / self.length] * 3 + [tension] * 3)
+        per_slot_cat = np.append(per_slot_cat, 1.0)
+        per_slot_rod = np.append(per_slot_rod, 1.0)
+        table = np.where(cat[:, None], per_slot_cat[None, :], per_slot_rod[None, :])
+        per_slot_body = np.array([self.length] * 3 + [1.0] * 4 + [speed] * 3 + [speed / self.length] * 3)
+        nb = Y.shape[0] - cat.size
+        table = np.vstack([table] + [per_slot_body[None]] * nb)
+        return table[ch.idx_node, ch.idx_slot]
+
+    def _commit(self, Y, dt, P, iterations):
+        ch = self.chain
+        g = P[-1]
+        v_old = self._world_velocities()
+        self.Yt = ((Y - self.Y) / dt - (1.0 - g) * self.Yt) / g
+        for c in np.nonzero(ch.kind == zoning.ROD)[0]:
+            out = np.empty((3, 3))
+            frame_at(Y[c], self.Y[c], self.Lf[c], dt, out)
+            self.Lf[c] = out
+        self.Y = Y
+        if self.opt.frames_from_curvature:
+            self._integrate_frames()
+        self.time += dt
+        # node positions: generalized-alpha variables of dr/dt = v (their rate r' collocated: r'_am = v_af)
+        am, af = P[P_AM], P[P_AF]
+        v_af = (1.0 - af) * v_old + af * self._world_velocities()
+        rdot = (v_af - (1.0 - am) * self.rdot) / am
+        self.positions = self.positions + dt * ((1.0 - g) * self.rdot + g * rdot)
+        self.rdot = rdot
+        K = ch.grid.size
+        for e, node in ((0, 0), (1, K - 1)):  # kinematic ends sit exactly where they are driven
+            if self.ends[e].kind == "prescribed":
+                self.positions[node] = self.end_motion[e].position_at(self.time)
+            elif self.ends[e].kind in ("fixed", "clamped"):
+                self.positions[node] = self.ends[e].position
+        for first, last in rod_blocks(ch):  # rod shape by integrating its tangents from the block start
+            for c in range(first + 1, last + 1):
+                self.positions[c] = self.positions[c - 1] + 0.5 * (ch.s[c] - ch.s[c - 1]) * (self.Lf[c - 1, 0] + self.Lf[c, 0])
+        st = self.stats
+        st["steps"] += 1
+        st["newton_iterations"] += iterations
+        st["max_iterations"] = max(st["max_iterations"], iterations)
+        K = ch.grid.size
+        self._record[0].append(self.time)
+        self._record[1].append(self._node_tension(0))
+        self._record[2].append(self._node_tension(K - 1))
+        if self.opt.zoning == "adaptive" and self.EI > 0.0:
+            self._rezone()
+
+    def _integrate_frames(self):
+        """Re-derive the frames of each rod block from kappa, L_b = exp(-kappa~ ds) L_a, starting at an
+        anchor whose frame was advanced in time [GP Eq. 15-18]: a held end if the block has one, else the
+        block's first node. Keeps frames and curvature consistent (no drift of the incremental update)."""
+        ch = self.chain
+        K = ch.grid.size
+        held = [m in ("clamped", "force_hold") for m in self.end_modes]
+        out = np.empty((3, 3))
+        for first, last in rod_blocks(ch):
+            if last == K - 1 and held[1] and not (first == 0 and held[0]):
+                order = range(last - 1, first - 1, -1)
+                sign = 1.0
+            else:
+                order = range(first + 1, last + 1)
+                sign = -1.0
+            for c in order:
+                nb = c + 1 if sign > 0 else c - 1
+                kap = 0.5 * (self.Y[c, 6:9] + self.Y[nb, 6:9]) * (sign * abs(ch.s[c] - ch.s[nb]))
+                rotate_frame(self.Lf[nb], -kap, out)
+                self.Lf[c] = out
+
+    def _world_velocities(self):
+        v = self.Y[:, 0:3].copy()
+        rod = self.chain.kind == zoning.ROD
+        v[rod] = np.einsum("kji,kj->ki", self.Lf[rod], self.Y[rod, 0:3])
+        return v
+
+    def _node_tension(self, c):
+        return float(self.Y[c, 9] if self.chain.kind[c] == zoning.ROD else self.Y[c, 3])
+
+    def _rezone(self):
+        prof = node_profile(self)
+        T_grid = np.interp(self.s_grid, prof["s"], prof["tension"])
+        T_elem = 0.5 * (T_grid[1:] + T_grid[:-1])
+        new = self._classify(T_elem, self.zones)
+        if np.array_equal(new, self.zones):
+            return
+        from tether_sim.solvers.hybrid.state_io import convert_state
+        self.Y, self.Yt, self.Lf, self.positions, self.rdot = convert_state(self, new)
+        self.zones = new
+        self._set_chain()
+        self.stats["rezonings"] += 1

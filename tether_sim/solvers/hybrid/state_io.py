@@ -1,0 +1,176 @@
+"""Hybrid solver state in world terms: end motion, positions, per-node fields, zone conversion."""
+
+import numpy as np
+
+from tether_sim.solvers.hybrid import zoning
+
+
+class EndMotion:
+    """Commanded state of one end; cubic Hermite from the current state to the target of advance_to."""
+
+    def __init__(self, position):
+        self.p = np.asarray(position, dtype=float).copy()
+        self.v = np.zeros(3)
+        self.target = None
+        self.t0 = self.t1 = 0.0
+        self.active = False
+
+    def set_target(self, position, velocity):
+        self.target = (np.asarray(position, dtype=float).copy(), np.asarray(velocity, dtype=float).copy())
+
+    def begin(self, t0, t1):
+        self.t0, self.t1 = t0, t1
+        if self.target is None:
+            self.target = (self.p.copy(), self.v.copy()) if np.allclose(self.v, 0.0) else \
+                (self.p + self.v * (t1 - t0), self.v.copy())
+        self.active = t1 > t0
+
+    def _hermite(self, t):
+        h = self.t1 - self.t0
+        x = min(max((t - self.t0) / h, 0.0), 1.0)
+        p1, v1 = self.target
+        h00, h10, h01, h11 = 2 * x**3 - 3 * x**2 + 1, x**3 - 2 * x**2 + x, -2 * x**3 + 3 * x**2, x**3 - x**2
+        d00, d10, d01, d11 = 6 * x**2 - 6 * x, 3 * x**2 - 4 * x + 1, -6 * x**2 + 6 * x, 3 * x**2 - 2 * x
+        pos = h00 * self.p + h10 * h * self.v + h01 * p1 + h11 * h * v1
+        vel = (d00 * self.p + d01 * p1) / h + d10 * self.v + d11 * v1
+        return pos, vel
+
+    def position_at(self, t):
+        return self._hermite(t)[0] if self.active else self.p.copy()
+
+    def velocity_at(self, t):
+        return self._hermite(t)[1] if self.active else self.v.copy()
+
+    def finish(self, t):
+        if self.active:
+            self.p, self.v = self.target[0].copy(), self.target[1].copy()
+        self.target = None
+        self.active = False
+        self.t0 = self.t1 = t
+
+    def reset_time(self, t):
+        self.t0 = self.t1 = t
+        self.v[:] = 0.0
+        self.active = False
+
+
+def _node_tangent_strain(solver, c):
+    if solver.chain.kind[c] == zoning.ROD:
+        return solver.Lf[c][0], 0.0
+    t = solver.Y[c, 4:7]
+    return t / np.linalg.norm(t), solver.ck * solver.Y[c, 3]
+
+
+def reconstruct_positions(solver):
+    """r(s) by integrating dr/ds = (1 + eps) t from the ship end (trapezoid on the chain)."""
+    ch = solver.chain
+    K = ch.grid.size
+    r = np.empty((K, 3))
+    r[0] = solver.r0
+    ta, ea = _node_tangent_strain(solver, 0)
+    for c in range(1, K):
+        tb, eb = _node_tangent_strain(solver, c)
+        if ch.grid[c] == ch.grid[c - 1]:
+            r[c] = r[c - 1]
+        else:
+            r[c] = r[c - 1] + (ch.s[c] - ch.s[c - 1]) * 0.5 * ((1.0 + ea) * ta + (1.0 + eb) * tb)
+        ta, ea = tb, eb
+    return r
+
+
+def node_profile(solver):
+    """Per chain node: s, position, velocity, tension, strain, force (world), shear, moment, curvature."""
+    ch = solver.chain
+    K = ch.grid.size
+    Y, Lf = solver.Y, solver.Lf
+    B = np.array([solver.GJ, solver.EI, solver.EI])
+    ck = solver.ck
+    out = {k: np.zeros(K) for k in ("tension", "strain", "shear", "moment", "torsion", "curvature")}
+    out["velocity"] = np.zeros((K, 3))
+    out["force"] = np.zeros((K, 3))
+    out["moment_vec"] = np.zeros((K, 3))
+    rod = ch.kind == zoning.ROD
+    for c in range(K):
+        if rod[c]:
+            L = Lf[c]
+            out["velocity"][c] = L.T @ Y[c, 0:3]
+            out["force"][c] = L.T @ Y[c, 9:12]
+            out["tension"][c] = Y[c, 9]
+            out["shear"][c] = np.hypot(Y[c, 10], Y[c, 11])
+            q = B * Y[c, 6:9]
+            out["moment_vec"][c] = L.T @ q
+            out["moment"][c] = np.hypot(q[1], q[2])
+            out["torsion"][c] = q[0]
+            out["curvature"][c] = np.hypot(Y[c, 7], Y[c, 8])
+        else:
+            t = Y[c, 4:7] / np.linalg.norm(Y[c, 4:7])
+            out["velocity"][c] = Y[c, 0:3]
+            out["force"][c] = Y[c, 3] * t
+            out["tension"][c] = Y[c, 3]
+            out["strain"][c] = ck * Y[c, 3]
+    cat_idx = np.nonzero(~rod)[0]
+    for c in cat_idx:  # geometric curvature of the catenary (no moment carried)
+        a = c - 1 if c > 0 and not rod[c - 1] and ch.grid[c - 1] != ch.grid[c] else c
+        b = c + 1 if c < K - 1 and not rod[c + 1] and ch.grid[c + 1] != ch.grid[c] else c
+        if b != a:
+            ta = Y[a, 4:7] / np.linalg.norm(Y[a, 4:7])
+            tb = Y[b, 4:7] / np.linalg.norm(Y[b, 4:7])
+            out["curvature"][c] = np.linalg.norm(tb - ta) / (ch.s[b] - ch.s[a])
+    out["s"] = ch.s
+    out["position"] = solver.positions
+    out["zone"] = ch.kind.copy()
+    return out
+
+
+def convert_state(solver, new_zones):
+    """(Y, Yt, Lf, positions, position rates) on the chain of ``new_zones``, converting nodes whose model changed [GP Eq. 13-14]."""
+    old = solver.chain
+    nodes = zoning.chain_nodes(new_zones)
+    K = len(nodes)
+    Y = np.zeros((K, 13))
+    Yt = np.zeros((K, 13))
+    Lf = np.zeros((K, 3, 3))
+    pos = np.zeros((K, 3))
+    rdot = np.zeros((K, 3))
+    src = []
+    for j, kind in nodes:
+        cands = np.nonzero(old.grid == j)[0]
+        same = [c for c in cands if old.kind[c] == kind]
+        src.append((same[0], True) if same else (cands[0], False))
+    for n, ((j, kind), (c, same)) in enumerate(zip(nodes, src)):
+        Lf[n] = solver.Lf[c]
+        pos[n] = solver.positions[c]
+        rdot[n] = solver.rdot[c]
+        if same or kind == zoning.CATENARY:
+            if same:
+                Y[n], Yt[n] = solver.Y[c], solver.Yt[c]
+            else:
+                Y[n, :12], Yt[n, :12] = zoning.rod_to_cat(solver.Y[c], solver.Yt[c], solver.Lf[c])
+    n = 0
+    while n < K:  # rod blocks: frames by minimal rotation from kept frames, then variables
+        if nodes[n][1] != zoning.ROD:
+            n += 1
+            continue
+        m = n
+        while m + 1 < K and nodes[m + 1][1] == zoning.ROD and nodes[m + 1][0] != nodes[m][0]:
+            m += 1
+        block = range(n, m + 1)
+        keep = [src[i][1] for i in block]
+        tang = [solver.Lf[src[i][0]][0] if keep[k] else solver.Y[src[i][0], 4:7] / np.linalg.norm(
+            solver.Y[src[i][0], 4:7]) for k, i in enumerate(block)]
+        frames = zoning.rod_block_frames(tang, [Lf[i] for i in block], keep)
+        ds = solver.ds
+        for k, i in enumerate(block):
+            if keep[k]:
+                continue
+            Lf[i] = frames[k]
+            Y[i, :12], Yt[i, :12] = zoning.cat_to_rod(solver.Y[src[i][0]], solver.Yt[src[i][0]], frames[k])
+            kap = []
+            if k > 0:
+                kap.append(zoning.curvature_between(frames[k - 1], frames[k], ds))
+            if k < len(frames) - 1:
+                kap.append(zoning.curvature_between(frames[k], frames[k + 1], ds))
+            if kap:
+                Y[i, 6:9] = np.mean(kap, axis=0)
+        n = m + 1
+    return Y, Yt, Lf, pos, rdot

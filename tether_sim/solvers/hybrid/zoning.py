@@ -1,0 +1,129 @@
+"""Rod/catenary zoning: which element uses which model, the chain of nodes, state conversion.
+
+Criterion (adaptive zoning)
+---------------------------
+A catenary neglects the shear force EI d(kappa)/ds. Along a catenary the curvature is about w/T
+(w: net distributed load per length) and changes over the length T/w, while bending acts over the
+bending length l_b = sqrt(EI/T). Bending matters where l_b is not small against T/w:
+
+    chi = l_b / (T/w) = sqrt(EI w^2 / T^3)
+
+An element becomes rod when chi > chi_on (T below T_on = (EI w^2/chi_on^2)^(1/3), including T <= 0)
+and returns to catenary only when chi < chi_off < chi_on (hysteresis: T must rise by the factor
+(chi_on/chi_off)^(2/3)). Zones shorter than ``min_zone_elements`` are absorbed into rod (a short
+catenary gap) or dropped (a short rod island), so joints do not chatter. Ends whose condition
+carries a moment or holds the tangent (clamped, held direction) keep a rod zone of at least
+``end_rod_length``. The criterion is evaluated after every accepted step.
+"""
+
+import numpy as np
+
+from tether_sim.numerics.rotations import frame_with_tangent, minimal_rotation, rotation_vector
+
+CATENARY, ROD = 0, 1
+
+
+def tension_ratio(T_elem, EI, w):
+    """chi = sqrt(EI w^2 / T^3) per element (inf where T <= 0)."""
+    T = np.asarray(T_elem, dtype=float)
+    chi = np.full(T.shape, np.inf)
+    pos = T > 0
+    chi[pos] = np.sqrt(EI * w * w / T[pos] ** 3)
+    return chi
+
+
+def classify(T_elem, previous, EI, w, chi_on, chi_off, min_zone, end_rod=(0, 0)):
+    """New element zones from element tensions with hysteresis (see module docstring)."""
+    chi = tension_ratio(T_elem, EI, w)
+    prev = np.asarray(previous)
+    zones = np.where(prev == ROD, np.where(chi < chi_off, CATENARY, ROD), np.where(chi > chi_on, ROD, CATENARY))
+    n = zones.size
+    if end_rod[0] > 0:
+        zones[: min(end_rod[0], n)] = ROD
+    if end_rod[1] > 0:
+        zones[max(n - end_rod[1], 0):] = ROD
+    return _clean_runs(zones, min_zone)
+
+
+def _clean_runs(zones, min_zone):
+    """Fill catenary gaps shorter than min_zone with rod; drop rod islands shorter than min_zone."""
+    zones = zones.copy()
+    for target, fill in ((CATENARY, ROD), (ROD, CATENARY)):
+        runs = _runs(zones)
+        for start, stop, value in runs:
+            if value == target and stop - start < min_zone and len(runs) > 1:
+                zones[start:stop] = fill
+    return zones
+
+
+def _runs(zones):
+    out = []
+    start = 0
+    for e in range(1, zones.size + 1):
+        if e == zones.size or zones[e] != zones[start]:
+            out.append((start, e, int(zones[start])))
+            start = e
+    return out
+
+
+def chain_nodes(zones):
+    """Chain of (grid index, kind): one node per grid point, two at a joint (left zone, right zone)."""
+    nodes = [(0, int(zones[0]))]
+    for j in range(1, zones.size):
+        if zones[j - 1] != zones[j]:
+            nodes.append((j, int(zones[j - 1])))
+        nodes.append((j, int(zones[j])))
+    nodes.append((zones.size, int(zones[-1])))
+    return nodes
+
+
+def cat_to_rod(Yc, Ytc, L):
+    """Rod variables (v, omega, kappa=0, f; and rates) of a catenary node in the frame L (axis 0 = t)."""
+    t = Yc[4:7] / np.linalg.norm(Yc[4:7])
+    tdot = Ytc[4:7]
+    Y = np.zeros(12)
+    Yt = np.zeros(12)
+    Y[0:3] = L @ Yc[0:3]
+    om = L @ np.cross(t, tdot)
+    Y[3:6] = om
+    Y[9:12] = L @ (Yc[3] * t)
+    Yt[0:3] = L @ Ytc[0:3] - np.cross(om, Y[0:3])
+    Yt[9:12] = L @ (Ytc[3] * t + Yc[3] * tdot) - np.cross(om, Y[9:12])
+    return Y, Yt
+
+
+def rod_to_cat(Yr, Ytr, L):
+    """Catenary variables (v, T, t; and rates) of a rod node with frame L."""
+    Y = np.zeros(12)
+    Yt = np.zeros(12)
+    om = Yr[3:6]
+    Y[0:3] = L.T @ Yr[0:3]
+    Y[3] = Yr[9]
+    Y[4:7] = L[0]
+    Yt[0:3] = L.T @ (Ytr[0:3] + np.cross(om, Yr[0:3]))
+    Yt[3] = Ytr[9] + np.cross(om, Yr[9:12])[0]
+    Yt[4:7] = L.T @ np.cross(om, [1.0, 0.0, 0.0])
+    return Y, Yt
+
+
+def rod_block_frames(tangents, ref_frames, keep):
+    """Frames of a rod block: kept ones stay, new ones follow their neighbour by minimal rotation."""
+    n = len(tangents)
+    frames = [None] * n
+    for i in range(n):
+        if keep[i]:
+            frames[i] = ref_frames[i]
+    if not any(keep):
+        frames[0] = frame_with_tangent(tangents[0], ref_frames[0])
+    for i in range(1, n):  # forward sweep from known frames
+        if frames[i] is None and frames[i - 1] is not None:
+            frames[i] = frames[i - 1] @ minimal_rotation(frames[i - 1][0], tangents[i]).T
+    for i in range(n - 2, -1, -1):  # backward sweep for a leading gap
+        if frames[i] is None:
+            frames[i] = frames[i + 1] @ minimal_rotation(frames[i + 1][0], tangents[i]).T
+    return frames
+
+
+def curvature_between(La, Lb, ds):
+    """Body components of kappa from two frames ds apart: L_b = exp(-kappa~ ds) L_a."""
+    return -rotation_vector(Lb @ La.T) / ds
