@@ -152,7 +152,10 @@ def slack_periods(run: RunData) -> dict:
         periods = []
         for a, b in _merge(spans):
             inside = (run.t >= a) & (run.t <= b)
-            low = float(series[inside].min()) if inside.any() else float("nan")
+            event_mins = [e["min"] for e in run.snaps if e["end"] == end
+                          and a <= e["slack_start"] <= b]
+            lows = list(series[inside]) + event_mins  # events see every substep; states do not
+            low = float(min(lows)) if lows else float("nan")
             periods.append({"start": a, "end": b, "duration": b - a, "min_tension": low,
                             "threshold": threshold})
         out[end] = periods

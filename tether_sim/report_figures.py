@@ -11,6 +11,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 END_COLOURS = {"ship": "tab:blue", "vehicle": "tab:orange"}
+ANNOTATED = 5  # snap peaks labelled per end (the largest); all are marked
 
 
 def plot_end_tensions(run, periods: dict, path: Path) -> Path:
@@ -33,7 +34,7 @@ def plot_end_tensions(run, periods: dict, path: Path) -> Path:
         if snaps:
             ax.plot([e["t_peak"] for e in snaps], [e["peak"] / 1e3 for e in snaps], "v",
                     color="tab:red", ms=8, label="snap load (peak)")
-            for e in snaps:
+            for e in sorted(snaps, key=lambda e: -e["peak"])[:ANNOTATED]:
                 ax.annotate(f"{e['peak'] / 1e3:.1f} kN\n×{e['amplification']:.2f}",
                             (e["t_peak"], e["peak"] / 1e3), textcoords="offset points",
                             xytext=(4, 6), fontsize=8, color="tab:red")

@@ -116,7 +116,7 @@ class GraphProbe:
         from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
         from rclpy.serialization import deserialize_message
         from rosgraph_msgs.msg import Clock
-        from tether_sim_msgs.msg import TetherDescription
+        from tether_sim_msgs.msg import TetherDescription, TetherState
 
         from tether_sim.ros.bag_common import clock_qos
 
@@ -124,22 +124,31 @@ class GraphProbe:
         clock_pub = node.create_publisher(Clock, "/clock", clock_qos())
         pose_pub = node.create_publisher(PoseStamped, "/ship/pose",
                                          QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT))
-        seen = []
+        seen, latest = [], [0]
         sub = node.create_subscription(
             TetherDescription, "/tether/description", seen.append,
             QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                        durability=DurabilityPolicy.TRANSIENT_LOCAL))
+
+        def on_state(msg):
+            latest[0] = max(latest[0], msg.header.stamp.sec * 10**9 + msg.header.stamp.nanosec)
+
+        state_sub = node.create_subscription(TetherState, "/tether/state", on_state, 10)
+        hold_ns = t_start_ns - 50_000_000
+        # ready = solver built and stepping caught up with the held clock (the first steps
+        # compile the stepping kernels, which must not eat replayed time either)
         pose = deserialize_message(pose_cdr, PoseStamped)
         clock = Clock()
         t0 = time.monotonic()
         last_pose = -1.0
         try:
-            while not seen:
+            while not (seen and latest[0] >= hold_ns - 500_000_000):
                 check()
                 elapsed = time.monotonic() - t0
                 if elapsed > timeout_s:
                     raise StepFailed(f"the node did not start its solver within {timeout_s:.0f} s "
-                                     f"(no /tether/description)")
+                                     f"(description seen: {bool(seen)}, last state "
+                                     f"{(latest[0] - t_start_ns) / 1e9:+.2f} s from the start)")
                 now_ns = t_start_ns - int(1e9 * max(0.05, lead_s - elapsed))
                 clock.clock.sec, clock.clock.nanosec = divmod(now_ns, 10**9)
                 clock_pub.publish(clock)
@@ -150,6 +159,7 @@ class GraphProbe:
                 self._spin(0.02)
         finally:
             node.destroy_subscription(sub)
+            node.destroy_subscription(state_sub)
             node.destroy_publisher(pose_pub)
             node.destroy_publisher(clock_pub)
         return time.monotonic() - t0
@@ -281,9 +291,11 @@ def _terminate(signum, _frame):
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m tether_sim.ros.main_job", description=__doc__.split("\n")[0])
-    parser.add_argument("--rate", type=float, default=4.0, help="replay speed factor (default 4)")
+    parser.add_argument("--rate", type=float, default=1.0, help="replay speed factor (default 1)")
     parser.add_argument("--start-offset", type=float, default=0.0, help="skip seconds of the record")
-    parser.add_argument("--duration", type=float, default=0.0, help="replay seconds (0: whole record)")
+    parser.add_argument("--duration", type=float, default=120.0,
+                        help="replay seconds (default 120: the calm tapered start and the first "
+                             "large waves at 20-30 s; 0: the whole 600 s record)")
     parser.add_argument("--params", default=str(PARAMS), help="parameter file of the node")
     parser.add_argument("--out", default=str(OUT), help="output directory")
     parser.add_argument("--domain-id", type=int, default=None, help="ROS_DOMAIN_ID (default: from the PID)")
@@ -302,6 +314,12 @@ def main(argv=None) -> int:
     group = ProcessGroup(isolated_env(domain), out / "logs", root)
     try:
         checked = preflight(root, Path(args.params))
+        motion = checked["config"].motion
+        say(f"ship motion: {RECORD} ({checked['record'].message_count} poses, "
+            f"{(checked['record'].end_ns - checked['record'].start_ns) / 1e9:.0f} s) replayed byte for "
+            f"byte; the node uses the poses as received"
+            + (f" (record_scale {motion.record_scale:g} in {args.params} applies to offline runs "
+               f"only)" if motion.record_scale != 1.0 else ""))
         mcap = run_live(root, out, args, group, checked)
         from tether_sim.report import ReportError, make_report
 
