@@ -310,16 +310,16 @@ def main(argv=None) -> int:
     domain = args.domain_id if args.domain_id is not None else 30 + os.getpid() % 70
     os.environ.update(isolated_env(domain))  # the graph probe joins the same private domain
     t_start = time.monotonic()
-    signal.signal(signal.SIGTERM, _terminate)  # stop the children on SIGTERM as on Ctrl-C
+    old_handler = signal.signal(signal.SIGTERM, _terminate)  # stop the children on SIGTERM too
     group = ProcessGroup(isolated_env(domain), out / "logs", root)
     try:
         checked = preflight(root, Path(args.params))
-        motion = checked["config"].motion
-        say(f"ship motion: {RECORD} ({checked['record'].message_count} poses, "
-            f"{(checked['record'].end_ns - checked['record'].start_ns) / 1e9:.0f} s) replayed byte for "
-            f"byte; the node uses the poses as received"
-            + (f" (record_scale {motion.record_scale:g} in {args.params} applies to offline runs "
-               f"only)" if motion.record_scale != 1.0 else ""))
+        motion, record = checked["config"].motion, checked["record"]
+        say(f"ship motion: {RECORD} ({record.message_count} poses over "
+            f"{(record.end_ns - record.start_ns) / 1e9:.0f} s; SYNTHETIC seeded sea, see "
+            f"tools/make_ropos_record.py) is replayed byte for byte and the node uses the poses as "
+            f"received, so the recorded amplitude is the simulated one; motion.record_scale "
+            f"(= {motion.record_scale:g} in {args.params}) applies only to offline runs")
         mcap = run_live(root, out, args, group, checked)
         from tether_sim.report import ReportError, make_report
 
@@ -338,6 +338,7 @@ def main(argv=None) -> int:
         return 130
     finally:
         group.stop_all()
+        signal.signal(signal.SIGTERM, old_handler)
 
 
 if __name__ == "__main__":
