@@ -29,15 +29,11 @@ RATE_HZ, N_POSES = 50, 75  # 1.5 s of ship poses
 pytestmark = pytest.mark.ros
 
 
-def ros_env(domain: int) -> dict:
-    env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
-               PYTHONUNBUFFERED="1")
+def ros_env(isolated: dict) -> dict:
+    """The conftest's isolated environment (own domain, localhost) for this test's processes."""
+    env = dict(isolated, PYTHONUNBUFFERED="1", ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
     env["PYTHONPATH"] = os.pathsep.join([str(REPO), env.get("PYTHONPATH", "")]).rstrip(os.pathsep)
     return env
-
-
-def domain_for(offset: int) -> int:
-    return 20 + (os.getpid() * 7 + offset) % 80  # <= 101 keeps the DDS ports valid
 
 
 def start(module: str, *args, env):
@@ -90,10 +86,10 @@ def write_input(path: Path) -> list:
     return payloads
 
 
-def test_replay_to_recorder_keeps_bytes_timing_and_clock(tmp_path):
+def test_replay_to_recorder_keeps_bytes_timing_and_clock(tmp_path, isolated_ros_env):
     src, rec = tmp_path / "input.mcap", tmp_path / "rec.mcap"
     payloads = write_input(src)
-    env = ros_env(domain_for(1))
+    env = ros_env(isolated_ros_env)
     # the recorder runs on sim time (as in the ROPOS run): log_time = its /clock-driven now()
     recorder = start("tether_sim.ros.recorder_node", "-o", rec, "/ship/pose", "/tether/description",
                      "/clock", "--ros-args", "-p", "flush_interval_s:=0.2", "-p", "use_sim_time:=true",
@@ -140,10 +136,10 @@ def test_replay_to_recorder_keeps_bytes_timing_and_clock(tmp_path):
     assert xs == [float(i) for i in range(N_POSES)]
 
 
-def test_recorder_sigkill_keeps_complete_chunks(tmp_path):
+def test_recorder_sigkill_keeps_complete_chunks(tmp_path, isolated_ros_env):
     src, rec = tmp_path / "input.mcap", tmp_path / "killed.mcap"
     write_input(src)
-    env = ros_env(domain_for(2))
+    env = ros_env(isolated_ros_env)
     recorder = start("tether_sim.ros.recorder_node", "-o", rec, "/ship/pose", "--ros-args",
                      "-p", "flush_interval_s:=0.1", env=env)
     replay = start("tether_sim.ros.replay_node", src, "--loop", "--no-clock", "--topics", "/ship/pose",
@@ -205,13 +201,13 @@ def write_heave_input(path: Path) -> bytes:
     return first
 
 
-def test_replay_node_recorder_chain_decodes_custom_messages(tmp_path):
+def test_replay_node_recorder_chain_decodes_custom_messages(tmp_path, isolated_ros_env):
     pytest.importorskip("tether_sim_msgs")
     from tether_sim.ros.main_job import GraphProbe
 
     src, rec = tmp_path / "heave.mcap", tmp_path / "chain.mcap"
     first_pose = write_heave_input(src)
-    env = ros_env(domain_for(3))
+    env = ros_env(isolated_ros_env)
     recorder = start("tether_sim.ros.recorder_node", "-o", rec, "/tether/state", "/tether/description",
                      "/tether/ship_wrench", "--ros-args", "-p", "use_sim_time:=true", env=env)
     node = start("tether_sim.ros.sim_node", "--ros-args", "--params-file", node_params_file(tmp_path / "p.yaml"),

@@ -24,7 +24,8 @@ import sys
 import time
 from pathlib import Path
 
-from tether_sim.ros.processes import ProcessGroup, StepFailed, command_for, isolated_env
+from tether_sim.ros.processes import (ProcessGroup, StepFailed, claim_domain_id, command_for,
+                                      isolated_env)
 
 REPO = Path(__file__).resolve().parents[2]
 RECORD = Path("data/ropos_ship_heave.mcap")
@@ -279,6 +280,20 @@ def print_findings(result: dict, static_expected, out: Path) -> None:
         f"\n    {e['end']:7s} s={e['arc_length']:7.1f} m  peak {e['peak']:.0f} N at {e['t_peak']:.2f} s "
         f"(static {e['static']:.0f} N, x{e['amplification']:.2f}, slack {e['slack_duration']:.2f} s)"
         for e in snaps[:15]) + ("\n    ..." if len(snaps) > 15 else ""))
+    from tether_sim.report import node_health
+
+    health = node_health(run)
+    if health is None:
+        say("node health: no /diagnostics recorded")
+    else:
+        skipped = health["dropped_s"]
+        say(f"node health: real-time factor {health['real_time_factor']:.2f} (last second), "
+            f"{skipped:.1f} s of {run.t[-1]:.1f} s of clock time skipped (solver behind), "
+            f"{health['divergences']:.0f} divergence recoveries")
+        if skipped > 0.05 * max(run.t[-1], 1e-9):
+            say(f"WARNING: the node could not keep up with the replay on this machine and skipped "
+                f"{skipped:.1f} s of the record; the tensions above cover only the simulated "
+                f"stretches. Re-run slower, e.g. `python -m tether_sim.ros.main_job --rate 0.5`.")
     say(f"MCAP:    {out / MCAP_NAME}")
     for name, path in result["figures"].items():
         say(f"figure:  {path}  ({name})")
@@ -298,7 +313,8 @@ def main(argv=None) -> int:
                              "large waves at 20-30 s; 0: the whole 600 s record)")
     parser.add_argument("--params", default=str(PARAMS), help="parameter file of the node")
     parser.add_argument("--out", default=str(OUT), help="output directory")
-    parser.add_argument("--domain-id", type=int, default=None, help="ROS_DOMAIN_ID (default: from the PID)")
+    parser.add_argument("--domain-id", type=int, default=None,
+                        help="ROS_DOMAIN_ID (default: a free one, claimed with a lock file)")
     parser.add_argument("--discovery-timeout", type=float, default=90.0, help="s to wait for the graph")
     parser.add_argument("--solver-timeout", type=float, default=600.0,
                         help="s to wait for the node to build its solver")
@@ -307,9 +323,13 @@ def main(argv=None) -> int:
     os.chdir(root)
     out = (root / args.out).resolve()
     out.mkdir(parents=True, exist_ok=True)
-    domain = args.domain_id if args.domain_id is not None else 30 + os.getpid() % 70
-    os.environ.update(isolated_env(domain))  # the graph probe joins the same private domain
     t_start = time.monotonic()
+    try:
+        domain = args.domain_id if args.domain_id is not None else claim_domain_id()
+    except StepFailed as exc:
+        say(f"FAILED: {exc}")
+        return 1
+    os.environ.update(isolated_env(domain))  # the graph probe joins the same private domain
     old_handler = signal.signal(signal.SIGTERM, _terminate)  # stop the children on SIGTERM too
     group = ProcessGroup(isolated_env(domain), out / "logs", root)
     try:
