@@ -28,6 +28,7 @@ STATE_TYPE = "tether_sim_msgs/msg/TetherState"
 SNAP_TYPE = "tether_sim_msgs/msg/SnapLoadEvent"
 SLACK_TYPE = "tether_sim_msgs/msg/SlackWarning"
 WRENCH_TYPE = "geometry_msgs/msg/WrenchStamped"
+DIAGNOSTICS_TYPE = "diagnostic_msgs/msg/DiagnosticArray"
 ENDS = ("ship", "vehicle")
 
 
@@ -57,6 +58,7 @@ class RunData:
     snaps: list = field(default_factory=list)      # dicts, times relative to t0
     warnings: list = field(default_factory=list)   # dicts
     wrench: dict = field(default_factory=dict)     # end -> (t (n,), |F| (n,))
+    diagnostics: dict = field(default_factory=dict)  # status name -> {key: value} (last seen)
 
 
 def _topics_of(summary, type_name):
@@ -74,7 +76,8 @@ def load_run(path) -> RunData:
     state_topic = "/tether/state" if "/tether/state" in state_topics else state_topics[0]
     wrench_topics = {end: t for t in _topics_of(summary, WRENCH_TYPE) for end in ENDS if end in t}
     wanted = [state_topic, *_topics_of(summary, SNAP_TYPE), *_topics_of(summary, SLACK_TYPE),
-              *wrench_topics.values()]
+              *wrench_topics.values(), *_topics_of(summary, DIAGNOSTICS_TYPE)]
+    diagnostics = {}
     times, positions, tensions, ends, snaps, warns = [], [], [], {e: [] for e in ENDS}, [], []
     wrench = {end: ([], []) for end in wrench_topics}
     arc, solver = None, ""
@@ -101,6 +104,10 @@ def load_run(path) -> RunData:
             warns.append({"end": msg.end, "arc_length": msg.arc_length,
                           "t": stamp_seconds(msg.header.stamp), "tension": msg.tension,
                           "threshold": msg.threshold})
+        elif type_name == DIAGNOSTICS_TYPE:
+            for status in msg.status:
+                diagnostics[status.name] = {"message": status.message,
+                                            **{kv.key: kv.value for kv in status.values}}
         elif type_name == WRENCH_TYPE:
             end = next(e for e, t in wrench_topics.items() if t == topic)
             f = msg.wrench.force
@@ -119,7 +126,8 @@ def load_run(path) -> RunData:
     return RunData(path, t0, solver, t[order] - t0, arc, np.asarray(positions)[order],
                    np.asarray(tensions)[order],
                    {e: np.asarray(v, dtype=float)[order] for e, v in ends.items()}, snaps, warns,
-                   {e: (np.asarray(tw) - t0, np.asarray(fw)) for e, (tw, fw) in wrench.items()})
+                   {e: (np.asarray(tw) - t0, np.asarray(fw)) for e, (tw, fw) in wrench.items()},
+                   diagnostics)
 
 
 def below_intervals(t: np.ndarray, values: np.ndarray, threshold: float) -> list[tuple[float, float]]:
@@ -152,11 +160,29 @@ def slack_periods(run: RunData) -> dict:
         periods = []
         for a, b in _merge(spans):
             inside = (run.t >= a) & (run.t <= b)
-            low = float(series[inside].min()) if inside.any() else float("nan")
+            event_mins = [e["min"] for e in run.snaps if e["end"] == end
+                          and a <= e["slack_start"] <= b]
+            lows = list(series[inside]) + event_mins  # events see every substep; states do not
+            low = float(min(lows)) if lows else float("nan")
             periods.append({"start": a, "end": b, "duration": b - a, "min_tension": low,
                             "threshold": threshold})
         out[end] = periods
     return out
+
+
+def node_health(run: RunData) -> dict | None:
+    """From the node's last /diagnostics: real-time factor, clock time skipped, recoveries."""
+    for name, values in run.diagnostics.items():
+        if "dropped_total" in values:
+            def number(key):
+                try:
+                    return float(values.get(key, "nan"))
+                except ValueError:
+                    return float("nan")
+            return {"status": name, "real_time_factor": number("real_time_factor"),
+                    "dropped_s": number("dropped_total"), "divergences": number("divergences"),
+                    "capped_ticks": number("capped_ticks")}
+    return None
 
 
 def static_tensions(run: RunData) -> dict:
@@ -195,6 +221,12 @@ def summary_markdown(run: RunData, periods: dict, figures: dict) -> str:
                      f"{e['rise_time']:.3f} | {e['criterion']} |")
     if not run.snaps:
         lines.append("| (none) | | | | | | | | | | | |")
+    health = node_health(run)
+    if health:
+        lines += ["", "## Node health (last /diagnostics)", "",
+                  f"Real-time factor {health['real_time_factor']:.2f}; clock time skipped because the "
+                  f"solver was behind: {health['dropped_s']:.1f} s of {duration:.1f} s; divergence "
+                  f"recoveries: {health['divergences']:.0f}; ticks capped: {health['capped_ticks']:.0f}."]
     counts = {end: sum(w["end"] == end for w in run.warnings) for end in ("ship", "vehicle", "span")}
     lines += ["", "Slack warnings: " + ", ".join(f"{k} {v}" for k, v in counts.items()) + ".",
               "", "## Figures", ""] + [f"- {name}: `{path}`" for name, path in figures.items()]

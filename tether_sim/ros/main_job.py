@@ -24,7 +24,8 @@ import sys
 import time
 from pathlib import Path
 
-from tether_sim.ros.processes import ProcessGroup, StepFailed, command_for, isolated_env
+from tether_sim.ros.processes import (ProcessGroup, StepFailed, claim_domain_id, command_for,
+                                      isolated_env)
 
 REPO = Path(__file__).resolve().parents[2]
 RECORD = Path("data/ropos_ship_heave.mcap")
@@ -39,15 +40,16 @@ def say(text: str) -> None:
     print(f"[main_job {time.strftime('%H:%M:%S')}] {text}", flush=True)
 
 
-def preflight(root: Path, build: bool = True) -> dict:
+def preflight(root: Path, params: Path = PARAMS) -> dict:
     """Check every piece the run needs; returns {config, static, record}. Raises StepFailed."""
+    import importlib
     import importlib.util
 
     missing = []
     if not (root / RECORD).is_file():
         missing.append(f"the ship-motion record {RECORD} (tools/make_ropos_record.py, ROPOS issue)")
-    if not (root / PARAMS).is_file():
-        missing.append(f"the parameter file {PARAMS} (ROPOS issue)")
+    if not (root / params).is_file():
+        missing.append(f"the parameter file {params} (ROPOS issue)")
     if importlib.util.find_spec("tether_sim.ros.sim_node") is None:
         missing.append("the simulation node tether_sim/ros/sim_node.py (console script tether-sim)")
     if importlib.util.find_spec("tether_sim_msgs") is None:
@@ -59,29 +61,24 @@ def preflight(root: Path, build: bool = True) -> dict:
     from tether_sim.io.params import load_config
 
     try:
-        config = load_config(root / PARAMS)
+        config = load_config(root / params)
     except ConfigError as exc:
-        raise StepFailed(f"{PARAMS} is not valid: {exc}") from exc
+        raise StepFailed(f"{params} is not valid: {exc}") from exc
     try:
         record = read_summary(root / RECORD)
     except McapLogError as exc:
         raise StepFailed(str(exc)) from exc
     if "/ship/pose" not in record.topics:
         raise StepFailed(f"{RECORD} has no /ship/pose topic (topics: {sorted(record.topics)})")
-    static = None
-    if build:
-        from tether_sim.solvers.factory import build_solver
+    from tether_sim.solvers import factory
 
-        t = time.monotonic()
-        try:
-            solver = build_solver(config)
-            forces = solver.end_forces()
-        except Exception as exc:  # noqa: BLE001 - any failure here means the solver is unusable
-            raise StepFailed(f"the {config.solver!r} solver is not available in this checkout "
-                             f"({type(exc).__name__}: {exc})") from exc
-        static = (float(forces.ship_tension), float(forces.vehicle_tension))
-        say(f"solver {config.solver!r} built in {time.monotonic() - t:.1f} s; static end tensions "
-            f"{static[0]:.0f} N (ship), {static[1]:.0f} N (vehicle)")
+    module_name, class_name = factory._SOLVERS.get(config.solver, (None, None))
+    try:
+        getattr(importlib.import_module(module_name), class_name)
+    except Exception as exc:  # noqa: BLE001 - any failure here means the solver is unusable
+        raise StepFailed(f"the {config.solver!r} solver ({module_name}.{class_name}) is not "
+                         f"available in this checkout ({type(exc).__name__}: {exc})") from exc
+    static = None
     return {"config": config, "static": static, "record": record}
 
 
@@ -107,12 +104,83 @@ class GraphProbe:
                 waiting.append(topic)
         return waiting
 
+    def prime(self, t_start_ns: int, pose_cdr: bytes, timeout_s: float, check,
+              lead_s: float = 2.0) -> float:
+        """Run /clock from ``lead_s`` before the record's start up to just before it, then hold,
+        offering the record's first ship pose (stamped with the clock), until the node has built
+        its solver (its latched /tether/description appears); returns the wall time it took.
+
+        The node builds the solver (static equilibrium) on its first timer tick, which needs the
+        clock to move and can take long; holding the clock keeps that out of the replayed time,
+        like a paused player. The replay then continues the clock from the record's start."""
+        from geometry_msgs.msg import PoseStamped
+        from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+        from rclpy.serialization import deserialize_message
+        from rosgraph_msgs.msg import Clock
+        from tether_sim_msgs.msg import TetherDescription, TetherState
+
+        from tether_sim.ros.bag_common import clock_qos
+
+        node = self.node
+        clock_pub = node.create_publisher(Clock, "/clock", clock_qos())
+        pose_pub = node.create_publisher(PoseStamped, "/ship/pose",
+                                         QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT))
+        seen, latest = [], [0]
+        sub = node.create_subscription(
+            TetherDescription, "/tether/description", seen.append,
+            QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                       durability=DurabilityPolicy.TRANSIENT_LOCAL))
+
+        def on_state(msg):
+            latest[0] = max(latest[0], msg.header.stamp.sec * 10**9 + msg.header.stamp.nanosec)
+
+        state_sub = node.create_subscription(TetherState, "/tether/state", on_state, 10)
+        hold_ns = t_start_ns - 50_000_000
+        # ready = solver built and stepping caught up with the held clock (the first steps
+        # compile the stepping kernels, which must not eat replayed time either)
+        pose = deserialize_message(pose_cdr, PoseStamped)
+        clock = Clock()
+        t0 = time.monotonic()
+        last_pose = -1.0
+        try:
+            while not (seen and latest[0] >= hold_ns - 500_000_000):
+                check()
+                elapsed = time.monotonic() - t0
+                if elapsed > timeout_s:
+                    raise StepFailed(f"the node did not start its solver within {timeout_s:.0f} s "
+                                     f"(description seen: {bool(seen)}, last state "
+                                     f"{(latest[0] - t_start_ns) / 1e9:+.2f} s from the start)")
+                now_ns = t_start_ns - int(1e9 * max(0.05, lead_s - elapsed))
+                clock.clock.sec, clock.clock.nanosec = divmod(now_ns, 10**9)
+                clock_pub.publish(clock)
+                if elapsed - last_pose >= 0.2:
+                    last_pose = elapsed
+                    pose.header.stamp = clock.clock
+                    pose_pub.publish(pose)
+                self._spin(0.02)
+        finally:
+            node.destroy_subscription(sub)
+            node.destroy_subscription(state_sub)
+            node.destroy_publisher(pose_pub)
+            node.destroy_publisher(clock_pub)
+        return time.monotonic() - t0
+
+    def _spin(self, seconds: float) -> None:
+        from rclpy.executors import SingleThreadedExecutor
+
+        if not hasattr(self, "_executor"):
+            self._executor = SingleThreadedExecutor(context=self.context)
+            self._executor.add_node(self.node)
+        self._executor.spin_once(timeout_sec=seconds)
+
     def close(self):
+        if hasattr(self, "_executor"):
+            self._executor.shutdown()
         self.node.destroy_node()
         self.rclpy.try_shutdown(context=self.context)
 
 
-def run_live(root: Path, out: Path, args, group: ProcessGroup) -> Path:
+def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) -> Path:
     """Recorder + node, wait for discovery, replay, stop. Returns the recorded MCAP path."""
     mcap = out / MCAP_NAME
     if mcap.exists():
@@ -121,7 +189,7 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup) -> Path:
         "--ros-args", "--params-file", str(root / "config/recorder.yaml"),
         "-p", f"output:={mcap}", "-p", "use_sim_time:=true"])
     node = group.start("tether_sim", command_for("tether-sim") + [
-        "--ros-args", "--params-file", str(root / PARAMS), "-p", "use_sim_time:=true"])
+        "--ros-args", "--params-file", str(root / args.params), "-p", "use_sim_time:=true"])
     say(f"started recorder (pid {recorder.proc.pid}) and simulation node (pid {node.proc.pid}) "
         f"in ROS_DOMAIN_ID={group.env['ROS_DOMAIN_ID']}")
     probe = GraphProbe()
@@ -141,6 +209,20 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup) -> Path:
             time.sleep(0.2)
             waiting = probe.recorder_matched(NODE_OUTPUTS)
         say("discovery complete: the recorder is subscribed to the node's outputs")
+        from tether_sim.io.mcap_log import iter_raw
+
+        first = next(r for r in iter_raw(root / RECORD, ["/ship/pose"])
+                     if r.log_time_ns >= checked["record"].start_ns + int(args.start_offset * 1e9))
+        say("holding /clock at the record's start while the node builds its solver ...")
+
+        def check():
+            group.check_alive()
+            if not node.alive:
+                raise StepFailed(f"the simulation node stopped while starting; last lines of "
+                                 f"{node.log_path}:\n{node.tail()}")
+
+        took = probe.prime(first.log_time_ns, first.data, args.solver_timeout, check)
+        say(f"the node started its solver after {took:.1f} s")
     finally:
         probe.close()
     replay_args = ["--ros-args", "--params-file", str(root / "config/replay.yaml"),
@@ -198,32 +280,67 @@ def print_findings(result: dict, static_expected, out: Path) -> None:
         f"\n    {e['end']:7s} s={e['arc_length']:7.1f} m  peak {e['peak']:.0f} N at {e['t_peak']:.2f} s "
         f"(static {e['static']:.0f} N, x{e['amplification']:.2f}, slack {e['slack_duration']:.2f} s)"
         for e in snaps[:15]) + ("\n    ..." if len(snaps) > 15 else ""))
+    from tether_sim.report import node_health
+
+    health = node_health(run)
+    if health is None:
+        say("node health: no /diagnostics recorded")
+    else:
+        skipped = health["dropped_s"]
+        say(f"node health: real-time factor {health['real_time_factor']:.2f} (last second), "
+            f"{skipped:.1f} s of {run.t[-1]:.1f} s of clock time skipped (solver behind), "
+            f"{health['divergences']:.0f} divergence recoveries")
+        if skipped > 0.05 * max(run.t[-1], 1e-9):
+            say(f"WARNING: the node could not keep up with the replay on this machine and skipped "
+                f"{skipped:.1f} s of the record; the tensions above cover only the simulated "
+                f"stretches. Re-run slower, e.g. `python -m tether_sim.ros.main_job --rate 0.5`.")
     say(f"MCAP:    {out / MCAP_NAME}")
     for name, path in result["figures"].items():
         say(f"figure:  {path}  ({name})")
     say(f"summary: {result['report_path']}")
 
 
+def _terminate(signum, _frame):
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m tether_sim.ros.main_job", description=__doc__.split("\n")[0])
-    parser.add_argument("--rate", type=float, default=4.0, help="replay speed factor (default 4)")
+    parser.add_argument("--rate", type=float, default=1.0, help="replay speed factor (default 1)")
     parser.add_argument("--start-offset", type=float, default=0.0, help="skip seconds of the record")
-    parser.add_argument("--duration", type=float, default=0.0, help="replay seconds (0: whole record)")
+    parser.add_argument("--duration", type=float, default=120.0,
+                        help="replay seconds (default 120: the calm tapered start and the first "
+                             "large waves at 20-30 s; 0: the whole 600 s record)")
+    parser.add_argument("--params", default=str(PARAMS), help="parameter file of the node")
     parser.add_argument("--out", default=str(OUT), help="output directory")
-    parser.add_argument("--domain-id", type=int, default=None, help="ROS_DOMAIN_ID (default: from the PID)")
+    parser.add_argument("--domain-id", type=int, default=None,
+                        help="ROS_DOMAIN_ID (default: a free one, claimed with a lock file)")
     parser.add_argument("--discovery-timeout", type=float, default=90.0, help="s to wait for the graph")
+    parser.add_argument("--solver-timeout", type=float, default=600.0,
+                        help="s to wait for the node to build its solver")
     args = parser.parse_args(argv)
     root = Path.cwd() if (Path.cwd() / "config").is_dir() else REPO
     os.chdir(root)
     out = (root / args.out).resolve()
     out.mkdir(parents=True, exist_ok=True)
-    domain = args.domain_id if args.domain_id is not None else 30 + os.getpid() % 70
-    os.environ.update(isolated_env(domain))  # the graph probe joins the same private domain
     t_start = time.monotonic()
+    try:
+        domain = args.domain_id if args.domain_id is not None else claim_domain_id()
+    except StepFailed as exc:
+        say(f"FAILED: {exc}")
+        return 1
+    os.environ.update(isolated_env(domain))  # the graph probe joins the same private domain
+    old_handler = signal.signal(signal.SIGTERM, _terminate)  # stop the children on SIGTERM too
     group = ProcessGroup(isolated_env(domain), out / "logs", root)
     try:
-        checked = preflight(root)
-        mcap = run_live(root, out, args, group)
+        checked = preflight(root, Path(args.params))
+        motion, record = checked["config"].motion, checked["record"]
+        say(f"ship motion: {RECORD} ({record.message_count} poses over "
+            f"{(record.end_ns - record.start_ns) / 1e9:.0f} s; SYNTHETIC seeded sea, see "
+            f"tools/make_ropos_record.py) is replayed byte for byte and the node uses the poses as "
+            f"received, so the recorded amplitude is the simulated one; motion.record_scale "
+            f"(= {motion.record_scale:g} in {args.params}) applies only to offline runs")
+        mcap = run_live(root, out, args, group, checked)
         from tether_sim.report import ReportError, make_report
 
         try:
@@ -241,6 +358,7 @@ def main(argv=None) -> int:
         return 130
     finally:
         group.stop_all()
+        signal.signal(signal.SIGTERM, old_handler)
 
 
 if __name__ == "__main__":
