@@ -353,6 +353,8 @@ class HybridRodCatenarySolver(InitialStateMixin):
             elif self.ends[e].kind in ("fixed", "clamped"):
                 self.positions[node] = self.ends[e].position
         for first, last in rod_blocks(ch):  # rod shape by integrating its tangents from the block start
+            if first > 0 and ch.grid[first] == ch.grid[first - 1]:
+                self.positions[first] = self.positions[first - 1]  # starts at the joint's catenary node
             for c in range(first + 1, last + 1):
                 la, lb = 1.0 + self._strain(self.Y[c - 1, 9]), 1.0 + self._strain(self.Y[c, 9])
                 self.positions[c] = self.positions[c - 1] + 0.5 * (ch.s[c] - ch.s[c - 1]) * (
