@@ -2,7 +2,8 @@
 
 Clock mapping: a solver time ``t_sim`` corresponds to the clock time ``anchor + t_sim`` (node clock:
 wall time, /clock, or the stamps of an input recording). Each :meth:`SimulationDriver.tick` advances
-the solver towards ``now - anchor``:
+the solver towards ``now - node.input_delay - anchor`` (the small delay lets pose inputs be
+interpolated between samples instead of extrapolated):
 
 1. If the clock went backwards (a replay loop), the pose histories are reset and the anchor moves
    so that the simulation continues from its current state (reported as a clock jump).
@@ -112,7 +113,9 @@ class SimulationDriver:
         return cfg
 
     def start(self, now: float) -> None:
-        """Build the solver (static equilibrium at the current end positions) at clock time ``now``."""
+        """Build the solver (static equilibrium at the current end positions) at clock time ``now``
+        (minus ``node.input_delay``)."""
+        now -= self.config.node.input_delay
         self._solver_config = self._start_config(now)
         self._commanded = {}
         self._last_position = {}
@@ -171,6 +174,7 @@ class SimulationDriver:
         """Advance towards clock time ``now`` under the policy of the module docstring."""
         if self.solver is None:
             self.start(now)
+        now -= self.config.node.input_delay  # simulate the past, where the inputs are known
         report = TickReport(stamp=self.stamp)
         if self.last_now is not None and now < self.last_now:
             report.clock_jump = True

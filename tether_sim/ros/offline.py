@@ -91,8 +91,9 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
     from tether_sim.io.mcap_log import RosMcapWriter
 
     topics = topics or {"ship": "/ship/pose", "vehicle": "/vehicle/pose"}
-    # offline: never drop lag, never cap a tick (the loop below repeats a tick until it is done)
-    config = replace(config, node=replace(config.node, max_lag=math.inf))
+    # offline: never drop lag, never cap a tick (the loop below repeats a tick until it is done);
+    # no input delay: the recorded poses are fed one sample ahead of the clock
+    config = replace(config, node=replace(config.node, max_lag=math.inf, input_delay=0.0))
     recorded = read_pose_inputs(input_path, config, topics) if input_path else {}
     if recorded:
         sources = {end: r.input for end, r in recorded.items()}

@@ -137,7 +137,7 @@ class TetherSimNode(Node):
         try:
             report = self.driver.tick(now)
             self._handle_report(now, report)
-            if self.driver.stamp > self._last_output:  # one output per simulated instant
+            if self.driver.stamp > max(self._last_output, 0.0):  # one output per simulated instant
                 self._last_output = self.driver.stamp
                 for topic, msg in convert.tick_outputs(self.driver, self.arc_lengths):
                     self.pubs[topic].publish(msg)
