@@ -83,8 +83,7 @@ DATA_LIST="$(cd "$ROOT" && for f in config/*.yaml data/*; do [[ -f "$f" ]] && pr
 shopt -u nullglob
 PKG_HASH="$(hash_of "$MSGS_HASH" "${PKG_INPUTS[@]}")"
 LINKS_HASH="$(hash_of "$PKG_HASH" "$DATA_LIST")"
-SITE_GLOB=("$VENV"/lib/python3.11/site-packages)
-SITE="${SITE_GLOB[0]}"
+SITE="$VENV/lib/python3.11/site-packages"
 
 if venv_works && stamp_ok deps "$DEPS_HASH" && stamp_ok msgs "$MSGS_HASH" && stamp_ok pkg "$PKG_HASH" &&
     stamp_ok links "$LINKS_HASH" && [[ -d "$SITE/tether_sim_msgs" ]] && links_ok; then
@@ -116,7 +115,6 @@ if ! venv_works || ! stamp_ok deps "$DEPS_HASH"; then
     "$VENV/bin/python" "$ROOT/tools/fix_cmake_paths.py" "$VENV"
     stamp_set deps "$DEPS_HASH"
 fi
-SITE="$VENV/lib/python3.11/site-packages"
 
 # AMENT_PREFIX_PATH for every Python of the venv (the wheels do not set it; ament_index needs it)
 cat > "$SITE/tether_sim_ament_prefix.pth" <<'PTH'
