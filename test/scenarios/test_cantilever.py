@@ -16,7 +16,7 @@ from tether_sim.scenarios import cantilever
 
 # Burst lengths: the Hann main lobe (+-2/cycles of omega_i) must miss the neighbouring modes
 # (omega_2/omega_1 = 6.3; omega_2,4/omega_3 = 0.36, 1.96; omega_4,6/omega_5 = 0.60, 1.49).
-CASES = {1: dict(n_elements=4, cycles=1, free_periods=1.25), 3: dict(n_elements=6, cycles=6),
+CASES = {1: dict(n_elements=4, cycles=2, free_periods=1.25), 3: dict(n_elements=6, cycles=6),
          5: dict(n_elements=8, cycles=8)}
 
 

@@ -28,7 +28,7 @@ NAME = "cantilever"
 AMPLITUDE = 1e-3  # m, tip amplitude A
 # Burst cycles per mode: the Hann main lobe (+-2/cycles of omega_i) must miss the neighbouring
 # modes (omega_2/omega_1 = 6.3; omega_2,4/omega_3 = 0.36, 1.96; omega_4,6/omega_5 = 0.60, 1.49).
-BURST_CYCLES = {1: 1, 2: 4, 3: 6, 4: 8, 5: 8}
+BURST_CYCLES = {1: 3, 2: 4, 3: 6, 4: 8, 5: 8}
 
 
 def burst_force(t, mode, omega, duration, f0):
