@@ -119,12 +119,17 @@ def figure_snap_detail(results, path, length=200.0, frequency=0.2):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    cases = [r for r in results if r.length == length and r.frequency == frequency and r.t.size]
-    snaps = [e.time for r in cases for e in r.snaps("vehicle") if e.time * frequency >= 8.0]
+    cases = sorted((r for r in results if r.length == length and r.frequency == frequency and r.t.size),
+                   key=lambda r: r.alpha)
     if not cases:
         return None
-    t0 = min(snaps) if snaps else 8.65 / frequency
-    window = (t0 - 1.0, t0 + 1.0)
+    # The paper looks at period 8.65; runs here may be shorter: take the last snap of the flexible
+    # tether that is at least 1 s before the end, and centre the window on its slack end.
+    flexible = [e for e in cases[0].snaps("vehicle") if e.time < cases[0].t[-1] - 1.0]
+    if not flexible:
+        return None
+    t0 = flexible[-1].slack_start + flexible[-1].slack_duration
+    window = (t0 - 0.4, t0 + 0.8)
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
     for r in cases:
         ls = STYLES.get(r.alpha, "-")
@@ -139,7 +144,7 @@ def figure_snap_detail(results, path, length=200.0, frequency=0.2):
         if r.alpha == cases[0].alpha:
             ax2.plot(r.t_out[sel] * frequency, r.ship_acceleration[sel, 2], color="tab:blue", lw=1.2, label="ship")
     ax1.set_ylabel("tension (kN)")
-    ax1.set_title(f"L = {length:g} m, f = {frequency:g} Hz: around the snap at {t0 * frequency:.3f} periods")
+    ax1.set_title(f"L = {length:g} m, f = {frequency:g} Hz: around the re-tensioning at {t0 * frequency:.3f} periods")
     ax2.set_ylabel("vertical acceleration (m/s^2)")
     ax2.set_xlabel("t f (periods)")
     for ax in (ax1, ax2):
