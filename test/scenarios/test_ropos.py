@@ -120,8 +120,10 @@ def test_slack_and_snap_at_cage_L1730():
     fast_wave_speed = cfg.cable.wave_speed
     fast = run_case(cfg, output_rate=25.0)
     assert not fast.error
-    # Stored tensions: one maximum per 1 ms bin, no bin split across output intervals.
-    assert np.allclose(np.diff(fast.t), 1e-3, rtol=1e-6)
+    # Stored tensions: one maximum per 1 ms bin (bins without a substep are absent: dt ~ 1.05 ms
+    # here), never a bin split in two across output intervals.
+    gaps = np.diff(fast.t) * 1e3
+    assert gaps.min() > 0.5 and np.allclose(gaps, np.round(gaps), atol=1e-6)
     snaps = fast.snaps("vehicle")
     assert fast.slacks("vehicle") and snaps
     assert all(e.peak_tension > e.static_tension for e in snaps)
