@@ -18,6 +18,7 @@ report.md, out/ropos_validation/logs/*.log. Exit code 0 only when every step wor
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import signal
 import sys
@@ -105,14 +106,18 @@ class GraphProbe:
         return waiting
 
     def prime(self, t_start_ns: int, pose_cdr: bytes, timeout_s: float, check,
-              lead_s: float = 2.0) -> float:
-        """Run /clock from ``lead_s`` before the record's start up to just before it, then hold,
-        offering the record's first ship pose (stamped with the clock), until the node has built
-        its solver (its latched /tether/description appears); returns the wall time it took.
+              measure_s: float = 0.0) -> tuple[float, float | None]:
+        """Bring the node up before the replay, like a paused player; returns (wall time taken,
+        measured real-time factor or None).
 
-        The node builds the solver (static equilibrium) on its first timer tick, which needs the
-        clock to move and can take long; holding the clock keeps that out of the replayed time,
-        like a paused player. The replay then continues the clock from the record's start."""
+        1. /clock runs up to ``measure_s + 2`` s before the record's start and holds there, with
+           the record's first ship pose offered (stamped with the clock), until the node has built
+           its solver (latched /tether/description) and stepped up to the held clock: building
+           and the first steps (numba compilation) stay out of the replayed time.
+        2. If ``measure_s`` > 0 the clock then runs in real time up to just before the start
+           while the node's /diagnostics real_time_factor is sampled (the ship is still at rest).
+        The replay then continues the clock from the record's start."""
+        from diagnostic_msgs.msg import DiagnosticArray
         from geometry_msgs.msg import PoseStamped
         from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
         from rclpy.serialization import deserialize_message
@@ -125,45 +130,72 @@ class GraphProbe:
         clock_pub = node.create_publisher(Clock, "/clock", clock_qos())
         pose_pub = node.create_publisher(PoseStamped, "/ship/pose",
                                          QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT))
-        seen, latest = [], [0]
-        sub = node.create_subscription(
-            TetherDescription, "/tether/description", seen.append,
-            QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
-                       durability=DurabilityPolicy.TRANSIENT_LOCAL))
+        seen, latest, rtf = [], [0], []
+        measuring = [False]
 
         def on_state(msg):
             latest[0] = max(latest[0], msg.header.stamp.sec * 10**9 + msg.header.stamp.nanosec)
 
-        state_sub = node.create_subscription(TetherState, "/tether/state", on_state, 10)
-        hold_ns = t_start_ns - 50_000_000
-        # ready = solver built and stepping caught up with the held clock (the first steps
-        # compile the stepping kernels, which must not eat replayed time either)
+        def on_diagnostics(msg):
+            for status in msg.status:
+                for kv in status.values:
+                    if kv.key == "real_time_factor" and measuring[0]:
+                        try:
+                            rtf.append(float(kv.value))
+                        except ValueError:
+                            pass
+
+        subs = [node.create_subscription(
+                    TetherDescription, "/tether/description", seen.append,
+                    QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                               durability=DurabilityPolicy.TRANSIENT_LOCAL)),
+                node.create_subscription(TetherState, "/tether/state", on_state, 10),
+                node.create_subscription(DiagnosticArray, "/diagnostics", on_diagnostics, 10)]
         pose = deserialize_message(pose_cdr, PoseStamped)
         clock = Clock()
         t0 = time.monotonic()
-        last_pose = -1.0
-        try:
-            while not (seen and latest[0] >= hold_ns - 500_000_000):
+        state = {"last_pose": -1.0}
+
+        def drive(clock_at, done, limit_s, what):
+            """Publish /clock = clock_at(elapsed) and the pose until done() (or fail after limit_s)."""
+            start = time.monotonic()
+            while not done():
                 check()
-                elapsed = time.monotonic() - t0
-                if elapsed > timeout_s:
-                    raise StepFailed(f"the node did not start its solver within {timeout_s:.0f} s "
-                                     f"(description seen: {bool(seen)}, last state "
-                                     f"{(latest[0] - t_start_ns) / 1e9:+.2f} s from the start)")
-                now_ns = t_start_ns - int(1e9 * max(0.05, lead_s - elapsed))
-                clock.clock.sec, clock.clock.nanosec = divmod(now_ns, 10**9)
+                elapsed = time.monotonic() - start
+                if elapsed > limit_s:
+                    raise StepFailed(f"{what} within {limit_s:.0f} s (description seen: "
+                                     f"{bool(seen)}, last state {(latest[0] - t_start_ns) / 1e9:+.2f} s "
+                                     f"from the record's start)")
+                clock.clock.sec, clock.clock.nanosec = divmod(int(clock_at(elapsed)), 10**9)
                 clock_pub.publish(clock)
-                if elapsed - last_pose >= 0.2:
-                    last_pose = elapsed
+                if time.monotonic() - state["last_pose"] >= 0.2:
+                    state["last_pose"] = time.monotonic()
                     pose.header.stamp = clock.clock
                     pose_pub.publish(pose)
                 self._spin(0.02)
+
+        hold_a = t_start_ns - int((measure_s + 0.05) * 1e9)
+        try:
+            drive(lambda e: hold_a - int(1e9 * max(0.0, 2.0 - e)),
+                  lambda: seen and latest[0] >= hold_a - 500_000_000, timeout_s,
+                  "the node did not start its solver")
+            if measure_s > 0:
+                measuring[0] = True
+                t_m = time.monotonic()
+                drive(lambda e: hold_a + int(1e9 * min(e, measure_s)),
+                      lambda: time.monotonic() - t_m >= measure_s + 0.5, measure_s + 5, "measuring")
+                measuring[0] = False
+                hold_b = t_start_ns - 50_000_000
+                drive(lambda e: hold_b, lambda: latest[0] >= hold_b - 1_000_000_000
+                      or time.monotonic() - t_m > 3 * measure_s, 4 * measure_s + 10,
+                      "the node did not catch up")
         finally:
-            node.destroy_subscription(sub)
-            node.destroy_subscription(state_sub)
+            for sub in subs:
+                node.destroy_subscription(sub)
             node.destroy_publisher(pose_pub)
             node.destroy_publisher(clock_pub)
-        return time.monotonic() - t0
+        measured = float(sorted(rtf[1:])[len(rtf[1:]) // 2]) if len(rtf) > 1 else None
+        return time.monotonic() - t0, measured
 
     def _spin(self, seconds: float) -> None:
         from rclpy.executors import SingleThreadedExecutor
@@ -213,6 +245,7 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) ->
 
         first = next(r for r in iter_raw(root / RECORD, ["/ship/pose"])
                      if r.log_time_ns >= checked["record"].start_ns + int(args.start_offset * 1e9))
+        checked["t_record_s"] = first.log_time_ns / 1e9
         say("holding /clock at the record's start while the node builds its solver ...")
 
         def check():
@@ -221,8 +254,20 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) ->
                 raise StepFailed(f"the simulation node stopped while starting; last lines of "
                                  f"{node.log_path}:\n{node.tail()}")
 
-        took = probe.prime(first.log_time_ns, first.data, args.solver_timeout, check)
-        say(f"the node started its solver after {took:.1f} s")
+        auto = args.rate <= 0
+        took, rtf = probe.prime(first.log_time_ns, first.data, args.solver_timeout, check,
+                                measure_s=8.0 if auto else 0.0)
+        say(f"the node is ready after {took:.1f} s")
+        if auto:
+            if rtf is None:
+                args.rate = 1.0
+                say("could not measure the node's real-time factor; replaying in real time")
+            else:
+                # 80 % of the measured speed, in steps of 0.05, at most real time
+                args.rate = max(0.05, min(1.0, math.floor(0.8 * rtf * 20) / 20))
+                say(f"the node runs at {rtf:.2f} x real time on this machine: replaying at "
+                    f"x{args.rate:g}" + (" (slower than real time so that the node keeps up)"
+                                         if args.rate < 1 else ""))
     finally:
         probe.close()
     replay_args = ["--ros-args", "--params-file", str(root / "config/replay.yaml"),
@@ -262,7 +307,9 @@ def print_findings(result: dict, static_expected, out: Path) -> None:
     from tether_sim.report import ENDS
 
     run, periods = result["run"], result["periods"]
-    say(f"recorded {len(run.t)} tether states over {run.t[-1]:.1f} s of simulated time "
+    span = float(run.t[-1] - run.t[0])
+    say(f"times below: {run.time_label}")
+    say(f"recorded {len(run.t)} tether states over {span:.1f} s of simulated time "
         f"(solver {run.solver})")
     for end in ENDS:
         line = f"static tension, {end} end: {result['static'][end]:.0f} N (first recorded state)"
@@ -288,9 +335,9 @@ def print_findings(result: dict, static_expected, out: Path) -> None:
     else:
         skipped = health["dropped_s"]
         say(f"node health: real-time factor {health['real_time_factor']:.2f} (last second), "
-            f"{skipped:.1f} s of {run.t[-1]:.1f} s of clock time skipped (solver behind), "
+            f"{skipped:.1f} s of {span:.1f} s of clock time skipped (solver behind), "
             f"{health['divergences']:.0f} divergence recoveries")
-        if skipped > 0.05 * max(run.t[-1], 1e-9):
+        if skipped > 0.05 * max(span, 1e-9):
             say(f"WARNING: the node could not keep up with the replay on this machine and skipped "
                 f"{skipped:.1f} s of the record; the tensions above cover only the simulated "
                 f"stretches. Re-run slower, e.g. `python -m tether_sim.ros.main_job --rate 0.5`.")
@@ -306,7 +353,9 @@ def _terminate(signum, _frame):
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m tether_sim.ros.main_job", description=__doc__.split("\n")[0])
-    parser.add_argument("--rate", type=float, default=1.0, help="replay speed factor (default 1)")
+    parser.add_argument("--rate", type=float, default=0.0,
+                        help="replay speed factor; 0 (default) = measure the node's speed first and "
+                             "replay at 80 %% of it, at most real time")
     parser.add_argument("--start-offset", type=float, default=0.0, help="skip seconds of the record")
     parser.add_argument("--duration", type=float, default=120.0,
                         help="replay seconds (default 120: the calm tapered start and the first "
@@ -344,7 +393,8 @@ def main(argv=None) -> int:
         from tether_sim.report import ReportError, make_report
 
         try:
-            result = make_report(mcap, out / "figures")
+            result = make_report(mcap, out / "figures", t0_s=checked["t_record_s"],
+                                 time_label="time since the record's start (t < 0: start-up hold)")
         except ReportError as exc:
             raise StepFailed(f"the recording has nothing to report: {exc}") from exc
         print_findings(result, checked["static"], out)
