@@ -24,7 +24,7 @@ from tether_sim.scenarios import references as ref
 NAME = "ring_beam"
 MOMENT = 1.0  # N m, about +y
 RAMP_TIME = 500.0
-RELAX_TIME = 2000.0  # s of dynamic relaxation for the static ring
+RELAX_TIME = 800.0  # s of dynamic relaxation for the static ring (48 relax time constants)
 # Momentum damping rate of the relaxation, ~ 2 omega_1 with omega_1 = 1.875^2 sqrt(EI/(gamma0 L^4))
 # = 0.028 rad/s (first cantilever mode of the straight beam): near-critical for the slowest mode.
 RELAX_DAMPING = 0.06

@@ -197,16 +197,38 @@ def snap_timing_rows(results):
     return rows
 
 
-def study(lengths=LENGTHS, alphas=ALPHAS, freqs=FREQUENCIES, out=DEFAULT_OUT, processes=None, periods=12.0):
+def study(lengths=LENGTHS, alphas=ALPHAS, freqs=FREQUENCIES, out=DEFAULT_OUT, processes=None, periods=12.0,
+          cfl=None, tag="all"):
+    """Run the L x alpha x f grid; results go to study_results_<tag>.pkl, the report covers all pickles."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    jobs = [({"length": L, "alpha": a, "frequency": f, "periods": periods}, {})
+    jobs = [({"length": L, "alpha": a, "frequency": f, "periods": periods, "cfl": cfl}, {})
             for L in lengths for a in alphas for f in freqs]
     results = run_parallel(jobs, processes, desc="PE2020 Sec. 6.2 study")
-    with open(out / "study_results.pkl", "wb") as fh:
+    with open(out / f"study_results_{tag}.pkl", "wb") as fh:
         pickle.dump(results, fh)
-    report_study(results, out)
+    report_study(load_results(out), out)
     return results
+
+
+def _merge_split_bins(r):
+    """Results of runs before the binning fix could hold a bin twice (split at an output time): merge."""
+    if r.t.size and np.any(np.diff(r.t) <= 0):
+        t, first = np.unique(r.t, return_index=True)
+        r.ship_tension = np.maximum.reduceat(r.ship_tension, first)
+        r.vehicle_tension = np.maximum.reduceat(r.vehicle_tension, first)
+        r.t = t
+
+
+def load_results(out):
+    """All study pickles of ``out`` merged; a later file replaces a case (L, alpha, f) of an earlier one."""
+    cases = {}
+    for path in sorted(Path(out).glob("study_results_*.pkl"), key=lambda p: p.stat().st_mtime):
+        with open(path, "rb") as fh:
+            for r in pickle.load(fh):
+                _merge_split_bins(r)
+                cases[(r.length, r.alpha, r.frequency)] = r
+    return [cases[k] for k in sorted(cases)]
 
 
 def report_study(results, out):
@@ -230,7 +252,7 @@ def report_study(results, out):
     print("\n".join(text))
 
 
-def mesh_study(out=DEFAULT_OUT, elements=(5, 10, 20, 40), processes=None, periods=12.0):
+def mesh_study(out=DEFAULT_OUT, elements=(5, 10, 20, 40), processes=None, periods=12.0, cfl=None):
     """Appendix A: ship tension for N = 5, 10, 20, 40 at P = 4, L = 1730 m, a = 2 m, f = 0.2 Hz."""
     import matplotlib
 
@@ -239,7 +261,8 @@ def mesh_study(out=DEFAULT_OUT, elements=(5, 10, 20, 40), processes=None, period
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    jobs = [({"length": 1730.0, "alpha": 0.0, "frequency": 0.2, "n_elements": n, "order": 4, "periods": periods}, {})
+    jobs = [({"length": 1730.0, "alpha": 0.0, "frequency": 0.2, "n_elements": n, "order": 4, "periods": periods,
+              "cfl": cfl}, {})
             for n in elements]
     results = run_parallel(jobs, processes, desc="PE2020 App. A mesh study")
     with open(out / "mesh_results.pkl", "wb") as fh:
@@ -310,16 +333,17 @@ def main(argv=None):
     ap.add_argument("--freqs", type=float, nargs="+", default=list(FREQUENCIES))
     ap.add_argument("--periods", type=float, default=12.0)
     ap.add_argument("--processes", type=int, default=None)
+    ap.add_argument("--cfl", type=float, default=None, help="dg.cfl override (default: the config's)")
+    ap.add_argument("--tag", default="all", help="name of this batch's result pickle")
     args = ap.parse_args(argv)
     if args.what == "study":
-        study(args.lengths, args.alphas, args.freqs, args.out, args.processes, args.periods)
+        study(args.lengths, args.alphas, args.freqs, args.out, args.processes, args.periods, args.cfl, args.tag)
     elif args.what == "axial":
         axial_table(args.lengths, args.freqs, args.out, args.periods)
     elif args.what == "mesh":
-        mesh_study(args.out, processes=args.processes, periods=args.periods)
+        mesh_study(args.out, processes=args.processes, periods=args.periods, cfl=args.cfl)
     else:
-        with open(Path(args.out) / "study_results.pkl", "rb") as fh:
-            report_study(pickle.load(fh), args.out)
+        report_study(load_results(args.out), args.out)
 
 
 if __name__ == "__main__":

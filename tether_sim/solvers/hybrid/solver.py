@@ -20,7 +20,7 @@ from tether_sim.solvers.base import BodyState, EndForces, SolverState, end_index
 from tether_sim.solvers.hybrid import zoning
 from tether_sim.solvers.hybrid.assembly import assemble_jacobian, assemble_residual
 from tether_sim.solvers.hybrid.chain import build_chain, rod_blocks
-from tether_sim.solvers.hybrid.kernels import P_AF, P_AM, pack_parameters
+from tether_sim.solvers.hybrid.kernels import P_AF, P_AM, P_GAM, pack_parameters, strain
 from tether_sim.solvers.hybrid.rod import frame_at
 from tether_sim.solvers.hybrid.state_io import EndMotion, node_profile, reconstruct_positions
 
@@ -61,6 +61,8 @@ class HybridRodCatenarySolver:
         self.cy = np.asarray(env.current_y, dtype=float)
         self.net_weight = abs(cab.gamma0 - env.fluid_density * cab.area) * env.g
         self.ends = (config.ship_end, config.vehicle_end)
+        body_weight = submerged_weight(config.body, env) if "body" in (config.ship_end.kind, config.vehicle_end.kind) else 0.0
+        self.compression_width = 1e-3 * max(self.net_weight * cab.length + body_weight, 1e-9)
         self.body_params = tuple(pack_body_params(config.body, env) if e.kind == "body" else None for e in self.ends)
         holds = (opt.hold_direction_ship, opt.hold_direction_vehicle)
         self.end_modes = []
@@ -101,9 +103,10 @@ class HybridRodCatenarySolver:
             out.append(max(1, int(math.ceil(self.opt.end_rod_length / self.ds))) if held else 0)
         return tuple(out)
 
-    def _classify(self, T_elem, previous):
+    def _classify(self, T_elem, previous, boost=1.0):
         o = self.opt
-        return zoning.classify(T_elem, previous, self.EI, max(self.net_weight, 1e-12), o.chi_on, o.chi_off,
+        f = boost ** -1.5  # T_on scales as chi_on^(-2/3): boost multiplies the switching tensions
+        return zoning.classify(T_elem, previous, self.EI, max(self.net_weight, 1e-12), o.chi_on * f, o.chi_off * f,
                                o.min_zone_elements, self._end_rod_elements())
 
     def _init_state(self):
@@ -316,7 +319,7 @@ class HybridRodCatenarySolver:
         rho = self.opt.rho_inf if self._rho is None else self._rho
         am, af, g = gen_alpha_coefficients(rho)
         return pack_parameters(self.config.cable, self.config.environment, dt, am, af, g, self.EI, self.GJ,
-                               self.inertia_b, self.inertia_t)
+                               self.inertia_b, self.inertia_t, self.opt.compression_softening, self.compression_width)
 
     def _step_with_retry(self, dt):
         pieces = [dt]
@@ -328,6 +331,11 @@ class HybridRodCatenarySolver:
                 self._step(h)
             except _NewtonFailure as exc:
                 self.Y, self.Yt, self.Lf = snap
+                # a catenary losing its tension is ill-conditioned [GP Sec. 5]: widen the rod zones first
+                if self.opt.zoning == "adaptive" and self.EI > 0.0 and self._rezone(boost=4.0):
+                    self.stats["failure_rezonings"] = self.stats.get("failure_rezonings", 0) + 1
+                    pieces.insert(0, h)
+                    continue
                 level += 1
                 self.stats["halvings"] += 1
                 if level > MAX_HALVINGS:
@@ -424,7 +432,7 @@ class HybridRodCatenarySolver:
             raise _NewtonFailure(f"no convergence in {self.opt.max_newton_iterations} iterations")
         for e in bodies:
             x = Y[ch.body_node[e]].copy()
-            self.body_xd[e] = ((x - self.body_x[e]) / dt - (1.0 - P[-1]) * self.body_xd[e]) / P[-1]
+            self.body_xd[e] = ((x - self.body_x[e]) / dt - (1.0 - P[P_GAM]) * self.body_xd[e]) / P[P_GAM]
             x[3:7] /= np.linalg.norm(x[3:7])
             self.body_x[e] = x
         self._commit(np.ascontiguousarray(Y[:K]), dt, P, it)
@@ -453,7 +461,7 @@ class HybridRodCatenarySolver:
 
     def _commit(self, Y, dt, P, iterations):
         ch = self.chain
-        g = P[-1]
+        g = P[P_GAM]
         v_old = self._world_velocities()
         self.Yt = ((Y - self.Y) / dt - (1.0 - g) * self.Yt) / g
         for c in np.nonzero(ch.kind == zoning.ROD)[0]:
@@ -478,7 +486,9 @@ class HybridRodCatenarySolver:
                 self.positions[node] = self.ends[e].position
         for first, last in rod_blocks(ch):  # rod shape by integrating its tangents from the block start
             for c in range(first + 1, last + 1):
-                self.positions[c] = self.positions[c - 1] + 0.5 * (ch.s[c] - ch.s[c - 1]) * (self.Lf[c - 1, 0] + self.Lf[c, 0])
+                la, lb = 1.0 + self._strain(self.Y[c - 1, 9]), 1.0 + self._strain(self.Y[c, 9])
+                self.positions[c] = self.positions[c - 1] + 0.5 * (ch.s[c] - ch.s[c - 1]) * (
+                    la * self.Lf[c - 1, 0] + lb * self.Lf[c, 0])
         st = self.stats
         st["steps"] += 1
         st["newton_iterations"] += iterations
@@ -511,6 +521,9 @@ class HybridRodCatenarySolver:
                 rotate_frame(self.Lf[nb], -kap, out)
                 self.Lf[c] = out
 
+    def _strain(self, T):
+        return float(strain(float(T), self._parameters(self.opt.time_step)))
+
     def _world_velocities(self):
         v = self.Y[:, 0:3].copy()
         rod = self.chain.kind == zoning.ROD
@@ -520,15 +533,23 @@ class HybridRodCatenarySolver:
     def _node_tension(self, c):
         return float(self.Y[c, 9] if self.chain.kind[c] == zoning.ROD else self.Y[c, 3])
 
-    def _rezone(self):
+    def _rezone(self, boost=1.0):
+        """Re-evaluate the zones (after each step; with boost > 1 after a failed step); True if changed."""
         prof = node_profile(self)
-        T_grid = np.interp(self.s_grid, prof["s"], prof["tension"])
-        T_elem = 0.5 * (T_grid[1:] + T_grid[:-1])
-        new = self._classify(T_elem, self.zones)
+        # the lower tension of each element's two nodes (at a joint: the lower of both sides), so that
+        # no catenary node is left slack
+        T_node = prof["tension"]
+        T_grid = np.full(self.s_grid.size, np.inf)
+        np.minimum.at(T_grid, self.chain.grid, T_node)
+        T_elem = np.minimum(T_grid[1:], T_grid[:-1])
+        new = self._classify(T_elem, self.zones, boost)
+        if boost > 1.0:
+            new = np.maximum(new, self.zones)  # only add rod elements
         if np.array_equal(new, self.zones):
-            return
+            return False
         from tether_sim.solvers.hybrid.state_io import convert_state
         self.Y, self.Yt, self.Lf, self.positions, self.rdot = convert_state(self, new)
         self.zones = new
         self._set_chain()
         self.stats["rezonings"] += 1
+        return True
