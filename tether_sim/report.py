@@ -48,7 +48,7 @@ class RunData:
     """Everything the report reads from one MCAP, times in s from the first state."""
 
     path: Path
-    t0: float
+    t0: float                           # clock time of t = 0, s
     solver: str
     t: np.ndarray                       # (n_t,)
     arc_length: np.ndarray              # (n_s,)
@@ -59,14 +59,16 @@ class RunData:
     warnings: list = field(default_factory=list)   # dicts
     wrench: dict = field(default_factory=dict)     # end -> (t (n,), |F| (n,))
     diagnostics: dict = field(default_factory=dict)  # status name -> {key: value} (last seen)
+    time_label: str = "time since the first state"
 
 
 def _topics_of(summary, type_name):
     return sorted(t for t, info in summary.topics.items() if info.type_name == type_name)
 
 
-def load_run(path) -> RunData:
-    """Read states, events, warnings and wrenches from an output MCAP."""
+def load_run(path, t0_s: float | None = None) -> RunData:
+    """Read states, events, warnings and wrenches from an output MCAP; times relative to t0_s
+    (clock time, s; default: the first state's stamp)."""
     path = Path(path)
     summary = read_summary(path)
     state_topics = _topics_of(summary, STATE_TYPE)
@@ -117,7 +119,7 @@ def load_run(path) -> RunData:
         raise ReportError(f"{path}: topic {state_topic} holds no TetherState messages")
     t = np.asarray(times)
     order = np.argsort(t, kind="stable")
-    t0 = float(t[order[0]])
+    t0 = float(t[order[0]]) if t0_s is None else float(t0_s)
     for item in snaps:
         item["t_peak"] -= t0
         item["slack_start"] -= t0
@@ -192,11 +194,12 @@ def static_tensions(run: RunData) -> dict:
 
 def summary_markdown(run: RunData, periods: dict, figures: dict) -> str:
     """The summary and event tables as markdown."""
-    duration = float(run.t[-1]) if len(run.t) else 0.0
+    duration = float(run.t[-1] - run.t[0]) if len(run.t) else 0.0
     rate = (len(run.t) - 1) / duration if duration > 0 else float("nan")
     lines = [f"# Tether report: `{run.path.name}`", "",
              f"Solver `{run.solver}`, {len(run.t)} states over {duration:.2f} s "
-             f"({rate:.1f} Hz), {len(run.arc_length)} output points, L = {run.arc_length[-1]:.1f} m.",
+             f"({rate:.1f} Hz), {len(run.arc_length)} output points, L = {run.arc_length[-1]:.1f} m. "
+             f"Times below: {run.time_label}, s.",
              "", "| end | static (first state) [N] | mean [N] | min [N] | max [N] |",
              "|---|---|---|---|---|"]
     for end, value in static_tensions(run).items():
@@ -243,11 +246,13 @@ def render(run: RunData, periods: dict, out_dir: Path, n_snapshots: int = 8) -> 
             "tension map": plot_tension_map(run, out_dir / "tension_map.png")}
 
 
-def make_report(mcap_path, out_dir=None, n_snapshots: int = 8) -> dict:
+def make_report(mcap_path, out_dir=None, n_snapshots: int = 8, t0_s: float | None = None,
+                time_label: str = "time since the first state") -> dict:
     """Load, plot and summarise; returns {run, periods, static, figures, markdown, report_path}."""
     mcap_path = Path(mcap_path)
     out_dir = Path(out_dir) if out_dir is not None else mcap_path.parent / "figures"
-    run = load_run(mcap_path)
+    run = load_run(mcap_path, t0_s)
+    run.time_label = time_label
     periods = slack_periods(run)
     figures = render(run, periods, out_dir, n_snapshots)
     markdown = summary_markdown(run, periods, figures)
@@ -262,9 +267,11 @@ def main(argv=None) -> int:
     parser.add_argument("mcap", help="output MCAP (recorder or offline runner)")
     parser.add_argument("--out-dir", help="where figures and report.md go (default: <mcap dir>/figures)")
     parser.add_argument("--snapshots", type=int, default=8, help="number of shape snapshots")
+    parser.add_argument("--t0", type=float, help="clock time (s) taken as t = 0 (default: first state)")
     args = parser.parse_args(argv)
     try:
-        result = make_report(args.mcap, args.out_dir, args.snapshots)
+        result = make_report(args.mcap, args.out_dir, args.snapshots, args.t0,
+                             "time since the first state" if args.t0 is None else f"time since {args.t0:.3f} s")
     except (McapLogError, ReportError) as exc:
         print(f"tether-sim-report: {exc}", file=sys.stderr)
         return 2

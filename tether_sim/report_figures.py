@@ -43,7 +43,7 @@ def plot_end_tensions(run, periods: dict, path: Path) -> Path:
         ax.set_ylabel(f"{end} end tension [kN]")
         ax.grid(alpha=0.3)
         ax.legend(loc="upper right", fontsize=8)
-    axes[-1].set_xlabel("time since first state [s]")
+    axes[-1].set_xlabel(f"{run.time_label} [s]")
     axes[0].set_title(f"End tensions — {run.path.name} (solver {run.solver})")
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -104,7 +104,7 @@ def plot_tension_map(run, path: Path) -> Path:
         ax.plot([e["t_peak"] for e in run.snaps], [e["arc_length"] for e in run.snaps], "v",
                 color="cyan", ms=8, mec="k", label="snap load (peak)")
         ax.legend(loc="upper right", fontsize=8)
-    ax.set_xlabel("time since first state [s]")
+    ax.set_xlabel(f"{run.time_label} [s]")
     ax.set_ylabel("arc length s from the ship [m]")
     ax.set_title(f"Tension along the cable over time — {run.path.name}")
     fig.savefig(path, dpi=110)

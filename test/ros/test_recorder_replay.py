@@ -203,7 +203,7 @@ def write_heave_input(path: Path) -> bytes:
 
 def test_replay_node_recorder_chain_decodes_custom_messages(tmp_path, isolated_ros_env):
     pytest.importorskip("tether_sim_msgs")
-    from tether_sim.ros.main_job import GraphProbe
+    from tether_sim.ros.graph_probe import GraphProbe
 
     src, rec = tmp_path / "heave.mcap", tmp_path / "chain.mcap"
     first_pose = write_heave_input(src)
@@ -217,7 +217,9 @@ def test_replay_node_recorder_chain_decodes_custom_messages(tmp_path, isolated_r
     try:
         probe = GraphProbe()
         try:
-            deadline = time.monotonic() + 60
+            # the node compiles its solver kernels before it creates its publishers: up to a few
+            # minutes on a cold numba cache under load, seconds afterwards
+            deadline = time.monotonic() + 300
             while probe.recorder_matched(["/tether/state", "/tether/ship_wrench"]):
                 assert time.monotonic() < deadline and node.poll() is None, "node/recorder never matched"
                 time.sleep(0.2)

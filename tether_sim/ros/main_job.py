@@ -18,12 +18,14 @@ report.md, out/ropos_validation/logs/*.log. Exit code 0 only when every step wor
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import signal
 import sys
 import time
 from pathlib import Path
 
+from tether_sim.ros.graph_probe import GraphProbe
 from tether_sim.ros.processes import (ProcessGroup, StepFailed, claim_domain_id, command_for,
                                       isolated_env)
 
@@ -82,104 +84,6 @@ def preflight(root: Path, params: Path = PARAMS) -> dict:
     return {"config": config, "static": static, "record": record}
 
 
-class GraphProbe:
-    """A small node in the job's domain that watches the graph (publishers, subscriptions)."""
-
-    def __init__(self):
-        import rclpy
-        from rclpy.context import Context
-
-        self.rclpy = rclpy
-        self.context = Context()
-        rclpy.init(context=self.context)
-        self.node = rclpy.create_node("tether_sim_main_job", context=self.context)
-
-    def recorder_matched(self, topics) -> list[str]:
-        """Topics among ``topics`` that have a publisher but no recorder subscription yet."""
-        waiting = []
-        for topic in topics:
-            pubs = self.node.get_publishers_info_by_topic(topic)
-            subs = [s.node_name for s in self.node.get_subscriptions_info_by_topic(topic)]
-            if not pubs or "tether_sim_recorder" not in subs:
-                waiting.append(topic)
-        return waiting
-
-    def prime(self, t_start_ns: int, pose_cdr: bytes, timeout_s: float, check,
-              lead_s: float = 2.0) -> float:
-        """Run /clock from ``lead_s`` before the record's start up to just before it, then hold,
-        offering the record's first ship pose (stamped with the clock), until the node has built
-        its solver (its latched /tether/description appears); returns the wall time it took.
-
-        The node builds the solver (static equilibrium) on its first timer tick, which needs the
-        clock to move and can take long; holding the clock keeps that out of the replayed time,
-        like a paused player. The replay then continues the clock from the record's start."""
-        from geometry_msgs.msg import PoseStamped
-        from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-        from rclpy.serialization import deserialize_message
-        from rosgraph_msgs.msg import Clock
-        from tether_sim_msgs.msg import TetherDescription, TetherState
-
-        from tether_sim.ros.bag_common import clock_qos
-
-        node = self.node
-        clock_pub = node.create_publisher(Clock, "/clock", clock_qos())
-        pose_pub = node.create_publisher(PoseStamped, "/ship/pose",
-                                         QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT))
-        seen, latest = [], [0]
-        sub = node.create_subscription(
-            TetherDescription, "/tether/description", seen.append,
-            QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
-                       durability=DurabilityPolicy.TRANSIENT_LOCAL))
-
-        def on_state(msg):
-            latest[0] = max(latest[0], msg.header.stamp.sec * 10**9 + msg.header.stamp.nanosec)
-
-        state_sub = node.create_subscription(TetherState, "/tether/state", on_state, 10)
-        hold_ns = t_start_ns - 50_000_000
-        # ready = solver built and stepping caught up with the held clock (the first steps
-        # compile the stepping kernels, which must not eat replayed time either)
-        pose = deserialize_message(pose_cdr, PoseStamped)
-        clock = Clock()
-        t0 = time.monotonic()
-        last_pose = -1.0
-        try:
-            while not (seen and latest[0] >= hold_ns - 500_000_000):
-                check()
-                elapsed = time.monotonic() - t0
-                if elapsed > timeout_s:
-                    raise StepFailed(f"the node did not start its solver within {timeout_s:.0f} s "
-                                     f"(description seen: {bool(seen)}, last state "
-                                     f"{(latest[0] - t_start_ns) / 1e9:+.2f} s from the start)")
-                now_ns = t_start_ns - int(1e9 * max(0.05, lead_s - elapsed))
-                clock.clock.sec, clock.clock.nanosec = divmod(now_ns, 10**9)
-                clock_pub.publish(clock)
-                if elapsed - last_pose >= 0.2:
-                    last_pose = elapsed
-                    pose.header.stamp = clock.clock
-                    pose_pub.publish(pose)
-                self._spin(0.02)
-        finally:
-            node.destroy_subscription(sub)
-            node.destroy_subscription(state_sub)
-            node.destroy_publisher(pose_pub)
-            node.destroy_publisher(clock_pub)
-        return time.monotonic() - t0
-
-    def _spin(self, seconds: float) -> None:
-        from rclpy.executors import SingleThreadedExecutor
-
-        if not hasattr(self, "_executor"):
-            self._executor = SingleThreadedExecutor(context=self.context)
-            self._executor.add_node(self.node)
-        self._executor.spin_once(timeout_sec=seconds)
-
-    def close(self):
-        if hasattr(self, "_executor"):
-            self._executor.shutdown()
-        self.node.destroy_node()
-        self.rclpy.try_shutdown(context=self.context)
-
-
 def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) -> Path:
     """Recorder + node, wait for discovery, replay, stop. Returns the recorded MCAP path."""
     mcap = out / MCAP_NAME
@@ -191,7 +95,8 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) ->
     node = group.start("tether_sim", command_for("tether-sim") + [
         "--ros-args", "--params-file", str(root / args.params), "-p", "use_sim_time:=true"])
     say(f"started recorder (pid {recorder.proc.pid}) and simulation node (pid {node.proc.pid}) "
-        f"in ROS_DOMAIN_ID={group.env['ROS_DOMAIN_ID']}")
+        f"in ROS_DOMAIN_ID={group.env['ROS_DOMAIN_ID']}; waiting for the node's outputs (the "
+        f"first start compiles the solver kernels, which can take minutes) ...")
     probe = GraphProbe()
     try:
         deadline = time.monotonic() + args.discovery_timeout
@@ -213,6 +118,7 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) ->
 
         first = next(r for r in iter_raw(root / RECORD, ["/ship/pose"])
                      if r.log_time_ns >= checked["record"].start_ns + int(args.start_offset * 1e9))
+        checked["t_record_s"] = first.log_time_ns / 1e9
         say("holding /clock at the record's start while the node builds its solver ...")
 
         def check():
@@ -221,8 +127,20 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) ->
                 raise StepFailed(f"the simulation node stopped while starting; last lines of "
                                  f"{node.log_path}:\n{node.tail()}")
 
-        took = probe.prime(first.log_time_ns, first.data, args.solver_timeout, check)
-        say(f"the node started its solver after {took:.1f} s")
+        auto = args.rate <= 0
+        took, rtf = probe.prime(first.log_time_ns, first.data, args.solver_timeout, check,
+                                measure_s=8.0 if auto else 0.0)
+        say(f"the node is ready after {took:.1f} s")
+        if auto:
+            if rtf is None:
+                args.rate = 1.0
+                say("could not measure the node's real-time factor; replaying in real time")
+            else:
+                # 80 % of the measured speed, in steps of 0.05, at most real time
+                args.rate = max(0.05, min(1.0, math.floor(0.8 * rtf * 20) / 20))
+                say(f"the node runs at {rtf:.2f} x real time on this machine: replaying at "
+                    f"x{args.rate:g}" + (" (slower than real time so that the node keeps up)"
+                                         if args.rate < 1 else ""))
     finally:
         probe.close()
     replay_args = ["--ros-args", "--params-file", str(root / "config/replay.yaml"),
@@ -238,8 +156,8 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) ->
         if not node.alive:
             raise StepFailed(f"the simulation node stopped during the run; last lines of "
                              f"{node.log_path}:\n{node.tail()}")
-        if time.monotonic() - t0 > span + args.discovery_timeout + 60:
-            raise StepFailed(f"the replay did not finish within {span + 60:.0f} s")
+        if time.monotonic() - t0 > 1.5 * span + 120:
+            raise StepFailed(f"the replay did not finish within {1.5 * span + 120:.0f} s")
         if time.monotonic() - last_note > 15:
             last_note = time.monotonic()
             say(f"... {time.monotonic() - t0:.0f} s of {span:.0f} s, recording "
@@ -262,7 +180,9 @@ def print_findings(result: dict, static_expected, out: Path) -> None:
     from tether_sim.report import ENDS
 
     run, periods = result["run"], result["periods"]
-    say(f"recorded {len(run.t)} tether states over {run.t[-1]:.1f} s of simulated time "
+    span = float(run.t[-1] - run.t[0])
+    say(f"times below: {run.time_label}")
+    say(f"recorded {len(run.t)} tether states over {span:.1f} s of simulated time "
         f"(solver {run.solver})")
     for end in ENDS:
         line = f"static tension, {end} end: {result['static'][end]:.0f} N (first recorded state)"
@@ -288,9 +208,9 @@ def print_findings(result: dict, static_expected, out: Path) -> None:
     else:
         skipped = health["dropped_s"]
         say(f"node health: real-time factor {health['real_time_factor']:.2f} (last second), "
-            f"{skipped:.1f} s of {run.t[-1]:.1f} s of clock time skipped (solver behind), "
+            f"{skipped:.1f} s of {span:.1f} s of clock time skipped (solver behind), "
             f"{health['divergences']:.0f} divergence recoveries")
-        if skipped > 0.05 * max(run.t[-1], 1e-9):
+        if skipped > 0.05 * max(span, 1e-9):
             say(f"WARNING: the node could not keep up with the replay on this machine and skipped "
                 f"{skipped:.1f} s of the record; the tensions above cover only the simulated "
                 f"stretches. Re-run slower, e.g. `python -m tether_sim.ros.main_job --rate 0.5`.")
@@ -306,7 +226,9 @@ def _terminate(signum, _frame):
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m tether_sim.ros.main_job", description=__doc__.split("\n")[0])
-    parser.add_argument("--rate", type=float, default=1.0, help="replay speed factor (default 1)")
+    parser.add_argument("--rate", type=float, default=0.0,
+                        help="replay speed factor; 0 (default) = measure the node's speed first and "
+                             "replay at 80 %% of it, at most real time")
     parser.add_argument("--start-offset", type=float, default=0.0, help="skip seconds of the record")
     parser.add_argument("--duration", type=float, default=120.0,
                         help="replay seconds (default 120: the calm tapered start and the first "
@@ -315,7 +237,8 @@ def main(argv=None) -> int:
     parser.add_argument("--out", default=str(OUT), help="output directory")
     parser.add_argument("--domain-id", type=int, default=None,
                         help="ROS_DOMAIN_ID (default: a free one, claimed with a lock file)")
-    parser.add_argument("--discovery-timeout", type=float, default=90.0, help="s to wait for the graph")
+    parser.add_argument("--discovery-timeout", type=float, default=600.0,
+                        help="s to wait for the node's outputs (it compiles its solver first)")
     parser.add_argument("--solver-timeout", type=float, default=600.0,
                         help="s to wait for the node to build its solver")
     args = parser.parse_args(argv)
@@ -344,7 +267,8 @@ def main(argv=None) -> int:
         from tether_sim.report import ReportError, make_report
 
         try:
-            result = make_report(mcap, out / "figures")
+            result = make_report(mcap, out / "figures", t0_s=checked["t_record_s"],
+                                 time_label="time since the record's start (t < 0: start-up hold)")
         except ReportError as exc:
             raise StepFailed(f"the recording has nothing to report: {exc}") from exc
         print_findings(result, checked["static"], out)
