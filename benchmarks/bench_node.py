@@ -9,7 +9,7 @@ along the project's circle (a = 2 m, f = 0.2 Hz, the parameter file's ``motion``
 - start-up time = process launch -> end of the node's first stepping tick (imports, parameter
   validation, solver construction incl. static solve, JIT or cache load);
 - tick cost = wall time of each timer callback (stepping + snap detection + message building and
-  publishing), median / p99 / max over ``--seconds`` of ticks after the first; the thread CPU time
+  publishing), median / p99 / max over ``--seconds`` of ticks after the first ten; the thread CPU time
   of the same ticks; whether the node kept up (simulated time advanced / wall time);
 - memory = resident set size (VmRSS) and its peak (VmHWM) at the end.
 
@@ -51,16 +51,21 @@ def child(params, seconds, alpha, t_launch):
     ticks, cpus, sims = [], [], []
     first = {}
     original = node._on_tick
+    skip = 10  # ticks right after the start may still compile lazily-used kernels (outputs, snaps)
 
     def timed_tick():
         w, c = time.perf_counter(), time.thread_time()
         original()
-        ticks.append(time.perf_counter() - w)
-        cpus.append(time.thread_time() - c)
-        if node.driver.solver is not None:
+        wall, cpu = time.perf_counter() - w, time.thread_time() - c
+        if node.driver.solver is None:
+            return
+        if "startup" not in first:
+            first["startup"] = time.time() - t_launch
+        first["n"] = first.get("n", 0) + 1
+        if first["n"] > skip:
+            ticks.append(wall)
+            cpus.append(cpu)
             sims.append((time.perf_counter(), node.driver.solver.time))
-            if "startup" not in first:
-                first["startup"] = time.time() - t_launch
 
     # the node created its timer with the bound method; swap the callback the timer calls
     for timer in node.timers:
@@ -94,9 +99,8 @@ def child(params, seconds, alpha, t_launch):
             break
     status = {k: v for k, v in (line.split(":", 1) for line in Path("/proc/self/status").read_text().splitlines())}
     kb = lambda key: float(status[key].split()[0]) / 1024.0  # noqa: E731
-    n0 = next((i for i, _ in enumerate(ticks) if i > 0 and len(sims) > 0), 1)
-    run = np.array(ticks[n0 + 1:]) * 1e3
-    cpu = np.array(cpus[n0 + 1:]) * 1e3
+    run = np.array(ticks) * 1e3
+    cpu = np.array(cpus) * 1e3
     keep_up = (sims[-1][1] - sims[0][1]) / (sims[-1][0] - sims[0][0]) if len(sims) > 1 else 0.0
     out = {
         "params": str(params), "alpha": alpha, "startup_s": first.get("startup"),

@@ -56,6 +56,8 @@ def main():
     ap.add_argument("--segments", type=int, default=100)
     ap.add_argument("--frequency", type=float, default=0.2)
     ap.add_argument("--rho", type=float, default=0.8)
+    ap.add_argument("--zoning", default="adaptive")
+    ap.add_argument("--softening", type=float, default=1000.0)
     ap.add_argument("--steps", type=float, nargs="+", default=[0.02])
     ap.add_argument("--out", default="docs/figures")
     args = ap.parse_args()
@@ -64,7 +66,7 @@ def main():
     for dt in args.steps:
         cfg = replace(base, solver="hybrid", cable=replace(base.cable, EI=args.EI),
                       motion=replace(base.motion, frequency=args.frequency),
-                      hybrid=replace(base.hybrid, time_step=dt, n_segments=args.segments, zoning="adaptive",
+                      hybrid=replace(base.hybrid, time_step=dt, n_segments=args.segments, zoning=args.zoning, compression_softening=args.softening,
                                      rho_inf=args.rho),
                       initial=replace(base.initial, kind="static"))
         rec, cpu, solver = run(cfg, args.duration, dt)

@@ -26,6 +26,9 @@ from tether_sim.scenarios import references as ref
 
 NAME = "cantilever"
 AMPLITUDE = 1e-3  # m, tip amplitude A
+# Burst cycles per mode: the Hann main lobe (+-2/cycles of omega_i) must miss the neighbouring
+# modes (omega_2/omega_1 = 6.3; omega_2,4/omega_3 = 0.36, 1.96; omega_4,6/omega_5 = 0.60, 1.49).
+BURST_CYCLES = {1: 3, 2: 4, 3: 6, 4: 8, 5: 8}
 
 
 def burst_force(t, mode, omega, duration, f0):
@@ -149,10 +152,9 @@ def main(argv=None):
     parser.add_argument("--modes", type=int, nargs="+", default=[1, 3, 5])
     parser.add_argument("--elements", type=int, default=16)
     parser.add_argument("--order", type=int, default=4)
-    parser.add_argument("--cycles", type=int, default=4)
     parser.add_argument("--out", default=None, help="figure directory (default docs/figures)")
     args = parser.parse_args(argv)
-    results = [run_mode(m, args.elements, args.order, cycles=args.cycles if m > 1 else 2) for m in args.modes]
+    results = [run_mode(m, args.elements, args.order, cycles=BURST_CYCLES.get(m, 8)) for m in args.modes]
     print(format_table(results))
     path = harness.figure_dir(args.out) / "cantilever.png"
     plot(results, path)
