@@ -15,7 +15,7 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 PACKAGE = ROOT / "tether_sim"
 
-ROS_MODULE = re.compile(r"^(rclpy|rosidl_\w+|builtin_interfaces|\w+_msgs)(\.|$)")
+ROS_MODULE = re.compile(r"^(rclpy|rosidl_\w+|\w+_interfaces|\w+_msgs)(\.|$)")
 # subpackage -> tether_sim subpackages it must not import
 FORBIDDEN = {
     "physics": ("solvers", "io", "ros", "scenarios", "config"),
@@ -93,6 +93,7 @@ def test_package_respects_the_layering():
     ("tether_sim.physics.bodies", "import importlib\nimportlib.import_module('tether_sim.ros.sim_node')"),
     ("tether_sim.scenarios.ropos", "from tether_sim.ros.convert import to_msg"),
     ("tether_sim.report", "from builtin_interfaces.msg import Time"),
+    ("tether_sim.io.params", "from rcl_interfaces.msg import ParameterDescriptor"),
 ])
 def test_checker_catches_forbidden_imports(module, source):
     assert violations(source, module)

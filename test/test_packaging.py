@@ -33,7 +33,7 @@ ROSDEP_KEY = {
 # import name -> distribution, where they differ
 DISTRIBUTION_OF_IMPORT = {"yaml": "PyYAML", "mcap_ros2": "mcap-ros2-support"}
 # modules provided by ROS packages (declared as exec_depend in package.xml instead)
-ROS_MODULE = re.compile(r"^(rclpy|ament_index_python|builtin_interfaces|rosidl_\w+|\w+_msgs)$")
+ROS_MODULE = re.compile(r"^(rclpy|ament_index_python|rosidl_\w+|\w+_interfaces|\w+_msgs)$")
 
 CONSOLE_SCRIPTS = {  # CONTRACTS.md
     "tether-sim": "tether_sim.ros.sim_node:main",

@@ -23,7 +23,7 @@ tether_sim:            # the node name, or /** for every node
     solver: dg
     cable:
       length: 200.0    # nested sections, or the flat form "cable.length: 200.0"
-      EA: 45.5e+6      # YAML 1.1: write 45.5e+6 or 45500000.0; "45.5e6" is read as a string
+      EA: 45.5e6
 ```
 
 Unknown keys, wrong types and out-of-range values are errors that name the key and the file.

@@ -18,7 +18,8 @@ from tether_sim.ros.sim_node import TetherSimNode
 
 OUTPUTS = {"/tether/state": TetherState, "/tether/ship_wrench": WrenchStamped,
            "/tether/vehicle_wrench": WrenchStamped, "/tether/snap_events": SnapLoadEvent,
-           "/tether/slack_warnings": SlackWarning, "/diagnostics": DiagnosticArray}
+           "/tether/slack_warnings": SlackWarning, "/diagnostics": DiagnosticArray,
+           "/vehicle/sim_pose": PoseStamped}
 
 
 def overrides(flat: dict) -> list:
@@ -70,7 +71,13 @@ class SimHarness:
             msg = pose if isinstance(pose, PoseStamped) else self.pose_msg(t, pose)
             self.pose_pubs[end].publish(msg)
         self.clock.publish(Clock(clock=time_msg(t)))
-        self.spin(4)
+        states = self.received["/tether/state"]
+        n = len(states)
+        self.spin(2)
+        for _ in range(30):  # a running node publishes once per tick: wait for that state
+            if len(states) > n or self.node.driver.solver is None:
+                break
+            self.spin(1)
         self.time = t
 
     def run(self, t_end, dt=0.02, **poses):

@@ -55,18 +55,29 @@ def test_motion_generator_run_writes_every_topic_with_sim_time_log_times(tmp_pat
     for log_ns, m in states:  # log time = header stamp = sim time
         assert log_ns == m.header.stamp.sec * 1_000_000_000 + m.header.stamp.nanosec
     assert states[-1][0] == 2_000_000_000
-    # the ship end follows the orbit x = a cos(w t), z = a sin(w t) at every output instant
+    # the ship end follows the orbit (starting at its top) x = a sin(w t), z = a cos(w t)
     w = 2 * math.pi * 0.5
     for log_ns, m in states[::5]:
         t = log_ns * 1e-9
         p = m.position[0]
-        assert (p.x, p.z) == pytest.approx((0.5 * math.cos(w * t), 0.5 * math.sin(w * t)), abs=1e-6)
+        assert (p.x, p.z) == pytest.approx((0.5 * math.sin(w * t), 0.5 * math.cos(w * t)), abs=1e-6)
     marker = msgs["/tether/marker"][-1][1]
     assert marker.type == 4 and len(marker.colors) == len(marker.points) == 11  # LINE_STRIP, per-vertex colours
     path = msgs["/tether/path"][-1][1]
     assert [p.pose.position.z for p in path.poses] == [p.z for p in states[-1][1].position]
     assert msgs["/tether/description"][0][1].length == 55.0
     assert len(msgs["/diagnostics"]) == 2
+    # an independent reader decodes every message, custom types from the schema text in the file
+    from pathlib import Path
+
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
+
+    with AnyReader([Path(out)], default_typestore=get_typestore(Stores.EMPTY)) as reader:
+        decoded = [(c.topic, reader.deserialize(raw, c.msgtype)) for c, _, raw in reader.messages()]
+    assert len(decoded) == sum(len(v) for v in msgs.values())
+    last = [m for topic, m in decoded if topic == "/tether/state"][-1]
+    assert last.ship_end_tension == states[-1][1].ship_end_tension and len(last.position) == 11
 
 
 def test_input_mcap_poses_drive_the_ship_and_bad_samples_are_skipped(tmp_path):

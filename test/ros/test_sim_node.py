@@ -20,7 +20,7 @@ pytestmark = pytest.mark.ros
 L, EA, GAMMA0, RHO_C, RHO_F, G = 100.0, 2.0e6, 3.01, 7153.0, 1025.0, 9.81
 W = GAMMA0 * G * (1.0 - RHO_F / RHO_C)  # submerged weight per unstretched metre, N/m [PE2020 Eq. 14]
 SHIP = (0.0, 0.0, 0.0)
-VEHICLE = (40.0, 0.0, -80.0)  # attachment point; chord 89.4 m < L: a sagging catenary
+VEHICLE = (60.0, 0.0, -75.0)  # attachment point; chord 96.0 m < L: a catenary rising from both ends
 ATTACH = (0.0, 0.0, 0.5)  # tether attachment in the vehicle frame
 
 
@@ -44,7 +44,8 @@ def base_params(**extra):
             "ship_end.kind": "prescribed", "ship_end.position": SHIP,
             "vehicle_end.kind": "prescribed", "vehicle_end.position": VEHICLE,
             "node.vehicle_attachment": ATTACH, "node.output_points": 21, "node.output_rate": 50.0,
-            "initial.kind": "static"}
+            "initial.kind": "static",
+            "node.tick_budget": 1.0e6}  # sim time: never cap a tick on wall time (deterministic runs)
     flat.update(extra)
     return flat
 
@@ -65,16 +66,17 @@ def harness():
 def test_static_poses_give_the_catenary_tensions_and_wrenches(harness):
     h = harness(base_params())
     vehicle_origin = np.subtract(VEHICLE, ATTACH)
-    h.run(1.0, ship=SHIP, vehicle=vehicle_origin)
+    h.run(1.1, ship=SHIP, vehicle=vehicle_origin)
     states = h.received["/tether/state"]
-    assert len(states) >= 40  # 50 Hz over ~1 s of sim time
+    assert len(states) >= 40  # 50 Hz over 1.1 s of sim time, less the 0.2 s node.input_delay
     H, V = elastic_catenary(VEHICLE[0] - SHIP[0], SHIP[2] - VEHICLE[2])
     T_vehicle, T_ship = math.hypot(H, V), math.hypot(H, V + W * L)
     last = states[-1]
-    # Discretisation (8 elements, P = 3) and 1 s of residual motion after the static solve: the end
-    # tensions match Irvine's closed form to 1 % (tolerances to be checked against the measured error).
+    # 8 elements of order 3 and 1 s of dynamics after the static solve: measured errors against
+    # Irvine's closed form are 0.03 % (ship, 2885 N) and 0.1 % (vehicle, 989 N); 1 % leaves room for
+    # the pose interpolation and the solver's settling, and still catches a wrong end or frame.
     assert last.ship_end_tension == pytest.approx(T_ship, rel=0.01)
-    assert last.vehicle_end_tension == pytest.approx(T_vehicle, rel=0.02)
+    assert last.vehicle_end_tension == pytest.approx(T_vehicle, rel=0.01)
     assert last.solver == "dg" and len(last.position) == 21 and last.header.frame_id == "map"
     np.testing.assert_allclose([last.position[0].x, last.position[0].y, last.position[0].z], SHIP, atol=1e-6)
     np.testing.assert_allclose([last.position[-1].x, last.position[-1].y, last.position[-1].z], VEHICLE, atol=1e-6)
@@ -83,7 +85,7 @@ def test_static_poses_give_the_catenary_tensions_and_wrenches(harness):
     wrench = h.received["/tether/vehicle_wrench"][-1]
     assert wrench.header.frame_id == "rov/base_link"
     f = np.array([wrench.wrench.force.x, wrench.wrench.force.y, wrench.wrench.force.z])
-    np.testing.assert_allclose(f, (-H, 0.0, V), atol=0.02 * T_vehicle)
+    np.testing.assert_allclose(f, (-H, 0.0, V), atol=0.01 * T_vehicle)
     tq = np.array([wrench.wrench.torque.x, wrench.wrench.torque.y, wrench.wrench.torque.z])
     np.testing.assert_allclose(tq, np.cross(ATTACH, f), atol=1e-6 * T_vehicle)
     ship = h.received["/tether/ship_wrench"][-1]
@@ -105,21 +107,24 @@ def vehicle_heave(t):
 
 
 def test_snap_scenario_publishes_slack_warning_and_snap_load_event(harness):
-    # Raising the lower end at 3 m/s outruns the cable's sinking (terminal speed in water
-    # sqrt(2 W / (rho Cd d)) = 1.3 m/s), so the lower end slackens; lowering it again snaps it taut.
+    # Starting the lower end upwards at 3 m/s drops the tension there by about gamma0*c*v =
+    # 3.01 * 815 * 3 = 7.4 kN (axial wave, c = sqrt(EA/gamma0)) > the 1 kN static tension: slack;
+    # lowering it again re-tensions the cable with a snap [PE2020 Sec. 6].
     h = harness(base_params())
     t = 0.0
     while t < 5.0:
         t = round(t + 0.02, 10)
         h.step(t, ship=SHIP, vehicle=np.subtract(vehicle_heave(t), ATTACH))
-    warnings = [m for m in h.received["/tether/slack_warnings"] if m.end == "vehicle"]
-    snaps = [m for m in h.received["/tether/snap_events"] if m.end == "vehicle"]
+    def seconds(stamp):
+        return stamp.sec + stamp.nanosec * 1e-9
+
+    # events of the heave: slack begins while the end rises (1-2 s), re-tensions while it is lowered
+    warnings = [m for m in h.received["/tether/slack_warnings"] if m.end == "vehicle" and 1.0 < seconds(m.header.stamp) < 2.6]
+    snaps = [m for m in h.received["/tether/snap_events"] if m.end == "vehicle" and 1.0 < seconds(m.slack_start) < 2.6]
     assert warnings and snaps
-    snap = snaps[0]
+    snap = max(snaps, key=lambda m: m.peak_tension)
     assert snap.peak_tension > snap.static_tension > 0 and snap.amplification > 1.0
-    assert snap.min_tension < warnings[0].threshold
-    slack_start = snap.slack_start.sec + snap.slack_start.nanosec * 1e-9
-    assert 1.0 < slack_start < 2.6 and snap.slack_duration > 0.0
+    assert snap.min_tension < warnings[0].threshold and snap.slack_duration > 0.0
 
 
 def test_console_script_rejects_a_misspelt_key_naming_key_and_file(tmp_path, capsys):
@@ -128,3 +133,44 @@ def test_console_script_rejects_a_misspelt_key_naming_key_and_file(tmp_path, cap
     assert main(["tether-sim", "--ros-args", "--params-file", str(bad)]) == 2
     err = capsys.readouterr().err
     assert "cable.EAA" in err and str(bad) in err and "cable.EA" in err
+
+
+def test_live_snap_thresholds_change_and_solver_keys_are_refused(harness):
+    from rclpy.parameter import Parameter
+
+    h = harness(base_params())
+    h.run(0.1, ship=SHIP, vehicle=np.subtract(VEHICLE, ATTACH))
+    static = h.node.driver.static_tensions
+    ok = h.node.set_parameters([Parameter("snap.slack_fraction", Parameter.Type.DOUBLE, 0.3)])[0]
+    assert ok.successful
+    assert h.node.driver.detector.thresholds == pytest.approx([0.3 * static[0], 0.3 * static[1]])
+    refused = h.node.set_parameters([Parameter("dg.order", Parameter.Type.INTEGER, 2)])[0]
+    assert not refused.successful and refused.reason
+    assert h.node.driver.config.dg.order == 3
+    n = len(h.received["/tether/state"])
+    h.run(0.3, ship=SHIP, vehicle=np.subtract(VEHICLE, ATTACH))
+    assert len(h.received["/tether/state"]) >= n + 5  # still running (50 Hz over 0.2 s)
+    assert h.received["/tether/description"][-1].parameters  # re-published on the change
+
+
+def test_vehicle_body_end_publishes_its_pose_and_the_wrench_of_a_hanging_cage(harness):
+    # ROPOS cage [PE2020 Table 3] on the (softened, 100 m) tether, hanging still below the ship:
+    # tension at the cage = its submerged weight m g (1 - rho_f / rho_body); at the ship that plus W L.
+    m, rho_body = 4995.0, 8448.0
+    weight = m * G * (1.0 - RHO_F / rho_body)
+    h = harness(base_params(**{"vehicle_end.kind": "body", "vehicle_end.position": (0.0, 0.0, -100.0),
+                               "body.initial_position": (0.0, 0.0, -102.1)}))
+    h.run(0.5, ship=SHIP)
+    last = h.received["/tether/state"][-1]
+    # static equilibrium of the discretised cable and body, 0.5 s later: 0.5 %
+    assert last.vehicle_end_tension == pytest.approx(weight, rel=0.005)
+    assert last.ship_end_tension == pytest.approx(weight + W * L, rel=0.005)
+    poses = h.received["/vehicle/sim_pose"]
+    assert poses and poses[-1].header.frame_id == "map"
+    p = poses[-1].pose.position
+    # the cage hangs straight below the ship: CoG = attachment - (0, 0, 2.1), about L (1 + eps) down
+    assert abs(p.x) < 1e-6 and abs(p.y) < 1e-6 and -106.0 < p.z < -102.0
+    wrench = h.received["/tether/vehicle_wrench"][-1].wrench
+    assert (wrench.force.x, wrench.force.y) == pytest.approx((0.0, 0.0), abs=1e-3 * weight)
+    assert wrench.force.z == pytest.approx(weight, rel=0.005)  # the tether holds the cage up
+    assert (wrench.torque.x, wrench.torque.y, wrench.torque.z) == pytest.approx((0.0, 0.0, 0.0), abs=1e-3 * weight)

@@ -234,6 +234,6 @@ def event_outputs(events, driver) -> list:
         if hasattr(ev, "peak_tension"):
             out.append(("/tether/snap_events", snap_event(ev, frame)))
         else:
-            static = driver.static_tensions[0 if ev.location == "ship" else 1]
+            static = driver.static_by_location.get(ev.location, 0.0)
             out.append(("/tether/slack_warnings", slack_warning(ev, frame, static)))
     return out

@@ -2,7 +2,8 @@
 
 Clock mapping: a solver time ``t_sim`` corresponds to the clock time ``anchor + t_sim`` (node clock:
 wall time, /clock, or the stamps of an input recording). Each :meth:`SimulationDriver.tick` advances
-the solver towards ``now - anchor``:
+the solver towards ``now - node.input_delay - anchor`` (the small delay lets pose inputs be
+interpolated between samples instead of extrapolated):
 
 1. If the clock went backwards (a replay loop), the pose histories are reset and the anchor moves
    so that the simulation continues from its current state (reported as a clock jump).
@@ -74,6 +75,7 @@ class SimulationDriver:
         self.solver = None
         self.wall_budget = wall_budget  # s of wall time one tick may spend stepping (None: no limit)
         self.wall_per_substep = 0.0
+        self._ticks_advanced = 0
         self._solver_config = config
         self._commanded = {}
         self._last_position = {}
@@ -83,14 +85,17 @@ class SimulationDriver:
         self.dropped_total = 0.0
         self.capped_ticks = 0
         self.last_error = None
+        self.last_recovery = None  # "snapshot" or "static" after a divergence
         self._snapshot = None
         self._snapshot_time = -np.inf
         self._snapshot_failed = False
         self.real_time_factor = 0.0
         self._last_wall = None
         self.static_tensions = (0.0, 0.0)
-        self.detector = None
+        self.detector = self.span_detector = None
         self.slack = {"ship": False, "vehicle": False}
+        self.static_by_location = {}
+        self.span_arc = np.zeros(0)
 
     # ------------------------------------------------------------------ set-up
     def _prescribed(self, end):
@@ -108,7 +113,9 @@ class SimulationDriver:
         return cfg
 
     def start(self, now: float) -> None:
-        """Build the solver (static equilibrium at the current end positions) at clock time ``now``."""
+        """Build the solver (static equilibrium at the current end positions) at clock time ``now``
+        (minus ``node.input_delay``)."""
+        now -= self.config.node.input_delay
         self._solver_config = self._start_config(now)
         self._commanded = {}
         self._last_position = {}
@@ -123,15 +130,27 @@ class SimulationDriver:
         self._take_snapshot()
 
     def _build_detector(self):
+        """Ends: every substep (drained end tensions). Span points (``snap.monitor_arc_lengths``):
+        sampled once per tick from the state, so their peaks are resolved at the output rate only."""
         L = self.config.cable.length
         self.detector = SnapDetector(self.config.snap, list(END_NAMES), list(self.static_tensions), [0.0, L])
         self.slack = {end: False for end in END_NAMES}
+        self.static_by_location = dict(zip(END_NAMES, self.static_tensions))
+        self.span_arc = np.array([s for s in self.config.snap.monitor_arc_lengths if 0.0 < s < L], float)
+        self.span_detector = None
+        if self.span_arc.size:
+            names = [f"span s={s:g} m" for s in self.span_arc]
+            static = self.solver.state(self.span_arc).tension
+            self.span_detector = SnapDetector(self.config.snap, names, list(static), list(self.span_arc))
+            self.static_by_location.update(zip(names, (float(x) for x in static)))
+            self.slack.update({name: False for name in names})
 
     def set_snap_config(self, snap_config) -> None:
         """Live change of the snap thresholds (slack state kept)."""
         self.config = replace(self.config, snap=snap_config)
-        if self.detector is not None:
-            self.detector.set_config(snap_config)
+        for detector in (self.detector, self.span_detector):
+            if detector is not None:
+                detector.set_config(snap_config)
 
     def _take_snapshot(self):
         self._snapshot = self.solver.snapshot()
@@ -155,6 +174,7 @@ class SimulationDriver:
         """Advance towards clock time ``now`` under the policy of the module docstring."""
         if self.solver is None:
             self.start(now)
+        now -= self.config.node.input_delay  # simulate the past, where the inputs are known
         report = TickReport(stamp=self.stamp)
         if self.last_now is not None and now < self.last_now:
             report.clock_jump = True
@@ -185,7 +205,8 @@ class SimulationDriver:
         held = {end: self._last_position.get(end) for end in targets}
         self._last_position = {end: p for end, (p, _) in targets.items()}
         for end, (position, _) in targets.items():
-            reach = node.max_end_speed * (target - t0) + 1e-6
+            # (time dropped by re-anchoring counts: the end really moved during the skipped time)
+            reach = node.max_end_speed * (target - t0 + report.dropped) + 1e-6
             if held[end] is not None and np.linalg.norm(position - held[end]) > reach:
                 # an end that was held (no input) got its first pose far away: restart there
                 report.restart = f"{end} end moved {np.linalg.norm(position - held[end]):.3g} m in one tick"
@@ -200,15 +221,19 @@ class SimulationDriver:
             self._recover(now, str(exc), report)
             return report
         self._update_rate(self.solver.time - t0, wall0)
-        if report.substeps > 0:  # running estimate of the wall time of one substep
+        if report.substeps > 0 and self._ticks_advanced > 0:  # the first advance includes JIT compiling
             cost = (wallclock.perf_counter() - wall0) / report.substeps
             self.wall_per_substep = cost if self.wall_per_substep == 0.0 else 0.7 * self.wall_per_substep + 0.3 * cost
+        self._ticks_advanced += 1
         times, t_ship, t_vehicle = self.solver.drain_end_tensions()
         if len(times):
             report.events = self.detector.update(np.asarray(times) + self.anchor,
                                                  np.column_stack([t_ship, t_vehicle]))
-            for ev in report.events:
-                self.slack[ev.location] = isinstance(ev, SlackStarted)
+        if self.span_detector is not None:
+            tension = self.solver.state(self.span_arc).tension
+            report.events += self.span_detector.update(np.array([self.stamp]), np.asarray(tension, float).reshape(1, -1))
+        for ev in report.events:
+            self.slack[ev.location] = isinstance(ev, SlackStarted)
         if self.solver.time - self._snapshot_time >= node.snapshot_interval:
             self._take_snapshot()
         report.stamp = self.stamp
@@ -226,16 +251,17 @@ class SimulationDriver:
         """Restore the last good snapshot, or rebuild from a static equilibrium (see module doc)."""
         self.divergences += 1
         self.last_error = message
+        self.last_recovery = None
         report.error = message
         if self._snapshot is not None and not self._snapshot_failed:
             self.solver.restore(self._snapshot)
             self._snapshot_failed = True  # a second divergence before a new snapshot -> rebuild
-            report.recovery = "snapshot"
+            report.recovery = self.last_recovery = "snapshot"
             self.solver.drain_end_tensions()
             self.anchor = now - self.solver.time
         else:
             self._rebuild(now)
-            report.recovery = "static"
+            report.recovery = self.last_recovery = "static"
         self._build_detector()
         report.stamp = self.stamp
 

@@ -51,6 +51,7 @@ def test_terminal_velocity(direction):
     normal = vel - along[:, None] * tangent
     speed_n = np.linalg.norm(normal, axis=1)
     assert np.all(np.isfinite(vel))
+    print(f"{direction}: along {np.mean(np.abs(along)):.4f} (expected {v_t:.4f}), normal {np.mean(speed_n):.4f} (expected {v_n:.4f}) m/s")
     # Sinking (downward components), within 1% of the terminal speeds, uniform along the cable.
     np.testing.assert_allclose(np.abs(along), v_t, rtol=0.01, atol=0.01 * max(v_n, v_t))
     np.testing.assert_allclose(speed_n, v_n, rtol=0.01, atol=0.01 * max(v_n, v_t))

@@ -45,6 +45,7 @@ def test_resting_cable_sinks_by_w_over_Kg_d():
     res = harness.run_sampled(solver, np.arange(0.25, 3.01, 0.25), arc_lengths=s)
     delta = ref.seabed_sink_depth(W, K_G, D)
     z = res["position"][-1][:, 2]
+    print(f"seabed sink: {Z_G - z.mean():.5f} m vs w/(K_g d) = {delta:.5f} m ({(Z_G - z.mean()) / delta - 1:+.2e})")
     np.testing.assert_allclose(z, Z_G - delta, atol=0.01 * delta)
     assert np.max(np.abs(res["velocity"][-1])) < 1e-4  # at rest (contact time scale ~0.05 s, 3 s run)
 

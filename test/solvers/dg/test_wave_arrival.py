@@ -48,6 +48,7 @@ def test_front_arrives_after_L_over_c(step_run):
     T0, dT = EA * EPS0, GAMMA0 * c * V
     t_arr = harness.crossing_time(step_run["sub_t"], step_run["sub_vehicle"], T0 + dT)
     travel = t_arr - (T_START + 0.5 * RAMP)
+    print(f"arrival: {travel:.6f} s vs L/c = {ref.axial_arrival_time(L, EA, GAMMA0):.6f} s ({travel / ref.axial_arrival_time(L, EA, GAMMA0) - 1:+.2e})")
     assert travel == pytest.approx(ref.axial_arrival_time(L, EA, GAMMA0), rel=0.01)
 
 

@@ -6,20 +6,21 @@ neighbouring nodes, so the Jacobian is block-banded; it is built group by group 
 differences (exact structure, ~1e-8 relative entries) and factorised with a sparse LU.
 
 Group kinds (rows): CAT_CELL (6), ROD_CELL (12), JOINT_CR / JOINT_RC (9), UNIT (1), CAT_VEL (3),
-CAT_FORCE (3), CAT_FREE (3), ROD_END (6). Group parameters gpar (G, 9) hold boundary vectors.
-Node arrays: Y, Yn, Ytn (K, 12); Ln (K, 3, 3) rod frames at t_n; rn (K, 6) positions and their generalized-alpha rates at t_n; s (K,).
+CAT_FORCE (3), CAT_FREE (3), ROD_END (6), BODY_DYN (13), CAT_BODY (3), ROD_BODY (6). Group parameters gpar (G, GPAR_SIZE) hold boundary vectors.
+Node arrays: Y, Yn, Ytn (K, 13) (cable nodes, then body nodes); Ln (K, 3, 3) rod frames at t_n; rn (K, 6) positions and their generalized-alpha rates at t_n; s (K,).
 """
 
 import numpy as np
 
 from tether_sim.numerics.jit import jit
+from tether_sim.solvers.hybrid.body import body_dynamics_residual, body_end_residual
 from tether_sim.solvers.hybrid.catenary import (catenary_cell_residual, catenary_force_bc, catenary_free_bc,
                                                 catenary_velocity_bc, unit_tangent_residual)
 from tether_sim.solvers.hybrid.joint import joint_residual
 from tether_sim.solvers.hybrid.rod import rod_cell_residual, rod_end_residual
 
-CAT_CELL, ROD_CELL, JOINT_CR, JOINT_RC, UNIT, CAT_VEL, CAT_FORCE, CAT_FREE, ROD_END = range(9)
-GROUP_ROWS = np.array([6, 12, 9, 9, 1, 3, 3, 3, 6], dtype=np.int64)
+CAT_CELL, ROD_CELL, JOINT_CR, JOINT_RC, UNIT, CAT_VEL, CAT_FORCE, CAT_FREE, ROD_END, BODY_DYN, CAT_BODY, ROD_BODY = range(12)
+GROUP_ROWS = np.array([6, 12, 9, 9, 1, 3, 3, 3, 6, 13, 3, 6], dtype=np.int64)
 
 
 @jit
@@ -42,14 +43,18 @@ def group_residual(kind, a, b, gp, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, out):
         catenary_force_bc(Y[a], gp[0:3], out)
     elif kind == CAT_FREE:
         catenary_free_bc(Y[a], Y[b], gp[0:3], gp[3:6], gp[6], out)
-    else:
+    elif kind == ROD_END:
         rod_end_residual(int(gp[0]), Y[a], Yn[a], Ln[a], P, gp[1:4], gp[4:7], out)
+    elif kind == BODY_DYN:  # a: body node, b: cable end node (gp[1] = 1 if it is a rod node)
+        body_dynamics_residual(Y[a], Yn[a], Ytn[a], Y[b], Yn[b], Ln[b], gp[1] > 0.5, gp, P, cz, cx, cy, out)
+    else:  # CAT_BODY / ROD_BODY: a: cable end node, b: body node
+        body_end_residual(Y[a], Yn[a], Ln[a], kind == ROD_BODY, Y[b], gp, P, out)
 
 
 @jit
 def assemble_residual(gkind, ga, gb, grow, gpar, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, R):
     """R (n_rows,) = all group residuals."""
-    out = np.empty(12)
+    out = np.empty(13)
     for g in range(gkind.shape[0]):
         k = gkind[g]
         group_residual(k, ga[g], gb[g], gpar[g], Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, out)
@@ -61,8 +66,8 @@ def assemble_residual(gkind, ga, gb, grow, gpar, Y, Yn, Ytn, Ln, rn, s, P, cz, c
 def assemble_jacobian(gkind, ga, gb, grow, gpar, noff, nslot, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy,
                       rows, cols, vals):
     """Forward-difference Jacobian in COO form (group by group); returns the number of entries."""
-    base = np.empty(12)
-    pert = np.empty(12)
+    base = np.empty(13)
+    pert = np.empty(13)
     nnz = 0
     for g in range(gkind.shape[0]):
         k = gkind[g]

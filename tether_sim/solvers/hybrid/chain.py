@@ -9,8 +9,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tether_sim.solvers.hybrid.assembly import (CAT_CELL, CAT_FORCE, CAT_FREE, CAT_VEL, GROUP_ROWS, JOINT_CR, JOINT_RC,
-                                                ROD_CELL, ROD_END, UNIT)
+from tether_sim.solvers.hybrid.assembly import (BODY_DYN, CAT_BODY, CAT_CELL, CAT_FORCE, CAT_FREE, CAT_VEL, GROUP_ROWS,
+                                                JOINT_CR, JOINT_RC, ROD_BODY, ROD_CELL, ROD_END, UNIT)
+from tether_sim.solvers.hybrid.body import BODY_PAR0, GPAR_SIZE
 from tether_sim.solvers.hybrid.kernels import CAT_SLOTS, ROD_SLOTS
 from tether_sim.solvers.hybrid.zoning import ROD, chain_nodes
 
@@ -32,41 +33,60 @@ class Chain:
     grow: np.ndarray
     gpar: np.ndarray  # (G, 9)
     end_group: tuple  # group index of the ship and vehicle end conditions
+    body_node: tuple  # node index of the body at each end (-1: none); body nodes follow the cable nodes
     n_unknowns: int
     nnz_max: int
     idx_node: np.ndarray  # (n_unknowns,) node of each unknown
     idx_slot: np.ndarray  # (n_unknowns,) slot of each unknown
 
 
-def build_chain(zones, s_grid, end_modes, free_ends):
-    """Chain and groups for element zones; ``free_ends[e]`` marks a tension-free catenary end."""
+def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
+    """Chain and groups for element zones; ``free_ends[e]`` marks a tension-free catenary end;
+    ``body_params[e]`` (packed rigid-body parameters) adds a body node at that end."""
     nodes = chain_nodes(zones)
     K = len(nodes)
     grid = np.array([j for j, _ in nodes], dtype=np.int64)
     kind = np.array([k for _, k in nodes], dtype=np.int64)
     nslot = np.where(kind == ROD, ROD_SLOTS, CAT_SLOTS).astype(np.int64)
+    body_node = [-1, -1]
+    for e in range(2):
+        if body_params[e] is not None:
+            body_node[e] = K + sum(1 for x in body_node if x >= 0)
+    nslot = np.concatenate([nslot, np.full(sum(1 for x in body_node if x >= 0), 13)]).astype(np.int64)
     noff = np.concatenate([[0], np.cumsum(nslot)[:-1]]).astype(np.int64)
-    groups = []  # (kind, a, b)
+    # groups in node order (ship end, then per node its unit-tangent row and the link to the next node,
+    # then the vehicle end) so the Jacobian is banded in this row order
+    links = []
     for c in range(K - 1):
         if grid[c] == grid[c + 1]:
-            groups.append((JOINT_CR if kind[c] != ROD else JOINT_RC, c, c + 1))
+            links.append((JOINT_CR if kind[c] != ROD else JOINT_RC, c, c + 1))
         else:
-            groups.append((ROD_CELL if kind[c] == ROD else CAT_CELL, c, c + 1))
+            links.append((ROD_CELL if kind[c] == ROD else CAT_CELL, c, c + 1))
+    ends = []
+    for e, (node, neighbour) in enumerate(((0, 1), (K - 1, K - 2))):
+        mode = end_modes[e]
+        if body_node[e] >= 0:
+            ends.append((ROD_BODY if kind[node] == ROD else CAT_BODY, node, body_node[e]))
+        elif kind[node] == ROD:
+            ends.append((ROD_END, node, -1))
+        elif mode in ("velocity", "clamped"):
+            ends.append((CAT_VEL, node, -1))
+        elif free_ends[e]:
+            ends.append((CAT_FREE, node, neighbour))
+        else:
+            ends.append((CAT_FORCE, node, -1))
+    groups = [ends[0]]
+    if body_node[0] >= 0:
+        groups.append((BODY_DYN, body_node[0], 0))
     for c in range(K):
         if kind[c] != ROD:
             groups.append((UNIT, c, -1))
-    end_group = []
-    for e, (node, neighbour) in enumerate(((0, 1), (K - 1, K - 2))):
-        mode = end_modes[e]
-        if kind[node] == ROD:
-            groups.append((ROD_END, node, -1))
-        elif mode in ("velocity", "clamped"):
-            groups.append((CAT_VEL, node, -1))
-        elif free_ends[e]:
-            groups.append((CAT_FREE, node, neighbour))
-        else:
-            groups.append((CAT_FORCE, node, -1))
-        end_group.append(len(groups) - 1)
+        if c < K - 1:
+            groups.append(links[c])
+    groups.append(ends[1])
+    end_group = [0, len(groups) - 1]
+    if body_node[1] >= 0:
+        groups.append((BODY_DYN, body_node[1], K - 1))
     gkind = np.array([g[0] for g in groups], dtype=np.int64)
     rows = GROUP_ROWS[gkind]
     grow = np.concatenate([[0], np.cumsum(rows)[:-1]]).astype(np.int64)
@@ -78,15 +98,21 @@ def build_chain(zones, s_grid, end_modes, free_ends):
     nnz = 0
     for g, (k, a, b) in enumerate(groups):
         nnz += GROUP_ROWS[k] * (nslot[a] + (nslot[b] if b >= 0 else 0))
-    gpar = np.zeros((len(groups), 9))
+    gpar = np.zeros((len(groups), GPAR_SIZE))
     for e in range(2):
         g = end_group[e]
         if gkind[g] == ROD_END:
             gpar[g, 0] = ROD_END_KIND[end_modes[e]]
-    idx_node = np.repeat(np.arange(K), nslot)
+    for g, (k, a, b) in enumerate(groups):
+        if k in (BODY_DYN, CAT_BODY, ROD_BODY):
+            e = body_node.index(a if k == BODY_DYN else b)
+            gpar[g, 0] = e
+            gpar[g, 1] = float(kind[b if k == BODY_DYN else a] == ROD)
+            gpar[g, BODY_PAR0:] = body_params[e]
+    idx_node = np.repeat(np.arange(nslot.size), nslot)
     idx_slot = np.concatenate([np.arange(n) for n in nslot]).astype(np.int64)
     return Chain(grid, kind, s_grid[grid].astype(float), noff, nslot, gkind, ga, gb, grow, gpar, tuple(end_group),
-                 n_unknowns, int(nnz), idx_node, idx_slot)
+                 tuple(body_node), n_unknowns, int(nnz), idx_node, idx_slot)
 
 
 def rod_blocks(chain):
