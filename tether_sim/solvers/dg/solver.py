@@ -46,7 +46,7 @@ class DGCableSolver:
         self.L = float(cab.length)
         self.h = self._element_sizes(opt)
         self.s_edges = np.concatenate(([0.0], np.cumsum(self.h)))
-        self.ops = element_operators(self.P)
+        self.ops = element_operators(self.P, int(opt.quad_points) or None)
         o = self.ops
         self.V, self.Pj, self.D, self.Lf, self.Tr, self.Iq = o.vandermonde, o.projection, o.derivative, o.lift, o.trace, o.integral
         self.cz, self.cx, self.cy = current_table(env)
