@@ -50,7 +50,7 @@ def test_single_slack_snap_event_is_measured():
 
 def test_no_event_without_slack_even_with_big_oscillation():
     # Oscillation between 150 N and 1850 N: never below 10% of static -> no slack, no snap.
-    t = np.arange(0.0, 20.0, DT)
+    t = np.arange(0.0, 21.0, DT)  # the last re-tensioning window closes at ~20.03 s
     y = (STATIC + 850.0 * np.sin(2 * np.pi * 0.2 * t))[:, None]
     det = SnapDetector(SnapConfig(), ["ship"], [STATIC], [0.0])
     assert run(det, t, y) == []
@@ -92,10 +92,33 @@ def test_short_slack_ignored_and_second_slack_closes_window():
     snaps = [e for e in events if isinstance(e, SnapEvent)]
     assert sum(isinstance(e, SlackStarted) for e in events) == 2  # the warning fires for both
     assert len(snaps) == 1 and snaps[0].peak_tension == pytest.approx(2000.0)
-    det = SnapDetector(SnapConfig(), ["vehicle"], [STATIC], [0.0])
+    det = SnapDetector(SnapConfig(min_slack_duration=0.0), ["vehicle"], [STATIC], [0.0])
     snaps = [e for e in run(det, t, y) if isinstance(e, SnapEvent)]
-    # Without the minimum duration the first snap (1500 N) is closed by the second slack at 1.33 s.
+    # Without the minimum duration the first snap (1500 N >= static) is its own event, closed by the
+    # second slack at 1.33 s.
     assert [round(e.peak_tension) for e in snaps] == [1500, 2000]
+
+
+def test_chatter_around_the_threshold_is_one_slack_snap_cycle():
+    # Slack from 1.9 s; 0.28 s of chatter (50 N <-> 400 N every 40 ms: above the 200 N re-tension
+    # level but far below static), then the real snap to 2500 N at 2.55 s.
+    knots = [(0, STATIC), (1, STATIC), (2, 0), (2.2, 50)]
+    for k in range(7):
+        knots += [(2.22 + 0.04 * k, 400), (2.24 + 0.04 * k, 50)]
+    knots += [(2.5, 50), (2.55, 2500), (3.0, STATIC), (6, STATIC)]
+    t = np.arange(0.0, 6.0, 1e-4)
+    y = piecewise(t, knots)[:, None]
+    events = run(SnapDetector(SnapConfig(), ["ship"], [STATIC], [0.0]), t, y)
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent]
+    snap = events[1]
+    assert snap.slack_start == pytest.approx(1.9, abs=1e-6)
+    # The slack period ends at the last upward crossing of 100 N: 2.5 + 0.05 * 50/2450 s.
+    assert snap.slack_duration == pytest.approx(2.5 + 0.05 * 50 / 2450 - 1.9, abs=1e-6)
+    assert snap.peak_tension == pytest.approx(2500.0) and snap.rise_time == pytest.approx(0.05 * 2400 / 2450, abs=2e-4)
+    # The same chatter ending in a gentle re-tension (no overshoot of static) is no snap at all.
+    gentle = [(a, min(b, 900.0)) for a, b in knots]
+    events = run(SnapDetector(SnapConfig(), ["ship"], [STATIC], [0.0]), t, piecewise(t, gentle)[:, None])
+    assert [type(e) for e in events] == [SlackStarted]
 
 
 def test_bad_input_is_rejected_clearly():

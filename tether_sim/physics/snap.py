@@ -7,12 +7,17 @@ tension samples [DNV-RP-H103 slack criterion; PE2020 Sec. 6]:
                            tension there); a :class:`SlackStarted` early warning is emitted.
 ``slack``  -> ``rising``  when T rises above the re-tension threshold (hysteresis).
 ``rising`` -> ``taut``    after ``peak_window`` seconds: the largest tension since leaving slack
-                           is the snap peak; a :class:`SnapEvent` is emitted. Falling back into
-                           slack first closes the window early.
+                           is the snap peak; a :class:`SnapEvent` is emitted if it reaches
+                           ``snap_fraction`` x static and the slack lasted ``min_slack_duration``.
+``rising`` -> ``slack``   falling back below the slack threshold within the window: a re-tensioning
+                           that already reached the snap level is emitted as its own snap and a new
+                           slack period starts; a weaker one (chatter around the threshold) is merged
+                           into the current slack period (no new warning, no event).
 
 Slack duration runs from the downward crossing of the slack threshold to the last upward crossing
-of it (linear interpolation between samples); the rise time runs from that upward crossing to the
-peak. The per-sample work is a compiled kernel over the whole chunk of samples.
+of it (linear interpolation between samples); the rise time runs from the upward crossing that
+started the re-tensioning holding the peak to the peak. The per-sample work is a compiled kernel
+over the whole chunk of samples.
 """
 
 from dataclasses import dataclass
@@ -30,8 +35,9 @@ class SnapConfig:
     slack_fraction: float = param(0.1, doc="slack begins when tension < slack_fraction * static tension", min=0.0, max=1.0, live=True)
     slack_threshold: float = param(0.0, unit="N", doc="absolute slack threshold; > 0 overrides slack_fraction", min=0.0, max=1e9, live=True)
     retension_fraction: float = param(0.2, doc="slack ends when tension rises above retension_fraction * static (hysteresis)", min=0.0, max=10.0, live=True)
-    min_slack_duration: float = param(0.0, unit="s", doc="ignore slack periods shorter than this", min=0.0, max=1e4, live=True)
+    min_slack_duration: float = param(0.1, unit="s", doc="no snap event after a slack period shorter than this", min=0.0, max=1e4, live=True)
     peak_window: float = param(1.0, unit="s", doc="after re-tensioning, the snap peak is the largest tension within this window", min=1e-6, max=1e4, live=True)
+    snap_fraction: float = param(1.0, doc="a re-tensioning is a snap only if its peak reaches snap_fraction * static; weaker ones that fall back into slack are merged into the slack period", min=0.0, max=100.0, live=True)
     monitor_arc_lengths: tuple = param((), unit="m", doc="extra arc lengths (span points) monitored besides both ends")
 
 
@@ -64,11 +70,13 @@ class SnapEvent:
 
 
 # Per-location machine state columns.
-_MODE, _SLACK_START, _MIN_T, _EXIT_T, _PEAK, _PEAK_T, _RETENSION_T, _PREV_T, _PREV_TENSION, _HAS_PREV = range(10)
-_N_STATE = 10
+(_MODE, _SLACK_START, _MIN_T, _EXIT_T, _PEAK, _PEAK_T, _RETENSION_T, _PREV_T, _PREV_TENSION, _HAS_PREV,
+ _PEAK_EXIT) = range(11)
+_N_STATE = 11
 _TAUT, _SLACK, _RISING = 0.0, 1.0, 2.0
-# Event rows: kind (0 slack, 1 snap), location, time, tension/peak, min, slack_start, exit time.
-_N_EVENT = 7
+# Event rows: kind (0 slack, 1 snap), location, time, tension/peak, min, slack_start, exit time,
+# start of the re-tensioning holding the peak.
+_N_EVENT = 8
 
 
 @jit
@@ -80,7 +88,7 @@ def _crossing_time(t0, y0, t1, y1, level):
 
 
 @jit
-def _emit(events, n, kind, loc, time, value, min_t, start, exit_t):
+def _emit(events, n, kind, loc, time, value, min_t, start, exit_t, rise_start):
     events[n, 0] = kind
     events[n, 1] = loc
     events[n, 2] = time
@@ -88,6 +96,7 @@ def _emit(events, n, kind, loc, time, value, min_t, start, exit_t):
     events[n, 4] = min_t
     events[n, 5] = start
     events[n, 6] = exit_t
+    events[n, 7] = rise_start
     return n + 1
 
 
@@ -95,8 +104,8 @@ def _emit(events, n, kind, loc, time, value, min_t, start, exit_t):
 def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_duration, events):
     """Advance every location's state machine over samples ``start..``; stop when ``events`` is full.
 
-    times (k,), tensions (k, n_loc), st (n_loc, 10) state, thresholds (n_loc, 2) = (slack, re-tension).
-    Returns (next sample index, number of event rows written).
+    times (k,), tensions (k, n_loc), st (n_loc, 11) state, thresholds (n_loc, 3) = (slack, re-tension,
+    snap level). Returns (next sample index, number of event rows written).
     """
     n_ev = 0
     cap = events.shape[0]
@@ -110,6 +119,7 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
             y = tensions[i, j]
             lo = thresholds[j, 0]
             hi = thresholds[j, 1]
+            snap_level = thresholds[j, 2]
             s = st[j]
             has_prev = s[_HAS_PREV] > 0.0
             t0 = s[_PREV_T]
@@ -119,9 +129,15 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                 if y > s[_PEAK]:
                     s[_PEAK] = y
                     s[_PEAK_T] = t
-                if y < lo or t - s[_RETENSION_T] >= peak_window:
-                    if s[_EXIT_T] - s[_SLACK_START] >= min_duration:
-                        n_ev = _emit(events, n_ev, 1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START], s[_EXIT_T])
+                    s[_PEAK_EXIT] = s[_EXIT_T]
+                is_snap = s[_PEAK] >= snap_level and s[_EXIT_T] - s[_SLACK_START] >= min_duration
+                if y < lo and s[_PEAK] < snap_level:
+                    s[_MODE] = _SLACK  # chatter: merge into the running slack period
+                    mode = _SLACK
+                elif y < lo or t - s[_RETENSION_T] >= peak_window:
+                    if is_snap:
+                        n_ev = _emit(events, n_ev, 1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START],
+                                     s[_EXIT_T], s[_PEAK_EXIT])
                     s[_MODE] = _TAUT
                     mode = _TAUT
             if mode == _TAUT:
@@ -131,7 +147,8 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                     s[_SLACK_START] = tc
                     s[_MIN_T] = y
                     s[_EXIT_T] = tc
-                    n_ev = _emit(events, n_ev, 0.0, j, tc, y, y, tc, tc)
+                    s[_PEAK] = -np.inf
+                    n_ev = _emit(events, n_ev, 0.0, j, tc, y, y, tc, tc, tc)
             elif mode == _SLACK:
                 if y < s[_MIN_T]:
                     s[_MIN_T] = y
@@ -140,8 +157,10 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                 if y > hi:
                     s[_MODE] = _RISING
                     s[_RETENSION_T] = t
-                    s[_PEAK] = y
-                    s[_PEAK_T] = t
+                    if y > s[_PEAK]:
+                        s[_PEAK] = y
+                        s[_PEAK_T] = t
+                        s[_PEAK_EXIT] = s[_EXIT_T]
             s[_PREV_T] = t
             s[_PREV_TENSION] = y
             s[_HAS_PREV] = 1.0
@@ -164,7 +183,7 @@ class SnapDetector:
         if not np.all(np.isfinite(self.static_tensions)):
             raise ValueError("snap detector: static tensions must be finite")
         self._state = np.zeros((n, _N_STATE))
-        self._thresholds = np.zeros((n, 2))
+        self._thresholds = np.zeros((n, 3))
         self._events = np.zeros((64, _N_EVENT))
         self.set_config(config)
 
@@ -179,6 +198,7 @@ class SnapDetector:
             self.criterion = f"T < {config.slack_fraction:g} x static tension (DNV-RP-H103)"
         self._thresholds[:, 0] = slack
         self._thresholds[:, 1] = np.maximum(config.retension_fraction * np.abs(self.static_tensions), slack)
+        self._thresholds[:, 2] = config.snap_fraction * np.abs(self.static_tensions)
 
     @property
     def thresholds(self) -> np.ndarray:
@@ -213,8 +233,9 @@ class SnapDetector:
         out = []
         for j in np.nonzero(self._state[:, _MODE] == _RISING)[0]:
             s = self._state[j]
-            if s[_EXIT_T] - s[_SLACK_START] >= self.config.min_slack_duration:
-                out.append(self._event(np.array([1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START], s[_EXIT_T]])))
+            if s[_EXIT_T] - s[_SLACK_START] >= self.config.min_slack_duration and s[_PEAK] >= self._thresholds[j, 2]:
+                out.append(self._event(np.array([1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START], s[_EXIT_T],
+                                                 s[_PEAK_EXIT]])))
             s[_MODE] = _TAUT
         return out
 
@@ -226,6 +247,6 @@ class SnapDetector:
         static = float(self.static_tensions[j])
         return SnapEvent(time=float(row[2]), location=self.locations[j], arc_length=float(self.arc_lengths[j]),
                          peak_tension=float(row[3]), min_tension=float(row[4]), slack_start=float(row[5]),
-                         slack_duration=float(row[6] - row[5]), rise_time=float(row[2] - row[6]),
+                         slack_duration=float(row[6] - row[5]), rise_time=float(row[2] - row[7]),
                          static_tension=static, amplification=float(row[3]) / static if static != 0.0 else float("inf"),
                          criterion=self.criterion)

@@ -25,7 +25,7 @@ EI_STAR = 2.62e3  # N m^2, solid section of d = 0.03 m with EA = 45.5 MN [PE2020
 
 
 def ropos_config(length=1730.0, alpha=0.0, frequency=0.2, amplitude=2.0, n_elements=None, order=None,
-                 periods=12.0, solver=None, **sections):
+                 periods=12.0, solver=None, cfl=None, **sections):
     """SimConfig of ``config/ropos_L<length>.yaml`` with the study's alpha, f, a and mesh.
 
     ``periods`` sets the duration (12 periods: the paper's Figure 6 looks at period 8.65) and the
@@ -43,7 +43,8 @@ def ropos_config(length=1730.0, alpha=0.0, frequency=0.2, amplitude=2.0, n_eleme
                   motion=replace(cfg.motion, kind="circle", amplitude=float(amplitude), frequency=float(frequency),
                                  ramp_time=1.0 / float(frequency) if frequency > 0 else 0.0),
                   duration=float(periods) / float(frequency) if frequency > 0 else cfg.duration)
-    dg = replace(cfg.dg, n_elements=int(n_elements or cfg.dg.n_elements), order=int(order or cfg.dg.order))
+    dg = replace(cfg.dg, n_elements=int(n_elements or cfg.dg.n_elements), order=int(order or cfg.dg.order),
+                 cfl=float(cfl or cfg.dg.cfl))
     cfg = replace(cfg, dg=dg, **sections)
     return replace(cfg, solver=solver) if solver else cfg
 
@@ -95,13 +96,17 @@ class CaseResult:
         return [e for e in self.events if not isinstance(e, SnapEvent) and location in (None, e.location)]
 
 
-def _binned_max(t, y, width, t_start):
-    """Maxima of y over consecutive bins of ``width`` seconds (bin centre times)."""
+def _bin_index(t, rate):
+    """Index of the 1/rate-wide time bin of each t (bins [k, k+1)/rate; float noise absorbed)."""
+    return np.floor(np.asarray(t) * rate + 1e-9).astype(np.int64)
+
+
+def _binned_max(t, y, rate):
+    """Maxima of y (k, m) over the 1/rate-wide time bins the samples fall in (bin centre times)."""
     if t.size == 0:
         return np.zeros(0), np.zeros((0, y.shape[1]))
-    idx = np.floor((t - t_start) / width).astype(np.int64)
-    uniq, first = np.unique(idx, return_index=True)
-    return t_start + (uniq + 0.5) * width, np.maximum.reduceat(y, first, axis=0)
+    uniq, first = np.unique(_bin_index(t, rate), return_index=True)
+    return (uniq + 0.5) / rate, np.maximum.reduceat(y, first, axis=0)
 
 
 def run_case(config, output_rate=200.0, sample_rate=1000.0, keep_raw=False, t_end=None):
@@ -146,12 +151,15 @@ def run_case(config, output_rate=200.0, sample_rate=1000.0, keep_raw=False, t_en
                 acc[k] = body.acceleration
             ship_acc[k] = a_ship
             if len(chunks_t) >= 64 or k == n_out - 1:
-                bt, bT = _binned_max(np.concatenate(chunks_t), np.concatenate(chunks_T), 1.0 / sample_rate,
-                                     0.0)
+                # Bin whole 1/sample_rate bins only; the last (maybe incomplete) bin waits for more samples.
+                ts_all, T_all = np.concatenate(chunks_t), np.concatenate(chunks_T)
+                bins = _bin_index(ts_all, sample_rate)
+                keep = bins == bins[-1] if k < n_out - 1 else np.zeros(ts_all.size, dtype=bool)
+                bt, bT = _binned_max(ts_all[~keep], T_all[~keep], sample_rate)
                 result.t = np.r_[result.t, bt]
                 result.ship_tension = np.r_[result.ship_tension, bT[:, 0]]
                 result.vehicle_tension = np.r_[result.vehicle_tension, bT[:, 1]]
-                chunks_t, chunks_T = [], []
+                chunks_t, chunks_T = [ts_all[keep]], [T_all[keep]]
     except Exception as exc:  # a diverged case is reported in the study table, not fatal
         result.error = f"{type(exc).__name__}: {exc}"
     result.events += detector.flush()

@@ -233,9 +233,11 @@ class DGCableSolver:
     # ------------------------------------------------------------------ time step
     def stable_time_step(self) -> float:
         """Automatic substep = dg.cfl x the stability limit of docs/dg_solver.md."""
-        cab = self.config.cable
+        cab, env = self.config.cable, self.config.environment
+        kd = env.seabed_stiffness * cab.diameter if env.seabed else 0.0
         return self.config.dg.cfl * stable_dt(self.h, self.P, self.law.max_slope(), cab.gamma0, cab.damping,
-                                              cab.EI, cab.bending_damping, self.config.dg.lambda_floor)
+                                              cab.EI, cab.bending_damping, self.config.dg.lambda_floor,
+                                              kd, env.seabed_damping)
 
     def _substep(self):
         return self.fixed_dt if self.fixed_dt > 0 else self._dt_rule
