@@ -56,7 +56,8 @@ def moment_and_shear(state, s):
     return signed_moment_and_shear(s, np.asarray(state.position)[:, 2], np.asarray(state.bending_moment))
 
 
-def run_mode(mode, n_elements=16, order=4, cycles=4, free_periods=1.5, samples_per_period=40, overrides=None):
+def run_mode(mode, n_elements=16, order=4, cycles=4, free_periods=1.5, samples_per_period=40, load_updates_per_period=400,
+             overrides=None):
     """Excite mode ``mode`` (1-based) and measure its period and envelopes."""
     flat = {"dg.n_elements": n_elements, "dg.order": order}
     flat.update(overrides or {})
@@ -71,7 +72,7 @@ def run_mode(mode, n_elements=16, order=4, cycles=4, free_periods=1.5, samples_p
     duration = cycles * period
     f0 = AMPLITUDE * m * norm * omega * 4.0 / duration
     dt_out = period / samples_per_period
-    dt_load = period / 400.0  # force updates during the burst: small steps, so the piecewise-constant
+    dt_load = period / load_updates_per_period  # force updates during the burst: small steps, so the piecewise-constant
     # load does not kick the high (short-wave) bending modes that the shear envelope amplifies
     wall = time.perf_counter()
 
