@@ -58,9 +58,9 @@ def scenario_configs():
 
 
 def _print(row):
-    print(f"  {row['case']:<34s} RTF={row['rtf']:9.2f}  dt={row['time_step']:.3g}s  "
+    print(f"  {row['case']:<34s} RTF={row['rtf']:9.2f} (cpu {row['rtf_cpu']:9.2f})  dt={row['time_step']:.3g}s  "
           f"substeps/s={row['substeps_per_s']:9.0f}  us/substep={row['us_per_substep']:7.2f}  "
-          f"tick med/p99={row['tick_median_ms']:7.2f}/{row['tick_p99_ms']:7.2f} ms  build={row['build_wall']:.2f}s",
+          f"tick med/p99={row['tick_median_ms']:7.2f}/{row['tick_p99_ms']:7.2f} ms  build={row['build_wall']:.2f}s load={row['load']:.1f}",
           flush=True)
 
 
@@ -72,6 +72,8 @@ def main(argv=None):
     ap.add_argument("--lengths", type=float, nargs="+", default=[1730.0, 200.0])
     ap.add_argument("--alphas", type=float, nargs="+", default=[0.0, 1.0, 100.0])
     ap.add_argument("--no-scenarios", action="store_true")
+    ap.add_argument("--cage", default="body", choices=("body", "force"),
+                    help="force: cage as its submerged weight (cost figures while body coupling is missing)")
     ap.add_argument("--json", default="out/bench_solvers.json")
     args = ap.parse_args(argv)
     print(f"bench_solvers on {platform.machine()}, {os.cpu_count()} cores, "
@@ -81,15 +83,15 @@ def main(argv=None):
         for length in args.lengths:
             alphas = args.alphas if solver == "dg" else [0.0]
             for alpha in alphas:
-                name = f"{solver} ROPOS L={length:.0f} alpha={alpha:g}"
+                name = f"{solver} ROPOS L={length:.0f} alpha={alpha:g}" + (" (cage=force)" if args.cage == "force" else "")
                 try:
-                    cfg = rc.ropos_config(length, alpha=alpha, solver=solver)
+                    cfg = rc.ropos_config(length, alpha=alpha, solver=solver, cage=args.cage)
                     row = time_case(name, cfg, args.duration, motion=rc.fairlead_motion)
                 except Exception as exc:  # a missing or failing solver is reported, not fatal
                     print(f"  {name:<34s} FAILED: {type(exc).__name__}: {exc}")
                     traceback.print_exc(limit=2, file=sys.stdout)
                     continue
-                row.update(solver=solver, length=length, alpha=alpha)
+                row.update(solver=solver, length=length, alpha=alpha, cage=args.cage)
                 rows.append(row)
                 _print(row)
     if not args.no_scenarios:

@@ -4,6 +4,7 @@ Only the public interface is used (``build_solver(SimConfig)``, ``set_end_motion
 ``advance_to``, ``drain_end_tensions``) so the figures measure what the node will see.
 """
 
+import os
 import time
 
 import numpy as np
@@ -16,7 +17,8 @@ def run(config, duration, rate=50.0, motion=None, end="ship", t_warm=0.0):
 
     ``motion(t) -> (position, velocity)`` drives the prescribed ``end`` (None: the end is left
     as configured). Returns a dict: ``t``/``ship``/``vehicle`` end tensions at every substep,
-    ``tick_wall`` (wall s per tick, array), ``build_wall`` (construction incl. static solve and,
+    ``tick_wall`` (wall s per tick, array), ``wall``/``cpu`` (summed over ticks; the thread CPU
+    time is the robust cost on a shared machine), ``build_wall`` (construction incl. static solve and,
     on a cold cache, JIT compilation), ``substeps``, ``wall`` (sum of ticks).
     """
     w0 = time.perf_counter()
@@ -24,26 +26,29 @@ def run(config, duration, rate=50.0, motion=None, end="ship", t_warm=0.0):
     build_wall = time.perf_counter() - w0
     n_ticks = int(round(duration * rate))
     tick_wall = np.empty(n_ticks)
+    tick_cpu = np.empty(n_ticks)
     ts, ship, veh = [], [], []
     substeps = 0
     t0 = solver.time
     solver.drain_end_tensions()
     for k in range(n_ticks):
         t1 = t0 + (k + 1) / rate
-        w = time.perf_counter()
+        w, c = time.perf_counter(), time.thread_time()
         if motion is not None:
             pos, vel = motion(t1)
             solver.set_end_motion(end, pos, vel)
         substeps += solver.advance_to(t1)
         tt, ts_ship, ts_veh = solver.drain_end_tensions()
         tick_wall[k] = time.perf_counter() - w
+        tick_cpu[k] = time.thread_time() - c
         ts.append(np.asarray(tt, dtype=float))
         ship.append(np.asarray(ts_ship, dtype=float))
         veh.append(np.asarray(ts_veh, dtype=float))
     t = np.concatenate(ts) if ts else np.empty(0)
     return {
         "t": t, "ship": np.concatenate(ship) if ship else t, "vehicle": np.concatenate(veh) if veh else t,
-        "tick_wall": tick_wall, "wall": float(tick_wall.sum()), "build_wall": build_wall,
+        "tick_wall": tick_wall, "wall": float(tick_wall.sum()), "cpu": float(tick_cpu.sum()),
+        "build_wall": build_wall,
         "substeps": int(substeps), "duration": float(duration), "rate": float(rate),
         "time_step": float(solver.stable_time_step()), "solver": solver,
     }
@@ -59,6 +64,7 @@ def summary(res):
     ticks_ms = 1e3 * res["tick_wall"]
     return {
         "rtf": res["duration"] / res["wall"],
+        "rtf_cpu": res["duration"] / res["cpu"],
         "substeps_per_s": res["substeps"] / res["duration"],
         "us_per_substep": 1e6 * res["wall"] / max(res["substeps"], 1),
         "tick_median_ms": float(np.median(ticks_ms)),
@@ -66,4 +72,5 @@ def summary(res):
         "tick_max_ms": float(ticks_ms.max()),
         "build_wall": res["build_wall"],
         "time_step": res["time_step"],
+        "load": os.getloadavg()[0],
     }

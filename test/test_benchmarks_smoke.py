@@ -74,7 +74,7 @@ def test_moordyn_static_top_tension(tmp_path):
 
 def test_snap_metrics_on_synthetic_record():
     """Per-period peaks of a known signal: peaks 100 + k at t = 20.5 + 5k (k = 0..7)."""
-    t = np.arange(0.0, 60.0, 0.01)
+    t = np.arange(0.0, 60.005, 0.01)
     tension = np.zeros_like(t)
     for k in range(12):
         tension[np.argmin(abs(t - (0.5 + 5 * k)))] = 100.0 + (k - 4)

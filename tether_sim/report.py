@@ -28,6 +28,7 @@ STATE_TYPE = "tether_sim_msgs/msg/TetherState"
 SNAP_TYPE = "tether_sim_msgs/msg/SnapLoadEvent"
 SLACK_TYPE = "tether_sim_msgs/msg/SlackWarning"
 WRENCH_TYPE = "geometry_msgs/msg/WrenchStamped"
+DIAGNOSTICS_TYPE = "diagnostic_msgs/msg/DiagnosticArray"
 ENDS = ("ship", "vehicle")
 
 
@@ -47,7 +48,7 @@ class RunData:
     """Everything the report reads from one MCAP, times in s from the first state."""
 
     path: Path
-    t0: float
+    t0: float                           # clock time of t = 0, s
     solver: str
     t: np.ndarray                       # (n_t,)
     arc_length: np.ndarray              # (n_s,)
@@ -57,14 +58,17 @@ class RunData:
     snaps: list = field(default_factory=list)      # dicts, times relative to t0
     warnings: list = field(default_factory=list)   # dicts
     wrench: dict = field(default_factory=dict)     # end -> (t (n,), |F| (n,))
+    diagnostics: dict = field(default_factory=dict)  # status name -> {key: value} (last seen)
+    time_label: str = "time since the first state"
 
 
 def _topics_of(summary, type_name):
     return sorted(t for t, info in summary.topics.items() if info.type_name == type_name)
 
 
-def load_run(path) -> RunData:
-    """Read states, events, warnings and wrenches from an output MCAP."""
+def load_run(path, t0_s: float | None = None) -> RunData:
+    """Read states, events, warnings and wrenches from an output MCAP; times relative to t0_s
+    (clock time, s; default: the first state's stamp)."""
     path = Path(path)
     summary = read_summary(path)
     state_topics = _topics_of(summary, STATE_TYPE)
@@ -74,7 +78,8 @@ def load_run(path) -> RunData:
     state_topic = "/tether/state" if "/tether/state" in state_topics else state_topics[0]
     wrench_topics = {end: t for t in _topics_of(summary, WRENCH_TYPE) for end in ENDS if end in t}
     wanted = [state_topic, *_topics_of(summary, SNAP_TYPE), *_topics_of(summary, SLACK_TYPE),
-              *wrench_topics.values()]
+              *wrench_topics.values(), *_topics_of(summary, DIAGNOSTICS_TYPE)]
+    diagnostics = {}
     times, positions, tensions, ends, snaps, warns = [], [], [], {e: [] for e in ENDS}, [], []
     wrench = {end: ([], []) for end in wrench_topics}
     arc, solver = None, ""
@@ -101,6 +106,10 @@ def load_run(path) -> RunData:
             warns.append({"end": msg.end, "arc_length": msg.arc_length,
                           "t": stamp_seconds(msg.header.stamp), "tension": msg.tension,
                           "threshold": msg.threshold})
+        elif type_name == DIAGNOSTICS_TYPE:
+            for status in msg.status:
+                diagnostics[status.name] = {"message": status.message,
+                                            **{kv.key: kv.value for kv in status.values}}
         elif type_name == WRENCH_TYPE:
             end = next(e for e, t in wrench_topics.items() if t == topic)
             f = msg.wrench.force
@@ -110,7 +119,7 @@ def load_run(path) -> RunData:
         raise ReportError(f"{path}: topic {state_topic} holds no TetherState messages")
     t = np.asarray(times)
     order = np.argsort(t, kind="stable")
-    t0 = float(t[order[0]])
+    t0 = float(t[order[0]]) if t0_s is None else float(t0_s)
     for item in snaps:
         item["t_peak"] -= t0
         item["slack_start"] -= t0
@@ -119,7 +128,8 @@ def load_run(path) -> RunData:
     return RunData(path, t0, solver, t[order] - t0, arc, np.asarray(positions)[order],
                    np.asarray(tensions)[order],
                    {e: np.asarray(v, dtype=float)[order] for e, v in ends.items()}, snaps, warns,
-                   {e: (np.asarray(tw) - t0, np.asarray(fw)) for e, (tw, fw) in wrench.items()})
+                   {e: (np.asarray(tw) - t0, np.asarray(fw)) for e, (tw, fw) in wrench.items()},
+                   diagnostics)
 
 
 def below_intervals(t: np.ndarray, values: np.ndarray, threshold: float) -> list[tuple[float, float]]:
@@ -152,11 +162,29 @@ def slack_periods(run: RunData) -> dict:
         periods = []
         for a, b in _merge(spans):
             inside = (run.t >= a) & (run.t <= b)
-            low = float(series[inside].min()) if inside.any() else float("nan")
+            event_mins = [e["min"] for e in run.snaps if e["end"] == end
+                          and a <= e["slack_start"] <= b]
+            lows = list(series[inside]) + event_mins  # events see every substep; states do not
+            low = float(min(lows)) if lows else float("nan")
             periods.append({"start": a, "end": b, "duration": b - a, "min_tension": low,
                             "threshold": threshold})
         out[end] = periods
     return out
+
+
+def node_health(run: RunData) -> dict | None:
+    """From the node's last /diagnostics: real-time factor, clock time skipped, recoveries."""
+    for name, values in run.diagnostics.items():
+        if "dropped_total" in values:
+            def number(key):
+                try:
+                    return float(values.get(key, "nan"))
+                except ValueError:
+                    return float("nan")
+            return {"status": name, "real_time_factor": number("real_time_factor"),
+                    "dropped_s": number("dropped_total"), "divergences": number("divergences"),
+                    "capped_ticks": number("capped_ticks")}
+    return None
 
 
 def static_tensions(run: RunData) -> dict:
@@ -166,11 +194,12 @@ def static_tensions(run: RunData) -> dict:
 
 def summary_markdown(run: RunData, periods: dict, figures: dict) -> str:
     """The summary and event tables as markdown."""
-    duration = float(run.t[-1]) if len(run.t) else 0.0
+    duration = float(run.t[-1] - run.t[0]) if len(run.t) else 0.0
     rate = (len(run.t) - 1) / duration if duration > 0 else float("nan")
     lines = [f"# Tether report: `{run.path.name}`", "",
              f"Solver `{run.solver}`, {len(run.t)} states over {duration:.2f} s "
-             f"({rate:.1f} Hz), {len(run.arc_length)} output points, L = {run.arc_length[-1]:.1f} m.",
+             f"({rate:.1f} Hz), {len(run.arc_length)} output points, L = {run.arc_length[-1]:.1f} m. "
+             f"Times below: {run.time_label}, s.",
              "", "| end | static (first state) [N] | mean [N] | min [N] | max [N] |",
              "|---|---|---|---|---|"]
     for end, value in static_tensions(run).items():
@@ -195,6 +224,12 @@ def summary_markdown(run: RunData, periods: dict, figures: dict) -> str:
                      f"{e['rise_time']:.3f} | {e['criterion']} |")
     if not run.snaps:
         lines.append("| (none) | | | | | | | | | | | |")
+    health = node_health(run)
+    if health:
+        lines += ["", "## Node health (last /diagnostics)", "",
+                  f"Real-time factor {health['real_time_factor']:.2f}; clock time skipped because the "
+                  f"solver was behind: {health['dropped_s']:.1f} s of {duration:.1f} s; divergence "
+                  f"recoveries: {health['divergences']:.0f}; ticks capped: {health['capped_ticks']:.0f}."]
     counts = {end: sum(w["end"] == end for w in run.warnings) for end in ("ship", "vehicle", "span")}
     lines += ["", "Slack warnings: " + ", ".join(f"{k} {v}" for k, v in counts.items()) + ".",
               "", "## Figures", ""] + [f"- {name}: `{path}`" for name, path in figures.items()]
@@ -211,11 +246,13 @@ def render(run: RunData, periods: dict, out_dir: Path, n_snapshots: int = 8) -> 
             "tension map": plot_tension_map(run, out_dir / "tension_map.png")}
 
 
-def make_report(mcap_path, out_dir=None, n_snapshots: int = 8) -> dict:
+def make_report(mcap_path, out_dir=None, n_snapshots: int = 8, t0_s: float | None = None,
+                time_label: str = "time since the first state") -> dict:
     """Load, plot and summarise; returns {run, periods, static, figures, markdown, report_path}."""
     mcap_path = Path(mcap_path)
     out_dir = Path(out_dir) if out_dir is not None else mcap_path.parent / "figures"
-    run = load_run(mcap_path)
+    run = load_run(mcap_path, t0_s)
+    run.time_label = time_label
     periods = slack_periods(run)
     figures = render(run, periods, out_dir, n_snapshots)
     markdown = summary_markdown(run, periods, figures)
@@ -230,9 +267,11 @@ def main(argv=None) -> int:
     parser.add_argument("mcap", help="output MCAP (recorder or offline runner)")
     parser.add_argument("--out-dir", help="where figures and report.md go (default: <mcap dir>/figures)")
     parser.add_argument("--snapshots", type=int, default=8, help="number of shape snapshots")
+    parser.add_argument("--t0", type=float, help="clock time (s) taken as t = 0 (default: first state)")
     args = parser.parse_args(argv)
     try:
-        result = make_report(args.mcap, args.out_dir, args.snapshots)
+        result = make_report(args.mcap, args.out_dir, args.snapshots, args.t0,
+                             "time since the first state" if args.t0 is None else f"time since {args.t0:.3f} s")
     except (McapLogError, ReportError) as exc:
         print(f"tether-sim-report: {exc}", file=sys.stderr)
         return 2

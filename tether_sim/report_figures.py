@@ -11,6 +11,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 END_COLOURS = {"ship": "tab:blue", "vehicle": "tab:orange"}
+ANNOTATED = 5  # snap peaks labelled per end (the largest); all are marked
 
 
 def plot_end_tensions(run, periods: dict, path: Path) -> Path:
@@ -33,7 +34,7 @@ def plot_end_tensions(run, periods: dict, path: Path) -> Path:
         if snaps:
             ax.plot([e["t_peak"] for e in snaps], [e["peak"] / 1e3 for e in snaps], "v",
                     color="tab:red", ms=8, label="snap load (peak)")
-            for e in snaps:
+            for e in sorted(snaps, key=lambda e: -e["peak"])[:ANNOTATED]:
                 ax.annotate(f"{e['peak'] / 1e3:.1f} kN\n×{e['amplification']:.2f}",
                             (e["t_peak"], e["peak"] / 1e3), textcoords="offset points",
                             xytext=(4, 6), fontsize=8, color="tab:red")
@@ -42,7 +43,7 @@ def plot_end_tensions(run, periods: dict, path: Path) -> Path:
         ax.set_ylabel(f"{end} end tension [kN]")
         ax.grid(alpha=0.3)
         ax.legend(loc="upper right", fontsize=8)
-    axes[-1].set_xlabel("time since first state [s]")
+    axes[-1].set_xlabel(f"{run.time_label} [s]")
     axes[0].set_title(f"End tensions — {run.path.name} (solver {run.solver})")
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -50,24 +51,40 @@ def plot_end_tensions(run, periods: dict, path: Path) -> Path:
 
 
 def plot_shapes(run, path: Path, n_snapshots: int = 8) -> Path:
-    """Cable shape at n_snapshots evenly spaced times: x-z and y-z views (ENU, z up)."""
+    """Shape snapshots at evenly spaced times (and at the largest snap peak, red): x-z view (ENU)
+    and the displacement from the first state along the cable, which shows heave-driven motion
+    even when the cable hangs straight down."""
     n = max(1, min(n_snapshots, len(run.t)))
-    picks = np.unique(np.linspace(0, len(run.t) - 1, n).round().astype(int))
-    fig, axes = plt.subplots(1, 2, figsize=(11, 6), sharey=True, constrained_layout=True)
-    colours = plt.cm.viridis(np.linspace(0.0, 0.9, len(picks)))
-    for k, colour in zip(picks, colours):
+    picks = list(np.unique(np.linspace(0, len(run.t) - 1, n).round().astype(int)))
+    colours = list(plt.cm.viridis(np.linspace(0.0, 0.9, len(picks))))
+    labels = [f"t = {run.t[k]:.1f} s" for k in picks]
+    if run.snaps:
+        biggest = max(run.snaps, key=lambda e: e["peak"])
+        picks.append(int(np.argmin(np.abs(run.t - biggest["t_peak"]))))
+        colours.append("tab:red")
+        labels.append(f"t = {run.t[picks[-1]]:.1f} s (largest snap, {biggest['end']})")
+    fig, (ax_shape, ax_disp) = plt.subplots(1, 2, figsize=(11, 6), constrained_layout=True)
+    reference = run.positions[0]
+    for k, colour, label in zip(picks, colours, labels):
         xyz = run.positions[k]
-        for ax, col in zip(axes, (0, 1)):
-            ax.plot(xyz[:, col], xyz[:, 2], color=colour, lw=1.3, label=f"t = {run.t[k]:.1f} s")
-            ax.plot(xyz[[0, -1], col], xyz[[0, -1], 2], "o", color=colour, ms=3)
-    for ax, name in zip(axes, ("x (east)", "y (north)")):
-        ax.set_xlabel(f"{name} [m]")
+        ax_shape.plot(xyz[:, 0], xyz[:, 2], color=colour, lw=1.3, label=label)
+        ax_shape.plot(xyz[[0, -1], 0], xyz[[0, -1], 2], "o", color=colour, ms=3)
+        ax_disp.plot(xyz[:, 2] - reference[:, 2], run.arc_length, color=colour, lw=1.3)
+        horizontal = np.hypot(xyz[:, 0] - reference[:, 0], xyz[:, 1] - reference[:, 1])
+        ax_disp.plot(horizontal, run.arc_length, color=colour, lw=0.8, ls=":")
+    ax_shape.axhline(0.0, color="tab:cyan", lw=0.8)
+    ax_shape.set_xlabel("x (east) [m]")
+    ax_shape.set_ylabel("z (up) [m]")
+    ax_shape.set_title("shape (x-z), dots = ends")
+    ax_shape.legend(fontsize=8, loc="best")
+    ax_disp.invert_yaxis()
+    ax_disp.axvline(0.0, color="k", lw=0.6)
+    ax_disp.set_xlabel("displacement from the first state [m]\nvertical (solid), horizontal (dotted)")
+    ax_disp.set_ylabel("arc length s from the ship [m]")
+    ax_disp.set_title("motion along the cable")
+    for ax in (ax_shape, ax_disp):
         ax.grid(alpha=0.3)
-    axes[0].set_ylabel("z (up) [m]")
-    axes[0].axhline(0.0, color="tab:cyan", lw=0.8)
-    axes[1].axhline(0.0, color="tab:cyan", lw=0.8)
-    axes[1].legend(fontsize=8, loc="best")
-    fig.suptitle(f"Cable shape snapshots (ship end at s = 0, dots = ends) — {run.path.name}")
+    fig.suptitle(f"Cable shape snapshots — {run.path.name}")
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
@@ -87,7 +104,7 @@ def plot_tension_map(run, path: Path) -> Path:
         ax.plot([e["t_peak"] for e in run.snaps], [e["arc_length"] for e in run.snaps], "v",
                 color="cyan", ms=8, mec="k", label="snap load (peak)")
         ax.legend(loc="upper right", fontsize=8)
-    ax.set_xlabel("time since first state [s]")
+    ax.set_xlabel(f"{run.time_label} [s]")
     ax.set_ylabel("arc length s from the ship [m]")
     ax.set_title(f"Tension along the cable over time — {run.path.name}")
     fig.savefig(path, dpi=110)

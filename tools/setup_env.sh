@@ -7,7 +7,8 @@
 #         Python and numpy include folders (they carry /opt/python/... paths from the wheel build).
 #   msgs  msg_defs/ (package tether_sim_msgs) configured with cmake against the venv and installed
 #         into it (build folder .venv/.build/).
-#   pkg   tether_sim itself, `pip install -e .` (development mode, no build isolation).
+#   pkg   tether_sim itself, `pip install -e .` (development mode, no build isolation), and its
+#         data files (package.xml, config/*.yaml, data/*, ament index marker) linked into .venv/share.
 # Nothing is created outside the repository. Usage: tools/setup_env.sh [--force]
 set -euo pipefail
 
@@ -76,15 +77,16 @@ DEPS_HASH="$(hash_of "rev=$SETUP_REVISION" "$REQ" "$CONS")"
 MSG_FILES=("$ROOT/msg_defs/CMakeLists.txt" "$ROOT/msg_defs/package.xml" "$ROOT"/msg_defs/msg/*.msg)
 MSGS_HASH="$(hash_of "$DEPS_HASH" "${MSG_FILES[@]}")"
 shopt -s nullglob
-PKG_INPUTS=("$ROOT/setup.py" "$ROOT/setup.cfg" "$ROOT/package.xml" "$ROOT"/resource/* "$ROOT"/config/*.yaml)
-DATA_LIST="$(cd "$ROOT" && for f in data/*; do [[ -f "$f" ]] && printf '%s %s\n' "$f" "$(stat -c %s "$f")"; done; true)"
+PKG_INPUTS=("$ROOT/setup.py" "$ROOT/setup.cfg" "$ROOT/package.xml" "$ROOT"/resource/*)
+# config/ and data/ are linked, not copied: only the list of names matters (edits are live)
+DATA_LIST="$(cd "$ROOT" && for f in config/*.yaml data/*; do [[ -f "$f" ]] && printf '%s\n' "$f"; done; true)"
 shopt -u nullglob
-PKG_HASH="$(hash_of "$MSGS_HASH" "$DATA_LIST" "${PKG_INPUTS[@]}")"
-SITE_GLOB=("$VENV"/lib/python3.11/site-packages)
-SITE="${SITE_GLOB[0]}"
+PKG_HASH="$(hash_of "$MSGS_HASH" "${PKG_INPUTS[@]}")"
+LINKS_HASH="$(hash_of "$PKG_HASH" "$DATA_LIST")"
+SITE="$VENV/lib/python3.11/site-packages"
 
 if venv_works && stamp_ok deps "$DEPS_HASH" && stamp_ok msgs "$MSGS_HASH" && stamp_ok pkg "$PKG_HASH" &&
-    [[ -d "$SITE/tether_sim_msgs" ]] && links_ok; then
+    stamp_ok links "$LINKS_HASH" && [[ -d "$SITE/tether_sim_msgs" ]] && links_ok; then
     say "environment up to date ($VENV)"
     exit 0
 fi
@@ -113,7 +115,6 @@ if ! venv_works || ! stamp_ok deps "$DEPS_HASH"; then
     "$VENV/bin/python" "$ROOT/tools/fix_cmake_paths.py" "$VENV"
     stamp_set deps "$DEPS_HASH"
 fi
-SITE="$VENV/lib/python3.11/site-packages"
 
 # AMENT_PREFIX_PATH for every Python of the venv (the wheels do not set it; ament_index needs it)
 cat > "$SITE/tether_sim_ament_prefix.pth" <<'PTH'
@@ -154,13 +155,15 @@ fi
 
 # ---------------------------------------------------------------- stage pkg
 if ! stamp_ok pkg "$PKG_HASH"; then
+    rm -f "$STAMPS/links"
     say "installing tether_sim in development mode (pip install -e .)"
     quiet_pip install --quiet --disable-pip-version-check --no-deps --no-build-isolation --use-pep517 -e "$ROOT"
-    # pip -e leaves out data_files (ament index marker, package.xml, config/, data/): link them
-    "$VENV/bin/python" "$ROOT/tools/link_data_files.py" "$ROOT" "$VENV"
     stamp_set pkg "$PKG_HASH"
-elif ! links_ok; then
+fi
+# pip -e leaves out data_files (ament index marker, package.xml, config/, data/): link them
+if ! stamp_ok links "$LINKS_HASH" || ! links_ok; then
     "$VENV/bin/python" "$ROOT/tools/link_data_files.py" "$ROOT" "$VENV"
+    stamp_set links "$LINKS_HASH"
 fi
 
 say "environment ready ($VENV) in $((SECONDS - T0)) s"

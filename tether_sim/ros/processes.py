@@ -23,12 +23,41 @@ class StepFailed(RuntimeError):
     """A step of the main job failed; the message says which and why."""
 
 
+REPO = Path(__file__).resolve().parents[2]
+FASTDDS_PROFILE = REPO / "tools" / "fastdds_localhost.xml"
+_claimed = {}  # domain id -> open lock file, held until this process exits
+
+
+def claim_domain_id(first: int = 1, last: int = 101) -> int:
+    """A ROS_DOMAIN_ID no other process on this machine holds (the lock files the test suite
+    uses too: <tmp>/tether_sim_ros_domain_<id>.lock); domains <= 101 keep DDS ports valid."""
+    import fcntl
+    import random
+    import tempfile
+
+    ids = list(range(first, last + 1))
+    start = random.SystemRandom().randrange(len(ids))
+    for domain in ids[start:] + ids[:start]:
+        handle = open(Path(tempfile.gettempdir()) / f"tether_sim_ros_domain_{domain}.lock", "a+")  # noqa: SIM115
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            handle.close()
+            continue
+        _claimed[domain] = handle
+        return domain
+    raise StepFailed("no free ROS domain id (1-101 are all held by other processes)")
+
+
 def isolated_env(domain_id: int) -> dict:
-    """This environment plus a private ROS_DOMAIN_ID and localhost-only discovery."""
+    """This environment plus a private ROS_DOMAIN_ID and localhost-only discovery (and the
+    repository's loopback-only Fast DDS profile when present)."""
     env = dict(os.environ)
     env.update(ROS_DOMAIN_ID=str(domain_id), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
                PYTHONUNBUFFERED="1")
     env.pop("ROS_LOCALHOST_ONLY", None)  # deprecated in Jazzy; RANGE above replaces it
+    if FASTDDS_PROFILE.is_file() and "FASTRTPS_DEFAULT_PROFILES_FILE" not in env:
+        env["FASTRTPS_DEFAULT_PROFILES_FILE"] = str(FASTDDS_PROFILE)
     return env
 
 

@@ -22,6 +22,7 @@ from pathlib import Path
 import rclpy
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
@@ -74,8 +75,9 @@ class RecorderNode(Node):
         self._recorded = {}
         self.stopped = False
         self.started = time.monotonic()
-        self.create_timer(float(get("discovery_period_s")), self.discover)
-        self.create_timer(float(get("flush_interval_s")), self.writer.flush)
+        steady = Clock(clock_type=ClockType.STEADY_TIME)  # timers must run without /clock too
+        self.create_timer(float(get("discovery_period_s")), self.discover, clock=steady)
+        self.create_timer(float(get("flush_interval_s")), self.writer.flush, clock=steady)
         self.get_logger().info(f"recording to {self.output}: "
                                f"{'all topics' if self.all_topics else ', '.join(self.wanted)}")
         self.discover()

@@ -3,7 +3,8 @@
 The stored CDR bytes are published as they are (``publish(bytes)`` = publish_raw, no decoding).
 Message i goes out at wall time w0 + (log_time_i - t_start) / rate with t_start = first log time +
 start offset; /clock (rosgraph_msgs/Clock, best effort, depth 1) carries t_start + rate * (w - w0)
-at ``clock_hz`` >= 40 Hz, so sim-time nodes follow the recording. Latched topics (every recorded
+at ``clock_hz`` >= 40 Hz, so sim-time nodes follow the recording; the clock never passes the stamp
+of a message not yet published (each message goes out, then the clock at its log time). Latched topics (every recorded
 offer TRANSIENT_LOCAL) are republished TRANSIENT_LOCAL, depth 1. This node keeps use_sim_time
 false. With ``loop`` the file restarts and /clock jumps back to t_start, as rosbag2 does.
 
@@ -122,12 +123,16 @@ class ReplayNode(Node):
         def bag_time(wall):
             return t_start + int((wall - w0) * self.rate * 1e9)
 
-        def wait_until(deadline):
+        def wait_until(deadline, cap_ns=None):
+            """Tick /clock until the wall deadline; the clock never passes cap_ns (the next
+            message's log time), so a message that is late (a busy machine) still goes out
+            before the clock covers its stamp."""
             nonlocal next_clock
             while not self.stopped:
                 now = time.monotonic()
                 if now >= next_clock:
-                    self.publish_clock(bag_time(now))
+                    t = bag_time(now)
+                    self.publish_clock(t if cap_ns is None else min(t, cap_ns))
                     next_clock = max(next_clock + self.clock_period, now)
                 if now >= deadline:
                     return
@@ -140,11 +145,11 @@ class ReplayNode(Node):
                 continue
             if self.duration_ns and raw.log_time_ns > t_start + self.duration_ns:
                 break
-            wait_until(w0 + (raw.log_time_ns - t_start) / (self.rate * 1e9))
+            wait_until(w0 + (raw.log_time_ns - t_start) / (self.rate * 1e9), raw.log_time_ns)
             if self.stopped:
                 return
-            self.publish_clock(max(raw.log_time_ns, bag_time(time.monotonic())))
             self.publishers_by_topic[raw.topic].publish(raw.data)
+            self.publish_clock(raw.log_time_ns)
             self.published += 1
         wait_until(time.monotonic() + 2 * self.clock_period)  # a last tick past the final message
 

@@ -7,6 +7,7 @@ the outputs built by :mod:`tether_sim.ros.convert`; diagnostics go out at 1 Hz.
 """
 
 import sys
+import time
 
 import numpy as np
 import rclpy
@@ -19,7 +20,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profi
 from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription, TetherState
 from visualization_msgs.msg import Marker
 
-from tether_sim.errors import ConfigError
+from tether_sim.errors import ConfigError, TetherSimError
 from tether_sim.io.inputs import EndPoseInput
 from tether_sim.io.params import load_config
 from tether_sim.ros import convert, node_params
@@ -52,6 +53,7 @@ class TetherSimNode(Node):
                                          qos_profile_sensor_data)
                 self.create_subscription(TwistStamped, f"/{end}/twist", lambda m, e=end: self._on_twist(e, m),
                                          qos_profile_sensor_data)
+        self._warm_up(solver_factory)
         self.driver = SimulationDriver(self.config, self.inputs, solver_factory=solver_factory,
                                        wall_budget=node.tick_budget / node.output_rate)
         self.arc_lengths = np.linspace(0.0, self.config.cable.length, node.output_points)
@@ -63,10 +65,24 @@ class TetherSimNode(Node):
             profile = LATCHED if qos == "latched" else EVENTS if "events" in topic or "warnings" in topic else RELIABLE
             self.pubs[topic] = self.create_publisher(_TYPES[type_name.rsplit("/", 1)[1]], topic, profile)
         self._first_tick = None
+        self._last_output = -float("inf")
         self._period = {"snaps": 0, "errors": 0, "rejected": {e: 0 for e in self.inputs}, "behind": False}
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.create_timer(1.0 / node.output_rate, self._on_tick)
         self.create_timer(1.0, self._publish_diagnostics)
+
+    def _warm_up(self, solver_factory):
+        """Build a throw-away solver and take two substeps before any publisher exists, so JIT
+        compiling happens now (not in the first tick) and a configuration the solver cannot build
+        fails at start-up; a recorder or test waiting for our topics waits for this too."""
+        t0 = time.perf_counter()
+        solver = solver_factory(self.config)
+        for end in END_NAMES:
+            cond = getattr(self.config, f"{end}_end")
+            if cond.kind == "prescribed":
+                solver.set_end_motion(end, cond.position, (0.0, 0.0, 0.0))
+        solver.advance_to(solver.time + 2.0 * solver.stable_time_step())
+        self.get_logger().info(f"{self.config.solver} solver warmed up in {time.perf_counter() - t0:.1f} s")
 
     # ------------------------------------------------------------------ inputs
     def _now(self) -> float:
@@ -121,8 +137,10 @@ class TetherSimNode(Node):
         try:
             report = self.driver.tick(now)
             self._handle_report(now, report)
-            for topic, msg in convert.tick_outputs(self.driver, self.arc_lengths):
-                self.pubs[topic].publish(msg)
+            if self.driver.stamp > max(self._last_output, 0.0):  # one output per simulated instant
+                self._last_output = self.driver.stamp
+                for topic, msg in convert.tick_outputs(self.driver, self.arc_lengths):
+                    self.pubs[topic].publish(msg)
         except Exception as exc:  # noqa: BLE001 - the node must stay up; the error is reported
             if not self.context.ok():
                 return  # shutting down (Ctrl-C): publishers are gone
@@ -140,6 +158,7 @@ class TetherSimNode(Node):
             log.warning(f"{report.restart}: solver restarted from a static equilibrium at the new end positions")
             self._publish_description()
         if report.clock_jump:
+            self._last_output = -float("inf")
             log.warning("clock jumped backwards: pose histories reset, simulation continues")
         if report.dropped > 0 or report.capped:
             self._period["behind"] = True
@@ -227,7 +246,7 @@ def main(args=None):
         elif isinstance(exc, ConfigError):
             print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
             return 2
-        elif isinstance(exc, ValueError):  # raised by the solver's constructor at start-up
+        elif isinstance(exc, (ValueError, TetherSimError)):  # the solver could not be built at start-up
             print(f"tether-sim: cannot start the solver for this configuration: {exc}", file=sys.stderr)
             return 2
         else:

@@ -16,7 +16,7 @@ import pytest
 from tether_sim.scenarios import harness
 from tether_sim.scenarios import references as ref
 
-L, EA, GAMMA0, EPS0 = 10.0, 1.0e4, 1.0, 0.02
+L, EA, GAMMA0, EPS0 = 10.0, 2.5e3, 1.0, 0.08  # T0 = 200 N; c = 50 m/s keeps the substep large
 AMP, SIGMA = 0.02, 0.15  # transverse pulse: ~2 m wide on the string, slope ~1%
 T_C = 4 * SIGMA
 

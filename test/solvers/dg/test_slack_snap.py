@@ -42,7 +42,7 @@ def test_slack_snap_cycles_stay_finite_and_non_negative():
         return {"ship": ([amp * np.sin(2 * np.pi * freq * t), 0.0, 0.0],
                          [2 * np.pi * freq * amp * np.cos(2 * np.pi * freq * t), 0.0, 0.0])}
 
-    res = harness.run_sampled(solver, np.arange(0.002, 1.5, 0.002), arc_lengths=np.linspace(0, L, 41), motion=motion)
+    res = harness.run_sampled(solver, np.arange(0.002, 1.0, 0.002), arc_lengths=np.linspace(0, L, 41), motion=motion)
     peak = max(res["sub_ship"].max(), res["sub_vehicle"].max())
     for key in ("position", "velocity", "tension", "strain", "ship_force", "vehicle_force"):
         assert np.all(np.isfinite(res[key])), key

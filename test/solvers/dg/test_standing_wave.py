@@ -3,12 +3,12 @@
 Straight taut cable, no gravity (so no sag), water with C_m,perp = 1 and no drag (C_d = 0, so the
 vibration is undamped). A slow transverse excursion of the ship end excites the low modes; the
 projection of nu_y on the first mode sin(pi s / L) isolates mode 1 (orthogonal modes in material
-coordinates), and its zero crossings over ~8 periods give the period.
+coordinates), and its zero crossings over ~5 periods give the period.
 
 Expected omega_1 = (pi/L) sqrt(T0 / (l_eps (gamma0 + rho_f A_d C_mn))), A_d = pi d^2/4 (the
 hydrodynamic diameter; the material area gamma0/rho_c is deliberately different here so that the
 test sees which area the added mass uses). 0.5% tolerance: the discretisation error of mode 1 at
-N = 10, P = 4 is < 1e-6 and the crossing interpolation error ~1e-4; the added mass shifts the
+N = 6, P = 4 is < 1e-6 and the crossing interpolation error ~1e-4; the added mass shifts the
 frequency by ~30%, so the test cannot pass without it.
 """
 
@@ -19,13 +19,13 @@ from tether_sim.scenarios import harness
 from tether_sim.scenarios import references as ref
 
 L, EA, GAMMA0, EPS0, RHO_C, D, RHO_F, CMN = 10.0, 1.0e4, 2.0, 0.02, 2000.0, 0.05, 1025.0, 1.0
-AMP, SIGMA = 0.05, 0.4
+AMP, SIGMA = 0.01, 0.4  # small: geometric stiffening ~ EA (pi A / L)^2 / (8 T0) stays < 1e-4
 T_C = 4 * SIGMA
 
 
 def flat():
     return {
-        "solver": "dg", "dg.n_elements": 10, "dg.order": 4,
+        "solver": "dg", "dg.n_elements": 6, "dg.order": 4,
         "cable.length": L, "cable.EA": EA, "cable.gamma0": GAMMA0, "cable.density": RHO_C,
         "cable.diameter": D, "cable.material": "bilinear", "cable.damping": 0.0, "cable.EI": 0.0,
         "cable.Cmn": CMN, "cable.Cmt": 0.0, "cable.Cdn": 0.0, "cable.Cdt": 0.0,
@@ -52,7 +52,7 @@ def test_first_mode_frequency_includes_normal_added_mass():
     config, solver = harness.make_solver(flat())
     s, w = harness.quadrature_points(config)
     harness.run_sampled(solver, np.arange(0.02, 2 * T_C + 1e-9, 0.02), motion=ship_motion, keep=())
-    times = solver.time + np.arange(0.02, 8.3 * period, 0.02)
+    times = solver.time + np.arange(0.04, 5.3 * period, 0.04)
     res = harness.run_sampled(solver, times, arc_lengths=s, motion=ship_motion, keep=("velocity",))
     modal = res["velocity"][:, :, 2] @ (w * np.sin(np.pi * s / L))
     measured = harness.period_from_crossings(res["t"], modal)

@@ -68,3 +68,12 @@ def test_parameter_file_matches_the_scenario():
     ref = goyal_perkins_config()
     for section in ("cable", "environment", "ship_end", "vehicle_end", "hybrid", "initial"):
         assert getattr(cfg, section) == getattr(ref, section), section  # exact float reprs in the file
+
+
+def test_rod_zone_starts_at_the_joint(profiles):
+    # positions are continuous across the joint (the rod shape is integrated from the joint)
+    hyb = profiles["fixed"]
+    j = np.nonzero(np.diff(hyb["s"]) == 0.0)[0][0]
+    assert np.allclose(hyb["position"][j], hyb["position"][j + 1], atol=1e-12)
+    step = np.linalg.norm(np.diff(hyb["position"], axis=0), axis=1)
+    assert step.max() < 1.01 * (2.0 / 100)  # no gaps: every element is one ds long (inextensible)

@@ -12,7 +12,6 @@ pre-asymptotic spread seen with rho_inf = 0.5).
 import math
 from dataclasses import replace
 
-import numpy as np
 import pytest
 
 from tether_sim.config import SimConfig

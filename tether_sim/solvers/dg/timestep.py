@@ -15,6 +15,8 @@ the solver then multiplies by the safety factor dg.cfl (default 0.5).
 
 import numpy as np
 
+from tether_sim.numerics.integrators import SSPRK3_IMAG_LIMIT
+
 # Coefficients per order P = 1..12, measured by benchmarks/calibrate_timestep.py (see docs).
 _A = {1: 2.4398, 2: 4.775, 3: 7.9559, 4: 11.9302, 5: 16.6979, 6: 22.2589, 7: 28.6133, 8: 35.761, 9: 43.702, 10: 52.4363, 11: 61.9639, 12: 72.2848}
 _B = {1: 6.319, 2: 25.7774, 3: 68.3371, 4: 151.323, 5: 294.064, 6: 519.196, 7: 853.848, 8: 1329.01, 9: 1979.52, 10: 2844.1, 11: 3965.34, 12: 5389.69}
@@ -29,13 +31,21 @@ def _coef(table, P, power):
     return table[12] * ((P + 1) / 13.0) ** power
 
 
-def stable_dt(h, P, max_slope, gamma0, zeta, EI, zeta_b, lambda_floor=0.0):
-    """SSP-RK3 stability limit (s) of the DG cable on element sizes h (array) at order P."""
+def stable_dt(h, P, max_slope, gamma0, zeta, EI, zeta_b, lambda_floor=0.0, seabed_Kd=0.0, seabed_zeta=0.0):
+    """SSP-RK3 stability limit (s) of the DG cable on element sizes h (array) at order P.
+
+    A seabed in contact adds a local spring-damper of frequency w = sqrt(K_g d / gamma0) and damping
+    ratio zeta_s, eigenvalues -zeta_s w +- w sqrt(zeta_s^2 - 1); its rate w (1 + 2 zeta_s) bounds
+    their modulus and is added (divided by the SSP-RK3 imaginary-axis limit sqrt(3)).
+    """
     h = np.asarray(h, float)
     c = max((max_slope / gamma0) ** 0.5, lambda_floor)
     rate = (_coef(_A, P, 2) * c / h
             + _coef(_B, P, 4) * (zeta / gamma0) / h**2
             + _coef(_C, P, 4) * (EI / gamma0) ** 0.5 / h**2
             + _coef(_E, P, 8) * (zeta_b / gamma0) / h**4)
+    if seabed_Kd > 0.0:
+        w = (seabed_Kd / gamma0) ** 0.5
+        rate = rate + w * (1.0 + 2.0 * seabed_zeta) / SSPRK3_IMAG_LIMIT
     rmax = float(np.max(rate))
     return 1.0 / rmax if rmax > 0 else 1.0

@@ -24,7 +24,7 @@ import math
 import numpy as np
 
 from tether_sim.numerics.jit import jit
-from tether_sim.solvers.hybrid.kernels import CAT_SLOTS, P_AF, P_AM, P_CK, P_DT, P_GAM, P_M, alpha_levels, external_force
+from tether_sim.solvers.hybrid.kernels import CAT_SLOTS, P_AF, P_AM, P_DT, P_GAM, P_M, alpha_levels, external_force, strain
 
 
 @jit
@@ -33,19 +33,19 @@ def catenary_node_terms(Y, Yn, Ytn, rn, P, cz, cx, cy, out_pos, out_q, out_load,
     Yf = np.empty(CAT_SLOTS)
     Ym = np.empty(CAT_SLOTS)
     alpha_levels(Y, Yn, Ytn, CAT_SLOTS, P, Yf, Ym)
-    ck = P[P_CK]
     dt = P[P_DT]
     g = P[P_GAM]
     am = P[P_AM]
     af = P[P_AF]
+    e1 = strain(Y[3], P)
     for k in range(3):
         # r is a generalized-alpha variable with dr/dt = v collocated at the alpha levels
         rdot = ((1.0 - af) * Yn[k] + af * Y[k] - (1.0 - am) * rn[3 + k]) / am
         out_pos[k] = rn[k] + dt * ((1.0 - g) * rn[3 + k] + g * rdot)
-        out_q[k] = (1.0 + ck * Y[3]) * Y[4 + k]
+        out_q[k] = (1.0 + e1) * Y[4 + k]
         out_tension_vec[k] = Yf[3] * Yf[4 + k]
     F = np.empty(3)
-    external_force(Yf[0:3], Yf[4:7], Ym[0:3], rn[2], ck * Yf[3], P, cz, cx, cy, F)
+    external_force(Yf[0:3], Yf[4:7], Ym[0:3], rn[2], strain(Yf[3], P), P, cz, cx, cy, F)
     for k in range(3):
         out_load[k] = F[k] - P[P_M] * Ym[k]
 

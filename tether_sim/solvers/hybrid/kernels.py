@@ -18,7 +18,9 @@ from tether_sim.numerics.jit import jit
 P_M, P_CK, P_G, P_RHOF, P_AREA, P_D, P_CDN, P_CDT, P_CMN, P_CMT = range(10)
 P_B0, P_I0 = 10, 13  # B (torsion, bend, bend) and rotary inertia I (same order), body axis 0 = tangent
 P_DT, P_AM, P_AF, P_GAM = 16, 17, 18, 19
-P_SIZE = 20
+P_CKC = 20  # compliance under compression (softened for a no-compression material)
+P_TW = 21  # width of the smooth transition of the compliance into compression (N)
+P_SIZE = 22
 
 # chain-node slot layout: catenary v(0:3) T(3) t(4:7); rod v(0:3) omega(3:6) kappa(6:9) f(9:12)
 N_SLOTS = 13  # node arrays are 13 wide so that a rigid-body node (13 states) fits
@@ -26,7 +28,8 @@ CAT_SLOTS = 7
 ROD_SLOTS = 12
 
 
-def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia_b, inertia_t):
+def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia_b, inertia_t, compression_factor=1.0,
+                    compression_width=1.0):
     """P vector of the kernels from CableProperties/Environment and the step coefficients."""
     P = np.zeros(P_SIZE)
     P[P_M] = cable.gamma0
@@ -39,7 +42,33 @@ def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia
     P[P_B0:P_B0 + 3] = (tors, bend, bend)
     P[P_I0:P_I0 + 3] = (inertia_t, inertia_b, inertia_b)
     P[P_DT], P[P_AM], P[P_AF], P[P_GAM] = dt, alpha_m, alpha_f, gamma
+    P[P_CKC] = P[P_CK] * (compression_factor if cable.material == "bilinear" else 1.0)
+    P[P_TW] = compression_width
     return P
+
+
+@jit
+def _softplus(x):
+    return x + math.log1p(math.exp(-x)) if x > 0.0 else math.log1p(math.exp(x))
+
+
+@jit
+def compliance(T, P):
+    """d(eps)/dT: c_k = 1/EA in tension [GP Eq. 1], rising smoothly (logistic, centred 6 T_w below
+    zero) to the softened value in compression: a smooth law, so Newton does not cycle at T = 0."""
+    x = (-T - 6.0 * P[P_TW]) / P[P_TW]
+    sig = 1.0 / (1.0 + math.exp(-x)) if x > -700.0 else 0.0
+    return P[P_CK] + (P[P_CKC] - P[P_CK]) * sig
+
+
+@jit
+def strain(T, P):
+    """eps(T) = integral of compliance() from 0 (so eps(0) = 0) [GP Eq. 1; PE2020 Eq. 22 regularised]."""
+    tw = P[P_TW]
+    d = P[P_CKC] - P[P_CK]
+    if d == 0.0:
+        return P[P_CK] * T
+    return P[P_CK] * T - d * tw * (_softplus((-T - 6.0 * tw) / tw) - _softplus(-6.0))
 
 
 @jit

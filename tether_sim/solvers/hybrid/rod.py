@@ -6,11 +6,16 @@ I = diag(I_t, I_b, I_b). The frame L (world -> body) of each node is advanced in
 incremental rotation theta = dt (omega_n + omega_{n+1})/2 [GP Eq. 15-18]; the alpha_f-level frame
 used to express gravity/drag/current in body components is exp(-alpha_f theta~) L_n.
 
+GP's rod is inextensible; ours stretches with the catenary's law eps(f_1) (f_1 = f . t, the
+tension), so that a rod zone in a tether can neither carry compression stiffly nor change the axial
+wave speed: r' = (1 + eps) t gives Eq. 7 the terms (1 + eps) omega x t + deps/dt t and Eq. 9 the
+moment arm (1 + eps). With c_k = 0 (GP benchmark) the equations are exactly GP's.
+
 Box scheme in s at t_{n+alpha_f}, generalized-alpha rates at t_{n+alpha_m} [GP Sec. 3]:
-    dv/ds + kappa x v - omega x t                                   = 0   [GP Eq. 7]
+    dv/ds + kappa x v - (1 + eps) omega x t - deps/dt t             = 0   [GP Eq. 7]
     domega/ds + kappa x omega - dkappa/dt                           = 0   [GP Eq. 8]
     B dkappa/ds + kappa x B kappa - I domega/dt - omega x I omega
-                - f x t + Q                                          = 0   [GP Eq. 9, q = B kappa]
+                - (1 + eps) f x t + Q                                = 0   [GP Eq. 9, q = B kappa]
     df/ds + kappa x f - m (dv/dt + omega x v) + F                   = 0   [GP Eq. 10]
 """
 
@@ -18,7 +23,8 @@ import numpy as np
 
 from tether_sim.numerics.jit import jit
 from tether_sim.numerics.rotations import rotate_frame
-from tether_sim.solvers.hybrid.kernels import P_AF, P_B0, P_DT, P_I0, P_M, ROD_SLOTS, alpha_levels, cross, external_force
+from tether_sim.solvers.hybrid.kernels import (P_AF, P_B0, P_DT, P_I0, P_M, ROD_SLOTS, alpha_levels, compliance, cross,
+                                              external_force, strain)
 
 
 @jit
@@ -49,7 +55,7 @@ def rod_node_terms(Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, Yf, Ym, Fb):
             vw[i] += La[k, i] * Yf[k]
             aw[i] += La[k, i] * acc_b[k]
     Fw = np.empty(3)
-    external_force(vw, tw, aw, rn[2], 0.0, P, cz, cx, cy, Fw)
+    external_force(vw, tw, aw, rn[2], strain(Yf[9], P), P, cz, cx, cy, Fw)
     for k in range(3):
         Fb[k] = La[k, 0] * Fw[0] + La[k, 1] * Fw[1] + La[k, 2] * Fw[2]
 
@@ -82,11 +88,13 @@ def rod_cell_residual(Ya, Yna, Ytna, La, ra, Yb, Ynb, Ytnb, Lb, rb, ds, P, cz, c
     for k in range(3):
         Bk[k] = B[k] * ka[k]
         Iw[k] = II[k] * om[k]
-    # Eq. 7: dv/ds + kappa x v - omega x e1
+    # Eq. 7 (extensible): dv/ds + kappa x v - (1 + eps) omega x e1 - deps/dt e1, eps = eps(f_1)
+    le = 1.0 + strain(f[0], P)
+    edot = compliance(f[0], P) * Yd[9]
     cross(ka, v, c)
-    out[0] = (Yfb[0] - Yfa[0]) / ds + c[0]
-    out[1] = (Yfb[1] - Yfa[1]) / ds + c[1] - om[2]
-    out[2] = (Yfb[2] - Yfa[2]) / ds + c[2] + om[1]
+    out[0] = (Yfb[0] - Yfa[0]) / ds + c[0] - edot
+    out[1] = (Yfb[1] - Yfa[1]) / ds + c[1] - le * om[2]
+    out[2] = (Yfb[2] - Yfa[2]) / ds + c[2] + le * om[1]
     # Eq. 8: domega/ds + kappa x omega - dkappa/dt
     cross(ka, om, c)
     for k in range(3):
@@ -97,8 +105,8 @@ def rod_cell_residual(Ya, Yna, Ytna, La, ra, Yb, Ynb, Ytnb, Lb, rb, ds, P, cz, c
     cross(om, Iw, w)
     fxt = np.empty(3)
     fxt[0] = 0.0
-    fxt[1] = f[2]
-    fxt[2] = -f[1]
+    fxt[1] = le * f[2]
+    fxt[2] = -le * f[1]
     for k in range(3):
         out[6 + k] = B[k] * (Yfb[6 + k] - Yfa[6 + k]) / ds + c[k] - II[k] * Yd[3 + k] - w[k] - fxt[k]
     # Eq. 10: df/ds + kappa x f - m (dv/dt + omega x v) + F

@@ -14,15 +14,16 @@ from scipy.sparse.linalg import splu
 
 from tether_sim.errors import ConfigError, SolverDivergedError
 from tether_sim.numerics.gen_alpha import gen_alpha_coefficients
-from tether_sim.physics.bodies import body_acceleration, initial_body_state, pack_body_params, submerged_weight
-from tether_sim.numerics.rotations import frame_with_tangent, rotate_frame
+from tether_sim.numerics.rotations import rotate_frame
+from tether_sim.physics.bodies import body_acceleration, pack_body_params, submerged_weight
 from tether_sim.solvers.base import BodyState, EndForces, SolverState, end_index
 from tether_sim.solvers.hybrid import zoning
 from tether_sim.solvers.hybrid.assembly import assemble_jacobian, assemble_residual
 from tether_sim.solvers.hybrid.chain import build_chain, rod_blocks
-from tether_sim.solvers.hybrid.kernels import P_AF, P_AM, pack_parameters
+from tether_sim.solvers.hybrid.initial import InitialStateMixin
+from tether_sim.solvers.hybrid.kernels import P_AF, P_AM, P_GAM, pack_parameters, strain
 from tether_sim.solvers.hybrid.rod import frame_at
-from tether_sim.solvers.hybrid.state_io import EndMotion, node_profile, reconstruct_positions
+from tether_sim.solvers.hybrid.state_io import EndMotion, convert_state, node_profile
 
 MAX_HALVINGS = 6
 MAX_TURN = 0.3  # rad, largest tangent change per Newton iteration
@@ -32,7 +33,7 @@ class _NewtonFailure(Exception):
     pass
 
 
-class HybridRodCatenarySolver:
+class HybridRodCatenarySolver(InitialStateMixin):
     """TetherSolver of Goyal & Perkins (see tether_sim.solvers.base for the interface contract)."""
 
     name = "hybrid"
@@ -61,6 +62,8 @@ class HybridRodCatenarySolver:
         self.cy = np.asarray(env.current_y, dtype=float)
         self.net_weight = abs(cab.gamma0 - env.fluid_density * cab.area) * env.g
         self.ends = (config.ship_end, config.vehicle_end)
+        body_weight = submerged_weight(config.body, env) if "body" in (config.ship_end.kind, config.vehicle_end.kind) else 0.0
+        self.compression_width = 1e-3 * max(self.net_weight * cab.length + body_weight, 1e-9)
         self.body_params = tuple(pack_body_params(config.body, env) if e.kind == "body" else None for e in self.ends)
         holds = (opt.hold_direction_ship, opt.hold_direction_vehicle)
         self.end_modes = []
@@ -82,138 +85,6 @@ class HybridRodCatenarySolver:
         self._init_state()
 
     # ------------------------------------------------------------------ set-up
-    def _initial_zones(self, tension):
-        opt = self.opt
-        n = self.n_seg
-        if opt.zoning == "all_rod":
-            return np.full(n, zoning.ROD)
-        if opt.zoning == "all_catenary" or self.EI <= 0.0:
-            return np.full(n, zoning.CATENARY)
-        if opt.zoning == "fixed":
-            centres = 0.5 * (self.s_grid[1:] + self.s_grid[:-1])
-            return np.where(centres < opt.joint_arc_length, zoning.CATENARY, zoning.ROD)
-        return self._classify(tension, np.full(n, zoning.CATENARY))
-
-    def _end_rod_elements(self):
-        out = []
-        for mode in self.end_modes:
-            held = mode in ("clamped", "force_hold")
-            out.append(max(1, int(math.ceil(self.opt.end_rod_length / self.ds))) if held else 0)
-        return tuple(out)
-
-    def _classify(self, T_elem, previous):
-        o = self.opt
-        return zoning.classify(T_elem, previous, self.EI, max(self.net_weight, 1e-12), o.chi_on, o.chi_off,
-                               o.min_zone_elements, self._end_rod_elements())
-
-    def _init_state(self):
-        cfg = self.config
-        p0 = np.asarray(self.ends[0].position, dtype=float)
-        p1 = np.asarray(self.ends[1].position, dtype=float)
-        chord = p1 - p0
-        dist = float(np.linalg.norm(chord))
-        d = chord / dist if dist > 1e-12 else np.array([0.0, 0.0, -1.0])
-        tangents, T_grid = self._initial_shape(d, dist)
-        target = self._initial_zones(0.5 * (T_grid[1:] + T_grid[:-1]))
-        self.zones = np.full(self.n_seg, zoning.CATENARY)  # built as catenary, then converted
-        self._set_chain()
-        K = self.chain.grid.size
-        self.Y = np.zeros((K, 13))
-        self.Yt = np.zeros((K, 13))
-        self.Y[:, 3] = T_grid
-        self.Y[:, 4:7] = tangents
-        self.Lf = np.stack([frame_with_tangent(t) for t in tangents])
-        self.r0 = p0.copy()
-        self.positions = reconstruct_positions(self)
-        self.rdot = np.zeros_like(self.positions)
-        if np.any(target == zoning.ROD):
-            from tether_sim.solvers.hybrid.state_io import convert_state
-            self.Y, self.Yt, self.Lf, self.positions, self.rdot = convert_state(self, target)
-            self.zones = target
-            self._set_chain()
-            K = self.chain.grid.size
-        self.body_x = [None, None]
-        self.body_xd = [None, None]
-        for e, node in ((0, 0), (1, K - 1)):
-            if self.body_params[e] is not None:
-                self.body_x[e] = initial_body_state(self.config.body, attachment_world=self.positions[node])
-                self.body_xd[e] = np.zeros(13)
-        for e, node in ((0, 0), (1, K - 1)):  # a held end starts with its prescribed tangent
-            if self.end_modes[e] in ("clamped", "force_hold") and self.chain.kind[node] == zoning.ROD:
-                self.Lf[node] = frame_with_tangent(self.ends[e].direction, self.Lf[node])
-        kind = cfg.initial.kind
-        relax = cfg.initial.relax_time if kind == "relax" else (self.opt.static_relax_time if kind == "static" else 0.0)
-        if relax > 0.0:
-            self._relax(relax)
-
-    def _initial_shape(self, d, dist):
-        """Tangents and tensions on the grid: straight (stretched) if the chord is >= L, else a circular
-        arc of length L through both ends sagging along gravity (tension w R)."""
-        if dist >= self.length or self.end_modes[1] not in ("velocity", "clamped"):
-            return np.repeat(d[None], self.n_seg + 1, axis=0), self._straight_tension(d, dist)
-        sag = np.array([0.0, 0.0, -1.0]) - d[2] * d
-        sag = sag / np.linalg.norm(sag) if np.linalg.norm(sag) > 1e-9 else np.array([1.0, 0.0, 0.0])
-        floor = 1e-3 * self.net_weight * self.length
-        T = floor
-        for _ in range(50):  # arc of stretched length L (1 + c_k T) with T = w R (fixed point)
-            theta = self._arc_angle(dist / (self.length * (1.0 + self.ck * T)))
-            radius = self.length * (1.0 + self.ck * T) / (2.0 * theta)
-            T = max(self.net_weight * radius, floor)
-        phi = theta - self.s_grid * (1.0 + self.ck * T) / radius
-        tangents = np.cos(phi)[:, None] * d[None] + np.sin(phi)[:, None] * sag[None]
-        return tangents, np.full(self.n_seg + 1, T)
-
-    @staticmethod
-    def _arc_angle(ratio):
-        """Half angle theta of a circular arc with chord/arc = sin(theta)/theta = ratio."""
-        theta = 1.0
-        for _ in range(60):
-            f = math.sin(theta) / theta - ratio
-            df = (theta * math.cos(theta) - math.sin(theta)) / theta**2
-            theta = min(max(theta - f / df, 1e-6), math.pi - 1e-6)
-        return theta
-
-    def _straight_tension(self, d, dist):
-        """Tension along the initial straight line: tangential equilibrium dT/ds = w_z d_z [GP Eq. 3]
-        from an end whose tension is known (force/free), else from the chord strain; kept > 0."""
-        w = self.net_weight if self.config.cable.gamma0 > self.config.environment.fluid_density * \
-            self.config.cable.area else -self.net_weight
-        Tlin = w * d[2] * self.s_grid  # T(s) - T(0) for F = -w z
-        force_end = [m in ("force", "force_hold") for m in self.end_modes]
-        if self.end_modes[1] == "body":
-            weight = submerged_weight(self.config.body, self.config.environment)
-            T = weight * max(-d[2], 0.0) + Tlin - Tlin[-1]
-        elif force_end[1]:
-            T = float(np.dot(self.end_load[1][0], d)) + Tlin - Tlin[-1]
-        elif force_end[0]:
-            T = -float(np.dot(self.end_load[0][0], d)) + Tlin
-        else:
-            T_strain = self.config.cable.EA * max(dist / self.length - 1.0, 0.0)
-            T = Tlin - Tlin.min() + T_strain
-        return np.maximum(T, 1e-3 * self.net_weight * self.length)
-
-    def _relax(self, duration):
-        """Damped dynamic relaxation with rho_inf = 0 (maximum numerical dissipation), then rest at t = 0."""
-        self._rho = 0.0
-        t_end = self.time + duration
-        step = self.opt.relax_time_step if self.opt.relax_time_step > 0.0 else self.opt.time_step
-        while self.time < t_end - 1e-12:
-            self._step_with_retry(min(step, t_end - self.time))
-        self._rho = None
-        self.stats["relax_final_speed"] = float(np.abs(self._world_velocities()).max())
-        self.Y[:, 0:3] = 0.0
-        self.Y[self.chain.kind == zoning.ROD, 3:6] = 0.0
-        self.Yt[:] = 0.0
-        self.rdot[:] = 0.0
-        for e in range(2):
-            if self.body_x[e] is not None:
-                self.body_x[e][7:13] = 0.0
-                self.body_xd[e][:] = 0.0
-        self.time = 0.0
-        self._record = ([], [], [])
-        for m in self.end_motion:
-            m.reset_time(0.0)
-
     def _set_chain(self):
         self.chain = build_chain(self.zones, self.s_grid, self.end_modes, self.free_ends, self.body_params)
         n = self.chain.nnz_max
@@ -316,7 +187,7 @@ class HybridRodCatenarySolver:
         rho = self.opt.rho_inf if self._rho is None else self._rho
         am, af, g = gen_alpha_coefficients(rho)
         return pack_parameters(self.config.cable, self.config.environment, dt, am, af, g, self.EI, self.GJ,
-                               self.inertia_b, self.inertia_t)
+                               self.inertia_b, self.inertia_t, self.opt.compression_softening, self.compression_width)
 
     def _step_with_retry(self, dt):
         pieces = [dt]
@@ -328,6 +199,11 @@ class HybridRodCatenarySolver:
                 self._step(h)
             except _NewtonFailure as exc:
                 self.Y, self.Yt, self.Lf = snap
+                # a catenary losing its tension is ill-conditioned [GP Sec. 5]: widen the rod zones first
+                if self.opt.zoning == "adaptive" and self.EI > 0.0 and self._rezone(boost=4.0):
+                    self.stats["failure_rezonings"] = self.stats.get("failure_rezonings", 0) + 1
+                    pieces.insert(0, h)
+                    continue
                 level += 1
                 self.stats["halvings"] += 1
                 if level > MAX_HALVINGS:
@@ -424,7 +300,7 @@ class HybridRodCatenarySolver:
             raise _NewtonFailure(f"no convergence in {self.opt.max_newton_iterations} iterations")
         for e in bodies:
             x = Y[ch.body_node[e]].copy()
-            self.body_xd[e] = ((x - self.body_x[e]) / dt - (1.0 - P[-1]) * self.body_xd[e]) / P[-1]
+            self.body_xd[e] = ((x - self.body_x[e]) / dt - (1.0 - P[P_GAM]) * self.body_xd[e]) / P[P_GAM]
             x[3:7] /= np.linalg.norm(x[3:7])
             self.body_x[e] = x
         self._commit(np.ascontiguousarray(Y[:K]), dt, P, it)
@@ -453,7 +329,7 @@ class HybridRodCatenarySolver:
 
     def _commit(self, Y, dt, P, iterations):
         ch = self.chain
-        g = P[-1]
+        g = P[P_GAM]
         v_old = self._world_velocities()
         self.Yt = ((Y - self.Y) / dt - (1.0 - g) * self.Yt) / g
         for c in np.nonzero(ch.kind == zoning.ROD)[0]:
@@ -477,8 +353,12 @@ class HybridRodCatenarySolver:
             elif self.ends[e].kind in ("fixed", "clamped"):
                 self.positions[node] = self.ends[e].position
         for first, last in rod_blocks(ch):  # rod shape by integrating its tangents from the block start
+            if first > 0 and ch.grid[first] == ch.grid[first - 1]:
+                self.positions[first] = self.positions[first - 1]  # starts at the joint's catenary node
             for c in range(first + 1, last + 1):
-                self.positions[c] = self.positions[c - 1] + 0.5 * (ch.s[c] - ch.s[c - 1]) * (self.Lf[c - 1, 0] + self.Lf[c, 0])
+                la, lb = 1.0 + self._strain(self.Y[c - 1, 9]), 1.0 + self._strain(self.Y[c, 9])
+                self.positions[c] = self.positions[c - 1] + 0.5 * (ch.s[c] - ch.s[c - 1]) * (
+                    la * self.Lf[c - 1, 0] + lb * self.Lf[c, 0])
         st = self.stats
         st["steps"] += 1
         st["newton_iterations"] += iterations
@@ -511,6 +391,9 @@ class HybridRodCatenarySolver:
                 rotate_frame(self.Lf[nb], -kap, out)
                 self.Lf[c] = out
 
+    def _strain(self, T):
+        return float(strain(float(T), self._parameters(self.opt.time_step)))
+
     def _world_velocities(self):
         v = self.Y[:, 0:3].copy()
         rod = self.chain.kind == zoning.ROD
@@ -520,15 +403,23 @@ class HybridRodCatenarySolver:
     def _node_tension(self, c):
         return float(self.Y[c, 9] if self.chain.kind[c] == zoning.ROD else self.Y[c, 3])
 
-    def _rezone(self):
+    def _rezone(self, boost=1.0):
+        """Re-evaluate the zones (after each step; with boost > 1 after a failed step); True if changed."""
         prof = node_profile(self)
-        T_grid = np.interp(self.s_grid, prof["s"], prof["tension"])
-        T_elem = 0.5 * (T_grid[1:] + T_grid[:-1])
-        new = self._classify(T_elem, self.zones)
+        # the lower tension of each element's two nodes (at a joint: the lower of both sides), so that
+        # no catenary node is left slack
+        T_node = prof["tension"]
+        T_grid = np.full(self.s_grid.size, np.inf)
+        np.minimum.at(T_grid, self.chain.grid, T_node)
+        T_elem = np.minimum(T_grid[1:], T_grid[:-1])
+        new = self._classify(T_elem, self.zones, boost)
+        if boost > 1.0:
+            new = np.maximum(new, self.zones)  # only add rod elements
         if np.array_equal(new, self.zones):
-            return
-        from tether_sim.solvers.hybrid.state_io import convert_state
+            return False
+
         self.Y, self.Yt, self.Lf, self.positions, self.rdot = convert_state(self, new)
         self.zones = new
         self._set_chain()
         self.stats["rezonings"] += 1
+        return True

@@ -56,9 +56,9 @@ class EndMotion:
 
 def _node_tangent_strain(solver, c):
     if solver.chain.kind[c] == zoning.ROD:
-        return solver.Lf[c][0], 0.0
+        return solver.Lf[c][0], solver._strain(solver.Y[c, 9])
     t = solver.Y[c, 4:7]
-    return t / np.linalg.norm(t), solver.ck * solver.Y[c, 3]
+    return t / np.linalg.norm(t), solver._strain(solver.Y[c, 3])
 
 
 def reconstruct_positions(solver):
@@ -84,7 +84,6 @@ def node_profile(solver):
     K = ch.grid.size
     Y, Lf = solver.Y, solver.Lf
     B = np.array([solver.GJ, solver.EI, solver.EI])
-    ck = solver.ck
     out = {k: np.zeros(K) for k in ("tension", "strain", "shear", "moment", "torsion", "curvature")}
     out["velocity"] = np.zeros((K, 3))
     out["force"] = np.zeros((K, 3))
@@ -96,6 +95,7 @@ def node_profile(solver):
             out["velocity"][c] = L.T @ Y[c, 0:3]
             out["force"][c] = L.T @ Y[c, 9:12]
             out["tension"][c] = Y[c, 9]
+            out["strain"][c] = solver._strain(Y[c, 9])
             out["shear"][c] = np.hypot(Y[c, 10], Y[c, 11])
             q = B * Y[c, 6:9]
             out["moment_vec"][c] = L.T @ q
@@ -107,7 +107,7 @@ def node_profile(solver):
             out["velocity"][c] = Y[c, 0:3]
             out["force"][c] = Y[c, 3] * t
             out["tension"][c] = Y[c, 3]
-            out["strain"][c] = ck * Y[c, 3]
+            out["strain"][c] = solver._strain(Y[c, 3])
     cat_idx = np.nonzero(~rod)[0]
     for c in cat_idx:  # geometric curvature of the catenary (no moment carried)
         a = c - 1 if c > 0 and not rod[c - 1] and ch.grid[c - 1] != ch.grid[c] else c

@@ -37,12 +37,13 @@ def classify(T_elem, previous, EI, w, chi_on, chi_off, min_zone, end_rod=(0, 0))
     chi = tension_ratio(T_elem, EI, w)
     prev = np.asarray(previous)
     zones = np.where(prev == ROD, np.where(chi < chi_off, CATENARY, ROD), np.where(chi > chi_on, ROD, CATENARY))
+    zones = _clean_runs(zones, min_zone)
     n = zones.size
-    if end_rod[0] > 0:
+    if end_rod[0] > 0:  # after the clean-up, so a short held-end zone is kept
         zones[: min(end_rod[0], n)] = ROD
     if end_rod[1] > 0:
         zones[max(n - end_rod[1], 0):] = ROD
-    return _clean_runs(zones, min_zone)
+    return zones
 
 
 def _clean_runs(zones, min_zone):

@@ -1,0 +1,70 @@
+"""ROPOS cross-check hybrid vs DG [issue 6 acceptance]: ship-tension amplitude, L = 1730 m, circular
+fairlead a = 2 m, f = 0.1 Hz (no slack). Both solvers through the TetherSolver interface only.
+
+    PYTHONPATH=. python benchmarks/ropos_cross_check.py config/ropos_L1730.yaml --frequency 0.1
+"""
+
+import argparse
+import time
+from dataclasses import replace
+
+import numpy as np
+
+from tether_sim.io.params import load_config
+from tether_sim.physics.motion import build_motion
+from tether_sim.solvers.factory import build_solver
+
+
+def run(cfg, duration, command_dt):
+    solver = build_solver(cfg)
+    motion = build_motion(cfg.motion, np.asarray(cfg.ship_end.position, dtype=float))
+    times, tension = [], []
+    c0 = time.process_time()
+    k = 0
+    while k * command_dt < duration - 1e-9:
+        k += 1
+        t = k * command_dt
+        p, v, _ = motion.at(t)
+        solver.set_end_motion("ship", p, v)
+        solver.advance_to(t)
+        tt, a, _ = solver.drain_end_tensions()
+        times.extend(tt)
+        tension.extend(a)
+    return np.array(times), np.array(tension), time.process_time() - c0
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("config")
+    ap.add_argument("--frequency", type=float, default=0.1)
+    ap.add_argument("--periods", type=float, default=6.0)
+    ap.add_argument("--hybrid-dt", type=float, default=0.05)
+    ap.add_argument("--solvers", nargs="+", default=["hybrid", "dg"])
+    ap.add_argument("--cage-as-force", action="store_true",
+                    help="replace the cage body by its submerged weight as a point force (when a solver lacks bodies)")
+    args = ap.parse_args()
+    base = load_config(args.config)
+    if args.cage_as_force:
+        from tether_sim.physics.bodies import submerged_weight
+
+        weight = submerged_weight(base.body, base.environment)
+        base = replace(base, vehicle_end=replace(base.vehicle_end, kind="force", force=(0.0, 0.0, -weight)))
+    base = replace(base, motion=replace(base.motion, frequency=args.frequency))
+    period = 1.0 / args.frequency
+    amps = {}
+    for name in args.solvers:
+        cfg = replace(base, solver=name, hybrid=replace(base.hybrid, time_step=args.hybrid_dt, n_segments=40,
+                                                          zoning="all_catenary" if base.cable.EI == 0 else "adaptive"))
+        t, T, cpu = run(cfg, args.periods * period, 0.05)
+        last = t > t[-1] - 2 * period
+        amps[name] = 0.5 * (T[last].max() - T[last].min())
+        print(f"{name}: ship tension mean {T[last].mean():.1f} N, amplitude {amps[name]:.1f} N "
+              f"(max {T[last].max():.1f}, min {T[last].min():.1f}); cpu {cpu:.1f} s for {t[-1]:.0f} s", flush=True)
+        np.savez(f"/tmp/ropos_{name}_{args.frequency:g}.npz", t=t, T=T)
+    if len(amps) == 2:
+        a, b = amps["hybrid"], amps["dg"]
+        print(f"amplitude hybrid/dg - 1 = {100 * (a / b - 1):+.2f} %")
+
+
+if __name__ == "__main__":
+    main()

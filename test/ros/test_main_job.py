@@ -1,0 +1,50 @@
+"""main_job fails loudly, naming the missing piece, and never starts processes without them."""
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from tether_sim.ros import main_job
+from tether_sim.ros.processes import StepFailed, command_for, isolated_env
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def test_missing_record_and_params_are_named(tmp_path):
+    with pytest.raises(StepFailed) as info:
+        main_job.preflight(tmp_path)
+    text = str(info.value)
+    assert "data/ropos_ship_heave.mcap" in text and "config/ropos_validation.yaml" in text
+
+
+def test_broken_record_is_a_clear_failure(tmp_path):
+    (tmp_path / "data").mkdir()
+    (tmp_path / "config").mkdir()
+    shutil.copy(REPO / "config" / "ropos_validation.yaml", tmp_path / "config")
+    (tmp_path / "data" / "ropos_ship_heave.mcap").write_bytes(b"not an mcap file")
+    with pytest.raises(StepFailed, match="not an MCAP file"):
+        main_job.preflight(tmp_path)
+
+
+def test_main_returns_nonzero_with_the_reason(tmp_path, monkeypatch, capsys):
+    import os
+    for name in ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE", "PYTHONUNBUFFERED"):
+        if name in os.environ:  # main() joins its private domain; restore ours afterwards
+            monkeypatch.setenv(name, os.environ[name])
+        else:
+            monkeypatch.delenv(name, raising=False)
+    monkeypatch.setattr(main_job, "REPO", tmp_path)
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "config").mkdir()
+    assert main_job.main(["--out", str(tmp_path / "out"), "--domain-id", "97"]) == 1
+    out = capsys.readouterr().out
+    assert "FAILED" in out and "ship-motion record" in out
+    assert not (tmp_path / "out" / "logs" / "tether_sim.log").exists()  # nothing was started
+
+
+def test_children_get_a_private_localhost_domain():
+    env = isolated_env(42)
+    assert env["ROS_DOMAIN_ID"] == "42" and env["ROS_AUTOMATIC_DISCOVERY_RANGE"] == "LOCALHOST"
+    argv = command_for("tether-sim-record")
+    assert argv[0].endswith("tether-sim-record") or argv[-1] == "tether-sim-record"

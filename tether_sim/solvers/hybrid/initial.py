@@ -1,0 +1,149 @@
+"""Initial state of the hybrid solver: zones, straight/arc shape, tensions, damped relaxation.
+
+Mixed into HybridRodCatenarySolver (uses its attributes: config, opt, s_grid, end_modes, ...).
+"""
+
+import math
+
+import numpy as np
+
+from tether_sim.numerics.rotations import frame_with_tangent
+from tether_sim.physics.bodies import initial_body_state, submerged_weight
+from tether_sim.solvers.hybrid import zoning
+from tether_sim.solvers.hybrid.state_io import convert_state, reconstruct_positions
+
+
+class InitialStateMixin:
+    """Set-up methods of the hybrid solver (see docs/hybrid_solver.md, 'End conditions')."""
+
+    def _initial_zones(self, tension):
+        opt = self.opt
+        n = self.n_seg
+        if opt.zoning == "all_rod":
+            return np.full(n, zoning.ROD)
+        if opt.zoning == "all_catenary" or self.EI <= 0.0:
+            return np.full(n, zoning.CATENARY)
+        if opt.zoning == "fixed":
+            centres = 0.5 * (self.s_grid[1:] + self.s_grid[:-1])
+            return np.where(centres < opt.joint_arc_length, zoning.CATENARY, zoning.ROD)
+        return self._classify(tension, np.full(n, zoning.CATENARY))
+
+    def _end_rod_elements(self):
+        out = []
+        for mode in self.end_modes:
+            held = mode in ("clamped", "force_hold")
+            out.append(max(1, int(math.ceil(self.opt.end_rod_length / self.ds))) if held else 0)
+        return tuple(out)
+
+    def _classify(self, T_elem, previous, boost=1.0):
+        o = self.opt
+        f = boost ** -1.5  # T_on scales as chi_on^(-2/3): boost multiplies the switching tensions
+        return zoning.classify(T_elem, previous, self.EI, max(self.net_weight, 1e-12), o.chi_on * f, o.chi_off * f,
+                               o.min_zone_elements, self._end_rod_elements())
+
+    def _init_state(self):
+        cfg = self.config
+        p0 = np.asarray(self.ends[0].position, dtype=float)
+        p1 = np.asarray(self.ends[1].position, dtype=float)
+        chord = p1 - p0
+        dist = float(np.linalg.norm(chord))
+        d = chord / dist if dist > 1e-12 else np.array([0.0, 0.0, -1.0])
+        tangents, T_grid = self._initial_shape(d, dist)
+        target = self._initial_zones(0.5 * (T_grid[1:] + T_grid[:-1]))
+        self.zones = np.full(self.n_seg, zoning.CATENARY)  # built as catenary, then converted
+        self._set_chain()
+        K = self.chain.grid.size
+        self.Y = np.zeros((K, 13))
+        self.Yt = np.zeros((K, 13))
+        self.Y[:, 3] = T_grid
+        self.Y[:, 4:7] = tangents
+        self.Lf = np.stack([frame_with_tangent(t) for t in tangents])
+        self.r0 = p0.copy()
+        self.positions = reconstruct_positions(self)
+        self.rdot = np.zeros_like(self.positions)
+        if np.any(target == zoning.ROD):
+            self.Y, self.Yt, self.Lf, self.positions, self.rdot = convert_state(self, target)
+            self.zones = target
+            self._set_chain()
+            K = self.chain.grid.size
+        self.body_x = [None, None]
+        self.body_xd = [None, None]
+        for e, node in ((0, 0), (1, K - 1)):
+            if self.body_params[e] is not None:
+                self.body_x[e] = initial_body_state(self.config.body, attachment_world=self.positions[node])
+                self.body_xd[e] = np.zeros(13)
+        for e, node in ((0, 0), (1, K - 1)):  # a held end starts with its prescribed tangent
+            if self.end_modes[e] in ("clamped", "force_hold") and self.chain.kind[node] == zoning.ROD:
+                self.Lf[node] = frame_with_tangent(self.ends[e].direction, self.Lf[node])
+        kind = cfg.initial.kind
+        relax = cfg.initial.relax_time if kind == "relax" else (self.opt.static_relax_time if kind == "static" else 0.0)
+        if relax > 0.0:
+            self._relax(relax)
+
+    def _initial_shape(self, d, dist):
+        """Tangents and tensions on the grid: straight (stretched) if the chord is >= L, else a circular
+        arc of length L through both ends sagging along gravity (tension w R)."""
+        if dist >= self.length or self.end_modes[1] not in ("velocity", "clamped"):
+            return np.repeat(d[None], self.n_seg + 1, axis=0), self._straight_tension(d, dist)
+        sag = np.array([0.0, 0.0, -1.0]) - d[2] * d
+        sag = sag / np.linalg.norm(sag) if np.linalg.norm(sag) > 1e-9 else np.array([1.0, 0.0, 0.0])
+        floor = 1e-3 * self.net_weight * self.length
+        T = floor
+        for _ in range(50):  # arc of stretched length L (1 + c_k T) with T = w R (fixed point)
+            theta = self._arc_angle(dist / (self.length * (1.0 + self.ck * T)))
+            radius = self.length * (1.0 + self.ck * T) / (2.0 * theta)
+            T = max(self.net_weight * radius, floor)
+        phi = theta - self.s_grid * (1.0 + self.ck * T) / radius
+        tangents = np.cos(phi)[:, None] * d[None] + np.sin(phi)[:, None] * sag[None]
+        return tangents, np.full(self.n_seg + 1, T)
+
+    @staticmethod
+    def _arc_angle(ratio):
+        """Half angle theta of a circular arc with chord/arc = sin(theta)/theta = ratio."""
+        theta = 1.0
+        for _ in range(60):
+            f = math.sin(theta) / theta - ratio
+            df = (theta * math.cos(theta) - math.sin(theta)) / theta**2
+            theta = min(max(theta - f / df, 1e-6), math.pi - 1e-6)
+        return theta
+
+    def _straight_tension(self, d, dist):
+        """Tension along the initial straight line: tangential equilibrium dT/ds = w_z d_z [GP Eq. 3]
+        from an end whose tension is known (force/free), else from the chord strain; kept > 0."""
+        w = self.net_weight if self.config.cable.gamma0 > self.config.environment.fluid_density * \
+            self.config.cable.area else -self.net_weight
+        Tlin = w * d[2] * self.s_grid  # T(s) - T(0) for F = -w z
+        force_end = [m in ("force", "force_hold") for m in self.end_modes]
+        if self.end_modes[1] == "body":
+            weight = submerged_weight(self.config.body, self.config.environment)
+            T = weight * max(-d[2], 0.0) + Tlin - Tlin[-1]
+        elif force_end[1]:
+            T = float(np.dot(self.end_load[1][0], d)) + Tlin - Tlin[-1]
+        elif force_end[0]:
+            T = -float(np.dot(self.end_load[0][0], d)) + Tlin
+        else:
+            T_strain = self.config.cable.EA * max(dist / self.length - 1.0, 0.0)
+            T = Tlin - Tlin.min() + T_strain
+        return np.maximum(T, 1e-3 * self.net_weight * self.length)
+
+    def _relax(self, duration):
+        """Damped dynamic relaxation with rho_inf = 0 (maximum numerical dissipation), then rest at t = 0."""
+        self._rho = 0.0
+        t_end = self.time + duration
+        step = self.opt.relax_time_step if self.opt.relax_time_step > 0.0 else self.opt.time_step
+        while self.time < t_end - 1e-12:
+            self._step_with_retry(min(step, t_end - self.time))
+        self._rho = None
+        self.stats["relax_final_speed"] = float(np.abs(self._world_velocities()).max())
+        self.Y[:, 0:3] = 0.0
+        self.Y[self.chain.kind == zoning.ROD, 3:6] = 0.0
+        self.Yt[:] = 0.0
+        self.rdot[:] = 0.0
+        for e in range(2):
+            if self.body_x[e] is not None:
+                self.body_x[e][7:13] = 0.0
+                self.body_xd[e][:] = 0.0
+        self.time = 0.0
+        self._record = ([], [], [])
+        for m in self.end_motion:
+            m.reset_time(0.0)
