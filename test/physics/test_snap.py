@@ -126,6 +126,18 @@ def test_chatter_around_the_threshold_is_one_slack_snap_cycle():
     assert [type(e) for e in events] == [SlackStarted]
 
 
+def test_two_stage_retension_reports_the_whole_peak():
+    # make-run shape (lead 07:19): re-tension at 26.6 s, fast first rise to 77 kN, dip (into slack),
+    # second rise to 111 kN 0.7 s later; static 43 kN. One warning, one snap with the 111 kN peak.
+    static = 43e3
+    knots = [(0, static), (20, static), (21, 0), (26.6, 0), (26.63, 77e3), (26.75, 2e3), (26.85, 1e3),
+             (27.33, 111e3), (28.5, 60e3), (30, static), (34, static)]
+    t = np.arange(0.0, 34.0, 1e-3)
+    events = run(SnapDetector(SnapConfig(), ["vehicle"], [static], [1730.0]), t, piecewise(t, knots)[:, None])
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent]
+    assert events[1].peak_tension == pytest.approx(111e3) and events[1].time == pytest.approx(27.33, abs=1e-3)
+
+
 def test_bad_input_is_rejected_clearly():
     with pytest.raises(ValueError, match="2 locations"):
         SnapDetector(SnapConfig(), ["ship", "vehicle"], [1.0], [0.0, 1.0])
