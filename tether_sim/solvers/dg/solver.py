@@ -128,6 +128,7 @@ class DGCableSolver:
         prm[Y.P_TORQUE] = cab.torque
         prm[Y.P_LAMBDA_FLOOR] = opt.lambda_floor
         prm[Y.P_LAMBDA_BC] = math.sqrt(self.law.max_slope() / cab.gamma0)
+        prm[Y.P_QPEN] = opt.q_penalty
         ip = np.zeros(Y.N_IPRM, dtype=np.int64)
         ip[Y.I_N], ip[Y.I_P], ip[Y.I_Q] = self.N, self.P, self.V.shape[0]
         ip[Y.I_LAW] = self.law.code
