@@ -126,9 +126,11 @@ def main(argv=None):
     how = write_record(args.out, t, z)
     spec_f = np.fft.rfftfreq(t.size, t[1] - t[0])
     energy = np.abs(np.fft.rfft(z)) ** 2
+    acc = np.diff(z, 2) / (t[1] - t[0]) ** 2
     print(f"wrote {args.out} with {how}: {t.size} poses, {t[-1] + 0.1:.0f} s at 10 Hz; "
           f"largest wave {largest_wave_height(z):.2f} m, Hs = {4 * z.std():.2f} m, "
-          f"range [{z.min():.2f}, {z.max():.2f}] m, energy above 0.8 Hz: {energy[spec_f > 0.8].sum() / energy.sum():.1e}")
+          f"range [{z.min():.2f}, {z.max():.2f}] m, energy above 0.8 Hz: {energy[spec_f > 0.8].sum() / energy.sum():.1e}; "
+          f"heave acceleration max {np.abs(acc).max():.2f} m/s^2, rms {acc.std():.2f} m/s^2")
 
 
 if __name__ == "__main__":

@@ -81,22 +81,27 @@ def test_locations_are_independent_and_thresholds_absolute():
     assert "absolute" in det.criterion
 
 
-def test_short_slack_ignored_and_second_slack_closes_window():
+def test_short_slack_ignored_and_dips_inside_the_window_merge():
     t = np.arange(0.0, 4.0, DT)
-    # Two dips below 100 N: the first 20 ms long, then a second one 0.3 s after re-tensioning.
+    # A 20 ms dip below 100 N, then a re-tension to 1500 N: no snap with min_slack_duration = 0.1 s.
+    knots = [(0, STATIC), (1.0, STATIC), (1.01, 50), (1.03, 50), (1.04, 1500), (1.3, STATIC), (4, STATIC)]
+    y = piecewise(t, knots)[:, None]
+    events = run(SnapDetector(SnapConfig(min_slack_duration=0.1), ["vehicle"], [STATIC], [0.0]), t, y)
+    assert [type(e) for e in events] == [SlackStarted]
+    events = run(SnapDetector(SnapConfig(min_slack_duration=0.0), ["vehicle"], [STATIC], [0.0]), t, y)
+    assert [round(e.peak_tension) for e in events if isinstance(e, SnapEvent)] == [1500]
+    # A second slack 0.3 s after the first re-tension, inside the 1 s window, then 2000 N at 1.9 s:
+    # one slack period (warning once) and one snap with the window's peak [peak over the re-tensioning].
     knots = [(0, STATIC), (1.0, STATIC), (1.01, 50), (1.03, 50), (1.04, 1500), (1.2, 800),
              (1.34, 50), (1.8, 50), (1.9, 2000), (2.5, STATIC), (4, STATIC)]
     y = piecewise(t, knots)[:, None]
-    det = SnapDetector(SnapConfig(min_slack_duration=0.1), ["vehicle"], [STATIC], [0.0])
-    events = run(det, t, y)
-    snaps = [e for e in events if isinstance(e, SnapEvent)]
-    assert sum(isinstance(e, SlackStarted) for e in events) == 2  # the warning fires for both
-    assert len(snaps) == 1 and snaps[0].peak_tension == pytest.approx(2000.0)
-    det = SnapDetector(SnapConfig(min_slack_duration=0.0), ["vehicle"], [STATIC], [0.0])
-    snaps = [e for e in run(det, t, y) if isinstance(e, SnapEvent)]
-    # Without the minimum duration the first snap (1500 N >= static) is its own event, closed by the
-    # second slack at 1.33 s.
-    assert [round(e.peak_tension) for e in snaps] == [1500, 2000]
+    events = run(SnapDetector(SnapConfig(), ["vehicle"], [STATIC], [0.0]), t, y)
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent]
+    snap = events[1]
+    assert snap.peak_tension == pytest.approx(2000.0) and snap.min_tension == pytest.approx(50.0)
+    t_exit = 1.8 + 0.1 * 50 / 1950  # last upward crossing of 100 N
+    assert snap.slack_duration == pytest.approx(t_exit - snap.slack_start, abs=1e-9)
+    assert snap.rise_time == pytest.approx(1.9 - t_exit, abs=DT)
 
 
 def test_chatter_around_the_threshold_is_one_slack_snap_cycle():
@@ -119,6 +124,18 @@ def test_chatter_around_the_threshold_is_one_slack_snap_cycle():
     gentle = [(a, min(b, 900.0)) for a, b in knots]
     events = run(SnapDetector(SnapConfig(), ["ship"], [STATIC], [0.0]), t, piecewise(t, gentle)[:, None])
     assert [type(e) for e in events] == [SlackStarted]
+
+
+def test_two_stage_retension_reports_the_whole_peak():
+    # make-run shape (lead 07:19): re-tension at 26.6 s, fast first rise to 77 kN, dip (into slack),
+    # second rise to 111 kN 0.7 s later; static 43 kN. One warning, one snap with the 111 kN peak.
+    static = 43e3
+    knots = [(0, static), (20, static), (21, 0), (26.6, 0), (26.63, 77e3), (26.75, 2e3), (26.85, 1e3),
+             (27.33, 111e3), (28.5, 60e3), (30, static), (34, static)]
+    t = np.arange(0.0, 34.0, 1e-3)
+    events = run(SnapDetector(SnapConfig(), ["vehicle"], [static], [1730.0]), t, piecewise(t, knots)[:, None])
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent]
+    assert events[1].peak_tension == pytest.approx(111e3) and events[1].time == pytest.approx(27.33, abs=1e-3)
 
 
 def test_bad_input_is_rejected_clearly():

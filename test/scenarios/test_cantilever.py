@@ -16,13 +16,13 @@ from tether_sim.scenarios import cantilever
 
 # Burst lengths: the Hann main lobe (+-2/cycles of omega_i) must miss the neighbouring modes
 # (omega_2/omega_1 = 6.3; omega_2,4/omega_3 = 0.36, 1.96; omega_4,6/omega_5 = 0.60, 1.49).
-CASES = {1: dict(n_elements=4, cycles=2, free_periods=1.25), 3: dict(n_elements=6, cycles=6),
+CASES = {1: dict(n_elements=4, cycles=1, free_periods=1.25), 3: dict(n_elements=6, cycles=6),
          5: dict(n_elements=8, cycles=8)}
 
 
 @pytest.mark.parametrize("mode", sorted(CASES))
 def test_cantilever_mode(mode):
-    r = cantilever.run_mode(mode, order=4, **CASES[mode])
+    r = cantilever.run_mode(mode, order=4, load_updates_per_period=40, **CASES[mode])  # coarse meshes: 40 suffice
     print(cantilever.format_table([r]))
     assert abs(r["period_error"]) < 5e-3
     assert r["tip_amplitude"] == pytest.approx(1e-3, rel=0.1)  # the burst is sized for A = 1 mm

@@ -9,10 +9,9 @@ tension samples [DNV-RP-H103 slack criterion; PE2020 Sec. 6]:
 ``rising`` -> ``taut``    after ``peak_window`` seconds: the largest tension since leaving slack
                            is the snap peak; a :class:`SnapEvent` is emitted if it reaches
                            ``snap_fraction`` x static and the slack lasted ``min_slack_duration``.
-``rising`` -> ``slack``   falling back below the slack threshold within the window: a re-tensioning
-                           that already reached the snap level is emitted as its own snap and a new
-                           slack period starts; a weaker one (chatter around the threshold) is merged
-                           into the current slack period (no new warning, no event).
+                           Dips back below the slack threshold inside the window (chatter, a weak
+                           first re-tension) belong to the same slack period: no new warning, and
+                           the slack period ends at the last upward crossing.
 
 Slack duration runs from the downward crossing of the slack threshold to the last upward crossing
 of it (linear interpolation between samples); the rise time runs from the upward crossing that
@@ -126,16 +125,18 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
             y0 = s[_PREV_TENSION]
             mode = s[_MODE]
             if mode == _RISING:
+                # The whole window belongs to this re-tensioning: dips back into slack (chatter,
+                # a first weak re-tension) extend the slack period instead of ending the event.
+                if y < s[_MIN_T]:
+                    s[_MIN_T] = y
+                if has_prev and y0 < lo <= y:
+                    s[_EXIT_T] = _crossing_time(t0, y0, t, y, lo)
                 if y > s[_PEAK]:
                     s[_PEAK] = y
                     s[_PEAK_T] = t
                     s[_PEAK_EXIT] = s[_EXIT_T]
-                is_snap = s[_PEAK] >= snap_level and s[_EXIT_T] - s[_SLACK_START] >= min_duration
-                if y < lo and s[_PEAK] < snap_level:
-                    s[_MODE] = _SLACK  # chatter: merge into the running slack period
-                    mode = _SLACK
-                elif y < lo or t - s[_RETENSION_T] >= peak_window:
-                    if is_snap:
+                if t - s[_RETENSION_T] >= peak_window:
+                    if s[_PEAK] >= snap_level and s[_EXIT_T] - s[_SLACK_START] >= min_duration:
                         n_ev = _emit(events, n_ev, 1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START],
                                      s[_EXIT_T], s[_PEAK_EXIT])
                     s[_MODE] = _TAUT

@@ -84,6 +84,31 @@ def preflight(root: Path, params: Path = PARAMS) -> dict:
     return {"config": config, "static": static, "record": record}
 
 
+def largest_wave_window(path: Path, before=(30.0, 10.0), after: float = 30.0):
+    """(start offset, duration, wave time, wave height) in s / m: a window around the record's
+    largest zero-up-crossing heave wave, starting where the ship moves slowest (min |dz/dt|) in
+    [wave - before[0], wave - before[1]], so the node's static start meets no velocity jump."""
+    import numpy as np
+
+    from tether_sim.io.mcap_log import read_messages
+
+    samples = [(log, msg.pose.position.z) for _, _, log, msg in read_messages(path, ["/ship/pose"])]
+    t = (np.array([a for a, _ in samples]) - samples[0][0]) / 1e9
+    z = np.array([b for _, b in samples])
+    z0 = z - z.mean()
+    ups = np.flatnonzero((z0[:-1] < 0) & (z0[1:] >= 0))
+    if len(ups) < 2:
+        return 0.0, 0.0, 0.0, float(z.max() - z.min())
+    heights = [z[a:b + 1].max() - z[a:b + 1].min() for a, b in zip(ups[:-1], ups[1:])]
+    k = int(np.argmax(heights))
+    t_wave = 0.5 * (t[ups[k]] + t[ups[k + 1]])
+    speed = np.abs(np.gradient(z, t))
+    inside = (t >= t_wave - before[0]) & (t <= t_wave - before[1])
+    start = float(t[inside][np.argmin(speed[inside])]) if inside.any() else max(0.0, t_wave - before[0])
+    end = min(float(t[-1]), t_wave + after)
+    return start, float(end - start), float(t_wave), float(heights[k])
+
+
 def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) -> Path:
     """Recorder + node, wait for discovery, replay, stop. Returns the recorded MCAP path."""
     mcap = out / MCAP_NAME
@@ -114,12 +139,21 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) ->
             time.sleep(0.2)
             waiting = probe.recorder_matched(NODE_OUTPUTS)
         say("discovery complete: the recorder is subscribed to the node's outputs")
+        if args.start_offset is None:
+            args.start_offset, window, t_wave, height = largest_wave_window(root / RECORD)
+            if args.duration is None:
+                args.duration = window
+            say(f"window: {args.start_offset:.1f}-{args.start_offset + args.duration:.1f} s of the "
+                f"record, around its largest wave ({height:.2f} m peak to trough at {t_wave:.1f} s), "
+                f"starting where the ship moves slowest")
+        elif args.duration is None:
+            args.duration = 0.0
         from tether_sim.io.mcap_log import iter_raw
 
         first = next(r for r in iter_raw(root / RECORD, ["/ship/pose"])
                      if r.log_time_ns >= checked["record"].start_ns + int(args.start_offset * 1e9))
         checked["t_record_s"] = first.log_time_ns / 1e9
-        say("holding /clock at the record's start while the node builds its solver ...")
+        say("holding /clock just before the replay's start while the node builds its solver ...")
 
         def check():
             group.check_alive()
@@ -137,7 +171,7 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) ->
                 say("could not measure the node's real-time factor; replaying in real time")
             else:
                 # 80 % of the measured speed, in steps of 0.05, at most real time
-                args.rate = max(0.05, min(1.0, math.floor(0.8 * rtf * 20) / 20))
+                args.rate = max(0.05, min(1.0, math.floor(0.7 * rtf * 20) / 20))
                 say(f"the node runs at {rtf:.2f} x real time on this machine: replaying at "
                     f"x{args.rate:g}" + (" (slower than real time so that the node keeps up)"
                                          if args.rate < 1 else ""))
@@ -148,7 +182,8 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) ->
                    "-p", f"start_offset_s:={args.start_offset}", "-p", f"duration_s:={args.duration}",
                    "-p", "wait_for_subscribers_s:=20.0", "-p", "topics:=['/ship/pose']"]
     replay = group.start("replay", command_for("tether-sim-replay") + replay_args)
-    span = (args.duration or 600.0) / args.rate
+    record = checked["record"]
+    span = (args.duration or (record.end_ns - record.start_ns) / 1e9 - args.start_offset) / args.rate
     say(f"replaying {RECORD} at x{args.rate:g} (about {span:.0f} s of wall time)")
     t0, last_note = time.monotonic(), time.monotonic()
     while replay.alive:
@@ -228,11 +263,12 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m tether_sim.ros.main_job", description=__doc__.split("\n")[0])
     parser.add_argument("--rate", type=float, default=0.0,
                         help="replay speed factor; 0 (default) = measure the node's speed first and "
-                             "replay at 80 %% of it, at most real time")
-    parser.add_argument("--start-offset", type=float, default=0.0, help="skip seconds of the record")
-    parser.add_argument("--duration", type=float, default=120.0,
-                        help="replay seconds (default 120: the calm tapered start and the first "
-                             "large waves at 20-30 s; 0: the whole 600 s record)")
+                             "replay at 70 %% of it, at most real time")
+    parser.add_argument("--start-offset", type=float, default=None,
+                        help="skip seconds of the record (default: a window around the largest wave)")
+    parser.add_argument("--duration", type=float, default=None,
+                        help="replay seconds (0: to the end; default: the window around the largest "
+                             "wave, or to the end when --start-offset is given)")
     parser.add_argument("--params", default=str(PARAMS), help="parameter file of the node")
     parser.add_argument("--out", default=str(OUT), help="output directory")
     parser.add_argument("--domain-id", type=int, default=None,
@@ -268,7 +304,8 @@ def main(argv=None) -> int:
 
         try:
             result = make_report(mcap, out / "figures", t0_s=checked["t_record_s"],
-                                 time_label="time since the record's start (t < 0: start-up hold)")
+                                 time_label=f"time since {args.start_offset:.1f} s of the record "
+                                            f"(replay start; t < 0: start-up hold)")
         except ReportError as exc:
             raise StepFailed(f"the recording has nothing to report: {exc}") from exc
         print_findings(result, checked["static"], out)

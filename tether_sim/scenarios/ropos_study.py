@@ -78,7 +78,7 @@ def case_row(r):
 def markdown_table(rows, columns):
     def fmt(v):
         if isinstance(v, float):
-            return "-" if np.isnan(v) else f"{v:.4g}"
+            return "-" if np.isnan(v) else ("0" if abs(v) < 1e-9 else f"{v:.4g}")
         return str(v)
 
     lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
@@ -107,7 +107,7 @@ def figure_ship_tension(results, path):
             ax.set_ylabel("ship tension (kN)")
             ax.set_title(f"f = {f:g} Hz, a = 2 m")
             ax.grid(alpha=0.3)
-    axes[0, 0].legend(fontsize=6, ncol=2)
+    axes[0, 0].legend(fontsize=6, ncol=2, loc="upper right")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
@@ -226,6 +226,20 @@ def _merge_split_bins(r):
         r.t = t
 
 
+def redetect(r, config=None):
+    """Recompute a case's slack/snap events from its stored 1 kHz tension series with the current detector.
+
+    Batches run at different times used different detector versions; this makes every table use the
+    one in :mod:`tether_sim.physics.snap` (bins hold maxima, so dips shorter than 1 ms are not seen).
+    """
+    from tether_sim.physics.snap import SnapDetector
+
+    cfg = config or ropos_config(r.length, r.alpha, r.frequency)
+    det = SnapDetector(cfg.snap, ["ship", "vehicle"], list(r.static), [0.0, r.length])
+    r.events = det.update(r.t, np.c_[r.ship_tension, r.vehicle_tension]) + det.flush() if r.t.size else []
+    return r
+
+
 def load_results(out):
     """All study pickles of ``out`` merged; a later file replaces a case (L, alpha, f) of an earlier one."""
     cases = {}
@@ -233,6 +247,7 @@ def load_results(out):
         with open(path, "rb") as fh:
             for r in pickle.load(fh):
                 _merge_split_bins(r)
+                redetect(r)
                 cases[(r.length, r.alpha, r.frequency)] = r
     return [cases[k] for k in sorted(cases)]
 

@@ -15,8 +15,12 @@ Shapes and channel indices: see ``layout.py``. The right-hand side is evaluated 
 Boundary fluxes (rows of Table 1): velocity ends (prescribed, fixed, clamped, body) take
 v_hat = v_BC and T_hat = T+ + n lambda (gamma0 v_BC - v+); force ends (free, force) take
 T_hat = n F_BC and v_hat = v+. The lambda term is the upwind (exact Riemann) correction of the
-linear axial problem, which vanishes when the interior agrees with the boundary value. For laws
-without compression the axial part of a velocity end's T_hat is clipped at zero.
+linear axial problem, which vanishes when the interior agrees with the boundary value. At the ends
+lambda is the taut wave speed c even where the end is slack: with the local lambda = 0 of a slack
+trace the end velocity would not be enforced in the momentum equation at all, the trace velocity
+drifts from v_BC, and the jump is released as a spurious spike when the end re-tensions. For laws
+without compression the axial part of a velocity end's T_hat is clipped at zero (a slack end can
+be pulled taut, never pushed).
 """
 
 import math
@@ -30,7 +34,7 @@ from tether_sim.solvers.dg.layout import (
     B_F, B_M, B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, E_F, E_M, E_T, E_VHAT, F_MS, F_NU, F_Q, F_V,
     I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_SEABED, K_CLAMPED,
     K_FORCE, K_FREE, M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDT, P_EA, P_FBZ, P_GAMMA0, P_HALF_RHO_D,
-    P_KD, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
+    P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_QPEN, P_MN, P_MT, P_MU, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
     T_TV, T_V, W_ACC, W_DT, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TV, W_V,
 )
 from tether_sim.solvers.dg.ldg import ldg_shear_force
@@ -82,10 +86,10 @@ def local_speed(prm, law, q0, q1, q2, tab_eps, tab_T):
 
 
 @jit
-def interface_fluxes(fl, tr, N, c_fl, c_u, c_f, scale_f, bc_mode):
-    """Interior Lax-Friedrichs fluxes F_hat = (F_L + F_R)/2 + lambda/2 (u_R - u_L) [Eq. 24]."""
+def interface_fluxes(fl, tr, N, c_fl, c_u, c_f, scale_f, penalty):
+    """Interior Lax-Friedrichs fluxes F_hat = (F_L + F_R)/2 + penalty lambda/2 (u_R - u_L) [Eq. 24]."""
     for k in range(1, N):
-        lam = max(tr[k - 1, 1, T_LAM], tr[k, 0, T_LAM])
+        lam = penalty * max(tr[k - 1, 1, T_LAM], tr[k, 0, T_LAM])
         for c in range(3):
             fl[k, c_fl + c] = 0.5 * scale_f * (tr[k - 1, 1, c_f + c] + tr[k, 0, c_f + c]) \
                 + 0.5 * lam * (tr[k, 0, c_u + c] - tr[k - 1, 1, c_u + c])
@@ -139,7 +143,7 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
             tr[e, side, T_LAM] = local_speed(prm, law, tr[e, side, T_Q], tr[e, side, T_Q + 1], tr[e, side, T_Q + 2],
                                              tab_eps, tab_T)
     # 2. fluxes of F_q = v / gamma0 and dq/dt
-    interface_fluxes(fl, tr, N, F_Q, T_Q, T_V, ig0, 0)
+    interface_fluxes(fl, tr, N, F_Q, T_Q, T_V, ig0, prm[P_QPEN])
     for c in range(3):
         fl[0, F_Q + c] = tr[0, 0, T_V + c] * ig0 if is_force_end(k0) else vbc[0, 3 + c]
         fl[N, F_Q + c] = tr[N - 1, 1, T_V + c] * ig0 if is_force_end(k1) else vbc[1, 3 + c]
@@ -177,9 +181,9 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
     for e in range(N):
         project_points(Pj, wq, e, W_TV, wm, M_TV, 3)
         eval_traces(Tr, wm, e, M_TV, tr, T_TV, 3, 1.0)
-    interface_fluxes(fl, tr, N, F_V, T_V, T_TV, 1.0, 0)
-    lam0 = tr[0, 0, T_LAM]
-    lam1 = tr[N - 1, 1, T_LAM]
+    interface_fluxes(fl, tr, N, F_V, T_V, T_TV, 1.0, 1.0)
+    lam0 = max(tr[0, 0, T_LAM], prm[P_LAMBDA_BC])
+    lam1 = max(tr[N - 1, 1, T_LAM], prm[P_LAMBDA_BC])
     for c in range(3):
         if is_force_end(k0):
             fl[0, F_V + c] = -bc[0, B_F + c]

@@ -28,7 +28,9 @@ P_BETA = 17
 P_TORQUE = 18
 P_RELAX = 19  # artificial linear damping rate (1/s) on the momentum, dynamic relaxation only
 P_LAMBDA_FLOOR = 20  # lower bound of the Lax-Friedrichs speed (m/s)
-N_PRM = 21
+P_LAMBDA_BC = 21  # upwind speed of the velocity-end fluxes: the taut wave speed c (m/s)
+P_QPEN = 22  # factor on the Lax-Friedrichs penalty of the q equation (1 = Eq. 24, 0 = central)
+N_PRM = 23
 
 # --- integer parameters iprm[...] ---
 I_N = 0

@@ -46,7 +46,7 @@ class DGCableSolver:
         self.L = float(cab.length)
         self.h = self._element_sizes(opt)
         self.s_edges = np.concatenate(([0.0], np.cumsum(self.h)))
-        self.ops = element_operators(self.P)
+        self.ops = element_operators(self.P, int(opt.quad_points) or None)
         o = self.ops
         self.V, self.Pj, self.D, self.Lf, self.Tr, self.Iq = o.vandermonde, o.projection, o.derivative, o.lift, o.trace, o.integral
         self.cz, self.cx, self.cy = current_table(env)
@@ -127,6 +127,8 @@ class DGCableSolver:
         prm[Y.P_BETA] = opt.beta
         prm[Y.P_TORQUE] = cab.torque
         prm[Y.P_LAMBDA_FLOOR] = opt.lambda_floor
+        prm[Y.P_LAMBDA_BC] = math.sqrt(self.law.max_slope() / cab.gamma0)
+        prm[Y.P_QPEN] = opt.q_penalty
         ip = np.zeros(Y.N_IPRM, dtype=np.int64)
         ip[Y.I_N], ip[Y.I_P], ip[Y.I_Q] = self.N, self.P, self.V.shape[0]
         ip[Y.I_LAW] = self.law.code
