@@ -138,6 +138,19 @@ def test_two_stage_retension_reports_the_whole_peak():
     assert events[1].peak_tension == pytest.approx(111e3) and events[1].time == pytest.approx(27.33, abs=1e-3)
 
 
+def test_slow_monotonic_retension_is_followed_to_its_peak():
+    # make run (synthetic record, L = 1730 m): after 1.9 s of slack the cage tension rises without a
+    # dip for 1.8 s (longer than peak_window = 1 s) to 111 kN, then falls. The event must carry the
+    # 111 kN turning point, not the value at the end of the window (76.6 kN before the fix).
+    static = 43e3
+    knots = [(0, static), (20, static), (21, 0), (23.6, 0), (25.5, 8e3), (27.3, 111e3), (29.0, 40e3),
+             (31, static), (34, static)]
+    t = np.arange(0.0, 34.0, 1e-3)
+    events = run(SnapDetector(SnapConfig(), ["vehicle"], [static], [1730.0]), t, piecewise(t, knots)[:, None])
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent]
+    assert events[1].peak_tension == pytest.approx(111e3) and events[1].time == pytest.approx(27.3, abs=1e-3)
+
+
 def test_bad_input_is_rejected_clearly():
     with pytest.raises(ValueError, match="2 locations"):
         SnapDetector(SnapConfig(), ["ship", "vehicle"], [1.0], [0.0, 1.0])

@@ -6,7 +6,10 @@ tension samples [DNV-RP-H103 slack criterion; PE2020 Sec. 6]:
 ``taut``   -> ``slack``   when T drops below the slack threshold (default 10% of the static
                            tension there); a :class:`SlackStarted` early warning is emitted.
 ``slack``  -> ``rising``  when T rises above the re-tension threshold (hysteresis).
-``rising`` -> ``taut``    after ``peak_window`` seconds: the largest tension since leaving slack
+``rising`` -> ``taut``    after ``peak_window`` seconds, once the peak is confirmed (the tension
+                           has fallen by the slack threshold below its running maximum; a
+                           re-tensioning still rising at the end of the window is followed until
+                           it turns, at most 10 windows): the largest tension since leaving slack
                            is the snap peak; a :class:`SnapEvent` is emitted if it reaches
                            ``snap_fraction`` x static and the slack lasted ``min_slack_duration``.
                            Dips back below the slack threshold inside the window (chatter, a weak
@@ -35,7 +38,7 @@ class SnapConfig:
     slack_threshold: float = param(0.0, unit="N", doc="absolute slack threshold; > 0 overrides slack_fraction", min=0.0, max=1e9, live=True)
     retension_fraction: float = param(0.2, doc="slack ends when tension rises above retension_fraction * static (hysteresis)", min=0.0, max=10.0, live=True)
     min_slack_duration: float = param(0.1, unit="s", doc="no snap event after a slack period shorter than this", min=0.0, max=1e4, live=True)
-    peak_window: float = param(1.0, unit="s", doc="after re-tensioning, the snap peak is the largest tension within this window", min=1e-6, max=1e4, live=True)
+    peak_window: float = param(1.0, unit="s", doc="after re-tensioning, the snap peak is the largest tension within this window (extended while the tension has not yet turned, up to 10 windows)", min=1e-6, max=1e4, live=True)
     snap_fraction: float = param(1.0, doc="a re-tensioning is a snap only if its peak reaches snap_fraction * static; weaker ones that fall back into slack are merged into the slack period", min=0.0, max=100.0, live=True)
     monitor_arc_lengths: tuple = param((), unit="m", doc="extra arc lengths (span points) monitored besides both ends")
 
@@ -70,8 +73,8 @@ class SnapEvent:
 
 # Per-location machine state columns.
 (_MODE, _SLACK_START, _MIN_T, _EXIT_T, _PEAK, _PEAK_T, _RETENSION_T, _PREV_T, _PREV_TENSION, _HAS_PREV,
- _PEAK_EXIT) = range(11)
-_N_STATE = 11
+ _PEAK_EXIT, _CONFIRMED) = range(12)
+_N_STATE = 12
 _TAUT, _SLACK, _RISING = 0.0, 1.0, 2.0
 # Event rows: kind (0 slack, 1 snap), location, time, tension/peak, min, slack_start, exit time,
 # start of the re-tensioning holding the peak.
@@ -103,7 +106,7 @@ def _emit(events, n, kind, loc, time, value, min_t, start, exit_t, rise_start):
 def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_duration, events):
     """Advance every location's state machine over samples ``start..``; stop when ``events`` is full.
 
-    times (k,), tensions (k, n_loc), st (n_loc, 11) state, thresholds (n_loc, 3) = (slack, re-tension,
+    times (k,), tensions (k, n_loc), st (n_loc, 12) state, thresholds (n_loc, 3) = (slack, re-tension,
     snap level). Returns (next sample index, number of event rows written).
     """
     n_ev = 0
@@ -135,7 +138,10 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                     s[_PEAK] = y
                     s[_PEAK_T] = t
                     s[_PEAK_EXIT] = s[_EXIT_T]
-                if t - s[_RETENSION_T] >= peak_window:
+                elif y < s[_PEAK] - lo:
+                    s[_CONFIRMED] = 1.0  # the tension has turned: the running maximum is a peak
+                elapsed = t - s[_RETENSION_T]
+                if (elapsed >= peak_window and s[_CONFIRMED] > 0.0) or elapsed >= 10.0 * peak_window:
                     if s[_PEAK] >= snap_level and s[_EXIT_T] - s[_SLACK_START] >= min_duration:
                         n_ev = _emit(events, n_ev, 1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START],
                                      s[_EXIT_T], s[_PEAK_EXIT])
@@ -158,6 +164,7 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                 if y > hi:
                     s[_MODE] = _RISING
                     s[_RETENSION_T] = t
+                    s[_CONFIRMED] = 0.0
                     if y > s[_PEAK]:
                         s[_PEAK] = y
                         s[_PEAK_T] = t
