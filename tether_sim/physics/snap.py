@@ -6,10 +6,9 @@ tension samples [DNV-RP-H103 slack criterion; PE2020 Sec. 6]:
 ``taut``   -> ``slack``   when T drops below the slack threshold (default 10% of the static
                            tension there); a :class:`SlackStarted` early warning is emitted.
 ``slack``  -> ``rising``  when T rises above the re-tension threshold (hysteresis).
-``rising`` -> ``taut``    after ``peak_window`` seconds, once the peak is confirmed (the tension
-                           has fallen by the slack threshold below its running maximum; a
-                           re-tensioning still rising at the end of the window is followed until
-                           it turns, at most 10 windows): the largest tension since leaving slack
+``rising`` -> ``taut``    after ``peak_window`` seconds, once the running maximum lies behind the
+                           current sample (a re-tensioning still rising at the end of the window
+                           is followed until it turns, at most 10 windows): the largest tension since leaving slack
                            is the snap peak; a :class:`SnapEvent` is emitted if it reaches
                            ``snap_fraction`` x static and the slack lasted ``min_slack_duration``.
                            Dips back below the slack threshold inside the window (chatter, a weak
@@ -73,8 +72,8 @@ class SnapEvent:
 
 # Per-location machine state columns.
 (_MODE, _SLACK_START, _MIN_T, _EXIT_T, _PEAK, _PEAK_T, _RETENSION_T, _PREV_T, _PREV_TENSION, _HAS_PREV,
- _PEAK_EXIT, _CONFIRMED) = range(12)
-_N_STATE = 12
+ _PEAK_EXIT) = range(11)
+_N_STATE = 11
 _TAUT, _SLACK, _RISING = 0.0, 1.0, 2.0
 # Event rows: kind (0 slack, 1 snap), location, time, tension/peak, min, slack_start, exit time,
 # start of the re-tensioning holding the peak.
@@ -106,7 +105,7 @@ def _emit(events, n, kind, loc, time, value, min_t, start, exit_t, rise_start):
 def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_duration, events):
     """Advance every location's state machine over samples ``start..``; stop when ``events`` is full.
 
-    times (k,), tensions (k, n_loc), st (n_loc, 12) state, thresholds (n_loc, 3) = (slack, re-tension,
+    times (k,), tensions (k, n_loc), st (n_loc, 11) state, thresholds (n_loc, 3) = (slack, re-tension,
     snap level). Returns (next sample index, number of event rows written).
     """
     n_ev = 0
@@ -138,10 +137,11 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                     s[_PEAK] = y
                     s[_PEAK_T] = t
                     s[_PEAK_EXIT] = s[_EXIT_T]
-                elif y < s[_PEAK] - lo:
-                    s[_CONFIRMED] = 1.0  # the tension has turned: the running maximum is a peak
                 elapsed = t - s[_RETENSION_T]
-                if (elapsed >= peak_window and s[_CONFIRMED] > 0.0) or elapsed >= 10.0 * peak_window:
+                # Close once the window has passed and the running maximum lies behind the current
+                # sample (the tension has turned or levelled off); a re-tensioning still rising at the
+                # end of the window is followed to its turning point, for at most 10 windows.
+                if (elapsed >= peak_window and s[_PEAK_T] < t) or elapsed >= 10.0 * peak_window:
                     if s[_PEAK] >= snap_level and s[_EXIT_T] - s[_SLACK_START] >= min_duration:
                         n_ev = _emit(events, n_ev, 1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START],
                                      s[_EXIT_T], s[_PEAK_EXIT])
@@ -164,7 +164,6 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                 if y > hi:
                     s[_MODE] = _RISING
                     s[_RETENSION_T] = t
-                    s[_CONFIRMED] = 0.0
                     if y > s[_PEAK]:
                         s[_PEAK] = y
                         s[_PEAK_T] = t

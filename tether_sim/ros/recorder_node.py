@@ -73,6 +73,8 @@ class RecorderNode(Node):
         self.writer = RosMcapWriter(self.output, chunk_size=int(get("chunk_size")),
                                     flush_interval_s=float(get("flush_interval_s")))
         self._recorded = {}
+        # (topic, cdr, receive time, publish time, sequence) received before the first /clock
+        self._pending = []
         self.stopped = False
         self.started = time.monotonic()
         steady = Clock(clock_type=ClockType.STEADY_TIME)  # timers must run without /clock too
@@ -126,12 +128,22 @@ class RecorderNode(Node):
     def _callback_for(self, topic):
         def on_message(data: bytes, info) -> None:
             log_time = info["received_timestamp"]
+            sequence = info.get("publication_sequence_number") or None
             if self.use_sim_time:
                 now = self.get_clock().now().nanoseconds
-                log_time = now if now > 0 else log_time  # before the first /clock: receive time
-            self.writer.write(topic, data, log_time, info["source_timestamp"],
-                              sequence=info.get("publication_sequence_number") or None)
+                if now <= 0:  # no /clock yet: hold the message, log it at the first sim time
+                    self._pending.append((topic, bytes(data), log_time, info["source_timestamp"], sequence))
+                    return
+                self._write_pending(now)
+                log_time = now
+            self.writer.write(topic, data, log_time, info["source_timestamp"], sequence=sequence)
         return on_message
+
+    def _write_pending(self, log_time=None) -> None:
+        """Write the messages held before the first /clock (at ``log_time``, else their receive times)."""
+        for topic, data, received, published, sequence in self._pending:
+            self.writer.write(topic, data, received if log_time is None else log_time, published, sequence=sequence)
+        self._pending.clear()
 
     @property
     def recorded_topics(self):
@@ -139,6 +151,7 @@ class RecorderNode(Node):
 
     def close(self) -> None:
         if not self.writer.closed:
+            self._write_pending()  # no /clock ever came: keep them, at their receive times
             self.writer.close()
             self.get_logger().info(f"closed {self.output}: {self.writer.message_count} messages "
                                    f"on {len(self.recorded_topics)} topics")
