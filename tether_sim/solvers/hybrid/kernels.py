@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from tether_sim.numerics.jit import jit
+from tether_sim.physics.hydrodynamics import current_at
 
 P_M, P_CK, P_G, P_RHOF, P_AREA, P_D, P_CDN, P_CDT, P_CMN, P_CMT = range(10)
 P_B0, P_I0 = 10, 13  # B (torsion, bend, bend) and rotary inertia I (same order), body axis 0 = tangent
@@ -69,31 +70,6 @@ def strain(T, P):
     if d == 0.0:
         return P[P_CK] * T
     return P[P_CK] * T - d * tw * (_softplus((-T - 6.0 * tw) / tw) - _softplus(-6.0))
-
-
-@jit
-def current_at(z, cz, cx, cy, out):
-    """Current velocity at height z: linear in z between profile points, constant outside."""
-    out[0] = 0.0
-    out[1] = 0.0
-    out[2] = 0.0
-    n = cz.shape[0]
-    if n == 0:
-        return
-    if z <= cz[0]:
-        out[0] = cx[0]
-        out[1] = cy[0]
-        return
-    if z >= cz[n - 1]:
-        out[0] = cx[n - 1]
-        out[1] = cy[n - 1]
-        return
-    for k in range(n - 1):
-        if z <= cz[k + 1]:
-            w = (z - cz[k]) / (cz[k + 1] - cz[k])
-            out[0] = (1.0 - w) * cx[k] + w * cx[k + 1]
-            out[1] = (1.0 - w) * cy[k] + w * cy[k + 1]
-            return
 
 
 @jit
