@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import signal
 
 from rclpy.qos import (DurabilityPolicy, HistoryPolicy, LivelinessPolicy, QoSProfile,
                        ReliabilityPolicy)
@@ -81,3 +82,13 @@ def wait_for(predicate, timeout_s: float, spin_node=None, step_s: float = 0.05) 
             rclpy.spin_once(spin_node, timeout_sec=step_s)
         else:
             time.sleep(step_s)
+
+
+def stop_on_signals(node) -> None:
+    """SIGINT and SIGTERM set ``node.stopped`` so the node's own loop closes its file cleanly."""
+
+    def request_stop(signum, _frame):
+        node.stopped = True
+
+    signal.signal(signal.SIGINT, request_stop)
+    signal.signal(signal.SIGTERM, request_stop)

@@ -14,7 +14,6 @@ every ``flush_interval_s`` so a crash loses at most that much; Ctrl-C and SIGTER
 from __future__ import annotations
 
 import argparse
-import signal
 import sys
 import time
 from pathlib import Path
@@ -27,7 +26,7 @@ from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
 from tether_sim.io.mcap_log import RosMcapWriter
-from tether_sim.ros.bag_common import adapted_subscription_qos, message_class, offer_to_dict
+from tether_sim.ros.bag_common import adapted_subscription_qos, message_class, offer_to_dict, stop_on_signals
 
 NODE_NAME = "tether_sim_recorder"
 SKIPPED_BY_DEFAULT = {"/rosout", "/parameter_events"}
@@ -176,11 +175,7 @@ def main(argv=None) -> int:
         rclpy.try_shutdown()
         return 2
 
-    def request_stop(signum, _frame):
-        node.stopped = True
-
-    signal.signal(signal.SIGINT, request_stop)
-    signal.signal(signal.SIGTERM, request_stop)
+    stop_on_signals(node)
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     try:

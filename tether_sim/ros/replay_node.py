@@ -14,7 +14,6 @@ false. With ``loop`` the file restarts and /clock jumps back to t_start, as rosb
 from __future__ import annotations
 
 import argparse
-import signal
 import sys
 import time
 
@@ -25,7 +24,7 @@ from rclpy.parameter import Parameter
 from rclpy.signals import SignalHandlerOptions
 
 from tether_sim.io.mcap_log import McapLogError, iter_raw, read_summary
-from tether_sim.ros.bag_common import clock_qos, message_class, replay_qos, wait_for
+from tether_sim.ros.bag_common import clock_qos, message_class, replay_qos, stop_on_signals, wait_for
 
 NODE_NAME = "tether_sim_replay"
 MIN_CLOCK_HZ = 40.0
@@ -195,11 +194,7 @@ def main(argv=None) -> int:
         rclpy.try_shutdown()
         return 2
 
-    def request_stop(signum, _frame):
-        node.stopped = True
-
-    signal.signal(signal.SIGINT, request_stop)
-    signal.signal(signal.SIGTERM, request_stop)
+    stop_on_signals(node)
     try:
         node.play()
     except McapLogError as exc:
