@@ -1,7 +1,7 @@
 # tether_sim: every target first brings .venv/ up to date (tools/setup_env.sh: quick when nothing changed).
 #   make run    the main job (ROPOS validation run end to end)
 #   make test   the test suite
-#   make bench  the benchmark scripts (benchmarks/*.py), figures for BENCHMARKS.md
+#   make bench  the quick benchmark figures (full ladders: commands in BENCHMARKS.md)
 #   make setup  only the environment; make clean removes it and the build outputs
 SHELL := /bin/bash
 .SHELLFLAGS := -eu -o pipefail -c
@@ -24,9 +24,10 @@ test: setup
 	TETHER_SIM_REQUIRE_ROS=1 $(PY) -m pytest -q -n $(PYTEST_WORKERS) --dist loadfile $(PYTEST_ARGS)
 
 bench: setup
-	@shopt -s nullglob; scripts=(benchmarks/*.py); \
-	if (( $${#scripts[@]} == 0 )); then echo "no benchmarks/*.py yet"; fi; \
-	for script in "$${scripts[@]}"; do echo "== $$script"; $(PY) "$$script"; done
+	# the quick figures (a few minutes); the full ladders of BENCHMARKS.md are run by hand (commands there)
+	$(PY) benchmarks/bench_dg.py
+	$(PY) benchmarks/bench_solvers.py --duration 2 --scenario-duration 0.05
+	$(PY) benchmarks/bench_moordyn.py --lengths 1730 --segments 20 40 80
 
 docs: setup
 	$(PY) tools/gen_param_docs.py
