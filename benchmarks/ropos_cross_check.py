@@ -5,32 +5,20 @@ fairlead a = 2 m, f = 0.1 Hz (no slack). Both solvers through the TetherSolver i
 """
 
 import argparse
-import time
 from dataclasses import replace
 
 import numpy as np
 
+from benchmarks import drive
 from tether_sim.io.params import load_config
 from tether_sim.physics.motion import build_motion
-from tether_sim.solvers.factory import build_solver
 
 
 def run(cfg, duration, command_dt):
-    solver = build_solver(cfg)
+    """Ship-end tensions at every substep and the CPU time, commands every ``command_dt`` (benchmarks/drive.py)."""
     motion = build_motion(cfg.motion, np.asarray(cfg.ship_end.position, dtype=float))
-    times, tension = [], []
-    c0 = time.process_time()
-    k = 0
-    while k * command_dt < duration - 1e-9:
-        k += 1
-        t = k * command_dt
-        p, v, _ = motion.at(t)
-        solver.set_end_motion("ship", p, v)
-        solver.advance_to(t)
-        tt, a, _ = solver.drain_end_tensions()
-        times.extend(tt)
-        tension.extend(a)
-    return np.array(times), np.array(tension), time.process_time() - c0
+    res = drive.run(cfg, duration, rate=1.0 / command_dt, motion=lambda t: motion.at(t)[:2])
+    return res["t"], res["ship"], res["cpu"]
 
 
 def main():

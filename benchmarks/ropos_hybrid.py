@@ -7,31 +7,21 @@ implicit step through set_end_motion (as the node does when it ticks at 1/dt), s
 """
 
 import argparse
-import time
 from dataclasses import replace
 
 import numpy as np
 
+from benchmarks import drive
 from tether_sim.io.params import load_config
 from tether_sim.physics.motion import build_motion
-from tether_sim.solvers.hybrid.solver import HybridRodCatenarySolver
 
 
 def run(cfg, duration, command_dt=0.05):
-    solver = HybridRodCatenarySolver(cfg)
+    """Hybrid solver driven with one command per implicit step (benchmarks/drive.py)."""
     motion = build_motion(cfg.motion, np.asarray(cfg.ship_end.position, dtype=float))
-    t = 0.0
-    times, tension = [], []
-    c0 = time.process_time()
-    while t < duration - 1e-9:
-        t += command_dt
-        p, v, _ = motion.at(t)
-        solver.set_end_motion("ship", p, v)
-        solver.advance_to(t)
-        tt, a, _ = solver.drain_end_tensions()
-        times.extend(tt)
-        tension.extend(a)
-    return np.array(times), np.array(tension), time.process_time() - c0, solver
+    res = drive.run(replace(cfg, solver="hybrid"), duration, rate=1.0 / command_dt,
+                    motion=lambda t: motion.at(t)[:2])
+    return res["t"], res["ship"], res["cpu"], res["solver"]
 
 
 def main():
