@@ -9,39 +9,29 @@ from tether_sim.numerics.jit import jit
 
 
 @jit
-def eval_points(V, src, e, c_src, dst, c_dst, nc, scale):
-    """dst[e, j, c_dst + c] = scale * sum_k V[j, k] src[e, k, c_src + c] (modes -> Gauss points)."""
-    nq, nm = V.shape
-    for j in range(nq):
+def apply_element_matrix(M, src, e, c_src, dst, c_dst, nc, scale):
+    """dst[e, i, c_dst + c] = scale * sum_k M[i, k] src[e, k, c_src + c] for one element e.
+
+    With M = V (modes -> Gauss points), Pj (Gauss points -> modes, L2 projection) or Tr (modes ->
+    the traces at xi = -1, +1) this is every change of representation the DG operators need.
+    """
+    ni, nk = M.shape
+    for i in range(ni):
         for c in range(nc):
             s = 0.0
-            for k in range(nm):
-                s += V[j, k] * src[e, k, c_src + c]
-            dst[e, j, c_dst + c] = scale * s
+            for k in range(nk):
+                s += M[i, k] * src[e, k, c_src + c]
+            dst[e, i, c_dst + c] = scale * s
+
+
+eval_points = apply_element_matrix  # V: modes -> Gauss points
+eval_traces = apply_element_matrix  # Tr: modes -> traces (side 0: xi = -1, side 1: xi = +1)
 
 
 @jit
 def project_points(Pj, src, e, c_src, dst, c_dst, nc):
-    """dst[e, k, c_dst + c] = sum_j Pj[k, j] src[e, j, c_src + c] (Gauss points -> modes, L2 projection)."""
-    nm, nq = Pj.shape
-    for k in range(nm):
-        for c in range(nc):
-            s = 0.0
-            for j in range(nq):
-                s += Pj[k, j] * src[e, j, c_src + c]
-            dst[e, k, c_dst + c] = s
-
-
-@jit
-def eval_traces(Tr, src, e, c_src, dst, c_dst, nc, scale):
-    """dst[e, side, c_dst + c] = scale * u(xi = -1 | +1) for side 0 | 1."""
-    nm = Tr.shape[1]
-    for side in range(2):
-        for c in range(nc):
-            s = 0.0
-            for k in range(nm):
-                s += Tr[side, k] * src[e, k, c_src + c]
-            dst[e, side, c_dst + c] = scale * s
+    """Gauss points -> modes (L2 projection with Pj)."""
+    apply_element_matrix(Pj, src, e, c_src, dst, c_dst, nc, 1.0)
 
 
 @jit
