@@ -1,0 +1,570 @@
+"""Implicit treatment of the material damping terms of the DG cable (IMEX by Strang splitting).
+
+The axial damping zeta deps/dt [PE2020 Eq. 22] and the bending damping zeta_b kappa-dot [Eq. 19]
+are linear in the velocity once the geometry (tangent i, stretch l_eps) is frozen:
+
+    dv/dt|_damp = f_d(v) = Pj AM Div[ Z (i . G v) i  +  (1/l) i x Tau( zeta_b i x Kdot(Pi G v) / l^2 ) ]
+
+with G the DG derivative of v/gamma0 with central fluxes (the boundary velocity at velocity ends),
+Pi = (I - i i^T)/l, Kdot and Tau the nested-LDG derivatives (beta-weighted fluxes, Table 1),
+Div the strong derivative of the tension vector with the central part of the Lax-Friedrichs
+flux, AM the per-point added-mass solve and Z = zeta where the law transmits tension (eps > 0 for
+laws without compression, everywhere for the linear law). These are exactly the terms dg_rhs
+adds when zeta, zeta_b > 0, so f_elastic(u; zeta = 0) + f_d(u) = f(u) (tested).
+
+The stepper (stepper.py) alternates D(dt/2) E(dt) D(dt/2) with E the explicit SSP-RK3 of the
+elastic part and D a step of dv/dt = f_d(v) (consecutive half steps merged). D is the 2-stage,
+L-stable, stiffly accurate SDIRK2 (gamma = 1 - 1/sqrt 2): second order, and the unresolved stiff
+damping modes are removed (|R(-inf)| = 0) instead of ringing as with the trapezoidal rule.
+
+Two linear-algebra paths (docs/dg_solver.md):
+
+* ``MODE_AXIAL`` (zeta_b = 0): Z (i . G v) is a scalar per Gauss point, so by Woodbury the system
+  is solved for the strain rates e (N Q unknowns, block-pentadiagonal Q x Q blocks) instead of v
+  (3 (P+1) N unknowns): (I - gamma h K) e = e_0, K = i^T G Pj AM Div Z i assembled analytically
+  from precomputed geometry-free block operators.
+* ``MODE_GENERAL`` (bending damping): the v-system with block bandwidth 4 elements, assembled by
+  probing f_d with coloured unit vectors.
+
+Both use a banded LU without pivoting (the matrix is I plus a dissipative operator times dt).
+Boundary conditions: velocity ends (prescribed, fixed, clamped, body) supply v_BC in G, their
+damping tension flux is the interior trace; force ends (free, force) carry no damping flux (the
+prescribed force is the total); clamped ends have i_hat-dot = 0 and M*_hat = M*+.
+"""
+
+import math
+
+import numpy as np
+
+from tether_sim.numerics.jit import jit
+from tether_sim.physics.constitutive import LAW_LINEAR
+from tether_sim.solvers.dg.layout import K_CLAMPED, K_FORCE, K_FREE
+
+MODE_EXPLICIT = 0
+MODE_AXIAL = 1
+MODE_GENERAL = 2
+
+# block operators blk[op, e, d, :, :] acting on element e + d - 2 (d = 0..4)
+OP_G = 0  # v modes -> d(v/gamma0)/ds at the Gauss points (columns 0:P+1)
+OP_GP = 1  # G Pj: point values -> gradient at points
+OP_DIV = 2  # tension vector at points -> dT/ds at points
+OP_KDOT = 3  # i-dot at points -> kappa-dot at points (flux bias +beta)
+OP_TAU = 4  # M* at points -> tau at points (flux bias -beta)
+OP_H = 5  # GP Div (reach 2)
+N_OP = 6
+
+# float parameters dprm[...]
+DP_ZETA = 0
+DP_ZETAB = 1
+DP_G0 = 2
+DP_AT = 3  # gamma0 / (gamma0 + m_t)
+DP_AN = 4  # gamma0 / (gamma0 + m_n)
+N_DP = 5
+
+# int parameters idp[...]
+ID_MODE = 0
+ID_LAW = 1
+ID_KIND0 = 2
+ID_KIND1 = 3
+ID_REACH = 4  # elements coupled by f_d on each side (2 axial, 4 with bending damping)
+ID_KL = 5  # half bandwidth of the banded system
+N_ID = 6
+
+# per-point work wp[e, j, ...]
+WP_I = 0
+WP_L = 3
+WP_Z = 4
+WP_NUS = 5
+WP_TV = 8
+WP_R = 11
+WP_IDOT = 14
+WP_KDOT = 17
+WP_MB = 20
+WP_TAU = 23
+WP_E0 = 26
+WP_E1 = 27
+WP_E2 = 28
+WP_X = 29
+NWP = 30
+
+# modal work wd[e, k, ...]
+WD_F = 0
+WD_K1 = 3
+WD_Y = 6
+WD_P = 9
+NWD = 12
+
+# boundary vectors bvec[...]: 0/1 = gradient lift of v_BC at s = 0 / L, 2/3 = trace of the projection
+N_BVEC = 4
+
+GAMMA_SDIRK = 1.0 - 1.0 / math.sqrt(2.0)
+
+
+# ----------------------------------------------------------------------------------- set-up (numpy)
+def strong_blocks(ops, h, w_left, w_right, left, right):
+    """(N, 3, P+1, P+1) blocks of the modal strong derivative (elementops.strong_derivative) for the
+    neighbours d = -1, 0, +1, with interior flux w_left u_L + w_right u_R and end rules
+    "trace" (flux = own trace) or "zero" (flux = 0, i.e. a prescribed value moved to the right side)."""
+    D, Lf, Tr = np.triu(ops.derivative, 1), ops.lift, ops.trace
+    N, nm = len(h), D.shape[0]
+    out = np.zeros((N, 3, nm, nm))
+    for e in range(N):
+        b = 1.0 / h[e]
+        out[e, 1] = 2.0 * b * D
+        if e < N - 1:
+            out[e, 1] += b * (w_left - 1.0) * np.outer(Lf[1], Tr[1])
+            out[e, 2] += b * w_right * np.outer(Lf[1], Tr[0])
+        elif right == "zero":
+            out[e, 1] -= b * np.outer(Lf[1], Tr[1])
+        if e > 0:
+            out[e, 1] -= b * (w_right - 1.0) * np.outer(Lf[0], Tr[0])
+            out[e, 0] -= b * w_left * np.outer(Lf[0], Tr[1])
+        elif left == "zero":
+            out[e, 1] += b * np.outer(Lf[0], Tr[0])
+    return out
+
+
+def build_operators(ops, h, kinds, gamma0, beta):
+    """Geometry-free block operators blk (N_OP, N, 5, Q, Q) and boundary vectors bvec (4, Q)."""
+    V, Pj, Tr, Lf = ops.vandermonde, ops.projection, ops.trace, ops.lift
+    N, nq, nm = len(h), V.shape[0], V.shape[1]
+    force = [k in ("free", "force") for k in kinds]
+    clamped = [k == "clamped" for k in kinds]
+    vel_rule = ["trace" if f else "zero" for f in force]  # gradient of v: v_BC moved to bvec
+    div_rule = ["zero" if f else "trace" for f in force]
+    kdot_rule = ["zero" if c else "trace" for c in clamped]
+    tau_rule = ["trace" if c else "zero" for c in clamped]
+    blk = np.zeros((N_OP, N, 5, nq, nq))
+    S = strong_blocks(ops, h, 0.5, 0.5, *vel_rule)
+    for e in range(N):
+        for d in range(3):
+            blk[OP_G, e, d + 1, :, :nm] = V @ S[e, d] / gamma0
+            blk[OP_GP, e, d + 1] = V @ S[e, d] @ Pj / gamma0
+    for op, wl, wr, rule in ((OP_DIV, 0.5, 0.5, div_rule), (OP_KDOT, 0.5 - beta, 0.5 + beta, kdot_rule),
+                             (OP_TAU, 0.5 + beta, 0.5 - beta, tau_rule)):
+        S = strong_blocks(ops, h, wl, wr, *rule)
+        for e in range(N):
+            for d in range(3):
+                blk[op, e, d + 1] = V @ S[e, d] @ Pj
+    for e in range(N):
+        for d1 in (-1, 0, 1):
+            e1 = e + d1
+            if 0 <= e1 < N:
+                for d2 in (-1, 0, 1):
+                    if 0 <= e1 + d2 < N:
+                        blk[OP_H, e, d1 + d2 + 2] += blk[OP_GP, e, d1 + 2] @ blk[OP_DIV, e1, d2 + 2]
+    bvec = np.zeros((N_BVEC, nq))
+    if not force[0]:
+        bvec[0] = -(V @ Lf[0]) / h[0]
+    if not force[1]:
+        bvec[1] = (V @ Lf[1]) / h[-1]
+    bvec[2] = Tr[0] @ Pj
+    bvec[3] = Tr[1] @ Pj
+    return np.ascontiguousarray(blk), bvec
+
+
+class DampingWork:
+    """Arrays of the implicit damping step (allocated once; passed to the compiled loop)."""
+
+    def __init__(self, mode, ops, h, kinds, cable, gamma0, m_t, m_n, beta, law_code, kind_codes):
+        N, nq, nm = len(h), ops.vandermonde.shape[0], ops.vandermonde.shape[1]
+        self.mode = mode
+        self.blk, self.bvec = build_operators(ops, h, kinds, gamma0, beta)
+        reach = 4 if cable.bending_damping > 0.0 else 2
+        if mode == MODE_AXIAL:
+            n, kl = N * nq, 3 * nq - 1
+        elif mode == MODE_GENERAL:
+            n, kl = N * 3 * nm, (reach + 1) * 3 * nm - 1
+        else:
+            n, kl = 1, 0
+        kl = min(kl, n - 1)
+        self.dprm = np.zeros(N_DP)
+        self.dprm[DP_ZETA], self.dprm[DP_ZETAB], self.dprm[DP_G0] = cable.damping, cable.bending_damping, gamma0
+        self.dprm[DP_AT], self.dprm[DP_AN] = gamma0 / (gamma0 + m_t), gamma0 / (gamma0 + m_n)
+        self.idp = np.zeros(N_ID, dtype=np.int64)
+        self.idp[ID_MODE], self.idp[ID_LAW] = mode, law_code
+        self.idp[ID_KIND0], self.idp[ID_KIND1] = kind_codes
+        self.idp[ID_REACH], self.idp[ID_KL] = reach, kl
+        self.wp = np.zeros((N, nq, NWP))
+        self.wd = np.zeros((N, nm, NWD))
+        self.band = np.zeros((n, 2 * kl + 1))
+        self.vec = np.zeros((n, 3))
+        self.tmp = np.zeros((2, nq, nq))
+        self.fdamp = np.zeros((2, 4))
+
+
+# ----------------------------------------------------------------------------------- kernels
+@jit
+def is_force_kind(kind):
+    return kind == K_FREE or kind == K_FORCE
+
+
+@jit
+def damping_geometry(U, V, idp, dprm, wp):
+    """Frozen geometry at the Gauss points: tangent i, stretch l, damping coefficient Z."""
+    N, nm = U.shape[0], U.shape[1]
+    nq = V.shape[0]
+    zeta = dprm[DP_ZETA]
+    linear = idp[ID_LAW] == LAW_LINEAR
+    for e in range(N):
+        for j in range(nq):
+            q0 = 0.0
+            q1 = 0.0
+            q2 = 0.0
+            for k in range(nm):
+                q0 += V[j, k] * U[e, k, 0]
+                q1 += V[j, k] * U[e, k, 1]
+                q2 += V[j, k] * U[e, k, 2]
+            l = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
+            il = 1.0 / l if l > 1e-300 else 0.0
+            wp[e, j, WP_I] = q0 * il
+            wp[e, j, WP_I + 1] = q1 * il
+            wp[e, j, WP_I + 2] = q2 * il
+            wp[e, j, WP_L] = l
+            wp[e, j, WP_Z] = zeta if (linear or l > 1.0) else 0.0
+
+
+@jit
+def apply_block_op(blk, op, reach, ncol, src, c_src, scale, dst, c_dst):
+    """dst[e, j, c_dst:+3] = scale sum_{|d| <= reach} blk[op, e, d] @ src[e + d, :ncol, c_src:+3]."""
+    N, nq = dst.shape[0], dst.shape[1]
+    for e in range(N):
+        for j in range(nq):
+            s0 = 0.0
+            s1 = 0.0
+            s2 = 0.0
+            for d in range(2 - reach, 3 + reach):
+                ee = e + d - 2
+                if ee < 0 or ee >= N:
+                    continue
+                for m in range(ncol):
+                    a = blk[op, e, d, j, m]
+                    s0 += a * src[ee, m, c_src]
+                    s1 += a * src[ee, m, c_src + 1]
+                    s2 += a * src[ee, m, c_src + 2]
+            dst[e, j, c_dst] = scale * s0
+            dst[e, j, c_dst + 1] = scale * s1
+            dst[e, j, c_dst + 2] = scale * s2
+
+
+@jit
+def strain_rates(src, c_src, with_bc, vbc, blk, bvec, wp, c_out):
+    """d(v/gamma0)/ds at the points (WP_NUS) and the strain rate e = i . that (channel c_out)."""
+    N, nq = wp.shape[0], wp.shape[1]
+    nm = src.shape[1]
+    apply_block_op(blk, OP_G, 1, nm, src, c_src, 1.0, wp, WP_NUS)
+    if with_bc:
+        for j in range(nq):
+            for c in range(3):
+                wp[0, j, WP_NUS + c] += bvec[0, j] * vbc[0, 3 + c]
+                wp[N - 1, j, WP_NUS + c] += bvec[1, j] * vbc[1, 3 + c]
+    for e in range(N):
+        for j in range(nq):
+            wp[e, j, c_out] = (wp[e, j, WP_I] * wp[e, j, WP_NUS] + wp[e, j, WP_I + 1] * wp[e, j, WP_NUS + 1]
+                               + wp[e, j, WP_I + 2] * wp[e, j, WP_NUS + 2])
+
+
+@jit
+def axial_tension_points(wp, c_e):
+    """Damping tension vector Z e i at the points (WP_TV)."""
+    N, nq = wp.shape[0], wp.shape[1]
+    for e in range(N):
+        for j in range(nq):
+            t = wp[e, j, WP_Z] * wp[e, j, c_e]
+            for c in range(3):
+                wp[e, j, WP_TV + c] = t * wp[e, j, WP_I + c]
+
+
+@jit
+def bending_shear_points(blk, dprm, wp, c_e):
+    """Add the bending-damping shear (1/l) i x tau, tau = d/ds(zeta_b i x kdot / l^2), to WP_TV."""
+    N, nq = wp.shape[0], wp.shape[1]
+    zb = dprm[DP_ZETAB]
+    for e in range(N):
+        for j in range(nq):
+            il = 1.0 / wp[e, j, WP_L]
+            for c in range(3):
+                wp[e, j, WP_IDOT + c] = (wp[e, j, WP_NUS + c] - wp[e, j, WP_I + c] * wp[e, j, c_e]) * il
+    apply_block_op(blk, OP_KDOT, 1, nq, wp, WP_IDOT, 1.0, wp, WP_KDOT)
+    for e in range(N):
+        for j in range(nq):
+            i0 = wp[e, j, WP_I]
+            i1 = wp[e, j, WP_I + 1]
+            i2 = wp[e, j, WP_I + 2]
+            s = zb / (wp[e, j, WP_L] * wp[e, j, WP_L])
+            k0 = wp[e, j, WP_KDOT]
+            k1 = wp[e, j, WP_KDOT + 1]
+            k2 = wp[e, j, WP_KDOT + 2]
+            wp[e, j, WP_MB] = s * (i1 * k2 - i2 * k1)
+            wp[e, j, WP_MB + 1] = s * (i2 * k0 - i0 * k2)
+            wp[e, j, WP_MB + 2] = s * (i0 * k1 - i1 * k0)
+    apply_block_op(blk, OP_TAU, 1, nq, wp, WP_MB, 1.0, wp, WP_TAU)
+    for e in range(N):
+        for j in range(nq):
+            il = 1.0 / wp[e, j, WP_L]
+            i0 = wp[e, j, WP_I]
+            i1 = wp[e, j, WP_I + 1]
+            i2 = wp[e, j, WP_I + 2]
+            t0 = wp[e, j, WP_TAU]
+            t1 = wp[e, j, WP_TAU + 1]
+            t2 = wp[e, j, WP_TAU + 2]
+            wp[e, j, WP_TV] += (i1 * t2 - i2 * t1) * il
+            wp[e, j, WP_TV + 1] += (i2 * t0 - i0 * t2) * il
+            wp[e, j, WP_TV + 2] += (i0 * t1 - i1 * t0) * il
+
+
+@jit
+def tension_divergence(blk, Pj, dprm, wp, dst, c_dst):
+    """dst modes = Pj AM Div(WP_TV): the damping force per metre (dv/dt) from the tension vector."""
+    N, nq = wp.shape[0], wp.shape[1]
+    nm = dst.shape[1]
+    at = dprm[DP_AT]
+    an = dprm[DP_AN]
+    apply_block_op(blk, OP_DIV, 1, nq, wp, WP_TV, 1.0, wp, WP_R)
+    for e in range(N):
+        for j in range(nq):
+            i0 = wp[e, j, WP_I]
+            i1 = wp[e, j, WP_I + 1]
+            i2 = wp[e, j, WP_I + 2]
+            r0 = wp[e, j, WP_R]
+            r1 = wp[e, j, WP_R + 1]
+            r2 = wp[e, j, WP_R + 2]
+            ft = (at - an) * (r0 * i0 + r1 * i1 + r2 * i2)
+            wp[e, j, WP_R] = an * r0 + ft * i0
+            wp[e, j, WP_R + 1] = an * r1 + ft * i1
+            wp[e, j, WP_R + 2] = an * r2 + ft * i2
+        for k in range(nm):
+            for c in range(3):
+                s = 0.0
+                for j in range(nq):
+                    s += Pj[k, j] * wp[e, j, WP_R + c]
+                dst[e, k, c_dst + c] = s
+
+
+@jit
+def end_damping_forces(idp, bvec, U, Tr, wp, fdamp):
+    """fdamp[end] = (force by the cable on the end (3), axial tension) of the damping tension WP_TV:
+    -n T_hat with T_hat the trace of its projection at velocity ends, 0 at force ends."""
+    N, nq = wp.shape[0], wp.shape[1]
+    nm = U.shape[1]
+    for end in range(2):
+        for c in range(4):
+            fdamp[end, c] = 0.0
+        if is_force_kind(idp[ID_KIND0 + end]):
+            continue
+        e = end * (N - 1)
+        sgn = 1.0 if end == 0 else -1.0
+        q = 0.0
+        ql = 0.0
+        for c in range(3):
+            s = 0.0
+            for j in range(nq):
+                s += bvec[2 + end, j] * wp[e, j, WP_TV + c]
+            fdamp[end, c] = sgn * s
+            qc = 0.0
+            for k in range(nm):
+                qc += Tr[end, k] * U[e, k, c]
+            q += s * qc
+            ql += qc * qc
+        fdamp[end, 3] = q / math.sqrt(ql) if ql > 0.0 else 0.0
+
+
+@jit
+def damping_force(src, c_src, with_bc, vbc, dprm, blk, bvec, Pj, wp, dst, c_dst):
+    """f_d(v) on the modes for v = src[..., c_src:+3] with the frozen geometry in wp (see module doc);
+    with_bc = False gives the homogeneous (v_BC = 0) part used to build the matrix."""
+    strain_rates(src, c_src, with_bc, vbc, blk, bvec, wp, WP_X)
+    axial_tension_points(wp, WP_X)
+    if dprm[DP_ZETAB] > 0.0:
+        bending_shear_points(blk, dprm, wp, WP_X)
+    tension_divergence(blk, Pj, dprm, wp, dst, c_dst)
+
+
+@jit
+def band_factor(A, n, kl):
+    """In-place LU (no pivoting) of the band matrix A[i, j - i + kl], half bandwidth kl."""
+    for k in range(n - 1):
+        inv = 1.0 / A[k, kl]
+        last = min(n - 1, k + kl)
+        for i in range(k + 1, last + 1):
+            li = A[i, k - i + kl] * inv
+            A[i, k - i + kl] = li
+            if li != 0.0:
+                oi = kl - i
+                ok = kl - k
+                for j in range(k + 1, last + 1):
+                    A[i, j + oi] -= li * A[k, j + ok]
+
+
+@jit
+def band_solve(A, n, kl, x, col):
+    """Solve (LU) y = x[:, col] in place with the factors of band_factor."""
+    for i in range(n):
+        s = x[i, col]
+        for j in range(max(0, i - kl), i):
+            s -= A[i, j - i + kl] * x[j, col]
+        x[i, col] = s
+    for i in range(n - 1, -1, -1):
+        s = x[i, col]
+        for j in range(i + 1, min(n, i + kl + 1)):
+            s -= A[i, j - i + kl] * x[j, col]
+        x[i, col] = s / A[i, kl]
+
+
+@jit
+def assemble_axial(blk, dprm, wp, gh, A, kl, tmp):
+    """A = I - gh K, K[(e,j), (e2,jj)] = sum_(e1,m) GP[e,e1][j,m] (i_j . AM_m i_jj) Div[e1,e2][m,jj] Z_jj."""
+    N, nq = wp.shape[0], wp.shape[1]
+    at = dprm[DP_AT]
+    an = dprm[DP_AN]
+    for r in range(A.shape[0]):
+        for c in range(A.shape[1]):
+            A[r, c] = 0.0
+    for e in range(N):
+        for d in range(5):
+            e2 = e + d - 2
+            if e2 < 0 or e2 >= N:
+                continue
+            for j in range(nq):
+                row = e * nq + j
+                for jj in range(nq):
+                    dot = (wp[e, j, WP_I] * wp[e2, jj, WP_I] + wp[e, j, WP_I + 1] * wp[e2, jj, WP_I + 1]
+                           + wp[e, j, WP_I + 2] * wp[e2, jj, WP_I + 2])
+                    A[row, e2 * nq + jj - row + kl] = -gh * an * dot * blk[OP_H, e, d, j, jj] * wp[e2, jj, WP_Z]
+        if at != an:
+            for d1 in range(1, 4):
+                e1 = e + d1 - 2
+                if e1 < 0 or e1 >= N:
+                    continue
+                for j in range(nq):
+                    for m in range(nq):
+                        tmp[0, j, m] = blk[OP_GP, e, d1, j, m] * (
+                            wp[e, j, WP_I] * wp[e1, m, WP_I] + wp[e, j, WP_I + 1] * wp[e1, m, WP_I + 1]
+                            + wp[e, j, WP_I + 2] * wp[e1, m, WP_I + 2])
+                for d2 in range(1, 4):
+                    e2 = e1 + d2 - 2
+                    if e2 < 0 or e2 >= N:
+                        continue
+                    for m in range(nq):
+                        for jj in range(nq):
+                            tmp[1, m, jj] = blk[OP_DIV, e1, d2, m, jj] * wp[e2, jj, WP_Z] * (
+                                wp[e1, m, WP_I] * wp[e2, jj, WP_I] + wp[e1, m, WP_I + 1] * wp[e2, jj, WP_I + 1]
+                                + wp[e1, m, WP_I + 2] * wp[e2, jj, WP_I + 2])
+                    for j in range(nq):
+                        row = e * nq + j
+                        for jj in range(nq):
+                            s = 0.0
+                            for m in range(nq):
+                                s += tmp[0, j, m] * tmp[1, m, jj]
+                            A[row, e2 * nq + jj - row + kl] -= gh * (at - an) * s
+    for r in range(A.shape[0]):
+        A[r, kl] += 1.0
+
+
+@jit
+def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, wp, wd, band, vec, tmp, fdamp):
+    """SDIRK2 step of size hs of dv/dt = f_d(v), axial damping only, solved for the strain rates."""
+    N, nq = wp.shape[0], wp.shape[1]
+    nm = U.shape[1]
+    n = N * nq
+    kl = idp[ID_KL]
+    g = GAMMA_SDIRK
+    damping_geometry(U, V, idp, dprm, wp)
+    strain_rates(U, 3, True, vbc, blk, bvec, wp, WP_E0)
+    assemble_axial(blk, dprm, wp, g * hs, band, kl, tmp)
+    band_factor(band, n, kl)
+    for e in range(N):
+        for j in range(nq):
+            vec[e * nq + j, 0] = wp[e, j, WP_E0]
+    band_solve(band, n, kl, vec, 0)
+    c1 = (1.0 - g) / g
+    for e in range(N):
+        for j in range(nq):
+            r = e * nq + j
+            wp[e, j, WP_E1] = vec[r, 0]
+            vec[r, 1] = wp[e, j, WP_E0] + c1 * (vec[r, 0] - wp[e, j, WP_E0])
+    band_solve(band, n, kl, vec, 1)
+    for e in range(N):
+        for j in range(nq):
+            wp[e, j, WP_E2] = vec[e * nq + j, 1]
+            wp[e, j, WP_X] = (1.0 - g) * wp[e, j, WP_E1] + g * wp[e, j, WP_E2]
+    axial_tension_points(wp, WP_X)
+    tension_divergence(blk, Pj, dprm, wp, wd, WD_F)
+    for e in range(N):
+        for k in range(nm):
+            for c in range(3):
+                U[e, k, 3 + c] += hs * wd[e, k, WD_F + c]
+    axial_tension_points(wp, WP_E2)  # stiffly accurate: E2 is the strain rate of the new state
+    end_damping_forces(idp, bvec, U, Tr, wp, fdamp)
+
+
+@jit
+def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, wp, wd, band, vec, fdamp):
+    """SDIRK2 step of size hs of dv/dt = f_d(v) (axial and bending damping) on the v-system,
+    its matrix built by probing f_d with unit vectors coloured every 2 reach + 1 elements."""
+    N, nm = U.shape[0], U.shape[1]
+    b = 3 * nm
+    n = N * b
+    kl = idp[ID_KL]
+    reach = idp[ID_REACH]
+    period = 2 * reach + 1
+    g = GAMMA_SDIRK
+    gh = g * hs
+    damping_geometry(U, V, idp, dprm, wp)
+    for r in range(band.shape[0]):
+        for c in range(band.shape[1]):
+            band[r, c] = 0.0
+    for colour in range(min(period, N)):
+        for c in range(3):
+            for k in range(nm):
+                for e in range(N):
+                    for kk in range(nm):
+                        for cc in range(3):
+                            wd[e, kk, WD_P + cc] = 0.0
+                for e in range(colour, N, period):
+                    wd[e, k, WD_P + c] = 1.0
+                damping_force(wd, WD_P, False, vbc, dprm, blk, bvec, Pj, wp, wd, WD_F)
+                for e in range(colour, N, period):
+                    col = e * b + c * nm + k
+                    for ee in range(max(0, e - reach), min(N, e + reach + 1)):
+                        for cc in range(3):
+                            for kk in range(nm):
+                                row = ee * b + cc * nm + kk
+                                band[row, col - row + kl] = -gh * wd[ee, kk, WD_F + cc]
+    for r in range(n):
+        band[r, kl] += 1.0
+    band_factor(band, n, kl)
+    damping_force(U, 3, True, vbc, dprm, blk, bvec, Pj, wp, wd, WD_F)
+    for e in range(N):
+        for c in range(3):
+            for k in range(nm):
+                vec[e * b + c * nm + k, 0] = wd[e, k, WD_F + c]
+    band_solve(band, n, kl, vec, 0)
+    for e in range(N):
+        for c in range(3):
+            for k in range(nm):
+                k1 = vec[e * b + c * nm + k, 0]
+                wd[e, k, WD_K1 + c] = k1
+                wd[e, k, WD_Y + c] = U[e, k, 3 + c] + (1.0 - g) * hs * k1
+    damping_force(wd, WD_Y, True, vbc, dprm, blk, bvec, Pj, wp, wd, WD_F)
+    for e in range(N):
+        for c in range(3):
+            for k in range(nm):
+                vec[e * b + c * nm + k, 1] = wd[e, k, WD_F + c]
+    band_solve(band, n, kl, vec, 1)
+    for e in range(N):
+        for c in range(3):
+            for k in range(nm):
+                U[e, k, 3 + c] += hs * ((1.0 - g) * wd[e, k, WD_K1 + c] + g * vec[e * b + c * nm + k, 1])
+    damping_force(U, 3, True, vbc, dprm, blk, bvec, Pj, wp, wd, WD_F)
+    end_damping_forces(idp, bvec, U, Tr, wp, fdamp)
+
+
+@jit
+def damping_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, wp, wd, band, vec, tmp, fdamp):
+    """One implicit step of size hs of the damping terms (nothing in explicit mode)."""
+    mode = idp[ID_MODE]
+    if mode == MODE_AXIAL:
+        axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, wp, wd, band, vec, tmp, fdamp)
+    elif mode == MODE_GENERAL:
+        general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, wp, wd, band, vec, fdamp)
