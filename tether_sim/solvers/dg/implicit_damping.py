@@ -37,7 +37,7 @@ import math
 import numpy as np
 
 from tether_sim.numerics.jit import jit
-from tether_sim.physics.constitutive import LAW_LINEAR
+from tether_sim.physics.constitutive import LAW_LINEAR, elastic_tension
 from tether_sim.solvers.dg.layout import K_CLAMPED, K_FORCE, K_FREE
 
 MODE_EXPLICIT = 0
@@ -59,7 +59,8 @@ DP_ZETAB = 1
 DP_G0 = 2
 DP_AT = 3  # gamma0 / (gamma0 + m_t)
 DP_AN = 4  # gamma0 / (gamma0 + m_n)
-N_DP = 5
+DP_EA = 5
+N_DP = 6
 
 # int parameters idp[...]
 ID_MODE = 0
@@ -85,7 +86,9 @@ WP_E0 = 26
 WP_E1 = 27
 WP_E2 = 28
 WP_X = 29
-NWP = 30
+WP_TC = 30  # constant damping tension of points where the no-compression clip is active
+WP_BC0 = 31  # strain rate caused by that constant force
+NWP = 32
 
 # modal work wd[e, k, ...]
 WD_F = 0
@@ -181,6 +184,7 @@ class DampingWork:
         self.dprm = np.zeros(N_DP)
         self.dprm[DP_ZETA], self.dprm[DP_ZETAB], self.dprm[DP_G0] = cable.damping, cable.bending_damping, gamma0
         self.dprm[DP_AT], self.dprm[DP_AN] = gamma0 / (gamma0 + m_t), gamma0 / (gamma0 + m_n)
+        self.dprm[DP_EA] = cable.EA
         self.idp = np.zeros(N_ID, dtype=np.int64)
         self.idp[ID_MODE], self.idp[ID_LAW] = mode, law_code
         self.idp[ID_KIND0], self.idp[ID_KIND1] = kind_codes
@@ -225,6 +229,31 @@ def damping_geometry(U, V, idp, dprm, wp):
 
 
 @jit
+def clip_set(idp, dprm, wp, tab_eps, tab_T):
+    """No-compression laws [Eq. 22]: T = max(0, T_el + zeta e). Where the strain rate e at the start
+    of the step (WP_E0) would make the total compressive, the damping tension is the constant -T_el
+    (total 0) for the step: Z = 0 there and T_c = -T_el (WP_TC). Returns the number of such points."""
+    N, nq = wp.shape[0], wp.shape[1]
+    nclip = 0
+    if idp[ID_LAW] == LAW_LINEAR:
+        for e in range(N):
+            for j in range(nq):
+                wp[e, j, WP_TC] = 0.0
+        return 0
+    zeta = dprm[DP_ZETA]
+    for e in range(N):
+        for j in range(nq):
+            wp[e, j, WP_TC] = 0.0
+            if wp[e, j, WP_Z] > 0.0:
+                tel = elastic_tension(idp[ID_LAW], wp[e, j, WP_L] - 1.0, dprm[DP_EA], tab_eps, tab_T)
+                if tel + zeta * wp[e, j, WP_E0] < 0.0:
+                    wp[e, j, WP_Z] = 0.0
+                    wp[e, j, WP_TC] = -tel
+                    nclip += 1
+    return nclip
+
+
+@jit
 def apply_block_op(blk, op, reach, ncol, src, c_src, scale, dst, c_dst):
     """dst[e, j, c_dst:+3] = scale sum_{|d| <= reach} blk[op, e, d] @ src[e + d, :ncol, c_src:+3]."""
     N, nq = dst.shape[0], dst.shape[1]
@@ -265,12 +294,14 @@ def strain_rates(src, c_src, with_bc, vbc, blk, bvec, wp, c_out):
 
 
 @jit
-def axial_tension_points(wp, c_e):
-    """Damping tension vector Z e i at the points (WP_TV)."""
+def axial_tension_points(wp, c_e, with_const):
+    """Damping tension vector (Z e + T_c) i at the points (WP_TV); T_c only if with_const."""
     N, nq = wp.shape[0], wp.shape[1]
     for e in range(N):
         for j in range(nq):
             t = wp[e, j, WP_Z] * wp[e, j, c_e]
+            if with_const:
+                t += wp[e, j, WP_TC]
             for c in range(3):
                 wp[e, j, WP_TV + c] = t * wp[e, j, WP_I + c]
 
@@ -372,9 +403,9 @@ def end_damping_forces(idp, bvec, U, Tr, wp, fdamp):
 @jit
 def damping_force(src, c_src, with_bc, vbc, dprm, blk, bvec, Pj, wp, dst, c_dst):
     """f_d(v) on the modes for v = src[..., c_src:+3] with the frozen geometry in wp (see module doc);
-    with_bc = False gives the homogeneous (v_BC = 0) part used to build the matrix."""
+    with_bc = False gives the homogeneous part (v_BC = 0, no clip constant) used to build the matrix."""
     strain_rates(src, c_src, with_bc, vbc, blk, bvec, wp, WP_X)
-    axial_tension_points(wp, WP_X)
+    axial_tension_points(wp, WP_X, with_bc)
     if dprm[DP_ZETAB] > 0.0:
         bending_shear_points(blk, dprm, wp, WP_X)
     tension_divergence(blk, Pj, dprm, wp, dst, c_dst)
@@ -462,8 +493,9 @@ def assemble_axial(blk, dprm, wp, gh, A, kl, tmp):
 
 
 @jit
-def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, wp, wd, band, vec, tmp, fdamp):
-    """SDIRK2 step of size hs of dv/dt = f_d(v), axial damping only, solved for the strain rates."""
+def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, tmp, fdamp):
+    """SDIRK2 step of size hs of dv/dt = f_d(v) = C (Z e(v) + T_c) (axial damping only), solved for
+    the strain rates e at the points (see module doc; T_c: clip_set)."""
     N, nq = wp.shape[0], wp.shape[1]
     nm = U.shape[1]
     n = N * nq
@@ -471,35 +503,49 @@ def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, wp, wd, band, vec, t
     g = GAMMA_SDIRK
     damping_geometry(U, V, idp, dprm, wp)
     strain_rates(U, 3, True, vbc, blk, bvec, wp, WP_E0)
+    nclip = clip_set(idp, dprm, wp, tab_eps, tab_T)
+    if nclip > 0:  # strain rate per unit time of the constant force: B c0 (WP_BC0)
+        for e in range(N):
+            for j in range(nq):
+                for c in range(3):
+                    wp[e, j, WP_TV + c] = wp[e, j, WP_TC] * wp[e, j, WP_I + c]
+        tension_divergence(blk, Pj, dprm, wp, wd, WD_P)
+        strain_rates(wd, WD_P, False, vbc, blk, bvec, wp, WP_BC0)
+    else:
+        for e in range(N):
+            for j in range(nq):
+                wp[e, j, WP_BC0] = 0.0
     assemble_axial(blk, dprm, wp, g * hs, band, kl, tmp)
     band_factor(band, n, kl)
     for e in range(N):
         for j in range(nq):
-            vec[e * nq + j, 0] = wp[e, j, WP_E0]
+            vec[e * nq + j, 0] = wp[e, j, WP_E0] + g * hs * wp[e, j, WP_BC0]
     band_solve(band, n, kl, vec, 0)
     c1 = (1.0 - g) / g
     for e in range(N):
         for j in range(nq):
             r = e * nq + j
+            e0 = wp[e, j, WP_E0]
+            bc0 = wp[e, j, WP_BC0]
             wp[e, j, WP_E1] = vec[r, 0]
-            vec[r, 1] = wp[e, j, WP_E0] + c1 * (vec[r, 0] - wp[e, j, WP_E0])
+            vec[r, 1] = e0 + hs * bc0 + c1 * (vec[r, 0] - e0 - g * hs * bc0)
     band_solve(band, n, kl, vec, 1)
     for e in range(N):
         for j in range(nq):
             wp[e, j, WP_E2] = vec[e * nq + j, 1]
             wp[e, j, WP_X] = (1.0 - g) * wp[e, j, WP_E1] + g * wp[e, j, WP_E2]
-    axial_tension_points(wp, WP_X)
+    axial_tension_points(wp, WP_X, True)
     tension_divergence(blk, Pj, dprm, wp, wd, WD_F)
     for e in range(N):
         for k in range(nm):
             for c in range(3):
                 U[e, k, 3 + c] += hs * wd[e, k, WD_F + c]
-    axial_tension_points(wp, WP_E2)  # stiffly accurate: E2 is the strain rate of the new state
+    axial_tension_points(wp, WP_E2, True)  # stiffly accurate: E2 is the strain rate of the new state
     end_damping_forces(idp, bvec, U, Tr, wp, fdamp)
 
 
 @jit
-def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, wp, wd, band, vec, fdamp):
+def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, fdamp):
     """SDIRK2 step of size hs of dv/dt = f_d(v) (axial and bending damping) on the v-system,
     its matrix built by probing f_d with unit vectors coloured every 2 reach + 1 elements."""
     N, nm = U.shape[0], U.shape[1]
@@ -511,6 +557,8 @@ def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, wp, wd, band, vec,
     g = GAMMA_SDIRK
     gh = g * hs
     damping_geometry(U, V, idp, dprm, wp)
+    strain_rates(U, 3, True, vbc, blk, bvec, wp, WP_E0)
+    clip_set(idp, dprm, wp, tab_eps, tab_T)
     for r in range(band.shape[0]):
         for c in range(band.shape[1]):
             band[r, c] = 0.0
@@ -561,10 +609,10 @@ def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, wp, wd, band, vec,
 
 
 @jit
-def damping_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, wp, wd, band, vec, tmp, fdamp):
+def damping_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, tmp, fdamp):
     """One implicit step of size hs of the damping terms (nothing in explicit mode)."""
     mode = idp[ID_MODE]
     if mode == MODE_AXIAL:
-        axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, wp, wd, band, vec, tmp, fdamp)
+        axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, tmp, fdamp)
     elif mode == MODE_GENERAL:
-        general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, wp, wd, band, vec, fdamp)
+        general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, fdamp)

@@ -361,7 +361,7 @@ class DGCableSolver:
         dg_evaluate(self.time, self.U, self.ra, self.prm, self.iprm, self.h, self.V, self.Pj, self.D, self.Lf,
                     self.Tr, self.Iq, self.law.tab_eps, self.law.tab_T, self.cz, self.cx, self.cy, self.bc,
                     self._vbc, self._wq, self._wm, self._tr, self._fl, self._rs, self._tmp, self._dU,
-                    self._dra, self._endf, self._bs, self._bp, self._dbs, self._no_fdamp)
+                    self._dra, self._endf, self._bs, self._bp, self._dbs, self._no_fdamp, False)
 
     def _locate(self, s):
         s = np.clip(np.atleast_1d(np.asarray(s, float)), 0.0, self.L)
