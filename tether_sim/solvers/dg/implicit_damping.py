@@ -192,8 +192,8 @@ class DampingWork:
         self.wp = np.zeros((N, nq, NWP))
         self.wd = np.zeros((N, nm, NWD))
         self.band = np.zeros((n, 2 * kl + 1))
-        self.vec = np.zeros((n, 3))
-        self.tmp = np.zeros((2, nq, nq))
+        self.vec = np.zeros((3, max(n, kl + 1)))
+        self.tmp = np.zeros((2, N, 3, nq, nq))
         self.fdamp = np.zeros((2, 4))
 
 
@@ -412,42 +412,56 @@ def damping_force(src, c_src, with_bc, vbc, dprm, blk, bvec, Pj, wp, dst, c_dst)
 
 
 @jit
-def band_factor(A, n, kl):
-    """In-place LU (no pivoting) of the band matrix A[i, j - i + kl], half bandwidth kl."""
+def band_factor(A, n, kl, row):
+    """In-place LU (no pivoting) of the band matrix A[i, j - i + kl], half bandwidth kl (row: work
+    vector of length >= kl + 1 holding the pivot row, so that the update loop vectorises)."""
     for k in range(n - 1):
         inv = 1.0 / A[k, kl]
         last = min(n - 1, k + kl)
+        m = last - k
+        for j in range(m):
+            row[j] = A[k, kl + 1 + j]
         for i in range(k + 1, last + 1):
             li = A[i, k - i + kl] * inv
             A[i, k - i + kl] = li
-            if li != 0.0:
-                oi = kl - i
-                ok = kl - k
-                for j in range(k + 1, last + 1):
-                    A[i, j + oi] -= li * A[k, j + ok]
+            o = k + 1 - i + kl
+            for j in range(m):
+                A[i, o + j] -= li * row[j]
 
 
 @jit
 def band_solve(A, n, kl, x, col):
-    """Solve (LU) y = x[:, col] in place with the factors of band_factor."""
+    """Solve (LU) y = x[col] in place with the factors of band_factor."""
     for i in range(n):
-        s = x[i, col]
+        s = x[col, i]
         for j in range(max(0, i - kl), i):
-            s -= A[i, j - i + kl] * x[j, col]
-        x[i, col] = s
+            s -= A[i, j - i + kl] * x[col, j]
+        x[col, i] = s
     for i in range(n - 1, -1, -1):
-        s = x[i, col]
+        s = x[col, i]
         for j in range(i + 1, min(n, i + kl + 1)):
-            s -= A[i, j - i + kl] * x[j, col]
-        x[i, col] = s / A[i, kl]
+            s -= A[i, j - i + kl] * x[col, j]
+        x[col, i] = s / A[i, kl]
+
+
+@jit
+def _dot_i(wp, e, j, e2, j2):
+    return (wp[e, j, WP_I] * wp[e2, j2, WP_I] + wp[e, j, WP_I + 1] * wp[e2, j2, WP_I + 1]
+            + wp[e, j, WP_I + 2] * wp[e2, j2, WP_I + 2])
 
 
 @jit
 def assemble_axial(blk, dprm, wp, gh, A, kl, tmp):
-    """A = I - gh K, K[(e,j), (e2,jj)] = sum_(e1,m) GP[e,e1][j,m] (i_j . AM_m i_jj) Div[e1,e2][m,jj] Z_jj."""
+    """A = I - gh K with K = i^T G Pj AM Div Z i on the strain rates at the points (e, j):
+
+        K = a_n (H o i_j . i_jj) Z_jj + (a_t - a_n) X Y,
+        X[(e,j), (e1,m)] = GP[e,e1][j,m] i_j . i_m,   Y[(e1,m), (e2,jj)] = Div[e1,e2][m,jj] i_m . i_jj Z_jj
+
+    (AM = a_n I + (a_t - a_n) i i^T; H = GP Div precomputed). tmp (2, N, 3, Q, Q) holds X and Y."""
     N, nq = wp.shape[0], wp.shape[1]
     at = dprm[DP_AT]
     an = dprm[DP_AN]
+    aniso = at != an
     for r in range(A.shape[0]):
         for c in range(A.shape[1]):
             A[r, c] = 0.0
@@ -457,37 +471,36 @@ def assemble_axial(blk, dprm, wp, gh, A, kl, tmp):
             if e2 < 0 or e2 >= N:
                 continue
             for j in range(nq):
-                row = e * nq + j
+                o = e2 * nq - (e * nq + j) + kl
                 for jj in range(nq):
-                    dot = (wp[e, j, WP_I] * wp[e2, jj, WP_I] + wp[e, j, WP_I + 1] * wp[e2, jj, WP_I + 1]
-                           + wp[e, j, WP_I + 2] * wp[e2, jj, WP_I + 2])
-                    A[row, e2 * nq + jj - row + kl] = -gh * an * dot * blk[OP_H, e, d, j, jj] * wp[e2, jj, WP_Z]
-        if at != an:
-            for d1 in range(1, 4):
-                e1 = e + d1 - 2
-                if e1 < 0 or e1 >= N:
+                    A[e * nq + j, o + jj] = -gh * an * _dot_i(wp, e, j, e2, jj) * blk[OP_H, e, d, j, jj] * wp[e2, jj, WP_Z]
+        if aniso:
+            for d in range(1, 4):
+                e2 = e + d - 2
+                if e2 < 0 or e2 >= N:
                     continue
                 for j in range(nq):
                     for m in range(nq):
-                        tmp[0, j, m] = blk[OP_GP, e, d1, j, m] * (
-                            wp[e, j, WP_I] * wp[e1, m, WP_I] + wp[e, j, WP_I + 1] * wp[e1, m, WP_I + 1]
-                            + wp[e, j, WP_I + 2] * wp[e1, m, WP_I + 2])
-                for d2 in range(1, 4):
-                    e2 = e1 + d2 - 2
+                        tmp[0, e, d - 1, j, m] = -gh * (at - an) * blk[OP_GP, e, d, j, m] * _dot_i(wp, e, j, e2, m)
+                        tmp[1, e, d - 1, j, m] = blk[OP_DIV, e, d, j, m] * _dot_i(wp, e, j, e2, m) * wp[e2, m, WP_Z]
+    if aniso:
+        for e in range(N):
+            for d1 in range(3):
+                e1 = e + d1 - 1
+                if e1 < 0 or e1 >= N:
+                    continue
+                for d2 in range(3):
+                    e2 = e1 + d2 - 1
                     if e2 < 0 or e2 >= N:
                         continue
-                    for m in range(nq):
-                        for jj in range(nq):
-                            tmp[1, m, jj] = blk[OP_DIV, e1, d2, m, jj] * wp[e2, jj, WP_Z] * (
-                                wp[e1, m, WP_I] * wp[e2, jj, WP_I] + wp[e1, m, WP_I + 1] * wp[e2, jj, WP_I + 1]
-                                + wp[e1, m, WP_I + 2] * wp[e2, jj, WP_I + 2])
                     for j in range(nq):
-                        row = e * nq + j
-                        for jj in range(nq):
-                            s = 0.0
-                            for m in range(nq):
-                                s += tmp[0, j, m] * tmp[1, m, jj]
-                            A[row, e2 * nq + jj - row + kl] -= gh * (at - an) * s
+                        r = e * nq + j
+                        o = e2 * nq - r + kl
+                        for m in range(nq):
+                            x = tmp[0, e, d1, j, m]
+                            if x != 0.0:
+                                for jj in range(nq):
+                                    A[r, o + jj] += x * tmp[1, e1, d2, m, jj]
     for r in range(A.shape[0]):
         A[r, kl] += 1.0
 
@@ -516,10 +529,10 @@ def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, 
             for j in range(nq):
                 wp[e, j, WP_BC0] = 0.0
     assemble_axial(blk, dprm, wp, g * hs, band, kl, tmp)
-    band_factor(band, n, kl)
+    band_factor(band, n, kl, vec[2])
     for e in range(N):
         for j in range(nq):
-            vec[e * nq + j, 0] = wp[e, j, WP_E0] + g * hs * wp[e, j, WP_BC0]
+            vec[0, e * nq + j] = wp[e, j, WP_E0] + g * hs * wp[e, j, WP_BC0]
     band_solve(band, n, kl, vec, 0)
     c1 = (1.0 - g) / g
     for e in range(N):
@@ -527,12 +540,12 @@ def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, 
             r = e * nq + j
             e0 = wp[e, j, WP_E0]
             bc0 = wp[e, j, WP_BC0]
-            wp[e, j, WP_E1] = vec[r, 0]
-            vec[r, 1] = e0 + hs * bc0 + c1 * (vec[r, 0] - e0 - g * hs * bc0)
+            wp[e, j, WP_E1] = vec[0, r]
+            vec[1, r] = e0 + hs * bc0 + c1 * (vec[0, r] - e0 - g * hs * bc0)
     band_solve(band, n, kl, vec, 1)
     for e in range(N):
         for j in range(nq):
-            wp[e, j, WP_E2] = vec[e * nq + j, 1]
+            wp[e, j, WP_E2] = vec[1, e * nq + j]
             wp[e, j, WP_X] = (1.0 - g) * wp[e, j, WP_E1] + g * wp[e, j, WP_E2]
     axial_tension_points(wp, WP_X, True)
     tension_divergence(blk, Pj, dprm, wp, wd, WD_F)
@@ -581,29 +594,29 @@ def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp
                                 band[row, col - row + kl] = -gh * wd[ee, kk, WD_F + cc]
     for r in range(n):
         band[r, kl] += 1.0
-    band_factor(band, n, kl)
+    band_factor(band, n, kl, vec[2])
     damping_force(U, 3, True, vbc, dprm, blk, bvec, Pj, wp, wd, WD_F)
     for e in range(N):
         for c in range(3):
             for k in range(nm):
-                vec[e * b + c * nm + k, 0] = wd[e, k, WD_F + c]
+                vec[0, e * b + c * nm + k] = wd[e, k, WD_F + c]
     band_solve(band, n, kl, vec, 0)
     for e in range(N):
         for c in range(3):
             for k in range(nm):
-                k1 = vec[e * b + c * nm + k, 0]
+                k1 = vec[0, e * b + c * nm + k]
                 wd[e, k, WD_K1 + c] = k1
                 wd[e, k, WD_Y + c] = U[e, k, 3 + c] + (1.0 - g) * hs * k1
     damping_force(wd, WD_Y, True, vbc, dprm, blk, bvec, Pj, wp, wd, WD_F)
     for e in range(N):
         for c in range(3):
             for k in range(nm):
-                vec[e * b + c * nm + k, 1] = wd[e, k, WD_F + c]
+                vec[1, e * b + c * nm + k] = wd[e, k, WD_F + c]
     band_solve(band, n, kl, vec, 1)
     for e in range(N):
         for c in range(3):
             for k in range(nm):
-                U[e, k, 3 + c] += hs * ((1.0 - g) * wd[e, k, WD_K1 + c] + g * vec[e * b + c * nm + k, 1])
+                U[e, k, 3 + c] += hs * ((1.0 - g) * wd[e, k, WD_K1 + c] + g * vec[1, e * b + c * nm + k])
     damping_force(U, 3, True, vbc, dprm, blk, bvec, Pj, wp, wd, WD_F)
     end_damping_forces(idp, bvec, U, Tr, wp, fdamp)
 
