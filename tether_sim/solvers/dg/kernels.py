@@ -26,7 +26,7 @@ be pulled taut, never pushed).
 import math
 
 from tether_sim.numerics.jit import jit
-from tether_sim.physics.constitutive import LAW_LINEAR, axial_tension, tension_slope
+from tether_sim.physics.constitutive import LAW_BILINEAR, LAW_LINEAR, LAW_TABLE, axial_tension, tension_slope
 from tether_sim.physics.hydrodynamics import current_at, morison_drag
 from tether_sim.physics.seabed import seabed_force
 from tether_sim.solvers.dg.elementops import strong_derivative
@@ -131,6 +131,8 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
     k0 = iprm[I_KIND0]
     k1 = iprm[I_KIND1]
     bending = iprm[I_BENDING] != 0
+    lam_taut = math.sqrt(prm[P_EA] / g0)  # = local_speed of a taut trace for the (bi)linear laws
+    lam_floor = prm[P_LAMBDA_FLOOR]
     # 1. q, v at the Gauss points and traces; tangent, elongation, local wave speed
     for e in range(N):
         for j in range(nq):
@@ -181,7 +183,14 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
             tr[e, side, T_V] = s3
             tr[e, side, T_V + 1] = s4
             tr[e, side, T_V + 2] = s5
-            tr[e, side, T_LAM] = local_speed(prm, law, s0, s1, s2, tab_eps, tab_T)
+            if law == LAW_TABLE:
+                lam = local_speed(prm, law, s0, s1, s2, tab_eps, tab_T)
+            else:  # local_speed written out: the slope is EA (taut, or any strain for the linear law) or 0
+                lam = lam_taut
+                if law == LAW_BILINEAR and math.sqrt(s0 * s0 + s1 * s1 + s2 * s2) - 1.0 < 0.0:
+                    lam = 0.0
+                lam = lam if lam > lam_floor else lam_floor
+            tr[e, side, T_LAM] = lam
     # 2. fluxes of F_q = v / gamma0 and dq/dt
     interface_fluxes(fl, tr, N, F_Q, T_Q, T_V, ig0, prm[P_QPEN])
     for c in range(3):
@@ -252,7 +261,13 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
                 wq[e, j, W_NUS + 2] = s2
                 edot = i0 * s0 + i1 * s1 + i2 * s2
             wq[e, j, W_EDOT] = edot
-            T = axial_tension(law, wq[e, j, W_L] - 1.0, edot, EA, zeta, tab_eps, tab_T)
+            eps = wq[e, j, W_L] - 1.0
+            if law == LAW_TABLE:
+                T = axial_tension(law, eps, edot, EA, zeta, tab_eps, tab_T)
+            else:  # axial_tension written out for the linear and bilinear laws [Eq. 22]
+                T = EA * eps + zeta * edot
+                if law == LAW_BILINEAR and (eps <= 0.0 or not T > 0.0):
+                    T = 0.0
             wq[e, j, W_TV] = T * i0
             wq[e, j, W_TV + 1] = T * i1
             wq[e, j, W_TV + 2] = T * i2
