@@ -283,27 +283,6 @@ class SimulationDriver:
         """Clock time of the current solver state."""
         return self.anchor + (self.solver.time if self.solver is not None else 0.0)
 
-    def end_frame(self, end):
-        """(origin (3,), quaternion (4,)) of the body frame of an end at the current state.
-
-        A simulated body reports its own pose (origin = centre of gravity); a pose input its
-        interpolated pose; otherwise the frame is taken aligned with the world with its origin where
-        the attachment offset puts it.
-        """
-        offset = np.asarray(self.offset(end), float)
-        if getattr(self.config, f"{end}_end").kind == "body":
-            body = self.solver.body_state(end)
-            if body is not None:
-                return np.asarray(body.position, float), np.asarray(body.orientation, float)
-        src = self.sources.get(end)
-        if src is not None and getattr(src, "has_data", True):
-            q = np.asarray(src.orientation_at(self.stamp), float)
-            p, _ = src.attachment_at(self.stamp)
-            return p - rotation_matrix(q) @ offset, q
-        s_end = 0.0 if end == "ship" else self.config.cable.length
-        pos = self.solver.state(np.array([s_end])).position[0]
-        return pos - offset, np.array([0.0, 0.0, 0.0, 1.0])
-
     def offset(self, end):
         """Attachment offset in the body frame of an end: ``body.attachment`` (from the centre of
         gravity) for a simulated body, else ``node.ship_attachment`` / ``node.vehicle_attachment``."""
@@ -311,15 +290,29 @@ class SimulationDriver:
             return self.config.body.attachment
         return getattr(self.config.node, f"{end}_attachment")
 
-    def body_wrench(self, end, forces):
-        """Force and torque BY the tether ON the body of ``end``, in its body frame, about its origin."""
-        _, q = self.end_frame(end)
-        R = rotation_matrix(q)
-        f_world = np.asarray(getattr(forces, f"{end}_force"), float)
-        m_world = np.asarray(getattr(forces, f"{end}_moment"), float)
-        f_body = R.T @ f_world
-        torque = np.cross(np.asarray(self.offset(end), float), f_body) + R.T @ m_world
-        return f_body, torque
+    def end_orientation(self, end, body=None):
+        """Quaternion (x, y, z, w) of the body frame of an end at the current state: a simulated
+        body's own (``body``: its BodyState if the caller already has it), a pose input's
+        interpolated one, otherwise aligned with the world."""
+        if getattr(self.config, f"{end}_end").kind == "body":
+            body = body if body is not None else self.solver.body_state(end)
+            if body is not None:
+                return np.asarray(body.orientation, float)
+        src = self.sources.get(end)
+        if src is not None and getattr(src, "has_data", True):
+            return np.asarray(src.orientation_at(self.stamp), float)
+        return np.array([0.0, 0.0, 0.0, 1.0])
+
+    def body_wrench(self, end, forces, body=None):
+        """Force and torque BY the tether ON the body of ``end``, in its body frame, about its origin
+        (``body``: the BodyState of a simulated body end, if the caller already has it):
+        ``f = R^T F``, ``torque = r x f + R^T M`` (world force F and moment M, offset r)."""
+        R = rotation_matrix(self.end_orientation(end, body))
+        f = R.T @ np.asarray(getattr(forces, f"{end}_force"), float)
+        m = R.T @ np.asarray(getattr(forces, f"{end}_moment"), float)
+        (rx, ry, rz), (fx, fy, fz) = self.offset(end), f.tolist()
+        torque = m + np.array([ry * fz - rz * fy, rz * fx - rx * fz, rx * fy - ry * fx])
+        return f, torque
 
 
 __all__ = ["SimulationDriver", "TickReport", "MotionSource", "SnapEvent", "SlackStarted"]
