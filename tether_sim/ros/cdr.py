@@ -24,6 +24,8 @@ _ZEROS = bytes(8)
 _U32 = struct.Struct("<I")
 _TIME = struct.Struct("<iI")
 _3I = struct.Struct("<iii")
+_6D = struct.Struct("<6d")
+_7D = struct.Struct("<7d")
 
 
 def stamp_parts(t: float) -> tuple:
@@ -169,7 +171,7 @@ def wrench_stamped(stamp: tuple, frame: str, force, torque) -> bytes:
     """geometry_msgs/WrenchStamped."""
     b = CdrBuffer()
     b.header(stamp, _text(frame))
-    b.float64s(np.concatenate((np.asarray(force, float).reshape(3), np.asarray(torque, float).reshape(3))))
+    b.packed(_6D, 8, *(float(x) for x in force), *(float(x) for x in torque))
     return b.tobytes()
 
 
@@ -177,5 +179,5 @@ def pose_stamped(stamp: tuple, frame: str, position, orientation) -> bytes:
     """geometry_msgs/PoseStamped (orientation quaternion x, y, z, w)."""
     b = CdrBuffer()
     b.header(stamp, _text(frame))
-    b.float64s(np.concatenate((np.asarray(position, float).reshape(3), np.asarray(orientation, float).reshape(4))))
+    b.packed(_7D, 8, *(float(x) for x in position), *(float(x) for x in orientation))
     return b.tobytes()

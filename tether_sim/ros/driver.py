@@ -89,6 +89,7 @@ class SimulationDriver:
         self._snapshot = None
         self._snapshot_time = -np.inf
         self._snapshot_failed = False
+        self._substep = 0.0  # the solver's stable substep, s (re-read at each snapshot)
         self.real_time_factor = 0.0
         self._last_wall = None
         self.static_tensions = (0.0, 0.0)
@@ -153,6 +154,8 @@ class SimulationDriver:
                 detector.set_config(snap_config)
 
     def _take_snapshot(self):
+        # (the substep is re-read here, not every tick: it only sizes the substep cap)
+        self._substep = self.solver.stable_time_step()
         self._snapshot = self.solver.snapshot()
         self._snapshot_time = self.solver.time
         self._snapshot_failed = False
@@ -196,7 +199,7 @@ class SimulationDriver:
         max_steps = node.max_substeps_per_tick
         if self.wall_budget is not None and self.wall_per_substep > 0.0:
             max_steps = min(max_steps, max(1, int(self.wall_budget / self.wall_per_substep)))
-        cap = self.solver.time + max_steps * self.solver.stable_time_step()
+        cap = self.solver.time + max_steps * self._substep
         if target > cap:
             target, report.capped = cap, True
             self.capped_ticks += 1
@@ -307,12 +310,21 @@ class SimulationDriver:
         """Force and torque BY the tether ON the body of ``end``, in its body frame, about its origin
         (``body``: the BodyState of a simulated body end, if the caller already has it):
         ``f = R^T F``, ``torque = r x f + R^T M`` (world force F and moment M, offset r)."""
-        R = rotation_matrix(self.end_orientation(end, body))
-        f = R.T @ np.asarray(getattr(forces, f"{end}_force"), float)
-        m = R.T @ np.asarray(getattr(forces, f"{end}_moment"), float)
-        (rx, ry, rz), (fx, fy, fz) = self.offset(end), f.tolist()
-        torque = m + np.array([ry * fz - rz * fy, rz * fx - rx * fz, rx * fy - ry * fx])
-        return f, torque
+        q = self.end_orientation(end, body).tolist()
+        f = _to_body(q, getattr(forces, f"{end}_force"))
+        m = _to_body(q, getattr(forces, f"{end}_moment"))
+        (rx, ry, rz), (fx, fy, fz) = self.offset(end), f
+        return np.array(f), np.array([ry * fz - rz * fy + m[0], rz * fx - rx * fz + m[1], rx * fy - ry * fx + m[2]])
+
+
+def _to_body(q, v):
+    """``R(q)^T v`` for a unit quaternion (x, y, z, w) and a 3-vector, in plain floats (a few
+    microseconds instead of tens for the numpy version with its small-array overheads)."""
+    x, y, z, w = q
+    a, b, c = (float(e) for e in v)
+    return ((1 - 2 * (y * y + z * z)) * a + 2 * (x * y + z * w) * b + 2 * (x * z - y * w) * c,
+            2 * (x * y - z * w) * a + (1 - 2 * (x * x + z * z)) * b + 2 * (y * z + x * w) * c,
+            2 * (x * z + y * w) * a + 2 * (y * z - x * w) * b + (1 - 2 * (x * x + y * y)) * c)
 
 
 __all__ = ["SimulationDriver", "TickReport", "MotionSource", "SnapEvent", "SlackStarted"]
