@@ -12,10 +12,10 @@ publishes the ship pose on the project's circle (a = 2 m, f = 0.2 Hz, the parame
   helper's subscription; also split: interpreter + imports, node construction (parameters,
   solver warm-up), first tick (waits for the first pose and the first timer period);
 - per tick (after the first ten): wall time of the timer callback, split into the solver's
-  ``advance_to`` (the substeps), its ``state()`` sampling of the output points, and the node's own
-  overhead (the rest: clock mapping, pose interpolation, snap detector feed, end forces and body
-  state, message encoding, publishing -- also shown on its own); median / p99 / max, and the thread CPU time of the same
-  parts; the interval between tick starts (timer jitter; a period the timer skipped shows as an
+  ``advance_to`` (the substeps), its ``state()`` sampling of the output points, its other outputs
+  (``end_forces``, ``body_state``, ``drain_end_tensions``), and the node's own overhead (the rest:
+  clock mapping, pose interpolation, snap detector, wrenches, message encoding, publishing --
+  publishing also on its own); median / p99 / max, and the thread CPU time of the same parts; the interval between tick starts (timer jitter; a period the timer skipped shows as an
   interval near 2 periods);
 - kept up: simulated time advanced / wall time over the window (1 = real time, as the node runs
   at its clock), dropped lag, capped ticks; the process CPU over the window (node + helper);
@@ -56,7 +56,7 @@ def _stats(values_s):
             "mean": float(a.mean())}
 
 
-def child(params, seconds, alpha, t_launch, executor="single"):
+def child(params, seconds, alpha, t_launch):
     """Runs in the child process: node + pose publisher, prints one JSON line."""
     t_main = time.time()
     import numpy as np
@@ -75,7 +75,7 @@ def child(params, seconds, alpha, t_launch, executor="single"):
     rss_imported = _rss_mb()
     cfg = load_config(params)
     motion = build_motion(cfg.motion, cfg.ship_end.position)
-    parts = {"advance": 0.0, "advance_cpu": 0.0, "state": 0.0, "state_cpu": 0.0, "publish": 0.0, "publish_cpu": 0.0}
+    parts = {f"{k}{c}": 0.0 for k in ("advance", "state", "outputs", "publish") for c in ("", "_cpu")}
 
     def timed(fn, key):
         def wrapper(*a, **k):
@@ -90,6 +90,8 @@ def child(params, seconds, alpha, t_launch, executor="single"):
         solver = build_solver(config)
         solver.advance_to = timed(solver.advance_to, "advance")
         solver.state = timed(solver.state, "state")
+        for name in ("end_forces", "body_state", "drain_end_tensions"):
+            setattr(solver, name, timed(getattr(solver, name), "outputs"))
         return solver
 
     args = ["tether_sim", "--ros-args", "--params-file", str(params), "-p", f"cable.EI:={alpha * EI_STAR}"]
@@ -116,7 +118,8 @@ def child(params, seconds, alpha, t_launch, executor="single"):
         first["n"] = first.get("n", 0) + 1
         if first["n"] > skip:
             rows.append((w, wall, cpu, parts["advance"], parts["advance_cpu"], parts["state"], parts["state_cpu"],
-                         node.driver.solver.time, parts["publish"], parts["publish_cpu"]))
+                         node.driver.solver.time, parts["publish"], parts["publish_cpu"], parts["outputs"],
+                         parts["outputs_cpu"]))
 
     # the node created its timer with the bound method; swap the callback the timer calls
     for timer in node.timers:
@@ -129,7 +132,7 @@ def child(params, seconds, alpha, t_launch, executor="single"):
         if "first_state" not in first:
             first["first_state"] = time.time()
 
-    helper.create_subscription(TetherState, "/tether/state", on_state, RELIABLE)
+    helper.create_subscription(TetherState, "/tether/state", on_state, RELIABLE, raw=True)  # bytes: no decoding cost
     t0 = time.time()
 
     def publish_pose():
@@ -142,12 +145,7 @@ def child(params, seconds, alpha, t_launch, executor="single"):
         pub.publish(msg)
 
     helper.create_timer(0.02, publish_pose)
-    if executor == "events":
-        from rclpy.experimental import EventsExecutor
-
-        ex = EventsExecutor()
-    else:
-        ex = SingleThreadedExecutor()
+    ex = SingleThreadedExecutor()  # what rclpy.spin(node) in tether-sim uses
     ex.add_node(node)
     ex.add_node(helper)
     deadline = None
@@ -162,8 +160,9 @@ def child(params, seconds, alpha, t_launch, executor="single"):
         if deadline is None and time.time() - t_launch > 1200:
             break
     process_cpu = (time.process_time() - cpu0[0]) / (time.perf_counter() - cpu0[1]) if cpu0 else float("nan")
-    r = np.array(rows) if rows else np.zeros((0, 10))
+    r = np.array(rows) if rows else np.zeros((0, 12))
     wall, cpu, adv, adv_cpu, st, st_cpu = (r[:, k] for k in range(1, 7))
+    outp, outp_cpu = r[:, 10], r[:, 11]
     period = 1.0 / cfg.node.output_rate
     intervals = np.diff(r[:, 0])
     keep_up = (r[-1, 7] - r[0, 7]) / (r[-1, 0] - r[0, 0]) if len(r) > 1 else 0.0
@@ -178,7 +177,8 @@ def child(params, seconds, alpha, t_launch, executor="single"):
         "tick_wall": _stats(wall), "tick_cpu": _stats(cpu),
         "solver_advance_wall": _stats(adv), "solver_advance_cpu": _stats(adv_cpu),
         "state_sampling_wall": _stats(st), "state_sampling_cpu": _stats(st_cpu),
-        "node_overhead_wall": _stats(wall - adv - st), "node_overhead_cpu": _stats(cpu - adv_cpu - st_cpu),
+        "solver_outputs_wall": _stats(outp), "solver_outputs_cpu": _stats(outp_cpu),
+        "node_overhead_wall": _stats(wall - adv - st - outp), "node_overhead_cpu": _stats(cpu - adv_cpu - st_cpu - outp_cpu),
         "publish_wall": _stats(r[:, 8]), "publish_cpu": _stats(r[:, 9]),
         "tick_interval": _stats(intervals), "skipped_periods": int(np.sum(intervals > 1.5 * period)),
         "sim_per_wall": float(keep_up), "dropped_s": float(node.driver.dropped_total),
@@ -193,13 +193,13 @@ def child(params, seconds, alpha, t_launch, executor="single"):
     rclpy.shutdown()
 
 
-def launch(params, seconds, alpha, cache_dir, executor="single"):
+def launch(params, seconds, alpha, cache_dir):
     """One child run with NUMBA_CACHE_DIR = cache_dir; returns its JSON dict."""
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
                ROS_DOMAIN_ID=str(100 + os.getpid() % 100))
     t_launch = time.time()
     proc = subprocess.run([sys.executable, __file__, "--child", str(params), "--seconds", str(seconds),
-                           "--alpha", str(alpha), "--t-launch", repr(t_launch), "--executor", executor],
+                           "--alpha", str(alpha), "--t-launch", repr(t_launch)],
                           env=env, cwd=ROOT, capture_output=True, text=True, timeout=2400)
     for line in proc.stdout.splitlines():
         if line.startswith("BENCH_NODE "):
@@ -219,9 +219,11 @@ def report(r):
           f"{p['node_construction']:.2f}, first tick {p['first_tick']:.2f}, delivery {p['delivery'] * 1e3:.1f} ms)")
     print(f"  {r['ticks']} ticks at {r['output_rate']:g} Hz (ms)      median     p99     max")
     for key, name in (("tick_wall", "tick, wall"), ("solver_advance_wall", "  solver advance_to"),
-                      ("state_sampling_wall", "  solver state()"), ("node_overhead_wall", "  node overhead"),
+                      ("state_sampling_wall", "  solver state()"),
+                      ("solver_outputs_wall", "  solver other outputs"), ("node_overhead_wall", "  node overhead"),
                       ("publish_wall", "    of which publishing"), ("tick_cpu", "tick, thread CPU"), ("solver_advance_cpu", "  solver advance_to"),
-                      ("state_sampling_cpu", "  solver state()"), ("node_overhead_cpu", "  node overhead"),
+                      ("state_sampling_cpu", "  solver state()"),
+                      ("solver_outputs_cpu", "  solver other outputs"), ("node_overhead_cpu", "  node overhead"),
                       ("publish_cpu", "    of which publishing"),
                       ("tick_interval", "interval between ticks")):
         print("  " + _line(name, r[key]))
@@ -242,10 +244,9 @@ def main(argv=None):
     ap.add_argument("--json", default="out/bench_node.json")
     ap.add_argument("--child", default=None)
     ap.add_argument("--t-launch", type=float, default=None)
-    ap.add_argument("--executor", default="single", choices=["single", "events"])
     args = ap.parse_args(argv)
     if args.child:
-        return child(args.child, args.seconds, args.alpha, args.t_launch, args.executor)
+        return child(args.child, args.seconds, args.alpha, args.t_launch)
     print(f"bench_node, {os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
           f"{args.seconds:g} s of ticks, alpha={args.alpha:g}, load average {os.getloadavg()[0]:.2f}")
     rows = []
@@ -253,7 +254,7 @@ def main(argv=None):
         with tempfile.TemporaryDirectory(prefix="numba_cold_") as cold_dir:
             for kind in args.starts:
                 cache = cold_dir if "cold" in args.starts else os.environ.get("NUMBA_CACHE_DIR", "")
-                r = launch(params, args.seconds, args.alpha, cache, args.executor)
+                r = launch(params, args.seconds, args.alpha, cache)
                 r["start"] = kind
                 rows.append(r)
                 print(f"{Path(params).name}, {kind} start:")
