@@ -4,7 +4,9 @@ numba cache), memory.
 Each measurement runs the real node (``tether_sim.ros.sim_node.TetherSimNode``, rclpy, timer at
 ``node.output_rate`` = 50 Hz, every output published) in a child process, next to a helper node that
 publishes the ship pose on the project's circle (a = 2 m, f = 0.2 Hz, the parameter file's
-``motion``) at 50 Hz and subscribes to ``/tether/state`` (so the state has a matched reader):
+``motion``) at 50 Hz and subscribes (raw bytes, no decoding) to every periodic output, like a
+recorder or RViz would (the node builds and publishes only outputs with a reader;
+``--subscribe state``: the TetherState only):
 
 - cold start: empty numba cache (NUMBA_CACHE_DIR = a fresh temporary directory);
 - warm start: the same cache directory again (kernels loaded from disk);
@@ -27,6 +29,7 @@ Usage (the project's venv; NUMBA_CACHE_DIR of the cold run is a throw-away direc
 """
 
 import argparse
+import importlib
 import json
 import os
 import subprocess
@@ -56,7 +59,7 @@ def _stats(values_s):
             "mean": float(a.mean())}
 
 
-def child(params, seconds, alpha, t_launch):
+def child(params, seconds, alpha, t_launch, subscribe):
     """Runs in the child process: node + pose publisher, prints one JSON line."""
     t_main = time.time()
     import numpy as np
@@ -68,6 +71,7 @@ def child(params, seconds, alpha, t_launch):
 
     from tether_sim.io.params import load_config
     from tether_sim.physics.motion import build_motion
+    from tether_sim.ros import convert
     from tether_sim.ros.sim_node import RELIABLE, TetherSimNode
     from tether_sim.solvers.factory import build_solver
 
@@ -133,6 +137,12 @@ def child(params, seconds, alpha, t_launch):
             first["first_state"] = time.time()
 
     helper.create_subscription(TetherState, "/tether/state", on_state, RELIABLE, raw=True)  # bytes: no decoding cost
+    if subscribe == "all":  # like a recorder or RViz: every periodic output has a reader
+        for topic in node._tick_topics:
+            if topic != "/tether/state":
+                package, _, name = convert.TOPICS[topic][0].split("/")
+                msg_type = getattr(importlib.import_module(f"{package}.msg"), name)
+                helper.create_subscription(msg_type, topic, lambda _m: None, RELIABLE, raw=True)
     t0 = time.time()
 
     def publish_pose():
@@ -193,13 +203,13 @@ def child(params, seconds, alpha, t_launch):
     rclpy.shutdown()
 
 
-def launch(params, seconds, alpha, cache_dir):
+def launch(params, seconds, alpha, cache_dir, subscribe):
     """One child run with NUMBA_CACHE_DIR = cache_dir; returns its JSON dict."""
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
                ROS_DOMAIN_ID=str(100 + os.getpid() % 100))
     t_launch = time.time()
     proc = subprocess.run([sys.executable, __file__, "--child", str(params), "--seconds", str(seconds),
-                           "--alpha", str(alpha), "--t-launch", repr(t_launch)],
+                           "--alpha", str(alpha), "--t-launch", repr(t_launch), "--subscribe", subscribe],
                           env=env, cwd=ROOT, capture_output=True, text=True, timeout=2400)
     for line in proc.stdout.splitlines():
         if line.startswith("BENCH_NODE "):
@@ -244,9 +254,11 @@ def main(argv=None):
     ap.add_argument("--json", default="out/bench_node.json")
     ap.add_argument("--child", default=None)
     ap.add_argument("--t-launch", type=float, default=None)
+    ap.add_argument("--subscribe", default="all", choices=["all", "state"],
+                    help="which periodic outputs get a reader (the node builds and publishes only those)")
     args = ap.parse_args(argv)
     if args.child:
-        return child(args.child, args.seconds, args.alpha, args.t_launch)
+        return child(args.child, args.seconds, args.alpha, args.t_launch, args.subscribe)
     print(f"bench_node, {os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
           f"{args.seconds:g} s of ticks, alpha={args.alpha:g}, load average {os.getloadavg()[0]:.2f}")
     rows = []
@@ -254,7 +266,7 @@ def main(argv=None):
         with tempfile.TemporaryDirectory(prefix="numba_cold_") as cold_dir:
             for kind in args.starts:
                 cache = cold_dir if "cold" in args.starts else os.environ.get("NUMBA_CACHE_DIR", "")
-                r = launch(params, args.seconds, args.alpha, cache)
+                r = launch(params, args.seconds, args.alpha, cache, args.subscribe)
                 r["start"] = kind
                 rows.append(r)
                 print(f"{Path(params).name}, {kind} start:")

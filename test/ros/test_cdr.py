@@ -81,9 +81,10 @@ def test_marker_line_strip(frame, n):
 
 
 def test_tension_colours_blue_green_red():
-    """Slack (T <= 0) blue, half the scale green, at or above the scale red; alpha 1."""
-    c = tension_colours([-5.0, 0.0, 50.0, 100.0, 500.0], 100.0)
-    np.testing.assert_array_equal(c, [[0, 0, 1, 1], [0, 0, 1, 1], [1, 1, 0, 1], [1, 0, 0, 1], [1, 0, 0, 1]])
+    """Slack (T <= 0) blue, half the scale green, at or above the scale red, linear in between; alpha 1."""
+    c = tension_colours([-5.0, 0.0, 25.0, 50.0, 75.0, 100.0, 500.0], 100.0)
+    np.testing.assert_array_equal(c, [[0, 0, 1, 1], [0, 0, 1, 1], [0, 0.5, 0.5, 1], [0, 1, 0, 1], [0.5, 0.5, 0, 1],
+                                      [1, 0, 0, 1], [1, 0, 0, 1]])
 
 
 @pytest.mark.parametrize("frame", FRAMES)

@@ -144,7 +144,7 @@ def tension_colours(tension, scale: float) -> np.ndarray:
     tension = np.asarray(tension, float)
     u = np.clip(tension / scale, 0.0, 1.0) if scale > 0 else np.zeros_like(tension)
     rgba = np.ones((u.size, 4))
-    rgba[:, 0] = np.minimum(1.0, 2.0 * u)
+    rgba[:, 0] = np.maximum(0.0, 2.0 * u - 1.0)
     rgba[:, 1] = 1.0 - np.abs(2.0 * u - 1.0)
     rgba[:, 2] = np.maximum(0.0, 1.0 - 2.0 * u)
     return rgba
@@ -154,29 +154,47 @@ MARKER_WIDTH = 0.2  # m, LINE_STRIP line width
 MARKER_COLOUR = (1.0, 1.0, 0.0, 1.0)  # RGBA of the strip (the per-vertex colours are used)
 
 
-def tick_outputs(driver, arc_lengths) -> list:
+SHAPE_TOPICS = ("/tether/state", "/tether/marker", "/tether/path")  # need the state at the output points
+
+
+def tick_outputs(driver, arc_lengths, wanted=None) -> list:
     """(topic, serialized CDR bytes) of every periodic output of the current driver state, stamped
-    with the clock time of the state (:mod:`tether_sim.ros.cdr`; no message objects per tick)."""
+    with the clock time of the state (:mod:`tether_sim.ros.cdr`; no message objects per tick).
+
+    ``wanted``: only these topics (the node passes the ones with a subscriber, so nobody pays for
+    a Marker or Path no one displays); None = all."""
     cfg, solver = driver.config, driver.solver
     node = cfg.node
     stamp = cdr.stamp_parts(driver.stamp)
     world = node.world_frame
-    state = solver.state(arc_lengths)
+    want = (lambda topic: True) if wanted is None else wanted.__contains__
+    out = []
     forces = solver.end_forces()
-    points = np.asarray(state.position, float)
-    out = [("/tether/state", cdr.tether_state(
+    if any(want(topic) for topic in SHAPE_TOPICS):
+        state = solver.state(arc_lengths)
+        points = np.asarray(state.position, float)
+        if want("/tether/state"):
+            out.append(("/tether/state", cdr.tether_state(
                 stamp, world, solver.name, state.arc_length, points, state.velocity, state.tension, state.curvature,
                 state.bending_moment, float(forces.ship_tension), float(forces.vehicle_tension),
-                float(state.time_step), float(driver.real_time_factor))),
-           ("/tether/marker", cdr.marker_line_strip(stamp, world, "tether", 0, MARKER_WIDTH, MARKER_COLOUR, points,
-                                                    tension_colours(state.tension, tension_scale(driver)))),
-           ("/tether/path", cdr.path(stamp, world, points))]
+                float(state.time_step), float(driver.real_time_factor))))
+        if want("/tether/marker"):
+            out.append(("/tether/marker", cdr.marker_line_strip(
+                stamp, world, "tether", 0, MARKER_WIDTH, MARKER_COLOUR, points,
+                tension_colours(state.tension, tension_scale(driver)))))
+        if want("/tether/path"):
+            out.append(("/tether/path", cdr.path(stamp, world, points)))
     for end in ("ship", "vehicle"):
-        body = solver.body_state(end) if getattr(cfg, f"{end}_end").kind == "body" else None
-        force, torque = driver.body_wrench(end, forces, body)
-        out.append((f"/tether/{end}_wrench", cdr.wrench_stamped(stamp, getattr(node, f"{end}_frame"), force, torque)))
-        if body is not None:
-            out.append((f"/{end}/sim_pose", cdr.pose_stamped(stamp, world, body.position, body.orientation)))
+        wrench_topic, pose_topic = f"/tether/{end}_wrench", f"/{end}/sim_pose"
+        is_body = getattr(cfg, f"{end}_end").kind == "body"
+        if not (want(wrench_topic) or (is_body and want(pose_topic))):
+            continue
+        body = solver.body_state(end) if is_body else None
+        if want(wrench_topic):
+            force, torque = driver.body_wrench(end, forces, body)
+            out.append((wrench_topic, cdr.wrench_stamped(stamp, getattr(node, f"{end}_frame"), force, torque)))
+        if body is not None and want(pose_topic):
+            out.append((pose_topic, cdr.pose_stamped(stamp, world, body.position, body.orientation)))
     return out
 
 

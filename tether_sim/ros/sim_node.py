@@ -66,6 +66,8 @@ class TetherSimNode(Node):
                 continue
             profile = LATCHED if qos == "latched" else EVENTS if "events" in topic or "warnings" in topic else RELIABLE
             self.pubs[topic] = self.create_publisher(_TYPES[type_name.rsplit("/", 1)[1]], topic, profile)
+        # periodic outputs: built (and published) only while someone subscribes to them
+        self._tick_topics = [t for t in self.pubs if t in convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
         self._first_tick = None
         self._last_output = -float("inf")
         self._period = {"snaps": 0, "errors": 0, "rejected": {e: 0 for e in self.inputs}, "behind": False}
@@ -151,8 +153,9 @@ class TetherSimNode(Node):
             self._handle_report(now, report)
             if self.driver.stamp > max(self._last_output, 0.0):  # one output per simulated instant
                 self._last_output = self.driver.stamp
-                for topic, msg in convert.tick_outputs(self.driver, self.arc_lengths):
-                    self.pubs[topic].publish(msg)
+                wanted = {topic for topic in self._tick_topics if self.pubs[topic].get_subscription_count() > 0}
+                for topic, data in convert.tick_outputs(self.driver, self.arc_lengths, wanted):
+                    self.pubs[topic].publish(data)
         except Exception as exc:  # noqa: BLE001 - the node must stay up; the error is reported
             if not self.context.ok():
                 return  # shutting down (Ctrl-C): publishers are gone
