@@ -60,7 +60,9 @@ DP_G0 = 2
 DP_AT = 3  # gamma0 / (gamma0 + m_t)
 DP_AN = 4  # gamma0 / (gamma0 + m_n)
 DP_EA = 5
-N_DP = 6
+DP_LAMBDA = 6  # upwind speed of velocity-end fluxes (kernels: max(c, lambda_floor))
+DP_TC0 = 7  # (3 + 3) constant damping flux of released ends (runtime, see release_ends)
+N_DP = 13
 
 # int parameters idp[...]
 ID_MODE = 0
@@ -69,7 +71,8 @@ ID_KIND0 = 2
 ID_KIND1 = 3
 ID_REACH = 4  # elements coupled by f_d on each side (2 axial, 4 with bending damping)
 ID_KL = 5  # half bandwidth of the banded system
-N_ID = 6
+ID_REL0 = 6  # (2) velocity end released for this step (no-compression clip of the end flux active)
+N_ID = 8
 
 # per-point work wp[e, j, ...]
 WP_I = 0
@@ -169,7 +172,7 @@ def build_operators(ops, h, kinds, gamma0, beta):
 class DampingWork:
     """Arrays of the implicit damping step (allocated once; passed to the compiled loop)."""
 
-    def __init__(self, mode, ops, h, kinds, cable, gamma0, m_t, m_n, beta, law_code, kind_codes):
+    def __init__(self, mode, ops, h, kinds, cable, gamma0, m_t, m_n, beta, law_code, kind_codes, lam_bc):
         N, nq, nm = len(h), ops.vandermonde.shape[0], ops.vandermonde.shape[1]
         self.mode = mode
         self.blk, self.bvec = build_operators(ops, h, kinds, gamma0, beta)
@@ -185,6 +188,7 @@ class DampingWork:
         self.dprm[DP_ZETA], self.dprm[DP_ZETAB], self.dprm[DP_G0] = cable.damping, cable.bending_damping, gamma0
         self.dprm[DP_AT], self.dprm[DP_AN] = gamma0 / (gamma0 + m_t), gamma0 / (gamma0 + m_n)
         self.dprm[DP_EA] = cable.EA
+        self.dprm[DP_LAMBDA] = lam_bc
         self.idp = np.zeros(N_ID, dtype=np.int64)
         self.idp[ID_MODE], self.idp[ID_LAW] = mode, law_code
         self.idp[ID_KIND0], self.idp[ID_KIND1] = kind_codes
@@ -251,6 +255,64 @@ def clip_set(idp, dprm, wp, tab_eps, tab_T):
                     wp[e, j, WP_TC] = -tel
                     nclip += 1
     return nclip
+
+
+@jit
+def release_ends(U, vbc, idp, dprm, bvec, Tr, wp, tab_eps, tab_T):
+    """Velocity ends whose total flux T_el+ + T_d+ + n lambda (gamma0 v_BC - v+) would be compressive
+    at the start of the step (kernels.clip_compression clips it to zero in the explicit scheme) are
+    released for the step: their damping flux is the constant -max(a_el, 0) i+ (DP_TC), so that
+    elastic (clipped by dg_rhs) + damping flux has no axial part, instead of the trace of the
+    damping tension (whose stiff impulse would otherwise enforce v_BC on a slack end).
+    Uses WP_E0 and WP_TC (after clip_set). Returns the number of released ends."""
+    N, nq = wp.shape[0], wp.shape[1]
+    nm = U.shape[1]
+    g0 = dprm[DP_G0]
+    lam = dprm[DP_LAMBDA]
+    nrel = 0
+    for end in range(2):
+        idp[ID_REL0 + end] = 0
+        if is_force_kind(idp[ID_KIND0 + end]) or idp[ID_LAW] == LAW_LINEAR:
+            continue
+        e = end * (N - 1)
+        sgn = 1.0 if end == 0 else -1.0
+        q0 = 0.0
+        q1 = 0.0
+        q2 = 0.0
+        for k in range(nm):
+            q0 += Tr[end, k] * U[e, k, 0]
+            q1 += Tr[end, k] * U[e, k, 1]
+            q2 += Tr[end, k] * U[e, k, 2]
+        lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
+        if lq <= 1e-300:
+            continue
+        i0 = q0 / lq
+        i1 = q1 / lq
+        i2 = q2 / lq
+        a_el = 0.0
+        a_d = 0.0
+        for j in range(nq):
+            t_el = elastic_tension(idp[ID_LAW], wp[e, j, WP_L] - 1.0, dprm[DP_EA], tab_eps, tab_T)
+            t_d = wp[e, j, WP_Z] * wp[e, j, WP_E0] + wp[e, j, WP_TC]
+            ii = wp[e, j, WP_I] * i0 + wp[e, j, WP_I + 1] * i1 + wp[e, j, WP_I + 2] * i2
+            a_el += bvec[2 + end, j] * t_el * ii
+            a_d += bvec[2 + end, j] * t_d * ii
+        vrel = 0.0
+        for c in range(3):
+            vc = 0.0
+            for k in range(nm):
+                vc += Tr[end, k] * U[e, k, 3 + c]
+            ic = i0 if c == 0 else (i1 if c == 1 else i2)
+            vrel += (g0 * vbc[end, 3 + c] - vc) * ic
+        a_el -= sgn * lam * vrel
+        if a_el + a_d < 0.0:
+            idp[ID_REL0 + end] = 1
+            nrel += 1
+            a = -a_el if a_el > 0.0 else 0.0
+            dprm[DP_TC0 + 3 * end] = a * i0
+            dprm[DP_TC0 + 3 * end + 1] = a * i1
+            dprm[DP_TC0 + 3 * end + 2] = a * i2
+    return nrel
 
 
 @jit
@@ -345,13 +407,26 @@ def bending_shear_points(blk, dprm, wp, c_e):
 
 
 @jit
-def tension_divergence(blk, Pj, dprm, wp, dst, c_dst):
-    """dst modes = Pj AM Div(WP_TV): the damping force per metre (dv/dt) from the tension vector."""
+def tension_divergence(blk, Pj, bvec, idp, dprm, wp, dst, c_dst, with_const):
+    """dst modes = Pj AM Div(WP_TV): the damping force per metre (dv/dt) from the tension vector.
+
+    At a released velocity end (release_ends) the flux is the constant DP_TC (only if with_const)
+    instead of the trace: Div gets bvec[end] (flux - trace) on the end element."""
     N, nq = wp.shape[0], wp.shape[1]
     nm = dst.shape[1]
     at = dprm[DP_AT]
     an = dprm[DP_AN]
     apply_block_op(blk, OP_DIV, 1, nq, wp, WP_TV, 1.0, wp, WP_R)
+    for end in range(2):
+        if idp[ID_REL0 + end] != 0:
+            e = end * (N - 1)
+            for c in range(3):
+                tr = 0.0
+                for m in range(nq):
+                    tr += bvec[2 + end, m] * wp[e, m, WP_TV + c]
+                jump = (dprm[DP_TC0 + 3 * end + c] if with_const else 0.0) - tr
+                for j in range(nq):
+                    wp[e, j, WP_R + c] += bvec[end, j] * jump
     for e in range(N):
         for j in range(nq):
             i0 = wp[e, j, WP_I]
@@ -373,7 +448,7 @@ def tension_divergence(blk, Pj, dprm, wp, dst, c_dst):
 
 
 @jit
-def end_damping_forces(idp, bvec, U, Tr, wp, fdamp):
+def end_damping_forces(idp, dprm, bvec, U, Tr, wp, fdamp):
     """fdamp[end] = (force by the cable on the end (3), axial tension) of the damping tension WP_TV:
     -n T_hat with T_hat the trace of its projection at velocity ends, 0 at force ends."""
     N, nq = wp.shape[0], wp.shape[1]
@@ -389,8 +464,11 @@ def end_damping_forces(idp, bvec, U, Tr, wp, fdamp):
         ql = 0.0
         for c in range(3):
             s = 0.0
-            for j in range(nq):
-                s += bvec[2 + end, j] * wp[e, j, WP_TV + c]
+            if idp[ID_REL0 + end] != 0:
+                s = dprm[DP_TC0 + 3 * end + c]
+            else:
+                for j in range(nq):
+                    s += bvec[2 + end, j] * wp[e, j, WP_TV + c]
             fdamp[end, c] = sgn * s
             qc = 0.0
             for k in range(nm):
@@ -401,14 +479,14 @@ def end_damping_forces(idp, bvec, U, Tr, wp, fdamp):
 
 
 @jit
-def damping_force(src, c_src, with_bc, vbc, dprm, blk, bvec, Pj, wp, dst, c_dst):
+def damping_force(src, c_src, with_bc, vbc, idp, dprm, blk, bvec, Pj, wp, dst, c_dst):
     """f_d(v) on the modes for v = src[..., c_src:+3] with the frozen geometry in wp (see module doc);
     with_bc = False gives the homogeneous part (v_BC = 0, no clip constant) used to build the matrix."""
     strain_rates(src, c_src, with_bc, vbc, blk, bvec, wp, WP_X)
     axial_tension_points(wp, WP_X, with_bc)
     if dprm[DP_ZETAB] > 0.0:
         bending_shear_points(blk, dprm, wp, WP_X)
-    tension_divergence(blk, Pj, dprm, wp, dst, c_dst)
+    tension_divergence(blk, Pj, bvec, idp, dprm, wp, dst, c_dst, with_bc)
 
 
 @jit
@@ -451,7 +529,7 @@ def _dot_i(wp, e, j, e2, j2):
 
 
 @jit
-def assemble_axial(blk, dprm, wp, gh, A, kl, tmp):
+def assemble_axial(blk, bvec, idp, dprm, wp, gh, A, kl, tmp):
     """A = I - gh K with K = i^T G Pj AM Div Z i on the strain rates at the points (e, j):
 
         K = a_n (H o i_j . i_jj) Z_jj + (a_t - a_n) X Y,
@@ -501,8 +579,36 @@ def assemble_axial(blk, dprm, wp, gh, A, kl, tmp):
                             if x != 0.0:
                                 for jj in range(nq):
                                     A[r, o + jj] += x * tmp[1, e1, d2, m, jj]
+    for end in range(2):
+        if idp[ID_REL0 + end] != 0:
+            release_correction(blk, bvec, dprm, wp, gh, A, kl, end)
     for r in range(A.shape[0]):
         A[r, kl] += 1.0
+
+
+@jit
+def release_correction(blk, bvec, dprm, wp, gh, A, kl, end):
+    """K of a released end: Div of the end element loses the trace flux, a rank-one change
+    -bvec[end] (x) bvec[2 + end]; K += -GP[e, e_end] (i^T AM i) bvec[end] bvec[2 + end] Z."""
+    N, nq = wp.shape[0], wp.shape[1]
+    at = dprm[DP_AT]
+    an = dprm[DP_AN]
+    ee = end * (N - 1)
+    for e in range(max(0, ee - 1), min(N, ee + 2)):
+        d = ee - e + 2
+        for j in range(nq):
+            r = e * nq + j
+            o = ee * nq - r + kl
+            for jj in range(nq):
+                zt = wp[ee, jj, WP_Z] * bvec[2 + end, jj]
+                if zt == 0.0:
+                    continue
+                dj = _dot_i(wp, e, j, ee, jj)
+                s = 0.0
+                for m in range(nq):
+                    gb = blk[OP_GP, e, d, j, m] * bvec[end, m]
+                    s += gb * (an * dj + (at - an) * _dot_i(wp, e, j, ee, m) * _dot_i(wp, ee, m, ee, jj))
+                A[r, o + jj] += gh * s * zt
 
 
 @jit
@@ -517,18 +623,19 @@ def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, 
     damping_geometry(U, V, idp, dprm, wp)
     strain_rates(U, 3, True, vbc, blk, bvec, wp, WP_E0)
     nclip = clip_set(idp, dprm, wp, tab_eps, tab_T)
+    nclip += release_ends(U, vbc, idp, dprm, bvec, Tr, wp, tab_eps, tab_T)
     if nclip > 0:  # strain rate per unit time of the constant force: B c0 (WP_BC0)
         for e in range(N):
             for j in range(nq):
                 for c in range(3):
                     wp[e, j, WP_TV + c] = wp[e, j, WP_TC] * wp[e, j, WP_I + c]
-        tension_divergence(blk, Pj, dprm, wp, wd, WD_P)
+        tension_divergence(blk, Pj, bvec, idp, dprm, wp, wd, WD_P, True)
         strain_rates(wd, WD_P, False, vbc, blk, bvec, wp, WP_BC0)
     else:
         for e in range(N):
             for j in range(nq):
                 wp[e, j, WP_BC0] = 0.0
-    assemble_axial(blk, dprm, wp, g * hs, band, kl, tmp)
+    assemble_axial(blk, bvec, idp, dprm, wp, g * hs, band, kl, tmp)
     band_factor(band, n, kl, vec[2])
     for e in range(N):
         for j in range(nq):
@@ -548,13 +655,13 @@ def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, 
             wp[e, j, WP_E2] = vec[1, e * nq + j]
             wp[e, j, WP_X] = (1.0 - g) * wp[e, j, WP_E1] + g * wp[e, j, WP_E2]
     axial_tension_points(wp, WP_X, True)
-    tension_divergence(blk, Pj, dprm, wp, wd, WD_F)
+    tension_divergence(blk, Pj, bvec, idp, dprm, wp, wd, WD_F, True)
     for e in range(N):
         for k in range(nm):
             for c in range(3):
                 U[e, k, 3 + c] += hs * wd[e, k, WD_F + c]
     axial_tension_points(wp, WP_E2, True)  # stiffly accurate: E2 is the strain rate of the new state
-    end_damping_forces(idp, bvec, U, Tr, wp, fdamp)
+    end_damping_forces(idp, dprm, bvec, U, Tr, wp, fdamp)
 
 
 @jit
@@ -572,6 +679,7 @@ def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp
     damping_geometry(U, V, idp, dprm, wp)
     strain_rates(U, 3, True, vbc, blk, bvec, wp, WP_E0)
     clip_set(idp, dprm, wp, tab_eps, tab_T)
+    release_ends(U, vbc, idp, dprm, bvec, Tr, wp, tab_eps, tab_T)
     for r in range(band.shape[0]):
         for c in range(band.shape[1]):
             band[r, c] = 0.0
@@ -584,7 +692,7 @@ def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp
                             wd[e, kk, WD_P + cc] = 0.0
                 for e in range(colour, N, period):
                     wd[e, k, WD_P + c] = 1.0
-                damping_force(wd, WD_P, False, vbc, dprm, blk, bvec, Pj, wp, wd, WD_F)
+                damping_force(wd, WD_P, False, vbc, idp, dprm, blk, bvec, Pj, wp, wd, WD_F)
                 for e in range(colour, N, period):
                     col = e * b + c * nm + k
                     for ee in range(max(0, e - reach), min(N, e + reach + 1)):
@@ -595,7 +703,7 @@ def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp
     for r in range(n):
         band[r, kl] += 1.0
     band_factor(band, n, kl, vec[2])
-    damping_force(U, 3, True, vbc, dprm, blk, bvec, Pj, wp, wd, WD_F)
+    damping_force(U, 3, True, vbc, idp, dprm, blk, bvec, Pj, wp, wd, WD_F)
     for e in range(N):
         for c in range(3):
             for k in range(nm):
@@ -607,7 +715,7 @@ def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp
                 k1 = vec[0, e * b + c * nm + k]
                 wd[e, k, WD_K1 + c] = k1
                 wd[e, k, WD_Y + c] = U[e, k, 3 + c] + (1.0 - g) * hs * k1
-    damping_force(wd, WD_Y, True, vbc, dprm, blk, bvec, Pj, wp, wd, WD_F)
+    damping_force(wd, WD_Y, True, vbc, idp, dprm, blk, bvec, Pj, wp, wd, WD_F)
     for e in range(N):
         for c in range(3):
             for k in range(nm):
@@ -617,8 +725,8 @@ def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp
         for c in range(3):
             for k in range(nm):
                 U[e, k, 3 + c] += hs * ((1.0 - g) * wd[e, k, WD_K1 + c] + g * vec[1, e * b + c * nm + k])
-    damping_force(U, 3, True, vbc, dprm, blk, bvec, Pj, wp, wd, WD_F)
-    end_damping_forces(idp, bvec, U, Tr, wp, fdamp)
+    damping_force(U, 3, True, vbc, idp, dprm, blk, bvec, Pj, wp, wd, WD_F)
+    end_damping_forces(idp, dprm, bvec, U, Tr, wp, fdamp)
 
 
 @jit
