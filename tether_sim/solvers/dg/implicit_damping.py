@@ -62,7 +62,8 @@ DP_AN = 4  # gamma0 / (gamma0 + m_n)
 DP_EA = 5
 DP_LAMBDA = 6  # upwind speed of velocity-end fluxes (kernels: max(c, lambda_floor))
 DP_TC0 = 7  # (3 + 3) constant damping flux of released ends (runtime, see release_ends)
-N_DP = 13
+DP_IP0 = 13  # (3 + 3) trace tangent i+ of released ends (runtime)
+N_DP = 19
 
 # int parameters idp[...]
 ID_MODE = 0
@@ -72,7 +73,8 @@ ID_KIND1 = 3
 ID_REACH = 4  # elements coupled by f_d on each side (2 axial, 4 with bending damping)
 ID_KL = 5  # half bandwidth of the banded system
 ID_REL0 = 6  # (2) velocity end released for this step (no-compression clip of the end flux active)
-N_ID = 8
+ID_INTERVAL = 8  # explicit substeps per implicit damping step (dg.damping_interval)
+N_ID = 9
 
 # per-point work wp[e, j, ...]
 WP_I = 0
@@ -172,7 +174,7 @@ def build_operators(ops, h, kinds, gamma0, beta):
 class DampingWork:
     """Arrays of the implicit damping step (allocated once; passed to the compiled loop)."""
 
-    def __init__(self, mode, ops, h, kinds, cable, gamma0, m_t, m_n, beta, law_code, kind_codes, lam_bc):
+    def __init__(self, mode, ops, h, kinds, cable, gamma0, m_t, m_n, beta, law_code, kind_codes, lam_bc, interval=1):
         N, nq, nm = len(h), ops.vandermonde.shape[0], ops.vandermonde.shape[1]
         self.mode = mode
         self.blk, self.bvec = build_operators(ops, h, kinds, gamma0, beta)
@@ -193,6 +195,7 @@ class DampingWork:
         self.idp[ID_MODE], self.idp[ID_LAW] = mode, law_code
         self.idp[ID_KIND0], self.idp[ID_KIND1] = kind_codes
         self.idp[ID_REACH], self.idp[ID_KL] = reach, kl
+        self.idp[ID_INTERVAL] = max(1, int(interval))
         self.wp = np.zeros((N, nq, NWP))
         self.wd = np.zeros((N, nm, NWD))
         self.band = np.zeros((n, 2 * kl + 1))
@@ -312,6 +315,9 @@ def release_ends(U, vbc, idp, dprm, bvec, Tr, wp, tab_eps, tab_T):
             dprm[DP_TC0 + 3 * end] = a * i0
             dprm[DP_TC0 + 3 * end + 1] = a * i1
             dprm[DP_TC0 + 3 * end + 2] = a * i2
+            dprm[DP_IP0 + 3 * end] = i0
+            dprm[DP_IP0 + 3 * end + 1] = i1
+            dprm[DP_IP0 + 3 * end + 2] = i2
     return nrel
 
 
@@ -410,8 +416,8 @@ def bending_shear_points(blk, dprm, wp, c_e):
 def tension_divergence(blk, Pj, bvec, idp, dprm, wp, dst, c_dst, with_const):
     """dst modes = Pj AM Div(WP_TV): the damping force per metre (dv/dt) from the tension vector.
 
-    At a released velocity end (release_ends) the flux is the constant DP_TC (only if with_const)
-    instead of the trace: Div gets bvec[end] (flux - trace) on the end element."""
+    At a released velocity end (release_ends) the axial part of the flux is the constant DP_TC (only
+    if with_const) instead of the trace: Div gets bvec[end] (flux - (trace . i+) i+) on the end element."""
     N, nq = wp.shape[0], wp.shape[1]
     nm = dst.shape[1]
     at = dprm[DP_AT]
@@ -420,11 +426,14 @@ def tension_divergence(blk, Pj, bvec, idp, dprm, wp, dst, c_dst, with_const):
     for end in range(2):
         if idp[ID_REL0 + end] != 0:
             e = end * (N - 1)
+            ta = 0.0  # axial part of the trace (the clip removes only that)
             for c in range(3):
                 tr = 0.0
                 for m in range(nq):
                     tr += bvec[2 + end, m] * wp[e, m, WP_TV + c]
-                jump = (dprm[DP_TC0 + 3 * end + c] if with_const else 0.0) - tr
+                ta += tr * dprm[DP_IP0 + 3 * end + c]
+            for c in range(3):
+                jump = (dprm[DP_TC0 + 3 * end + c] if with_const else 0.0) - ta * dprm[DP_IP0 + 3 * end + c]
                 for j in range(nq):
                     wp[e, j, WP_R + c] += bvec[end, j] * jump
     for e in range(N):
@@ -464,11 +473,8 @@ def end_damping_forces(idp, dprm, bvec, U, Tr, wp, fdamp):
         ql = 0.0
         for c in range(3):
             s = 0.0
-            if idp[ID_REL0 + end] != 0:
-                s = dprm[DP_TC0 + 3 * end + c]
-            else:
-                for j in range(nq):
-                    s += bvec[2 + end, j] * wp[e, j, WP_TV + c]
+            for j in range(nq):
+                s += bvec[2 + end, j] * wp[e, j, WP_TV + c]
             fdamp[end, c] = sgn * s
             qc = 0.0
             for k in range(nm):
@@ -476,6 +482,16 @@ def end_damping_forces(idp, dprm, bvec, U, Tr, wp, fdamp):
             q += s * qc
             ql += qc * qc
         fdamp[end, 3] = q / math.sqrt(ql) if ql > 0.0 else 0.0
+        if idp[ID_REL0 + end] != 0:  # released: axial part replaced by the constant flux
+            ta = 0.0
+            for c in range(3):
+                ta += sgn * fdamp[end, c] * dprm[DP_IP0 + 3 * end + c]
+            for c in range(3):
+                ic = dprm[DP_IP0 + 3 * end + c]
+                fdamp[end, c] += sgn * (dprm[DP_TC0 + 3 * end + c] - ta * ic)
+            fdamp[end, 3] = 0.0
+            for c in range(3):
+                fdamp[end, 3] += sgn * fdamp[end, c] * dprm[DP_IP0 + 3 * end + c]
 
 
 @jit
@@ -588,8 +604,8 @@ def assemble_axial(blk, bvec, idp, dprm, wp, gh, A, kl, tmp):
 
 @jit
 def release_correction(blk, bvec, dprm, wp, gh, A, kl, end):
-    """K of a released end: Div of the end element loses the trace flux, a rank-one change
-    -bvec[end] (x) bvec[2 + end]; K += -GP[e, e_end] (i^T AM i) bvec[end] bvec[2 + end] Z."""
+    """K of a released end: Div of the end element loses the axial part of the trace flux, a rank-one
+    change; K += -GP[e, e_end] (i_j^T AM_m i+) (i+ . i_jj) bvec[end]_m bvec[2 + end]_jj Z_jj."""
     N, nq = wp.shape[0], wp.shape[1]
     at = dprm[DP_AT]
     an = dprm[DP_AN]
@@ -600,14 +616,19 @@ def release_correction(blk, bvec, dprm, wp, gh, A, kl, end):
             r = e * nq + j
             o = ee * nq - r + kl
             for jj in range(nq):
-                zt = wp[ee, jj, WP_Z] * bvec[2 + end, jj]
+                p0 = dprm[DP_IP0 + 3 * end]
+                p1 = dprm[DP_IP0 + 3 * end + 1]
+                p2 = dprm[DP_IP0 + 3 * end + 2]
+                zt = wp[ee, jj, WP_Z] * bvec[2 + end, jj] * (
+                    p0 * wp[ee, jj, WP_I] + p1 * wp[ee, jj, WP_I + 1] + p2 * wp[ee, jj, WP_I + 2])
                 if zt == 0.0:
                     continue
-                dj = _dot_i(wp, e, j, ee, jj)
+                dj = wp[e, j, WP_I] * p0 + wp[e, j, WP_I + 1] * p1 + wp[e, j, WP_I + 2] * p2
                 s = 0.0
                 for m in range(nq):
                     gb = blk[OP_GP, e, d, j, m] * bvec[end, m]
-                    s += gb * (an * dj + (at - an) * _dot_i(wp, e, j, ee, m) * _dot_i(wp, ee, m, ee, jj))
+                    mp = wp[ee, m, WP_I] * p0 + wp[ee, m, WP_I + 1] * p1 + wp[ee, m, WP_I + 2] * p2
+                    s += gb * (an * dj + (at - an) * _dot_i(wp, e, j, ee, m) * mp)
                 A[r, o + jj] += gh * s * zt
 
 
