@@ -22,15 +22,15 @@ import drive  # noqa: E402
 import ropos_case as rc  # noqa: E402
 
 
-def config(length, damping, alpha=0.0, n_elements=20, order=4, cfl=0.5, interval=1):
+def config(length, damping, alpha=0.0, n_elements=20, order=4, cfl=0.5):
     cfg = rc.ropos_config(length, alpha=alpha, n_elements=n_elements, order=order, cfl=cfl)
-    return dataclasses.replace(cfg, dg=dataclasses.replace(cfg.dg, damping=damping, damping_interval=interval))
+    return dataclasses.replace(cfg, dg=dataclasses.replace(cfg.dg, damping=damping))
 
 
-def measure(length, damping, duration, alpha=0.0, n_elements=20, order=4, cfl=0.5, interval=1):
-    res = drive.run(config(length, damping, alpha, n_elements, order, cfl, interval), duration, motion=rc.fairlead_motion)
+def measure(length, damping, duration, alpha=0.0, n_elements=20, order=4, cfl=0.5):
+    res = drive.run(config(length, damping, alpha, n_elements, order, cfl), duration, motion=rc.fairlead_motion)
     first = rc.snap_peak(res["t"], res["ship"], *rc.FIRST_SNAP_WINDOW) if duration > 10.0 else (np.nan, np.nan)
-    return {"damping": damping if damping == "explicit" else f"implicit m={interval}", "dt": res["time_step"], "cpu_per_s": res["cpu"] / duration,
+    return {"damping": damping, "dt": res["time_step"], "cpu_per_s": res["cpu"] / duration,
             "static": float(res["ship"][0]), "first_peak": first[0], "first_peak_t": first[1],
             "substeps": res["substeps"], "t": res["t"], "ship": res["ship"]}
 
@@ -43,18 +43,17 @@ def main(argv=None):
     p.add_argument("--elements", type=int, default=20)
     p.add_argument("--order", type=int, default=4)
     p.add_argument("--cfl", type=float, default=0.5)
-    p.add_argument("--intervals", type=int, nargs="+", default=[1, 2, 4], help="dg.damping_interval values")
     p.add_argument("--save", default=None, help="npz file for the tension records")
     a = p.parse_args(argv)
     for mode in ("explicit", "implicit"):  # compile both paths before timing
-        measure(200.0, mode, 0.04, a.alpha, a.elements, a.order, a.cfl, 2)
+        measure(200.0, mode, 0.04, a.alpha, a.elements, a.order, a.cfl)
     rows, records = [], {}
     for L in a.lengths:
         ex = measure(L, "explicit", a.duration, a.alpha, a.elements, a.order, a.cfl)
-        ims = [measure(L, "implicit", a.duration, a.alpha, a.elements, a.order, a.cfl, m) for m in a.intervals]
+        ims = [measure(L, "implicit", a.duration, a.alpha, a.elements, a.order, a.cfl)]
         rows.append((L, ex, ims))
         for x in [ex] + ims:
-            key = x["damping"].replace(" ", "_").replace("=", "")
+            key = x["damping"]
             records[f"L{int(L)}_{key}_t"] = x["t"]
             records[f"L{int(L)}_{key}_ship"] = x["ship"]
         print(f"L = {L:g} m, N = {a.elements}, P = {a.order}, alpha = {a.alpha:g}, cfl = {a.cfl:g}, "

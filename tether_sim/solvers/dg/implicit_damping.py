@@ -38,7 +38,7 @@ import numpy as np
 
 from tether_sim.numerics.jit import jit
 from tether_sim.physics.constitutive import LAW_LINEAR, elastic_tension
-from tether_sim.solvers.dg.layout import K_CLAMPED, K_FORCE, K_FREE
+from tether_sim.solvers.dg.layout import K_FORCE, K_FREE
 
 MODE_EXPLICIT = 0
 MODE_AXIAL = 1
@@ -63,7 +63,8 @@ DP_EA = 5
 DP_LAMBDA = 6  # upwind speed of velocity-end fluxes (kernels: max(c, lambda_floor))
 DP_TC0 = 7  # (3 + 3) constant damping flux of released ends (runtime, see release_ends)
 DP_IP0 = 13  # (3 + 3) trace tangent i+ of released ends (runtime)
-N_DP = 19
+DP_LU_H = 19  # gamma h of the stored LU
+N_DP = 20
 
 # int parameters idp[...]
 ID_MODE = 0
@@ -73,8 +74,11 @@ ID_KIND1 = 3
 ID_REACH = 4  # elements coupled by f_d on each side (2 axial, 4 with bending damping)
 ID_KL = 5  # half bandwidth of the banded system
 ID_REL0 = 6  # (2) velocity end released for this step (no-compression clip of the end flux active)
-ID_INTERVAL = 8  # explicit substeps per implicit damping step (dg.damping_interval)
-N_ID = 9
+ID_LU_AGE = 8  # steps since the LU of the strain-rate system was computed (-1: none)
+ID_RELF0 = 9  # (2) released flags when it was computed
+N_ID = 11
+LU_MAX_AGE = 64  # refactor at least this often
+LU_TOL = 1e-4  # defect correction accepted if |correction| <= LU_TOL |solution|
 
 # per-point work wp[e, j, ...]
 WP_I = 0
@@ -93,7 +97,10 @@ WP_E2 = 28
 WP_X = 29
 WP_TC = 30  # constant damping tension of points where the no-compression clip is active
 WP_BC0 = 31  # strain rate caused by that constant force
-NWP = 32
+WP_ZF = 32  # Z when the LU of the strain-rate system was computed
+WP_KX = 33  # K x (defect correction): input x
+WP_KY = 34  # and output
+NWP = 35
 
 # modal work wd[e, k, ...]
 WD_F = 0
@@ -174,7 +181,7 @@ def build_operators(ops, h, kinds, gamma0, beta):
 class DampingWork:
     """Arrays of the implicit damping step (allocated once; passed to the compiled loop)."""
 
-    def __init__(self, mode, ops, h, kinds, cable, gamma0, m_t, m_n, beta, law_code, kind_codes, lam_bc, interval=1):
+    def __init__(self, mode, ops, h, kinds, cable, gamma0, m_t, m_n, beta, law_code, kind_codes, lam_bc):
         N, nq, nm = len(h), ops.vandermonde.shape[0], ops.vandermonde.shape[1]
         self.mode = mode
         self.blk, self.bvec = build_operators(ops, h, kinds, gamma0, beta)
@@ -195,11 +202,11 @@ class DampingWork:
         self.idp[ID_MODE], self.idp[ID_LAW] = mode, law_code
         self.idp[ID_KIND0], self.idp[ID_KIND1] = kind_codes
         self.idp[ID_REACH], self.idp[ID_KL] = reach, kl
-        self.idp[ID_INTERVAL] = max(1, int(interval))
+        self.idp[ID_LU_AGE] = -1
         self.wp = np.zeros((N, nq, NWP))
         self.wd = np.zeros((N, nm, NWD))
         self.band = np.zeros((n, 2 * kl + 1))
-        self.vec = np.zeros((3, max(n, kl + 1)))
+        self.vec = np.zeros((4, max(n, kl + 1)))
         self.tmp = np.zeros((2, N, 3, nq, nq))
         self.fdamp = np.zeros((2, 4))
 
@@ -638,7 +645,6 @@ def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, 
     the strain rates e at the points (see module doc; T_c: clip_set)."""
     N, nq = wp.shape[0], wp.shape[1]
     nm = U.shape[1]
-    n = N * nq
     kl = idp[ID_KL]
     g = GAMMA_SDIRK
     damping_geometry(U, V, idp, dprm, wp)
@@ -656,21 +662,25 @@ def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, 
         for e in range(N):
             for j in range(nq):
                 wp[e, j, WP_BC0] = 0.0
-    assemble_axial(blk, bvec, idp, dprm, wp, g * hs, band, kl, tmp)
-    band_factor(band, n, kl, vec[2])
+    gh = g * hs
+    exact = not _lu_valid(idp, dprm, wp, gh)
+    if exact:
+        _refactor(blk, bvec, idp, dprm, wp, gh, band, kl, tmp, vec)
+    _rhs_stage1(wp, gh, vec)
+    if not _stage_solve(0, exact, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec):
+        exact = True
+        _refactor(blk, bvec, idp, dprm, wp, gh, band, kl, tmp, vec)
+        _rhs_stage1(wp, gh, vec)
+        _stage_solve(0, True, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec)
     for e in range(N):
         for j in range(nq):
-            vec[0, e * nq + j] = wp[e, j, WP_E0] + g * hs * wp[e, j, WP_BC0]
-    band_solve(band, n, kl, vec, 0)
-    c1 = (1.0 - g) / g
-    for e in range(N):
-        for j in range(nq):
-            r = e * nq + j
-            e0 = wp[e, j, WP_E0]
-            bc0 = wp[e, j, WP_BC0]
-            wp[e, j, WP_E1] = vec[0, r]
-            vec[1, r] = e0 + hs * bc0 + c1 * (vec[0, r] - e0 - g * hs * bc0)
-    band_solve(band, n, kl, vec, 1)
+            wp[e, j, WP_E1] = vec[0, e * nq + j]
+    _rhs_stage2(wp, hs, g, vec)
+    if not _stage_solve(1, exact, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec):
+        _refactor(blk, bvec, idp, dprm, wp, gh, band, kl, tmp, vec)
+        _rhs_stage2(wp, hs, g, vec)
+        _stage_solve(1, True, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec)
+    idp[ID_LU_AGE] += 1
     for e in range(N):
         for j in range(nq):
             wp[e, j, WP_E2] = vec[1, e * nq + j]
@@ -683,6 +693,87 @@ def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, 
                 U[e, k, 3 + c] += hs * wd[e, k, WD_F + c]
     axial_tension_points(wp, WP_E2, True)  # stiffly accurate: E2 is the strain rate of the new state
     end_damping_forces(idp, dprm, bvec, U, Tr, wp, fdamp)
+
+
+@jit
+def _lu_valid(idp, dprm, wp, gh):
+    """The stored LU was built for this step size, active set and released ends, recently enough."""
+    if idp[ID_LU_AGE] < 0 or idp[ID_LU_AGE] >= LU_MAX_AGE or dprm[DP_LU_H] != gh:
+        return False
+    if idp[ID_REL0] != idp[ID_RELF0] or idp[ID_REL0 + 1] != idp[ID_RELF0 + 1]:
+        return False
+    N, nq = wp.shape[0], wp.shape[1]
+    for e in range(N):
+        for j in range(nq):
+            if wp[e, j, WP_Z] != wp[e, j, WP_ZF]:
+                return False
+    return True
+
+
+@jit
+def _refactor(blk, bvec, idp, dprm, wp, gh, band, kl, tmp, vec):
+    """Assemble and factor I - gh K for the present geometry; remember what it was built for."""
+    N, nq = wp.shape[0], wp.shape[1]
+    assemble_axial(blk, bvec, idp, dprm, wp, gh, band, kl, tmp)
+    band_factor(band, N * nq, kl, vec[2])
+    dprm[DP_LU_H] = gh
+    idp[ID_RELF0] = idp[ID_REL0]
+    idp[ID_RELF0 + 1] = idp[ID_REL0 + 1]
+    idp[ID_LU_AGE] = 0
+    for e in range(N):
+        for j in range(nq):
+            wp[e, j, WP_ZF] = wp[e, j, WP_Z]
+
+
+@jit
+def _rhs_stage1(wp, gh, vec):
+    N, nq = wp.shape[0], wp.shape[1]
+    for e in range(N):
+        for j in range(nq):
+            vec[0, e * nq + j] = wp[e, j, WP_E0] + gh * wp[e, j, WP_BC0]
+
+
+@jit
+def _rhs_stage2(wp, hs, g, vec):
+    N, nq = wp.shape[0], wp.shape[1]
+    c1 = (1.0 - g) / g
+    for e in range(N):
+        for j in range(nq):
+            e0 = wp[e, j, WP_E0]
+            bc0 = wp[e, j, WP_BC0]
+            vec[1, e * nq + j] = e0 + hs * bc0 + c1 * (wp[e, j, WP_E1] - e0 - g * hs * bc0)
+
+
+@jit
+def _stage_solve(col, exact, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec):
+    """vec[col]: right-hand side -> solution of (I - gh K) x = rhs with the stored LU. If that LU is
+    not exact for the present geometry, one defect correction with K applied matrix-free (K x =
+    i . G Pj AM Div(Z x i)); returns False when the correction exceeds LU_TOL of the solution."""
+    N, nq = wp.shape[0], wp.shape[1]
+    n = N * nq
+    for r in range(n):
+        vec[3, r] = vec[col, r]
+    band_solve(band, n, kl, vec, col)
+    if exact:
+        return True
+    for e in range(N):
+        for j in range(nq):
+            wp[e, j, WP_KX] = vec[col, e * nq + j]
+    axial_tension_points(wp, WP_KX, False)
+    tension_divergence(blk, Pj, bvec, idp, dprm, wp, wd, WD_P, False)
+    strain_rates(wd, WD_P, False, vbc, blk, bvec, wp, WP_KY)
+    for e in range(N):
+        for j in range(nq):
+            r = e * nq + j
+            vec[3, r] = vec[3, r] - vec[col, r] + gh * wp[e, j, WP_KY]
+    band_solve(band, n, kl, vec, 3)
+    nd = 0.0
+    nx = 0.0
+    for r in range(n):
+        vec[col, r] += vec[3, r]
+        nd = max(nd, abs(vec[3, r]))
+        nx = max(nx, abs(vec[col, r]))
+    return nd <= LU_TOL * nx
 
 
 @jit

@@ -155,7 +155,7 @@ class DGCableSolver:
         mt, mn = added_mass_per_length(cab, env)
         self._damp = DampingWork(mode, self.ops, self.h, self.kinds, cab, cab.gamma0, mt, mn, opt.beta,
                                  self.law.code, (self.iprm[Y.I_KIND0], self.iprm[Y.I_KIND1]),
-                                 max(self.prm[Y.P_LAMBDA_BC], self.prm[Y.P_LAMBDA_FLOOR]), opt.damping_interval)
+                                 max(self.prm[Y.P_LAMBDA_BC], self.prm[Y.P_LAMBDA_FLOOR]))
         self._prm_step, self._iprm_step = self.prm.copy(), self.iprm.copy()
         if mode != MODE_EXPLICIT:
             self._iprm_step[Y.I_AXDAMP] = self._iprm_step[Y.I_BENDDAMP] = 0

@@ -2,8 +2,8 @@
 rigid bodies at "body" ends (Table 1 last row: v_hat = v_RB at P, the body feels -n T_hat at P),
 with the per-substep end-tension ring buffer. The loop itself allocates nothing.
 
-With ``dg.damping: implicit`` the loop is the Strang splitting D(H/2) E(dt)^m D(H/2), H = m dt,
-m = dg.damping_interval (consecutive half steps merged into one D(H)): E is the SSP-RK3 step of the right-hand side without the
+With ``dg.damping: implicit`` the loop is the Strang splitting D(dt/2) E(dt) D(dt/2) (consecutive
+half steps merged into one D(dt)): E is the SSP-RK3 step of the right-hand side without the
 damping terms (the caller passes prm/iprm with zeta = zeta_b = 0), D the implicit damping step of
 ``implicit_damping.py``. The damping end forces of the latest D (fdamp) are added to the end loads
 of every E stage (bodies feel them; the recorded end tension includes them).
@@ -15,7 +15,7 @@ from tether_sim.numerics.jit import jit
 from tether_sim.physics.bodies import body_attachment_kinematics, body_derivatives
 from tether_sim.physics.constitutive import LAW_LINEAR
 from tether_sim.physics.hydrodynamics import added_mass_rate, current_at
-from tether_sim.solvers.dg.implicit_damping import ID_INTERVAL, MODE_EXPLICIT, damping_step
+from tether_sim.solvers.dg.implicit_damping import MODE_EXPLICIT, damping_step
 from tether_sim.solvers.dg.kernels import dg_rhs, hermite_end
 from tether_sim.solvers.dg.layout import (
     E_F, E_T, F_V, I_ANCHOR, I_CURRENT, I_KIND0, I_LAW, I_N, K_BODY, K_FORCE, K_FREE, P_GAMMA0, P_LAMBDA_BC, P_MN,
@@ -142,11 +142,9 @@ def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_ep
     idp ... fdamp: arrays of implicit_damping.DampingWork; idp[0] = 0 (explicit) skips the splitting.
     """
     implicit = idp[0] != MODE_EXPLICIT
-    every = idp[ID_INTERVAL]
-    group = 0  # first substep of the current group of `every` explicit substeps between damping steps
     if implicit:
         fill_end_kinematics(bc, iprm, t0, vbc, bs, bp)
-        damping_step(0.5 * min(every, nsteps) * dt, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, dtmp, fdamp)
+        damping_step(0.5 * dt, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, dtmp, fdamp)
     cap = buf.shape[0]
     N, nm, nv = U.shape
     anchor = iprm[I_ANCHOR]
@@ -195,12 +193,10 @@ def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_ep
             fill_end_kinematics(bc, iprm, t_new, vbc, bs, bp)
             for c in range(3):
                 ra[c] = vbc[anchor, c]
-        if implicit and ((n + 1 - group) == every or n == nsteps - 1):
-            nxt = min(every, nsteps - n - 1)
+        if implicit:
             fill_end_kinematics(bc, iprm, t_new, vbc, bs, bp)
-            damping_step(0.5 * (n + 1 - group + nxt) * dt, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd,
+            damping_step(dt if n < nsteps - 1 else 0.5 * dt, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd,
                          band, vec, dtmp, fdamp)
-            group = n + 1
         s = 0.0
         for e in range(N):
             for k in range(nm):
