@@ -11,7 +11,8 @@ recorder or RViz would (the node builds and publishes only outputs with a reader
 - cold start: empty numba cache (NUMBA_CACHE_DIR = a fresh temporary directory);
 - warm start: the same cache directory again (kernels loaded from disk);
 - start-up = process launch (parent, just before ``exec``) -> first TetherState received by the
-  helper's subscription; also split: interpreter + imports, node construction (parameters,
+  helper's subscription, and the CPU time the process used until then (what the start-up would
+  take on an idle core: the wall figure grows with the machine's load); also split: interpreter + imports, node construction (parameters,
   solver warm-up), first tick (waits for the first pose and the first timer period);
 - per tick (after the first ten): wall time of the timer callback, split into the solver's
   ``advance_to`` (the substeps), its ``state()`` sampling of the output points, its other outputs
@@ -135,6 +136,7 @@ def child(params, seconds, alpha, t_launch, subscribe):
     def on_state(_msg):
         if "first_state" not in first:
             first["first_state"] = time.time()
+            first["first_state_cpu"] = time.process_time()  # all threads of the process since its start
 
     helper.create_subscription(TetherState, "/tether/state", on_state, RELIABLE, raw=True)  # bytes: no decoding cost
     if subscribe == "all":  # like a recorder or RViz: every periodic output has a reader
@@ -179,6 +181,7 @@ def child(params, seconds, alpha, t_launch, subscribe):
     out = {
         "params": str(params), "alpha": alpha, "output_rate": cfg.node.output_rate,
         "startup_s": first.get("first_state", float("nan")) - t_launch,
+        "startup_cpu_s": first.get("first_state_cpu", float("nan")),
         "startup_parts_s": {"interpreter_and_imports": t_imported - t_launch, "of_which_interpreter": t_main - t_launch,
                             "node_construction": t_node - t_imported,
                             "first_tick": first.get("first_tick_end", float("nan")) - t_node,
@@ -224,7 +227,7 @@ def _line(name, s):
 def report(r):
     """Printed figures of one run."""
     p = r["startup_parts_s"]
-    print(f"  start-up {r['startup_s']:.2f} s to the first TetherState received (interpreter {p['of_which_interpreter']:.2f}, "
+    print(f"  start-up {r['startup_s']:.2f} s ({r['startup_cpu_s']:.2f} s of process CPU) to the first TetherState received (interpreter {p['of_which_interpreter']:.2f}, "
           f"+ imports {p['interpreter_and_imports'] - p['of_which_interpreter']:.2f}, node construction incl. solver warm-up "
           f"{p['node_construction']:.2f}, first tick {p['first_tick']:.2f}, delivery {p['delivery'] * 1e3:.1f} ms)")
     print(f"  {r['ticks']} ticks at {r['output_rate']:g} Hz (ms)      median     p99     max")
