@@ -24,8 +24,8 @@ from visualization_msgs.msg import Marker
 from tether_sim.errors import ConfigError, TetherSimError
 from tether_sim.io.inputs import EndPoseInput
 from tether_sim.io.params import load_config
-from tether_sim.ros import convert, node_params
 from tether_sim.physics.snap import SnapDetector
+from tether_sim.ros import convert, node_params
 from tether_sim.ros.driver import END_NAMES, SimulationDriver
 from tether_sim.solvers.factory import build_solver
 
