@@ -20,6 +20,9 @@ recorder or RViz would (the node builds and publishes only outputs with a reader
   clock mapping, pose interpolation, snap detector, wrenches, message encoding, publishing --
   publishing also on its own); median / p99 / max, and the thread CPU time of the same parts; the interval between tick starts (timer jitter; a period the timer skipped shows as an
   interval near 2 periods);
+- the tick's thread CPU with its advance rescaled to one output period of simulated time (a
+  tick that starts late covers more simulated time and takes more substeps; this removes that
+  effect of the machine's load on the timer from the per-tick cost);
 - kept up: simulated time advanced / wall time over the window (1 = real time, as the node runs
   at its clock), dropped lag, capped ticks; the process CPU over the window (node + helper);
 - memory: resident set size (VmRSS) and its peak (VmHWM) at the end, and VmRSS after the imports.
@@ -177,6 +180,11 @@ def child(params, seconds, alpha, t_launch, subscribe):
     outp, outp_cpu = r[:, 10], r[:, 11]
     period = 1.0 / cfg.node.output_rate
     intervals = np.diff(r[:, 0])
+    # the substeps of a tick scale with the simulated time it covered (a late tick covers more):
+    # the tick's CPU with its advance rescaled to exactly one output period of simulated time
+    covered = np.diff(r[:, 7])
+    ok = covered > 0
+    per_period = adv_cpu[1:][ok] * period / covered[ok] + (cpu - adv_cpu)[1:][ok]
     keep_up = (r[-1, 7] - r[0, 7]) / (r[-1, 0] - r[0, 0]) if len(r) > 1 else 0.0
     out = {
         "params": str(params), "alpha": alpha, "output_rate": cfg.node.output_rate,
@@ -193,6 +201,7 @@ def child(params, seconds, alpha, t_launch, subscribe):
         "solver_outputs_wall": _stats(outp), "solver_outputs_cpu": _stats(outp_cpu),
         "node_overhead_wall": _stats(wall - adv - st - outp), "node_overhead_cpu": _stats(cpu - adv_cpu - st_cpu - outp_cpu),
         "publish_wall": _stats(r[:, 8]), "publish_cpu": _stats(r[:, 9]),
+        "tick_cpu_one_period": _stats(per_period),
         "tick_interval": _stats(intervals), "skipped_periods": int(np.sum(intervals > 1.5 * period)),
         "sim_per_wall": float(keep_up), "dropped_s": float(node.driver.dropped_total),
         "capped_ticks": int(node.driver.capped_ticks), "process_cpu_fraction": process_cpu,
@@ -238,6 +247,7 @@ def report(r):
                       ("state_sampling_cpu", "  solver state()"),
                       ("solver_outputs_cpu", "  solver other outputs"), ("node_overhead_cpu", "  node overhead"),
                       ("publish_cpu", "    of which publishing"),
+                      ("tick_cpu_one_period", "tick CPU, 1 period sim."),
                       ("tick_interval", "interval between ticks")):
         print("  " + _line(name, r[key]))
     print(f"  skipped timer periods {r['skipped_periods']}, sim/wall {r['sim_per_wall']:.3f}, dropped {r['dropped_s']:.2f} s, "
