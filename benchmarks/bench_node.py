@@ -183,6 +183,13 @@ def child(params, seconds, alpha, t_launch):
     for timer in node.timers:
         if timer.callback == original:
             timer.callback = timed_tick
+    on_pose = node._on_pose
+
+    def first_pose(end, msg):
+        first.setdefault("first_pose", time.time())
+        on_pose(end, msg)
+
+    node._on_pose = first_pose
     state_pub = node.pubs["/tether/state"]
     timed_publish = state_pub.publish
 
@@ -224,7 +231,8 @@ def child(params, seconds, alpha, t_launch):
         "startup_cpu_s": first.get("first_state_cpu", float("nan")),
         "startup_parts_s": {"interpreter_and_imports": t_imported - t_launch, "of_which_interpreter": t_main - t_launch,
                             "node_construction": t_node - t_imported,
-                            "first_tick": first.get("first_state", float("nan")) - t_node},
+                            "first_tick": first.get("first_state", float("nan")) - t_node,
+                            "first_pose_after_construction": first.get("first_pose", float("nan")) - t_node},
         "ticks": int(len(r)),
         "tick_wall": _stats(wall), "tick_cpu": _stats(cpu),
         "solver_advance_wall": _stats(adv), "solver_advance_cpu": _stats(adv_cpu),
@@ -271,6 +279,7 @@ def launch(params, seconds, alpha, cache_dir, subscribe):
             received = [float(x.split()[1]) for x in helper_out.splitlines() if x.startswith("FIRST_STATE ")]
             r["startup_s"] = (received[0] - t_launch) if received else float("nan")
             r["startup_parts_s"]["delivery"] = r["startup_s"] - r["startup_published_s"]
+            r["started_without_pose"] = "starting without" in proc.stderr  # input_timeout ran out first
             return r
     raise RuntimeError(f"node run failed ({proc.returncode}):\n{proc.stdout[-2000:]}\n{proc.stderr[-3000:]}")
 
@@ -285,7 +294,10 @@ def report(r):
     print(f"  start-up {r['startup_s']:.2f} s to the first TetherState received ({r['startup_cpu_s']:.2f} s of the node's "
           f"process CPU): interpreter {p['of_which_interpreter']:.2f}, imports "
           f"{p['interpreter_and_imports'] - p['of_which_interpreter']:.2f}, node construction incl. solver warm-up "
-          f"{p['node_construction']:.2f}, first tick {p['first_tick']:.2f}, delivery {p['delivery'] * 1e3:.1f} ms")
+          f"{p['node_construction']:.2f}, first tick {p['first_tick']:.2f} (first pose "
+          f"{p['first_pose_after_construction']:.2f} s after the construction), delivery {p['delivery'] * 1e3:.1f} ms")
+    if r.get("started_without_pose"):
+        print("  (no pose had arrived within node.input_timeout: the node started from the configured positions)")
     print(f"  {r['ticks']} ticks at {r['output_rate']:g} Hz (ms)      median     p99     max")
     for key, name in (("tick_wall", "tick, wall"), ("solver_advance_wall", "  solver advance_to"),
                       ("state_sampling_wall", "  solver state()"),
