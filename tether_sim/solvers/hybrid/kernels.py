@@ -19,14 +19,18 @@ from tether_sim.physics.hydrodynamics import current_at
 P_M, P_CK, P_G, P_RHOF, P_AREA, P_D, P_CDN, P_CDT, P_CMN, P_CMT = range(10)
 P_B0, P_I0 = 10, 13  # B (torsion, bend, bend) and rotary inertia I (same order), body axis 0 = tangent
 P_DT, P_AM, P_AF, P_GAM = 16, 17, 18, 19
-P_CKC = 20  # compliance under compression (softened for a no-compression material)
-P_TW = 21  # width of the smooth transition of the compliance into compression (N)
-P_SIZE = 22
+P_SOFT = 20  # compression softening factor s (1 for a linear law, >1 for a no-compression material)
+P_TW = 21  # width W of the smooth transition into compression (N)
+P_EA = 22  # axial stiffness EA (0: inextensible, eps = 0)
+P_ZETA = 23  # axial material damping zeta (N s) [PE2020 Eq. 22]
+P_SIZE = 24
 
-# chain-node slot layout: catenary v(0:3) T(3) t(4:7); rod v(0:3) omega(3:6) kappa(6:9) f(9:12)
+# chain-node slot layout: catenary v(0:3) T(3) t(4:7) eps(7); rod v(0:3) omega(3:6) kappa(6:9) f(9:12) eps(12)
 N_SLOTS = 13  # node arrays are 13 wide so that a rigid-body node (13 states) fits
-CAT_SLOTS = 7
-ROD_SLOTS = 12
+CAT_SLOTS = 8
+ROD_SLOTS = 13
+CAT_EPS = 7
+ROD_EPS = 12
 
 
 def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia_b, inertia_t, compression_factor=1.0,
@@ -43,8 +47,10 @@ def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia
     P[P_B0:P_B0 + 3] = (tors, bend, bend)
     P[P_I0:P_I0 + 3] = (inertia_t, inertia_b, inertia_b)
     P[P_DT], P[P_AM], P[P_AF], P[P_GAM] = dt, alpha_m, alpha_f, gamma
-    P[P_CKC] = P[P_CK] * (compression_factor if cable.material == "bilinear" else 1.0)
+    P[P_SOFT] = compression_factor if cable.material in ("bilinear", "table") else 1.0
     P[P_TW] = compression_width
+    P[P_EA] = cable.EA
+    P[P_ZETA] = cable.damping
     return P
 
 
@@ -54,22 +60,53 @@ def _softplus(x):
 
 
 @jit
-def compliance(T, P):
-    """d(eps)/dT: c_k = 1/EA in tension [GP Eq. 1], rising smoothly (logistic, centred 6 T_w below
-    zero) to the softened value in compression: a smooth law, so Newton does not cycle at T = 0."""
-    x = (-T - 6.0 * P[P_TW]) / P[P_TW]
-    sig = 1.0 / (1.0 + math.exp(-x)) if x > -700.0 else 0.0
-    return P[P_CK] + (P[P_CKC] - P[P_CK]) * sig
+def _sigmoid(x):
+    return 1.0 / (1.0 + math.exp(-x)) if x > -700.0 else 0.0
 
 
 @jit
-def strain(T, P):
-    """eps(T) = integral of compliance() from 0 (so eps(0) = 0) [GP Eq. 1; PE2020 Eq. 22 regularised]."""
-    tw = P[P_TW]
-    d = P[P_CKC] - P[P_CK]
-    if d == 0.0:
-        return P[P_CK] * T
-    return P[P_CK] * T - d * tw * (_softplus((-T - 6.0 * tw) / tw) - _softplus(-6.0))
+def tension_only(x, P):
+    """Smooth no-compression map Phi of the visco-elastic tension x = EA eps + zeta deps/dt
+    [PE2020 Eq. 22: T = max(x, 0)]: Phi(x) = x/s + (1 - 1/s) W (softplus(x/W) - ln 2), i.e. slope 1
+    in tension and 1/s in compression (s = compression softening), switching over the width W around
+    x = 0; Phi(0) = 0, offset -W ln 2 for x >> W, compression floor ~ -W ln 2 + x/s."""
+    s = P[P_SOFT]
+    if s == 1.0:
+        return x
+    w = P[P_TW]
+    return x / s + (1.0 - 1.0 / s) * w * (_softplus(x / w) - math.log(2.0))
+
+
+@jit
+def tension_only_slope(x, P):
+    """dPhi/dx, between 1/s (compression) and 1 (tension)."""
+    s = P[P_SOFT]
+    if s == 1.0:
+        return 1.0
+    return 1.0 / s + (1.0 - 1.0 / s) * _sigmoid(x / P[P_TW])
+
+
+@jit
+def law_residual(T, eps, eps_rate, P):
+    """Constitutive equation of one node at t_{n+1}: T - Phi(EA eps + zeta deps/dt) = 0
+    [PE2020 Eq. 22, GP Eq. 1 with c_k = 1/EA]; for EA = 0 (c_k = 0, inextensible) eps = 0."""
+    if P[P_EA] <= 0.0:
+        return eps
+    return T - tension_only(P[P_EA] * eps + P[P_ZETA] * eps_rate, P)
+
+
+@jit
+def elastic_strain(T, P):
+    """Static strain carrying tension T (inverse of Phi(EA eps), deps/dt = 0; 0 if inextensible)."""
+    if P[P_EA] <= 0.0:
+        return 0.0
+    x = T
+    for _ in range(60):  # Newton on the monotone Phi, slope in [1/s, 1]
+        f = tension_only(x, P) - T
+        if abs(f) <= 1e-13 * (abs(T) + P[P_TW]):
+            break
+        x -= f / tension_only_slope(x, P)
+    return x / P[P_EA]
 
 
 @jit

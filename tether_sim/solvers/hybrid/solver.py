@@ -21,7 +21,7 @@ from tether_sim.solvers.hybrid import zoning
 from tether_sim.solvers.hybrid.assembly import assemble_jacobian, assemble_residual
 from tether_sim.solvers.hybrid.chain import build_chain, rod_blocks
 from tether_sim.solvers.hybrid.initial import InitialStateMixin
-from tether_sim.solvers.hybrid.kernels import P_AF, P_AM, P_GAM, pack_parameters, strain
+from tether_sim.solvers.hybrid.kernels import CAT_EPS, P_AF, P_AM, P_GAM, ROD_EPS, elastic_strain, pack_parameters
 from tether_sim.solvers.hybrid.rod import frame_at
 from tether_sim.solvers.hybrid.state_io import EndMotion, convert_state, node_profile
 
@@ -317,10 +317,9 @@ class HybridRodCatenarySolver(InitialStateMixin):
                       self.net_weight * self.length, loads, 1e-12)
         speed = max(np.abs(Yc[:, 0:3]).max(initial=0.0), 1e-3 * math.sqrt(self.config.environment.g * self.length),
                     1e-3 * self.length / self.opt.time_step)
-        per_slot_cat = np.array([speed] * 3 + [tension] + [1.0] * 3 + [1.0] * 5)
-        per_slot_rod = np.array([speed] * 3 + [speed / self.length] * 3 + [1.0 / self.length] * 3 + [tension] * 3)
-        per_slot_cat = np.append(per_slot_cat, 1.0)
-        per_slot_rod = np.append(per_slot_rod, 1.0)
+        eps = tension * self.ck if self.ck > 0.0 else 1.0
+        per_slot_cat = np.array([speed] * 3 + [tension] + [1.0] * 3 + [eps] + [1.0] * 5)
+        per_slot_rod = np.array([speed] * 3 + [speed / self.length] * 3 + [1.0 / self.length] * 3 + [tension] * 3 + [eps])
         table = np.where(cat[:, None], per_slot_cat[None, :], per_slot_rod[None, :])
         per_slot_body = np.array([self.length] * 3 + [1.0] * 4 + [speed] * 3 + [speed / self.length] * 3)
         nb = Y.shape[0] - cat.size
@@ -356,7 +355,7 @@ class HybridRodCatenarySolver(InitialStateMixin):
             if first > 0 and ch.grid[first] == ch.grid[first - 1]:
                 self.positions[first] = self.positions[first - 1]  # starts at the joint's catenary node
             for c in range(first + 1, last + 1):
-                la, lb = 1.0 + self._strain(self.Y[c - 1, 9]), 1.0 + self._strain(self.Y[c, 9])
+                la, lb = 1.0 + self.Y[c - 1, ROD_EPS], 1.0 + self.Y[c, ROD_EPS]
                 self.positions[c] = self.positions[c - 1] + 0.5 * (ch.s[c] - ch.s[c - 1]) * (
                     la * self.Lf[c - 1, 0] + lb * self.Lf[c, 0])
         st = self.stats
@@ -392,7 +391,11 @@ class HybridRodCatenarySolver(InitialStateMixin):
                 self.Lf[c] = out
 
     def _strain(self, T):
-        return float(strain(float(T), self._parameters(self.opt.time_step)))
+        """Static strain carrying tension T (inverse of the law at deps/dt = 0)."""
+        return float(elastic_strain(float(T), self._parameters(self.opt.time_step)))
+
+    def _node_strain(self, c):
+        return float(self.Y[c, ROD_EPS if self.chain.kind[c] == zoning.ROD else CAT_EPS])
 
     def _world_velocities(self):
         v = self.Y[:, 0:3].copy()
