@@ -46,7 +46,7 @@ def catenary_node_terms(Y, Yn, Ytn, rn, P, cz, cx, cy, out_pos, out_q, out_load,
         out_q[k] = (1.0 + e1) * Y[4 + k]
         out_tension_vec[k] = Yf[3] * Yf[4 + k]
     F = np.empty(3)
-    external_force(Yf[0:3], Yf[4:7], Ym[0:3], rn[2], Yf[CAT_EPS], P, cz, cx, cy, F)
+    external_force(Yf[0:3], Yf[4:7], Ym[0:3], rn, Yf[CAT_EPS], P, cz, cx, cy, F)
     for k in range(3):
         out_load[k] = F[k] - P[P_M] * Ym[k]
 

@@ -57,7 +57,7 @@ def rod_node_terms(Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, Yf, Ym, Fb):
             vw[i] += La[k, i] * Yf[k]
             aw[i] += La[k, i] * acc_b[k]
     Fw = np.empty(3)
-    external_force(vw, tw, aw, rn[2], Yf[ROD_EPS], P, cz, cx, cy, Fw)
+    external_force(vw, tw, aw, rn, Yf[ROD_EPS], P, cz, cx, cy, Fw)
     for k in range(3):
         Fb[k] = La[k, 0] * Fw[0] + La[k, 1] * Fw[1] + La[k, 2] * Fw[2]
 

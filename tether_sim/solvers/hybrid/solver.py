@@ -27,6 +27,7 @@ from tether_sim.solvers.hybrid.state_io import EndMotion, convert_state, node_pr
 
 MAX_HALVINGS = 6
 MAX_TURN = 0.3  # rad, largest tangent change per Newton iteration
+LINE_SEARCH_HALVINGS = 6
 
 
 class _NewtonFailure(Exception):
@@ -264,6 +265,7 @@ class HybridRodCatenarySolver(InitialStateMixin):
         lu = None
         res_prev = np.inf
         err_prev = np.inf
+        args = (Yn, Ytn, Ln, rn, ch.s, P, self.cz, self.cx, self.cy)
         for it in range(1, self.opt.max_newton_iterations + 1):
             assemble_residual(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, Y, Yn, Ytn, Ln, rn, ch.s, P,
                               self.cz, self.cx, self.cy, R)
@@ -271,7 +273,8 @@ class HybridRodCatenarySolver(InitialStateMixin):
                 raise _NewtonFailure("non-finite residual")
             # modified Newton: keep the factorised Jacobian while the scaled residual falls fast enough
             res = np.abs(rs * R).max() if lu is not None else np.inf
-            if lu is None or res > 0.1 * res_prev:
+            fresh = lu is None or res > 0.1 * res_prev
+            if fresh:
                 nnz = assemble_jacobian(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, ch.noff, ch.nslot, Y, Yn, Ytn, Ln,
                                         rn, ch.s, P, self.cz, self.cx, self.cy, rows, cols, vals)
                 J = csr_matrix((vals[:nnz], (rows[:nnz], cols[:nnz])), shape=(n, n))
@@ -290,6 +293,8 @@ class HybridRodCatenarySolver(InitialStateMixin):
             # to the mirror solution (T, t) -> (-T, -t) of the unit-tangent parameterisation
             turn = np.abs(dx[tangent_unknowns]).max(initial=0.0)
             lam = min(1.0, MAX_TURN / turn) if turn > 0.0 else 1.0
+            if fresh:
+                lam = self._line_search(Y, dx, lam, rs, R, args)
             Y[ch.idx_node, ch.idx_slot] -= lam * dx
             err = float(np.max(np.abs(dx) / scale)) / self.opt.newton_tolerance
             # converged, or stagnating at round-off within 1000x of the tolerance
@@ -304,6 +309,23 @@ class HybridRodCatenarySolver(InitialStateMixin):
             x[3:7] /= np.linalg.norm(x[3:7])
             self.body_x[e] = x
         self._commit(np.ascontiguousarray(Y[:K]), dt, P, it)
+
+    def _line_search(self, Y, dx, lam, rs, R, args):
+        """Backtracking on the scaled residual norm (after a fresh Jacobian): halve the step while it
+        raises |rs R|_2. Contact-like kinks (seabed onset, slack-taut switch of the law) otherwise make
+        full Newton steps jump between the two sides of the kink without converging."""
+        ch = self.chain
+        f0 = float(np.dot(rs * R, rs * R))
+        Rt = np.empty_like(R)
+        Yt = Y.copy()
+        for _ in range(LINE_SEARCH_HALVINGS):
+            Yt[ch.idx_node, ch.idx_slot] = Y[ch.idx_node, ch.idx_slot] - lam * dx
+            assemble_residual(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, Yt, *args, Rt)
+            if np.all(np.isfinite(Rt)) and float(np.dot(rs * Rt, rs * Rt)) <= (1.0 - 1e-4 * lam) * f0:
+                return lam
+            lam *= 0.5
+        self.stats["line_search_exhausted"] = self.stats.get("line_search_exhausted", 0) + 1
+        return lam * 2.0 ** LINE_SEARCH_HALVINGS if f0 > 0.0 else lam
 
     def _unknown_scales(self, Y):
         """Per-unknown magnitude used by the Newton stopping test |dx| <= tol * scale."""
