@@ -28,6 +28,7 @@ from tether_sim.solvers.hybrid.state_io import EndMotion, convert_state, node_pr
 MAX_HALVINGS = 6
 MAX_TURN = 0.3  # rad, largest tangent change per Newton iteration
 LINE_SEARCH_HALVINGS = 6
+MAX_BOOST = 256.0  # largest factor on the rod switching tension after failed Newton solves
 
 
 class _NewtonFailure(Exception):
@@ -193,6 +194,7 @@ class HybridRodCatenarySolver(InitialStateMixin):
     def _step_with_retry(self, dt):
         pieces = [dt]
         level = 0
+        boost = 4.0
         while pieces:
             h = pieces.pop(0)
             snap = (self.Y.copy(), self.Yt.copy(), self.Lf.copy())
@@ -200,8 +202,16 @@ class HybridRodCatenarySolver(InitialStateMixin):
                 self._step(h)
             except _NewtonFailure as exc:
                 self.Y, self.Yt, self.Lf = snap
-                # a catenary losing its tension is ill-conditioned [GP Sec. 5]: widen the rod zones first
-                if self.opt.zoning == "adaptive" and self.EI > 0.0 and self._rezone(boost=4.0):
+                # a catenary losing its tension is ill-conditioned [GP Sec. 5]: widen the rod zones first,
+                # with switching tensions 4, 16, 64, 256 x T_on on repeated failures, then halve the step
+                while boost <= MAX_BOOST and self.opt.zoning == "adaptive" and self.EI > 0.0:
+                    changed = self._rezone(boost=boost)
+                    boost *= 4.0
+                    if changed:
+                        break
+                else:
+                    changed = False
+                if changed:
                     self.stats["failure_rezonings"] = self.stats.get("failure_rezonings", 0) + 1
                     pieces.insert(0, h)
                     continue
