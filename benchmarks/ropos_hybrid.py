@@ -8,7 +8,8 @@ Slack-snap case (L = 200 m, f = 0.2 Hz, EI = 2620 N m^2, the shared case of benc
 orbit centre 3 m deep, one-period ramp), snap peaks per step size against the DG explicit solver
 (N = 20, P = 4; its record is cached in out/, computed once with --dg-reference, ~5 min CPU):
 
-    PYTHONPATH=. python benchmarks/ropos_hybrid.py --slack --steps 0.05 0.02 0.01 0.005 0.002 --duration 30
+    PYTHONPATH=. python benchmarks/ropos_hybrid.py --slack --steps 0.05 0.02 0.01 0.005 --duration 30 --save out
+    PYTHONPATH=. python benchmarks/ropos_hybrid.py --plot-only --steps 0.05 0.02 0.01 0.005 --save out
 
 Fairlead commanded once per implicit step through set_end_motion (as the node does when it ticks at 1/dt).
 """
@@ -108,6 +109,32 @@ def slack_study(args):
     print(f"| DG N=20 P=4 | {dg['first_peak'] / 1e3:.1f} | | {dg['mean_peak'] / 1e3:.1f} | | | | |")
 
 
+def plot_records(directory, steps, rho, duration, out="docs/figures/ropos_L200_hybrid_steps.png"):
+    """Ship tension of the saved hybrid records (--save) against DG: whole run and the first snap."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    tg, Tg, _ = dg_reference(max(duration, 35.0))
+    fig, ax = plt.subplots(1, 2, figsize=(13, 4.5), gridspec_kw={"width_ratios": [2, 1]})
+    for a, (lo, hi) in zip(ax, ((0.0, duration), (7.4, 8.8))):
+        m = (tg >= lo) & (tg <= hi)
+        a.plot(tg[m], Tg[m] / 1e3, color="0.55", lw=2.5, label="DG N=20 P=4 (explicit, dt 1.8e-5 s)")
+        for dt in steps:
+            d = np.load(Path(directory) / f"hybrid_L200_dt{dt:g}_rho{rho:g}.npz")
+            m = (d["t"] >= lo) & (d["t"] <= hi)
+            a.plot(d["t"][m], d["ship"][m] / 1e3, lw=1, label=f"hybrid dt = {dt:g} s")
+        a.set(xlabel="t (s)", ylabel="ship tension (kN)")
+        a.grid(alpha=0.3)
+    ax[0].set_title("ROPOS L = 200 m, a = 2 m, f = 0.2 Hz, EI* = 2620 N m$^2$, cage simulated")
+    ax[1].set_title("first snap")
+    ax[1].legend(fontsize=8, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(out, dpi=100)
+    print(f"wrote {out}")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("config", nargs="?", default="config/ropos_L1730.yaml")
@@ -121,8 +148,11 @@ def main():
     ap.add_argument("--rho", type=float, default=0.0)
     ap.add_argument("--softening", type=float, default=1e4)
     ap.add_argument("--save", default="", help="directory for the hybrid records (npz)")
+    ap.add_argument("--plot-only", action="store_true", help="only plot the records saved in --save")
     args = ap.parse_args()
-    if args.slack:
+    if args.plot_only:
+        plot_records(args.save, args.steps, args.rho, args.duration)
+    elif args.slack:
         args.segments = args.segments or 50
         slack_study(args)
     else:

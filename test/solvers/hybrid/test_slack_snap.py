@@ -4,7 +4,7 @@ the cage simulated (the shared case of benchmarks/ropos_case.py), up to the firs
 Reference: the DG explicit solver, N = 20, P = 4 (dt 1.8e-5 s), same case and forcing: first snap
 231.35 kN at t = 8.15 s (benchmarks/ropos_hybrid.py --slack; docs/hybrid_solver.md, step study).
 Tolerance 5 %: an implicit step of 0.02 s cannot resolve the axial snap front (ds / c = 1 ms), and
-the step study measured -2.4 % at dt = 0.02 s (-1.3 to -2.4 % for dt = 0.01-0.05 s, -0.3 % at
+the step study measured -2.4 % at dt = 0.02 s (-1.3 to -3.3 % for dt = 0.01-0.05 s, -0.9 % at
 0.005 s); 5 % leaves room for platform round-off in the chaotic slack phase while a wrong snap
 mechanism (no tension-only law, no cage inertia: 4.3 vs 28.9 kN amplitude in the taut case) is far outside.
 Also checked: the cage end goes slack (< 10 % of its static tension for > 1 s), a rod zone appears at
