@@ -116,11 +116,21 @@ def element_positions(U, ra, h, iprm, rs):
 @jit
 def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc,
            wq, wm, tr, fl, rs, tmp, dU, dra, endf):
-    """du/dt of the DG cable [PE2020 Eq. 23] into dU; anchor velocity into dra; end loads into endf.
+    """du/dt of the DG cable [PE2020 Eq. 23] into dU; anchor velocity into dra; end loads into endf."""
+    internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf)
+    momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr, fl, rs, tmp, dU)
+    k = iprm[I_ANCHOR] * iprm[I_N]
+    for c in range(3):
+        dra[c] = fl[k, F_Q + c]
 
-    Four passes over the elements (values; strain rate and tension; [bending]; sources), the
-    element operations written out with one accumulator per channel (same sums, same order as
-    elementops.py), point values consumed where they are made instead of stored and re-read.
+
+@jit
+def internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf):
+    """Steps 1-4 of dg_rhs (module docstring): point values, dq/dt into dU[..., 0:3], the tension
+    vector (+ bending shear) on the modes and at the traces, all fluxes and the end loads endf.
+
+    Passes over the elements with the element operations written out, one accumulator per
+    channel (same sums, same order as elementops.py), point values consumed where they are made.
     """
     N = iprm[I_N]
     nq = V.shape[0]
@@ -294,7 +304,16 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
         clip_compression(fl, tr, 0, 0, 0)
         clip_compression(fl, tr, N, N - 1, 1)
     end_outputs(N, tr, fl, endf, k0, k1, bc)
-    # 5. dT/ds, sources, added mass, projection
+
+
+@jit
+def momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr, fl, rs, tmp, dU):
+    """Step 5 of dg_rhs: dT/ds, drag, weight, seabed, added mass; dv/dt projected into dU[..., 3:6]."""
+    N = iprm[I_N]
+    nq = V.shape[0]
+    nm = V.shape[1]
+    g0 = prm[P_GAMMA0]
+    ig0 = 1.0 / g0
     needpos = iprm[I_NEEDPOS] != 0
     current = iprm[I_CURRENT] != 0
     seabed = iprm[I_SEABED] != 0
@@ -372,9 +391,6 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
             dU[e, l, 3] = s0
             dU[e, l, 4] = s1
             dU[e, l, 5] = s2
-    a = iprm[I_ANCHOR]
-    for c in range(3):
-        dra[c] = fl[a * N, F_Q + c]
 
 
 @jit
