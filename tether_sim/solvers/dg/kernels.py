@@ -38,6 +38,7 @@ from tether_sim.solvers.dg.layout import (
     T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TV, W_V,
 )
 from tether_sim.solvers.dg.ldg import ldg_shear_force
+from tether_sim.solvers.dg.momentum_soa import TMP_HEAD, momentum_rate_soa, soa_scratch_size
 
 
 @jit
@@ -312,9 +313,12 @@ def momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr,
     N = iprm[I_N]
     nq = V.shape[0]
     nm = V.shape[1]
+    needpos = iprm[I_NEEDPOS] != 0
+    if not needpos and tmp.shape[0] >= TMP_HEAD + soa_scratch_size(N, nm, nq):
+        momentum_rate_soa(prm, iprm, h, V, Pj, D, Lf, wq, wm, tr, fl, tmp, dU)
+        return
     g0 = prm[P_GAMMA0]
     ig0 = 1.0 / g0
-    needpos = iprm[I_NEEDPOS] != 0
     current = iprm[I_CURRENT] != 0
     seabed = iprm[I_SEABED] != 0
     if needpos:
