@@ -33,18 +33,13 @@ from tether_sim.solvers.dg.elementops import strong_derivative
 from tether_sim.solvers.dg.layout import (
     B_F, B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, E_F, E_M, E_T, E_VHAT, F_MS, F_NU, F_Q, F_V,
     I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_SEABED,
-    K_FORCE, K_FREE, M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDT, P_EA, P_FBZ, P_GAMMA0, P_HALF_RHO_D,
-    P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_QPEN, P_MN, P_MT, P_MU, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
+    M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDT, P_EA, P_FBZ, P_GAMMA0, P_HALF_RHO_D,
+    P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
     T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TV, W_V,
 )
+from tether_sim.solvers.dg.fluxes import interface_fluxes, is_force_end, velocity_fluxes  # noqa: F401 (re-exported)
 from tether_sim.solvers.dg.ldg import ldg_shear_force
-from tether_sim.solvers.dg.momentum_soa import TMP_HEAD, momentum_rate_soa, soa_scratch_size
-
-
-@jit
-def is_force_end(kind):
-    """Free and point-force ends prescribe T_hat; all others prescribe v_hat [PE2020 Table 1]."""
-    return kind == K_FREE or kind == K_FORCE
+from tether_sim.solvers.dg.soa import momentum_rate_soa, soa_momentum_applies
 
 
 @jit
@@ -87,16 +82,6 @@ def local_speed(prm, law, q0, q1, q2, tab_eps, tab_T):
 
 
 @jit
-def interface_fluxes(fl, tr, N, c_fl, c_u, c_f, scale_f, penalty):
-    """Interior Lax-Friedrichs fluxes F_hat = (F_L + F_R)/2 + penalty lambda/2 (u_R - u_L) [Eq. 24]."""
-    for k in range(1, N):
-        lam = penalty * max(tr[k - 1, 1, T_LAM], tr[k, 0, T_LAM])
-        for c in range(3):
-            fl[k, c_fl + c] = 0.5 * scale_f * (tr[k - 1, 1, c_f + c] + tr[k, 0, c_f + c]) \
-                + 0.5 * lam * (tr[k, 0, c_u + c] - tr[k - 1, 1, c_u + c])
-
-
-@jit
 def element_positions(U, ra, h, iprm, rs):
     """Position rs[e] of the left end of every element, from the anchor ra by integrating q."""
     N = iprm[I_N]
@@ -118,7 +103,7 @@ def element_positions(U, ra, h, iprm, rs):
 def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc,
            wq, wm, tr, fl, rs, tmp, dU, dra, endf):
     """du/dt of the DG cable [PE2020 Eq. 23] into dU; anchor velocity into dra; end loads into endf."""
-    internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf)
+    internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf, tmp)
     momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr, fl, rs, tmp, dU)
     k = iprm[I_ANCHOR] * iprm[I_N]
     for c in range(3):
@@ -126,7 +111,7 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
 
 
 @jit
-def internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf):
+def internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf, tmp):
     """Steps 1-4 of dg_rhs (module docstring): point values, dq/dt into dU[..., 0:3], the tension
     vector (+ bending shear) on the modes and at the traces, all fluxes and the end loads endf.
 
@@ -134,13 +119,40 @@ def internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, 
     channel (same sums, same order as elementops.py), point values consumed where they are made.
     """
     N = iprm[I_N]
+    g0 = prm[P_GAMMA0]
+    law = iprm[I_LAW]
+    k0 = iprm[I_KIND0]
+    k1 = iprm[I_KIND1]
+    tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU)
+    # 4. fluxes of the tension vector, boundary fluxes, end loads
+    interface_fluxes(fl, tr, N, F_V, T_V, T_TV, 1.0, 1.0)
+    lam0 = max(tr[0, 0, T_LAM], prm[P_LAMBDA_BC])
+    lam1 = max(tr[N - 1, 1, T_LAM], prm[P_LAMBDA_BC])
+    for c in range(3):
+        if is_force_end(k0):
+            fl[0, F_V + c] = -bc[0, B_F + c]
+        else:  # n = -1
+            fl[0, F_V + c] = tr[0, 0, T_TV + c] - lam0 * (g0 * vbc[0, 3 + c] - tr[0, 0, T_V + c])
+        if is_force_end(k1):
+            fl[N, F_V + c] = bc[1, B_F + c]
+        else:  # n = +1
+            fl[N, F_V + c] = tr[N - 1, 1, T_TV + c] + lam1 * (g0 * vbc[1, 3 + c] - tr[N - 1, 1, T_V + c])
+    if law != LAW_LINEAR:
+        clip_compression(fl, tr, 0, 0, 0)
+        clip_compression(fl, tr, N, N - 1, 1)
+    end_outputs(N, tr, fl, endf, k0, k1, bc)
+
+
+@jit
+def tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU):
+    """Steps 1-3 of dg_rhs element by element (any law, bending): values, fluxes of F_q, dq/dt,
+    strain rate, tension vector (+ T_s) projected on the modes and its traces."""
+    N = iprm[I_N]
     nq = V.shape[0]
     nm = V.shape[1]
     g0 = prm[P_GAMMA0]
     ig0 = 1.0 / g0
     law = iprm[I_LAW]
-    k0 = iprm[I_KIND0]
-    k1 = iprm[I_KIND1]
     bending = iprm[I_BENDING] != 0
     lam_taut = math.sqrt(prm[P_EA] / g0)  # = local_speed of a taut trace for the (bi)linear laws
     lam_floor = prm[P_LAMBDA_FLOOR]
@@ -202,21 +214,11 @@ def internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, 
                     lam = 0.0
                 lam = lam if lam > lam_floor else lam_floor
             tr[e, side, T_LAM] = lam
-    # 2. fluxes of F_q = v / gamma0 and dq/dt
-    interface_fluxes(fl, tr, N, F_Q, T_Q, T_V, ig0, prm[P_QPEN])
-    for c in range(3):
-        fl[0, F_Q + c] = tr[0, 0, T_V + c] * ig0 if is_force_end(k0) else vbc[0, 3 + c]
-        fl[N, F_Q + c] = tr[N - 1, 1, T_V + c] * ig0 if is_force_end(k1) else vbc[1, 3 + c]
+    # 2. fluxes of F_q = v / gamma0 (and of the strain-rate gradient)
+    velocity_fluxes(prm, iprm, vbc, tr, fl)
     EA = prm[P_EA]
     zeta = prm[P_ZETA]
     damped = iprm[I_AXDAMP] != 0
-    if damped:  # central fluxes for the strain-rate gradient of the damping terms (LDG-style)
-        for k in range(1, N):
-            for c in range(3):
-                fl[k, F_NU + c] = 0.5 * (tr[k - 1, 1, T_V + c] + tr[k, 0, T_V + c]) * ig0
-        for c in range(3):
-            fl[0, F_NU + c] = fl[0, F_Q + c]
-            fl[N, F_NU + c] = fl[N, F_Q + c]
     for e in range(N):
         # dq/dt = d(v/gamma0)/ds with the Lax-Friedrichs fluxes; the strain-rate gradient shares
         # the volume term and differs only in the (central) interface fluxes
@@ -288,23 +290,6 @@ def internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, 
         ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, bc, wq, wm, tr, fl)
         for e in range(N):
             _project_tension(Pj, Tr, wq, wm, tr, e, nm, nq)
-    # 4. fluxes of the tension vector, boundary fluxes, end loads
-    interface_fluxes(fl, tr, N, F_V, T_V, T_TV, 1.0, 1.0)
-    lam0 = max(tr[0, 0, T_LAM], prm[P_LAMBDA_BC])
-    lam1 = max(tr[N - 1, 1, T_LAM], prm[P_LAMBDA_BC])
-    for c in range(3):
-        if is_force_end(k0):
-            fl[0, F_V + c] = -bc[0, B_F + c]
-        else:  # n = -1
-            fl[0, F_V + c] = tr[0, 0, T_TV + c] - lam0 * (g0 * vbc[0, 3 + c] - tr[0, 0, T_V + c])
-        if is_force_end(k1):
-            fl[N, F_V + c] = bc[1, B_F + c]
-        else:  # n = +1
-            fl[N, F_V + c] = tr[N - 1, 1, T_TV + c] + lam1 * (g0 * vbc[1, 3 + c] - tr[N - 1, 1, T_V + c])
-    if law != LAW_LINEAR:
-        clip_compression(fl, tr, 0, 0, 0)
-        clip_compression(fl, tr, N, N - 1, 1)
-    end_outputs(N, tr, fl, endf, k0, k1, bc)
 
 
 @jit
@@ -314,7 +299,7 @@ def momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr,
     nq = V.shape[0]
     nm = V.shape[1]
     needpos = iprm[I_NEEDPOS] != 0
-    if not needpos and tmp.shape[0] >= TMP_HEAD + soa_scratch_size(N, nm, nq):
+    if soa_momentum_applies(iprm, V, tmp):
         momentum_rate_soa(prm, iprm, h, V, Pj, D, Lf, wq, wm, tr, fl, tmp, dU)
         return
     g0 = prm[P_GAMMA0]

@@ -49,11 +49,12 @@ class SamplingPlan:
 
 
 @jit
-def evaluate_outputs(t, U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf, bs, bp):
+def evaluate_outputs(t, U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf, bs, bp,
+                     tmp):
     """The part of a right-hand-side evaluation at time t the outputs read (end loads endf, the
     modal work channels of wm): end kinematics and kernels.internal_forces, no momentum rate."""
     fill_end_kinematics(bc, iprm, t, vbc, bs, bp)
-    internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf)
+    internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf, tmp)
 
 
 @jit

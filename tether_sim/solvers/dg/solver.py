@@ -27,7 +27,7 @@ from tether_sim.solvers.dg.sampling import (
     NS, S_CURV, S_MOMENT, S_MVEC, S_POS, S_SHEAR, S_STRAIN, S_TENSION, S_TV, S_VEL, SamplingPlan, evaluate_outputs,
     sample_state,
 )
-from tether_sim.solvers.dg.momentum_soa import TMP_HEAD, soa_scratch_size
+from tether_sim.solvers.dg.soa import TMP_HEAD, soa_scratch_size
 from tether_sim.solvers.dg.stepper import STATUS_DIVERGED, dg_advance, dg_evaluate
 from tether_sim.solvers.dg.timestep import stable_dt
 
@@ -79,7 +79,7 @@ class DGCableSolver:
         self._tr = np.zeros((N, 2, Y.NTR))
         self._fl = np.zeros((N + 1, Y.NFL))
         self._rs = np.zeros((N, 3))
-        self._tmp = np.zeros(TMP_HEAD + soa_scratch_size(N, nm, nq))  # + scratch of momentum_soa
+        self._tmp = np.zeros(TMP_HEAD + soa_scratch_size(N, nm, nq))  # + scratch of soa.py
         self._vbc = np.zeros((2, 6))
         self._endf = np.zeros((2, Y.N_ENDF))
         self._buf = np.zeros((int(opt.tension_buffer), 3))
@@ -365,7 +365,7 @@ class DGCableSolver:
             return
         evaluate_outputs(self.time, self.U, self.prm, self.iprm, self.h, self.V, self.Pj, self.D, self.Lf, self.Tr,
                          self.law.tab_eps, self.law.tab_T, self.bc, self._vbc, self._wq, self._wm, self._tr, self._fl,
-                         self._dU, self._endf, self._bs, self._bp)
+                         self._dU, self._endf, self._bs, self._bp, self._tmp)
         self._eval_key = key
 
     def _locate(self, s):
