@@ -1,9 +1,12 @@
-"""Numerical fluxes at the element interfaces of the DG cable [PE2020 Eq. 24-25, Table 1] (shared by
-the element-wise kernels of kernels.py and the vectorised ones of soa.py)."""
+"""Numerical fluxes at the element interfaces of the DG cable [PE2020 Eq. 24-25, Table 1] and the
+end loads they give (boundary rules: kernels.py module docstring)."""
+
+import math
 
 from tether_sim.numerics.jit import jit
 from tether_sim.solvers.dg.layout import (
-    F_NU, F_Q, I_AXDAMP, I_KIND0, I_KIND1, I_N, K_FORCE, K_FREE, P_GAMMA0, P_QPEN, T_LAM, T_Q, T_V,
+    E_F, E_M, E_T, E_VHAT, F_MS, F_NU, F_Q, F_V, I_AXDAMP, I_KIND0, I_KIND1, I_N, K_FORCE, K_FREE, P_GAMMA0, P_QPEN,
+    T_LAM, T_Q, T_V,
 )
 
 
@@ -42,3 +45,46 @@ def velocity_fluxes(prm, iprm, vbc, tr, fl):
         for c in range(3):
             fl[0, F_NU + c] = fl[0, F_Q + c]
             fl[N, F_NU + c] = fl[N, F_Q + c]
+
+
+@jit
+def clip_compression(fl, tr, k, e, side):
+    """Remove a compressive axial part of the boundary flux T_hat (laws without compression).
+
+    The Riemann solution of a cable that cannot push has T* >= 0: a boundary moving into the cable
+    faster than the upwind term allows produces slack, not compression.
+    """
+    q0 = tr[e, side, T_Q]
+    q1 = tr[e, side, T_Q + 1]
+    q2 = tr[e, side, T_Q + 2]
+    lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
+    if lq <= 1e-300:
+        return
+    i0 = q0 / lq
+    i1 = q1 / lq
+    i2 = q2 / lq
+    a = fl[k, F_V] * i0 + fl[k, F_V + 1] * i1 + fl[k, F_V + 2] * i2
+    if a < 0.0:
+        fl[k, F_V] -= a * i0
+        fl[k, F_V + 1] -= a * i1
+        fl[k, F_V + 2] -= a * i2
+
+
+@jit
+def end_outputs(N, tr, fl, endf, k0, k1, bc):
+    """Force and moment by the cable on each end (-n T_hat, -n M_hat), axial end tension, v_hat."""
+    for end in range(2):
+        k = end * N
+        e = end * (N - 1)
+        side = end
+        sgn = 1.0 if end == 0 else -1.0  # -n
+        q0 = tr[e, side, T_Q]
+        q1 = tr[e, side, T_Q + 1]
+        q2 = tr[e, side, T_Q + 2]
+        lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
+        il = 1.0 / lq if lq > 1e-300 else 0.0
+        endf[end, E_T] = (fl[k, F_V] * q0 + fl[k, F_V + 1] * q1 + fl[k, F_V + 2] * q2) * il
+        for c in range(3):
+            endf[end, E_F + c] = sgn * fl[k, F_V + c]
+            endf[end, E_M + c] = sgn * fl[k, F_MS + c]
+            endf[end, E_VHAT + c] = fl[k, F_Q + c]

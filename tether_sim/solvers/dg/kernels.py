@@ -12,6 +12,10 @@ Shapes and channel indices: see ``layout.py``. The right-hand side is evaluated 
 5. Per Gauss point: R = dT/ds + f_b + f_d + f_c, and the added-mass system solved per point
    (dv/dt = gamma0 a); projected on the modes [Eq. 4, 12-17].
 
+Steps 1-3 are ``tension_scalar``, step 4 the end of ``internal_forces`` (what the outputs need),
+step 5 ``momentum_rate`` (vectorised across the elements in soa.py when the cable has no current
+and no seabed). Fluxes and end loads: fluxes.py.
+
 Boundary fluxes (rows of Table 1): velocity ends (prescribed, fixed, clamped, body) take
 v_hat = v_BC and T_hat = T+ + n lambda (gamma0 v_BC - v+); force ends (free, force) take
 T_hat = n F_BC and v_hat = v+. The lambda term is the upwind (exact Riemann) correction of the
@@ -31,13 +35,15 @@ from tether_sim.physics.hydrodynamics import current_at, morison_drag
 from tether_sim.physics.seabed import seabed_force
 from tether_sim.solvers.dg.elementops import strong_derivative
 from tether_sim.solvers.dg.layout import (
-    B_F, B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, E_F, E_M, E_T, E_VHAT, F_MS, F_NU, F_Q, F_V,
+    B_F, B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, F_NU, F_Q, F_V,
     I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_SEABED,
     M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDT, P_EA, P_FBZ, P_GAMMA0, P_HALF_RHO_D,
     P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
     T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TV, W_V,
 )
-from tether_sim.solvers.dg.fluxes import interface_fluxes, is_force_end, velocity_fluxes  # noqa: F401 (re-exported)
+from tether_sim.solvers.dg.fluxes import (  # noqa: F401 (re-exported)
+    clip_compression, end_outputs, interface_fluxes, is_force_end, velocity_fluxes,
+)
 from tether_sim.solvers.dg.ldg import ldg_shear_force
 from tether_sim.solvers.dg.soa import momentum_rate_soa, soa_momentum_applies
 
@@ -409,46 +415,3 @@ def _project_tension(Pj, Tr, wq, wm, tr, e, nm, nq):
         tr[e, side, T_TV] = s0
         tr[e, side, T_TV + 1] = s1
         tr[e, side, T_TV + 2] = s2
-
-
-@jit
-def clip_compression(fl, tr, k, e, side):
-    """Remove a compressive axial part of the boundary flux T_hat (laws without compression).
-
-    The Riemann solution of a cable that cannot push has T* >= 0: a boundary moving into the cable
-    faster than the upwind term allows produces slack, not compression.
-    """
-    q0 = tr[e, side, T_Q]
-    q1 = tr[e, side, T_Q + 1]
-    q2 = tr[e, side, T_Q + 2]
-    lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
-    if lq <= 1e-300:
-        return
-    i0 = q0 / lq
-    i1 = q1 / lq
-    i2 = q2 / lq
-    a = fl[k, F_V] * i0 + fl[k, F_V + 1] * i1 + fl[k, F_V + 2] * i2
-    if a < 0.0:
-        fl[k, F_V] -= a * i0
-        fl[k, F_V + 1] -= a * i1
-        fl[k, F_V + 2] -= a * i2
-
-
-@jit
-def end_outputs(N, tr, fl, endf, k0, k1, bc):
-    """Force and moment by the cable on each end (-n T_hat, -n M_hat), axial end tension, v_hat."""
-    for end in range(2):
-        k = end * N
-        e = end * (N - 1)
-        side = end
-        sgn = 1.0 if end == 0 else -1.0  # -n
-        q0 = tr[e, side, T_Q]
-        q1 = tr[e, side, T_Q + 1]
-        q2 = tr[e, side, T_Q + 2]
-        lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
-        il = 1.0 / lq if lq > 1e-300 else 0.0
-        endf[end, E_T] = (fl[k, F_V] * q0 + fl[k, F_V + 1] * q1 + fl[k, F_V + 2] * q2) * il
-        for c in range(3):
-            endf[end, E_F + c] = sgn * fl[k, F_V + c]
-            endf[end, E_M + c] = sgn * fl[k, F_MS + c]
-            endf[end, E_VHAT + c] = fl[k, F_Q + c]
