@@ -17,8 +17,12 @@ class DGOptions:
     element_lengths: tuple = param((), unit="-", doc="relative element sizes from s = 0 (N positive weights, scaled to L); empty = uniform")
     lambda_floor: float = param(0.0, unit="m/s", doc="lower bound of the Lax-Friedrichs speed (adds dissipation in slack parts; 0 = paper)", min=0.0, max=1e5)
     q_penalty: float = param(1.0, doc="factor on the Lax-Friedrichs jump penalty of the q equation: 1 = PE2020 Eq. 24; 0 = central q flux, which removes the instability of low-tension curved cables with EA/T > ~1e4 (docs/dg_solver.md)", min=0.0, max=1.0)
+<<<<<<< HEAD
     quad_points: int = param(0, doc="Gauss points per element; 0 = automatic ceil((3P+1)/2) (see docs/dg_solver.md)", min=0, max=64)
     damping: str = param("explicit", doc="material damping terms (axial zeta, bending zeta_b): explicit (in the SSP-RK3 step, whose substep they limit as h^-2 / h^-4) or implicit (Strang splitting with an L-stable SDIRK2 step of the damping, substep set by the waves only; docs/dg_solver.md)", choices=("explicit", "implicit"))
+=======
+    quad_points: int = param(0, doc="Gauss points per element; 0 = automatic (3P+1)//2 + 1 (see docs/dg_solver.md)", min=0, max=64)
+>>>>>>> main
     tension_buffer: int = param(65536, doc="capacity of the per-substep end-tension ring buffer (drain_end_tensions)", min=16, max=100000000)
 
 
@@ -42,7 +46,7 @@ class HybridOptions:
     max_newton_iterations: int = param(25, doc="Newton iterations per implicit step before the step is halved", min=2, max=1000)
     newton_tolerance: float = param(1e-9, doc="Newton stops when every update is below this times its variable scale", min=1e-15, max=1e-2)
     frames_from_curvature: bool = param(True, doc="re-derive rod frames from kappa along s after each step (else pure incremental rotations in time)")
-    compression_softening: float = param(1000.0, doc="material=bilinear: compliance under compression = this x 1/EA (a slack tether shortens almost freely)", min=1.0, max=1e9)
+    compression_softening: float = param(10000.0, doc="material=bilinear/table: the law T = Phi(EA eps + zeta deps/dt) has slope 1/this in compression (a slack tether shortens almost freely; docs/hybrid_solver.md)", min=1.0, max=1e9)
     relax_time_step: float = param(1.0, unit="s", doc="step of the initial damped relaxation (large steps damp fastest); 0 = time_step", min=0.0, max=100.0)
     static_relax_time: float = param(60.0, unit="s", doc="initial.kind=static: duration of the damped (rho_inf=0) relaxation to rest", min=0.0, max=1e6)
 
