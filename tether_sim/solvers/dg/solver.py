@@ -23,7 +23,8 @@ from tether_sim.physics.hydrodynamics import added_mass_per_length, current_tabl
 from tether_sim.physics.statics import solve_static
 from tether_sim.solvers.base import BodyState, EndForces, SolverState, end_index
 from tether_sim.solvers.dg import layout as Y
-from tether_sim.solvers.dg.implicit_damping import MODE_AXIAL, MODE_EXPLICIT, MODE_GENERAL, DampingWork
+from tether_sim.solvers.dg.damping_layout import MODE_AXIAL, MODE_EXPLICIT, MODE_GENERAL
+from tether_sim.solvers.dg.implicit_damping import DampingWork
 from tether_sim.solvers.dg.sampling import (
     NS, S_CURV, S_MOMENT, S_MVEC, S_POS, S_SHEAR, S_STRAIN, S_TENSION, S_TV, S_VEL, SamplingPlan, evaluate_outputs,
     sample_state,

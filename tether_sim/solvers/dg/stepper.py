@@ -15,7 +15,8 @@ from tether_sim.numerics.jit import jit
 from tether_sim.physics.bodies import body_attachment_kinematics, body_derivatives
 from tether_sim.physics.constitutive import LAW_LINEAR
 from tether_sim.physics.hydrodynamics import added_mass_rate, current_at
-from tether_sim.solvers.dg.implicit_damping import MODE_EXPLICIT, damping_step
+from tether_sim.solvers.dg.damping_layout import MODE_EXPLICIT
+from tether_sim.solvers.dg.implicit_damping import damping_step
 from tether_sim.solvers.dg.kernels import dg_rhs, hermite_end
 from tether_sim.solvers.dg.layout import (
     E_F, E_T, F_V, I_ANCHOR, I_CURRENT, I_KIND0, I_LAW, I_N, K_BODY, K_FORCE, K_FREE, P_GAMMA0, P_LAMBDA_BC, P_MN,
