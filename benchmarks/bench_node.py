@@ -1,24 +1,35 @@
-"""The simulation node's real-time margins: per-tick cost, start-up (cold / warm cache), memory.
+"""The simulation node's real-time margins: per-tick cost split solver / node, start-up (cold / warm
+numba cache), memory.
 
-Each measurement runs the real node (``tether_sim.ros.sim_node.TetherSimNode``, rclpy, 50 Hz timer,
-all outputs published) in a child process, next to a ship-pose publisher driving the fairlead
-along the project's circle (a = 2 m, f = 0.2 Hz, the parameter file's ``motion``) at 50 Hz:
+Each measurement runs the real node (``tether_sim.ros.sim_node.TetherSimNode``, rclpy, timer at
+``node.output_rate`` = 50 Hz, every output published) in a child process, next to a helper node that
+publishes the ship pose on the project's circle (a = 2 m, f = 0.2 Hz, the parameter file's
+``motion``) at 50 Hz and subscribes (raw bytes, no decoding) to every periodic output, like a
+recorder or RViz would (the node builds and publishes only outputs with a reader;
+``--subscribe state``: the TetherState only):
 
-- cold start: empty numba cache (NUMBA_CACHE_DIR set to a fresh temporary directory);
+- cold start: empty numba cache (NUMBA_CACHE_DIR = a fresh temporary directory);
 - warm start: the same cache directory again (kernels loaded from disk);
-- start-up time = process launch -> end of the node's first stepping tick (imports, parameter
-  validation, solver construction incl. static solve, JIT or cache load);
-- tick cost = wall time of each timer callback (stepping + snap detection + message building and
-  publishing), median / p99 / max over ``--seconds`` of ticks after the first ten; the thread CPU time
-  of the same ticks; whether the node kept up (simulated time advanced / wall time);
-- memory = resident set size (VmRSS) and its peak (VmHWM) at the end.
+- start-up = process launch (parent, just before ``exec``) -> first TetherState received by the
+  helper's subscription; also split: interpreter + imports, node construction (parameters,
+  solver warm-up), first tick (waits for the first pose and the first timer period);
+- per tick (after the first ten): wall time of the timer callback, split into the solver's
+  ``advance_to`` (the substeps), its ``state()`` sampling of the output points, its other outputs
+  (``end_forces``, ``body_state``, ``drain_end_tensions``), and the node's own overhead (the rest:
+  clock mapping, pose interpolation, snap detector, wrenches, message encoding, publishing --
+  publishing also on its own); median / p99 / max, and the thread CPU time of the same parts; the interval between tick starts (timer jitter; a period the timer skipped shows as an
+  interval near 2 periods);
+- kept up: simulated time advanced / wall time over the window (1 = real time, as the node runs
+  at its clock), dropped lag, capped ticks; the process CPU over the window (node + helper);
+- memory: resident set size (VmRSS) and its peak (VmHWM) at the end, and VmRSS after the imports.
 
-Needs rclpy (the project's .venv: ``make setup``). Usage:
-  .venv/bin/python benchmarks/bench_node.py [--params config/ropos_L1730.yaml config/ropos_L200.yaml]
-        [--seconds 20] [--alpha 1] [--json out/bench_node.json]
+Usage (the project's venv; NUMBA_CACHE_DIR of the cold run is a throw-away directory):
+  python benchmarks/bench_node.py [--params config/ropos_L1730.yaml ...] [--seconds 20] [--alpha 1]
+        [--starts cold warm] [--json out/bench_node.json]
 """
 
 import argparse
+import importlib
 import json
 import os
 import subprocess
@@ -28,51 +39,110 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-EI_STAR = 2.62e3
+EI_STAR = 2.62e3  # N m^2, the ROPOS bending stiffness of alpha = 1 [PE2020 Sec. 6.2]
 
 
-def child(params, seconds, alpha, t_launch):
+def _rss_mb(key="VmRSS"):
+    for line in Path("/proc/self/status").read_text().splitlines():
+        if line.startswith(key + ":"):
+            return float(line.split()[1]) / 1024.0
+    return float("nan")
+
+
+def _stats(values_s):
+    import numpy as np
+
+    a = np.asarray(values_s, float) * 1e3
+    if a.size == 0:
+        return {"median": float("nan"), "p99": float("nan"), "max": float("nan"), "mean": float("nan")}
+    return {"median": float(np.median(a)), "p99": float(np.percentile(a, 99)), "max": float(a.max()),
+            "mean": float(a.mean())}
+
+
+def child(params, seconds, alpha, t_launch, subscribe):
     """Runs in the child process: node + pose publisher, prints one JSON line."""
+    t_main = time.time()
     import numpy as np
     import rclpy
     from geometry_msgs.msg import PoseStamped
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.qos import qos_profile_sensor_data
+    from tether_sim_msgs.msg import TetherState
 
     from tether_sim.io.params import load_config
     from tether_sim.physics.motion import build_motion
-    from tether_sim.ros.sim_node import TetherSimNode
+    from tether_sim.ros import convert
+    from tether_sim.ros.sim_node import RELIABLE, TetherSimNode
+    from tether_sim.solvers.factory import build_solver
 
+    t_imported = time.time()
+    rss_imported = _rss_mb()
     cfg = load_config(params)
     motion = build_motion(cfg.motion, cfg.ship_end.position)
+    parts = {f"{k}{c}": 0.0 for k in ("advance", "state", "outputs", "publish") for c in ("", "_cpu")}
+
+    def timed(fn, key):
+        def wrapper(*a, **k):
+            w, c = time.perf_counter(), time.thread_time()
+            out = fn(*a, **k)
+            parts[key] += time.perf_counter() - w
+            parts[key + "_cpu"] += time.thread_time() - c
+            return out
+        return wrapper
+
+    def instrumented_factory(config):
+        solver = build_solver(config)
+        solver.advance_to = timed(solver.advance_to, "advance")
+        solver.state = timed(solver.state, "state")
+        for name in ("end_forces", "body_state", "drain_end_tensions"):
+            setattr(solver, name, timed(getattr(solver, name), "outputs"))
+        return solver
+
     args = ["tether_sim", "--ros-args", "--params-file", str(params), "-p", f"cable.EI:={alpha * EI_STAR}"]
     rclpy.init(args=args)
-    node = TetherSimNode(where=str(params))
-    ticks, cpus, sims = [], [], []
+    node = TetherSimNode(where=str(params), solver_factory=instrumented_factory)
+    t_node = time.time()
+    for publisher in node.pubs.values():
+        publisher.publish = timed(publisher.publish, "publish")
+    rows = []  # (start, wall, cpu, advance, advance_cpu, state, state_cpu, sim time) per tick
     first = {}
     original = node._on_tick
-    skip = 10  # ticks right after the start may still compile lazily-used kernels (outputs, snaps)
+    skip = 10  # the first ticks may still load lazily used kernels (outputs, snaps)
 
     def timed_tick():
+        for k in parts:
+            parts[k] = 0.0
         w, c = time.perf_counter(), time.thread_time()
         original()
         wall, cpu = time.perf_counter() - w, time.thread_time() - c
         if node.driver.solver is None:
             return
-        if "startup" not in first:
-            first["startup"] = time.time() - t_launch
+        if "first_tick_end" not in first:
+            first["first_tick_end"] = time.time()
         first["n"] = first.get("n", 0) + 1
         if first["n"] > skip:
-            ticks.append(wall)
-            cpus.append(cpu)
-            sims.append((time.perf_counter(), node.driver.solver.time))
+            rows.append((w, wall, cpu, parts["advance"], parts["advance_cpu"], parts["state"], parts["state_cpu"],
+                         node.driver.solver.time, parts["publish"], parts["publish_cpu"], parts["outputs"],
+                         parts["outputs_cpu"]))
 
     # the node created its timer with the bound method; swap the callback the timer calls
     for timer in node.timers:
         if timer.callback == original:
             timer.callback = timed_tick
-    pub_node = rclpy.create_node("ship_pose_bench")
-    pub = pub_node.create_publisher(PoseStamped, "/ship/pose", qos_profile_sensor_data)
+    helper = rclpy.create_node("ship_pose_bench")
+    pub = helper.create_publisher(PoseStamped, "/ship/pose", qos_profile_sensor_data)
+
+    def on_state(_msg):
+        if "first_state" not in first:
+            first["first_state"] = time.time()
+
+    helper.create_subscription(TetherState, "/tether/state", on_state, RELIABLE, raw=True)  # bytes: no decoding cost
+    if subscribe == "all":  # like a recorder or RViz: every periodic output has a reader
+        for topic in node._tick_topics:
+            if topic != "/tether/state":
+                package, _, name = convert.TOPICS[topic][0].split("/")
+                msg_type = getattr(importlib.import_module(f"{package}.msg"), name)
+                helper.create_subscription(msg_type, topic, lambda _m: None, RELIABLE, raw=True)
     t0 = time.time()
 
     def publish_pose():
@@ -84,77 +154,123 @@ def child(params, seconds, alpha, t_launch):
         msg.pose.orientation.w = 1.0
         pub.publish(msg)
 
-    pub_node.create_timer(0.02, publish_pose)
-    ex = SingleThreadedExecutor()
+    helper.create_timer(0.02, publish_pose)
+    ex = SingleThreadedExecutor()  # what rclpy.spin(node) in tether-sim uses
     ex.add_node(node)
-    ex.add_node(pub_node)
+    ex.add_node(helper)
     deadline = None
+    cpu0 = None
     while True:
         ex.spin_once(timeout_sec=0.1)
-        if "startup" in first and deadline is None:
+        if len(rows) == 1 and deadline is None:
             deadline = time.perf_counter() + seconds
+            cpu0 = (time.process_time(), time.perf_counter())
         if deadline is not None and time.perf_counter() >= deadline:
             break
-        if deadline is None and time.time() - t_launch > 600:
+        if deadline is None and time.time() - t_launch > 1200:
             break
-    status = {k: v for k, v in (line.split(":", 1) for line in Path("/proc/self/status").read_text().splitlines())}
-    kb = lambda key: float(status[key].split()[0]) / 1024.0  # noqa: E731
-    run = np.array(ticks) * 1e3
-    cpu = np.array(cpus) * 1e3
-    keep_up = (sims[-1][1] - sims[0][1]) / (sims[-1][0] - sims[0][0]) if len(sims) > 1 else 0.0
+    process_cpu = (time.process_time() - cpu0[0]) / (time.perf_counter() - cpu0[1]) if cpu0 else float("nan")
+    r = np.array(rows) if rows else np.zeros((0, 12))
+    wall, cpu, adv, adv_cpu, st, st_cpu = (r[:, k] for k in range(1, 7))
+    outp, outp_cpu = r[:, 10], r[:, 11]
+    period = 1.0 / cfg.node.output_rate
+    intervals = np.diff(r[:, 0])
+    keep_up = (r[-1, 7] - r[0, 7]) / (r[-1, 0] - r[0, 0]) if len(r) > 1 else 0.0
     out = {
-        "params": str(params), "alpha": alpha, "startup_s": first.get("startup"),
-        "ticks": int(run.size), "tick_median_ms": float(np.median(run)), "tick_p99_ms": float(np.percentile(run, 99)),
-        "tick_max_ms": float(run.max()), "tick_cpu_median_ms": float(np.median(cpu)),
-        "tick_cpu_p99_ms": float(np.percentile(cpu, 99)), "sim_per_wall": keep_up,
-        "dropped_s": float(node.driver.dropped_total), "capped_ticks": int(node.driver.capped_ticks),
-        "rss_mb": kb("VmRSS"), "rss_peak_mb": kb("VmHWM"), "load": os.getloadavg()[0],
+        "params": str(params), "alpha": alpha, "output_rate": cfg.node.output_rate,
+        "startup_s": first.get("first_state", float("nan")) - t_launch,
+        "startup_parts_s": {"interpreter_and_imports": t_imported - t_launch, "of_which_interpreter": t_main - t_launch,
+                            "node_construction": t_node - t_imported,
+                            "first_tick": first.get("first_tick_end", float("nan")) - t_node,
+                            "delivery": first.get("first_state", float("nan")) - first.get("first_tick_end", float("nan"))},
+        "ticks": int(len(r)),
+        "tick_wall": _stats(wall), "tick_cpu": _stats(cpu),
+        "solver_advance_wall": _stats(adv), "solver_advance_cpu": _stats(adv_cpu),
+        "state_sampling_wall": _stats(st), "state_sampling_cpu": _stats(st_cpu),
+        "solver_outputs_wall": _stats(outp), "solver_outputs_cpu": _stats(outp_cpu),
+        "node_overhead_wall": _stats(wall - adv - st - outp), "node_overhead_cpu": _stats(cpu - adv_cpu - st_cpu - outp_cpu),
+        "publish_wall": _stats(r[:, 8]), "publish_cpu": _stats(r[:, 9]),
+        "tick_interval": _stats(intervals), "skipped_periods": int(np.sum(intervals > 1.5 * period)),
+        "sim_per_wall": float(keep_up), "dropped_s": float(node.driver.dropped_total),
+        "capped_ticks": int(node.driver.capped_ticks), "process_cpu_fraction": process_cpu,
+        "rss_mb": _rss_mb(), "rss_peak_mb": _rss_mb("VmHWM"), "rss_after_imports_mb": rss_imported,
+        "load": list(os.getloadavg()),
     }
     print("BENCH_NODE " + json.dumps(out), flush=True)
+    ex.shutdown()
     node.destroy_node()
-    pub_node.destroy_node()
+    helper.destroy_node()
     rclpy.shutdown()
 
 
-def launch(params, seconds, alpha, cache_dir):
+def launch(params, seconds, alpha, cache_dir, subscribe):
     """One child run with NUMBA_CACHE_DIR = cache_dir; returns its JSON dict."""
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir), ROS_LOCALHOST_ONLY="1",
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
                ROS_DOMAIN_ID=str(100 + os.getpid() % 100))
     t_launch = time.time()
     proc = subprocess.run([sys.executable, __file__, "--child", str(params), "--seconds", str(seconds),
-                           "--alpha", str(alpha), "--t-launch", repr(t_launch)],
-                          env=env, cwd=ROOT, capture_output=True, text=True, timeout=1200)
+                           "--alpha", str(alpha), "--t-launch", repr(t_launch), "--subscribe", subscribe],
+                          env=env, cwd=ROOT, capture_output=True, text=True, timeout=2400)
     for line in proc.stdout.splitlines():
         if line.startswith("BENCH_NODE "):
             return json.loads(line[len("BENCH_NODE "):])
     raise RuntimeError(f"node run failed ({proc.returncode}):\n{proc.stdout[-2000:]}\n{proc.stderr[-3000:]}")
 
 
+def _line(name, s):
+    return f"{name:<24s} {s['median']:7.3f} {s['p99']:7.3f} {s['max']:7.3f}"
+
+
+def report(r):
+    """Printed figures of one run."""
+    p = r["startup_parts_s"]
+    print(f"  start-up {r['startup_s']:.2f} s to the first TetherState received (interpreter {p['of_which_interpreter']:.2f}, "
+          f"+ imports {p['interpreter_and_imports'] - p['of_which_interpreter']:.2f}, node construction incl. solver warm-up "
+          f"{p['node_construction']:.2f}, first tick {p['first_tick']:.2f}, delivery {p['delivery'] * 1e3:.1f} ms)")
+    print(f"  {r['ticks']} ticks at {r['output_rate']:g} Hz (ms)      median     p99     max")
+    for key, name in (("tick_wall", "tick, wall"), ("solver_advance_wall", "  solver advance_to"),
+                      ("state_sampling_wall", "  solver state()"),
+                      ("solver_outputs_wall", "  solver other outputs"), ("node_overhead_wall", "  node overhead"),
+                      ("publish_wall", "    of which publishing"), ("tick_cpu", "tick, thread CPU"), ("solver_advance_cpu", "  solver advance_to"),
+                      ("state_sampling_cpu", "  solver state()"),
+                      ("solver_outputs_cpu", "  solver other outputs"), ("node_overhead_cpu", "  node overhead"),
+                      ("publish_cpu", "    of which publishing"),
+                      ("tick_interval", "interval between ticks")):
+        print("  " + _line(name, r[key]))
+    print(f"  skipped timer periods {r['skipped_periods']}, sim/wall {r['sim_per_wall']:.3f}, dropped {r['dropped_s']:.2f} s, "
+          f"capped ticks {r['capped_ticks']}, process CPU {100 * r['process_cpu_fraction']:.0f} % of a core")
+    print(f"  RSS {r['rss_mb']:.0f} MB (peak {r['rss_peak_mb']:.0f}; {r['rss_after_imports_mb']:.0f} after the imports), "
+          f"load average {r['load'][0]:.2f} / {r['load'][1]:.2f} / {r['load'][2]:.2f}", flush=True)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--params", nargs="+", default=["config/ropos_L1730.yaml", "config/ropos_L200.yaml"])
+    ap.add_argument("--params", nargs="+", default=["config/ropos_L1730.yaml"])
     ap.add_argument("--seconds", type=float, default=20.0)
     ap.add_argument("--alpha", type=float, default=1.0, help="bending factor, EI = alpha * 2.62 kN m^2")
+    ap.add_argument("--starts", nargs="+", default=["cold", "warm"], choices=["cold", "warm"],
+                    help="cold: empty numba cache; warm: the cache the previous run filled (or the tree's "
+                         "__pycache__ when only 'warm' is given)")
     ap.add_argument("--json", default="out/bench_node.json")
     ap.add_argument("--child", default=None)
     ap.add_argument("--t-launch", type=float, default=None)
+    ap.add_argument("--subscribe", default="all", choices=["all", "state"],
+                    help="which periodic outputs get a reader (the node builds and publishes only those)")
     args = ap.parse_args(argv)
     if args.child:
-        return child(args.child, args.seconds, args.alpha, args.t_launch)
+        return child(args.child, args.seconds, args.alpha, args.t_launch, args.subscribe)
     print(f"bench_node, {os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
-          f"{args.seconds} s of ticks at the node's output rate, alpha={args.alpha:g}")
+          f"{args.seconds:g} s of ticks, alpha={args.alpha:g}, load average {os.getloadavg()[0]:.2f}")
     rows = []
     for params in args.params:
-        with tempfile.TemporaryDirectory(prefix="numba_cold_") as cache:
-            for kind in ("cold", "warm"):
-                r = launch(params, args.seconds, args.alpha, cache)
+        with tempfile.TemporaryDirectory(prefix="numba_cold_") as cold_dir:
+            for kind in args.starts:
+                cache = cold_dir if "cold" in args.starts else os.environ.get("NUMBA_CACHE_DIR", "")
+                r = launch(params, args.seconds, args.alpha, cache, args.subscribe)
                 r["start"] = kind
                 rows.append(r)
-                print(f"  {Path(params).name:<20s} {kind}: start-up {r['startup_s']:6.2f} s  tick median/p99/max "
-                      f"{r['tick_median_ms']:6.2f}/{r['tick_p99_ms']:6.2f}/{r['tick_max_ms']:6.2f} ms (cpu median/p99 "
-                      f"{r['tick_cpu_median_ms']:6.2f}/{r['tick_cpu_p99_ms']:6.2f})  sim/wall {r['sim_per_wall']:.2f}  "
-                      f"dropped {r['dropped_s']:.1f} s  RSS {r['rss_mb']:.0f} MB (peak {r['rss_peak_mb']:.0f})  "
-                      f"load {r['load']:.1f}", flush=True)
+                print(f"{Path(params).name}, {kind} start:")
+                report(r)
     Path(args.json).parent.mkdir(parents=True, exist_ok=True)
     Path(args.json).write_text(json.dumps(rows, indent=1))
     print(f"wrote {args.json}")

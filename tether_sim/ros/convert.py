@@ -1,7 +1,9 @@
 """Solver results -> ROS messages. The only place where output messages are built.
 
 Shared by the simulation node (published) and the offline runner (serialized into MCAP), so both
-produce identical topics. Frames: cable states in the world frame (ENU); wrenches in the body frames
+produce identical topics. The periodic outputs (:func:`tick_outputs`) are serialized CDR bytes
+built from numpy arrays (:mod:`tether_sim.ros.cdr`); events, the description and diagnostics are
+rclpy message objects. Frames: cable states in the world frame (ENU); wrenches in the body frames
 (force BY the tether ON the body, torque about the body frame origin).
 """
 
@@ -10,13 +12,12 @@ import math
 import numpy as np
 from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-from geometry_msgs.msg import Point, Pose, PoseStamped, Vector3, WrenchStamped
-from nav_msgs.msg import Path
-from std_msgs.msg import ColorRGBA, Header
-from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription, TetherState
-from visualization_msgs.msg import Marker
+from geometry_msgs.msg import Point
+from std_msgs.msg import Header
+from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription
 
 from tether_sim.io.params import to_flat
+from tether_sim.ros import cdr
 
 # Output topics, their message types and QoS kind (the MCAP writer's names). Remappable in the node.
 TOPICS = {
@@ -39,8 +40,8 @@ LEVEL_OK, LEVEL_WARN, LEVEL_ERROR, LEVEL_STALE = (DiagnosticStatus.OK, Diagnosti
 
 def time_msg(t: float) -> Time:
     """builtin_interfaces/Time of a clock time in seconds (clamped at 0)."""
-    ns = max(0, int(round(t * 1e9)))
-    return Time(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
+    sec, nanosec = cdr.stamp_parts(t)
+    return Time(sec=sec, nanosec=nanosec)
 
 
 def to_seconds(stamp) -> float:
@@ -53,75 +54,6 @@ def header(t: float, frame_id: str) -> Header:
 
 def _point(p) -> Point:
     return Point(x=float(p[0]), y=float(p[1]), z=float(p[2]))
-
-
-def _vector(v) -> Vector3:
-    return Vector3(x=float(v[0]), y=float(v[1]), z=float(v[2]))
-
-
-def tether_state(state, forces, solver_name: str, t: float, frame_id: str, real_time_factor: float) -> TetherState:
-    """TetherState from a SolverState sampled at the output points and the EndForces."""
-    msg = TetherState(header=header(t, frame_id), solver=solver_name)
-    msg.arc_length = np.asarray(state.arc_length, float).tolist()
-    msg.position = [Point(x=x, y=y, z=z) for x, y, z in np.asarray(state.position, float).tolist()]
-    msg.velocity = [Vector3(x=x, y=y, z=z) for x, y, z in np.asarray(state.velocity, float).tolist()]
-    msg.tension = np.asarray(state.tension, float).tolist()
-    msg.curvature = np.asarray(state.curvature, float).tolist()
-    msg.bending_moment = np.asarray(state.bending_moment, float).tolist()
-    msg.ship_end_tension = float(forces.ship_tension)
-    msg.vehicle_end_tension = float(forces.vehicle_tension)
-    msg.time_step = float(state.time_step)
-    msg.real_time_factor = float(real_time_factor)
-    return msg
-
-
-def tension_colour(tension: float, scale: float) -> ColorRGBA:
-    """Blue (slack, T <= 0) through green to red (T >= scale)."""
-    u = min(max(tension / scale, 0.0), 1.0) if scale > 0 else 0.0
-    return ColorRGBA(r=float(min(1.0, 2 * u)), g=float(1.0 - abs(2 * u - 1.0)), b=float(max(0.0, 1 - 2 * u)), a=1.0)
-
-
-def marker(state, t: float, frame_id: str, tension_scale: float, width: float = 0.2) -> Marker:
-    """LINE_STRIP of the cable with per-vertex colours by tension (len(colors) == len(points))."""
-    msg = Marker(header=header(t, frame_id), ns="tether", id=0, type=Marker.LINE_STRIP, action=Marker.ADD)
-    msg.pose.orientation.w = 1.0
-    msg.scale.x = float(width)
-    msg.color = ColorRGBA(r=1.0, g=1.0, b=0.0, a=1.0)
-    msg.points = [Point(x=x, y=y, z=z) for x, y, z in np.asarray(state.position, float).tolist()]
-    msg.colors = [tension_colour(float(T), tension_scale) for T in state.tension]
-    msg.frame_locked = False
-    return msg
-
-
-def path(state, t: float, frame_id: str) -> Path:
-    """nav_msgs/Path of the output points (orientation identity)."""
-    hdr = header(t, frame_id)
-    msg = Path(header=hdr)
-    for x, y, z in np.asarray(state.position, float).tolist():
-        pose = PoseStamped()
-        pose.header = hdr
-        pos = pose.pose.position
-        pos.x, pos.y, pos.z = x, y, z
-        pose.pose.orientation.w = 1.0
-        msg.poses.append(pose)
-    return msg
-
-
-def wrench(force, torque, t: float, frame_id: str) -> WrenchStamped:
-    """WrenchStamped: force BY the tether ON the body, in ``frame_id``, about its origin."""
-    msg = WrenchStamped(header=header(t, frame_id))
-    msg.wrench.force = _vector(force)
-    msg.wrench.torque = _vector(torque)
-    return msg
-
-
-def pose(position, orientation, t: float, frame_id: str) -> PoseStamped:
-    """PoseStamped of a body (quaternion x, y, z, w)."""
-    msg = PoseStamped(header=header(t, frame_id))
-    msg.pose = Pose(position=_point(position))
-    msg.pose.orientation.x, msg.pose.orientation.y, msg.pose.orientation.z, msg.pose.orientation.w = (
-        float(x) for x in orientation)
-    return msg
 
 
 def _end_label(location: str) -> str:
@@ -207,22 +139,62 @@ def tension_scale(driver) -> float:
     return 2.0 * max(abs(driver.static_tensions[0]), abs(driver.static_tensions[1]), 1.0)
 
 
-def tick_outputs(driver, arc_lengths) -> list:
-    """(topic, message) of every periodic output of the current driver state."""
+def tension_colours(tension, scale: float) -> np.ndarray:
+    """(n, 4) RGBA per point: blue (slack, T <= 0) through green to red (T >= scale)."""
+    tension = np.asarray(tension, float)
+    u = np.clip(tension / scale, 0.0, 1.0) if scale > 0 else np.zeros_like(tension)
+    rgba = np.ones((u.size, 4))
+    rgba[:, 0] = np.maximum(0.0, 2.0 * u - 1.0)
+    rgba[:, 1] = 1.0 - np.abs(2.0 * u - 1.0)
+    rgba[:, 2] = np.maximum(0.0, 1.0 - 2.0 * u)
+    return rgba
+
+
+MARKER_WIDTH = 0.2  # m, LINE_STRIP line width
+MARKER_COLOUR = (1.0, 1.0, 0.0, 1.0)  # RGBA of the strip (the per-vertex colours are used)
+
+
+SHAPE_TOPICS = ("/tether/state", "/tether/marker", "/tether/path")  # need the state at the output points
+
+
+def tick_outputs(driver, arc_lengths, wanted=None) -> list:
+    """(topic, serialized CDR bytes) of every periodic output of the current driver state, stamped
+    with the clock time of the state (:mod:`tether_sim.ros.cdr`; no message objects per tick).
+
+    ``wanted``: only these topics (the node passes the ones with a subscriber, so nobody pays for
+    a Marker or Path no one displays); None = all."""
     cfg, solver = driver.config, driver.solver
-    node, t = cfg.node, driver.stamp
-    state = solver.state(arc_lengths)
+    node = cfg.node
+    stamp = cdr.stamp_parts(driver.stamp)
+    world = node.world_frame
+    want = (lambda topic: True) if wanted is None else wanted.__contains__
+    out = []
     forces = solver.end_forces()
-    out = [("/tether/state", tether_state(state, forces, solver.name, t, node.world_frame, driver.real_time_factor)),
-           ("/tether/marker", marker(state, t, node.world_frame, tension_scale(driver))),
-           ("/tether/path", path(state, t, node.world_frame))]
+    if any(want(topic) for topic in SHAPE_TOPICS):
+        state = solver.state(arc_lengths)
+        points = np.asarray(state.position, float)
+        if want("/tether/state"):
+            out.append(("/tether/state", cdr.tether_state(
+                stamp, world, solver.name, state.arc_length, points, state.velocity, state.tension, state.curvature,
+                state.bending_moment, float(forces.ship_tension), float(forces.vehicle_tension),
+                float(state.time_step), float(driver.real_time_factor))))
+        if want("/tether/marker"):
+            out.append(("/tether/marker", cdr.marker_line_strip(
+                stamp, world, "tether", 0, MARKER_WIDTH, MARKER_COLOUR, points,
+                tension_colours(state.tension, tension_scale(driver)))))
+        if want("/tether/path"):
+            out.append(("/tether/path", cdr.path(stamp, world, points)))
     for end in ("ship", "vehicle"):
-        force, torque = driver.body_wrench(end, forces)
-        out.append((f"/tether/{end}_wrench", wrench(force, torque, t, getattr(node, f"{end}_frame"))))
-        if getattr(cfg, f"{end}_end").kind == "body":
-            body = solver.body_state(end)
-            if body is not None:
-                out.append((f"/{end}/sim_pose", pose(body.position, body.orientation, t, node.world_frame)))
+        wrench_topic, pose_topic = f"/tether/{end}_wrench", f"/{end}/sim_pose"
+        is_body = getattr(cfg, f"{end}_end").kind == "body"
+        if not (want(wrench_topic) or (is_body and want(pose_topic))):
+            continue
+        body = solver.body_state(end) if is_body else None
+        if want(wrench_topic):
+            force, torque = driver.body_wrench(end, forces, body)
+            out.append((wrench_topic, cdr.wrench_stamped(stamp, getattr(node, f"{end}_frame"), force, torque)))
+        if body is not None and want(pose_topic):
+            out.append((pose_topic, cdr.pose_stamped(stamp, world, body.position, body.orientation)))
     return out
 
 

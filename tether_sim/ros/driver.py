@@ -89,6 +89,7 @@ class SimulationDriver:
         self._snapshot = None
         self._snapshot_time = -np.inf
         self._snapshot_failed = False
+        self._substep = 0.0  # the solver's stable substep, s (re-read at each snapshot)
         self.real_time_factor = 0.0
         self._last_wall = None
         self.static_tensions = (0.0, 0.0)
@@ -153,6 +154,8 @@ class SimulationDriver:
                 detector.set_config(snap_config)
 
     def _take_snapshot(self):
+        # (the substep is re-read here, not every tick: it only sizes the substep cap)
+        self._substep = self.solver.stable_time_step()
         self._snapshot = self.solver.snapshot()
         self._snapshot_time = self.solver.time
         self._snapshot_failed = False
@@ -196,7 +199,7 @@ class SimulationDriver:
         max_steps = node.max_substeps_per_tick
         if self.wall_budget is not None and self.wall_per_substep > 0.0:
             max_steps = min(max_steps, max(1, int(self.wall_budget / self.wall_per_substep)))
-        cap = self.solver.time + max_steps * self.solver.stable_time_step()
+        cap = self.solver.time + max_steps * self._substep
         if target > cap:
             target, report.capped = cap, True
             self.capped_ticks += 1
@@ -283,27 +286,6 @@ class SimulationDriver:
         """Clock time of the current solver state."""
         return self.anchor + (self.solver.time if self.solver is not None else 0.0)
 
-    def end_frame(self, end):
-        """(origin (3,), quaternion (4,)) of the body frame of an end at the current state.
-
-        A simulated body reports its own pose (origin = centre of gravity); a pose input its
-        interpolated pose; otherwise the frame is taken aligned with the world with its origin where
-        the attachment offset puts it.
-        """
-        offset = np.asarray(self.offset(end), float)
-        if getattr(self.config, f"{end}_end").kind == "body":
-            body = self.solver.body_state(end)
-            if body is not None:
-                return np.asarray(body.position, float), np.asarray(body.orientation, float)
-        src = self.sources.get(end)
-        if src is not None and getattr(src, "has_data", True):
-            q = np.asarray(src.orientation_at(self.stamp), float)
-            p, _ = src.attachment_at(self.stamp)
-            return p - rotation_matrix(q) @ offset, q
-        s_end = 0.0 if end == "ship" else self.config.cable.length
-        pos = self.solver.state(np.array([s_end])).position[0]
-        return pos - offset, np.array([0.0, 0.0, 0.0, 1.0])
-
     def offset(self, end):
         """Attachment offset in the body frame of an end: ``body.attachment`` (from the centre of
         gravity) for a simulated body, else ``node.ship_attachment`` / ``node.vehicle_attachment``."""
@@ -311,15 +293,38 @@ class SimulationDriver:
             return self.config.body.attachment
         return getattr(self.config.node, f"{end}_attachment")
 
-    def body_wrench(self, end, forces):
-        """Force and torque BY the tether ON the body of ``end``, in its body frame, about its origin."""
-        _, q = self.end_frame(end)
-        R = rotation_matrix(q)
-        f_world = np.asarray(getattr(forces, f"{end}_force"), float)
-        m_world = np.asarray(getattr(forces, f"{end}_moment"), float)
-        f_body = R.T @ f_world
-        torque = np.cross(np.asarray(self.offset(end), float), f_body) + R.T @ m_world
-        return f_body, torque
+    def end_orientation(self, end, body=None):
+        """Quaternion (x, y, z, w) of the body frame of an end at the current state: a simulated
+        body's own (``body``: its BodyState if the caller already has it), a pose input's
+        interpolated one, otherwise aligned with the world."""
+        if getattr(self.config, f"{end}_end").kind == "body":
+            body = body if body is not None else self.solver.body_state(end)
+            if body is not None:
+                return np.asarray(body.orientation, float)
+        src = self.sources.get(end)
+        if src is not None and getattr(src, "has_data", True):
+            return np.asarray(src.orientation_at(self.stamp), float)
+        return np.array([0.0, 0.0, 0.0, 1.0])
+
+    def body_wrench(self, end, forces, body=None):
+        """Force and torque BY the tether ON the body of ``end``, in its body frame, about its origin
+        (``body``: the BodyState of a simulated body end, if the caller already has it):
+        ``f = R^T F``, ``torque = r x f + R^T M`` (world force F and moment M, offset r)."""
+        q = self.end_orientation(end, body).tolist()
+        f = _to_body(q, getattr(forces, f"{end}_force"))
+        m = _to_body(q, getattr(forces, f"{end}_moment"))
+        (rx, ry, rz), (fx, fy, fz) = self.offset(end), f
+        return np.array(f), np.array([ry * fz - rz * fy + m[0], rz * fx - rx * fz + m[1], rx * fy - ry * fx + m[2]])
+
+
+def _to_body(q, v):
+    """``R(q)^T v`` for a unit quaternion (x, y, z, w) and a 3-vector, in plain floats (a few
+    microseconds instead of tens for the numpy version with its small-array overheads)."""
+    x, y, z, w = q
+    a, b, c = (float(e) for e in v)
+    return ((1 - 2 * (y * y + z * z)) * a + 2 * (x * y + z * w) * b + 2 * (x * z - y * w) * c,
+            2 * (x * y - z * w) * a + (1 - 2 * (x * x + z * z)) * b + 2 * (y * z + x * w) * c,
+            2 * (x * z + y * w) * a + 2 * (y * z - x * w) * b + (1 - 2 * (x * x + y * y)) * c)
 
 
 __all__ = ["SimulationDriver", "TickReport", "MotionSource", "SnapEvent", "SlackStarted"]

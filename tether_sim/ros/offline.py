@@ -25,7 +25,7 @@ from tqdm import tqdm
 from tether_sim.errors import ConfigError, TetherSimError
 from tether_sim.io.inputs import EndPoseInput
 from tether_sim.io.params import load_config
-from tether_sim.ros import convert
+from tether_sim.ros import cdr, convert
 from tether_sim.ros.driver import END_NAMES, MotionSource, SimulationDriver
 from tether_sim.solvers.factory import build_solver
 
@@ -134,9 +134,16 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
                 elif topic == "/tether/slack_warnings":
                     counts["slack_warnings"] += 1
 
+        def write_tick():
+            """The periodic outputs (already serialized), log time = their stamp."""
+            sec, nanosec = cdr.stamp_parts(driver.stamp)
+            ns = sec * 1_000_000_000 + nanosec
+            for topic, data in convert.tick_outputs(driver, arc):
+                writer.write(topic, data, ns, ns)
+
         driver.start(t0)
         write([("/tether/description", convert.description(config, arc, t0))])
-        write(convert.tick_outputs(driver, arc))
+        write_tick()
         next_diag = t0 + 1.0
         bar = tqdm(total=n_ticks, unit="tick", disable=not progress, desc="tether-sim-offline")
         for k in range(1, n_ticks + 1):
@@ -149,7 +156,7 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
                 counts["divergences"] += report.error is not None
                 if not report.capped:
                     break
-            write(convert.tick_outputs(driver, arc))
+            write_tick()
             if now >= next_diag:
                 next_diag += 1.0
                 sim = {"running": True, "real_time_factor": driver.real_time_factor,

@@ -26,16 +26,16 @@ be pulled taut, never pushed).
 import math
 
 from tether_sim.numerics.jit import jit
-from tether_sim.physics.constitutive import LAW_LINEAR, axial_tension, tension_slope
-from tether_sim.physics.hydrodynamics import added_mass_rate, current_at, morison_drag
+from tether_sim.physics.constitutive import LAW_BILINEAR, LAW_LINEAR, LAW_TABLE, axial_tension, tension_slope
+from tether_sim.physics.hydrodynamics import current_at, morison_drag
 from tether_sim.physics.seabed import seabed_force
-from tether_sim.solvers.dg.elementops import eval_points, eval_traces, project_points, strong_derivative
+from tether_sim.solvers.dg.elementops import strong_derivative
 from tether_sim.solvers.dg.layout import (
-    B_F, B_M, B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, E_F, E_M, E_T, E_VHAT, F_MS, F_NU, F_Q, F_V,
-    I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_SEABED, K_CLAMPED,
+    B_F, B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, E_F, E_M, E_T, E_VHAT, F_MS, F_NU, F_Q, F_V,
+    I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_SEABED,
     K_FORCE, K_FREE, M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDT, P_EA, P_FBZ, P_GAMMA0, P_HALF_RHO_D,
     P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_QPEN, P_MN, P_MT, P_MU, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
-    T_TV, T_V, W_ACC, W_DT, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TV, W_V,
+    T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TV, W_V,
 )
 from tether_sim.solvers.dg.ldg import ldg_shear_force
 
@@ -116,7 +116,12 @@ def element_positions(U, ra, h, iprm, rs):
 @jit
 def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc,
            wq, wm, tr, fl, rs, tmp, dU, dra, endf):
-    """du/dt of the DG cable [PE2020 Eq. 23] into dU; anchor velocity into dra; end loads into endf."""
+    """du/dt of the DG cable [PE2020 Eq. 23] into dU; anchor velocity into dra; end loads into endf.
+
+    Four passes over the elements (values; strain rate and tension; [bending]; sources), the
+    element operations written out with one accumulator per channel (same sums, same order as
+    elementops.py), point values consumed where they are made instead of stored and re-read.
+    """
     N = iprm[I_N]
     nq = V.shape[0]
     nm = V.shape[1]
@@ -125,23 +130,67 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
     law = iprm[I_LAW]
     k0 = iprm[I_KIND0]
     k1 = iprm[I_KIND1]
-    # 1. values at Gauss points and traces
+    bending = iprm[I_BENDING] != 0
+    lam_taut = math.sqrt(prm[P_EA] / g0)  # = local_speed of a taut trace for the (bi)linear laws
+    lam_floor = prm[P_LAMBDA_FLOOR]
+    # 1. q, v at the Gauss points and traces; tangent, elongation, local wave speed
     for e in range(N):
-        eval_points(V, U, e, 0, wq, W_Q, 6, 1.0)
-        eval_traces(Tr, U, e, 0, tr, T_Q, 6, 1.0)
         for j in range(nq):
-            q0 = wq[e, j, W_Q]
-            q1 = wq[e, j, W_Q + 1]
-            q2 = wq[e, j, W_Q + 2]
-            l = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
+            s0 = 0.0
+            s1 = 0.0
+            s2 = 0.0
+            s3 = 0.0
+            s4 = 0.0
+            s5 = 0.0
+            for k in range(nm):
+                a = V[j, k]
+                s0 += a * U[e, k, 0]
+                s1 += a * U[e, k, 1]
+                s2 += a * U[e, k, 2]
+                s3 += a * U[e, k, 3]
+                s4 += a * U[e, k, 4]
+                s5 += a * U[e, k, 5]
+            wq[e, j, W_Q] = s0
+            wq[e, j, W_Q + 1] = s1
+            wq[e, j, W_Q + 2] = s2
+            wq[e, j, W_V] = s3
+            wq[e, j, W_V + 1] = s4
+            wq[e, j, W_V + 2] = s5
+            l = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
             wq[e, j, W_L] = l
             il = 1.0 / l if l > 1e-300 else 0.0
-            wq[e, j, W_I] = q0 * il
-            wq[e, j, W_I + 1] = q1 * il
-            wq[e, j, W_I + 2] = q2 * il
+            wq[e, j, W_I] = s0 * il
+            wq[e, j, W_I + 1] = s1 * il
+            wq[e, j, W_I + 2] = s2 * il
         for side in range(2):
-            tr[e, side, T_LAM] = local_speed(prm, law, tr[e, side, T_Q], tr[e, side, T_Q + 1], tr[e, side, T_Q + 2],
-                                             tab_eps, tab_T)
+            s0 = 0.0
+            s1 = 0.0
+            s2 = 0.0
+            s3 = 0.0
+            s4 = 0.0
+            s5 = 0.0
+            for k in range(nm):
+                a = Tr[side, k]
+                s0 += a * U[e, k, 0]
+                s1 += a * U[e, k, 1]
+                s2 += a * U[e, k, 2]
+                s3 += a * U[e, k, 3]
+                s4 += a * U[e, k, 4]
+                s5 += a * U[e, k, 5]
+            tr[e, side, T_Q] = s0
+            tr[e, side, T_Q + 1] = s1
+            tr[e, side, T_Q + 2] = s2
+            tr[e, side, T_V] = s3
+            tr[e, side, T_V + 1] = s4
+            tr[e, side, T_V + 2] = s5
+            if law == LAW_TABLE:
+                lam = local_speed(prm, law, s0, s1, s2, tab_eps, tab_T)
+            else:  # local_speed written out: the slope is EA (taut, or any strain for the linear law) or 0
+                lam = lam_taut
+                if law == LAW_BILINEAR and math.sqrt(s0 * s0 + s1 * s1 + s2 * s2) - 1.0 < 0.0:
+                    lam = 0.0
+                lam = lam if lam > lam_floor else lam_floor
+            tr[e, side, T_LAM] = lam
     # 2. fluxes of F_q = v / gamma0 and dq/dt
     interface_fluxes(fl, tr, N, F_Q, T_Q, T_V, ig0, prm[P_QPEN])
     for c in range(3):
@@ -158,10 +207,40 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
             fl[0, F_NU + c] = fl[0, F_Q + c]
             fl[N, F_NU + c] = fl[N, F_Q + c]
     for e in range(N):
-        strong_derivative(h[e], D, Lf, U, e, 3, ig0, tr, T_V, fl, F_Q, dU, 0, 3)
-        if damped:
-            strong_derivative(h[e], D, Lf, U, e, 3, ig0, tr, T_V, fl, F_NU, wm, M_NUS, 3)
-            eval_points(V, wm, e, M_NUS, wq, W_NUS, 3, 1.0)
+        # dq/dt = d(v/gamma0)/ds with the Lax-Friedrichs fluxes; the strain-rate gradient shares
+        # the volume term and differs only in the (central) interface fluxes
+        hb = 1.0 / h[e]
+        asc = (2.0 / h[e]) * ig0
+        jr0 = fl[e + 1, F_Q] - ig0 * tr[e, 1, T_V]
+        jr1 = fl[e + 1, F_Q + 1] - ig0 * tr[e, 1, T_V + 1]
+        jr2 = fl[e + 1, F_Q + 2] - ig0 * tr[e, 1, T_V + 2]
+        jl0 = fl[e, F_Q] - ig0 * tr[e, 0, T_V]
+        jl1 = fl[e, F_Q + 1] - ig0 * tr[e, 0, T_V + 1]
+        jl2 = fl[e, F_Q + 2] - ig0 * tr[e, 0, T_V + 2]
+        kr0 = fl[e + 1, F_NU] - ig0 * tr[e, 1, T_V]
+        kr1 = fl[e + 1, F_NU + 1] - ig0 * tr[e, 1, T_V + 1]
+        kr2 = fl[e + 1, F_NU + 2] - ig0 * tr[e, 1, T_V + 2]
+        kl0 = fl[e, F_NU] - ig0 * tr[e, 0, T_V]
+        kl1 = fl[e, F_NU + 1] - ig0 * tr[e, 0, T_V + 1]
+        kl2 = fl[e, F_NU + 2] - ig0 * tr[e, 0, T_V + 2]
+        for l in range(nm):
+            s0 = 0.0
+            s1 = 0.0
+            s2 = 0.0
+            for m in range(l + 1, nm):
+                d = D[l, m]
+                s0 += d * U[e, m, 3]
+                s1 += d * U[e, m, 4]
+                s2 += d * U[e, m, 5]
+            l1 = Lf[1, l]
+            l0 = Lf[0, l]
+            dU[e, l, 0] = asc * s0 + hb * (l1 * jr0 - l0 * jl0)
+            dU[e, l, 1] = asc * s1 + hb * (l1 * jr1 - l0 * jl1)
+            dU[e, l, 2] = asc * s2 + hb * (l1 * jr2 - l0 * jl2)
+            if damped:
+                wm[e, l, M_NUS] = asc * s0 + hb * (l1 * kr0 - l0 * kl0)
+                wm[e, l, M_NUS + 1] = asc * s1 + hb * (l1 * kr1 - l0 * kl1)
+                wm[e, l, M_NUS + 2] = asc * s2 + hb * (l1 * kr2 - l0 * kl2)
         # 3. strain rate and axial tension at the Gauss points
         for j in range(nq):
             i0 = wq[e, j, W_I]
@@ -169,18 +248,36 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
             i2 = wq[e, j, W_I + 2]
             edot = 0.0
             if damped:
-                edot = i0 * wq[e, j, W_NUS] + i1 * wq[e, j, W_NUS + 1] + i2 * wq[e, j, W_NUS + 2]
+                s0 = 0.0
+                s1 = 0.0
+                s2 = 0.0
+                for k in range(nm):
+                    a = V[j, k]
+                    s0 += a * wm[e, k, M_NUS]
+                    s1 += a * wm[e, k, M_NUS + 1]
+                    s2 += a * wm[e, k, M_NUS + 2]
+                wq[e, j, W_NUS] = s0
+                wq[e, j, W_NUS + 1] = s1
+                wq[e, j, W_NUS + 2] = s2
+                edot = i0 * s0 + i1 * s1 + i2 * s2
             wq[e, j, W_EDOT] = edot
-            T = axial_tension(law, wq[e, j, W_L] - 1.0, edot, EA, zeta, tab_eps, tab_T)
+            eps = wq[e, j, W_L] - 1.0
+            if law == LAW_TABLE:
+                T = axial_tension(law, eps, edot, EA, zeta, tab_eps, tab_T)
+            else:  # axial_tension written out for the linear and bilinear laws [Eq. 22]
+                T = EA * eps + zeta * edot
+                if law == LAW_BILINEAR and (eps <= 0.0 or not T > 0.0):
+                    T = 0.0
             wq[e, j, W_TV] = T * i0
             wq[e, j, W_TV + 1] = T * i1
             wq[e, j, W_TV + 2] = T * i2
-    if iprm[I_BENDING] != 0:
+        if not bending:
+            _project_tension(Pj, Tr, wq, wm, tr, e, nm, nq)
+    if bending:
         ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, bc, wq, wm, tr, fl)
-    # 4. tension vector on the modes, fluxes, dT/ds
-    for e in range(N):
-        project_points(Pj, wq, e, W_TV, wm, M_TV, 3)
-        eval_traces(Tr, wm, e, M_TV, tr, T_TV, 3, 1.0)
+        for e in range(N):
+            _project_tension(Pj, Tr, wq, wm, tr, e, nm, nq)
+    # 4. fluxes of the tension vector, boundary fluxes, end loads
     interface_fluxes(fl, tr, N, F_V, T_V, T_TV, 1.0, 1.0)
     lam0 = max(tr[0, 0, T_LAM], prm[P_LAMBDA_BC])
     lam1 = max(tr[N - 1, 1, T_LAM], prm[P_LAMBDA_BC])
@@ -197,26 +294,24 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
         clip_compression(fl, tr, 0, 0, 0)
         clip_compression(fl, tr, N, N - 1, 1)
     end_outputs(N, tr, fl, endf, k0, k1, bc)
-    # 5. sources, added mass, projection
+    # 5. dT/ds, sources, added mass, projection
     needpos = iprm[I_NEEDPOS] != 0
     current = iprm[I_CURRENT] != 0
     seabed = iprm[I_SEABED] != 0
     if needpos:
         element_positions(U, ra, h, iprm, rs)
     fbz = prm[P_FBZ]
-    mt = prm[P_MT]
-    mn = prm[P_MN]
     relax = prm[P_RELAX]
     hrd = prm[P_HALF_RHO_D]
     cdt = prm[P_CDT]
     cdn = prm[P_CDN]
-    uc = tmp[0:3]
-    uc[0] = 0.0
-    uc[1] = 0.0
-    uc[2] = 0.0
+    ct = g0 / (g0 + prm[P_MT])  # added mass: (gamma0 + m) a = F per direction [Eq. 13]
+    cn = g0 / (g0 + prm[P_MN])
+    u0 = 0.0
+    u1 = 0.0
+    u2 = 0.0
     for e in range(N):
         strong_derivative(h[e], D, Lf, wm, e, M_TV, 1.0, tr, T_TV, fl, F_V, wm, M_DT, 3)
-        eval_points(V, wm, e, M_DT, wq, W_DT, 3, 1.0)
         if needpos:
             for j in range(nq):
                 for c in range(3):
@@ -225,33 +320,90 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
                         s += Iq[j, k] * U[e, k, c]
                     wq[e, j, W_R + c] = rs[e, c] + 0.5 * h[e] * s
         for j in range(nq):
+            d0 = 0.0
+            d1 = 0.0
+            d2 = 0.0
+            for k in range(nm):
+                a = V[j, k]
+                d0 += a * wm[e, k, M_DT]
+                d1 += a * wm[e, k, M_DT + 1]
+                d2 += a * wm[e, k, M_DT + 2]
             l = wq[e, j, W_L]
             i0 = wq[e, j, W_I]
             i1 = wq[e, j, W_I + 1]
             i2 = wq[e, j, W_I + 2]
-            n0 = wq[e, j, W_V] * ig0
-            n1 = wq[e, j, W_V + 1] * ig0
-            n2 = wq[e, j, W_V + 2] * ig0
+            v0 = wq[e, j, W_V]
+            v1 = wq[e, j, W_V + 1]
+            v2 = wq[e, j, W_V + 2]
+            n0 = v0 * ig0
+            n1 = v1 * ig0
+            n2 = v2 * ig0
             if current:
-                current_at(wq[e, j, W_R + 2], cz, cx, cy, uc)
-            fx, fy, fz = morison_drag(i0, i1, i2, l, uc[0] - n0, uc[1] - n1, uc[2] - n2, hrd, cdt, cdn)
-            fx += wq[e, j, W_DT]
-            fy += wq[e, j, W_DT + 1]
-            fz += wq[e, j, W_DT + 2] + fbz
+                current_at(wq[e, j, W_R + 2], cz, cx, cy, tmp)
+                u0 = tmp[0]
+                u1 = tmp[1]
+                u2 = tmp[2]
+            fx, fy, fz = morison_drag(i0, i1, i2, l, u0 - n0, u1 - n1, u2 - n2, hrd, cdt, cdn)
+            fx += d0
+            fy += d1
+            fz += d2 + fbz
             if seabed:
                 sx, sy, sz = seabed_force(wq[e, j, W_R + 2], n0, n1, n2, l, prm[P_ZG], prm[P_KD], prm[P_CCRIT],
                                           prm[P_SBZETA], prm[P_MU], prm[P_VMU], fbz)
                 fx += sx
                 fy += sy
                 fz += sz
-            a0, a1, a2 = added_mass_rate(i0, i1, i2, fx, fy, fz, g0, mt, mn)
-            wq[e, j, W_ACC] = a0 - relax * wq[e, j, W_V]
-            wq[e, j, W_ACC + 1] = a1 - relax * wq[e, j, W_V + 1]
-            wq[e, j, W_ACC + 2] = a2 - relax * wq[e, j, W_V + 2]
-        project_points(Pj, wq, e, W_ACC, dU, 3, 3)
+            ft = fx * i0 + fy * i1 + fz * i2
+            p0 = ft * i0
+            p1 = ft * i1
+            p2 = ft * i2
+            wq[e, j, W_ACC] = (ct * p0 + cn * (fx - p0)) - relax * v0
+            wq[e, j, W_ACC + 1] = (ct * p1 + cn * (fy - p1)) - relax * v1
+            wq[e, j, W_ACC + 2] = (ct * p2 + cn * (fz - p2)) - relax * v2
+        for l in range(nm):
+            s0 = 0.0
+            s1 = 0.0
+            s2 = 0.0
+            for j in range(nq):
+                a = Pj[l, j]
+                s0 += a * wq[e, j, W_ACC]
+                s1 += a * wq[e, j, W_ACC + 1]
+                s2 += a * wq[e, j, W_ACC + 2]
+            dU[e, l, 3] = s0
+            dU[e, l, 4] = s1
+            dU[e, l, 5] = s2
     a = iprm[I_ANCHOR]
     for c in range(3):
         dra[c] = fl[a * N, F_Q + c]
+
+
+@jit
+def _project_tension(Pj, Tr, wq, wm, tr, e, nm, nq):
+    """Tension vector of element e: Gauss points -> modes (M_TV) -> traces (T_TV)."""
+    for l in range(nm):
+        s0 = 0.0
+        s1 = 0.0
+        s2 = 0.0
+        for j in range(nq):
+            a = Pj[l, j]
+            s0 += a * wq[e, j, W_TV]
+            s1 += a * wq[e, j, W_TV + 1]
+            s2 += a * wq[e, j, W_TV + 2]
+        wm[e, l, M_TV] = s0
+        wm[e, l, M_TV + 1] = s1
+        wm[e, l, M_TV + 2] = s2
+    for side in range(2):
+        s0 = 0.0
+        s1 = 0.0
+        s2 = 0.0
+        for k in range(nm):
+            a = Tr[side, k]
+            s0 += a * wm[e, k, M_TV]
+            s1 += a * wm[e, k, M_TV + 1]
+            s2 += a * wm[e, k, M_TV + 2]
+        tr[e, side, T_TV] = s0
+        tr[e, side, T_TV + 1] = s1
+        tr[e, side, T_TV + 2] = s2
 
 
 @jit

@@ -14,7 +14,7 @@ import numpy as np
 
 from tether_sim.errors import SolverDivergedError, UnstableTimeStepError
 from tether_sim.numerics.operators import element_operators, project_function
-from tether_sim.numerics.polys import legendre_at, legendre_integral_at
+from tether_sim.numerics.polys import legendre_integral_at
 from tether_sim.physics.bodies import (
     BODY_STATE_SIZE, body_acceleration, initial_body_state, pack_body_params, submerged_weight,
 )
@@ -23,6 +23,7 @@ from tether_sim.physics.hydrodynamics import added_mass_per_length, current_tabl
 from tether_sim.physics.statics import solve_static
 from tether_sim.solvers.base import BodyState, EndForces, SolverState, end_index
 from tether_sim.solvers.dg import layout as Y
+from tether_sim.solvers.dg.sampling import NS, S_CURV, S_MOMENT, S_MVEC, S_POS, S_SHEAR, S_STRAIN, S_TENSION, S_TV, S_VEL, SamplingPlan, sample_state
 from tether_sim.solvers.dg.stepper import STATUS_DIVERGED, dg_advance, dg_evaluate
 from tether_sim.solvers.dg.timestep import stable_dt
 
@@ -81,6 +82,7 @@ class DGCableSolver:
         self._cnt = np.zeros(1, dtype=np.int64)
         self._drained = 0
         self._out = np.zeros(2)
+        self._plans = {}
         self._bs = np.zeros((2, BODY_STATE_SIZE))
         self._bs0 = np.zeros((2, BODY_STATE_SIZE))
         self._dbs = np.zeros((2, BODY_STATE_SIZE))
@@ -359,30 +361,37 @@ class DGCableSolver:
         I = legendre_integral_at(self.P, xi)
         return starts[e] + 0.5 * self.h[e][:, None] * np.einsum("nk,nkc->nc", I, self.U[e, :, 0:3])
 
-    def state(self, arc_lengths=None) -> SolverState:
-        """Position, velocity, strain, tension, curvature and bending moment at arc lengths s."""
+    def _plan(self, arc_lengths):
+        """Sampling plan of these arc lengths (cached: a node asks for the same points every tick)."""
         if arc_lengths is None:
-            arc_lengths = np.linspace(0.0, self.L, self.config.node.output_points)
+            key = None
+        else:
+            arr = np.asarray(arc_lengths, float)
+            key = (arr.shape, arr.tobytes())
+        plan = self._plans.get(key)
+        if plan is None:
+            if arc_lengths is None:
+                arr = np.linspace(0.0, self.L, self.config.node.output_points)
+            plan = SamplingPlan(arr, self.s_edges, self.h, self.P)
+            if len(self._plans) >= 16:
+                self._plans.clear()
+            self._plans[key] = plan
+        return plan
+
+    def state(self, arc_lengths=None) -> SolverState:
+        """Position, velocity, strain, tension, curvature and bending moment at arc lengths s
+        (one compiled sampling kernel, sampling.py)."""
         self._evaluate()
-        s, e, xi = self._locate(arc_lengths)
-        phi = legendre_at(self.P, xi)
-        ev = lambda arr, c0: np.einsum("nk,nkc->nc", phi, arr[e, :, c0:c0 + 3])  # noqa: E731
-        q, v, dq = ev(self.U, 0), ev(self.U, 3), ev(self._wm, Y.M_NUS)
-        l = np.linalg.norm(q, axis=1)
-        i = q / np.where(l > 0, l, 1.0)[:, None]
-        eps = l - 1.0
-        tension = self.law.tension(eps, np.einsum("nc,nc->n", i, dq))
-        curv = np.zeros_like(s)
-        mvec = np.zeros((s.size, 3))
-        shear = np.zeros((s.size, 3))
-        if self.iprm[Y.I_BENDING]:
-            curv = np.linalg.norm(ev(self._wm, Y.M_KAP), axis=1)
-            mvec = ev(self._wm, Y.M_MS) * (l**2)[:, None]
-            shear = np.cross(i, ev(self._wm, Y.M_TAU)) / np.where(l > 0, l, 1.0)[:, None]
-        extra = {"moment_vector": mvec, "shear_force": shear, "tension_vector": ev(self._wm, Y.M_TV)}
-        return SolverState(time=self.time, arc_length=s, position=self.positions_at(s),
-                           velocity=v / self.config.cable.gamma0, tension=tension, strain=eps,
-                           curvature=curv, bending_moment=np.linalg.norm(mvec, axis=1), time_step=self._substep(),
+        plan = self._plan(arc_lengths)
+        o = np.empty((NS, plan.s.size))
+        sample_state(self.U, self.ra, self._wm, self.h, self.iprm, self.config.cable.gamma0, self.law.code,
+                     self.law.EA, self.law.zeta, self.law.tab_eps, self.law.tab_T, plan.elem, plan.phi, plan.iphi,
+                     plan.starts, o)
+        vec = lambda c0: o[c0:c0 + 3].T.copy()  # noqa: E731  (n, 3) C-contiguous
+        extra = {"moment_vector": vec(S_MVEC), "shear_force": vec(S_SHEAR), "tension_vector": vec(S_TV)}
+        return SolverState(time=self.time, arc_length=plan.s.copy(), position=vec(S_POS),
+                           velocity=vec(S_VEL), tension=o[S_TENSION], strain=o[S_STRAIN],
+                           curvature=o[S_CURV], bending_moment=o[S_MOMENT], time_step=self._substep(),
                            extra=extra)
 
     def end_forces(self) -> EndForces:

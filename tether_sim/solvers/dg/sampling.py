@@ -1,0 +1,162 @@
+"""Compiled output sampling of the DG cable at fixed arc lengths (state() of the solver).
+
+The output arc lengths of a node rarely change, so everything that depends only on them (the
+element of each point, the Legendre values phi_k(xi) and their integrals int_{-1}^{xi} phi_k) is
+computed once (:class:`SamplingPlan`) and one kernel fills every output field per call.
+
+Output block ``out`` (NS, n), one row per scalar field: position r(s) = r_a + int q ds, velocity v / gamma0,
+tension T(eps, i . d(v/gamma0)/ds) [PE2020 Eq. 22], strain eps = |q| - 1, curvature |kappa|,
+bending moment |M| with M = l^2 M*, the moment vector M, the shear force (1/l) i x tau [Eq. 20]
+and the tension vector (T i + T_s, modal projection), from the work arrays that the last
+right-hand-side evaluation left (layout.py).
+"""
+
+import numpy as np
+
+from tether_sim.numerics.jit import jit
+from tether_sim.numerics.polys import legendre_at, legendre_integral_at
+from tether_sim.physics.constitutive import axial_tension
+from tether_sim.solvers.dg.layout import I_ANCHOR, I_BENDING, M_KAP, M_MS, M_NUS, M_TAU, M_TV
+
+S_POS = 0
+S_VEL = 3
+S_TENSION = 6
+S_STRAIN = 7
+S_CURV = 8
+S_MOMENT = 9
+S_MVEC = 10
+S_SHEAR = 13
+S_TV = 16
+NS = 19
+
+
+class SamplingPlan:
+    """Element index, Legendre values and integrals at fixed arc lengths (clipped to [0, L])."""
+
+    def __init__(self, arc_lengths, s_edges, h, order):
+        N = h.size
+        L = float(s_edges[-1])
+        s = np.clip(np.atleast_1d(np.asarray(arc_lengths, float)), 0.0, L)
+        e = np.clip(np.searchsorted(s_edges, s, side="right") - 1, 0, N - 1)
+        xi = np.clip(2.0 * (s - s_edges[e]) / h[e] - 1.0, -1.0, 1.0)
+        self.s = s
+        self.elem = np.ascontiguousarray(e, dtype=np.int64)
+        self.phi = np.ascontiguousarray(legendre_at(order, xi))
+        self.iphi = np.ascontiguousarray(legendre_integral_at(order, xi))
+        self.starts = np.zeros((N, 3))
+
+
+@jit
+def element_starts(U, ra, h, iprm, starts):
+    """r at the left end of every element: r_a + cumulative sums of h int q (from the anchor end)."""
+    N = U.shape[0]
+    if iprm[I_ANCHOR] == 0:
+        for c in range(3):
+            acc = 0.0
+            for e in range(N):
+                starts[e, c] = ra[c] + acc
+                acc += h[e] * U[e, 0, c]
+    else:
+        for c in range(3):
+            acc = 0.0
+            for e in range(N - 1, -1, -1):
+                acc += h[e] * U[e, 0, c]
+                starts[e, c] = ra[c] - acc
+
+
+@jit
+def sample_state(U, ra, wm, h, iprm, g0, law, EA, zeta, tab_eps, tab_T, elem, phi, iphi, starts, out):
+    """Fill out (NS, n) at the points of a sampling plan (module docstring)."""
+    element_starts(U, ra, h, iprm, starts)
+    n = elem.shape[0]
+    nm = U.shape[1]
+    bending = iprm[I_BENDING] != 0
+    ig0 = 1.0 / g0
+    for p in range(n):
+        e = elem[p]
+        q0 = 0.0
+        q1 = 0.0
+        q2 = 0.0
+        v0 = 0.0
+        v1 = 0.0
+        v2 = 0.0
+        d0 = 0.0
+        d1 = 0.0
+        d2 = 0.0
+        r0 = 0.0
+        r1 = 0.0
+        r2 = 0.0
+        t0 = 0.0
+        t1 = 0.0
+        t2 = 0.0
+        for k in range(nm):
+            a = phi[p, k]
+            b = iphi[p, k]
+            q0 += a * U[e, k, 0]
+            q1 += a * U[e, k, 1]
+            q2 += a * U[e, k, 2]
+            v0 += a * U[e, k, 3]
+            v1 += a * U[e, k, 4]
+            v2 += a * U[e, k, 5]
+            d0 += a * wm[e, k, M_NUS]
+            d1 += a * wm[e, k, M_NUS + 1]
+            d2 += a * wm[e, k, M_NUS + 2]
+            t0 += a * wm[e, k, M_TV]
+            t1 += a * wm[e, k, M_TV + 1]
+            t2 += a * wm[e, k, M_TV + 2]
+            r0 += b * U[e, k, 0]
+            r1 += b * U[e, k, 1]
+            r2 += b * U[e, k, 2]
+        hh = 0.5 * h[e]
+        out[S_POS, p] = starts[e, 0] + hh * r0
+        out[S_POS + 1, p] = starts[e, 1] + hh * r1
+        out[S_POS + 2, p] = starts[e, 2] + hh * r2
+        out[S_VEL, p] = v0 * ig0
+        out[S_VEL + 1, p] = v1 * ig0
+        out[S_VEL + 2, p] = v2 * ig0
+        l = np.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
+        il = 1.0 / l if l > 0.0 else 1.0
+        i0 = q0 * il
+        i1 = q1 * il
+        i2 = q2 * il
+        eps = l - 1.0
+        out[S_STRAIN, p] = eps
+        out[S_TENSION, p] = axial_tension(law, eps, i0 * d0 + i1 * d1 + i2 * d2, EA, zeta, tab_eps, tab_T)
+        out[S_TV, p] = t0
+        out[S_TV + 1, p] = t1
+        out[S_TV + 2, p] = t2
+        for c in range(S_CURV, S_SHEAR + 3):
+            out[c, p] = 0.0
+        if bending:
+            k0 = 0.0
+            k1 = 0.0
+            k2 = 0.0
+            m0 = 0.0
+            m1 = 0.0
+            m2 = 0.0
+            u0 = 0.0
+            u1 = 0.0
+            u2 = 0.0
+            for k in range(nm):
+                a = phi[p, k]
+                k0 += a * wm[e, k, M_KAP]
+                k1 += a * wm[e, k, M_KAP + 1]
+                k2 += a * wm[e, k, M_KAP + 2]
+                m0 += a * wm[e, k, M_MS]
+                m1 += a * wm[e, k, M_MS + 1]
+                m2 += a * wm[e, k, M_MS + 2]
+                u0 += a * wm[e, k, M_TAU]
+                u1 += a * wm[e, k, M_TAU + 1]
+                u2 += a * wm[e, k, M_TAU + 2]
+            l2 = l * l
+            m0 *= l2
+            m1 *= l2
+            m2 *= l2
+            out[S_CURV, p] = np.sqrt(k0 * k0 + k1 * k1 + k2 * k2)
+            out[S_MOMENT, p] = np.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
+            out[S_MVEC, p] = m0
+            out[S_MVEC + 1, p] = m1
+            out[S_MVEC + 2, p] = m2
+            out[S_SHEAR, p] = (i1 * u2 - i2 * u1) * il
+            out[S_SHEAR + 1, p] = (i2 * u0 - i0 * u2) * il
+            out[S_SHEAR + 2, p] = (i0 * u1 - i1 * u0) * il
