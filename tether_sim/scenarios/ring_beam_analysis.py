@@ -40,13 +40,14 @@ def jacobian(solver, U, step=1e-7):
     return J, f
 
 
-def discrete_equilibrium(solver, tol=1e-12, max_iter=40):
+def discrete_equilibrium(solver, tol=1e-12, floor=1e-8, max_iter=40):
     """Newton's method on du/dt = 0 from the solver's current state; the solver is left there.
 
     Chord variant: the finite-difference Jacobian is factorised once and refreshed only when an
     iteration reduces max |du/dt| by less than 10x. Returns (max |du/dt| at the solution, number of
-    iterations). Stops at ``tol`` or at the round-off floor (a step with a fresh Jacobian that does
-    not halve the residual is rejected). Started near the solution it needs 1-3 Jacobians."""
+    iterations). Stops at ``tol`` or, below ``floor``, at the round-off floor (a step with a fresh
+    Jacobian that does not halve the residual is rejected; above ``floor`` it is taken).
+    Started near the solution it needs 1-3 Jacobians."""
     from scipy.linalg import lu_factor, lu_solve
 
     U = solver.U.copy()
@@ -68,8 +69,12 @@ def discrete_equilibrium(solver, tol=1e-12, max_iter=40):
             if slow:
                 J, f = jacobian(solver, U)
                 lu, fresh = lu_factor(J), True
-        elif fresh:  # a fresh Jacobian does not halve the residual: round-off floor reached
+        elif fresh and res < floor:  # a fresh Jacobian does not halve a tiny residual: round-off
             break
+        elif fresh:  # far from the solution: take the full Newton step anyway
+            U, f, res = U + step, f_new, new
+            J, f = jacobian(solver, U)
+            lu = lu_factor(J)
         else:
             J, f = jacobian(solver, U)
             lu, fresh = lu_factor(J), True
