@@ -2,36 +2,43 @@
 numba cache), memory.
 
 Each measurement runs the real node (``tether_sim.ros.sim_node.TetherSimNode``, rclpy, timer at
-``node.output_rate`` = 50 Hz, every output published) in a child process, next to a helper node that
-publishes the ship pose on the project's circle (a = 2 m, f = 0.2 Hz, the parameter file's
-``motion``) at 50 Hz and subscribes (raw bytes, no decoding) to every periodic output, like a
-recorder or RViz would (the node builds and publishes only outputs with a reader;
-``--subscribe state``: the TetherState only):
+``node.output_rate`` = 50 Hz, the SingleThreadedExecutor ``rclpy.spin`` uses) alone in a child
+process, next to a helper process that publishes the ship pose on the project's circle (a = 2 m,
+f = 0.2 Hz, the parameter file's ``motion``) at 50 Hz and subscribes (raw bytes, no decoding) to
+every periodic output, like a recorder or RViz would (the node builds and publishes only the
+outputs that have a reader; ``--subscribe state``: the TetherState only):
 
 - cold start: empty numba cache (NUMBA_CACHE_DIR = a fresh temporary directory);
 - warm start: the same cache directory again (kernels loaded from disk);
 - start-up = process launch (parent, just before ``exec``) -> first TetherState received by the
-  helper's subscription; also split: interpreter + imports, node construction (parameters,
-  solver warm-up), first tick (waits for the first pose and the first timer period);
+  helper; also the node process's CPU time until it published it (what the start-up would take
+  on an idle core: the wall figure grows with the machine's load), and the split: interpreter +
+  imports, node construction (parameters, solver warm-up), first tick (first pose, first timer
+  period, start, publish), delivery;
 - per tick (after the first ten): wall time of the timer callback, split into the solver's
   ``advance_to`` (the substeps), its ``state()`` sampling of the output points, its other outputs
   (``end_forces``, ``body_state``, ``drain_end_tensions``), and the node's own overhead (the rest:
   clock mapping, pose interpolation, snap detector, wrenches, message encoding, publishing --
-  publishing also on its own); median / p99 / max, and the thread CPU time of the same parts; the interval between tick starts (timer jitter; a period the timer skipped shows as an
-  interval near 2 periods);
-- kept up: simulated time advanced / wall time over the window (1 = real time, as the node runs
-  at its clock), dropped lag, capped ticks; the process CPU over the window (node + helper);
+  publishing also on its own); median / p99 / max, and the thread CPU time of the same parts;
+- the tick's thread CPU with its advance rescaled to one output period of simulated time (a
+  tick that starts late covers more simulated time and takes more substeps; this removes that
+  effect of the machine's load on the timer from the per-tick cost);
+- the interval between tick starts (timer jitter; a skipped period shows as an interval near 2
+  periods); kept up: simulated time advanced / wall time over the window (1 = real time, as the
+  node runs at its clock), dropped lag, capped ticks; the node process's CPU over the window (all
+  its threads: executor, pose callbacks, DDS);
 - memory: resident set size (VmRSS) and its peak (VmHWM) at the end, and VmRSS after the imports.
 
 Usage (the project's venv; NUMBA_CACHE_DIR of the cold run is a throw-away directory):
   python benchmarks/bench_node.py [--params config/ropos_L1730.yaml ...] [--seconds 20] [--alpha 1]
-        [--starts cold warm] [--json out/bench_node.json]
+        [--starts cold warm] [--subscribe all|state] [--json out/bench_node.json]
 """
 
 import argparse
 import importlib
 import json
 import os
+import signal
 import subprocess
 import sys
 import tempfile
@@ -59,26 +66,73 @@ def _stats(values_s):
             "mean": float(a.mean())}
 
 
-def child(params, seconds, alpha, t_launch, subscribe):
-    """Runs in the child process: node + pose publisher, prints one JSON line."""
-    t_main = time.time()
-    import numpy as np
+def helper(params, subscribe):
+    """Runs in its own process: the ship pose at 50 Hz on the parameter file's motion, and raw
+    subscriptions to the node's periodic outputs; prints the time the first TetherState arrived."""
     import rclpy
     from geometry_msgs.msg import PoseStamped
-    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.executors import ExternalShutdownException
     from rclpy.qos import qos_profile_sensor_data
-    from tether_sim_msgs.msg import TetherState
 
     from tether_sim.io.params import load_config
     from tether_sim.physics.motion import build_motion
     from tether_sim.ros import convert
-    from tether_sim.ros.sim_node import RELIABLE, TetherSimNode
+    from tether_sim.ros.sim_node import RELIABLE
+
+    cfg = load_config(params)
+    motion = build_motion(cfg.motion, cfg.ship_end.position)
+    rclpy.init()
+    node = rclpy.create_node("ship_pose_bench")
+    pub = node.create_publisher(PoseStamped, "/ship/pose", qos_profile_sensor_data)
+    got = []
+
+    def on_state(_msg):
+        if not got:
+            got.append(time.time())
+            print(f"FIRST_STATE {got[0]!r}", flush=True)
+
+    for topic, (type_name, _) in convert.TOPICS.items():
+        end = topic.split("/")[1]
+        periodic = topic in convert.SHAPE_TOPICS or topic.endswith("_wrench") or (
+            topic.endswith("sim_pose") and getattr(cfg, f"{end}_end").kind == "body")
+        if topic == "/tether/state" or (periodic and subscribe == "all"):  # raw bytes: no decoding cost
+            package, _, name = type_name.split("/")
+            msg_type = getattr(importlib.import_module(f"{package}.msg"), name)
+            node.create_subscription(msg_type, topic, on_state if topic == "/tether/state" else (lambda _m: None),
+                                     RELIABLE, raw=True)
+    t0 = time.time()
+
+    def publish_pose():
+        p, _, _ = motion.at(time.time() - t0)
+        msg = PoseStamped()
+        msg.header.stamp = node.get_clock().now().to_msg()
+        msg.header.frame_id = cfg.node.world_frame
+        msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = (float(v) for v in p)
+        msg.pose.orientation.w = 1.0
+        pub.publish(msg)
+
+    node.create_timer(0.02, publish_pose)
+    print("HELPER_READY", flush=True)
+    try:
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+
+
+def child(params, seconds, alpha, t_launch):
+    """Runs in the child process: the node alone (the helper is another process), prints one JSON line."""
+    t_main = time.time()
+    import numpy as np
+    import rclpy
+    from rclpy.executors import SingleThreadedExecutor
+
+    from tether_sim.io.params import load_config
+    from tether_sim.ros.sim_node import TetherSimNode
     from tether_sim.solvers.factory import build_solver
 
     t_imported = time.time()
     rss_imported = _rss_mb()
     cfg = load_config(params)
-    motion = build_motion(cfg.motion, cfg.ship_end.position)
     parts = {f"{k}{c}": 0.0 for k in ("advance", "state", "outputs", "publish") for c in ("", "_cpu")}
 
     def timed(fn, key):
@@ -129,35 +183,25 @@ def child(params, seconds, alpha, t_launch, subscribe):
     for timer in node.timers:
         if timer.callback == original:
             timer.callback = timed_tick
-    helper = rclpy.create_node("ship_pose_bench")
-    pub = helper.create_publisher(PoseStamped, "/ship/pose", qos_profile_sensor_data)
+    on_pose = node._on_pose
 
-    def on_state(_msg):
+    def first_pose(end, msg):
+        first.setdefault("first_pose", time.time())
+        on_pose(end, msg)
+
+    node._on_pose = first_pose
+    state_pub = node.pubs["/tether/state"]
+    timed_publish = state_pub.publish
+
+    def first_publish(data):
         if "first_state" not in first:
             first["first_state"] = time.time()
+            first["first_state_cpu"] = time.process_time()  # all threads of the process since its start
+        timed_publish(data)
 
-    helper.create_subscription(TetherState, "/tether/state", on_state, RELIABLE, raw=True)  # bytes: no decoding cost
-    if subscribe == "all":  # like a recorder or RViz: every periodic output has a reader
-        for topic in node._tick_topics:
-            if topic != "/tether/state":
-                package, _, name = convert.TOPICS[topic][0].split("/")
-                msg_type = getattr(importlib.import_module(f"{package}.msg"), name)
-                helper.create_subscription(msg_type, topic, lambda _m: None, RELIABLE, raw=True)
-    t0 = time.time()
-
-    def publish_pose():
-        p, _, _ = motion.at(time.time() - t0)
-        msg = PoseStamped()
-        msg.header.stamp = node.get_clock().now().to_msg()
-        msg.header.frame_id = cfg.node.world_frame
-        msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = (float(v) for v in p)
-        msg.pose.orientation.w = 1.0
-        pub.publish(msg)
-
-    helper.create_timer(0.02, publish_pose)
+    state_pub.publish = first_publish
     ex = SingleThreadedExecutor()  # what rclpy.spin(node) in tether-sim uses
     ex.add_node(node)
-    ex.add_node(helper)
     deadline = None
     cpu0 = None
     while True:
@@ -175,14 +219,20 @@ def child(params, seconds, alpha, t_launch, subscribe):
     outp, outp_cpu = r[:, 10], r[:, 11]
     period = 1.0 / cfg.node.output_rate
     intervals = np.diff(r[:, 0])
+    # the substeps of a tick scale with the simulated time it covered (a late tick covers more):
+    # the tick's CPU with its advance rescaled to exactly one output period of simulated time
+    covered = np.diff(r[:, 7])
+    ok = covered > 0
+    per_period = adv_cpu[1:][ok] * period / covered[ok] + (cpu - adv_cpu)[1:][ok]
     keep_up = (r[-1, 7] - r[0, 7]) / (r[-1, 0] - r[0, 0]) if len(r) > 1 else 0.0
     out = {
         "params": str(params), "alpha": alpha, "output_rate": cfg.node.output_rate,
-        "startup_s": first.get("first_state", float("nan")) - t_launch,
+        "startup_published_s": first.get("first_state", float("nan")) - t_launch,
+        "startup_cpu_s": first.get("first_state_cpu", float("nan")),
         "startup_parts_s": {"interpreter_and_imports": t_imported - t_launch, "of_which_interpreter": t_main - t_launch,
                             "node_construction": t_node - t_imported,
-                            "first_tick": first.get("first_tick_end", float("nan")) - t_node,
-                            "delivery": first.get("first_state", float("nan")) - first.get("first_tick_end", float("nan"))},
+                            "first_tick": first.get("first_state", float("nan")) - t_node,
+                            "first_pose_after_construction": first.get("first_pose", float("nan")) - t_node},
         "ticks": int(len(r)),
         "tick_wall": _stats(wall), "tick_cpu": _stats(cpu),
         "solver_advance_wall": _stats(adv), "solver_advance_cpu": _stats(adv_cpu),
@@ -190,6 +240,7 @@ def child(params, seconds, alpha, t_launch, subscribe):
         "solver_outputs_wall": _stats(outp), "solver_outputs_cpu": _stats(outp_cpu),
         "node_overhead_wall": _stats(wall - adv - st - outp), "node_overhead_cpu": _stats(cpu - adv_cpu - st_cpu - outp_cpu),
         "publish_wall": _stats(r[:, 8]), "publish_cpu": _stats(r[:, 9]),
+        "tick_cpu_one_period": _stats(per_period),
         "tick_interval": _stats(intervals), "skipped_periods": int(np.sum(intervals > 1.5 * period)),
         "sim_per_wall": float(keep_up), "dropped_s": float(node.driver.dropped_total),
         "capped_ticks": int(node.driver.capped_ticks), "process_cpu_fraction": process_cpu,
@@ -199,21 +250,37 @@ def child(params, seconds, alpha, t_launch, subscribe):
     print("BENCH_NODE " + json.dumps(out), flush=True)
     ex.shutdown()
     node.destroy_node()
-    helper.destroy_node()
     rclpy.shutdown()
 
 
 def launch(params, seconds, alpha, cache_dir, subscribe):
-    """One child run with NUMBA_CACHE_DIR = cache_dir; returns its JSON dict."""
+    """One node run with NUMBA_CACHE_DIR = cache_dir next to a helper process; returns the dict."""
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
                ROS_DOMAIN_ID=str(100 + os.getpid() % 100))
-    t_launch = time.time()
-    proc = subprocess.run([sys.executable, __file__, "--child", str(params), "--seconds", str(seconds),
-                           "--alpha", str(alpha), "--t-launch", repr(t_launch), "--subscribe", subscribe],
-                          env=env, cwd=ROOT, capture_output=True, text=True, timeout=2400)
+    helper_proc = subprocess.Popen([sys.executable, __file__, "--helper", str(params), "--subscribe", subscribe],
+                                   env=env, cwd=ROOT, stdout=subprocess.PIPE, text=True)
+    try:
+        if helper_proc.stdout.readline().strip() != "HELPER_READY":
+            raise RuntimeError("the pose/subscriber helper did not start")
+        t_launch = time.time()
+        proc = subprocess.run([sys.executable, __file__, "--child", str(params), "--seconds", str(seconds),
+                               "--alpha", str(alpha), "--t-launch", repr(t_launch)],
+                              env=env, cwd=ROOT, capture_output=True, text=True, timeout=2400)
+    finally:
+        helper_proc.send_signal(signal.SIGINT)
+        try:
+            helper_out = helper_proc.communicate(timeout=20)[0]
+        except subprocess.TimeoutExpired:
+            helper_proc.kill()
+            helper_out = helper_proc.communicate()[0]
     for line in proc.stdout.splitlines():
         if line.startswith("BENCH_NODE "):
-            return json.loads(line[len("BENCH_NODE "):])
+            r = json.loads(line[len("BENCH_NODE "):])
+            received = [float(x.split()[1]) for x in helper_out.splitlines() if x.startswith("FIRST_STATE ")]
+            r["startup_s"] = (received[0] - t_launch) if received else float("nan")
+            r["startup_parts_s"]["delivery"] = r["startup_s"] - r["startup_published_s"]
+            r["started_without_pose"] = "starting without" in proc.stderr  # input_timeout ran out first
+            return r
     raise RuntimeError(f"node run failed ({proc.returncode}):\n{proc.stdout[-2000:]}\n{proc.stderr[-3000:]}")
 
 
@@ -224,9 +291,13 @@ def _line(name, s):
 def report(r):
     """Printed figures of one run."""
     p = r["startup_parts_s"]
-    print(f"  start-up {r['startup_s']:.2f} s to the first TetherState received (interpreter {p['of_which_interpreter']:.2f}, "
-          f"+ imports {p['interpreter_and_imports'] - p['of_which_interpreter']:.2f}, node construction incl. solver warm-up "
-          f"{p['node_construction']:.2f}, first tick {p['first_tick']:.2f}, delivery {p['delivery'] * 1e3:.1f} ms)")
+    print(f"  start-up {r['startup_s']:.2f} s to the first TetherState received ({r['startup_cpu_s']:.2f} s of the node's "
+          f"process CPU): interpreter {p['of_which_interpreter']:.2f}, imports "
+          f"{p['interpreter_and_imports'] - p['of_which_interpreter']:.2f}, node construction incl. solver warm-up "
+          f"{p['node_construction']:.2f}, first tick {p['first_tick']:.2f} (first pose "
+          f"{p['first_pose_after_construction']:.2f} s after the construction), delivery {p['delivery'] * 1e3:.1f} ms")
+    if r.get("started_without_pose"):
+        print("  (no pose had arrived within node.input_timeout: the node started from the configured positions)")
     print(f"  {r['ticks']} ticks at {r['output_rate']:g} Hz (ms)      median     p99     max")
     for key, name in (("tick_wall", "tick, wall"), ("solver_advance_wall", "  solver advance_to"),
                       ("state_sampling_wall", "  solver state()"),
@@ -235,10 +306,11 @@ def report(r):
                       ("state_sampling_cpu", "  solver state()"),
                       ("solver_outputs_cpu", "  solver other outputs"), ("node_overhead_cpu", "  node overhead"),
                       ("publish_cpu", "    of which publishing"),
+                      ("tick_cpu_one_period", "tick CPU, 1 period sim."),
                       ("tick_interval", "interval between ticks")):
         print("  " + _line(name, r[key]))
     print(f"  skipped timer periods {r['skipped_periods']}, sim/wall {r['sim_per_wall']:.3f}, dropped {r['dropped_s']:.2f} s, "
-          f"capped ticks {r['capped_ticks']}, process CPU {100 * r['process_cpu_fraction']:.0f} % of a core")
+          f"capped ticks {r['capped_ticks']}, node process CPU {100 * r['process_cpu_fraction']:.0f} % of a core")
     print(f"  RSS {r['rss_mb']:.0f} MB (peak {r['rss_peak_mb']:.0f}; {r['rss_after_imports_mb']:.0f} after the imports), "
           f"load average {r['load'][0]:.2f} / {r['load'][1]:.2f} / {r['load'][2]:.2f}", flush=True)
 
@@ -253,12 +325,15 @@ def main(argv=None):
                          "__pycache__ when only 'warm' is given)")
     ap.add_argument("--json", default="out/bench_node.json")
     ap.add_argument("--child", default=None)
+    ap.add_argument("--helper", default=None)
     ap.add_argument("--t-launch", type=float, default=None)
     ap.add_argument("--subscribe", default="all", choices=["all", "state"],
                     help="which periodic outputs get a reader (the node builds and publishes only those)")
     args = ap.parse_args(argv)
     if args.child:
-        return child(args.child, args.seconds, args.alpha, args.t_launch, args.subscribe)
+        return child(args.child, args.seconds, args.alpha, args.t_launch)
+    if args.helper:
+        return helper(args.helper, args.subscribe)
     print(f"bench_node, {os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
           f"{args.seconds:g} s of ticks, alpha={args.alpha:g}, load average {os.getloadavg()[0]:.2f}")
     rows = []

@@ -1,14 +1,17 @@
 """ROPOS L = 200 m, f = 0.2 Hz, a = 2 m with bending (EI* = 2620 N m^2) and adaptive zoning: a rod
 zone appears near the cage while the tether is slack and disappears when it is taut again.
-Also the step-size study of the snap peaks (implicit steps can be stable yet smear snatch loads).
 
-    PYTHONPATH=. python benchmarks/ropos_slack_zones.py config/ropos_L200.yaml --steps 0.01 0.02 0.05 0.1
-Writes docs/figures/ropos_L200_zones.png (zones for the first step size).
+The shared slack-snap case of benchmarks/ropos_case.py (orbit centre 3 m deep, one-period ramp, the
+cage simulated as a rigid body), hybrid solver, fairlead commanded once per implicit step:
+
+    PYTHONPATH=. python benchmarks/ropos_slack_zones.py --dt 0.01 --duration 30
+
+Writes docs/figures/ropos_L200_zones.png: end tensions (with the DG N = 20, P = 4 ship tension if its
+record is cached by benchmarks/ropos_hybrid.py --slack), and tension over (t, s) with the rod zone outlined.
 """
 
 import argparse
 import time
-from dataclasses import replace
 from pathlib import Path
 
 import matplotlib
@@ -17,80 +20,83 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from tether_sim.errors import SolverDivergedError  # noqa: E402
-from tether_sim.io.params import load_config  # noqa: E402
-from tether_sim.physics.motion import build_motion  # noqa: E402
+from benchmarks import ropos_case as rc  # noqa: E402
+from benchmarks.ropos_hybrid import DG_CACHE, slack_config  # noqa: E402
 from tether_sim.solvers.hybrid.solver import HybridRodCatenarySolver  # noqa: E402
+from tether_sim.solvers.hybrid.state_io import node_profile  # noqa: E402
 
 
 def run(cfg, duration, dt):
+    """Step the hybrid solver; per step the element zones and the tension on the grid nodes."""
     solver = HybridRodCatenarySolver(cfg)
-    motion = build_motion(cfg.motion, np.asarray(cfg.ship_end.position, dtype=float))
-    rec = {"t": [], "Ts": [], "Tv": [], "zones": [], "tz": []}
+    rec = {"t": [], "Ts": [], "Tv": [], "zones": [], "tz": [], "T": []}
     c0 = time.process_time()
     k = 0
     while k * dt < duration - 1e-9:
         k += 1
         t = k * dt
-        p, v, _ = motion.at(t)
+        p, v = rc.fairlead_motion(t)
         solver.set_end_motion("ship", p, v)
-        try:
-            solver.advance_to(t)
-        except SolverDivergedError as exc:
-            print(f"stopped: {exc}", flush=True)
-            break
+        solver.advance_to(t)
         tt, a, b = solver.drain_end_tensions()
         rec["t"].extend(tt)
         rec["Ts"].extend(a)
         rec["Tv"].extend(b)
         rec["tz"].append(t)
         rec["zones"].append(solver.zones.copy())
+        prof = node_profile(solver)
+        T_grid = np.full(solver.s_grid.size, np.inf)
+        np.minimum.at(T_grid, solver.chain.grid, prof["tension"])
+        rec["T"].append(T_grid)
     return {k: np.array(v) for k, v in rec.items()}, time.process_time() - c0, solver
 
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("config")
-    ap.add_argument("--EI", type=float, default=2620.0)
-    ap.add_argument("--duration", type=float, default=40.0)
-    ap.add_argument("--segments", type=int, default=100)
-    ap.add_argument("--frequency", type=float, default=0.2)
-    ap.add_argument("--rho", type=float, default=0.8)
-    ap.add_argument("--zoning", default="adaptive")
-    ap.add_argument("--softening", type=float, default=1000.0)
-    ap.add_argument("--steps", type=float, nargs="+", default=[0.02])
+    ap.add_argument("--dt", type=float, default=0.01)
+    ap.add_argument("--duration", type=float, default=30.0)
+    ap.add_argument("--segments", type=int, default=50)
+    ap.add_argument("--rho", type=float, default=0.0)
+    ap.add_argument("--softening", type=float, default=1e4)
     ap.add_argument("--out", default="docs/figures")
     args = ap.parse_args()
-    base = load_config(args.config)
-    first = None
-    for dt in args.steps:
-        cfg = replace(base, solver="hybrid", cable=replace(base.cable, EI=args.EI),
-                      motion=replace(base.motion, frequency=args.frequency),
-                      hybrid=replace(base.hybrid, time_step=dt, n_segments=args.segments, zoning=args.zoning, compression_softening=args.softening,
-                                     rho_inf=args.rho),
-                      initial=replace(base.initial, kind="static"))
-        rec, cpu, solver = run(cfg, args.duration, dt)
-        rod_frac = np.array([z.mean() for z in rec["zones"]])
-        print(f"dt {dt:g} s, f {args.frequency:g} Hz, rho_inf {args.rho:g}: reached t = {rec['t'][-1]:.2f} s; cage tension max {rec['Tv'].max():.0f} N min {rec['Tv'].min():.0f} N; ship max "
-              f"{rec['Ts'].max():.0f} N; rod fraction max {rod_frac.max():.3f}; cpu {cpu:.1f} s for {args.duration:g} s; "
-              f"{solver.stats}", flush=True)
-        if first is None:
-            first = (dt, rec, solver)
-    dt, rec, solver = first
-    fig, ax = plt.subplots(2, 1, figsize=(10, 7), sharex=True)
-    ax[0].plot(rec["t"], rec["Ts"] / 1e3, label="ship (s = 0)")
-    ax[0].plot(rec["t"], rec["Tv"] / 1e3, label="cage (s = L)")
-    ax[0].set(ylabel="tension (kN)", title=f"ROPOS L = 200 m, f = {args.frequency:g} Hz, EI = {args.EI:g} N m$^2$, hybrid dt = {dt:g} s")
-    ax[0].legend()
+    cfg = slack_config(args.dt, args.segments, args.rho, args.softening)
+    rec, cpu, solver = run(cfg, args.duration, args.dt)
+    Z = rec["zones"].astype(float)
+    rod_frac = Z.mean(axis=1)
+    print(f"dt {args.dt:g} s, rho_inf {args.rho:g}, {args.segments} segments: cpu {cpu:.1f} s for {args.duration:g} s; "
+          f"ship max {rec['Ts'].max() / 1e3:.1f} kN; rod fraction max {rod_frac.max():.2f}, "
+          f"steps with rod elements {np.mean(rod_frac > 0):.2f}; {solver.stats}", flush=True)
+    onsets = np.nonzero(np.diff((rod_frac > 0).astype(int)) != 0)[0]
+    print("rod zone on/off at t =", [round(float(rec["tz"][i + 1]), 2) for i in onsets])
+    fig, ax = plt.subplots(3, 1, figsize=(11, 10), sharex=True, gridspec_kw={"height_ratios": [1.1, 1.4, 0.6]})
+    if DG_CACHE.exists():
+        d = np.load(DG_CACHE)
+        m = d["t"] <= args.duration
+        ax[0].plot(d["t"][m], d["ship"][m] / 1e3, color="0.6", lw=2.5, label="ship, DG N=20 P=4 (explicit)")
+    ax[0].plot(rec["t"], rec["Ts"] / 1e3, color="C0", lw=1, label=f"ship (s = 0), hybrid dt = {args.dt:g} s")
+    ax[0].plot(rec["t"], rec["Tv"] / 1e3, color="C3", lw=1, label="cage (s = L), hybrid")
+    ax[0].set(ylabel="tension (kN)", title="ROPOS L = 200 m, a = 2 m, f = 0.2 Hz, EI = 2620 N m$^2$, "
+              "cage simulated; hybrid rod-catenary, adaptive zoning")
+    ax[0].legend(loc="upper left", fontsize=8)
     ax[0].grid(alpha=0.3)
-    Z = np.array(rec["zones"]).T
-    s = np.linspace(0, solver.length, Z.shape[0] + 1)
-    ax[1].pcolormesh(rec["tz"], 0.5 * (s[1:] + s[:-1]), Z, cmap="Greys", vmin=0, vmax=1.5, shading="nearest")
-    ax[1].set(xlabel="t (s)", ylabel="s (m)", title="rod zone (dark) / catenary (white)")
+    s = solver.s_grid
+    Tk = np.clip(rec["T"].T / 1e3, -1.0, 250.0)
+    pc = ax[1].pcolormesh(rec["tz"], s, Tk, cmap="viridis", shading="nearest", vmin=-1.0, vmax=250.0)
+    fig.colorbar(pc, ax=ax[1], label="tension (kN)", pad=0.01)
+    centres = 0.5 * (s[1:] + s[:-1])
+    ax[1].contourf(rec["tz"], centres, Z.T, levels=[0.5, 1.5], colors="none", hatches=["////"])
+    ax[1].contour(rec["tz"], centres, Z.T, levels=[0.5], colors="w", linewidths=1.0)
+    ax[1].set(ylabel="s (m)  [0 ship, 200 cage]", title="tension along the tether; rod elements hatched, "
+              "outlined white (catenary elsewhere)")
+    ax[1].invert_yaxis()
+    ax[2].fill_between(rec["tz"], 0, rod_frac, step="mid", color="k", alpha=0.6, label="rod fraction of the length")
+    ax[2].set(xlabel="t (s)", ylabel="rod fraction", ylim=(0, 1))
+    ax[2].grid(alpha=0.3)
     fig.tight_layout()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out / "ropos_L200_zones.png", dpi=110)
+    fig.savefig(out / "ropos_L200_zones.png", dpi=100)
     print(f"wrote {out / 'ropos_L200_zones.png'}")
 
 

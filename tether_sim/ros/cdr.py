@@ -110,34 +110,57 @@ _IDENTITY_POSE = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])  # Point position
 LINE_STRIP, ADD = 4, 0  # visualization_msgs/Marker constants
 
 
+def _marker_constant_parts(frame: bytes, ns: str, marker_id: int, width: float, colour) -> tuple:
+    """(bytes from the end of the header to the points count, bytes after the colours): constant
+    for a frame name and marker style, so they are encoded once (their padding depends only on the
+    frame name's length; the part after the 4-byte colours holds only 4-aligned and 1-byte items)."""
+    key = (frame, ns, marker_id, width, tuple(colour))
+    parts = _MARKER_PARTS.get(key)
+    if parts is None:
+        b = CdrBuffer()
+        b.header((0, 0), frame)
+        start = len(b.tobytes())
+        b.string(_text(ns))
+        b.packed(_3I, 4, marker_id, LINE_STRIP, ADD)
+        b.float64s(_IDENTITY_POSE)
+        b.float64s((width, 0.0, 0.0))  # scale
+        b.align(4)
+        b.raw(np.asarray(colour, dtype="<f4").tobytes())
+        b.packed(_TIME, 4, 0, 0)  # lifetime (Duration): forever
+        b.raw(b"\x00")  # frame_locked = False
+        middle = b.tobytes()[start:]
+        t = CdrBuffer()  # after the colours (offset 4-aligned):
+        t.string(b"")  # texture_resource
+        t.header((0, 0), b"")  # texture (sensor_msgs/CompressedImage): header,
+        t.string(b"")  # format,
+        t.u32(0)  # data (uint8[])
+        t.u32(0)  # uv_coordinates
+        t.string(b"")  # text
+        t.string(b"")  # mesh_resource
+        t.string(b"")  # mesh_file (visualization_msgs/MeshFile): filename,
+        t.u32(0)  # data (uint8[])
+        t.raw(b"\x00")  # mesh_use_embedded_materials = False
+        parts = _MARKER_PARTS[key] = (middle, t.tobytes()[len(ENCAPSULATION):])
+    return parts
+
+
+_MARKER_PARTS = {}
+
+
 def marker_line_strip(stamp: tuple, frame: str, ns: str, marker_id: int, width: float, colour, points,
                       colours) -> bytes:
     """visualization_msgs/Marker LINE_STRIP (action ADD, identity pose, lifetime 0, not frame-locked)
     with per-vertex colours: ``colour`` (4,) RGBA, ``points`` (n, 3), ``colours`` (n, 4) RGBA."""
+    frame_b = _text(frame)
+    middle, tail = _marker_constant_parts(frame_b, ns, int(marker_id), float(width), tuple(float(c) for c in colour))
     b = CdrBuffer()
-    b.header(stamp, _text(frame))
-    b.string(_text(ns))
-    b.packed(_3I, 4, marker_id, LINE_STRIP, ADD)
-    b.float64s(_IDENTITY_POSE)
-    b.float64s((width, 0.0, 0.0))  # scale
-    b.align(4)
-    b.raw(np.asarray(colour, dtype="<f4").tobytes())
-    b.packed(_TIME, 4, 0, 0)  # lifetime (Duration): forever
-    b.raw(b"\x00")  # frame_locked = False
+    b.header(stamp, frame_b)
+    b.raw(middle)
     b.float64_sequence(points)
     colours = np.ascontiguousarray(colours, dtype="<f4")
     b.u32(colours.shape[0])
     b.raw(colours.tobytes())
-    b.string(b"")  # texture_resource
-    b.header((0, 0), b"")  # texture (sensor_msgs/CompressedImage): header,
-    b.string(b"")  # format,
-    b.u32(0)  # data (uint8[])
-    b.u32(0)  # uv_coordinates
-    b.string(b"")  # text
-    b.string(b"")  # mesh_resource
-    b.string(b"")  # mesh_file (visualization_msgs/MeshFile): filename,
-    b.u32(0)  # data (uint8[])
-    b.raw(b"\x00")  # mesh_use_embedded_materials = False
+    b.raw(tail)
     return b.tobytes()
 
 

@@ -140,13 +140,23 @@ def tension_scale(driver) -> float:
 
 
 def tension_colours(tension, scale: float) -> np.ndarray:
-    """(n, 4) RGBA per point: blue (slack, T <= 0) through green to red (T >= scale)."""
+    """(n, 4) RGBA per point: blue (slack, T <= 0) through green (T = scale / 2) to red (T >= scale),
+    linear in between: with d = 2 T / scale - 1 clipped to [-1, 1], (max(d, 0), 1 - |d|, max(-d, 0), 1)."""
     tension = np.asarray(tension, float)
-    u = np.clip(tension / scale, 0.0, 1.0) if scale > 0 else np.zeros_like(tension)
-    rgba = np.ones((u.size, 4))
-    rgba[:, 0] = np.maximum(0.0, 2.0 * u - 1.0)
-    rgba[:, 1] = 1.0 - np.abs(2.0 * u - 1.0)
-    rgba[:, 2] = np.maximum(0.0, 1.0 - 2.0 * u)
+    if scale > 0:
+        d = tension / scale
+        d *= 2.0
+        d -= 1.0
+        np.clip(d, -1.0, 1.0, out=d)
+    else:
+        d = np.full(tension.shape, -1.0)
+    rgba = np.empty((d.size, 4))
+    np.maximum(d, 0.0, out=rgba[:, 0])
+    np.abs(d, out=rgba[:, 1])
+    np.subtract(1.0, rgba[:, 1], out=rgba[:, 1])
+    np.negative(d, out=d)
+    np.maximum(d, 0.0, out=rgba[:, 2])
+    rgba[:, 3] = 1.0
     return rgba
 
 

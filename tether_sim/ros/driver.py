@@ -28,7 +28,6 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from tether_sim.errors import SolverDivergedError
-from tether_sim.io.inputs import rotation_matrix
 from tether_sim.physics.snap import SnapDetector, SnapEvent, SlackStarted
 from tether_sim.solvers.factory import build_solver
 

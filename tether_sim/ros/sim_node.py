@@ -24,6 +24,7 @@ from visualization_msgs.msg import Marker
 from tether_sim.errors import ConfigError, TetherSimError
 from tether_sim.io.inputs import EndPoseInput
 from tether_sim.io.params import load_config
+from tether_sim.physics.snap import SnapDetector
 from tether_sim.ros import convert, node_params
 from tether_sim.ros.driver import END_NAMES, SimulationDriver
 from tether_sim.solvers.factory import build_solver
@@ -76,9 +77,11 @@ class TetherSimNode(Node):
         self.create_timer(1.0, self._publish_diagnostics)
 
     def _warm_up(self, solver_factory):
-        """Build a throw-away solver and take two substeps before any publisher exists, so JIT
-        compiling happens now (not in the first tick) and a configuration the solver cannot build
-        fails at start-up; a recorder or test waiting for our topics waits for this too."""
+        """Build a throw-away solver, take two substeps and call every output the ticks use (state
+        at the output points, end forces, body states, substep tensions, the snap detector) before
+        any publisher exists, so JIT compiling (or loading the numba cache) happens now, not in the
+        first ticks, and a configuration the solver cannot build fails at start-up; a recorder or
+        test waiting for our topics waits for this too."""
         t0 = time.perf_counter()
         solver = solver_factory(self.config)
         for end in END_NAMES:
@@ -86,6 +89,14 @@ class TetherSimNode(Node):
             if cond.kind == "prescribed":
                 solver.set_end_motion(end, cond.position, (0.0, 0.0, 0.0))
         solver.advance_to(solver.time + 2.0 * solver.stable_time_step())
+        solver.state(np.linspace(0.0, self.config.cable.length, self.config.node.output_points))
+        forces = solver.end_forces()
+        for end in END_NAMES:
+            solver.body_state(end)
+        times, t_ship, t_vehicle = solver.drain_end_tensions()
+        static = [max(abs(float(forces.ship_tension)), 1.0), max(abs(float(forces.vehicle_tension)), 1.0)]
+        detector = SnapDetector(self.config.snap, list(END_NAMES), static, [0.0, self.config.cable.length])
+        detector.update(np.asarray(times, float), np.column_stack([t_ship, t_vehicle]))
         self.get_logger().info(f"{self.config.solver} solver warmed up in {time.perf_counter() - t0:.1f} s")
 
     # ------------------------------------------------------------------ inputs

@@ -6,7 +6,8 @@ neighbouring nodes, so the Jacobian is block-banded; it is built group by group 
 differences (exact structure, ~1e-8 relative entries) and factorised with a sparse LU.
 
 Group kinds (rows): CAT_CELL (6), ROD_CELL (12), JOINT_CR / JOINT_RC (9), UNIT (1), CAT_VEL (3),
-CAT_FORCE (3), CAT_FREE (3), ROD_END (6), BODY_DYN (13), CAT_BODY (3), ROD_BODY (6). Group parameters gpar (G, GPAR_SIZE) hold boundary vectors.
+CAT_FORCE (3), CAT_FREE (3), ROD_END (6), BODY_DYN (13), CAT_BODY (3), ROD_BODY (6), LAW (1, the
+node's tension-strain law). Group parameters gpar (G, GPAR_SIZE) hold boundary vectors.
 Node arrays: Y, Yn, Ytn (K, 13) (cable nodes, then body nodes); Ln (K, 3, 3) rod frames at t_n; rn (K, 6) positions and their generalized-alpha rates at t_n; s (K,).
 """
 
@@ -17,10 +18,21 @@ from tether_sim.solvers.hybrid.body import body_dynamics_residual, body_end_resi
 from tether_sim.solvers.hybrid.catenary import (catenary_cell_residual, catenary_force_bc, catenary_free_bc,
                                                 catenary_velocity_bc, unit_tangent_residual)
 from tether_sim.solvers.hybrid.joint import joint_residual
+from tether_sim.solvers.hybrid.kernels import CAT_EPS, P_DT, P_GAM, ROD_EPS, law_residual
 from tether_sim.solvers.hybrid.rod import rod_cell_residual, rod_end_residual
 
-CAT_CELL, ROD_CELL, JOINT_CR, JOINT_RC, UNIT, CAT_VEL, CAT_FORCE, CAT_FREE, ROD_END, BODY_DYN, CAT_BODY, ROD_BODY = range(12)
-GROUP_ROWS = np.array([6, 12, 9, 9, 1, 3, 3, 3, 6, 13, 3, 6], dtype=np.int64)
+CAT_CELL, ROD_CELL, JOINT_CR, JOINT_RC, UNIT, CAT_VEL, CAT_FORCE, CAT_FREE, ROD_END, BODY_DYN, CAT_BODY, ROD_BODY, LAW = range(13)
+GROUP_ROWS = np.array([6, 12, 9, 9, 1, 3, 3, 3, 6, 13, 3, 6, 1], dtype=np.int64)
+
+
+@jit
+def node_law_residual(Y, Yn, Ytn, is_rod, P, out):
+    """Constitutive equation of one node at t_{n+1} [PE2020 Eq. 22]; deps/dt from the gamma relation."""
+    iT = 9 if is_rod else 3
+    ie = ROD_EPS if is_rod else CAT_EPS
+    g = P[P_GAM]
+    rate = ((Y[ie] - Yn[ie]) / P[P_DT] - (1.0 - g) * Ytn[ie]) / g
+    out[0] = law_residual(Y[iT], Y[ie], rate, P)
 
 
 @jit
@@ -45,6 +57,8 @@ def group_residual(kind, a, b, gp, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, out):
         catenary_free_bc(Y[a], Y[b], gp[0:3], gp[3:6], gp[6], out)
     elif kind == ROD_END:
         rod_end_residual(int(gp[0]), Y[a], Yn[a], Ln[a], P, gp[1:4], gp[4:7], out)
+    elif kind == LAW:
+        node_law_residual(Y[a], Yn[a], Ytn[a], gp[0] > 0.5, P, out)
     elif kind == BODY_DYN:  # a: body node, b: cable end node (gp[1] = 1 if it is a rod node)
         body_dynamics_residual(Y[a], Yn[a], Ytn[a], Y[b], Yn[b], Ln[b], gp[1] > 0.5, gp, P, cz, cx, cy, out)
     else:  # CAT_BODY / ROD_BODY: a: cable end node, b: body node

@@ -1,6 +1,7 @@
 """Catenary elements [GP Sec. 2.1, Eq. 1-5, Appendix 2 Eq. 24-26].
 
-Field variables per node (world components): v (0:3), T (3), unit tangent t (4:7).
+Field variables per node (world components): v (0:3), T (3), unit tangent t (4:7), strain eps (7).
+T and eps are linked by the node's constitutive equation (kernels.law_residual, PE2020 Eq. 22).
 
 GP parameterise t by two spherical angles (Eq. 4); that chart is singular where the tangent is
 along its pole, and a vertical tether is our normal case. We use the unit tangent itself as three
@@ -24,7 +25,7 @@ import math
 import numpy as np
 
 from tether_sim.numerics.jit import jit
-from tether_sim.solvers.hybrid.kernels import CAT_SLOTS, P_AF, P_AM, P_DT, P_GAM, P_M, alpha_levels, external_force, strain
+from tether_sim.solvers.hybrid.kernels import CAT_EPS, CAT_SLOTS, P_AF, P_AM, P_DT, P_GAM, P_M, alpha_levels, external_force
 
 
 @jit
@@ -37,7 +38,7 @@ def catenary_node_terms(Y, Yn, Ytn, rn, P, cz, cx, cy, out_pos, out_q, out_load,
     g = P[P_GAM]
     am = P[P_AM]
     af = P[P_AF]
-    e1 = strain(Y[3], P)
+    e1 = Y[CAT_EPS]
     for k in range(3):
         # r is a generalized-alpha variable with dr/dt = v collocated at the alpha levels
         rdot = ((1.0 - af) * Yn[k] + af * Y[k] - (1.0 - am) * rn[3 + k]) / am
@@ -45,7 +46,7 @@ def catenary_node_terms(Y, Yn, Ytn, rn, P, cz, cx, cy, out_pos, out_q, out_load,
         out_q[k] = (1.0 + e1) * Y[4 + k]
         out_tension_vec[k] = Yf[3] * Yf[4 + k]
     F = np.empty(3)
-    external_force(Yf[0:3], Yf[4:7], Ym[0:3], rn[2], strain(Yf[3], P), P, cz, cx, cy, F)
+    external_force(Yf[0:3], Yf[4:7], Ym[0:3], rn, Yf[CAT_EPS], P, cz, cx, cy, F)
     for k in range(3):
         out_load[k] = F[k] - P[P_M] * Ym[k]
 

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tether_sim.solvers.hybrid.assembly import (BODY_DYN, CAT_BODY, CAT_CELL, CAT_FORCE, CAT_FREE, CAT_VEL, GROUP_ROWS,
-                                                JOINT_CR, JOINT_RC, ROD_BODY, ROD_CELL, ROD_END, UNIT)
+                                                JOINT_CR, JOINT_RC, LAW, ROD_BODY, ROD_CELL, ROD_END, UNIT)
 from tether_sim.solvers.hybrid.body import BODY_PAR0, GPAR_SIZE
 from tether_sim.solvers.hybrid.kernels import CAT_SLOTS, ROD_SLOTS
 from tether_sim.solvers.hybrid.zoning import ROD, chain_nodes
@@ -81,6 +81,7 @@ def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
     for c in range(K):
         if kind[c] != ROD:
             groups.append((UNIT, c, -1))
+        groups.append((LAW, c, -1))
         if c < K - 1:
             groups.append(links[c])
     groups.append(ends[1])
@@ -104,6 +105,8 @@ def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
         if gkind[g] == ROD_END:
             gpar[g, 0] = ROD_END_KIND[end_modes[e]]
     for g, (k, a, b) in enumerate(groups):
+        if k == LAW:
+            gpar[g, 0] = float(kind[a] == ROD)
         if k in (BODY_DYN, CAT_BODY, ROD_BODY):
             e = body_node.index(a if k == BODY_DYN else b)
             gpar[g, 0] = e

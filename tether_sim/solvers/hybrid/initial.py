@@ -57,6 +57,7 @@ class InitialStateMixin:
         self.Yt = np.zeros((K, 13))
         self.Y[:, 3] = T_grid
         self.Y[:, 4:7] = tangents
+        self.Y[:, 7] = [self._strain(T) for T in T_grid]
         self.Lf = np.stack([frame_with_tangent(t) for t in tangents])
         self.r0 = p0.copy()
         self.positions = reconstruct_positions(self)

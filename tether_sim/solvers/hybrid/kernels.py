@@ -1,7 +1,7 @@
 """Shared point kernels of the hybrid solver: parameter layout, environment forces, alpha levels.
 
 Environment forces are those of the DG solver [PE2020 Eq. 12-17] so that both solvers see the same
-water: buoyant weight A g (rho_f - rho_c) z with A = gamma0/rho_c [PE2020 Eq. 14, GP Eq. 21],
+water and seabed (physics/seabed.py, PE2020 Eq. 15-16): buoyant weight A g (rho_f - rho_c) z with A = gamma0/rho_c [PE2020 Eq. 14, GP Eq. 21],
 Morison drag with sqrt(1+eps) [PE2020 Eq. 17; GP Eq. 19 with C_t -> C_dt/pi], added mass
 rho_f A (C_mn a_perp + C_mt a_par) [PE2020 Eq. 13; GP Eq. 20], depth-varying current.
 All per unit unstretched length, world (ENU) components.
@@ -15,18 +15,24 @@ import numpy as np
 
 from tether_sim.numerics.jit import jit
 from tether_sim.physics.hydrodynamics import current_at
+from tether_sim.physics.seabed import seabed_force
 
 P_M, P_CK, P_G, P_RHOF, P_AREA, P_D, P_CDN, P_CDT, P_CMN, P_CMT = range(10)
 P_B0, P_I0 = 10, 13  # B (torsion, bend, bend) and rotary inertia I (same order), body axis 0 = tangent
 P_DT, P_AM, P_AF, P_GAM = 16, 17, 18, 19
-P_CKC = 20  # compliance under compression (softened for a no-compression material)
-P_TW = 21  # width of the smooth transition of the compliance into compression (N)
-P_SIZE = 22
+P_SOFT = 20  # compression softening factor s (1 for a linear law, >1 for a no-compression material)
+P_TW = 21  # width W of the smooth transition into compression (N)
+P_EA = 22  # axial stiffness EA (0: inextensible, eps = 0)
+P_ZETA = 23  # axial material damping zeta (N s) [PE2020 Eq. 22]
+P_SEABED, P_ZG, P_KD, P_CCRIT, P_SBZETA, P_MU, P_VMU, P_FBZ = range(24, 32)  # seabed [PE2020 Eq. 15-16]
+P_SIZE = 32
 
-# chain-node slot layout: catenary v(0:3) T(3) t(4:7); rod v(0:3) omega(3:6) kappa(6:9) f(9:12)
+# chain-node slot layout: catenary v(0:3) T(3) t(4:7) eps(7); rod v(0:3) omega(3:6) kappa(6:9) f(9:12) eps(12)
 N_SLOTS = 13  # node arrays are 13 wide so that a rigid-body node (13 states) fits
-CAT_SLOTS = 7
-ROD_SLOTS = 12
+CAT_SLOTS = 8
+ROD_SLOTS = 13
+CAT_EPS = 7
+ROD_EPS = 12
 
 
 def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia_b, inertia_t, compression_factor=1.0,
@@ -43,8 +49,19 @@ def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia
     P[P_B0:P_B0 + 3] = (tors, bend, bend)
     P[P_I0:P_I0 + 3] = (inertia_t, inertia_b, inertia_b)
     P[P_DT], P[P_AM], P[P_AF], P[P_GAM] = dt, alpha_m, alpha_f, gamma
-    P[P_CKC] = P[P_CK] * (compression_factor if cable.material == "bilinear" else 1.0)
+    P[P_SOFT] = compression_factor if cable.material in ("bilinear", "table") else 1.0
     P[P_TW] = compression_width
+    P[P_EA] = cable.EA
+    P[P_ZETA] = cable.damping
+    # seabed contact, the DG solver's parameters [PE2020 Eq. 15-16]
+    P[P_SEABED] = 1.0 if env.seabed else 0.0
+    P[P_ZG] = env.seabed_z
+    P[P_KD] = env.seabed_stiffness * cable.diameter
+    P[P_CCRIT] = 2.0 * math.sqrt(P[P_KD] * cable.gamma0)
+    P[P_SBZETA] = env.seabed_damping
+    P[P_MU] = env.seabed_friction
+    P[P_VMU] = env.seabed_friction_speed
+    P[P_FBZ] = -(cable.gamma0 - env.fluid_density * cable.area) * env.g
     return P
 
 
@@ -54,30 +71,75 @@ def _softplus(x):
 
 
 @jit
-def compliance(T, P):
-    """d(eps)/dT: c_k = 1/EA in tension [GP Eq. 1], rising smoothly (logistic, centred 6 T_w below
-    zero) to the softened value in compression: a smooth law, so Newton does not cycle at T = 0."""
-    x = (-T - 6.0 * P[P_TW]) / P[P_TW]
-    sig = 1.0 / (1.0 + math.exp(-x)) if x > -700.0 else 0.0
-    return P[P_CK] + (P[P_CKC] - P[P_CK]) * sig
+def _sigmoid(x):
+    return 1.0 / (1.0 + math.exp(-x)) if x > -700.0 else 0.0
 
 
 @jit
-def strain(T, P):
-    """eps(T) = integral of compliance() from 0 (so eps(0) = 0) [GP Eq. 1; PE2020 Eq. 22 regularised]."""
-    tw = P[P_TW]
-    d = P[P_CKC] - P[P_CK]
-    if d == 0.0:
-        return P[P_CK] * T
-    return P[P_CK] * T - d * tw * (_softplus((-T - 6.0 * tw) / tw) - _softplus(-6.0))
+def tension_only(x, P):
+    """Smooth no-compression map Phi of the visco-elastic tension x = EA eps + zeta deps/dt
+    [PE2020 Eq. 22: T = max(x, 0)]: Phi(x) = x/s + (1 - 1/s) W (softplus(x/W) - ln 2), i.e. slope 1
+    in tension and 1/s in compression (s = compression softening), switching over the width W around
+    x = 0; Phi(0) = 0, offset -W ln 2 for x >> W, compression floor ~ -W ln 2 + x/s."""
+    s = P[P_SOFT]
+    if s == 1.0:
+        return x
+    w = P[P_TW]
+    return x / s + (1.0 - 1.0 / s) * w * (_softplus(x / w) - math.log(2.0))
 
 
 @jit
-def external_force(v, t, a, z, eps, P, cz, cx, cy, out):
-    """Distributed force F (N/m, world) on a cable point [PE2020 Eq. 13, 14, 17; GP Eq. 19-22].
+def tension_only_slope(x, P):
+    """dPhi/dx, between 1/s (compression) and 1 (tension)."""
+    s = P[P_SOFT]
+    if s == 1.0:
+        return 1.0
+    return 1.0 / s + (1.0 - 1.0 / s) * _sigmoid(x / P[P_TW])
 
-    v: velocity, t: tangent (normalised here), a: inertial acceleration, z: height, eps: strain.
+
+@jit
+def law_residual(T, eps, eps_rate, P):
+    """Constitutive equation of one node at t_{n+1}: T - Phi(EA eps + zeta deps/dt) = 0
+    [PE2020 Eq. 22, GP Eq. 1 with c_k = 1/EA]; for EA = 0 (c_k = 0, inextensible) eps = 0."""
+    if P[P_EA] <= 0.0:
+        return eps
+    return T - tension_only(P[P_EA] * eps + P[P_ZETA] * eps_rate, P)
+
+
+@jit
+def elastic_strain(T, P):
+    """Static strain carrying tension T (inverse of Phi(EA eps), deps/dt = 0; 0 if inextensible)."""
+    if P[P_EA] <= 0.0:
+        return 0.0
+    x = T
+    for _ in range(60):  # Newton on the monotone Phi, slope in [1/s, 1]
+        f = tension_only(x, P) - T
+        if abs(f) <= 1e-13 * (abs(T) + P[P_TW]):
+            break
+        x -= f / tension_only_slope(x, P)
+    return x / P[P_EA]
+
+
+@jit
+def height_at_alpha_f(v, rn, P):
+    """z at t_{n+alpha_f} of a point with alpha_f-level velocity v: the position is a generalized-alpha
+    variable of dr/dt = v (rate r' with r'_{n+alpha_m} = v_{n+alpha_f}); rn = (r_n, r'_n)."""
+    am = P[P_AM]
+    g = P[P_GAM]
+    rdot = (v[2] - (1.0 - am) * rn[5]) / am
+    z1 = rn[2] + P[P_DT] * ((1.0 - g) * rn[5] + g * rdot)
+    return (1.0 - P[P_AF]) * rn[2] + P[P_AF] * z1
+
+
+@jit
+def external_force(v, t, a, rn, eps, P, cz, cx, cy, out):
+    """Distributed force F (N/m, world) on a cable point [PE2020 Eq. 13-17; GP Eq. 19-22].
+
+    v: velocity, t: tangent (normalised here), a: inertial acceleration (all at the alpha levels),
+    rn: position and its rate at t_n (the height at t_{n+alpha_f} follows from v, so that the seabed
+    spring is implicit), eps: strain.
     """
+    z = height_at_alpha_f(v, rn, P)
     nt = math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
     tu = np.empty(3)
     for k in range(3):
@@ -103,6 +165,18 @@ def external_force(v, t, a, z, eps, P, cz, cx, cy, out):
         added = -ma * (P[P_CMN] * (a[k] - at * tu[k]) + P[P_CMT] * at * tu[k])
         out[k] = drag + added
     out[2] -= (P[P_M] - P[P_RHOF] * P[P_AREA]) * P[P_G]
+    if P[P_SEABED] > 0.0:  # the DG solver's contact law [PE2020 Eq. 15-16], l = 1 + eps
+        # its damping term jumps from 0 to zeta c_crit |v_z| at first contact: a discontinuity an implicit
+        # Newton solve cannot converge across, so it is ramped in over the static penetration -F_bz/K_d
+        ramp = 1.0
+        d_static = -P[P_FBZ] / P[P_KD] if P[P_KD] > 0.0 else 0.0
+        if d_static > 0.0:
+            ramp = min(max((P[P_ZG] - z) / d_static, 0.0), 1.0)
+        fx, fy, fz = seabed_force(z, v[0], v[1], v[2], le, P[P_ZG], P[P_KD], P[P_CCRIT], ramp * P[P_SBZETA],
+                                  P[P_MU], P[P_VMU], P[P_FBZ])
+        out[0] += fx
+        out[1] += fy
+        out[2] += fz
 
 
 @jit

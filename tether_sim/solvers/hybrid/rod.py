@@ -1,13 +1,15 @@
 """Kirchhoff rod elements [GP Sec. 2.2, Eq. 6-11, Appendix 2 Eq. 27-29].
 
-Field variables per node, body-frame components: v (0:3), omega (3:6), kappa (6:9), f (9:12).
+Field variables per node, body-frame components: v (0:3), omega (3:6), kappa (6:9), f (9:12), and
+the axial strain eps (12), tied to the tension f_1 by the node's constitutive equation
+(kernels.law_residual, PE2020 Eq. 22), so Eq. 7 below is linear in deps/dt.
 Body axis 0 is the tangent (torsion axis), axes 1-2 the bending axes; B = diag(GJ, EI, EI),
 I = diag(I_t, I_b, I_b). The frame L (world -> body) of each node is advanced in time by the
 incremental rotation theta = dt (omega_n + omega_{n+1})/2 [GP Eq. 15-18]; the alpha_f-level frame
 used to express gravity/drag/current in body components is exp(-alpha_f theta~) L_n.
 
-GP's rod is inextensible; ours stretches with the catenary's law eps(f_1) (f_1 = f . t, the
-tension), so that a rod zone in a tether can neither carry compression stiffly nor change the axial
+GP's rod is inextensible; ours stretches with the catenary's law f_1 = Phi(EA eps + zeta deps/dt)
+(f_1 = f . t, the tension), so that a rod zone in a tether can neither carry compression stiffly nor change the axial
 wave speed: r' = (1 + eps) t gives Eq. 7 the terms (1 + eps) omega x t + deps/dt t and Eq. 9 the
 moment arm (1 + eps). With c_k = 0 (GP benchmark) the equations are exactly GP's.
 
@@ -23,8 +25,8 @@ import numpy as np
 
 from tether_sim.numerics.jit import jit
 from tether_sim.numerics.rotations import rotate_frame
-from tether_sim.solvers.hybrid.kernels import (P_AF, P_B0, P_DT, P_I0, P_M, ROD_SLOTS, alpha_levels, compliance, cross,
-                                              external_force, strain)
+from tether_sim.solvers.hybrid.kernels import (P_AF, P_B0, P_DT, P_I0, P_M, ROD_EPS, ROD_SLOTS, alpha_levels, cross,
+                                              external_force)
 
 
 @jit
@@ -55,7 +57,7 @@ def rod_node_terms(Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, Yf, Ym, Fb):
             vw[i] += La[k, i] * Yf[k]
             aw[i] += La[k, i] * acc_b[k]
     Fw = np.empty(3)
-    external_force(vw, tw, aw, rn[2], strain(Yf[9], P), P, cz, cx, cy, Fw)
+    external_force(vw, tw, aw, rn, Yf[ROD_EPS], P, cz, cx, cy, Fw)
     for k in range(3):
         Fb[k] = La[k, 0] * Fw[0] + La[k, 1] * Fw[1] + La[k, 2] * Fw[2]
 
@@ -88,9 +90,9 @@ def rod_cell_residual(Ya, Yna, Ytna, La, ra, Yb, Ynb, Ytnb, Lb, rb, ds, P, cz, c
     for k in range(3):
         Bk[k] = B[k] * ka[k]
         Iw[k] = II[k] * om[k]
-    # Eq. 7 (extensible): dv/ds + kappa x v - (1 + eps) omega x e1 - deps/dt e1, eps = eps(f_1)
-    le = 1.0 + strain(f[0], P)
-    edot = compliance(f[0], P) * Yd[9]
+    # Eq. 7 (extensible): dv/ds + kappa x v - (1 + eps) omega x e1 - deps/dt e1 (eps: node unknown)
+    le = 1.0 + Y[ROD_EPS]
+    edot = Yd[ROD_EPS]
     cross(ka, v, c)
     out[0] = (Yfb[0] - Yfa[0]) / ds + c[0] - edot
     out[1] = (Yfb[1] - Yfa[1]) / ds + c[1] - le * om[2]

@@ -21,12 +21,14 @@ from tether_sim.solvers.hybrid import zoning
 from tether_sim.solvers.hybrid.assembly import assemble_jacobian, assemble_residual
 from tether_sim.solvers.hybrid.chain import build_chain, rod_blocks
 from tether_sim.solvers.hybrid.initial import InitialStateMixin
-from tether_sim.solvers.hybrid.kernels import P_AF, P_AM, P_GAM, pack_parameters, strain
+from tether_sim.solvers.hybrid.kernels import CAT_EPS, P_AF, P_AM, P_GAM, ROD_EPS, elastic_strain, pack_parameters
 from tether_sim.solvers.hybrid.rod import frame_at
 from tether_sim.solvers.hybrid.state_io import EndMotion, convert_state, node_profile
 
 MAX_HALVINGS = 6
 MAX_TURN = 0.3  # rad, largest tangent change per Newton iteration
+LINE_SEARCH_HALVINGS = 6
+MAX_BOOST = 256.0  # largest factor on the rod switching tension after failed Newton solves
 
 
 class _NewtonFailure(Exception):
@@ -192,6 +194,7 @@ class HybridRodCatenarySolver(InitialStateMixin):
     def _step_with_retry(self, dt):
         pieces = [dt]
         level = 0
+        boost = 4.0
         while pieces:
             h = pieces.pop(0)
             snap = (self.Y.copy(), self.Yt.copy(), self.Lf.copy())
@@ -199,8 +202,16 @@ class HybridRodCatenarySolver(InitialStateMixin):
                 self._step(h)
             except _NewtonFailure as exc:
                 self.Y, self.Yt, self.Lf = snap
-                # a catenary losing its tension is ill-conditioned [GP Sec. 5]: widen the rod zones first
-                if self.opt.zoning == "adaptive" and self.EI > 0.0 and self._rezone(boost=4.0):
+                # a catenary losing its tension is ill-conditioned [GP Sec. 5]: widen the rod zones first,
+                # with switching tensions 4, 16, 64, 256 x T_on on repeated failures, then halve the step
+                while boost <= MAX_BOOST and self.opt.zoning == "adaptive" and self.EI > 0.0:
+                    changed = self._rezone(boost=boost)
+                    boost *= 4.0
+                    if changed:
+                        break
+                else:
+                    changed = False
+                if changed:
                     self.stats["failure_rezonings"] = self.stats.get("failure_rezonings", 0) + 1
                     pieces.insert(0, h)
                     continue
@@ -264,6 +275,7 @@ class HybridRodCatenarySolver(InitialStateMixin):
         lu = None
         res_prev = np.inf
         err_prev = np.inf
+        args = (Yn, Ytn, Ln, rn, ch.s, P, self.cz, self.cx, self.cy)
         for it in range(1, self.opt.max_newton_iterations + 1):
             assemble_residual(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, Y, Yn, Ytn, Ln, rn, ch.s, P,
                               self.cz, self.cx, self.cy, R)
@@ -271,7 +283,8 @@ class HybridRodCatenarySolver(InitialStateMixin):
                 raise _NewtonFailure("non-finite residual")
             # modified Newton: keep the factorised Jacobian while the scaled residual falls fast enough
             res = np.abs(rs * R).max() if lu is not None else np.inf
-            if lu is None or res > 0.1 * res_prev:
+            fresh = lu is None or res > 0.1 * res_prev
+            if fresh:
                 nnz = assemble_jacobian(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, ch.noff, ch.nslot, Y, Yn, Ytn, Ln,
                                         rn, ch.s, P, self.cz, self.cx, self.cy, rows, cols, vals)
                 J = csr_matrix((vals[:nnz], (rows[:nnz], cols[:nnz])), shape=(n, n))
@@ -290,6 +303,8 @@ class HybridRodCatenarySolver(InitialStateMixin):
             # to the mirror solution (T, t) -> (-T, -t) of the unit-tangent parameterisation
             turn = np.abs(dx[tangent_unknowns]).max(initial=0.0)
             lam = min(1.0, MAX_TURN / turn) if turn > 0.0 else 1.0
+            if fresh:
+                lam = self._line_search(Y, dx, lam, rs, R, args)
             Y[ch.idx_node, ch.idx_slot] -= lam * dx
             err = float(np.max(np.abs(dx) / scale)) / self.opt.newton_tolerance
             # converged, or stagnating at round-off within 1000x of the tolerance
@@ -305,6 +320,23 @@ class HybridRodCatenarySolver(InitialStateMixin):
             self.body_x[e] = x
         self._commit(np.ascontiguousarray(Y[:K]), dt, P, it)
 
+    def _line_search(self, Y, dx, lam, rs, R, args):
+        """Backtracking on the scaled residual norm (after a fresh Jacobian): halve the step while it
+        raises |rs R|_2. Contact-like kinks (seabed onset, slack-taut switch of the law) otherwise make
+        full Newton steps jump between the two sides of the kink without converging."""
+        ch = self.chain
+        f0 = float(np.dot(rs * R, rs * R))
+        Rt = np.empty_like(R)
+        Yt = Y.copy()
+        for _ in range(LINE_SEARCH_HALVINGS):
+            Yt[ch.idx_node, ch.idx_slot] = Y[ch.idx_node, ch.idx_slot] - lam * dx
+            assemble_residual(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, Yt, *args, Rt)
+            if np.all(np.isfinite(Rt)) and float(np.dot(rs * Rt, rs * Rt)) <= (1.0 - 1e-4 * lam) * f0:
+                return lam
+            lam *= 0.5
+        self.stats["line_search_exhausted"] = self.stats.get("line_search_exhausted", 0) + 1
+        return lam * 2.0 ** LINE_SEARCH_HALVINGS if f0 > 0.0 else lam
+
     def _unknown_scales(self, Y):
         """Per-unknown magnitude used by the Newton stopping test |dx| <= tol * scale."""
         ch = self.chain
@@ -317,10 +349,9 @@ class HybridRodCatenarySolver(InitialStateMixin):
                       self.net_weight * self.length, loads, 1e-12)
         speed = max(np.abs(Yc[:, 0:3]).max(initial=0.0), 1e-3 * math.sqrt(self.config.environment.g * self.length),
                     1e-3 * self.length / self.opt.time_step)
-        per_slot_cat = np.array([speed] * 3 + [tension] + [1.0] * 3 + [1.0] * 5)
-        per_slot_rod = np.array([speed] * 3 + [speed / self.length] * 3 + [1.0 / self.length] * 3 + [tension] * 3)
-        per_slot_cat = np.append(per_slot_cat, 1.0)
-        per_slot_rod = np.append(per_slot_rod, 1.0)
+        eps = tension * self.ck if self.ck > 0.0 else 1.0
+        per_slot_cat = np.array([speed] * 3 + [tension] + [1.0] * 3 + [eps] + [1.0] * 5)
+        per_slot_rod = np.array([speed] * 3 + [speed / self.length] * 3 + [1.0 / self.length] * 3 + [tension] * 3 + [eps])
         table = np.where(cat[:, None], per_slot_cat[None, :], per_slot_rod[None, :])
         per_slot_body = np.array([self.length] * 3 + [1.0] * 4 + [speed] * 3 + [speed / self.length] * 3)
         nb = Y.shape[0] - cat.size
@@ -356,7 +387,7 @@ class HybridRodCatenarySolver(InitialStateMixin):
             if first > 0 and ch.grid[first] == ch.grid[first - 1]:
                 self.positions[first] = self.positions[first - 1]  # starts at the joint's catenary node
             for c in range(first + 1, last + 1):
-                la, lb = 1.0 + self._strain(self.Y[c - 1, 9]), 1.0 + self._strain(self.Y[c, 9])
+                la, lb = 1.0 + self.Y[c - 1, ROD_EPS], 1.0 + self.Y[c, ROD_EPS]
                 self.positions[c] = self.positions[c - 1] + 0.5 * (ch.s[c] - ch.s[c - 1]) * (
                     la * self.Lf[c - 1, 0] + lb * self.Lf[c, 0])
         st = self.stats
@@ -392,7 +423,11 @@ class HybridRodCatenarySolver(InitialStateMixin):
                 self.Lf[c] = out
 
     def _strain(self, T):
-        return float(strain(float(T), self._parameters(self.opt.time_step)))
+        """Static strain carrying tension T (inverse of the law at deps/dt = 0)."""
+        return float(elastic_strain(float(T), self._parameters(self.opt.time_step)))
+
+    def _node_strain(self, c):
+        return float(self.Y[c, ROD_EPS if self.chain.kind[c] == zoning.ROD else CAT_EPS])
 
     def _world_velocities(self):
         v = self.Y[:, 0:3].copy()

@@ -56,9 +56,9 @@ class EndMotion:
 
 def _node_tangent_strain(solver, c):
     if solver.chain.kind[c] == zoning.ROD:
-        return solver.Lf[c][0], solver._strain(solver.Y[c, 9])
+        return solver.Lf[c][0], solver._node_strain(c)
     t = solver.Y[c, 4:7]
-    return t / np.linalg.norm(t), solver._strain(solver.Y[c, 3])
+    return t / np.linalg.norm(t), solver._node_strain(c)
 
 
 def reconstruct_positions(solver):
@@ -95,7 +95,7 @@ def node_profile(solver):
             out["velocity"][c] = L.T @ Y[c, 0:3]
             out["force"][c] = L.T @ Y[c, 9:12]
             out["tension"][c] = Y[c, 9]
-            out["strain"][c] = solver._strain(Y[c, 9])
+            out["strain"][c] = solver._node_strain(c)
             out["shear"][c] = np.hypot(Y[c, 10], Y[c, 11])
             q = B * Y[c, 6:9]
             out["moment_vec"][c] = L.T @ q
@@ -107,7 +107,7 @@ def node_profile(solver):
             out["velocity"][c] = Y[c, 0:3]
             out["force"][c] = Y[c, 3] * t
             out["tension"][c] = Y[c, 3]
-            out["strain"][c] = solver._strain(Y[c, 3])
+            out["strain"][c] = solver._node_strain(c)
     cat_idx = np.nonzero(~rod)[0]
     for c in cat_idx:  # geometric curvature of the catenary (no moment carried)
         a = c - 1 if c > 0 and not rod[c - 1] and ch.grid[c - 1] != ch.grid[c] else c
@@ -145,7 +145,7 @@ def convert_state(solver, new_zones):
             if same:
                 Y[n], Yt[n] = solver.Y[c], solver.Yt[c]
             else:
-                Y[n, :12], Yt[n, :12] = zoning.rod_to_cat(solver.Y[c], solver.Yt[c], solver.Lf[c])
+                Y[n], Yt[n] = zoning.rod_to_cat(solver.Y[c], solver.Yt[c], solver.Lf[c])
     n = 0
     while n < K:  # rod blocks: frames by minimal rotation from kept frames, then variables
         if nodes[n][1] != zoning.ROD:
@@ -164,7 +164,7 @@ def convert_state(solver, new_zones):
             if keep[k]:
                 continue
             Lf[i] = frames[k]
-            Y[i, :12], Yt[i, :12] = zoning.cat_to_rod(solver.Y[src[i][0]], solver.Yt[src[i][0]], frames[k])
+            Y[i], Yt[i] = zoning.cat_to_rod(solver.Y[src[i][0]], solver.Yt[src[i][0]], frames[k])
             kap = []
             if k > 0:
                 kap.append(zoning.curvature_between(frames[k - 1], frames[k], ds))

@@ -79,11 +79,12 @@ def chain_nodes(zones):
 
 
 def cat_to_rod(Yc, Ytc, L):
-    """Rod variables (v, omega, kappa=0, f; and rates) of a catenary node in the frame L (axis 0 = t)."""
+    """Rod variables (v, omega, kappa=0, f, eps; and rates) of a catenary node in the frame L (axis 0 = t)."""
     t = Yc[4:7] / np.linalg.norm(Yc[4:7])
     tdot = Ytc[4:7]
-    Y = np.zeros(12)
-    Yt = np.zeros(12)
+    Y = np.zeros(13)
+    Yt = np.zeros(13)
+    Y[12], Yt[12] = Yc[7], Ytc[7]  # strain
     Y[0:3] = L @ Yc[0:3]
     om = L @ np.cross(t, tdot)
     Y[3:6] = om
@@ -94,9 +95,10 @@ def cat_to_rod(Yc, Ytc, L):
 
 
 def rod_to_cat(Yr, Ytr, L):
-    """Catenary variables (v, T, t; and rates) of a rod node with frame L."""
-    Y = np.zeros(12)
-    Yt = np.zeros(12)
+    """Catenary variables (v, T, t, eps; and rates) of a rod node with frame L."""
+    Y = np.zeros(13)
+    Yt = np.zeros(13)
+    Y[7], Yt[7] = Yr[12], Ytr[12]  # strain
     om = Yr[3:6]
     Y[0:3] = L.T @ Yr[0:3]
     Y[3] = Yr[9]
