@@ -6,8 +6,8 @@ docs/verification.md). The static ring is the discrete fixed point du/dt = 0 of 
 
 Measured (docs/verification.md): the LDG curvature (Eq. 26) converges at the paper's rate P + 1 for
 P = 1, 2 (2.01, 2.00 and 3.00, 2.87 over successive doublings); the positions converge faster than
-the paper's Eq. 34 rates, at P + 2 (P = 1, N = 16 ... 128: 3.39, 3.19, 3.06 -> 3), because r = r(0) + int q ds is one
-degree higher per element than q. Tolerance +-0.3 (the issue's): in the asymptotic range the rate
+the paper's Eq. 34 rates, at P + 2 (P = 1, N = 16 ... 128: 3.39, 3.19, 3.06 -> 3), because
+r = r(0) + int q ds is one degree higher per element than q. Tolerance +-0.3 (the issue's): in the asymptotic range the rate
 drifts by < 0.15 between doublings, while a one-order loss (P instead of P + 1, the paper's odd-P
 penalty) changes it by 1. P = 1 uses N = 32, 64, 128: with 2 or 3 Gauss points per element
 (automatic quadrature rule before / after session 2) the last pair gives 3.06 / 3.08 (positions)
