@@ -34,6 +34,7 @@ class HybridOptions:
     chi_on: float = param(0.3, doc="adaptive zoning: element becomes rod when sqrt(EI w^2/T^3) exceeds this (docs/hybrid_solver.md)", min=1e-6, max=1e6)
     chi_off: float = param(0.15, doc="adaptive zoning: rod element returns to catenary below this (hysteresis, < chi_on)", min=1e-6, max=1e6)
     min_zone_elements: int = param(4, doc="adaptive zoning: shortest rod or catenary zone, in elements", min=1, max=100000)
+    zoning_interval: float = param(0.01, unit="s", doc="adaptive zoning: zones are re-evaluated after a step at most this often (every step if the step is longer)", min=0.0, max=1e6)
     end_rod_length: float = param(0.0, unit="m", doc="rod zone kept at an end that holds its tangent (clamped or hold_direction_*)", min=0.0, max=1e6)
     hold_direction_ship: bool = param(False, doc="force/free ship end also holds its tangent at ship_end.direction (frame fixed)")
     hold_direction_vehicle: bool = param(False, doc="force/free vehicle end also holds its tangent at vehicle_end.direction (GP benchmark)")
