@@ -80,9 +80,9 @@ def test_added_mass_acts_per_body_axis():
     state[3:7] = quat([1.0, 2.0, 0.5], 0.9)
     R = np.empty((3, 3))
     # A force along the rotated body y axis accelerates along it with 1/(m + m_a,y).
-    from tether_sim.physics.bodies import _rotation_matrix
+    from tether_sim.physics.bodies import rotation_matrix
 
-    _rotation_matrix(state, R)
+    rotation_matrix(state, R)
     acc = np.zeros(3)
     body_acceleration(state, params, 500.0 * R[:, 1], np.zeros(3), acc)
     assert acc == pytest.approx(500.0 / (4995.0 + 3000.0) * R[:, 1], rel=1e-12)

@@ -95,44 +95,58 @@ def initial_body_state(props: RigidBodyProperties, attachment_world=None) -> np.
 
 
 @jit
-def _rotation_matrix(state, out):
-    """R (body -> world) from the (normalised) quaternion x, y, z, w at state[3:7]."""
+def _rotation(state):
+    """R (body -> world) as 9 scalars (row major) from the normalised quaternion x, y, z, w at
+    state[3:7]; scalars instead of an array so the per-stage body kernels allocate nothing."""
     qx, qy, qz, qw = state[3], state[4], state[5], state[6]
     n = np.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
     qx, qy, qz, qw = qx / n, qy / n, qz / n, qw / n
-    out[0, 0] = 1.0 - 2.0 * (qy * qy + qz * qz)
-    out[0, 1] = 2.0 * (qx * qy - qz * qw)
-    out[0, 2] = 2.0 * (qx * qz + qy * qw)
-    out[1, 0] = 2.0 * (qx * qy + qz * qw)
-    out[1, 1] = 1.0 - 2.0 * (qx * qx + qz * qz)
-    out[1, 2] = 2.0 * (qy * qz - qx * qw)
-    out[2, 0] = 2.0 * (qx * qz - qy * qw)
-    out[2, 1] = 2.0 * (qy * qz + qx * qw)
-    out[2, 2] = 1.0 - 2.0 * (qx * qx + qy * qy)
+    return (1.0 - 2.0 * (qy * qy + qz * qz), 2.0 * (qx * qy - qz * qw), 2.0 * (qx * qz + qy * qw),
+            2.0 * (qx * qy + qz * qw), 1.0 - 2.0 * (qx * qx + qz * qz), 2.0 * (qy * qz - qx * qw),
+            2.0 * (qx * qz - qy * qw), 2.0 * (qy * qz + qx * qw), 1.0 - 2.0 * (qx * qx + qy * qy))
 
 
 @jit
-def _lever_arm(state, params, R, out):
-    """Vector from the CoG to P in the world frame, R r_P."""
+def rotation_matrix(state, out):
+    """out (3, 3) = R (body -> world) of the body state (for callers outside the hot loop)."""
+    R = _rotation(state)
     for i in range(3):
-        out[i] = (R[i, 0] * params[_P_ATTACH] + R[i, 1] * params[_P_ATTACH + 1]
-                  + R[i, 2] * params[_P_ATTACH + 2])
+        for j in range(3):
+            out[i, j] = R[3 * i + j]
+
+
+@jit
+def _rotate(R, x, y, z):
+    """R (x, y, z)."""
+    return (R[0] * x + R[1] * y + R[2] * z, R[3] * x + R[4] * y + R[5] * z,
+            R[6] * x + R[7] * y + R[8] * z)
+
+
+@jit
+def _rotate_back(R, x, y, z):
+    """R^T (x, y, z)."""
+    return (R[0] * x + R[3] * y + R[6] * z, R[1] * x + R[4] * y + R[7] * z,
+            R[2] * x + R[5] * y + R[8] * z)
+
+
+@jit
+def _lever_arm(params, R):
+    """Vector from the CoG to P in the world frame, R r_P."""
+    return _rotate(R, params[_P_ATTACH], params[_P_ATTACH + 1], params[_P_ATTACH + 2])
 
 
 @jit
 def body_attachment_kinematics(state, params, out_pos, out_vel):
     """World position x + R r_P and velocity v + omega x (R r_P) of the attachment point P."""
-    R = np.empty((3, 3))
-    r = np.empty(3)
-    _rotation_matrix(state, R)
-    _lever_arm(state, params, R, r)
+    R = _rotation(state)
+    r0, r1, r2 = _lever_arm(params, R)
     wx, wy, wz = state[10], state[11], state[12]
-    out_pos[0] = state[0] + r[0]
-    out_pos[1] = state[1] + r[1]
-    out_pos[2] = state[2] + r[2]
-    out_vel[0] = state[7] + wy * r[2] - wz * r[1]
-    out_vel[1] = state[8] + wz * r[0] - wx * r[2]
-    out_vel[2] = state[9] + wx * r[1] - wy * r[0]
+    out_pos[0] = state[0] + r0
+    out_pos[1] = state[1] + r1
+    out_pos[2] = state[2] + r2
+    out_vel[0] = state[7] + wy * r2 - wz * r1
+    out_vel[1] = state[8] + wz * r0 - wx * r2
+    out_vel[2] = state[9] + wx * r1 - wy * r0
 
 
 @jit
@@ -140,31 +154,29 @@ def _translational_acceleration(state, params, cable_force, fluid_velocity, R, o
     """a = R diag(1/(m+m_a)) R^T (F_cable + (m - rho V) g + F_drag); drag per body axis."""
     m = params[_P_MASS]
     g = params[_P_G]
-    # Relative velocity in the body frame, v_b = R^T (v - u).
-    f_body = np.empty(3)
-    for j in range(3):
-        vb = 0.0
-        for i in range(3):
-            vb += R[i, j] * (state[7 + i] - fluid_velocity[i])
-        f_body[j] = -params[_P_DRAG + j] * abs(vb) * vb
-    force = np.empty(3)
-    for i in range(3):
-        force[i] = cable_force[i] + R[i, 0] * f_body[0] + R[i, 1] * f_body[1] + R[i, 2] * f_body[2]
-    force[2] -= (m - params[_P_RHO] * params[_P_VOLUME]) * g
+    # Relative velocity in the body frame, v_b = R^T (v - u); quadratic drag per body axis.
+    v0, v1, v2 = _rotate_back(R, state[7] - fluid_velocity[0], state[8] - fluid_velocity[1],
+                              state[9] - fluid_velocity[2])
+    d0 = -params[_P_DRAG] * abs(v0) * v0
+    d1 = -params[_P_DRAG + 1] * abs(v1) * v1
+    d2 = -params[_P_DRAG + 2] * abs(v2) * v2
+    e0, e1, e2 = _rotate(R, d0, d1, d2)
+    f0 = cable_force[0] + e0
+    f1 = cable_force[1] + e1
+    f2 = cable_force[2] + e2 - (m - params[_P_RHO] * params[_P_VOLUME]) * g
     # Solve the effective mass matrix R diag(m + m_a) R^T: rotate in, divide, rotate back.
-    fb = np.empty(3)
-    for j in range(3):
-        fb[j] = (R[0, j] * force[0] + R[1, j] * force[1] + R[2, j] * force[2]) / (m + params[_P_ADDED_MASS + j])
-    for i in range(3):
-        out_acc[i] = R[i, 0] * fb[0] + R[i, 1] * fb[1] + R[i, 2] * fb[2]
+    b0, b1, b2 = _rotate_back(R, f0, f1, f2)
+    a0, a1, a2 = _rotate(R, b0 / (m + params[_P_ADDED_MASS]), b1 / (m + params[_P_ADDED_MASS + 1]),
+                         b2 / (m + params[_P_ADDED_MASS + 2]))
+    out_acc[0] = a0
+    out_acc[1] = a1
+    out_acc[2] = a2
 
 
 @jit
 def body_acceleration(state, params, cable_force, fluid_velocity, out_acc):
     """CoG acceleration (3,) (world) under the cable force at P, gravity, buoyancy and drag."""
-    R = np.empty((3, 3))
-    _rotation_matrix(state, R)
-    _translational_acceleration(state, params, cable_force, fluid_velocity, R, out_acc)
+    _translational_acceleration(state, params, cable_force, fluid_velocity, _rotation(state), out_acc)
 
 
 @jit
@@ -173,18 +185,13 @@ def body_derivatives(state, params, cable_force, fluid_velocity, out):
 
     I_w dw/dt = r_P x F_cable - w x (I_w w) - C_w w,  I_w = R diag(I + I_a) R^T,
     dq/dt = 0.5 (0, w) (x) q (world angular velocity, quaternion x, y, z, w); a drift term
-    -(|q|^2 - 1) q keeps the quaternion on the unit sphere.
+    -(|q|^2 - 1) q keeps the quaternion on the unit sphere. Allocates nothing.
     """
-    R = np.empty((3, 3))
-    _rotation_matrix(state, R)
-    acc = np.empty(3)
-    _translational_acceleration(state, params, cable_force, fluid_velocity, R, acc)
+    R = _rotation(state)
     out[0] = state[7]
     out[1] = state[8]
     out[2] = state[9]
-    out[7] = acc[0]
-    out[8] = acc[1]
-    out[9] = acc[2]
+    _translational_acceleration(state, params, cable_force, fluid_velocity, R, out[7:10])
     qx, qy, qz, qw = state[3], state[4], state[5], state[6]
     wx, wy, wz = state[10], state[11], state[12]
     drift = qx * qx + qy * qy + qz * qz + qw * qw - 1.0
@@ -193,26 +200,22 @@ def body_derivatives(state, params, cable_force, fluid_velocity, out):
     out[5] = 0.5 * (wx * qy - wy * qx + wz * qw) - drift * qz
     out[6] = 0.5 * (-wx * qx - wy * qy - wz * qz) - drift * qw
     # Angular momentum balance, evaluated in the body frame (diagonal inertia there).
-    r = np.empty(3)
-    _lever_arm(state, params, R, r)
-    tau = np.empty(3)
-    tau[0] = r[1] * cable_force[2] - r[2] * cable_force[1]
-    tau[1] = r[2] * cable_force[0] - r[0] * cable_force[2]
-    tau[2] = r[0] * cable_force[1] - r[1] * cable_force[0]
-    wb = np.empty(3)
-    tb = np.empty(3)
-    for j in range(3):
-        wb[j] = R[0, j] * wx + R[1, j] * wy + R[2, j] * wz
-        tb[j] = R[0, j] * tau[0] + R[1, j] * tau[1] + R[2, j] * tau[2]
-    ib = np.empty(3)
-    for j in range(3):
-        ib[j] = params[_P_INERTIA + j] + params[_P_ADDED_INERTIA + j]
+    r0, r1, r2 = _lever_arm(params, R)
+    t0 = r1 * cable_force[2] - r2 * cable_force[1]
+    t1 = r2 * cable_force[0] - r0 * cable_force[2]
+    t2 = r0 * cable_force[1] - r1 * cable_force[0]
+    w0, w1, w2 = _rotate_back(R, wx, wy, wz)
+    tb0, tb1, tb2 = _rotate_back(R, t0, t1, t2)
+    i0 = params[_P_INERTIA] + params[_P_ADDED_INERTIA]
+    i1 = params[_P_INERTIA + 1] + params[_P_ADDED_INERTIA + 1]
+    i2 = params[_P_INERTIA + 2] + params[_P_ADDED_INERTIA + 2]
     # Euler's equations in the body frame: I dw_b/dt = tau_b - w_b x (I w_b) - C w_b.
-    hx, hy, hz = ib[0] * wb[0], ib[1] * wb[1], ib[2] * wb[2]
-    dwb = np.empty(3)
-    dwb[0] = (tb[0] - (wb[1] * hz - wb[2] * hy) - params[_P_ROT_DAMP] * wb[0]) / ib[0]
-    dwb[1] = (tb[1] - (wb[2] * hx - wb[0] * hz) - params[_P_ROT_DAMP + 1] * wb[1]) / ib[1]
-    dwb[2] = (tb[2] - (wb[0] * hy - wb[1] * hx) - params[_P_ROT_DAMP + 2] * wb[2]) / ib[2]
+    hx, hy, hz = i0 * w0, i1 * w1, i2 * w2
+    dw0 = (tb0 - (w1 * hz - w2 * hy) - params[_P_ROT_DAMP] * w0) / i0
+    dw1 = (tb1 - (w2 * hx - w0 * hz) - params[_P_ROT_DAMP + 1] * w1) / i1
+    dw2 = (tb2 - (w0 * hy - w1 * hx) - params[_P_ROT_DAMP + 2] * w2) / i2
     # d(w_world)/dt = R dw_b/dt (the w x w term of dR/dt vanishes).
-    for i in range(3):
-        out[10 + i] = R[i, 0] * dwb[0] + R[i, 1] * dwb[1] + R[i, 2] * dwb[2]
+    a0, a1, a2 = _rotate(R, dw0, dw1, dw2)
+    out[10] = a0
+    out[11] = a1
+    out[12] = a2
