@@ -17,7 +17,7 @@ class DGOptions:
     element_lengths: tuple = param((), unit="-", doc="relative element sizes from s = 0 (N positive weights, scaled to L); empty = uniform")
     lambda_floor: float = param(0.0, unit="m/s", doc="lower bound of the Lax-Friedrichs speed (adds dissipation in slack parts; 0 = paper)", min=0.0, max=1e5)
     q_penalty: float = param(1.0, doc="factor on the Lax-Friedrichs jump penalty of the q equation: 1 = PE2020 Eq. 24; 0 = central q flux, which removes the instability of low-tension curved cables with EA/T > ~1e4 (docs/dg_solver.md)", min=0.0, max=1.0)
-    quad_points: int = param(0, doc="Gauss points per element; 0 = automatic ceil((3P+1)/2) (see docs/dg_solver.md)", min=0, max=64)
+    quad_points: int = param(0, doc="Gauss points per element; 0 = automatic (3P+1)//2 + 1 (see docs/dg_solver.md)", min=0, max=64)
     tension_buffer: int = param(65536, doc="capacity of the per-substep end-tension ring buffer (drain_end_tensions)", min=16, max=100000000)
 
 

@@ -12,6 +12,10 @@ Shapes and channel indices: see ``layout.py``. The right-hand side is evaluated 
 5. Per Gauss point: R = dT/ds + f_b + f_d + f_c, and the added-mass system solved per point
    (dv/dt = gamma0 a); projected on the modes [Eq. 4, 12-17].
 
+Steps 1-3 are ``tension_scalar``, step 4 the end of ``internal_forces`` (what the outputs need),
+step 5 ``momentum_rate`` (vectorised across the elements in soa.py when the cable has no current
+and no seabed). Fluxes and end loads: fluxes.py.
+
 Boundary fluxes (rows of Table 1): velocity ends (prescribed, fixed, clamped, body) take
 v_hat = v_BC and T_hat = T+ + n lambda (gamma0 v_BC - v+); force ends (free, force) take
 T_hat = n F_BC and v_hat = v+. The lambda term is the upwind (exact Riemann) correction of the
@@ -31,19 +35,17 @@ from tether_sim.physics.hydrodynamics import current_at, morison_drag
 from tether_sim.physics.seabed import seabed_force
 from tether_sim.solvers.dg.elementops import strong_derivative
 from tether_sim.solvers.dg.layout import (
-    B_F, B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, E_F, E_M, E_T, E_VHAT, F_MS, F_NU, F_Q, F_V,
+    B_F, B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, F_NU, F_Q, F_V,
     I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_SEABED,
-    K_FORCE, K_FREE, M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDT, P_EA, P_FBZ, P_GAMMA0, P_HALF_RHO_D,
-    P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_QPEN, P_MN, P_MT, P_MU, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
+    M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDT, P_EA, P_FBZ, P_GAMMA0, P_HALF_RHO_D,
+    P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
     T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TV, W_V,
 )
+from tether_sim.solvers.dg.fluxes import (  # noqa: F401 (re-exported)
+    clip_compression, end_outputs, interface_fluxes, is_force_end, velocity_fluxes,
+)
 from tether_sim.solvers.dg.ldg import ldg_shear_force
-
-
-@jit
-def is_force_end(kind):
-    """Free and point-force ends prescribe T_hat; all others prescribe v_hat [PE2020 Table 1]."""
-    return kind == K_FREE or kind == K_FORCE
+from tether_sim.solvers.dg.soa import momentum_rate_soa, soa_momentum_applies
 
 
 @jit
@@ -86,16 +88,6 @@ def local_speed(prm, law, q0, q1, q2, tab_eps, tab_T):
 
 
 @jit
-def interface_fluxes(fl, tr, N, c_fl, c_u, c_f, scale_f, penalty):
-    """Interior Lax-Friedrichs fluxes F_hat = (F_L + F_R)/2 + penalty lambda/2 (u_R - u_L) [Eq. 24]."""
-    for k in range(1, N):
-        lam = penalty * max(tr[k - 1, 1, T_LAM], tr[k, 0, T_LAM])
-        for c in range(3):
-            fl[k, c_fl + c] = 0.5 * scale_f * (tr[k - 1, 1, c_f + c] + tr[k, 0, c_f + c]) \
-                + 0.5 * lam * (tr[k, 0, c_u + c] - tr[k - 1, 1, c_u + c])
-
-
-@jit
 def element_positions(U, ra, h, iprm, rs):
     """Position rs[e] of the left end of every element, from the anchor ra by integrating q."""
     N = iprm[I_N]
@@ -116,20 +108,57 @@ def element_positions(U, ra, h, iprm, rs):
 @jit
 def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc,
            wq, wm, tr, fl, rs, tmp, dU, dra, endf):
-    """du/dt of the DG cable [PE2020 Eq. 23] into dU; anchor velocity into dra; end loads into endf.
+    """du/dt of the DG cable [PE2020 Eq. 23] into dU; anchor velocity into dra; end loads into endf."""
+    internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf, tmp)
+    momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr, fl, rs, tmp, dU)
+    k = iprm[I_ANCHOR] * iprm[I_N]
+    for c in range(3):
+        dra[c] = fl[k, F_Q + c]
 
-    Four passes over the elements (values; strain rate and tension; [bending]; sources), the
-    element operations written out with one accumulator per channel (same sums, same order as
-    elementops.py), point values consumed where they are made instead of stored and re-read.
+
+@jit
+def internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf, tmp):
+    """Steps 1-4 of dg_rhs (module docstring): point values, dq/dt into dU[..., 0:3], the tension
+    vector (+ bending shear) on the modes and at the traces, all fluxes and the end loads endf.
+
+    Passes over the elements with the element operations written out, one accumulator per
+    channel (same sums, same order as elementops.py), point values consumed where they are made.
     """
+    N = iprm[I_N]
+    g0 = prm[P_GAMMA0]
+    law = iprm[I_LAW]
+    k0 = iprm[I_KIND0]
+    k1 = iprm[I_KIND1]
+    tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU)
+    # 4. fluxes of the tension vector, boundary fluxes, end loads
+    interface_fluxes(fl, tr, N, F_V, T_V, T_TV, 1.0, 1.0)
+    lam0 = max(tr[0, 0, T_LAM], prm[P_LAMBDA_BC])
+    lam1 = max(tr[N - 1, 1, T_LAM], prm[P_LAMBDA_BC])
+    for c in range(3):
+        if is_force_end(k0):
+            fl[0, F_V + c] = -bc[0, B_F + c]
+        else:  # n = -1
+            fl[0, F_V + c] = tr[0, 0, T_TV + c] - lam0 * (g0 * vbc[0, 3 + c] - tr[0, 0, T_V + c])
+        if is_force_end(k1):
+            fl[N, F_V + c] = bc[1, B_F + c]
+        else:  # n = +1
+            fl[N, F_V + c] = tr[N - 1, 1, T_TV + c] + lam1 * (g0 * vbc[1, 3 + c] - tr[N - 1, 1, T_V + c])
+    if law != LAW_LINEAR:
+        clip_compression(fl, tr, 0, 0, 0)
+        clip_compression(fl, tr, N, N - 1, 1)
+    end_outputs(N, tr, fl, endf, k0, k1, bc)
+
+
+@jit
+def tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU):
+    """Steps 1-3 of dg_rhs element by element (any law, bending): values, fluxes of F_q, dq/dt,
+    strain rate, tension vector (+ T_s) projected on the modes and its traces."""
     N = iprm[I_N]
     nq = V.shape[0]
     nm = V.shape[1]
     g0 = prm[P_GAMMA0]
     ig0 = 1.0 / g0
     law = iprm[I_LAW]
-    k0 = iprm[I_KIND0]
-    k1 = iprm[I_KIND1]
     bending = iprm[I_BENDING] != 0
     lam_taut = math.sqrt(prm[P_EA] / g0)  # = local_speed of a taut trace for the (bi)linear laws
     lam_floor = prm[P_LAMBDA_FLOOR]
@@ -191,21 +220,11 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
                     lam = 0.0
                 lam = lam if lam > lam_floor else lam_floor
             tr[e, side, T_LAM] = lam
-    # 2. fluxes of F_q = v / gamma0 and dq/dt
-    interface_fluxes(fl, tr, N, F_Q, T_Q, T_V, ig0, prm[P_QPEN])
-    for c in range(3):
-        fl[0, F_Q + c] = tr[0, 0, T_V + c] * ig0 if is_force_end(k0) else vbc[0, 3 + c]
-        fl[N, F_Q + c] = tr[N - 1, 1, T_V + c] * ig0 if is_force_end(k1) else vbc[1, 3 + c]
+    # 2. fluxes of F_q = v / gamma0 (and of the strain-rate gradient)
+    velocity_fluxes(prm, iprm, vbc, tr, fl)
     EA = prm[P_EA]
     zeta = prm[P_ZETA]
     damped = iprm[I_AXDAMP] != 0
-    if damped:  # central fluxes for the strain-rate gradient of the damping terms (LDG-style)
-        for k in range(1, N):
-            for c in range(3):
-                fl[k, F_NU + c] = 0.5 * (tr[k - 1, 1, T_V + c] + tr[k, 0, T_V + c]) * ig0
-        for c in range(3):
-            fl[0, F_NU + c] = fl[0, F_Q + c]
-            fl[N, F_NU + c] = fl[N, F_Q + c]
     for e in range(N):
         # dq/dt = d(v/gamma0)/ds with the Lax-Friedrichs fluxes; the strain-rate gradient shares
         # the volume term and differs only in the (central) interface fluxes
@@ -277,25 +296,20 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
         ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, bc, wq, wm, tr, fl)
         for e in range(N):
             _project_tension(Pj, Tr, wq, wm, tr, e, nm, nq)
-    # 4. fluxes of the tension vector, boundary fluxes, end loads
-    interface_fluxes(fl, tr, N, F_V, T_V, T_TV, 1.0, 1.0)
-    lam0 = max(tr[0, 0, T_LAM], prm[P_LAMBDA_BC])
-    lam1 = max(tr[N - 1, 1, T_LAM], prm[P_LAMBDA_BC])
-    for c in range(3):
-        if is_force_end(k0):
-            fl[0, F_V + c] = -bc[0, B_F + c]
-        else:  # n = -1
-            fl[0, F_V + c] = tr[0, 0, T_TV + c] - lam0 * (g0 * vbc[0, 3 + c] - tr[0, 0, T_V + c])
-        if is_force_end(k1):
-            fl[N, F_V + c] = bc[1, B_F + c]
-        else:  # n = +1
-            fl[N, F_V + c] = tr[N - 1, 1, T_TV + c] + lam1 * (g0 * vbc[1, 3 + c] - tr[N - 1, 1, T_V + c])
-    if law != LAW_LINEAR:
-        clip_compression(fl, tr, 0, 0, 0)
-        clip_compression(fl, tr, N, N - 1, 1)
-    end_outputs(N, tr, fl, endf, k0, k1, bc)
-    # 5. dT/ds, sources, added mass, projection
+
+
+@jit
+def momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr, fl, rs, tmp, dU):
+    """Step 5 of dg_rhs: dT/ds, drag, weight, seabed, added mass; dv/dt projected into dU[..., 3:6]."""
+    N = iprm[I_N]
+    nq = V.shape[0]
+    nm = V.shape[1]
     needpos = iprm[I_NEEDPOS] != 0
+    if soa_momentum_applies(iprm, V, tmp):
+        momentum_rate_soa(prm, iprm, h, V, Pj, D, Lf, wq, wm, tr, fl, tmp, dU)
+        return
+    g0 = prm[P_GAMMA0]
+    ig0 = 1.0 / g0
     current = iprm[I_CURRENT] != 0
     seabed = iprm[I_SEABED] != 0
     if needpos:
@@ -372,9 +386,6 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
             dU[e, l, 3] = s0
             dU[e, l, 4] = s1
             dU[e, l, 5] = s2
-    a = iprm[I_ANCHOR]
-    for c in range(3):
-        dra[c] = fl[a * N, F_Q + c]
 
 
 @jit
@@ -404,46 +415,3 @@ def _project_tension(Pj, Tr, wq, wm, tr, e, nm, nq):
         tr[e, side, T_TV] = s0
         tr[e, side, T_TV + 1] = s1
         tr[e, side, T_TV + 2] = s2
-
-
-@jit
-def clip_compression(fl, tr, k, e, side):
-    """Remove a compressive axial part of the boundary flux T_hat (laws without compression).
-
-    The Riemann solution of a cable that cannot push has T* >= 0: a boundary moving into the cable
-    faster than the upwind term allows produces slack, not compression.
-    """
-    q0 = tr[e, side, T_Q]
-    q1 = tr[e, side, T_Q + 1]
-    q2 = tr[e, side, T_Q + 2]
-    lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
-    if lq <= 1e-300:
-        return
-    i0 = q0 / lq
-    i1 = q1 / lq
-    i2 = q2 / lq
-    a = fl[k, F_V] * i0 + fl[k, F_V + 1] * i1 + fl[k, F_V + 2] * i2
-    if a < 0.0:
-        fl[k, F_V] -= a * i0
-        fl[k, F_V + 1] -= a * i1
-        fl[k, F_V + 2] -= a * i2
-
-
-@jit
-def end_outputs(N, tr, fl, endf, k0, k1, bc):
-    """Force and moment by the cable on each end (-n T_hat, -n M_hat), axial end tension, v_hat."""
-    for end in range(2):
-        k = end * N
-        e = end * (N - 1)
-        side = end
-        sgn = 1.0 if end == 0 else -1.0  # -n
-        q0 = tr[e, side, T_Q]
-        q1 = tr[e, side, T_Q + 1]
-        q2 = tr[e, side, T_Q + 2]
-        lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
-        il = 1.0 / lq if lq > 1e-300 else 0.0
-        endf[end, E_T] = (fl[k, F_V] * q0 + fl[k, F_V + 1] * q1 + fl[k, F_V + 2] * q2) * il
-        for c in range(3):
-            endf[end, E_F + c] = sgn * fl[k, F_V + c]
-            endf[end, E_M + c] = sgn * fl[k, F_MS + c]
-            endf[end, E_VHAT + c] = fl[k, F_Q + c]

@@ -16,7 +16,9 @@ import numpy as np
 from tether_sim.numerics.jit import jit
 from tether_sim.numerics.polys import legendre_at, legendre_integral_at
 from tether_sim.physics.constitutive import axial_tension
+from tether_sim.solvers.dg.kernels import internal_forces
 from tether_sim.solvers.dg.layout import I_ANCHOR, I_BENDING, M_KAP, M_MS, M_NUS, M_TAU, M_TV
+from tether_sim.solvers.dg.stepper import fill_end_kinematics
 
 S_POS = 0
 S_VEL = 3
@@ -44,6 +46,15 @@ class SamplingPlan:
         self.phi = np.ascontiguousarray(legendre_at(order, xi))
         self.iphi = np.ascontiguousarray(legendre_integral_at(order, xi))
         self.starts = np.zeros((N, 3))
+
+
+@jit
+def evaluate_outputs(t, U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf, bs, bp,
+                     tmp):
+    """The part of a right-hand-side evaluation at time t the outputs read (end loads endf, the
+    modal work channels of wm): end kinematics and kernels.internal_forces, no momentum rate."""
+    fill_end_kinematics(bc, iprm, t, vbc, bs, bp)
+    internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf, tmp)
 
 
 @jit

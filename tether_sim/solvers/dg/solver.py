@@ -23,7 +23,11 @@ from tether_sim.physics.hydrodynamics import added_mass_per_length, current_tabl
 from tether_sim.physics.statics import solve_static
 from tether_sim.solvers.base import BodyState, EndForces, SolverState, end_index
 from tether_sim.solvers.dg import layout as Y
-from tether_sim.solvers.dg.sampling import NS, S_CURV, S_MOMENT, S_MVEC, S_POS, S_SHEAR, S_STRAIN, S_TENSION, S_TV, S_VEL, SamplingPlan, sample_state
+from tether_sim.solvers.dg.sampling import (
+    NS, S_CURV, S_MOMENT, S_MVEC, S_POS, S_SHEAR, S_STRAIN, S_TENSION, S_TV, S_VEL, SamplingPlan, evaluate_outputs,
+    sample_state,
+)
+from tether_sim.solvers.dg.soa import TMP_HEAD, soa_scratch_size
 from tether_sim.solvers.dg.stepper import STATUS_DIVERGED, dg_advance, dg_evaluate
 from tether_sim.solvers.dg.timestep import stable_dt
 
@@ -75,7 +79,7 @@ class DGCableSolver:
         self._tr = np.zeros((N, 2, Y.NTR))
         self._fl = np.zeros((N + 1, Y.NFL))
         self._rs = np.zeros((N, 3))
-        self._tmp = np.zeros(16)
+        self._tmp = np.zeros(TMP_HEAD + soa_scratch_size(N, nm, nq))  # + scratch of soa.py
         self._vbc = np.zeros((2, 6))
         self._endf = np.zeros((2, Y.N_ENDF))
         self._buf = np.zeros((int(opt.tension_buffer), 3))
@@ -83,6 +87,7 @@ class DGCableSolver:
         self._drained = 0
         self._out = np.zeros(2)
         self._plans = {}
+        self._eval_key = None  # state the output work arrays were last evaluated at (_evaluate_outputs)
         self._bs = np.zeros((2, BODY_STATE_SIZE))
         self._bs0 = np.zeros((2, BODY_STATE_SIZE))
         self._dbs = np.zeros((2, BODY_STATE_SIZE))
@@ -252,11 +257,11 @@ class DGCableSolver:
         e = end_index(end)
         if self.kinds[e] != "prescribed":
             raise ValueError(f"set_end_motion: the {end} end is {self.kinds[e]!r}, not 'prescribed'")
-        p = np.asarray(position, float).reshape(3)
-        v = np.asarray(velocity, float).reshape(3)
-        if not (np.all(np.isfinite(p)) and np.all(np.isfinite(v))):
+        p = np.array(position, dtype=float).reshape(3)
+        v = np.array(velocity, dtype=float).reshape(3)
+        if not all(map(math.isfinite, p.tolist() + v.tolist())):
             raise ValueError(f"set_end_motion: non-finite position or velocity for the {end} end")
-        self._target[e] = (p.copy(), v.copy())
+        self._target[e] = (p, v)
 
     def set_end_load(self, end, force, moment=(0.0, 0.0, 0.0)) -> None:
         """Point force (and moment) applied on a force end (held until changed)."""
@@ -296,6 +301,7 @@ class DGCableSolver:
 
     # ------------------------------------------------------------------ stepping
     def _run(self, nsteps, dt, t_end):
+        self._eval_key = None  # the stages overwrite the output work arrays
         self._prepare_ends(t_end)
         dg_advance(nsteps, self.time, dt, self.U, self.ra, self.prm, self.iprm, self.h, self.V, self.Pj,
                    self.D, self.Lf, self.Tr, self.Iq, self.law.tab_eps, self.law.tab_T, self.cz, self.cx,
@@ -343,6 +349,25 @@ class DGCableSolver:
                     self._vbc, self._wq, self._wm, self._tr, self._fl, self._rs, self._tmp, self._dU,
                     self._dra, self._endf, self._bs, self._bp, self._dbs)
 
+    def _evaluate_outputs(self):
+        """What the outputs (state(), end_forces(), body_state()) read of a right-hand-side evaluation
+        at the current state (end loads, modal work channels; sampling.evaluate_outputs), skipped when
+        nothing it depends on changed since the last one: a node asking for all three per tick pays
+        for one."""
+        for e in range(2):
+            if self.kinds[e] == "prescribed":
+                b = self.bc[e]
+                b[Y.B_T0] = b[Y.B_T1] = self.time
+                b[Y.B_P0:Y.B_P0 + 3], b[Y.B_V0:Y.B_V0 + 3] = self._end_pos[e], self._end_vel[e]
+        key = (self.time, self.U.tobytes(), self.ra.tobytes(), self._bs.tobytes(), self.bc.tobytes(),
+               self.prm.tobytes(), self.iprm.tobytes())
+        if key == self._eval_key:
+            return
+        evaluate_outputs(self.time, self.U, self.prm, self.iprm, self.h, self.V, self.Pj, self.D, self.Lf, self.Tr,
+                         self.law.tab_eps, self.law.tab_T, self.bc, self._vbc, self._wq, self._wm, self._tr, self._fl,
+                         self._dU, self._endf, self._bs, self._bp, self._tmp)
+        self._eval_key = key
+
     def _locate(self, s):
         s = np.clip(np.atleast_1d(np.asarray(s, float)), 0.0, self.L)
         e = np.clip(np.searchsorted(self.s_edges, s, side="right") - 1, 0, self.N - 1)
@@ -381,7 +406,7 @@ class DGCableSolver:
     def state(self, arc_lengths=None) -> SolverState:
         """Position, velocity, strain, tension, curvature and bending moment at arc lengths s
         (one compiled sampling kernel, sampling.py)."""
-        self._evaluate()
+        self._evaluate_outputs()
         plan = self._plan(arc_lengths)
         o = np.empty((NS, plan.s.size))
         sample_state(self.U, self.ra, self._wm, self.h, self.iprm, self.config.cable.gamma0, self.law.code,
@@ -396,7 +421,7 @@ class DGCableSolver:
 
     def end_forces(self) -> EndForces:
         """Force (and moment) BY the cable ON each end: -n T_hat at the boundary fluxes."""
-        self._evaluate()
+        self._evaluate_outputs()
         f = self._endf
         return EndForces(ship_force=f[0, Y.E_F:Y.E_F + 3].copy(), vehicle_force=f[1, Y.E_F:Y.E_F + 3].copy(),
                          ship_moment=f[0, Y.E_M:Y.E_M + 3].copy(), vehicle_moment=f[1, Y.E_M:Y.E_M + 3].copy(),
@@ -407,7 +432,7 @@ class DGCableSolver:
         e = end_index(end)
         if self.kinds[e] != "body":
             return None
-        self._evaluate()
+        self._evaluate_outputs()
         b = self._bs[e]
         acc = np.zeros(3)
         uc = np.zeros(3)
@@ -423,10 +448,13 @@ class DGCableSolver:
         total = int(self._cnt[0])
         cap = self._buf.shape[0]
         first = max(self._drained, total - cap)
-        idx = np.arange(first, total) % cap
         self._drained = total
-        out = self._buf[idx]
-        return out[:, 0].copy(), out[:, 1].copy(), out[:, 2].copy()
+        a, b = first % cap, total % cap
+        if total > first and b <= a:  # the entries wrap around the end of the ring
+            out = np.concatenate((self._buf[a:], self._buf[:b])).T
+        else:
+            out = self._buf[a:a + total - first].T
+        return out[0].copy(), out[1].copy(), out[2].copy()
 
     def snapshot(self):
         return dict(time=self.time, U=self.U.copy(), ra=self.ra.copy(), bc=self.bc.copy(), bodies=self._bs.copy(),

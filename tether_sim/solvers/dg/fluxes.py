@@ -1,0 +1,90 @@
+"""Numerical fluxes at the element interfaces of the DG cable [PE2020 Eq. 24-25, Table 1] and the
+end loads they give (boundary rules: kernels.py module docstring)."""
+
+import math
+
+from tether_sim.numerics.jit import jit
+from tether_sim.solvers.dg.layout import (
+    E_F, E_M, E_T, E_VHAT, F_MS, F_NU, F_Q, F_V, I_AXDAMP, I_KIND0, I_KIND1, I_N, K_FORCE, K_FREE, P_GAMMA0, P_QPEN,
+    T_LAM, T_Q, T_V,
+)
+
+
+@jit
+def is_force_end(kind):
+    """Free and point-force ends prescribe T_hat; all others prescribe v_hat [PE2020 Table 1]."""
+    return kind == K_FREE or kind == K_FORCE
+
+
+@jit
+def interface_fluxes(fl, tr, N, c_fl, c_u, c_f, scale_f, penalty):
+    """Interior Lax-Friedrichs fluxes F_hat = (F_L + F_R)/2 + penalty lambda/2 (u_R - u_L) [Eq. 24]."""
+    for k in range(1, N):
+        lam = penalty * max(tr[k - 1, 1, T_LAM], tr[k, 0, T_LAM])
+        for c in range(3):
+            fl[k, c_fl + c] = 0.5 * scale_f * (tr[k - 1, 1, c_f + c] + tr[k, 0, c_f + c]) \
+                + 0.5 * lam * (tr[k, 0, c_u + c] - tr[k - 1, 1, c_u + c])
+
+
+@jit
+def velocity_fluxes(prm, iprm, vbc, tr, fl):
+    """Fluxes of F_q = v / gamma0 [Eq. 24] and, with damping, the central fluxes of the
+    strain-rate gradient (an LDG auxiliary variable, module docstring) at every interface."""
+    N = iprm[I_N]
+    ig0 = 1.0 / prm[P_GAMMA0]
+    k0 = iprm[I_KIND0]
+    k1 = iprm[I_KIND1]
+    interface_fluxes(fl, tr, N, F_Q, T_Q, T_V, ig0, prm[P_QPEN])
+    for c in range(3):
+        fl[0, F_Q + c] = tr[0, 0, T_V + c] * ig0 if is_force_end(k0) else vbc[0, 3 + c]
+        fl[N, F_Q + c] = tr[N - 1, 1, T_V + c] * ig0 if is_force_end(k1) else vbc[1, 3 + c]
+    if iprm[I_AXDAMP] != 0:
+        for k in range(1, N):
+            for c in range(3):
+                fl[k, F_NU + c] = 0.5 * (tr[k - 1, 1, T_V + c] + tr[k, 0, T_V + c]) * ig0
+        for c in range(3):
+            fl[0, F_NU + c] = fl[0, F_Q + c]
+            fl[N, F_NU + c] = fl[N, F_Q + c]
+
+
+@jit
+def clip_compression(fl, tr, k, e, side):
+    """Remove a compressive axial part of the boundary flux T_hat (laws without compression).
+
+    The Riemann solution of a cable that cannot push has T* >= 0: a boundary moving into the cable
+    faster than the upwind term allows produces slack, not compression.
+    """
+    q0 = tr[e, side, T_Q]
+    q1 = tr[e, side, T_Q + 1]
+    q2 = tr[e, side, T_Q + 2]
+    lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
+    if lq <= 1e-300:
+        return
+    i0 = q0 / lq
+    i1 = q1 / lq
+    i2 = q2 / lq
+    a = fl[k, F_V] * i0 + fl[k, F_V + 1] * i1 + fl[k, F_V + 2] * i2
+    if a < 0.0:
+        fl[k, F_V] -= a * i0
+        fl[k, F_V + 1] -= a * i1
+        fl[k, F_V + 2] -= a * i2
+
+
+@jit
+def end_outputs(N, tr, fl, endf, k0, k1, bc):
+    """Force and moment by the cable on each end (-n T_hat, -n M_hat), axial end tension, v_hat."""
+    for end in range(2):
+        k = end * N
+        e = end * (N - 1)
+        side = end
+        sgn = 1.0 if end == 0 else -1.0  # -n
+        q0 = tr[e, side, T_Q]
+        q1 = tr[e, side, T_Q + 1]
+        q2 = tr[e, side, T_Q + 2]
+        lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
+        il = 1.0 / lq if lq > 1e-300 else 0.0
+        endf[end, E_T] = (fl[k, F_V] * q0 + fl[k, F_V + 1] * q1 + fl[k, F_V + 2] * q2) * il
+        for c in range(3):
+            endf[end, E_F + c] = sgn * fl[k, F_V + c]
+            endf[end, E_M + c] = sgn * fl[k, F_MS + c]
+            endf[end, E_VHAT + c] = fl[k, F_Q + c]
