@@ -78,7 +78,6 @@ def main(argv=None):
     ap.add_argument("--cage", default="body", choices=("body", "force"),
                     help="force: cage as its submerged weight (cost figures while body coupling is missing)")
     ap.add_argument("--damping", default="explicit", choices=("explicit", "implicit"), help="dg.damping of the ROPOS DG runs")
-    ap.add_argument("--damping-interval", type=int, default=1, help="dg.damping_interval (implicit damping)")
     ap.add_argument("--json", default="out/bench_solvers.json")
     args = ap.parse_args(argv)
     print(f"bench_solvers on {platform.machine()}, {os.cpu_count()} cores, "
@@ -91,10 +90,9 @@ def main(argv=None):
                 name = f"{solver} ROPOS L={length:.0f} alpha={alpha:g}" + (" (cage=force)" if args.cage == "force" else "")
                 damping = args.damping if solver == "dg" else "explicit"
                 if damping != "explicit":
-                    name += f" ({damping} damping/{args.damping_interval})"
+                    name += f" ({damping} damping)"
                 try:
-                    cfg = rc.ropos_config(length, alpha=alpha, solver=solver, cage=args.cage, damping=damping,
-                                          damping_interval=args.damping_interval)
+                    cfg = rc.ropos_config(length, alpha=alpha, solver=solver, cage=args.cage, damping=damping)
                     row = time_case(name, cfg, args.duration, motion=rc.fairlead_motion)
                 except Exception as exc:  # a missing or failing solver is reported, not fatal
                     print(f"  {name:<34s} FAILED: {type(exc).__name__}: {exc}")

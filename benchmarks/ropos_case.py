@@ -109,8 +109,7 @@ def cage_properties(top_z):
 
 
 def ropos_config(length, alpha=0.0, solver="dg", n_elements=20, order=4, duration=60.0,
-                 hybrid_segments=100, hybrid_dt=0.01, cfl=0.5, cage="body", damping="explicit",
-                 damping_interval=1):
+                 hybrid_segments=100, hybrid_dt=0.01, cfl=0.5, cage="body", damping="explicit"):
     """SimConfig of the ROPOS case (ship end prescribed, cage as a simulated body).
 
     ``damping="implicit"`` sets dg.damping (implicit axial/bending damping, docs/dg_solver.md);
@@ -128,7 +127,7 @@ def ropos_config(length, alpha=0.0, solver="dg", n_elements=20, order=4, duratio
         vehicle = EndCondition(kind="body", position=(0.0, 0.0, bottom_z))
     else:
         raise ValueError(f"cage: 'body' or 'force', got {cage!r}")
-    dg_extra = {} if damping == "explicit" else {"damping": damping, "damping_interval": int(damping_interval)}
+    dg_extra = {} if damping == "explicit" else {"damping": damping}
     return SimConfig(
         solver=solver,
         duration=float(duration),
