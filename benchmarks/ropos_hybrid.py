@@ -53,10 +53,11 @@ def taut_study(args):
               f"min {T.min():.1f} N; cpu {cpu:.1f} s for {t[-1]:.0f} s; Newton {solver.stats}", flush=True)
 
 
-def slack_config(dt, segments, rho, softening, alpha=1.0, solver="hybrid"):
+def slack_config(dt, segments, rho, softening, alpha=1.0, solver="hybrid", zoning_interval=0.01):
     """The shared L = 200 m slack-snap case (benchmarks/ropos_case.py) with hybrid options."""
     cfg = rc.ropos_config(200.0, alpha=alpha, solver=solver, hybrid_segments=segments, hybrid_dt=dt)
-    return replace(cfg, hybrid=replace(cfg.hybrid, rho_inf=rho, compression_softening=softening))
+    return replace(cfg, hybrid=replace(cfg.hybrid, rho_inf=rho, compression_softening=softening,
+                                       zoning_interval=zoning_interval))
 
 
 def dg_reference(duration):
@@ -70,9 +71,9 @@ def dg_reference(duration):
     return d["t"], d["ship"], d["vehicle"]
 
 
-def slack_run(dt, duration, segments, rho, softening):
+def slack_run(dt, duration, segments, rho, softening, zoning_interval=0.01):
     """One hybrid run of the slack case; dict of records and figures."""
-    cfg = slack_config(dt, segments, rho, softening)
+    cfg = slack_config(dt, segments, rho, softening, zoning_interval=zoning_interval)
     res = drive.run(cfg, duration, rate=1.0 / dt, motion=rc.fairlead_motion)
     st = res["solver"].stats
     return {"t": res["t"], "ship": res["ship"], "vehicle": res["vehicle"], "cpu": res["cpu"], "stats": dict(st)}
@@ -86,10 +87,11 @@ def slack_study(args):
           f"{[round(p / 1e3, 1) for p in dg['cycle_peaks']]}", flush=True)
     for dt in args.steps:
         w0 = time.perf_counter()
-        r = slack_run(dt, args.duration, args.segments, args.rho, args.softening)
+        r = slack_run(dt, args.duration, args.segments, args.rho, args.softening, args.zoning_interval)
         m = rc.snap_metrics(r["t"], r["ship"], window=(10.0, args.duration))
         st = r["stats"]
         row = {"dt": dt, "rho_inf": args.rho, "segments": args.segments, "softening": args.softening,
+               "zoning_interval": args.zoning_interval,
                "first_peak": m["first_peak"], "first_err": m["first_peak"] / dg["first_peak"] - 1.0,
                "mean_peak": m["mean_peak"], "mean_err": m["mean_peak"] / dg["mean_peak"] - 1.0,
                "cycle_peaks": m["cycle_peaks"], "cpu": r["cpu"], "wall": time.perf_counter() - w0,
@@ -147,6 +149,7 @@ def main():
     ap.add_argument("--duration", type=float, default=30.0)
     ap.add_argument("--rho", type=float, default=0.0)
     ap.add_argument("--softening", type=float, default=1e4)
+    ap.add_argument("--zoning-interval", type=float, default=0.01)
     ap.add_argument("--save", default="", help="directory for the hybrid records (npz)")
     ap.add_argument("--plot-only", action="store_true", help="only plot the records saved in --save")
     args = ap.parse_args()

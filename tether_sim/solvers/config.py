@@ -18,6 +18,7 @@ class DGOptions:
     lambda_floor: float = param(0.0, unit="m/s", doc="lower bound of the Lax-Friedrichs speed (adds dissipation in slack parts; 0 = paper)", min=0.0, max=1e5)
     q_penalty: float = param(1.0, doc="factor on the Lax-Friedrichs jump penalty of the q equation: 1 = PE2020 Eq. 24; 0 = central q flux, which removes the instability of low-tension curved cables with EA/T > ~1e4 (docs/dg_solver.md)", min=0.0, max=1.0)
     quad_points: int = param(0, doc="Gauss points per element; 0 = automatic (3P+1)//2 + 1 (see docs/dg_solver.md)", min=0, max=64)
+    damping: str = param("explicit", doc="material damping terms (axial zeta, bending zeta_b): explicit (in the SSP-RK3 step, whose substep they limit as h^-2 / h^-4) or implicit (Strang splitting with an L-stable SDIRK2 step of the damping, substep set by the waves only; docs/dg_solver.md)", choices=("explicit", "implicit"))
     tension_buffer: int = param(65536, doc="capacity of the per-substep end-tension ring buffer (drain_end_tensions)", min=16, max=100000000)
 
 
@@ -33,6 +34,7 @@ class HybridOptions:
     chi_on: float = param(0.3, doc="adaptive zoning: element becomes rod when sqrt(EI w^2/T^3) exceeds this (docs/hybrid_solver.md)", min=1e-6, max=1e6)
     chi_off: float = param(0.15, doc="adaptive zoning: rod element returns to catenary below this (hysteresis, < chi_on)", min=1e-6, max=1e6)
     min_zone_elements: int = param(4, doc="adaptive zoning: shortest rod or catenary zone, in elements", min=1, max=100000)
+    zoning_interval: float = param(0.01, unit="s", doc="adaptive zoning: zones are re-evaluated after a step at most this often (every step if the step is longer)", min=0.0, max=1e6)
     end_rod_length: float = param(0.0, unit="m", doc="rod zone kept at an end that holds its tangent (clamped or hold_direction_*)", min=0.0, max=1e6)
     hold_direction_ship: bool = param(False, doc="force/free ship end also holds its tangent at ship_end.direction (frame fixed)")
     hold_direction_vehicle: bool = param(False, doc="force/free vehicle end also holds its tangent at vehicle_end.direction (GP benchmark)")

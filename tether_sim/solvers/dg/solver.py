@@ -23,6 +23,8 @@ from tether_sim.physics.hydrodynamics import added_mass_per_length, current_tabl
 from tether_sim.physics.statics import solve_static
 from tether_sim.solvers.base import BodyState, EndForces, SolverState, end_index
 from tether_sim.solvers.dg import layout as Y
+from tether_sim.solvers.dg.damping_layout import MODE_AXIAL, MODE_EXPLICIT, MODE_GENERAL
+from tether_sim.solvers.dg.implicit_damping import DampingWork
 from tether_sim.solvers.dg.sampling import (
     NS, S_CURV, S_MOMENT, S_MVEC, S_POS, S_SHEAR, S_STRAIN, S_TENSION, S_TV, S_VEL, SamplingPlan, evaluate_outputs,
     sample_state,
@@ -93,6 +95,7 @@ class DGCableSolver:
         self._dbs = np.zeros((2, BODY_STATE_SIZE))
         bp = pack_body_params(config.body, env)
         self._bp = np.ascontiguousarray(np.stack([bp, bp]))
+        self._setup_damping(cab, env, opt)
         self.time = 0.0
         self._dt_rule = self.stable_time_step()
         self.fixed_dt = float(opt.fixed_time_step)
@@ -148,6 +151,22 @@ class DGCableSolver:
         ip[Y.I_ANCHOR] = 1 if (self.kinds[0] not in _HELD and self.kinds[1] in _HELD) else 0
         ip[Y.I_NEEDPOS] = int(env.seabed or self.cz.size > 0)
         return prm, ip
+
+    def _setup_damping(self, cab, env, opt):
+        """dg.damping = implicit: the stepper gets prm/iprm without the damping terms (E of the
+        splitting) and the implicit damping work arrays; outputs keep the full prm/iprm."""
+        mode = MODE_EXPLICIT
+        if opt.damping == "implicit" and (cab.damping > 0.0 or cab.bending_damping > 0.0):
+            mode = MODE_GENERAL if cab.bending_damping > 0.0 else MODE_AXIAL
+        mt, mn = added_mass_per_length(cab, env)
+        self._damp = DampingWork(mode, self.ops, self.h, self.kinds, cab, cab.gamma0, mt, mn, opt.beta,
+                                 self.law.code, (self.iprm[Y.I_KIND0], self.iprm[Y.I_KIND1]),
+                                 max(self.prm[Y.P_LAMBDA_BC], self.prm[Y.P_LAMBDA_FLOOR]))
+        self._prm_step, self._iprm_step = self.prm.copy(), self.iprm.copy()
+        if mode != MODE_EXPLICIT:
+            self._iprm_step[Y.I_AXDAMP] = self._iprm_step[Y.I_BENDDAMP] = 0
+            self._iprm_step[Y.I_BENDING] = int(cab.EI > 0.0 or cab.torque != 0.0)
+        self._no_fdamp = np.zeros((2, 4))
 
     def _set_initial_state(self, config):
         kind = config.initial.kind
@@ -246,7 +265,7 @@ class DGCableSolver:
         kd = env.seabed_stiffness * cab.diameter if env.seabed else 0.0
         return self.config.dg.cfl * stable_dt(self.h, self.P, self.law.max_slope(), cab.gamma0, cab.damping,
                                               cab.EI, cab.bending_damping, self.config.dg.lambda_floor,
-                                              kd, env.seabed_damping)
+                                              kd, env.seabed_damping, self._damp.mode != MODE_EXPLICIT)
 
     def _substep(self):
         return self.fixed_dt if self.fixed_dt > 0 else self._dt_rule
@@ -303,11 +322,16 @@ class DGCableSolver:
     def _run(self, nsteps, dt, t_end):
         self._eval_key = None  # the stages overwrite the output work arrays
         self._prepare_ends(t_end)
-        dg_advance(nsteps, self.time, dt, self.U, self.ra, self.prm, self.iprm, self.h, self.V, self.Pj,
+        prm, iprm, dw = self._prm_step, self._iprm_step, self._damp
+        prm[:] = self.prm
+        if dw.mode != MODE_EXPLICIT:
+            prm[Y.P_ZETA] = prm[Y.P_ZETAB] = 0.0
+        dg_advance(nsteps, self.time, dt, self.U, self.ra, prm, iprm, self.h, self.V, self.Pj,
                    self.D, self.Lf, self.Tr, self.Iq, self.law.tab_eps, self.law.tab_T, self.cz, self.cx,
                    self.cy, self.bc, self._vbc, self._wq, self._wm, self._tr, self._fl, self._rs, self._tmp,
                    self._dU, self._dra, self._endf, self._bs, self._bp, self._dbs, self._bs0, self._U0, self._ra0,
-                   self._buf, self._cnt, self._out)
+                   self._buf, self._cnt, self._out, dw.idp, dw.dprm, dw.blk, dw.bvec, dw.wp, dw.wd, dw.band,
+                   dw.vec, dw.tmp, dw.fdamp)
         if self._out[1] == STATUS_DIVERGED:
             done = int(self._out[0])
             raise SolverDivergedError(
@@ -347,7 +371,7 @@ class DGCableSolver:
         dg_evaluate(self.time, self.U, self.ra, self.prm, self.iprm, self.h, self.V, self.Pj, self.D, self.Lf,
                     self.Tr, self.Iq, self.law.tab_eps, self.law.tab_T, self.cz, self.cx, self.cy, self.bc,
                     self._vbc, self._wq, self._wm, self._tr, self._fl, self._rs, self._tmp, self._dU,
-                    self._dra, self._endf, self._bs, self._bp, self._dbs)
+                    self._dra, self._endf, self._bs, self._bp, self._dbs, self._no_fdamp, False)
 
     def _evaluate_outputs(self):
         """What the outputs (state(), end_forces(), body_state()) read of a right-hand-side evaluation

@@ -1,15 +1,27 @@
 """The compiled substep loop: SSP-RK3 [PE2020 Eq. 31-33] over the DG state, the position anchor and
 rigid bodies at "body" ends (Table 1 last row: v_hat = v_RB at P, the body feels -n T_hat at P),
 with the per-substep end-tension ring buffer. The loop itself allocates nothing.
+
+With ``dg.damping: implicit`` the loop is the Strang splitting D(dt/2) E(dt) D(dt/2) (consecutive
+half steps merged into one D(dt)): E is the SSP-RK3 step of the right-hand side without the
+damping terms (the caller passes prm/iprm with zeta = zeta_b = 0), D the implicit damping step of
+``implicit_damping.py``. The damping end forces of the latest D (fdamp) are added to the end loads
+of every E stage (bodies feel them; the recorded end tension includes them).
 """
 
 import math
 
 from tether_sim.numerics.jit import jit
 from tether_sim.physics.bodies import body_attachment_kinematics, body_derivatives
-from tether_sim.physics.hydrodynamics import current_at
+from tether_sim.physics.constitutive import LAW_LINEAR
+from tether_sim.physics.hydrodynamics import added_mass_rate, current_at
+from tether_sim.solvers.dg.damping_layout import MODE_EXPLICIT
+from tether_sim.solvers.dg.implicit_damping import damping_step
 from tether_sim.solvers.dg.kernels import dg_rhs, hermite_end
-from tether_sim.solvers.dg.layout import E_F, E_T, I_ANCHOR, I_CURRENT, I_KIND0, K_BODY, K_FORCE, K_FREE, P_RELAX
+from tether_sim.solvers.dg.layout import (
+    E_F, E_T, F_V, I_ANCHOR, I_CURRENT, I_KIND0, I_LAW, I_N, K_BODY, K_FORCE, K_FREE, P_GAMMA0, P_LAMBDA_BC, P_MN,
+    P_MT, P_RELAX, T_LAM, T_Q, T_TV, T_V, W_I,
+)
 
 STATUS_OK = 0
 STATUS_DIVERGED = 1
@@ -28,11 +40,22 @@ def fill_end_kinematics(bc, iprm, t, vbc, bs, bp):
 
 @jit
 def dg_evaluate(t, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc,
-                wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs):
-    """One right-hand-side evaluation at time t (cable and bodies; also used for outputs)."""
+                wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs, fdamp, implicit):
+    """One right-hand-side evaluation at time t (cable and bodies; also used for outputs).
+
+    implicit: the damping is integrated separately (dg.damping = implicit); fdamp (2, 4) holds its
+    end forces (3) and tensions, added to endf, and the no-compression clip of velocity-end
+    fluxes is applied to the sum (clip_end_fluxes)."""
     fill_end_kinematics(bc, iprm, t, vbc, bs, bp)
     dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc,
            wq, wm, tr, fl, rs, tmp, dU, dra, endf)
+    if implicit:
+        for end in range(2):
+            for c in range(3):
+                endf[end, E_F + c] += fdamp[end, c]
+            endf[end, E_T] += fdamp[end, 3]
+        if iprm[I_LAW] != LAW_LINEAR:
+            clip_end_fluxes(prm, iprm, h, V, Pj, Lf, vbc, wq, tr, fl, dU, endf, fdamp)
     for end in range(2):
         if iprm[I_KIND0 + end] == K_BODY:
             uc = tmp[12:15]
@@ -50,13 +73,79 @@ def dg_evaluate(t, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz
 
 
 @jit
+def clip_end_fluxes(prm, iprm, h, V, Pj, Lf, vbc, wq, tr, fl, dU, endf, fdamp):
+    """Velocity-end flux of a law without compression with implicit damping (kernels.clip_compression).
+
+    The explicit scheme clips the axial part of T_hat = T+ + T_d+ + n lambda (gamma0 v_BC - v+) at 0.
+    With the damping split off, dg_rhs clipped only the elastic part and the damping step applied
+    its own trace T_d+ (fdamp): the difference Delta = clip(sum) - clip(elastic) - T_d+ is added
+    here to the end element's dv/dt (lift of Delta through the added mass) and to the end loads.
+    The unclipped elastic flux is rebuilt from the traces exactly as dg_rhs builds it."""
+    N = iprm[I_N]
+    g0 = prm[P_GAMMA0]
+    nq = V.shape[0]
+    nm = V.shape[1]
+    for end in range(2):
+        if iprm[I_KIND0 + end] == K_FREE or iprm[I_KIND0 + end] == K_FORCE:
+            continue
+        e = end * (N - 1)
+        k = end * N
+        sgn = 1.0 if end == 0 else -1.0  # -n
+        lam = max(tr[e, end, T_LAM], prm[P_LAMBDA_BC])
+        q0 = tr[e, end, T_Q]
+        q1 = tr[e, end, T_Q + 1]
+        q2 = tr[e, end, T_Q + 2]
+        lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
+        if lq <= 1e-300:
+            continue
+        i0 = q0 / lq
+        i1 = q1 / lq
+        i2 = q2 / lq
+        tot0 = tr[e, end, T_TV] - sgn * lam * (g0 * vbc[end, 3] - tr[e, end, T_V]) + sgn * fdamp[end, 0]
+        tot1 = tr[e, end, T_TV + 1] - sgn * lam * (g0 * vbc[end, 4] - tr[e, end, T_V + 1]) + sgn * fdamp[end, 1]
+        tot2 = tr[e, end, T_TV + 2] - sgn * lam * (g0 * vbc[end, 5] - tr[e, end, T_V + 2]) + sgn * fdamp[end, 2]
+        a = tot0 * i0 + tot1 * i1 + tot2 * i2
+        if a < 0.0:
+            tot0 -= a * i0
+            tot1 -= a * i1
+            tot2 -= a * i2
+        d0 = tot0 - fl[k, F_V] - sgn * fdamp[end, 0]
+        d1 = tot1 - fl[k, F_V + 1] - sgn * fdamp[end, 1]
+        d2 = tot2 - fl[k, F_V + 2] - sgn * fdamp[end, 2]
+        if d0 == 0.0 and d1 == 0.0 and d2 == 0.0:
+            continue
+        endf[end, E_F] += sgn * d0
+        endf[end, E_F + 1] += sgn * d1
+        endf[end, E_F + 2] += sgn * d2
+        endf[end, E_T] += d0 * i0 + d1 * i1 + d2 * i2
+        # strong derivative: + (1/h) Lf[1] Delta at s = L, - (1/h) Lf[0] Delta at s = 0
+        w = -sgn / h[e]
+        for j in range(nq):
+            lj = 0.0
+            for l in range(nm):
+                lj += V[j, l] * Lf[end, l]
+            a0, a1, a2 = added_mass_rate(wq[e, j, W_I], wq[e, j, W_I + 1], wq[e, j, W_I + 2], w * lj * d0,
+                                         w * lj * d1, w * lj * d2, g0, prm[P_MT], prm[P_MN])
+            for l in range(nm):
+                dU[e, l, 3] += Pj[l, j] * a0
+                dU[e, l, 4] += Pj[l, j] * a1
+                dU[e, l, 5] += Pj[l, j] * a2
+
+
+@jit
 def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy,
-               bc, vbc, wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs, bs0, U0, ra0, buf, cnt, out):
+               bc, vbc, wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs, bs0, U0, ra0, buf, cnt, out,
+               idp, dprm, blk, bvec, wp, wd, band, vec, dtmp, fdamp):
     """Take nsteps SSP-RK3 substeps of size dt from t0. out[0] = steps done, out[1] = status.
 
     The end tensions at the start of every substep (from the first stage, no extra work) go into
     the ring buffer buf (cap, 3) = (t, T_ship, T_vehicle); cnt[0] counts entries ever written.
+    idp ... fdamp: arrays of implicit_damping.DampingWork; idp[0] = 0 (explicit) skips the splitting.
     """
+    implicit = idp[0] != MODE_EXPLICIT
+    if implicit:
+        fill_end_kinematics(bc, iprm, t0, vbc, bs, bp)
+        damping_step(0.5 * dt, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, dtmp, fdamp)
     cap = buf.shape[0]
     N, nm, nv = U.shape
     anchor = iprm[I_ANCHOR]
@@ -83,7 +172,7 @@ def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_ep
             else:
                 a, b, ts = 1.0 / 3.0, 2.0 / 3.0, t + 0.5 * dt
             dg_evaluate(ts, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc,
-                        vbc, wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs)
+                        vbc, wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs, fdamp, implicit)
             if stage == 0:
                 slot = cnt[0] % cap
                 buf[slot, 0] = t
@@ -105,6 +194,10 @@ def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_ep
             fill_end_kinematics(bc, iprm, t_new, vbc, bs, bp)
             for c in range(3):
                 ra[c] = vbc[anchor, c]
+        if implicit:
+            fill_end_kinematics(bc, iprm, t_new, vbc, bs, bp)
+            damping_step(dt if n < nsteps - 1 else 0.5 * dt, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd,
+                         band, vec, dtmp, fdamp)
         s = 0.0
         for e in range(N):
             for k in range(nm):

@@ -31,8 +31,12 @@ def _coef(table, P, power):
     return table[12] * ((P + 1) / 13.0) ** power
 
 
-def stable_dt(h, P, max_slope, gamma0, zeta, EI, zeta_b, lambda_floor=0.0, seabed_Kd=0.0, seabed_zeta=0.0):
+def stable_dt(h, P, max_slope, gamma0, zeta, EI, zeta_b, lambda_floor=0.0, seabed_Kd=0.0, seabed_zeta=0.0,
+              implicit_damping=False):
     """SSP-RK3 stability limit (s) of the DG cable on element sizes h (array) at order P.
+
+    With implicit_damping (dg.damping = implicit) the damping terms B_P and E_P are dropped: the
+    damping is then integrated by the L-stable implicit step of implicit_damping.py.
 
     A seabed in contact adds a local spring-damper of frequency w = sqrt(K_g d / gamma0) and damping
     ratio zeta_s, eigenvalues -zeta_s w +- w sqrt(zeta_s^2 - 1); its rate w (1 + 2 zeta_s) bounds
@@ -40,6 +44,8 @@ def stable_dt(h, P, max_slope, gamma0, zeta, EI, zeta_b, lambda_floor=0.0, seabe
     """
     h = np.asarray(h, float)
     c = max((max_slope / gamma0) ** 0.5, lambda_floor)
+    if implicit_damping:
+        zeta, zeta_b = 0.0, 0.0
     rate = (_coef(_A, P, 2) * c / h
             + _coef(_B, P, 4) * (zeta / gamma0) / h**2
             + _coef(_C, P, 4) * (EI / gamma0) ** 0.5 / h**2

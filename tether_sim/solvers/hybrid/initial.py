@@ -145,6 +145,7 @@ class InitialStateMixin:
                 self.body_x[e][7:13] = 0.0
                 self.body_xd[e][:] = 0.0
         self.time = 0.0
+        self._last_zoning = -np.inf
         self._record = ([], [], [])
         for m in self.end_motion:
             m.reset_time(0.0)
