@@ -33,11 +33,11 @@ from benchmarks import ropos_case as rc  # noqa: E402
 GRID_STEP = bench_moordyn.COUPLING_STEP  # s, the common sampling of the ship tension
 
 
-def our_config(solver, length, rung, alpha):
-    """SimConfig of one rung: DG rung 'N:P', hybrid rung 'segments[:dt]'."""
+def our_config(solver, length, rung, alpha, damping="explicit", cfl=0.5):
+    """SimConfig of one rung: DG rung 'N:P' (damping: dg.damping, cfl: dg.cfl), hybrid rung 'segments[:dt]'."""
     if solver == "dg":
         n, p = (int(v) for v in rung.split(":"))
-        return rc.ropos_config(length, alpha=alpha, solver="dg", n_elements=n, order=p)
+        return rc.ropos_config(length, alpha=alpha, solver="dg", n_elements=n, order=p, damping=damping, cfl=cfl)
     parts = rung.split(":")
     cfg = rc.ropos_config(length, alpha=alpha, solver="hybrid", hybrid_segments=int(parts[0]))
     if len(parts) > 1:
@@ -45,12 +45,13 @@ def our_config(solver, length, rung, alpha):
     return cfg
 
 
-def our_ladder(solver, length, rungs, duration, alpha=0.0, repeats=3, speed_duration=20.0):
+def our_ladder(solver, length, rungs, duration, alpha=0.0, repeats=3, speed_duration=20.0, damping="explicit",
+               cfl=0.5):
     """Accuracy and cost of our solver's ladder; the last rung is the reference."""
     grid = np.arange(1, int(round(duration / GRID_STEP)) + 1) * GRID_STEP
     rows = []
     for rung in rungs:
-        cfg = our_config(solver, length, rung, alpha)
+        cfg = our_config(solver, length, rung, alpha, damping, cfl)
         drive.run(cfg, 0.1, motion=rc.fairlead_motion)  # warm the JIT cache, untimed
         res = drive.run(cfg, duration, motion=rc.fairlead_motion)
         tension = drive.resample(res["t"], res["ship"], grid)
@@ -94,6 +95,11 @@ def main(argv=None):
     ap.add_argument("--moordyn", type=int, nargs="+", default=[20, 40, 80, 160, 320])
     ap.add_argument("--alpha", type=float, default=0.0)
     ap.add_argument("--duration", type=float, default=12.0)
+    ap.add_argument("--damping", default="explicit", choices=("explicit", "implicit"), help="dg.damping of the DG ladder")
+    ap.add_argument("--cfl", type=float, default=0.5, help="dg.cfl of the DG ladder")
+    ap.add_argument("--repeats", type=int, default=3, help="speed re-runs per rung (best of; 0 = the accuracy run only)")
+    ap.add_argument("--moordyn-repeats", type=int, default=3, help="MoorDyn speed re-runs per rung (best of)")
+    ap.add_argument("--speed-duration", type=float, default=20.0, help="simulated s of each speed re-run")
     ap.add_argument("--json", default="out/bench_accuracy.json")
     ap.add_argument("--workdir", default="out/moordyn")
     args = ap.parse_args(argv)
@@ -104,8 +110,10 @@ def main(argv=None):
     rungs = args.dg if args.solver == "dg" else args.hybrid
     out = {}
     for length in args.lengths:
-        ours = our_ladder(args.solver, length, rungs, args.duration, alpha=args.alpha)
-        md = bench_moordyn.ladder(length, sorted(args.moordyn), args.duration, args.workdir)
+        ours = our_ladder(args.solver, length, rungs, args.duration, alpha=args.alpha, repeats=args.repeats,
+                          speed_duration=args.speed_duration, damping=args.damping, cfl=args.cfl)
+        md = bench_moordyn.ladder(length, sorted(args.moordyn), args.duration, args.workdir,
+                                  repeats=args.moordyn_repeats, speed_duration=args.speed_duration)
         print(f"L={length:.0f} m  (errors against each code's finest rung)")
         _print_ladder(args.solver, ours, "rung")
         _print_ladder("MoorDyn N=", md, "segments")

@@ -47,11 +47,13 @@ def time_case(name, config, duration, motion=None, warm_duration=0.2):
     return out
 
 
-def scenario_configs():
-    """(name, SimConfig) of the scenario parameter files present in the repository."""
+def scenario_configs(names=None):
+    """(name, SimConfig) of the scenario parameter files present in the repository (all, or names)."""
     from tether_sim.io.params import load_config
 
     for name, rel in SCENARIO_FILES.items():
+        if names and name not in names:
+            continue
         path = ROOT / rel
         if path.exists():
             yield name, load_config(path)
@@ -72,8 +74,10 @@ def main(argv=None):
     ap.add_argument("--lengths", type=float, nargs="+", default=[1730.0, 200.0])
     ap.add_argument("--alphas", type=float, nargs="+", default=[0.0, 1.0, 100.0])
     ap.add_argument("--no-scenarios", action="store_true")
+    ap.add_argument("--scenarios", nargs="+", choices=tuple(SCENARIO_FILES), help="only these scenario configs")
     ap.add_argument("--cage", default="body", choices=("body", "force"),
                     help="force: cage as its submerged weight (cost figures while body coupling is missing)")
+    ap.add_argument("--damping", default="explicit", choices=("explicit", "implicit"), help="dg.damping of the ROPOS DG runs")
     ap.add_argument("--json", default="out/bench_solvers.json")
     args = ap.parse_args(argv)
     print(f"bench_solvers on {platform.machine()}, {os.cpu_count()} cores, "
@@ -84,18 +88,22 @@ def main(argv=None):
             alphas = args.alphas if solver == "dg" else [0.0]
             for alpha in alphas:
                 name = f"{solver} ROPOS L={length:.0f} alpha={alpha:g}" + (" (cage=force)" if args.cage == "force" else "")
+                damping = args.damping if solver == "dg" else "explicit"
+                if damping != "explicit":
+                    name += f" ({damping} damping)"
                 try:
-                    cfg = rc.ropos_config(length, alpha=alpha, solver=solver, cage=args.cage)
+                    cfg = rc.ropos_config(length, alpha=alpha, solver=solver, cage=args.cage, damping=damping)
                     row = time_case(name, cfg, args.duration, motion=rc.fairlead_motion)
                 except Exception as exc:  # a missing or failing solver is reported, not fatal
                     print(f"  {name:<34s} FAILED: {type(exc).__name__}: {exc}")
                     traceback.print_exc(limit=2, file=sys.stdout)
                     continue
-                row.update(solver=solver, length=length, alpha=alpha, cage=args.cage)
+                row.update(solver=solver, length=length, alpha=alpha, cage=args.cage, damping=damping,
+                           load_avg=os.getloadavg())
                 rows.append(row)
                 _print(row)
     if not args.no_scenarios:
-        for name, cfg in scenario_configs():
+        for name, cfg in scenario_configs(args.scenarios):
             try:
                 row = time_case(f"{cfg.solver} {name}", cfg, args.scenario_duration)
             except Exception as exc:

@@ -109,8 +109,11 @@ def cage_properties(top_z):
 
 
 def ropos_config(length, alpha=0.0, solver="dg", n_elements=20, order=4, duration=60.0,
-                 hybrid_segments=100, hybrid_dt=0.01, cfl=0.5, cage="body"):
+                 hybrid_segments=100, hybrid_dt=0.01, cfl=0.5, cage="body", damping="explicit"):
     """SimConfig of the ROPOS case (ship end prescribed, cage as a simulated body).
+
+    ``damping="implicit"`` sets dg.damping (implicit axial/bending damping, docs/dg_solver.md);
+    "explicit" leaves DGOptions at its default.
 
     ``cage="force"`` replaces the cage by its submerged weight as a point load at s = L (no cage
     inertia or drag: a different snap, only for cost figures while a solver lacks body coupling).
@@ -124,6 +127,7 @@ def ropos_config(length, alpha=0.0, solver="dg", n_elements=20, order=4, duratio
         vehicle = EndCondition(kind="body", position=(0.0, 0.0, bottom_z))
     else:
         raise ValueError(f"cage: 'body' or 'force', got {cage!r}")
+    dg_extra = {} if damping == "explicit" else {"damping": damping}
     return SimConfig(
         solver=solver,
         duration=float(duration),
@@ -132,7 +136,7 @@ def ropos_config(length, alpha=0.0, solver="dg", n_elements=20, order=4, duratio
         ship_end=EndCondition(kind="prescribed", position=top),
         vehicle_end=vehicle,
         body=cage_properties(bottom_z),
-        dg=DGOptions(n_elements=int(n_elements), order=int(order), cfl=float(cfl)),
+        dg=DGOptions(n_elements=int(n_elements), order=int(order), cfl=float(cfl), **dg_extra),
         hybrid=HybridOptions(n_segments=int(hybrid_segments), time_step=float(hybrid_dt)),
         initial=InitialState(kind="static"),
         motion=motion_config(),
