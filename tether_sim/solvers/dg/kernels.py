@@ -162,7 +162,9 @@ def tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, w
     bending = iprm[I_BENDING] != 0
     lam_taut = math.sqrt(prm[P_EA] / g0)  # = local_speed of a taut trace for the (bi)linear laws
     lam_floor = prm[P_LAMBDA_FLOOR]
-    # 1. q, v at the Gauss points and traces; tangent, elongation, local wave speed
+    # 1. q, v at the Gauss points and traces; tangent, elongation, local wave speed. The two
+    # six-channel sums below are written out on purpose: one helper returning a 6-tuple measured
+    # 41-43 us per substep against 35-36 us (ROPOS N = 20, P = 4, bench_dg_kernel.py).
     for e in range(N):
         for j in range(nq):
             s0 = 0.0
