@@ -318,6 +318,15 @@ def _stage_solve(col, exact, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl
 
 
 @jit
+def _gather_force(wd, vec, row, N, nm, b):
+    """vec[row] = the damping force wd[..., WD_F:WD_F+3] in the banded system's (e, c, k) order."""
+    for e in range(N):
+        for c in range(3):
+            for k in range(nm):
+                vec[row, e * b + c * nm + k] = wd[e, k, WD_F + c]
+
+
+@jit
 def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, fdamp):
     """SDIRK2 step of size hs of dv/dt = f_d(v) (axial and bending damping) on the v-system,
     its matrix built by probing f_d with unit vectors coloured every 2 reach + 1 elements."""
@@ -357,10 +366,7 @@ def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp
         band[r, kl] += 1.0
     band_factor(band, n, kl, vec[2])
     damping_force(U, 3, True, vbc, idp, dprm, blk, bvec, Pj, wp, wd, WD_F)
-    for e in range(N):
-        for c in range(3):
-            for k in range(nm):
-                vec[0, e * b + c * nm + k] = wd[e, k, WD_F + c]
+    _gather_force(wd, vec, 0, N, nm, b)
     band_solve(band, n, kl, vec, 0)
     for e in range(N):
         for c in range(3):
@@ -369,10 +375,7 @@ def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp
                 wd[e, k, WD_K1 + c] = k1
                 wd[e, k, WD_Y + c] = U[e, k, 3 + c] + (1.0 - g) * hs * k1
     damping_force(wd, WD_Y, True, vbc, idp, dprm, blk, bvec, Pj, wp, wd, WD_F)
-    for e in range(N):
-        for c in range(3):
-            for k in range(nm):
-                vec[1, e * b + c * nm + k] = wd[e, k, WD_F + c]
+    _gather_force(wd, vec, 1, N, nm, b)
     band_solve(band, n, kl, vec, 1)
     for e in range(N):
         for c in range(3):
