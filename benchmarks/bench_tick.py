@@ -109,12 +109,58 @@ def measure(sol, rc, steps, repeat, ticks=25):
     return 1e6 * sub, 1e6 * tick, float(np.mean(counts))
 
 
+def split(sol, rc, repeat, n=200):
+    """us per call of each part of a node tick (this tree only): the public calls, and the compiled
+    entries they make (tick.dg_tick for advance_to, sampling.sample_state for state()), so that
+    "Python" = call - compiled entry."""
+    from tether_sim.solvers.dg.tick import dg_tick
+    sol.state()  # a node reads outputs: from now on the tick evaluates them (tick.dg_tick)
+    snap = sol.snapshot()
+    t0, dt = sol.time, sol._substep()
+    motion = rc.fairlead_motion(t0 + dt)
+    ws = sol.ws
+
+    def calls(fn):
+        def run():
+            for _ in range(n):
+                fn()
+        return 1e6 * best_of(run, repeat) / n
+
+    def one_substep():  # advance_to over one substep from the same state
+        sol.restore(snap)
+        sol.set_end_motion("ship", *motion)
+        sol.advance_to(t0 + dt)
+
+    def restore_only():
+        sol.restore(snap)
+        sol.set_end_motion("ship", *motion)
+
+    def compiled_tick():
+        sol.restore(snap)
+        sol.set_end_motion("ship", *motion)
+        dg_tick(ws.F, ws.I, ws.spec, t0, t0 + dt, 1, dt, True)
+
+    out = {"set_end_motion": calls(lambda: sol.set_end_motion("ship", *motion))}
+    base = calls(restore_only)
+    out["advance_to (1 substep)"] = calls(one_substep) - base
+    out["dg_tick (same work)"] = calls(compiled_tick) - base
+    sol.restore(snap)
+    sol.advance_to(t0 + dt)
+    out["drain_end_tensions"] = calls(sol.drain_end_tensions)
+    out["state()"] = calls(sol.state)
+    out["end_forces()"] = calls(sol.end_forces)
+    out["body_state()"] = calls(lambda: sol.body_state("vehicle"))
+    sol.restore(snap)
+    return out
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--baseline", help="root of another checkout to time in the same process")
     ap.add_argument("--steps", type=int, default=2000)
     ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--cases", default="all", help="comma-separated indices into CASES, or all")
+    ap.add_argument("--split", action="store_true", help="also time each call of a tick (this tree)")
     args = ap.parse_args(argv)
     from benchmarks import ropos_case as rc
     from tether_sim.solvers import factory
@@ -137,6 +183,9 @@ def main(argv=None):
             b, w = row["base"], row["new"]
             line += f" | new/base substep {w[0] / b[0]:.3f}, tick {w[1] / b[1]:.3f}"
         print(line, flush=True)
+        if args.split:
+            parts = split(prepared(factory, rc, length, n, alpha), rc, args.repeat)
+            print("    per call (new): " + ", ".join(f"{k} {v:.1f} us" for k, v in parts.items()), flush=True)
 
 
 if __name__ == "__main__":

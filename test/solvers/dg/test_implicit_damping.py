@@ -55,6 +55,7 @@ def evaluate(s, prm, iprm):
 @pytest.mark.parametrize("k0, k1, zeta_b, beta", [("prescribed", "fixed", 0.0, 0.0), ("prescribed", "free", 0.0, 0.0),
                                                   ("fixed", "force", 0.7, 0.3), ("clamped", "free", 0.7, -0.2),
                                                   ("prescribed", "clamped", 0.5, 0.0)])
+@pytest.mark.jit_off
 def test_damping_operator_is_the_damping_part_of_the_rhs(k0, k1, zeta_b, beta):
     s = curved_solver(k0, k1, zeta_b, beta=beta)
     s._evaluate()
@@ -77,6 +78,7 @@ def test_damping_operator_is_the_damping_part_of_the_rhs(k0, k1, zeta_b, beta):
                                                         ("prescribed", "fixed", "bilinear", 0.0, DL.MODE_AXIAL),
                                                         ("prescribed", "free", "bilinear", 0.0, DL.MODE_GENERAL),
                                                         ("clamped", "free", "bilinear", 0.7, DL.MODE_GENERAL)])
+@pytest.mark.jit_off
 def test_implicit_step_equals_dense_sdirk2(k0, k1, law, zeta_b, mode):
     s = curved_solver(k0, k1, zeta_b, law=law)
     s._vbc[:] = 3.0 * np.random.default_rng(2).standard_normal((2, 6))

@@ -115,3 +115,28 @@ def test_free_end_hangs_and_force_end_carries_its_load():
     f = s.end_forces()
     # T_hat = n F_BC at a force end: the cable pulls the load point up by exactly the load
     assert np.allclose(f.vehicle_force, [0.0, 0.0, 500.0])
+
+
+def test_outputs_evaluated_inside_the_tick_equal_a_fresh_evaluation():
+    """Once outputs are read, the compiled tick evaluates them at its end (tick.dg_tick): a solver
+    read every tick and one read only at the end give the same bits, and a ring that wrapped keeps
+    the newest entries in time order."""
+    a = DGCableSolver(small_config(vehicle="body", tension_buffer=16))
+    b = DGCableSolver(small_config(vehicle="body", tension_buffer=16))
+    for k in range(1, 6):
+        t = 0.03 * k
+        p, v = np.array([0.2 * np.sin(4 * t), 0.0, 0.1 * t]), np.array([0.8 * np.cos(4 * t), 0.0, 0.1])
+        for s in (a, b):
+            s.set_end_motion("ship", p, v)
+            s.advance_to(t)
+        assert a._outputs_valid == (k > 1)  # from the second tick on the tick itself evaluated them
+        assert not b._outputs_valid
+        st, ef, bs = a.state(), a.end_forces(), a.body_state("vehicle")
+    sb, eb, bb = b.state(), b.end_forces(), b.body_state("vehicle")
+    for name in ("position", "velocity", "tension", "strain", "curvature", "bending_moment"):
+        assert np.array_equal(getattr(st, name), getattr(sb, name))
+    assert np.array_equal(ef.vehicle_force, eb.vehicle_force) and ef.ship_tension == eb.ship_tension
+    assert np.array_equal(bs.acceleration, bb.acceleration)
+    t_a, ship_a, _ = a.drain_end_tensions()
+    assert t_a.size == 16 and np.all(np.diff(t_a) > 0) and t_a[-1] < 0.15  # the newest 16 substep starts
+    assert np.array_equal(t_a, b.drain_end_tensions()[0])

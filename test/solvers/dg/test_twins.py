@@ -24,7 +24,7 @@ from tether_sim.solvers.config import DGOptions, InitialState
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.fluxes import clip_compression
 from tether_sim.solvers.dg.kernels import local_speed, momentum_rate
-from tether_sim.solvers.dg.soa import TMP_HEAD, soa_momentum_applies
+from tether_sim.solvers.dg.soa import SOA_MIN_ELEMENTS, TMP_HEAD, momentum_rate_soa, soa_momentum_applies
 from tether_sim.solvers.dg.solver import DGCableSolver
 
 pytestmark = pytest.mark.jit_off
@@ -52,7 +52,7 @@ def cable_solver(N=3, P=4, EI=0.0, law="bilinear", kinds=("prescribed", "free"),
 
 
 CASES = [dict(N=3, P=4), dict(N=2, P=4, EI=50.0), dict(N=5, P=2, kinds=("prescribed", "body")),
-         dict(N=4, P=3, law="linear", kinds=("fixed", "force"))]
+         dict(N=4, P=3, law="linear", kinds=("fixed", "force")), dict(N=8, P=4)]
 
 
 def scalar_momentum(s):
@@ -69,10 +69,12 @@ def scalar_momentum(s):
 def test_soa_momentum_equals_the_elementwise_path_bit_for_bit(case, relax):
     s = cable_solver(**case)
     s.prm[Y.P_RELAX] = relax
-    assert soa_momentum_applies(s.iprm, s.V, s._tmp)
-    s._evaluate()  # right-hand side with the SoA step 5
-    soa = s._dU[:, :, 3:6].copy()
-    assert np.array_equal(scalar_momentum(s), soa)
+    assert soa_momentum_applies(s.iprm, s.V, s._tmp) == (s.N >= SOA_MIN_ELEMENTS)  # the dispatch rule
+    s._evaluate()  # fills the work arrays step 5 reads
+    dU = s._dU.copy()
+    momentum_rate_soa(s.prm, s.iprm, s.h, s.V, s.Pj, s.D, s.Lf, s._wq, s._wm, s._tr, s._fl, s._tmp, dU)
+    assert np.array_equal(scalar_momentum(s), dU[:, :, 3:6])
+    assert np.array_equal(s._dU[:, :, 3:6], dU[:, :, 3:6])  # whichever path the evaluation took
 
 
 def numpy_momentum(s):

@@ -134,6 +134,7 @@ define(globals(), "endf", [
 ], "N_ENDF")
 
 if __name__ == "__main__":
+    from tether_sim.solvers.dg import damping_layout  # noqa: F401 (defines its tables)
     from tether_sim.solvers.dg.columns import describe
 
     print(describe())

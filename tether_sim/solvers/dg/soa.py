@@ -6,8 +6,10 @@ index innermost: one row of N contiguous values per channel and mode or point), 
 operation is a loop over the N elements that the compiler vectorises; the gain is in the point
 loads (two square roots, drag, added mass per point, four at a time). Every element sees exactly
 the operations of the scalar path in the same order (no reassociation; IEEE sqrt and division), so
-both paths give the same bits. Used when the cable has no current and no seabed (no table look-ups
-or contact branches); ``tmp`` must hold ``TMP_HEAD + soa_scratch_size(N, P+1, Q)``. The same
+both paths give the same bits (test_twins.py). Used when the cable has no current and no seabed (no
+table look-ups or contact branches) and at least SOA_MIN_ELEMENTS elements (below that the loops
+over N are too short to pay for the transposition); ``tmp`` must hold
+``TMP_HEAD + soa_scratch_size(N, P+1, Q)``. The same
 layout for steps 1-3 was measured slower (8.1 vs 6.0 us): their cost is in the small matrix
 products, which the element-wise kernels already keep in registers.
 """
@@ -22,6 +24,10 @@ from tether_sim.solvers.dg.layout import (
 )
 
 TMP_HEAD = 16  # tmp[0:16] belongs to the scalar kernels and the stepper
+# Fewer elements than this: the element-wise path is cheaper (each SoA row loop is only N long; ROPOS
+# P = 4, thread CPU per right-hand side, 2026-11-23: N = 2 / 3 / 5 element-wise 0.8 / 1.6 / 1.7 us,
+# SoA 2.4 / 3.1 / 2.7 us; N = 8 / 12: element-wise 3.9 / 4.2 us, SoA 2.2 / 3.2 us).
+SOA_MIN_ELEMENTS = 7
 # Unsigned indices: numba adds a negative-index wrap-around check to every signed index computed at
 # run time, which keeps the compiler from vectorising the element loops (measured x3).
 U64 = np.uint64
@@ -51,9 +57,10 @@ def soa_scratch_size(N, nm, nq):
 
 @jit
 def soa_momentum_applies(iprm, V, tmp):
-    """Step 5 vectorised: no current and no seabed, and the scratch is there."""
+    """Step 5 vectorised: no current and no seabed, enough elements, and the scratch is there."""
     N = iprm[I_N]
-    return iprm[I_NEEDPOS] == 0 and tmp.shape[0] >= TMP_HEAD + soa_scratch_size(N, V.shape[1], V.shape[0])
+    return (iprm[I_NEEDPOS] == 0 and N >= SOA_MIN_ELEMENTS
+            and tmp.shape[0] >= TMP_HEAD + soa_scratch_size(N, V.shape[1], V.shape[0]))
 
 
 @jit
