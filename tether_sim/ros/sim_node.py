@@ -28,6 +28,7 @@ from tether_sim.physics.snap import SnapDetector
 from tether_sim.ros import convert, node_params
 from tether_sim.ros.driver import END_NAMES, SimulationDriver
 from tether_sim.solvers.factory import build_solver
+from tether_sim.solvers.resolution import mesh_summary
 
 RELIABLE = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 EVENTS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
@@ -45,6 +46,9 @@ class TetherSimNode(Node):
         super().__init__(node_name, **kwargs)
         self.config = node_params.declare_all(self, where)
         node = self.config.node
+        if self.config.solver == "dg":
+            dg = self.config.dg
+            self.get_logger().info("DG mesh: " + mesh_summary(dg.n_elements, dg.order, dg.cfl, dg.resolution, dg.snap_tolerance))
         self.inputs = {}
         self._last_log = {}  # key -> time.monotonic() of the last throttled log line
         for end in END_NAMES:
