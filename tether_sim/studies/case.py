@@ -26,7 +26,7 @@ from tether_sim.io.params import load_config, to_flat
 from tether_sim.studies.stats import TensionTap, end_statistics, event_rows
 
 # Columns that depend on the machine and the moment, not on the physics (left out of comparisons).
-TIMING_COLUMNS = ("wall_s", "cpu_s", "rtf", "worker", "finished_utc", "git_describe")
+TIMING_COLUMNS = ("wall_s", "cpu_s", "rtf", "worker", "nth_in_process", "finished_utc", "git_describe")
 
 
 @lru_cache(maxsize=1)
@@ -114,6 +114,9 @@ def _config_columns(config) -> dict:
             "fairlead_frequency_Hz": frequency, "duration": float(config.duration)}
 
 
+_CASES_IN_PROCESS = [0]
+
+
 def run_task(task: dict) -> dict:
     """Run one case (see the module docstring); returns {"row": {...}, "events": [...]}."""
     wall0, cpu0 = time.perf_counter(), time.thread_time()
@@ -146,9 +149,11 @@ def run_task(task: dict) -> dict:
         tb = traceback.extract_tb(exc.__traceback__)
         where = f" (at {Path(tb[-1].filename).name}:{tb[-1].lineno})" if tb else ""
         row["error"] = f"{type(exc).__name__}: {exc}{where}"
+    _CASES_IN_PROCESS[0] += 1
     wall = time.perf_counter() - wall0
     row.update({"wall_s": wall, "cpu_s": time.thread_time() - cpu0,
                 "rtf": row.get("sim_s", math.nan) / wall if wall > 0 else math.nan,
                 "worker": f"{platform.node()}:{os.getpid()}",
+                "nth_in_process": _CASES_IN_PROCESS[0],  # 1 = first: its times include loading compiled kernels
                 "finished_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())})
     return {"row": row, "events": events}

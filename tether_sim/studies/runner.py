@@ -44,8 +44,8 @@ def plan(study, out_dir, retry_failed=False):
             skipped += 1
             continue
         tasks.append(task)
-    invalid = [r for r in invalid if r["row"]["key"] not in done]
-    return tasks, invalid, skipped, duplicates
+    new = [r for r in invalid if r["row"]["key"] not in done]
+    return tasks, new, skipped + len(invalid) - len(new), duplicates
 
 
 def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=False, limit=None,
