@@ -121,3 +121,34 @@ def test_tf_frames_compose_to_the_cable_ends():
         assert checked >= 5
     finally:
         h.close()
+
+
+def test_snap_marker_stands_at_the_snapping_point():
+    from types import SimpleNamespace
+
+    from tether_sim_msgs.msg import SnapLoadEvent
+    from visualization_msgs.msg import Marker
+
+    from tether_sim.ros import snap_markers
+    from tether_sim.ros.convert import time_msg
+
+    event = SnapLoadEvent(end="vehicle", arc_length=250.0, peak_tension=41234.0, amplification=2.59)
+    event.header.stamp = time_msg(12.5)
+    asked = []
+
+    def state(s):  # a straight vertical cable: the point at arc length s is s metres down
+        asked.append(list(s))
+        return SimpleNamespace(position=np.array([[0.0, 0.0, -float(x)] for x in s]))
+
+    driver = SimpleNamespace(config=SimpleNamespace(cable=SimpleNamespace(length=200.0),
+                                                    node=SimpleNamespace(world_frame="map")),
+                             solver=SimpleNamespace(state=state))
+    sent = []
+    pub = snap_markers.SnapMarkerPublisher.__new__(snap_markers.SnapMarkerPublisher)
+    pub.pub, pub.count = SimpleNamespace(publish=sent.append), 0
+    pub.publish(event, driver)
+    m = sent[0]
+    assert asked == [[200.0]]  # an arc length past the end is clamped to the cable
+    assert (m.pose.position.x, m.pose.position.y, m.pose.position.z) == (0.0, 0.0, -200.0)
+    assert m.type == Marker.TEXT_VIEW_FACING and m.header.frame_id == "map" and m.lifetime.sec == 30
+    assert m.text == "snap vehicle: 41.2 kN (x2.59)" and m.header.stamp.sec == 12

@@ -160,8 +160,8 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) ->
     node = group.start("tether_sim", command_for("tether-sim") + [
         "--ros-args", "--params-file", str(root / args.params), "-p", "use_sim_time:=true"])
     say(f"started recorder (pid {recorder.proc.pid}) and simulation node (pid {node.proc.pid}) "
-        f"in ROS_DOMAIN_ID={group.env['ROS_DOMAIN_ID']}; waiting for the node's outputs (the "
-        f"first start compiles the solver kernels, which can take minutes) ...")
+        f"in ROS_DOMAIN_ID={group.env['ROS_DOMAIN_ID']}; waiting for the node's outputs (its "
+        f"warm-up only loads the kernels compiled in step 2) ...")
     probe = GraphProbe()
     try:
         deadline = time.monotonic() + args.discovery_timeout
