@@ -67,7 +67,7 @@ def write_output(path, prefix, ts):
                 velocity=[T["geometry_msgs/msg/Vector3"](x=0.1, y=0.0, z=0.0) for _ in s],
                 tension=np.linspace(ship, tv, N_S), curvature=np.zeros(N_S),
                 bending_moment=np.zeros(N_S), ship_end_tension=ship, vehicle_end_tension=tv,
-                time_step=1e-3, real_time_factor=1.0)
+                time_step=1e-3, real_time_factor=1.0, lag=0.0, degraded=False)
             log = T0_NS + k * 10**8
             w.write("/tether/state", ts.serialize_cdr(state, "tether_sim_msgs/msg/TetherState"), log)
             wrench = T["geometry_msgs/msg/WrenchStamped"](header=_header(ts, t), wrench=T["geometry_msgs/msg/Wrench"](
@@ -84,7 +84,7 @@ def write_output(path, prefix, ts):
                     header=_header(ts, t), end="vehicle", arc_length=L, peak_tension=PEAK,
                     min_tension=50.0, slack_start=_stamp(ts, SLACK[0]), slack_duration=1.0,
                     rise_time=0.3, static_tension=2000.0, amplification=PEAK / 2000.0,
-                    criterion="slack_threshold")
+                    criterion="slack_threshold", lag=0.0, degraded=False)
                 w.write("/tether/snap_events", ts.serialize_cdr(snap, "tether_sim_msgs/msg/SnapLoadEvent"), log)
     return path
 
