@@ -49,10 +49,10 @@ def vehicle_tension(t):
     return PEAK if abs(t - T_PEAK) < 1e-9 else 2000.0
 
 
-def write_output(path, prefix, ts):
+def write_output(path, prefix, ts, chunk_size=1 << 20):
     T = ts.types
     s = np.linspace(0.0, L, N_S)
-    with RosMcapWriter(path, msg_search_path=[prefix]) as w:
+    with RosMcapWriter(path, msg_search_path=[prefix], chunk_size=chunk_size) as w:
         w.add_topic("/tether/state", "tether_sim_msgs/msg/TetherState")
         w.add_topic("/tether/snap_events", "tether_sim_msgs/msg/SnapLoadEvent")
         w.add_topic("/tether/slack_warnings", "tether_sim_msgs/msg/SlackWarning")
@@ -138,3 +138,20 @@ def test_report_without_states_is_a_clear_error(tmp_path, prefix, store, capsys)
     assert main([str(path)]) == 2
     assert "poses.mcap" in capsys.readouterr().err
     assert main([str(tmp_path / "missing.mcap")]) == 2
+
+
+def test_report_of_a_truncated_file_says_so(tmp_path, prefix, store, capsys):
+    path = write_output(tmp_path / "out.mcap", prefix, store, chunk_size=16384)
+    data = path.read_bytes()
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(data[: len(data) // 2])  # a crash half-way through the file
+    with pytest.warns(UserWarning, match="truncated"):
+        result = make_report(cut, tmp_path / "fig")
+    assert 0 < len(result["run"].t) < N_T
+    assert "**Truncated recording.**" in result["markdown"] and "complete chunk(s)" in result["markdown"]
+    # a file cut before its first complete chunk: a clear error naming the truncation, exit 2
+    single = write_output(tmp_path / "single.mcap", prefix, store)
+    empty = tmp_path / "empty_cut.mcap"
+    empty.write_bytes(single.read_bytes()[: single.stat().st_size // 2])
+    assert main([str(empty), "--out-dir", str(tmp_path / "fig2")]) == 2
+    assert "truncated" in capsys.readouterr().err

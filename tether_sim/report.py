@@ -74,9 +74,10 @@ def load_run(path, t0_s: float | None = None) -> RunData:
     path = Path(path)
     summary = read_summary(path)
     state_topics = _topics_of(summary, STATE_TYPE)
+    lost = f" ({summary.damage.describe()})" if summary.damage is not None else ""
     if not state_topics:
         found = ", ".join(f"{t} ({i.type_name})" for t, i in sorted(summary.topics.items())) or "none"
-        raise ReportError(f"{path}: no {STATE_TYPE} topic to report on (topics: {found})")
+        raise ReportError(f"{path}: no {STATE_TYPE} topic to report on (topics: {found}){lost}")
     state_topic = "/tether/state" if "/tether/state" in state_topics else state_topics[0]
     wrench_topics = {end: t for t in _topics_of(summary, WRENCH_TYPE) for end in ENDS if end in t}
     wanted = [state_topic, *_topics_of(summary, SNAP_TYPE), *_topics_of(summary, SLACK_TYPE),
@@ -120,7 +121,7 @@ def load_run(path, t0_s: float | None = None) -> RunData:
             wrench[end][0].append(stamp_seconds(msg.header.stamp))
             wrench[end][1].append(float(np.sqrt(f.x * f.x + f.y * f.y + f.z * f.z)))
     if not times:
-        raise ReportError(f"{path}: topic {state_topic} holds no TetherState messages")
+        raise ReportError(f"{path}: topic {state_topic} holds no TetherState messages{lost}")
     t = np.asarray(times)
     order = np.argsort(t, kind="stable")
     t0 = float(t[order[0]]) if t0_s is None else float(t0_s)
