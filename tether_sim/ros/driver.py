@@ -233,12 +233,14 @@ class SimulationDriver:
         p, v = src.attachment_at(clock_time)
         return np.asarray(p, float), np.asarray(v, float)
 
-    def _start_blend(self, end, t, reason, report):
-        """Blend ``end`` from its current commanded state at clock time ``t`` onto its source."""
+    def _start_blend(self, end, t, reason, report, probe=None):
+        """Blend ``end`` from its current commanded state at clock time ``t`` onto its source
+        (sized by the offset to the source at ``probe``, default ``t``)."""
         if end not in self._end_state or self.sources.get(end) is None:
             return
         p0, v0 = self._end_state[end]
-        p_s, v_s = self.end_target(end, t)
+        p_s, v_s = self.end_target(end, t if probe is None else probe)
+        p0 = p0 + v0 * (0.0 if probe is None else probe - t)
         distance, speed_change = np.linalg.norm(p_s - p0), np.linalg.norm(v_s - v0)
         if distance < 1e-9 and speed_change < 1e-9:
             return  # already on the stream
@@ -256,7 +258,7 @@ class SimulationDriver:
         was_held = self._held.get(end, False)
         if was_held != held and (not held or self._has_data(end)):  # (replaces a running blend)
             # resumed: blend onto the stream; lost: blend from the motion to rest at the held point
-            self._start_blend(end, self.anchor + self.solver.time, "input lost" if held else "input resumed", report)
+            self._start_blend(end, self.anchor + self.solver.time, "input lost" if held else "input resumed", report, t)
         self._held[end] = held
         p, v = self.end_target(end, t)
         blend = self._blends.get(end)

@@ -118,7 +118,12 @@ class TetherSimNode(Node):
         if t - self._last_log.get(key, -math.inf) < WARN_PERIOD:
             return
         self._last_log[key] = t
-        getattr(self.get_logger(), level)(text)
+        # one call line per severity: rclpy refuses two severities from the same call site
+        # ("Logger severity cannot be changed between calls"), which made a failing tick raise here
+        if level == "error":
+            self.get_logger().error(text)
+        else:
+            self.get_logger().warning(text)
 
     def _reject(self, end, what, reason):
         self._period["rejected"][end] += 1
