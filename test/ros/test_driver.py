@@ -293,3 +293,26 @@ def test_input_delay_makes_the_solver_interpolate_instead_of_extrapolate():
     assert driver.stamp == pytest.approx(1.8)
     np.testing.assert_allclose(driver.solver.targets["ship"][0], (3.24, 0.0, 0.0), atol=1e-12)
     np.testing.assert_allclose(driver.solver.targets["ship"][1], (3.6, 0.0, 0.0), atol=1e-12)
+
+
+def test_a_substep_dearer_than_the_whole_budget_still_makes_progress(monkeypatch):
+    import tether_sim.ros.driver as driver_module
+
+    clock = {"t": 0.0}
+
+    class FakeWall:
+        @staticmethod
+        def perf_counter():
+            return clock["t"]
+
+    class VerySlowString(ElasticString):
+        def advance_to(self, t):
+            n = super().advance_to(t)
+            clock["t"] += 0.05 * n  # 50 ms a substep, budget 10 ms
+            return n
+
+    monkeypatch.setattr(driver_module, "wallclock", FakeWall)
+    driver = SimulationDriver(make_config(max_lag=10.0), solver_factory=VerySlowString, wall_budget=0.01)
+    driver.start(0.0)
+    stamps = [driver.tick(0.02 * k).stamp for k in range(1, 6)]
+    assert stamps == pytest.approx([0.01, 0.02, 0.03, 0.04, 0.05])  # one substep per tick, late but moving

@@ -333,7 +333,8 @@ class SimulationDriver:
         if self.wall_per_substep <= 0.0:
             return 1
         remaining = self.wall_budget - (wallclock.perf_counter() - wall0)
-        return min(left, int(remaining / self.wall_per_substep))
+        n = int(remaining / self.wall_per_substep)
+        return min(left, n if steps_done else max(n, 1))  # at least one substep a tick: progress
 
     def _step_to(self, target, now, wall0, report) -> bool:
         """Chunks of substeps towards ``target`` (solver time) within the tick's limits; False when
