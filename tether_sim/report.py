@@ -221,6 +221,10 @@ def summary_markdown(run: RunData, periods: dict, figures: dict) -> str:
         series = run.end_tension[end]
         lines.append(f"| {end} | {value:.1f} | {series.mean():.1f} | {series.min():.1f} | "
                      f"{series.max():.1f} |")
+    lines += ["", "Static, mean, min and max come from the recorded TetherState messages (one per "
+              f"output, {rate:.1f} Hz here). The snap-event peaks below come from the solver's end "
+              "tension at every substep, so a snap peak can exceed the max of its end above, which "
+              "sees the tension only at the output instants."]
     lines += ["", "## Slack periods", "", "| end | start [s] | end [s] | duration [s] | "
               "min tension [N] | threshold [N] |", "|---|---|---|---|---|---|"]
     for end in ENDS:
@@ -281,7 +285,7 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="tether-sim-report", description=__doc__.split("\n")[0])
     parser.add_argument("mcap", help="output MCAP (recorder or offline runner)")
     parser.add_argument("--out-dir", help="where figures and report.md go (default: <mcap dir>/figures)")
-    parser.add_argument("--snapshots", type=int, default=8, help="number of shape snapshots")
+    parser.add_argument("--snapshots", type=int, default=8, help="number of shape snapshots (default: %(default)s)")
     parser.add_argument("--t0", type=float, help="clock time (s) taken as t = 0 (default: first state)")
     args = parser.parse_args(argv)
     try:

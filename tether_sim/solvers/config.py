@@ -42,6 +42,7 @@ class HybridOptions:
     hold_direction_vehicle: bool = param(False, doc="force/free vehicle end also holds its tangent at vehicle_end.direction (GP benchmark)")
     rotary_inertia_bend: float = param(0.0, unit="kg m", doc="rotary inertia per length about a bending axis; 0 = gamma0*A/(4 pi)", min=0.0, max=1e6)
     rotary_inertia_torsion: float = param(0.0, unit="kg m", doc="rotary inertia per length about the tangent; 0 = 2 x bending value", min=0.0, max=1e6)
+    jacobian: str = param("analytic", doc="Newton Jacobian: analytic (band LU; docs/hybrid_solver.md) or finite_difference (the forward-difference twin, sparse LU)", choices=("analytic", "finite_difference"))
     max_newton_iterations: int = param(25, doc="Newton iterations per implicit step before the step is halved", min=2, max=1000)
     newton_tolerance: float = param(1e-9, doc="Newton stops when every update is below this times its variable scale", min=1e-15, max=1e-2)
     frames_from_curvature: bool = param(True, doc="re-derive rod frames from kappa along s after each step (else pure incremental rotations in time)")
