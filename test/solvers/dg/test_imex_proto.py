@@ -66,7 +66,8 @@ def axial_mode_error(dt, t_end=0.1, cls=IP.DGImex):
     config, s = harness.make_solver(taut_flat())
     k = np.pi / L
     s.set_shape(lambda x: np.stack([1 + EPS0 + AMP * k * np.cos(k * x), 0 * x, 0 * x], 1))
-    st = cls(s, dt)
+    # iteration error far below the time error; the problem is linear: one Jacobian is exact
+    st = cls(s, dt, newton_tol=(1e-13, 1e-11), refresh=10**9)
     n = int(round(t_end / dt))
     for i in range(n):
         st.step(i * dt)
@@ -92,11 +93,13 @@ def test_damped_axial_mode_third_order_far_above_the_explicit_limit():
 
 def test_ros2_damped_axial_mode_second_order():
     """The linearly implicit variant (ROS2 W-method, no Newton) on the same mode: order 2."""
-    errs = [axial_mode_error(dt, cls=IP.DGRosW) for dt in (0.01, 0.005, 0.0025)]
+    errs = [axial_mode_error(dt, cls=IP.DGRosW) for dt in (0.005, 0.0025, 0.00125)]
     rates = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
     print("ROS2 errors / A", np.array(errs) / AMP, "rates", rates)
+    # measured 7.4e-3, 2.0e-3, 5.2e-4 A (rates 1.86, 1.96; at 10 ms 2.3e-2 A, rate 1.66: gamma = 1.71
+    # gives ROS2 a large error constant, the asymptotic rate is reached below ~5 ms)
     assert errs[-1] < 1e-3 * AMP
-    assert np.all(rates > 1.8)  # order 2 (exact Jacobian here: the problem is linear)
+    assert np.all(rates > 1.8)  # order 2
 
 
 # ---------------------------------------------------------------- coupled explicit / implicit order
