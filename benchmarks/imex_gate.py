@@ -263,14 +263,14 @@ def plot(cache, alphas, dts, duration, refresh, t_start, out):
         for c, end in enumerate(("ship", "vehicle")):
             ax = axes[r, c]
             pk = first_peak(ref["t"], ref[end])
-            sel = np.abs(ref["t"] - pk[1]) < 0.15
+            sel = np.abs(ref["t"] - pk[1]) < 0.8
             ax.plot(ref["t"][sel], ref[end][sel] / 1e3, "k-", lw=2.5, label=f"explicit {float(ref['dt']) * 1e6:.1f} us")
             for dt_ms in dts:
                 path = run_path(cache, alpha, dt_ms, refresh, duration, t_start)
                 if not os.path.exists(path):
                     continue
                 d = np.load(path, allow_pickle=True)
-                sel = np.abs(d["t"] - pk[1]) < 0.15
+                sel = np.abs(d["t"] - pk[1]) < 0.8
                 ax.plot(d["t"][sel], d[end][sel] / 1e3, ".-", ms=3, lw=1, label=f"IMEX {dt_ms:g} ms")
             ax.set_title(f"alpha = {alpha:g}, {'ship' if end == 'ship' else 'cage'} end, first snap")
             ax.set_xlabel("t (s)")
