@@ -21,8 +21,10 @@ run: setup
 	$(PY) -m tether_sim.ros.main_job
 
 # TETHER_SIM_REQUIRE_ROS=1: a missing rclpy fails the ROS tests instead of skipping them
+# then the kernel twin tests once more with the JIT off (the kernels as plain Python; ~1 min)
 test: setup
 	TETHER_SIM_REQUIRE_ROS=1 $(PY) -m pytest -q -n $(PYTEST_WORKERS) --dist loadfile $(PYTEST_ARGS)
+	NUMBA_DISABLE_JIT=1 $(PY) -m pytest -q -p no:cacheprovider -m jit_off test/solvers/dg
 
 bench: setup
 	# the quick figures (a few minutes); the full ladders of BENCHMARKS.md are run by hand (commands there)

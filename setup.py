@@ -33,6 +33,8 @@ setup(
         "mcap-ros2-support",
         "rosbags",
     ],
+    # tether-sim-study (tether_sim/studies): Parquet tables, Dask execution and its dashboard
+    extras_require={"studies": ["dask[distributed]", "pyarrow", "bokeh"]},
     zip_safe=True,
     data_files=[
         ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
@@ -50,6 +52,7 @@ setup(
             "tether-sim-record = tether_sim.ros.recorder_node:main",
             "tether-sim-replay = tether_sim.ros.replay_node:main",
             "tether-sim-report = tether_sim.report:main",
+            "tether-sim-study = tether_sim.studies.cli:main",
         ],
     },
 )

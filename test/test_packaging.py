@@ -41,6 +41,7 @@ CONSOLE_SCRIPTS = {  # CONTRACTS.md
     "tether-sim-record": "tether_sim.ros.recorder_node:main",
     "tether-sim-replay": "tether_sim.ros.replay_node:main",
     "tether-sim-report": "tether_sim.report:main",
+    "tether-sim-study": "tether_sim.studies.cli:main",
 }
 
 
@@ -121,8 +122,9 @@ def _imports_of(path: Path) -> set:
 
 
 def test_every_imported_library_is_declared(setup_py, package_xml):
-    """Third-party imports in tether_sim/ appear in install_requires, ROS ones in package.xml."""
+    """Third-party imports in tether_sim/ appear in install_requires (or its extras), ROS ones in package.xml."""
     required = {_requirement_name(r) for r in setup_py["install_requires"]}
+    required |= {_requirement_name(r) for extra in setup_py.get("extras_require", {}).values() for r in extra}
     ros_deps = deps(package_xml, "exec_depend", "depend")
     missing = []
     for path in sorted((ROOT / PACKAGE).rglob("*.py")):

@@ -32,6 +32,7 @@ from tether_sim.ros.snap_markers import SnapMarkerPublisher
 from tether_sim.ros.tf import TfPublisher
 from tether_sim.warm import Interrupted, exit_if_compiling, run_interruptibly
 from tether_sim.solvers.factory import build_solver
+from tether_sim.solvers.resolution import mesh_summary
 
 RELIABLE = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 EVENTS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
@@ -49,6 +50,9 @@ class TetherSimNode(Node):
         super().__init__(node_name, **kwargs)
         self.config = node_params.declare_all(self, where)
         node = self.config.node
+        if self.config.solver == "dg":
+            dg = self.config.dg
+            self.get_logger().info("DG mesh: " + mesh_summary(dg.n_elements, dg.order, dg.cfl, dg.resolution, dg.snap_tolerance))
         self.inputs = {}
         self._last_log = {}  # key -> time.monotonic() of the last throttled log line
         for end in END_NAMES:
