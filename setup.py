@@ -41,6 +41,9 @@ setup(
         (f"share/{PACKAGE}", ["package.xml"]),
         (f"share/{PACKAGE}/config", sorted(glob("config/*.yaml"))),
         (f"share/{PACKAGE}/data", sorted(f for f in glob("data/*") if os.path.isfile(f))),
+        (f"share/{PACKAGE}/launch", sorted(glob("launch/*.launch.py"))),
+        (f"share/{PACKAGE}/rviz", sorted(glob("rviz/*.rviz"))),
+        (f"share/{PACKAGE}/foxglove", sorted(glob("foxglove/*.json"))),
     ],
     entry_points={
         "console_scripts": [

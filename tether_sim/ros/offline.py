@@ -205,8 +205,10 @@ def main(argv=None) -> int:
                     "or the span of the input poses)")
     ap.add_argument("--input", default=None, help="MCAP with geometry_msgs/PoseStamped of the prescribed ends")
     ap.add_argument("--output", required=True, help="output MCAP file")
-    ap.add_argument("--ship-topic", default="/ship/pose")
-    ap.add_argument("--vehicle-topic", default="/vehicle/pose")
+    ap.add_argument("--ship-topic", default="/ship/pose",
+                    help="PoseStamped topic of --input that drives the ship end (default: %(default)s)")
+    ap.add_argument("--vehicle-topic", default="/vehicle/pose",
+                    help="PoseStamped topic of --input that drives the vehicle end (default: %(default)s)")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
     args = ap.parse_args(argv)
     try:
