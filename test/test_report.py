@@ -138,3 +138,13 @@ def test_report_without_states_is_a_clear_error(tmp_path, prefix, store, capsys)
     assert main([str(path)]) == 2
     assert "poses.mcap" in capsys.readouterr().err
     assert main([str(tmp_path / "missing.mcap")]) == 2
+
+
+def test_report_names_the_dg_mesh_from_the_description():
+    from tether_sim.report import _mesh_line
+
+    params = {"solver": "dg", "dg.n_elements": "3", "dg.order": "4", "dg.cfl": "0.8", "dg.resolution": "auto",
+              "dg.snap_tolerance": "0.01"}
+    assert _mesh_line(params) == (" DG mesh: N = 3, P = 4, dg.cfl 0.8 (dg.resolution auto, first-snap-peak "
+                                  "tolerance 1 %).")
+    assert _mesh_line({**params, "solver": "hybrid"}) == "" and _mesh_line({}) == ""

@@ -36,6 +36,10 @@ class NodeOptions:
     max_extrapolation: float = param(0.2, unit="s", doc="a pose input is extrapolated with its last velocity at most this long, then held", min=0.0, max=1e4)
     max_lag: float = param(1.0, unit="s", doc="simulation lag behind the node clock beyond this is dropped (sim time re-anchored, reported)", min=0.0, max=1e6)
     snapshot_interval: float = param(1.0, unit="s", doc="simulated time between recovery snapshots (restored after a solver divergence)", min=0.0, max=1e6)
+    publish_tf: bool = param(True, doc="publish /tf (body frames of the ends, tether frames) and /tf_static (attachment frames)")
+    tf_prescribed_ends: bool = param(True, doc="/tf also carries world -> body frame of pose-driven (prescribed) ends; false when the vehicle stack publishes those itself")
+    tf_tether_frames: int = param(0, doc="frames <tf_tether_frame_prefix>/<k> on /tf at this many equally spaced points along the cable (x along the tangent)", min=0, max=1000)
+    tf_tether_frame_prefix: str = param("tether", doc="name prefix of the frames along the cable")
 
 
 @dataclass(frozen=True)

@@ -13,6 +13,8 @@ class DGOptions:
     order: int = param(4, doc="polynomial order P of the Legendre modal basis", min=1, max=12)
     beta: float = param(0.0, doc="LDG flux bias beta [PE2020 Eq. 29-30]", min=-0.5, max=0.5)
     cfl: float = param(0.5, doc="safety factor on the stable time step (see docs/dg_solver.md)", min=0.01, max=2.0)
+    resolution: str = param("manual", doc="manual: dg.n_elements, dg.order and dg.cfl as given; auto: chosen for dg.snap_tolerance from measured ladders (tether_sim/solvers/resolution.py, docs/performance.md), which then replace those three", choices=("manual", "auto"))
+    snap_tolerance: float = param(0.01, doc="dg.resolution auto: tolerated relative error of the first snap peak (end tension); the rule keeps the measured error below half of it", min=0.001, max=0.2)
     fixed_time_step: float = param(0.0, unit="s", doc="fixed substep; 0 = automatic from the stability rule", min=0.0, max=10.0)
     element_lengths: tuple = param((), unit="-", doc="relative element sizes from s = 0 (N positive weights, scaled to L); empty = uniform")
     lambda_floor: float = param(0.0, unit="m/s", doc="lower bound of the Lax-Friedrichs speed (adds dissipation in slack parts; 0 = paper)", min=0.0, max=1e5)

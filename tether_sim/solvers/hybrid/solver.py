@@ -16,6 +16,7 @@ from tether_sim.errors import ConfigError, SolverDivergedError
 from tether_sim.numerics.gen_alpha import gen_alpha_coefficients
 from tether_sim.numerics.rotations import rotate_frame
 from tether_sim.physics.bodies import body_acceleration, pack_body_params, submerged_weight
+from tether_sim.physics.end_conditions import end_kind
 from tether_sim.solvers.base import BodyState, EndForces, SolverState, end_index
 from tether_sim.solvers.hybrid import zoning
 from tether_sim.solvers.hybrid.assembly import assemble_jacobian, assemble_residual
@@ -70,21 +71,24 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         self.cy = np.asarray(env.current_y, dtype=float)
         self.net_weight = abs(cab.gamma0 - env.fluid_density * cab.area) * env.g
         self.ends = (config.ship_end, config.vehicle_end)
-        body_weight = submerged_weight(config.body, env) if "body" in (config.ship_end.kind, config.vehicle_end.kind) else 0.0
+        self.end_kinds = tuple(end_kind(e.kind, f"{n}.kind") for n, e in zip(("ship_end", "vehicle_end"), self.ends))
+        body = [k.position == "body" for k in self.end_kinds]
+        body_weight = submerged_weight(config.body, env) if any(body) else 0.0
         self.compression_width = 1e-3 * max(self.net_weight * cab.length + body_weight, 1e-9)
-        self.body_params = tuple(pack_body_params(config.body, env) if e.kind == "body" else None for e in self.ends)
+        self.body_params = tuple(pack_body_params(config.body, env) if b else None for b in body)
         holds = (opt.hold_direction_ship, opt.hold_direction_vehicle)
         self.end_modes = []
-        for e, hold in zip(self.ends, holds):
-            if e.kind in ("prescribed", "fixed"):
-                self.end_modes.append("velocity")
-            elif e.kind == "body":
+        for k, hold in zip(self.end_kinds, holds):  # the chain's end modes from the Table 1 row
+            if k.position == "body":
                 self.end_modes.append("body")
-            elif e.kind == "clamped":
+            elif k.direction == "held":
                 self.end_modes.append("clamped")
+            elif k.kinematic:
+                self.end_modes.append("velocity")
             else:
                 self.end_modes.append("force_hold" if hold else "force")
-        self.free_ends = [e.kind == "free" or (e.kind == "force" and not np.any(e.force)) for e in self.ends]
+        self.free_ends = [k.load == "zero" or (k.load == "applied" and not np.any(e.force))
+                          for k, e in zip(self.end_kinds, self.ends)]
         self.end_motion = [EndMotion(np.asarray(e.position, dtype=float)) for e in self.ends]
         self.end_load = [(np.asarray(e.force, dtype=float), np.asarray(e.moment, dtype=float)) for e in self.ends]
         self.time = 0.0
@@ -247,7 +251,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
             mode = self.end_modes[e]
             rod = ch.kind[node] == zoning.ROD
             if mode in ("velocity", "clamped"):
-                v = self.end_motion[e].velocity_at(t_new) if self.ends[e].kind == "prescribed" else np.zeros(3)
+                v = self.end_motion[e].velocity_at(t_new) if self.end_kinds[e].position == "motion" else np.zeros(3)
                 ch.gpar[g, 1:4] = v if rod else 0.0
                 if not rod:
                     ch.gpar[g, 0:3] = v
@@ -395,9 +399,9 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         self.rdot = rdot
         K = ch.grid.size
         for e, node in ((0, 0), (1, K - 1)):  # kinematic ends sit exactly where they are driven
-            if self.ends[e].kind == "prescribed":
+            if self.end_kinds[e].position == "motion":
                 self.positions[node] = self.end_motion[e].position_at(self.time)
-            elif self.ends[e].kind in ("fixed", "clamped"):
+            elif self.end_kinds[e].position == "fixed":
                 self.positions[node] = self.ends[e].position
         for first, last in rod_blocks(ch):  # rod shape by integrating its tangents from the block start
             if first > 0 and ch.grid[first] == ch.grid[first - 1]:
