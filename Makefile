@@ -2,7 +2,8 @@
 #   make run    the main job (ROPOS validation run end to end)
 #   make test   the test suite
 #   make bench  the quick benchmark figures (full ladders: commands in BENCHMARKS.md)
-#   make setup  only the environment; make clean removes it and the build outputs
+#   make setup  only the environment (incl. the numba compile of the solver kernels when the sources
+#               changed); make clean removes it and the build outputs
 SHELL := /bin/bash
 .SHELLFLAGS := -eu -o pipefail -c
 PY := .venv/bin/python

@@ -34,8 +34,14 @@ class NodeOptions:
     tick_budget: float = param(0.8, doc="fraction of the output period one tick may spend stepping (wall time); the rest carries over as lag", min=0.01, max=1e6)
     input_delay: float = param(0.2, unit="s", doc="the simulation runs this far behind the clock so pose inputs are interpolated, not extrapolated (>= 2 sample periods)", min=0.0, max=60.0)
     max_extrapolation: float = param(0.2, unit="s", doc="a pose input is extrapolated with its last velocity at most this long, then held", min=0.0, max=1e4)
-    max_lag: float = param(1.0, unit="s", doc="simulation lag behind the node clock beyond this is dropped (sim time re-anchored, reported)", min=0.0, max=1e6)
+    max_lag: float = param(1.0, unit="s", doc="simulation lag behind the node clock beyond this makes the node re-synchronise (cable state kept, ends blended onto their inputs, reported)", min=0.0, max=1e6)
+    future_stamp_tolerance: float = param(0.25, unit="s", doc="a pose stamped later than the node clock plus this is rejected ('stamp in the future')", min=0.0, max=1e6)
+    max_input_age: float = param(2.0, unit="s", doc="a pose stamped earlier than the node clock minus this is rejected ('stamp too old')", min=0.0, max=1e6)
     snapshot_interval: float = param(1.0, unit="s", doc="simulated time between recovery snapshots (restored after a solver divergence)", min=0.0, max=1e6)
+    publish_tf: bool = param(True, doc="publish /tf (body frames of the ends, tether frames) and /tf_static (attachment frames)")
+    tf_prescribed_ends: bool = param(True, doc="/tf also carries world -> body frame of pose-driven (prescribed) ends; false when the vehicle stack publishes those itself")
+    tf_tether_frames: int = param(0, doc="frames <tf_tether_frame_prefix>/<k> on /tf at this many equally spaced points along the cable (x along the tangent)", min=0, max=1000)
+    tf_tether_frame_prefix: str = param("tether", doc="name prefix of the frames along the cable")
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,8 @@ from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
-from tether_sim.io.mcap_log import RosMcapWriter
+from tether_sim.io.mcap_log import McapLogError, RosMcapWriter
+from tether_sim.io.mcap_scan import inspect
 from tether_sim.ros.bag_common import adapted_subscription_qos, message_class, offer_to_dict, stop_on_signals
 
 NODE_NAME = "tether_sim_recorder"
@@ -43,6 +44,30 @@ def _describe(text, *, float_range=None, int_range=None) -> ParameterDescriptor:
     return descriptor
 
 
+def keep_unfinished(output: Path, logger=None):
+    """If ``output`` is a leftover unfinished MCAP (a recorder killed before closing it), move it
+    aside to ``<name>.unfinished-<n>.mcap`` instead of overwriting it, and say so (with how to
+    recover it). Returns the new path or None."""
+    if not output.is_file():
+        return None
+    try:
+        damage = inspect(output)
+    except McapLogError:
+        return None  # not an MCAP file: the writer overwrites it as before
+    if damage.complete:
+        return None
+    stem = output.name[:-5] if output.name.endswith(".mcap") else output.name
+    n = 1
+    while (aside := output.with_name(f"{stem}.unfinished-{n}.mcap")).exists():
+        n += 1
+    output.rename(aside)
+    text = (f"found a leftover unfinished recording at {output} ({damage.describe()}); moved it to {aside}; "
+            f"run `tether-sim-recover {aside}` to make it a complete MCAP")
+    if logger is not None:
+        logger.warning(text)
+    return aside
+
+
 class RecorderNode(Node):
     """Discovers, subscribes (raw) and writes; ``stop()`` is safe from a signal handler."""
 
@@ -50,7 +75,7 @@ class RecorderNode(Node):
         super().__init__(NODE_NAME, **kwargs)
         p = self.declare_parameter
         p("output", "recording.mcap", _describe("MCAP file to write (directories are created), path"))
-        p("topics", [""], _describe("absolute topic names to record"))
+        p("topics", [""], _describe("topic names to record (relative: in the recorder's namespace)"))
         p("all_topics", False, _describe("record every topic except /rosout and /parameter_events"))
         p("depth", 1000, _describe("subscription queue depth, messages", int_range=(100, 100000)))
         p("discovery_period_s", 0.2, _describe("how often new publishers are looked for, s",
@@ -64,11 +89,14 @@ class RecorderNode(Node):
         self.output = Path(output or get("output"))
         wanted = topics if topics else [t for t in get("topics") if t]
         self.all_topics = bool(all_topics) if all_topics is not None else bool(get("all_topics"))
-        self.wanted = [t if t.startswith("/") else f"/{t}" for t in wanted]
+        # a relative name resolves in the recorder's namespace, as the node's topics do in its own
+        ns = self.get_namespace().rstrip("/")
+        self.wanted = [t if t.startswith("/") else f"{ns}/{t}" for t in wanted]
         if not self.wanted and not self.all_topics:
             raise ValueError("no topics to record: give topic names, 'topics' or 'all_topics'")
         self.depth = int(get("depth"))
         self.duration_s = float(get("duration_s"))
+        self.leftover = keep_unfinished(self.output, self.get_logger())
         self.writer = RosMcapWriter(self.output, chunk_size=int(get("chunk_size")),
                                     flush_interval_s=float(get("flush_interval_s")))
         self._recorded = {}
@@ -159,8 +187,10 @@ class RecorderNode(Node):
 def parse_args(argv):
     parser = argparse.ArgumentParser(prog="tether-sim-record", description=__doc__.split("\n")[0])
     parser.add_argument("topics", nargs="*", help="topics to record (default: the parameter 'topics')")
-    parser.add_argument("-o", "--output", help="MCAP file to write")
-    parser.add_argument("-a", "--all", action="store_true", default=None, help="record all topics")
+    parser.add_argument("-o", "--output", help="MCAP file to write (default: parameter 'output', "
+                                               "recording.mcap)")
+    parser.add_argument("-a", "--all", action="store_true", default=None,
+                        help="record all topics except /rosout and /parameter_events (default: off)")
     return parser.parse_args(argv)
 
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+import warnings
 
 import rclpy
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
@@ -24,6 +25,7 @@ from rclpy.parameter import Parameter
 from rclpy.signals import SignalHandlerOptions
 
 from tether_sim.io.mcap_log import McapLogError, iter_raw, read_summary
+from tether_sim.io.mcap_scan import TruncatedMcapWarning
 from tether_sim.ros.bag_common import clock_qos, message_class, replay_qos, stop_on_signals, wait_for
 
 NODE_NAME = "tether_sim_replay"
@@ -71,7 +73,16 @@ class ReplayNode(Node):
         self.duration_ns = int(float(values["duration_s"]) * 1e9)
         self.loop, self.wait_s = bool(values["loop"]), float(values["wait_for_subscribers_s"])
         self.clock_period = 1.0 / max(MIN_CLOCK_HZ, float(values["clock_hz"]))
-        summary = read_summary(self.path)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", TruncatedMcapWarning)  # reported below, once
+            summary = read_summary(self.path)
+        if summary.damage is not None:
+            warnings.filterwarnings("ignore", category=TruncatedMcapWarning)  # said once, here
+            self.get_logger().warning(f"{summary.damage.describe()}; replaying the {summary.message_count} "
+                                      f"message(s) kept (tether-sim-recover {self.path} writes a complete copy)")
+        if summary.message_count == 0:
+            raise ValueError(f"{self.path}: no complete message to replay"
+                             + (f" ({summary.damage.describe()})" if summary.damage is not None else ""))
         if summary.profile != "ros2":
             self.get_logger().warning(f"{self.path}: profile {summary.profile!r}, expected 'ros2'")
         wanted = [t for t in values["topics"] if t] or sorted(summary.topics)
@@ -166,16 +177,25 @@ class ReplayNode(Node):
 
 
 def parse_args(argv):
-    parser = argparse.ArgumentParser(prog="tether-sim-replay", description=__doc__.split("\n")[0])
+    parser = argparse.ArgumentParser(
+        prog="tether-sim-replay", description=__doc__.split("\n")[0],
+        epilog="Each option overrides the node parameter of the same name (--ros-args -p / --params-file); "
+               "the defaults shown are those parameters' defaults.")
     parser.add_argument("input", nargs="?", help="MCAP file (default: parameter 'input')")
-    parser.add_argument("-r", "--rate", type=float, help="speed factor")
-    parser.add_argument("-s", "--start-offset", type=float, dest="start_offset_s", help="skip seconds")
-    parser.add_argument("-d", "--duration", type=float, dest="duration_s", help="replay only S seconds")
-    parser.add_argument("-l", "--loop", action="store_true", default=None)
-    parser.add_argument("--clock-hz", type=float)
-    parser.add_argument("--no-clock", dest="clock", action="store_false", default=None)
-    parser.add_argument("--topics", nargs="+", help="replay only these topics")
-    parser.add_argument("--wait-for-subscribers", type=float, dest="wait_for_subscribers_s")
+    parser.add_argument("-r", "--rate", type=float, help="speed factor (default 1.0: real time)")
+    parser.add_argument("-s", "--start-offset", type=float, dest="start_offset_s",
+                        help="skip this many seconds of the recording (default 0)")
+    parser.add_argument("-d", "--duration", type=float, dest="duration_s",
+                        help="replay only this many seconds after the offset (default 0: to the end)")
+    parser.add_argument("-l", "--loop", action="store_true", default=None,
+                        help="start again at the end; /clock jumps back, as with rosbag2 (default: off)")
+    parser.add_argument("--clock-hz", type=float, help="/clock publication rate, Hz (default 100, at least 40)")
+    parser.add_argument("--no-clock", dest="clock", action="store_false", default=None,
+                        help="do not publish /clock (default: publish it)")
+    parser.add_argument("--topics", nargs="+", help="replay only these topics (default: every topic in the file)")
+    parser.add_argument("--wait-for-subscribers", type=float, dest="wait_for_subscribers_s",
+                        help="wait up to this many seconds for a subscriber on every replayed topic "
+                             "before starting (default 0: start at once)")
     return parser.parse_args(argv)
 
 
