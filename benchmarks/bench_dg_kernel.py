@@ -1,7 +1,7 @@
 """Thread-CPU cost of one DG substep (compiled dg_advance), of state() and end_forces().
 
 ROPOS case (cage body, L = 1730 m by default, N = 20, P = 4), warmed to t = 6 s (taut/slack mix),
-then ``dg_advance`` is called directly for blocks of substeps from the same snapshot; best of
+then the compiled tick (``tick.dg_tick``, via ``_run``) runs blocks of substeps from the same snapshot; best of
 ``--repeat`` blocks (the machine is shared: the minimum is the robust figure).
 
 The outputs are timed as right after an advance (their shared evaluation not cached yet).
