@@ -2,7 +2,8 @@
 #   make run    the main job (ROPOS validation run end to end)
 #   make test   the test suite
 #   make bench  the quick benchmark figures (full ladders: commands in BENCHMARKS.md)
-#   make setup  only the environment; make clean removes it and the build outputs
+#   make setup  only the environment (incl. the numba compile of the solver kernels when the sources
+#               changed); make clean removes it and the build outputs
 SHELL := /bin/bash
 .SHELLFLAGS := -eu -o pipefail -c
 PY := .venv/bin/python
@@ -20,8 +21,10 @@ run: setup
 	$(PY) -m tether_sim.ros.main_job
 
 # TETHER_SIM_REQUIRE_ROS=1: a missing rclpy fails the ROS tests instead of skipping them
+# then the kernel twin tests once more with the JIT off (the kernels as plain Python; ~1 min)
 test: setup
 	TETHER_SIM_REQUIRE_ROS=1 $(PY) -m pytest -q -n $(PYTEST_WORKERS) --dist loadfile $(PYTEST_ARGS)
+	NUMBA_DISABLE_JIT=1 $(PY) -m pytest -q -p no:cacheprovider -m jit_off test/solvers/dg
 
 bench: setup
 	# the quick figures (a few minutes); the full ladders of BENCHMARKS.md are run by hand (commands there)

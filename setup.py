@@ -33,12 +33,17 @@ setup(
         "mcap-ros2-support",
         "rosbags",
     ],
+    # tether-sim-study (tether_sim/studies): Parquet tables, Dask execution and its dashboard
+    extras_require={"studies": ["dask[distributed]", "pyarrow", "bokeh"]},
     zip_safe=True,
     data_files=[
         ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
         (f"share/{PACKAGE}", ["package.xml"]),
         (f"share/{PACKAGE}/config", sorted(glob("config/*.yaml"))),
         (f"share/{PACKAGE}/data", sorted(f for f in glob("data/*") if os.path.isfile(f))),
+        (f"share/{PACKAGE}/launch", sorted(glob("launch/*.launch.py"))),
+        (f"share/{PACKAGE}/rviz", sorted(glob("rviz/*.rviz"))),
+        (f"share/{PACKAGE}/foxglove", sorted(glob("foxglove/*.json"))),
     ],
     entry_points={
         "console_scripts": [
@@ -48,6 +53,7 @@ setup(
             "tether-sim-replay = tether_sim.ros.replay_node:main",
             "tether-sim-report = tether_sim.report:main",
             "tether-sim-recover = tether_sim.io.mcap_recover:main",
+            "tether-sim-study = tether_sim.studies.cli:main",
         ],
     },
 )

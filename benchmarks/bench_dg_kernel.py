@@ -44,15 +44,14 @@ def best_of(fn, repeat):
 def substep_cost(sol, steps, repeat):
     """us per substep of the compiled loop (no Python per substep)."""
     snap = sol.snapshot()
-    t1 = sol.time + 0.02
-    sol.set_end_motion("ship", *rc.fairlead_motion(t1))
-    sol._prepare_ends(t1)
     dt = sol._substep()
+    t1 = sol.time + steps * dt
+    target = rc.fairlead_motion(t1)
 
-    def block():
+    def block():  # one compiled call (tick.dg_tick) of `steps` substeps
         sol.restore(snap)
-        sol._prepare_ends(t1)
-        sol._run(steps, dt, sol.time + steps * dt)
+        sol.set_end_motion("ship", *target)
+        sol._run(steps, dt, t1)
 
     cost = best_of(block, repeat) / steps
     sol.restore(snap)

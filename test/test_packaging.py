@@ -42,6 +42,7 @@ CONSOLE_SCRIPTS = {  # CONTRACTS.md
     "tether-sim-replay": "tether_sim.ros.replay_node:main",
     "tether-sim-report": "tether_sim.report:main",
     "tether-sim-recover": "tether_sim.io.mcap_recover:main",  # issue 13
+    "tether-sim-study": "tether_sim.studies.cli:main",
 }
 
 
@@ -122,8 +123,9 @@ def _imports_of(path: Path) -> set:
 
 
 def test_every_imported_library_is_declared(setup_py, package_xml):
-    """Third-party imports in tether_sim/ appear in install_requires, ROS ones in package.xml."""
+    """Third-party imports in tether_sim/ appear in install_requires (or its extras), ROS ones in package.xml."""
     required = {_requirement_name(r) for r in setup_py["install_requires"]}
+    required |= {_requirement_name(r) for extra in setup_py.get("extras_require", {}).values() for r in extra}
     ros_deps = deps(package_xml, "exec_depend", "depend")
     missing = []
     for path in sorted((ROOT / PACKAGE).rglob("*.py")):
@@ -141,8 +143,8 @@ def test_ros_dependencies_are_in_the_make_environment(package_xml):
     lines = (ROOT / "tools" / "requirements.txt").read_text().splitlines()
     wheels = {_requirement_name(x) for x in lines if x.strip() and not x.startswith("#")}
     for dep in deps(package_xml, "exec_depend", "depend"):
-        if dep.startswith("python3-") or dep == "tether_sim_msgs":
-            continue
+        if dep.startswith("python3-") or dep in ("tether_sim_msgs", "tf2_msgs"):
+            continue  # the two interface packages are built from msg_defs/ by tools/setup_env.sh
         assert f"ros-jazzy-{dep.replace('_', '-')}" in wheels, f"{dep} is not in tools/requirements.txt"
     for name in ROSDEP_KEY:
         assert name in wheels, f"{name} is not in tools/requirements.txt"

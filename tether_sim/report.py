@@ -23,12 +23,14 @@ import numpy as np
 
 from tether_sim.errors import TetherSimError
 from tether_sim.io.mcap_log import McapLogError, read_messages, read_summary
+from tether_sim.solvers.resolution import mesh_summary
 
 STATE_TYPE = "tether_sim_msgs/msg/TetherState"
 SNAP_TYPE = "tether_sim_msgs/msg/SnapLoadEvent"
 SLACK_TYPE = "tether_sim_msgs/msg/SlackWarning"
 WRENCH_TYPE = "geometry_msgs/msg/WrenchStamped"
 DIAGNOSTICS_TYPE = "diagnostic_msgs/msg/DiagnosticArray"
+DESCRIPTION_TYPE = "tether_sim_msgs/msg/TetherDescription"
 ENDS = ("ship", "vehicle")
 
 
@@ -62,6 +64,7 @@ class RunData:
     time_label: str = "time since the first state"
     degraded: np.ndarray | None = None  # (n_t,) bool: the node marked the state degraded (late/blended)
     truncation: str | None = None  # what a crash cut off the file (None: complete)
+    parameters: dict = field(default_factory=dict)  # key -> value text of the last TetherDescription
 
 
 def _topics_of(summary, type_name):
@@ -81,7 +84,8 @@ def load_run(path, t0_s: float | None = None) -> RunData:
     state_topic = "/tether/state" if "/tether/state" in state_topics else state_topics[0]
     wrench_topics = {end: t for t in _topics_of(summary, WRENCH_TYPE) for end in ENDS if end in t}
     wanted = [state_topic, *_topics_of(summary, SNAP_TYPE), *_topics_of(summary, SLACK_TYPE),
-              *wrench_topics.values(), *_topics_of(summary, DIAGNOSTICS_TYPE)]
+              *wrench_topics.values(), *_topics_of(summary, DIAGNOSTICS_TYPE), *_topics_of(summary, DESCRIPTION_TYPE)]
+    parameters = {}
     diagnostics = {}
     times, positions, tensions, ends, snaps, warns = [], [], [], {e: [] for e in ENDS}, [], []
     degraded = []
@@ -111,6 +115,8 @@ def load_run(path, t0_s: float | None = None) -> RunData:
             warns.append({"end": msg.end, "arc_length": msg.arc_length,
                           "t": stamp_seconds(msg.header.stamp), "tension": msg.tension,
                           "threshold": msg.threshold})
+        elif type_name == DESCRIPTION_TYPE:
+            parameters = {kv.key: kv.value for kv in msg.parameters}
         elif type_name == DIAGNOSTICS_TYPE:
             for status in msg.status:
                 diagnostics[status.name] = {"message": status.message,
@@ -134,7 +140,7 @@ def load_run(path, t0_s: float | None = None) -> RunData:
                    np.asarray(tensions)[order],
                    {e: np.asarray(v, dtype=float)[order] for e, v in ends.items()}, snaps, warns,
                    {e: (np.asarray(tw) - t0, np.asarray(fw)) for e, (tw, fw) in wrench.items()},
-                   diagnostics, degraded=np.asarray(degraded, bool)[order],
+                   diagnostics, parameters=parameters, degraded=np.asarray(degraded, bool)[order],
                    truncation=summary.damage.describe() if summary.damage is not None else None)
 
 
@@ -198,6 +204,15 @@ def static_tensions(run: RunData) -> dict:
     return {end: float(run.end_tension[end][0]) for end in ENDS}
 
 
+def _mesh_line(parameters: dict) -> str:
+    """" DG mesh: N = 3, P = 4, dg.cfl 0.8 (dg.resolution auto, ...)." from the description, or ""."""
+    p = parameters
+    if p.get("solver") != "dg" or "dg.n_elements" not in p:
+        return ""
+    return " DG mesh: " + mesh_summary(p["dg.n_elements"], p["dg.order"], p["dg.cfl"], p.get("dg.resolution", "manual"),
+                                       p.get("dg.snap_tolerance", "nan")) + "."
+
+
 def summary_markdown(run: RunData, periods: dict, figures: dict) -> str:
     """The summary and event tables as markdown."""
     duration = float(run.t[-1] - run.t[0]) if len(run.t) else 0.0
@@ -205,7 +220,7 @@ def summary_markdown(run: RunData, periods: dict, figures: dict) -> str:
     lines = [f"# Tether report: `{run.path.name}`", "",
              f"Solver `{run.solver}`, {len(run.t)} states over {duration:.2f} s "
              f"({rate:.1f} Hz), {len(run.arc_length)} output points, L = {run.arc_length[-1]:.1f} m. "
-             f"Times below: {run.time_label}, s.", ""]
+             f"Times below: {run.time_label}, s.{_mesh_line(run.parameters)}", ""]
     if run.truncation:
         lines += [f"**Truncated recording.** {run.truncation}. This report covers what was kept; "
                   "`tether-sim-recover` rewrites the file into a complete MCAP.", ""]
@@ -219,6 +234,10 @@ def summary_markdown(run: RunData, periods: dict, figures: dict) -> str:
         series = run.end_tension[end]
         lines.append(f"| {end} | {value:.1f} | {series.mean():.1f} | {series.min():.1f} | "
                      f"{series.max():.1f} |")
+    lines += ["", "Static, mean, min and max come from the recorded TetherState messages (one per "
+              f"output, {rate:.1f} Hz here). The snap-event peaks below come from the solver's end "
+              "tension at every substep, so a snap peak can exceed the max of its end above, which "
+              "sees the tension only at the output instants."]
     lines += ["", "## Slack periods", "", "| end | start [s] | end [s] | duration [s] | "
               "min tension [N] | threshold [N] |", "|---|---|---|---|---|---|"]
     for end in ENDS:
@@ -279,7 +298,7 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="tether-sim-report", description=__doc__.split("\n")[0])
     parser.add_argument("mcap", help="output MCAP (recorder or offline runner)")
     parser.add_argument("--out-dir", help="where figures and report.md go (default: <mcap dir>/figures)")
-    parser.add_argument("--snapshots", type=int, default=8, help="number of shape snapshots")
+    parser.add_argument("--snapshots", type=int, default=8, help="number of shape snapshots (default: %(default)s)")
     parser.add_argument("--t0", type=float, help="clock time (s) taken as t = 0 (default: first state)")
     args = parser.parse_args(argv)
     try:

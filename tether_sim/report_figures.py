@@ -31,6 +31,21 @@ def degraded_intervals(run) -> list:
     return out
 
 
+def _label_peaks(ax, snaps, run) -> None:
+    """Peak value and amplification next to each marker, kept inside the frame: headroom above the
+    highest peak, and labels near the right edge placed to the left of their marker."""
+    lo, hi = ax.get_ylim()
+    top = max(e["peak"] / 1e3 for e in snaps)
+    ax.set_ylim(lo, max(hi, top + 0.25 * (top - lo)))
+    t_lo, t_hi = float(run.t[0]), float(run.t[-1])
+    for e in snaps:
+        right = e["t_peak"] > t_lo + 0.85 * (t_hi - t_lo)
+        ax.annotate(f"{e['peak'] / 1e3:.1f} kN\n×{e['amplification']:.2f}",
+                    (e["t_peak"], e["peak"] / 1e3), textcoords="offset points",
+                    xytext=(-4 if right else 4, 4), ha="right" if right else "left", va="bottom",
+                    fontsize=8, color="tab:red", annotation_clip=True)
+
+
 def plot_end_tensions(run, periods: dict, path: Path) -> Path:
     """Ship and vehicle end tension vs time; slack periods shaded, snap peaks marked."""
     fig, axes = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True, constrained_layout=True)
@@ -43,7 +58,7 @@ def plot_end_tensions(run, periods: dict, path: Path) -> Path:
                     label=f"|force| of the {end} wrench")
         for i, (a, b) in enumerate(degraded_intervals(run)):
             ax.axvspan(a, b, color="0.5", alpha=0.2, lw=0,
-                       label="degraded (node behind / end blended; not physics)" if i == 0 else None)
+                       label="degraded (late, end blended or snap detection off)" if i == 0 else None)
         for i, p in enumerate(periods[end]):
             ax.axvspan(p["start"], max(p["end"], p["start"] + 1e-3), color="tab:red", alpha=0.15,
                        lw=0, label="slack period" if i == 0 else None)
@@ -54,10 +69,7 @@ def plot_end_tensions(run, periods: dict, path: Path) -> Path:
         if snaps:
             ax.plot([e["t_peak"] for e in snaps], [e["peak"] / 1e3 for e in snaps], "v",
                     color="tab:red", ms=8, label="snap load (peak)")
-            for e in sorted(snaps, key=lambda e: -e["peak"])[:ANNOTATED]:
-                ax.annotate(f"{e['peak'] / 1e3:.1f} kN\n×{e['amplification']:.2f}",
-                            (e["t_peak"], e["peak"] / 1e3), textcoords="offset points",
-                            xytext=(4, 6), fontsize=8, color="tab:red")
+            _label_peaks(ax, sorted(snaps, key=lambda e: -e["peak"])[:ANNOTATED], run)
         for e in (e for e in run.snaps if e["end"] == "span"):
             ax.axvline(e["t_peak"], color="tab:purple", lw=0.8, ls="--")
         ax.set_ylabel(f"{end} end tension [kN]")
@@ -93,6 +105,7 @@ def plot_shapes(run, path: Path, n_snapshots: int = 8) -> Path:
         horizontal = np.hypot(xyz[:, 0] - reference[:, 0], xyz[:, 1] - reference[:, 1])
         ax_disp.plot(horizontal, run.arc_length, color=colour, lw=0.8, ls=":")
     ax_shape.axhline(0.0, color="tab:cyan", lw=0.8)
+    _min_span(ax_shape, run.positions)
     ax_shape.set_xlabel("x (east) [m]")
     ax_shape.set_ylabel("z (up) [m]")
     ax_shape.set_title("shape (x-z), dots = ends")
@@ -108,6 +121,17 @@ def plot_shapes(run, path: Path, n_snapshots: int = 8) -> Path:
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
+
+
+def _min_span(ax, positions) -> None:
+    """Widen the x axis of an x-z view to at least a fifth of the vertical extent, centred: a cable
+    hanging straight down otherwise shows on a +-0.05 m axis that magnifies millimetres."""
+    x, z = positions[..., 0], positions[..., 2]
+    need = 0.2 * float(z.max() - z.min())
+    lo, hi = ax.get_xlim()
+    if hi - lo < need:
+        mid = 0.5 * (float(x.max()) + float(x.min()))
+        ax.set_xlim(mid - 0.5 * need, mid + 0.5 * need)
 
 
 def plot_tension_map(run, path: Path) -> Path:

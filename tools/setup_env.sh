@@ -7,8 +7,13 @@
 #         Python and numpy include folders (they carry /opt/python/... paths from the wheel build).
 #   msgs  msg_defs/ (package tether_sim_msgs) configured with cmake against the venv and installed
 #         into it (build folder .venv/.build/).
+#   tf2   msg_defs/tf2_msgs (TFMessage only) the same way, unless a tf2_msgs is importable already.
 #   pkg   tether_sim itself, `pip install -e .` (development mode, no build isolation), and its
 #         data files (package.xml, config/*.yaml, data/*, ament index marker) linked into .venv/share.
+#   warm  the numba kernels compiled into their on-disk cache (python -m tether_sim.warm, progress
+#         per kernel group; minutes when cold, seconds when warm). numba keys its cache on each
+#         source file's modification time and size, so this stage reruns whenever those of any
+#         tether_sim/*.py change (an edit, a checkout). TETHER_SIM_SKIP_WARM=1 skips it.
 # Nothing is created outside the repository. Usage: tools/setup_env.sh [--force]
 set -euo pipefail
 
@@ -76,17 +81,23 @@ CONS="$ROOT/tools/constraints.txt"
 DEPS_HASH="$(hash_of "rev=$SETUP_REVISION" "$REQ" "$CONS")"
 MSG_FILES=("$ROOT/msg_defs/CMakeLists.txt" "$ROOT/msg_defs/package.xml" "$ROOT"/msg_defs/msg/*.msg)
 MSGS_HASH="$(hash_of "$DEPS_HASH" "${MSG_FILES[@]}")"
+TF2_HASH="$(hash_of "$DEPS_HASH" "$ROOT"/msg_defs/tf2_msgs/{CMakeLists.txt,package.xml,msg/TFMessage.msg})"
 shopt -s nullglob
 PKG_INPUTS=("$ROOT/setup.py" "$ROOT/setup.cfg" "$ROOT/package.xml" "$ROOT"/resource/*)
 # config/ and data/ are linked, not copied: only the list of names matters (edits are live)
-DATA_LIST="$(cd "$ROOT" && for f in config/*.yaml data/*; do [[ -f "$f" ]] && printf '%s\n' "$f"; done; true)"
+DATA_LIST="$(cd "$ROOT" && for f in config/*.yaml data/* launch/*.launch.py rviz/*.rviz foxglove/*.json; do [[ -f "$f" ]] && printf '%s\n' "$f"; done; true)"
 shopt -u nullglob
 PKG_HASH="$(hash_of "$MSGS_HASH" "${PKG_INPUTS[@]}")"
 LINKS_HASH="$(hash_of "$PKG_HASH" "$DATA_LIST")"
+# numba's cache key of every source file (name, mtime, size), plus the configurations warmed
+WARM_HASH="$(hash_of "$LINKS_HASH" "$(cd "$ROOT" && find tether_sim -name '*.py' -printf '%p %T@ %s\n' | sort)" \
+    "$ROOT"/config/*.yaml)"
+warm_ok() { [[ "${TETHER_SIM_SKIP_WARM:-0}" == 1 ]] || stamp_ok warm "$WARM_HASH"; }
 SITE="$VENV/lib/python3.11/site-packages"
 
 if venv_works && stamp_ok deps "$DEPS_HASH" && stamp_ok msgs "$MSGS_HASH" && stamp_ok pkg "$PKG_HASH" &&
-    stamp_ok links "$LINKS_HASH" && [[ -d "$SITE/tether_sim_msgs" ]] && links_ok; then
+    stamp_ok links "$LINKS_HASH" && stamp_ok tf2 "$TF2_HASH" && [[ -d "$SITE/tether_sim_msgs" ]] && links_ok &&
+    warm_ok; then
     say "environment up to date ($VENV)"
     exit 0
 fi
@@ -129,28 +140,45 @@ ros_env() {  # run a command with the library paths the wheels' bootstrapper wou
         AMENT_PREFIX_PATH="$VENV" CMAKE_PREFIX_PATH="$VENV" "$@"
 }
 
+build_interfaces() {  # build_interfaces NAME SOURCE_DIR: cmake + make install into the venv
+    local name="$1" src="$2" log="$BUILD/$1.log"
+    if [[ -f "$STAMPS/${name}_manifest.txt" ]]; then  # remove the previous build's files first
+        while IFS= read -r file; do rm -f "$file"; done < "$STAMPS/${name}_manifest.txt"
+    fi
+    rm -rf "${BUILD:?}/$name"
+    mkdir -p "$BUILD/$name"
+    if ! (cd "$BUILD/$name" &&
+        ros_env cmake "$src" -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF \
+            -DCMAKE_PREFIX_PATH="$VENV" -DCMAKE_INSTALL_PREFIX="$VENV" \
+            -DPython3_EXECUTABLE="$VENV/bin/python" &&
+        ros_env make -j"$(nproc 2>/dev/null || echo 2)" install) > "$log" 2>&1; then
+        tail -n 40 "$log" >&2
+        die "building $src failed (full log: $log)"
+    fi
+    mkdir -p "$STAMPS"
+    cp "$BUILD/$name/install_manifest.txt" "$STAMPS/${name}_manifest.txt"
+    "$VENV/bin/python" -c "import $name.msg" || die "$name built but does not import"
+}
+
 if ! stamp_ok msgs "$MSGS_HASH" || [[ ! -d "$SITE/tether_sim_msgs" ]]; then
     rm -f "$STAMPS/pkg"
     command -v cmake >/dev/null || die "cmake is needed to build msg_defs/"
+    [[ -f "$STAMPS/msgs_manifest.txt" ]] && mv "$STAMPS/msgs_manifest.txt" "$STAMPS/tether_sim_msgs_manifest.txt"
     say "building msg_defs/ (tether_sim_msgs) with cmake into the venv"
-    if [[ -f "$STAMPS/msgs_manifest.txt" ]]; then  # remove the previous build's files first
-        while IFS= read -r file; do rm -f "$file"; done < "$STAMPS/msgs_manifest.txt"
-    fi
-    rm -rf "$BUILD/tether_sim_msgs"
-    mkdir -p "$BUILD/tether_sim_msgs"
-    LOG="$BUILD/tether_sim_msgs.log"
-    if ! (cd "$BUILD/tether_sim_msgs" &&
-        ros_env cmake "$ROOT/msg_defs" -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF \
-            -DCMAKE_PREFIX_PATH="$VENV" -DCMAKE_INSTALL_PREFIX="$VENV" \
-            -DPython3_EXECUTABLE="$VENV/bin/python" &&
-        ros_env make -j"$(nproc 2>/dev/null || echo 2)" install) > "$LOG" 2>&1; then
-        tail -n 40 "$LOG" >&2
-        die "building msg_defs/ failed (full log: $LOG)"
-    fi
-    mkdir -p "$STAMPS"
-    cp "$BUILD/tether_sim_msgs/install_manifest.txt" "$STAMPS/msgs_manifest.txt"
-    "$VENV/bin/python" -c "import tether_sim_msgs.msg" || die "tether_sim_msgs built but does not import"
+    build_interfaces tether_sim_msgs "$ROOT/msg_defs"
     stamp_set msgs "$MSGS_HASH"
+fi
+# tf2_msgs/TFMessage (/tf, /tf_static): the registry has no tf2_msgs wheel; build it from its
+# interface definition unless a tf2_msgs of a ROS 2 install is importable already
+if ! stamp_ok tf2 "$TF2_HASH"; then
+    if [[ ! -f "$STAMPS/tf2_msgs_manifest.txt" ]] && "$VENV/bin/python" -c "import tf2_msgs.msg" 2>/dev/null; then
+        say "tf2_msgs is importable already: msg_defs/tf2_msgs not built"
+    else
+        command -v cmake >/dev/null || die "cmake is needed to build msg_defs/tf2_msgs"
+        say "building msg_defs/tf2_msgs (TFMessage for /tf, /tf_static) with cmake into the venv"
+        build_interfaces tf2_msgs "$ROOT/msg_defs/tf2_msgs"
+    fi
+    stamp_set tf2 "$TF2_HASH"
 fi
 
 # ---------------------------------------------------------------- stage pkg
@@ -164,6 +192,15 @@ fi
 if ! stamp_ok links "$LINKS_HASH" || ! links_ok; then
     "$VENV/bin/python" "$ROOT/tools/link_data_files.py" "$ROOT" "$VENV"
     stamp_set links "$LINKS_HASH"
+fi
+
+# ---------------------------------------------------------------- stage warm
+if ! warm_ok; then
+    say "compiling the solver kernels into numba's cache (python -m tether_sim.warm): after a change of"
+    say "the sources this takes minutes (a cold cache: 12 min at load 10 on a 2-core machine); when the"
+    say "cache is warm, a few seconds"
+    "$VENV/bin/python" -u -m tether_sim.warm 2>&1 | sed -u 's/^/[setup] /' || die "the warm-up failed (see above)"
+    stamp_set warm "$WARM_HASH"
 fi
 
 say "environment ready ($VENV) in $((SECONDS - T0)) s"

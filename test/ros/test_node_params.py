@@ -111,3 +111,32 @@ def test_a_bad_command_line_override_is_blamed_on_the_override_not_the_file(node
     with pytest.raises(ConfigError, match="command-line -p override") as err:
         node_params.declare_all(node, path, cli_keys=cli_param_keys(argv))
     assert path not in str(err.value)
+
+
+AUTO = """
+tether_sim:
+  ros__parameters:
+    cable:
+      length: 200.0
+      EA: 45500000.0
+    dg:
+      resolution: auto
+"""
+
+
+def test_resolution_auto_declares_the_chosen_mesh(node_factory):
+    """The node's parameters (and so /tether/description) carry the mesh the rule chose, not the defaults."""
+    from tether_sim.solvers.resolution import choose
+
+    node, path = node_factory(AUTO)
+    config = node_params.declare_all(node, path)
+    chosen = choose(200.0, 0.01)
+    assert node.get_parameter("dg.n_elements").value == chosen.n_elements == config.dg.n_elements
+    assert node.get_parameter("dg.cfl").value == chosen.cfl == config.dg.cfl
+    assert node_params.read_config(node) == config
+
+
+def test_resolution_auto_refuses_an_explicit_mesh(node_factory):
+    node, path = node_factory(AUTO, extra=("-p", "dg.n_elements:=20"))
+    with pytest.raises(ConfigError, match="dg.n_elements = 20 is set while dg.resolution is auto"):
+        node_params.declare_all(node, path)

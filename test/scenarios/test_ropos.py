@@ -5,6 +5,7 @@ The solver runs here are the cheap subsets; the 48-case study and the mesh study
 """
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -19,11 +20,23 @@ from tether_sim.scenarios.ropos import (
     static_end_tensions,
 )
 from tether_sim.solvers.factory import build_solver
+from tether_sim.solvers.resolution import choose
+
+
+@pytest.mark.parametrize("length", [200, 500, 975, 1730])
+def test_live_config_files_differ_from_the_paper_files_only_in_the_mesh(length):
+    """The live files choose their mesh by dg.resolution auto; everything else is the paper file's."""
+    live = load_config(CONFIG_DIR / f"ropos_L{length}.yaml")
+    paper = load_config(CONFIG_DIR / f"ropos_L{length}_paper.yaml")
+    assert (live.dg.resolution, live.dg.snap_tolerance, paper.dg.resolution) == ("auto", 0.01, "manual")
+    chosen = choose(float(length), 0.01)
+    assert (live.dg.n_elements, live.dg.order, live.dg.cfl) == (chosen.n_elements, chosen.order, chosen.cfl)
+    assert replace(live, dg=paper.dg) == paper
 
 
 @pytest.mark.parametrize("length", [200, 500, 975, 1730])
 def test_config_files_carry_table3_and_calibration(length):
-    cfg = load_config(CONFIG_DIR / f"ropos_L{length}.yaml")
+    cfg = load_config(CONFIG_DIR / f"ropos_L{length}_paper.yaml")
     c, b = cfg.cable, cfg.body
     assert c.length == length and (c.EA, c.gamma0, c.density, c.diameter) == (45.5e6, 3.01, 7153.0, 0.03)
     assert (c.damping, c.Cdn, c.Cdt, c.Cmn, c.Cmt) == (45.5e3, 1.0, 0.02, 1.0, 0.0)

@@ -16,6 +16,7 @@ import yaml
 from tether_sim.config import SimConfig
 from tether_sim.errors import ConfigError
 from tether_sim.io.schema import key_map
+from tether_sim.solvers.resolution import resolve
 
 NODE_SECTION_NAMES = ("tether_sim", "/tether_sim", "/**")
 
@@ -129,7 +130,7 @@ def from_flat(flat: dict, where: str = "parameters", base: SimConfig | None = No
             hint = f" (did you mean {close[0]!r}?)" if close else ""
             raise ConfigError(f"{where}: unknown parameter {name!r}{hint}")
         checked[name] = _check_value(keys[name], value, where)
-    return _apply(base or SimConfig(), checked)
+    return resolve(_apply(base or SimConfig(), checked), given=checked)  # dg.resolution auto: N, P, cfl by the rule
 
 
 def _apply(obj, checked: dict, prefix: str = ""):

@@ -14,10 +14,11 @@ Each end (``ship`` at s = 0, ``vehicle`` at s = L) has one kind:
 
 from dataclasses import dataclass
 
+from tether_sim.physics.end_conditions import END_KINDS
 from tether_sim.spec import param
 
 END_NAMES = ("ship", "vehicle")
-END_KINDS = ("prescribed", "fixed", "free", "force", "clamped", "body")
+# the kinds and what each imposes: physics/end_conditions.py (one table, used by every solver)
 
 
 @dataclass(frozen=True)

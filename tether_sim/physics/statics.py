@@ -22,10 +22,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from tether_sim.physics.constitutive import TensionLaw
+from tether_sim.physics.end_conditions import KINDS, TABLE
 from tether_sim.physics.hydrodynamics import net_weight_per_length
 from tether_sim.physics.relaxation import relax_cable
 
-KINEMATIC_KINDS = ("prescribed", "fixed", "clamped")
+KINEMATIC_KINDS = tuple(k.name for k in TABLE if k.kinematic and k.position != "body")  # held in place
 
 
 @dataclass
@@ -266,9 +267,9 @@ def solve_static(config, vehicle_load=None, ship_load=None):
     seabed = env.seabed_z if env.seabed else None
     sink = w / (env.seabed_stiffness * cable.diameter) if env.seabed and env.seabed_stiffness > 0 else 0.0
     loads = np.zeros((2, 3))
-    if ks == "force":
+    if KINDS[ks].load == "applied":
         loads[0] = config.ship_end.force
-    if kv == "force":
+    if KINDS[kv].load == "applied":
         loads[1] = config.vehicle_end.force
     if ship_load is not None:
         loads[0] = ship_load

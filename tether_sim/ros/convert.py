@@ -34,6 +34,17 @@ TOPICS = {
     "/vehicle/sim_pose": ("geometry_msgs/msg/PoseStamped", "reliable"),
 }
 
+# Topics that stay absolute by ROS convention; every other name is created relative (without the
+# leading "/") so the node's namespace applies: `-r __ns:=/rov1` gives /rov1/tether/state. The keys
+# above (and the MCAP writer's names) are the resolved names in the root namespace.
+GLOBAL_TOPICS = ("/diagnostics", "/clock", "/tf", "/tf_static", "/rosout", "/parameter_events")
+
+
+def ros_name(topic: str) -> str:
+    """The name a node creates a publisher/subscription with: relative unless in GLOBAL_TOPICS."""
+    return topic if topic in GLOBAL_TOPICS else topic.lstrip("/")
+
+
 LEVEL_OK, LEVEL_WARN, LEVEL_ERROR, LEVEL_STALE = (DiagnosticStatus.OK, DiagnosticStatus.WARN,
                                                   DiagnosticStatus.ERROR, DiagnosticStatus.STALE)
 _SEVERITY = {LEVEL_OK: 0, LEVEL_WARN: 1, LEVEL_STALE: 2, LEVEL_ERROR: 3}

@@ -11,6 +11,11 @@
 3. When the replay ends: the node and the recorder are stopped (SIGINT / SIGTERM), then
    tether-sim-report writes figures and report.md next to the MCAP, and the findings are printed.
 
+Progress: a banner per stage (set-up, solver kernels, start, replay, report: ``== step k/5``); the
+solver is built once before the node starts (tether_sim.warm), so a cold numba cache compiles here
+with progress messages; the ROS domain and a command to watch the run from another terminal are
+printed when the node starts.
+
 Outputs: out/ropos_validation/ropos_validation.mcap, out/ropos_validation/figures/*.png and
 report.md, out/ropos_validation/logs/*.log. Exit code 0 only when every step worked.
 """
@@ -38,8 +43,43 @@ NODE_OUTPUTS = ("/tether/state", "/tether/ship_wrench", "/tether/vehicle_wrench"
                 "/tether/snap_events", "/tether/slack_warnings")
 
 
+STAGES = ("set-up", "solver kernels", "start the recorder and the node", "replay", "report")
+
+
 def say(text: str) -> None:
     print(f"[main_job {time.strftime('%H:%M:%S')}] {text}", flush=True)
+
+
+def stage(name: str, text: str = "") -> None:
+    """A progress banner: ``== step k/5: name: text``."""
+    k = STAGES.index(name) + 1
+    say(f"== step {k}/{len(STAGES)}: {name}" + (f": {text}" if text else ""))
+
+
+def watch_hint(domain: int, root: Path) -> str:
+    """How to watch the run from another terminal of this machine (printed at the start)."""
+    from tether_sim.ros.processes import FASTDDS_PROFILE
+
+    env = f"ROS_DOMAIN_ID={domain} ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST"
+    if FASTDDS_PROFILE.is_file():
+        env += f" FASTRTPS_DEFAULT_PROFILES_FILE={FASTDDS_PROFILE}"
+    return (f"the run uses ROS_DOMAIN_ID={domain}, discovery on this machine only. To watch it from "
+            f"another terminal:\n"
+            f"    {env} {root}/.venv/bin/python -m tether_sim.ros.watch\n"
+            f"  or, with a ROS 2 Jazzy install, the same variables and\n"
+            f"    ros2 topic echo /tether/snap_events      rviz2 -d {root}/rviz/tether_sim.rviz\n"
+            f"  (the recording opens in Foxglove with the layout foxglove/tether_sim.json)")
+
+
+def warm_kernels(config) -> None:
+    """Build the node's solver once here, so a cold numba cache compiles now, with progress, and
+    the node only loads it (tether_sim.warm; `make setup` normally did it already)."""
+    from tether_sim.warm import exercise, run_interruptibly
+
+    t0 = time.monotonic()
+    run_interruptibly(lambda: exercise(config), log=say, should_stop=lambda: False,
+                      what=f"{config.solver} solver kernels")
+    say(f"solver kernels ready in {time.monotonic() - t0:.1f} s")
 
 
 def preflight(root: Path, params: Path = PARAMS) -> dict:
@@ -120,8 +160,8 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) ->
     node = group.start("tether_sim", command_for("tether-sim") + [
         "--ros-args", "--params-file", str(root / args.params), "-p", "use_sim_time:=true"])
     say(f"started recorder (pid {recorder.proc.pid}) and simulation node (pid {node.proc.pid}) "
-        f"in ROS_DOMAIN_ID={group.env['ROS_DOMAIN_ID']}; waiting for the node's outputs (the "
-        f"first start compiles the solver kernels, which can take minutes) ...")
+        f"in ROS_DOMAIN_ID={group.env['ROS_DOMAIN_ID']}; waiting for the node's outputs (its "
+        f"warm-up only loads the kernels compiled in step 2) ...")
     probe = GraphProbe()
     try:
         deadline = time.monotonic() + args.discovery_timeout
@@ -184,7 +224,7 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) ->
     replay = group.start("replay", command_for("tether-sim-replay") + replay_args)
     record = checked["record"]
     span = (args.duration or (record.end_ns - record.start_ns) / 1e9 - args.start_offset) / args.rate
-    say(f"replaying {RECORD} at x{args.rate:g} (about {span:.0f} s of wall time)")
+    stage("replay", f"{RECORD} at x{args.rate:g} (about {span:.0f} s of wall time)")
     t0, last_note = time.monotonic(), time.monotonic()
     while replay.alive:
         group.check_alive()
@@ -292,7 +332,11 @@ def main(argv=None) -> int:
     old_handler = signal.signal(signal.SIGTERM, _terminate)  # stop the children on SIGTERM too
     group = ProcessGroup(isolated_env(domain), out / "logs", root)
     try:
+        stage("set-up", "the environment is up to date (`make run` ran tools/setup_env.sh)")
         checked = preflight(root, Path(args.params))
+        stage("solver kernels", "loading numba's cache (compiling it if cold)")
+        warm_kernels(checked["config"])
+        stage("start the recorder and the node", watch_hint(domain, root))
         motion, record = checked["config"].motion, checked["record"]
         say(f"ship motion: {RECORD} ({record.message_count} poses over "
             f"{(record.end_ns - record.start_ns) / 1e9:.0f} s; SYNTHETIC seeded sea, see "
@@ -300,6 +344,7 @@ def main(argv=None) -> int:
             f"received, so the recorded amplitude is the simulated one; motion.record_scale "
             f"(= {motion.record_scale:g} in {args.params}) applies only to offline runs")
         mcap = run_live(root, out, args, group, checked)
+        stage("report", f"figures and report.md from {mcap}")
         from tether_sim.report import ReportError, make_report
 
         try:

@@ -68,7 +68,8 @@ def declare_all(node, where: str = "parameters", cli_keys=()):
     from_flat({k: v for k, v in raw.items() if k in set(cli_keys)}, where="command-line -p override")
     config = from_flat(raw, where=where)  # names unknown / out-of-range keys and the file
     validated = to_flat(config)
-    for name in raw:
+    derived = [k for k, v in validated.items() if k not in raw and v != keys[k].default]  # dg.resolution auto
+    for name in [*raw, *derived]:
         if keys[name].kind.endswith("array") and len(validated[name]) == 0:
             del overrides[name]  # rclpy types an empty list as a byte array
         else:

@@ -85,9 +85,27 @@ def read_pose_inputs(path, config, topics) -> dict:
     return out
 
 
+class _NoMcap:
+    """Stands in for the MCAP writer when no file is wanted (a study case that keeps only its table)."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc_info):
+        return None
+
+    def add_topic(self, *args, **kwargs):
+        return 0
+
+    def write(self, *args, **kwargs):
+        return None
+
+
 def run_offline(config, output, *, duration=None, input_path=None, topics=None, progress=True,
                 solver_factory=build_solver) -> dict:
-    """Simulate and write every output topic to ``output`` (MCAP). Returns a summary dict."""
+    """Simulate and write every output topic to ``output`` (MCAP; ``None``: serialize, write no file).
+
+    Returns a summary dict; ``events`` holds the detector's SlackStarted / SnapEvent objects."""
     from tether_sim.io.mcap_log import RosMcapWriter
 
     topics = topics or {"ship": "/ship/pose", "vehicle": "/vehicle/pose"}
@@ -116,9 +134,9 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
     n_ticks = max(1, int(round(duration * rate)))
     arc = np.linspace(0.0, config.cable.length, config.node.output_points)
     counts = {"snap_events": 0, "slack_warnings": 0, "divergences": 0}
-    peaks = []
+    peaks, events = [], []
     wall0 = wallclock.perf_counter()
-    with RosMcapWriter(str(output)) as writer:
+    with RosMcapWriter(str(output)) if output is not None else _NoMcap() as writer:
         for topic, (type_name, qos) in convert.TOPICS.items():
             if topic.endswith("sim_pose") and getattr(config, f"{topic.split('/')[1]}_end").kind != "body":
                 continue
@@ -153,6 +171,7 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
                 r.feed_until(now)
             while True:
                 report = driver.tick(now)
+                events.extend(report.events)
                 write(convert.event_outputs(report.events, driver))
                 counts["divergences"] += report.error is not None
                 if not report.capped:
@@ -172,11 +191,13 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
         bar.close()
         for detector in (driver.detector, driver.span_detector):
             if detector is not None:
-                write(convert.event_outputs(detector.flush(), driver))
+                flushed = detector.flush()
+                events.extend(flushed)
+                write(convert.event_outputs(flushed, driver))
     wall = wallclock.perf_counter() - wall0
-    return {"output": str(output), "duration": duration, "ticks": n_ticks, "wall_time": wall,
+    return {"output": str(output) if output is not None else None, "duration": duration, "ticks": n_ticks, "wall_time": wall,
             "speed": duration / wall if wall > 0 else math.inf, "static_tensions": driver.static_tensions,
-            "snap_peaks": peaks, **counts}
+            "snap_peaks": peaks, "events": events, **counts}
 
 
 def check_output_path(output) -> None:
@@ -199,8 +220,10 @@ def main(argv=None) -> int:
                     "or the span of the input poses)")
     ap.add_argument("--input", default=None, help="MCAP with geometry_msgs/PoseStamped of the prescribed ends")
     ap.add_argument("--output", required=True, help="output MCAP file")
-    ap.add_argument("--ship-topic", default="/ship/pose")
-    ap.add_argument("--vehicle-topic", default="/vehicle/pose")
+    ap.add_argument("--ship-topic", default="/ship/pose",
+                    help="PoseStamped topic of --input that drives the ship end (default: %(default)s)")
+    ap.add_argument("--vehicle-topic", default="/vehicle/pose",
+                    help="PoseStamped topic of --input that drives the vehicle end (default: %(default)s)")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
     args = ap.parse_args(argv)
     try:

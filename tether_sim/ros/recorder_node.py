@@ -75,7 +75,7 @@ class RecorderNode(Node):
         super().__init__(NODE_NAME, **kwargs)
         p = self.declare_parameter
         p("output", "recording.mcap", _describe("MCAP file to write (directories are created), path"))
-        p("topics", [""], _describe("absolute topic names to record"))
+        p("topics", [""], _describe("topic names to record (relative: in the recorder's namespace)"))
         p("all_topics", False, _describe("record every topic except /rosout and /parameter_events"))
         p("depth", 1000, _describe("subscription queue depth, messages", int_range=(100, 100000)))
         p("discovery_period_s", 0.2, _describe("how often new publishers are looked for, s",
@@ -89,7 +89,9 @@ class RecorderNode(Node):
         self.output = Path(output or get("output"))
         wanted = topics if topics else [t for t in get("topics") if t]
         self.all_topics = bool(all_topics) if all_topics is not None else bool(get("all_topics"))
-        self.wanted = [t if t.startswith("/") else f"/{t}" for t in wanted]
+        # a relative name resolves in the recorder's namespace, as the node's topics do in its own
+        ns = self.get_namespace().rstrip("/")
+        self.wanted = [t if t.startswith("/") else f"{ns}/{t}" for t in wanted]
         if not self.wanted and not self.all_topics:
             raise ValueError("no topics to record: give topic names, 'topics' or 'all_topics'")
         self.depth = int(get("depth"))
@@ -185,8 +187,10 @@ class RecorderNode(Node):
 def parse_args(argv):
     parser = argparse.ArgumentParser(prog="tether-sim-record", description=__doc__.split("\n")[0])
     parser.add_argument("topics", nargs="*", help="topics to record (default: the parameter 'topics')")
-    parser.add_argument("-o", "--output", help="MCAP file to write")
-    parser.add_argument("-a", "--all", action="store_true", default=None, help="record all topics")
+    parser.add_argument("-o", "--output", help="MCAP file to write (default: parameter 'output', "
+                                               "recording.mcap)")
+    parser.add_argument("-a", "--all", action="store_true", default=None,
+                        help="record all topics except /rosout and /parameter_events (default: off)")
     return parser.parse_args(argv)
 
 

@@ -177,16 +177,25 @@ class ReplayNode(Node):
 
 
 def parse_args(argv):
-    parser = argparse.ArgumentParser(prog="tether-sim-replay", description=__doc__.split("\n")[0])
+    parser = argparse.ArgumentParser(
+        prog="tether-sim-replay", description=__doc__.split("\n")[0],
+        epilog="Each option overrides the node parameter of the same name (--ros-args -p / --params-file); "
+               "the defaults shown are those parameters' defaults.")
     parser.add_argument("input", nargs="?", help="MCAP file (default: parameter 'input')")
-    parser.add_argument("-r", "--rate", type=float, help="speed factor")
-    parser.add_argument("-s", "--start-offset", type=float, dest="start_offset_s", help="skip seconds")
-    parser.add_argument("-d", "--duration", type=float, dest="duration_s", help="replay only S seconds")
-    parser.add_argument("-l", "--loop", action="store_true", default=None)
-    parser.add_argument("--clock-hz", type=float)
-    parser.add_argument("--no-clock", dest="clock", action="store_false", default=None)
-    parser.add_argument("--topics", nargs="+", help="replay only these topics")
-    parser.add_argument("--wait-for-subscribers", type=float, dest="wait_for_subscribers_s")
+    parser.add_argument("-r", "--rate", type=float, help="speed factor (default 1.0: real time)")
+    parser.add_argument("-s", "--start-offset", type=float, dest="start_offset_s",
+                        help="skip this many seconds of the recording (default 0)")
+    parser.add_argument("-d", "--duration", type=float, dest="duration_s",
+                        help="replay only this many seconds after the offset (default 0: to the end)")
+    parser.add_argument("-l", "--loop", action="store_true", default=None,
+                        help="start again at the end; /clock jumps back, as with rosbag2 (default: off)")
+    parser.add_argument("--clock-hz", type=float, help="/clock publication rate, Hz (default 100, at least 40)")
+    parser.add_argument("--no-clock", dest="clock", action="store_false", default=None,
+                        help="do not publish /clock (default: publish it)")
+    parser.add_argument("--topics", nargs="+", help="replay only these topics (default: every topic in the file)")
+    parser.add_argument("--wait-for-subscribers", type=float, dest="wait_for_subscribers_s",
+                        help="wait up to this many seconds for a subscriber on every replayed topic "
+                             "before starting (default 0: start at once)")
     return parser.parse_args(argv)
 
 

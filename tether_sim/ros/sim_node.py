@@ -30,7 +30,12 @@ from tether_sim.io.params import load_config
 from tether_sim.physics.snap import SnapDetector
 from tether_sim.ros import convert, node_params
 from tether_sim.ros.driver import END_NAMES, SimulationDriver
+from tether_sim.ros.namespacing import retarget
+from tether_sim.ros.snap_markers import SnapMarkerPublisher
+from tether_sim.ros.tf import TfPublisher
+from tether_sim.warm import Interrupted, exit_if_compiling, run_interruptibly
 from tether_sim.solvers.factory import build_solver
+from tether_sim.solvers.resolution import mesh_summary
 
 RELIABLE = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 EVENTS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
@@ -49,6 +54,9 @@ class TetherSimNode(Node):
         super().__init__(node_name, **kwargs)
         self.config = node_params.declare_all(self, where, cli_keys)
         node = self.config.node
+        if self.config.solver == "dg":
+            dg = self.config.dg
+            self.get_logger().info("DG mesh: " + mesh_summary(dg.n_elements, dg.order, dg.cfl, dg.resolution, dg.snap_tolerance))
         self.inputs = {}
         self._last_log = {}  # key -> time.monotonic() of the last throttled log line
         for end in END_NAMES:
@@ -58,11 +66,13 @@ class TetherSimNode(Node):
                                    history_span=history_span(node), future_tolerance=node.future_stamp_tolerance,
                                    max_age=node.max_input_age)
                 self.inputs[end] = inp
-                self.create_subscription(PoseStamped, f"/{end}/pose", lambda m, e=end: self._on_pose(e, m),
+                self.create_subscription(PoseStamped, f"{end}/pose", lambda m, e=end: self._on_pose(e, m),
                                          qos_profile_sensor_data)
-                self.create_subscription(TwistStamped, f"/{end}/twist", lambda m, e=end: self._on_twist(e, m),
+                self.create_subscription(TwistStamped, f"{end}/twist", lambda m, e=end: self._on_twist(e, m),
                                          qos_profile_sensor_data)
-        self._warm_up(solver_factory)
+        # numba compile / cache load in a worker thread: logged when slow, stoppable by SIGINT/SIGTERM
+        run_interruptibly(lambda: self._warm_up(solver_factory), log=self.get_logger().info,
+                          should_stop=lambda: not self.context.ok(), what=f"{self.config.solver} solver warm-up")
         self.driver = SimulationDriver(self.config, self.inputs, solver_factory=solver_factory,
                                        wall_budget=node.tick_budget / node.output_rate)
         self.arc_lengths = np.linspace(0.0, self.config.cable.length, node.output_points)
@@ -72,7 +82,9 @@ class TetherSimNode(Node):
             if topic.endswith("sim_pose") and getattr(self.config, f"{end}_end").kind != "body":
                 continue
             profile = LATCHED if qos == "latched" else EVENTS if "events" in topic or "warnings" in topic else RELIABLE
-            self.pubs[topic] = self.create_publisher(_TYPES[type_name.rsplit("/", 1)[1]], topic, profile)
+            self.pubs[topic] = self.create_publisher(_TYPES[type_name.rsplit("/", 1)[1]], convert.ros_name(topic), profile)
+        self.tf = TfPublisher(self)  # /tf, /tf_static (tether_sim/ros/tf.py)
+        self.snap_markers = SnapMarkerPublisher(self)  # tether/snap_markers, for RViz
         # periodic outputs: built (and published) only while someone subscribes to them
         self._tick_topics = [t for t in self.pubs if t in convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
         self._first_tick = None
@@ -182,6 +194,7 @@ class TetherSimNode(Node):
                 wanted = {topic for topic in self._tick_topics if self.pubs[topic].get_subscription_count() > 0}
                 for topic, data in convert.tick_outputs(self.driver, self.arc_lengths, wanted):
                     self.pubs[topic].publish(data)
+                self.tf.publish(self.driver)
         except Exception as exc:  # noqa: BLE001 - the node must stay up; the error is reported
             if not self.context.ok():
                 return  # shutting down (Ctrl-C): publishers are gone
@@ -220,6 +233,8 @@ class TetherSimNode(Node):
                 self._period["snaps"] += 1
                 log.warning(f"snap load at {msg.end}: peak {msg.peak_tension:.1f} N ({msg.amplification:.2f} x static)")
             self.pubs[topic].publish(msg)
+            if topic == "/tether/snap_events":
+                self.snap_markers.publish(msg, self.driver)
 
     # ------------------------------------------------------------------ parameters, description, diagnostics
     def _on_set_parameters(self, parameters):
@@ -344,13 +359,18 @@ def main(args=None):
     except ConfigError as exc:
         print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
         return 2
+    # a namespaced / renamed node still gets the files' `tether_sim:` sections (namespacing.py)
+    argv = retarget(argv, log=lambda text: print(f"tether-sim: {text}", file=sys.stderr))
     rclpy.init(args=argv)
     node = None
     try:
         node = TetherSimNode(where=", ".join(files) or "command-line parameters", cli_keys=cli_param_keys(argv))
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
-        pass
+        exit_if_compiling(0)  # SIGINT during the start-up compile: leave without waiting for it
+    except Interrupted as exc:  # SIGTERM during the start-up compile
+        print(f"tether-sim: {exc}", file=sys.stderr)
+        exit_if_compiling(0)
     except Exception as exc:
         if not rclpy.ok():
             pass  # SIGINT/SIGTERM arrived while a callback was publishing: a normal shutdown

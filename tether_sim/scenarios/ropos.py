@@ -26,16 +26,17 @@ EI_STAR = 2.62e3  # N m^2, solid section of d = 0.03 m with EA = 45.5 MN [PE2020
 
 def ropos_config(length=1730.0, alpha=0.0, frequency=0.2, amplitude=2.0, n_elements=None, order=None,
                  periods=12.0, solver=None, cfl=None, **sections):
-    """SimConfig of ``config/ropos_L<length>.yaml`` with the study's alpha, f, a and mesh.
+    """SimConfig of ``config/ropos_L<length>_paper.yaml`` (the paper's N = 20, P = 4) with the study's
+    alpha, f, a and mesh.
 
     ``periods`` sets the duration (12 periods: the paper's Figure 6 looks at period 8.65) and the
     fairlead ramp is one period. ``sections`` replace whole sections (e.g. ``snap=SnapConfig(...)``).
     """
-    path = CONFIG_DIR / f"ropos_L{int(length)}.yaml"
+    path = CONFIG_DIR / f"ropos_L{int(length)}_paper.yaml"
     if path.is_file():
         cfg = load_config(path)
     else:  # another depth: the L = 1730 m file with the length (and the cage position) changed
-        base = load_config(CONFIG_DIR / "ropos_L1730.yaml")
+        base = load_config(CONFIG_DIR / "ropos_L1730_paper.yaml")
         cfg = replace(base, cable=replace(base.cable, length=float(length)),
                       vehicle_end=replace(base.vehicle_end, position=(0.0, 0.0, -float(length))),
                       body=replace(base.body, initial_position=(0.0, 0.0, -float(length) - base.body.attachment[2])))

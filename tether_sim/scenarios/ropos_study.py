@@ -1,10 +1,12 @@
 """PE2020 Section 6.2 bending study and Appendix A mesh study for ROPOS, run in parallel.
 
-    python -m tether_sim.scenarios.ropos_study study [--lengths 200 500 ...] [--out docs/ropos]
+    python -m tether_sim.scenarios.ropos_study [study] [--lengths 200 500 ...] [--out docs/ropos]
     python -m tether_sim.scenarios.ropos_study mesh  [--out docs/ropos]
 
-Writes PNG figures (Figure 5-, 6- and A1-like), markdown tables of the snap statistics and a
-pickle of all case results (to redraw figures without re-running).
+Writes PNG figures (Figure 5-, 6- and A1-like, from the full tension histories), markdown tables of
+the snap statistics and a pickle of all case results (to redraw figures without re-running).
+For studies of your own (any parameters, resumable, Parquet tables, on a cluster) use
+``tether-sim-study config/studies/pe2020_sec62.yaml`` (docs/studies.md).
 """
 
 import argparse
@@ -368,7 +370,8 @@ def axial_table(lengths=LENGTHS, freqs=FREQUENCIES, out=DEFAULT_OUT, periods=12.
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("what", choices=("study", "mesh", "report", "report-mesh", "axial"))
+    ap.add_argument("what", nargs="?", default="study", choices=("study", "mesh", "report", "report-mesh", "axial"),
+                    help="what to run (default: study)")
     ap.add_argument("--out", default=str(DEFAULT_OUT))
     ap.add_argument("--lengths", type=float, nargs="+", default=list(LENGTHS))
     ap.add_argument("--alphas", type=float, nargs="+", default=list(ALPHAS))

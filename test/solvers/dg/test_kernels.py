@@ -1,6 +1,8 @@
-"""DG right-hand side on states with known exact derivatives (compiled kernels, small meshes)."""
+"""DG right-hand side on states with known exact derivatives (compiled kernels, small meshes; the
+ones marked jit_off also run with NUMBA_DISABLE_JIT=1 in `make test`)."""
 
 import numpy as np
+import pytest
 
 from tether_sim.config import SimConfig
 from tether_sim.physics.boundary import EndCondition
@@ -22,6 +24,7 @@ def straight(EI=0.0, zeta=0.0, g=0.0, rho=0.0, N=3, P=4, kinds=("fixed", "fixed"
     return DGCableSolver(cfg)
 
 
+@pytest.mark.jit_off
 def test_uniformly_stretched_cable_is_at_rest():
     s = straight(zeta=50.0)
     s._evaluate()
@@ -34,6 +37,7 @@ def test_uniformly_stretched_cable_is_at_rest():
     assert abs(f.ship_tension - T) < 1e-9
 
 
+@pytest.mark.jit_off
 def test_bending_of_a_straight_cable_adds_nothing():
     a, b = straight(), straight(EI=5.0)
     assert a.iprm[Y.I_BENDING] == 0 and b.iprm[Y.I_BENDING] == 1
@@ -42,6 +46,7 @@ def test_bending_of_a_straight_cable_adds_nothing():
     assert np.allclose(a._dU, b._dU, atol=1e-9)
 
 
+@pytest.mark.jit_off
 def test_rigid_translation_has_no_internal_force():
     s = straight(kinds=("free", "free"))
     v = np.array([0.3, -0.2, 0.1])
@@ -53,6 +58,7 @@ def test_rigid_translation_has_no_internal_force():
     assert np.max(np.abs(s._dU[:, :, 0:3])) < 1e-12  # uniform velocity: q does not change
 
 
+@pytest.mark.jit_off
 def test_weight_and_added_mass_give_the_sinking_acceleration():
     """Slack free-free cable in water: a = f_b / (gamma0 + m_n) for a horizontal cable (normal sinking)."""
     cab = CableProperties(length=10.0, EA=1e4, gamma0=2.0, diameter=0.05, density=2000.0, Cdn=0.0, Cdt=0.0,

@@ -17,8 +17,14 @@ _DEPENDENCIES = (
     os.path.join(_ROOT, "physics", "hydrodynamics.py"),
     os.path.join(_ROOT, "physics", "seabed.py"),
     os.path.join(_ROOT, "physics", "bodies.py"),
+    os.path.join(_ROOT, "physics", "end_conditions.py"),
+    os.path.join(_ROOT, "numerics", "banded.py"),
     os.path.join(_ROOT, "numerics", "jit.py"),
 )
+
+
+# modules without compiled code or constants the kernels read (editing them keeps the cache)
+_PYTHON_ONLY = ("__init__.py", "cache.py", "solver.py", "outputs.py")
 
 
 def drop_stale_kernel_cache() -> int:
@@ -26,6 +32,8 @@ def drop_stale_kernel_cache() -> int:
     newest = 0.0
     for pattern in _DEPENDENCIES:
         for path in glob.glob(pattern):
+            if os.path.dirname(path) == _HERE and os.path.basename(path) in _PYTHON_ONLY:
+                continue
             try:
                 newest = max(newest, os.path.getmtime(path))
             except OSError:

@@ -7,6 +7,9 @@ import math
 
 import numpy as np
 
+from tether_sim.physics.end_conditions import end_kind
+from tether_sim.solvers.dg.columns import define
+
 MODE_EXPLICIT = 0
 MODE_AXIAL = 1
 MODE_GENERAL = 2
@@ -20,61 +23,62 @@ OP_TAU = 4  # M* at points -> tau at points (flux bias -beta)
 OP_H = 5  # GP Div (reach 2)
 N_OP = 6
 
-# float parameters dprm[...]
-DP_ZETA = 0
-DP_ZETAB = 1
-DP_G0 = 2
-DP_AT = 3  # gamma0 / (gamma0 + m_t)
-DP_AN = 4  # gamma0 / (gamma0 + m_n)
-DP_EA = 5
-DP_LAMBDA = 6  # upwind speed of velocity-end fluxes (kernels: max(c, lambda_floor))
-DP_TC0 = 7  # (3 + 3) constant damping flux of released ends (runtime, see release_ends)
-DP_IP0 = 13  # (3 + 3) trace tangent i+ of released ends (runtime)
-DP_LU_H = 19  # gamma h of the stored LU
-N_DP = 20
+# The columns of the implicit damping step's arrays, named once (columns.py; layout.py has the rest)
+define(globals(), "dprm", [
+    ("DP_ZETA", 1, "zeta", "N s", "axial material damping"),
+    ("DP_ZETAB", 1, "zeta_b", "N m^2 s", "bending damping"),
+    ("DP_G0", 1, "gamma0", "kg/m", "mass per unstretched metre"),
+    ("DP_AT", 1, "a_t", "-", "gamma0 / (gamma0 + m_t)"),
+    ("DP_AN", 1, "a_n", "-", "gamma0 / (gamma0 + m_n)"),
+    ("DP_EA", 1, "EA", "N", "axial stiffness"),
+    ("DP_LAMBDA", 1, "lambda", "m/s", "upwind speed of velocity-end fluxes (max(c, lambda_floor))"),
+    ("DP_TC0", 6, "-a_el i+", "N", "constant damping flux of released ends, 3 per end (runtime, release_ends)"),
+    ("DP_IP0", 6, "i+", "-", "trace tangent of released ends, 3 per end (runtime)"),
+    ("DP_LU_H", 1, "gamma h", "s", "gamma dt of the stored LU"),
+], "N_DP")
 
-# int parameters idp[...]
-ID_MODE = 0
-ID_LAW = 1
-ID_KIND0 = 2
-ID_KIND1 = 3
-ID_REACH = 4  # elements coupled by f_d on each side (2 axial, 4 with bending damping)
-ID_KL = 5  # half bandwidth of the banded system
-ID_REL0 = 6  # (2) velocity end released for this step (no-compression clip of the end flux active)
-ID_LU_AGE = 8  # steps since the LU of the strain-rate system was computed (-1: none)
-ID_RELF0 = 9  # (2) released flags when it was computed
-N_ID = 11
+define(globals(), "idp", [
+    ("ID_MODE", 1, "-", "-", "MODE_EXPLICIT / MODE_AXIAL / MODE_GENERAL"),
+    ("ID_LAW", 1, "-", "-", "tension law code"),
+    ("ID_KIND0", 1, "-", "-", "end kind code at s = 0"),
+    ("ID_KIND1", 1, "-", "-", "end kind code at s = L"),
+    ("ID_REACH", 1, "-", "-", "elements coupled by f_d on each side (2 axial, 4 with bending damping)"),
+    ("ID_KL", 1, "-", "-", "half bandwidth of the banded system"),
+    ("ID_REL0", 2, "-", "-", "velocity end released for this step, per end (no-compression clip active)"),
+    ("ID_LU_AGE", 1, "-", "-", "steps since the strain-rate LU was computed (-1: none)"),
+    ("ID_RELF0", 2, "-", "-", "released flags when it was computed"),
+], "N_ID")
 LU_MAX_AGE = 64  # refactor at least this often
 LU_TOL = 1e-4  # defect correction accepted if |correction| <= LU_TOL |solution|
 
-# per-point work wp[e, j, ...]
-WP_I = 0
-WP_L = 3
-WP_Z = 4
-WP_NUS = 5
-WP_TV = 8
-WP_R = 11
-WP_IDOT = 14
-WP_KDOT = 17
-WP_MB = 20
-WP_TAU = 23
-WP_E0 = 26
-WP_E1 = 27
-WP_E2 = 28
-WP_X = 29
-WP_TC = 30  # constant damping tension of points where the no-compression clip is active
-WP_BC0 = 31  # strain rate caused by that constant force
-WP_ZF = 32  # Z when the LU of the strain-rate system was computed
-WP_KX = 33  # K x (defect correction): input x
-WP_KY = 34  # and output
-NWP = 35
+define(globals(), "wp", [
+    ("WP_I", 3, "i", "-", "frozen tangent"),
+    ("WP_L", 1, "l", "-", "frozen stretch"),
+    ("WP_Z", 1, "Z", "N s", "damping coefficient where the law transmits tension"),
+    ("WP_NUS", 3, "G v", "1/s", "velocity gradient d(v/gamma0)/ds"),
+    ("WP_TV", 3, "T_d i + T_s,d", "N", "damping tension vector (axial + bending-damping shear)"),
+    ("WP_R", 3, "f_d", "N/m", "damping momentum rate at the point (divergence through the added mass)"),
+    ("WP_IDOT", 3, "di/dt", "1/s", "tangent rate (bending damping)"),
+    ("WP_KDOT", 3, "dkappa/dt", "1/(m s)", "curvature rate"),
+    ("WP_MB", 3, "M*_d", "N m", "bending-damping moment / l^2"),
+    ("WP_TAU", 3, "tau_d", "N", "its derivative"),
+    ("WP_E0", 1, "e_0", "1/s", "strain rate at the start of the step"),
+    ("WP_E1", 1, "e_1", "1/s", "SDIRK stage 1 strain rate"),
+    ("WP_E2", 1, "e_2", "1/s", "SDIRK stage 2 strain rate"),
+    ("WP_X", 1, "e", "1/s", "strain rate the damping tension is evaluated at"),
+    ("WP_TC", 1, "T_c", "N", "constant damping tension of points where the no-compression clip is active"),
+    ("WP_BC0", 1, "e_c", "1/s", "strain rate caused by that constant force"),
+    ("WP_ZF", 1, "Z_LU", "N s", "Z when the strain-rate LU was computed"),
+    ("WP_KX", 1, "x", "1/s", "K x (defect correction): input"),
+    ("WP_KY", 1, "K x", "1/s^2", "and output"),
+], "NWP")
 
-# modal work wd[e, k, ...]
-WD_F = 0
-WD_K1 = 3
-WD_Y = 6
-WD_P = 9
-NWD = 12
+define(globals(), "wd", [
+    ("WD_F", 3, "f_d", "N/m", "damping momentum rate, modal (output of damping_force)"),
+    ("WD_K1", 3, "k_1", "N/m", "SDIRK stage 1 rate, modal (MODE_GENERAL)"),
+    ("WD_Y", 3, "v_1", "kg/s", "SDIRK stage value, modal (MODE_GENERAL)"),
+    ("WD_P", 3, "p", "kg/s or N/m", "probe vector (matrix assembly) or rate of the constant clip tension, modal"),
+], "NWD")
 
 # boundary vectors bvec[...]: 0/1 = gradient lift of v_BC at s = 0 / L, 2/3 = trace of the projection
 N_BVEC = 4
@@ -110,8 +114,8 @@ def build_operators(ops, h, kinds, gamma0, beta):
     """Geometry-free block operators blk (N_OP, N, 5, Q, Q) and boundary vectors bvec (4, Q)."""
     V, Pj, Tr, Lf = ops.vandermonde, ops.projection, ops.trace, ops.lift
     N, nq, nm = len(h), V.shape[0], V.shape[1]
-    force = [k in ("free", "force") for k in kinds]
-    clamped = [k == "clamped" for k in kinds]
+    force = [not end_kind(k).kinematic for k in kinds]
+    clamped = [end_kind(k).direction == "held" for k in kinds]
     vel_rule = ["trace" if f else "zero" for f in force]  # gradient of v: v_BC moved to bvec
     div_rule = ["zero" if f else "trace" for f in force]
     kdot_rule = ["zero" if c else "trace" for c in clamped]

@@ -7,17 +7,12 @@ import math
 
 from tether_sim.numerics.jit import jit
 from tether_sim.physics.constitutive import LAW_LINEAR, elastic_tension
+from tether_sim.physics.end_conditions import is_kinematic
 from tether_sim.solvers.dg.damping_layout import (
     DP_AN, DP_AT, DP_EA, DP_G0, DP_IP0, DP_LAMBDA, DP_TC0, DP_ZETA, DP_ZETAB, ID_KIND0, ID_LAW, ID_REL0, OP_DIV,
     OP_G, OP_KDOT, OP_TAU, WP_E0, WP_I, WP_IDOT, WP_KDOT, WP_L, WP_MB, WP_NUS, WP_R, WP_TAU, WP_TC, WP_TV, WP_X,
     WP_Z,
 )
-from tether_sim.solvers.dg.layout import K_FORCE, K_FREE
-
-
-@jit
-def is_force_kind(kind):
-    return kind == K_FREE or kind == K_FORCE
 
 
 @jit
@@ -85,7 +80,7 @@ def release_ends(U, vbc, idp, dprm, bvec, Tr, wp, tab_eps, tab_T):
     nrel = 0
     for end in range(2):
         idp[ID_REL0 + end] = 0
-        if is_force_kind(idp[ID_KIND0 + end]) or idp[ID_LAW] == LAW_LINEAR:
+        if not is_kinematic(idp[ID_KIND0 + end]) or idp[ID_LAW] == LAW_LINEAR:
             continue
         e = end * (N - 1)
         sgn = 1.0 if end == 0 else -1.0
@@ -275,7 +270,7 @@ def end_damping_forces(idp, dprm, bvec, U, Tr, wp, fdamp):
     for end in range(2):
         for c in range(4):
             fdamp[end, c] = 0.0
-        if is_force_kind(idp[ID_KIND0 + end]):
+        if not is_kinematic(idp[ID_KIND0 + end]):
             continue
         e = end * (N - 1)
         sgn = 1.0 if end == 0 else -1.0

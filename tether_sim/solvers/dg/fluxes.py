@@ -4,16 +4,11 @@ end loads they give (boundary rules: kernels.py module docstring)."""
 import math
 
 from tether_sim.numerics.jit import jit
+from tether_sim.physics.end_conditions import is_kinematic
 from tether_sim.solvers.dg.layout import (
-    E_F, E_M, E_T, E_VHAT, F_MS, F_NU, F_Q, F_V, I_AXDAMP, I_KIND0, I_KIND1, I_N, K_FORCE, K_FREE, P_GAMMA0, P_QPEN,
+    E_F, E_M, E_T, E_VHAT, F_MS, F_NU, F_Q, F_V, I_AXDAMP, I_KIND0, I_KIND1, I_N, P_GAMMA0, P_QPEN,
     T_LAM, T_Q, T_V,
 )
-
-
-@jit
-def is_force_end(kind):
-    """Free and point-force ends prescribe T_hat; all others prescribe v_hat [PE2020 Table 1]."""
-    return kind == K_FREE or kind == K_FORCE
 
 
 @jit
@@ -36,8 +31,8 @@ def velocity_fluxes(prm, iprm, vbc, tr, fl):
     k1 = iprm[I_KIND1]
     interface_fluxes(fl, tr, N, F_Q, T_Q, T_V, ig0, prm[P_QPEN])
     for c in range(3):
-        fl[0, F_Q + c] = tr[0, 0, T_V + c] * ig0 if is_force_end(k0) else vbc[0, 3 + c]
-        fl[N, F_Q + c] = tr[N - 1, 1, T_V + c] * ig0 if is_force_end(k1) else vbc[1, 3 + c]
+        fl[0, F_Q + c] = tr[0, 0, T_V + c] * ig0 if not is_kinematic(k0) else vbc[0, 3 + c]
+        fl[N, F_Q + c] = tr[N - 1, 1, T_V + c] * ig0 if not is_kinematic(k1) else vbc[1, 3 + c]
     if iprm[I_AXDAMP] != 0:
         for k in range(1, N):
             for c in range(3):

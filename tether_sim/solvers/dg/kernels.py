@@ -31,6 +31,7 @@ import math
 
 from tether_sim.numerics.jit import jit
 from tether_sim.physics.constitutive import LAW_BILINEAR, LAW_LINEAR, LAW_TABLE, axial_tension, tension_slope
+from tether_sim.physics.end_conditions import is_kinematic
 from tether_sim.physics.hydrodynamics import current_at, morison_drag
 from tether_sim.physics.seabed import seabed_force
 from tether_sim.solvers.dg.elementops import strong_derivative
@@ -42,7 +43,7 @@ from tether_sim.solvers.dg.layout import (
     T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TV, W_V,
 )
 from tether_sim.solvers.dg.fluxes import (  # noqa: F401 (re-exported)
-    clip_compression, end_outputs, interface_fluxes, is_force_end, velocity_fluxes,
+    clip_compression, end_outputs, interface_fluxes, velocity_fluxes,
 )
 from tether_sim.solvers.dg.ldg import ldg_shear_force
 from tether_sim.solvers.dg.soa import momentum_rate_soa, soa_momentum_applies
@@ -135,11 +136,11 @@ def internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, 
     lam0 = max(tr[0, 0, T_LAM], prm[P_LAMBDA_BC])
     lam1 = max(tr[N - 1, 1, T_LAM], prm[P_LAMBDA_BC])
     for c in range(3):
-        if is_force_end(k0):
+        if not is_kinematic(k0):
             fl[0, F_V + c] = -bc[0, B_F + c]
         else:  # n = -1
             fl[0, F_V + c] = tr[0, 0, T_TV + c] - lam0 * (g0 * vbc[0, 3 + c] - tr[0, 0, T_V + c])
-        if is_force_end(k1):
+        if not is_kinematic(k1):
             fl[N, F_V + c] = bc[1, B_F + c]
         else:  # n = +1
             fl[N, F_V + c] = tr[N - 1, 1, T_TV + c] + lam1 * (g0 * vbc[1, 3 + c] - tr[N - 1, 1, T_V + c])

@@ -1,130 +1,139 @@
-"""Index constants shared by the DG kernels and the Python driver (compile-time constants in numba).
+"""Every column of the DG arrays, named once with its width, symbol and unit (columns.py).
 
-State ``U`` (N, P+1, 6): modal coefficients of u = [q, v] per element [PE2020 Eq. 10-11]
-(q = dr/ds, v = gamma0 * dr/dt). Work arrays: ``wq`` (N, Q, NWQ) values at the Gauss points,
-``wm`` (N, P+1, NWM) modal work, ``tr`` (N, 2, NTR) element traces (0 = left xi=-1, 1 = right),
-``fl`` (N+1, NFL) numerical fluxes at the N+1 interfaces (0 = ship end s=0, N = vehicle end s=L).
+State ``U`` (N, P+1, 6): modal coefficients of u = [q, v] per element [PE2020 Eq. 10-11].
+Work arrays: ``wq`` (N, Q, NWQ) values at the Gauss points, ``wm`` (N, P+1, NWM) modal
+coefficients, ``tr`` (N, 2, NTR) element traces (side 0 = left, xi = -1; 1 = right),
+``fl`` (N+1, NFL) numerical fluxes at the N+1 interfaces (0 = ship end s = 0, N = vehicle end
+s = L), ``bc`` (2, N_BC) end data, ``vbc`` (2, 6) end kinematics, ``endf`` (2, N_ENDF) end loads;
+``prm`` / ``iprm`` the float / integer parameters. Each table below gives every column's name
+(a module constant = its offset, a compile-time constant in numba), width, symbol, unit and
+meaning; a vector column of width 3 holds x, y, z (world frame, ENU). Symbols: l = |q| (stretch,
+1 + eps), i = q / l (tangent), M* = M / l^2 [Eq. 19], T_s the bending shear force [Eq. 20].
+``python -m tether_sim.solvers.dg.layout`` prints the tables (docs/dg_solver.md).
 """
 
-# --- float parameters prm[...] ---
-P_GAMMA0 = 0
-P_EA = 1
-P_ZETA = 2
-P_MT = 3  # tangential added mass per metre
-P_MN = 4  # normal added mass per metre
-P_FBZ = 5  # net vertical buoyancy per metre (negative: sinks) [Eq. 14]
-P_HALF_RHO_D = 6  # 0.5 rho_f d
-P_CDT = 7
-P_CDN = 8
-P_ZG = 9
-P_KD = 10
-P_CCRIT = 11
-P_SBZETA = 12
-P_MU = 13
-P_VMU = 14
-P_EI = 15
-P_ZETAB = 16
-P_BETA = 17
-P_TORQUE = 18
-P_RELAX = 19  # artificial linear damping rate (1/s) on the momentum, dynamic relaxation only
-P_LAMBDA_FLOOR = 20  # lower bound of the Lax-Friedrichs speed (m/s)
-P_LAMBDA_BC = 21  # upwind speed of the velocity-end fluxes: the taut wave speed c (m/s)
-P_QPEN = 22  # factor on the Lax-Friedrichs penalty of the q equation (1 = Eq. 24, 0 = central)
-N_PRM = 23
+from tether_sim.solvers.dg.columns import define
 
-# --- integer parameters iprm[...] ---
-I_N = 0
-I_P = 1
-I_Q = 2
-I_LAW = 3
-I_SEABED = 4
-I_CURRENT = 5
-I_BENDING = 6
-I_ANCHOR = 7  # 0: positions integrated from s = 0, 1: from s = L
-I_KIND0 = 8  # end kind at s = 0
-I_KIND1 = 9  # end kind at s = L
-I_NEEDPOS = 10  # positions at the Gauss points needed (current or seabed)
-I_BENDDAMP = 11  # bending damping active
-I_AXDAMP = 12  # any damping (axial or bending): strain-rate gradient needed
-N_IPRM = 13
+define(globals(), "U", [
+    ("U_Q", 3, "q = dr/ds", "-", "tangent stretch vector, modal coefficients"),
+    ("U_V", 3, "v = gamma0 dr/dt", "kg/s", "momentum per unstretched metre, modal coefficients"),
+], "N_U")
 
-# --- end kinds [PE2020 Table 1] ---
-K_PRESCRIBED = 0
-K_FIXED = 1
-K_FREE = 2
-K_FORCE = 3
-K_CLAMPED = 4
-K_BODY = 5
-KIND_CODES = {"prescribed": K_PRESCRIBED, "fixed": K_FIXED, "free": K_FREE, "force": K_FORCE,
-              "clamped": K_CLAMPED, "body": K_BODY}
+define(globals(), "prm", [
+    ("P_GAMMA0", 1, "gamma0", "kg/m", "mass per unstretched metre"),
+    ("P_EA", 1, "EA", "N", "axial stiffness"),
+    ("P_ZETA", 1, "zeta", "N s", "axial material damping [Eq. 22]"),
+    ("P_MT", 1, "m_t", "kg/m", "tangential added mass per metre"),
+    ("P_MN", 1, "m_n", "kg/m", "normal added mass per metre"),
+    ("P_FBZ", 1, "f_b,z", "N/m", "net vertical buoyancy per metre (negative: sinks) [Eq. 14]"),
+    ("P_HALF_RHO_D", 1, "rho_f d / 2", "kg/m^2", "drag prefactor [Eq. 17]"),
+    ("P_CDT", 1, "C_dt", "-", "tangential drag coefficient"),
+    ("P_CDN", 1, "C_dn", "-", "normal drag coefficient"),
+    ("P_ZG", 1, "z_g", "m", "seabed height"),
+    ("P_KD", 1, "K_g d", "N/m^2", "seabed stiffness per metre [Eq. 15]"),
+    ("P_CCRIT", 1, "2 sqrt(K_g d gamma0)", "N s/m^2", "critical seabed damping"),
+    ("P_SBZETA", 1, "zeta_g", "-", "seabed damping ratio"),
+    ("P_MU", 1, "mu", "-", "seabed friction coefficient [Eq. 16]"),
+    ("P_VMU", 1, "v_mu", "m/s", "friction regularisation speed"),
+    ("P_EI", 1, "EI", "N m^2", "bending stiffness"),
+    ("P_ZETAB", 1, "zeta_b", "N m^2 s", "bending damping [Eq. 19]"),
+    ("P_BETA", 1, "beta", "-", "LDG flux bias [Eq. 29-30]"),
+    ("P_TORQUE", 1, "GIp Omega_1", "N m", "torque [Eq. 21]"),
+    ("P_RELAX", 1, "c_relax", "1/s", "linear momentum damping rate, dynamic relaxation only"),
+    ("P_LAMBDA_FLOOR", 1, "lambda_min", "m/s", "lower bound of the Lax-Friedrichs speed"),
+    ("P_LAMBDA_BC", 1, "c", "m/s", "upwind speed of the velocity-end fluxes (taut wave speed)"),
+    ("P_QPEN", 1, "-", "-", "factor on the Lax-Friedrichs penalty of the q equation (1 = Eq. 24, 0 = central)"),
+], "N_PRM")
 
-# --- end data bc[end, ...] ---
-B_T0 = 0
-B_T1 = 1
-B_P0 = 2
-B_V0 = 5
-B_P1 = 8
-B_V1 = 11
-B_F = 14
-B_M = 17
-B_DIR = 20
-N_BC = 23
+define(globals(), "iprm", [
+    ("I_N", 1, "N", "-", "number of elements"),
+    ("I_P", 1, "P", "-", "polynomial order"),
+    ("I_Q", 1, "Q", "-", "Gauss points per element"),
+    ("I_LAW", 1, "-", "-", "tension law code (physics/constitutive.py)"),
+    ("I_SEABED", 1, "-", "-", "seabed contact on"),
+    ("I_CURRENT", 1, "-", "-", "current table non-empty"),
+    ("I_BENDING", 1, "-", "-", "nested LDG on (EI, zeta_b or torque nonzero)"),
+    ("I_ANCHOR", 1, "-", "-", "end the positions are integrated from (0: s = 0, 1: s = L)"),
+    ("I_KIND0", 1, "-", "-", "end kind code at s = 0 (physics/end_conditions.py)"),
+    ("I_KIND1", 1, "-", "-", "end kind code at s = L"),
+    ("I_NEEDPOS", 1, "-", "-", "positions at the Gauss points needed (current or seabed)"),
+    ("I_BENDDAMP", 1, "-", "-", "bending damping on"),
+    ("I_AXDAMP", 1, "-", "-", "any damping on: the strain-rate gradient is needed"),
+], "N_IPRM")
 
-# --- channels at the Gauss points wq[e, j, ...] ---
-W_Q = 0
-W_V = 3
-W_I = 6
-W_L = 9
-W_EDOT = 10
-W_TV = 11  # tension vector T i + T_s
-W_R = 14  # position
-W_DQ = 17  # dq/dt
-W_DT = 20  # dT/ds (DG derivative of the tension vector)
-W_ACC = 23  # dv/dt
-W_IDOT = 26  # di/dt
-W_KAP = 29
-W_KDOT = 32
-W_MS = 35  # M* = M / l^2
-W_TAU = 38
-W_NUS = 41  # d(v/gamma0)/ds with central fluxes (strain rate for the damping terms)
-NWQ = 44
+define(globals(), "bc", [
+    ("B_T0", 1, "t_0", "s", "start time of a driven end's Hermite segment"),
+    ("B_T1", 1, "t_1", "s", "end time of the segment"),
+    ("B_P0", 3, "r_0", "m", "position at t_0 (fixed ends: the fixed point)"),
+    ("B_V0", 3, "dr/dt_0", "m/s", "velocity at t_0"),
+    ("B_P1", 3, "r_1", "m", "position at t_1"),
+    ("B_V1", 3, "dr/dt_1", "m/s", "velocity at t_1"),
+    ("B_F", 3, "F_BC", "N", "applied point force (force ends)"),
+    ("B_M", 3, "M_BC", "N m", "applied point moment (force ends)"),
+    ("B_DIR", 3, "i_BC", "-", "held tangent direction (clamped ends)"),
+], "N_BC")
 
-# --- modal channels wm[e, k, ...] ---
-M_DQ = 0
-M_TV = 3
-M_DT = 6
-M_I = 9
-M_KAP = 12
-M_IDOT = 15
-M_KDOT = 18
-M_MS = 21
-M_TAU = 24
-M_NUS = 27
-NWM = 30
+define(globals(), "vbc", [
+    ("VB_P", 3, "r_BC", "m", "position of a kinematic end at the stage time"),
+    ("VB_V", 3, "v_BC", "m/s", "its velocity"),
+], "N_VBC")
 
-# --- trace channels tr[e, side, ...] ---
-T_Q = 0
-T_V = 3
-T_TV = 6
-T_I = 9
-T_IDOT = 12
-T_MS = 15
-T_DQ = 18
-T_LAM = 21
-NTR = 22
+define(globals(), "wq", [
+    ("W_Q", 3, "q", "-", "dr/ds"),
+    ("W_V", 3, "v", "kg/s", "gamma0 dr/dt"),
+    ("W_I", 3, "i", "-", "tangent q / l"),
+    ("W_L", 1, "l", "-", "stretch |q| = 1 + eps"),
+    ("W_EDOT", 1, "deps/dt", "1/s", "strain rate i . d(v/gamma0)/ds"),
+    ("W_TV", 3, "T i + T_s", "N", "tension vector"),
+    ("W_R", 3, "r", "m", "position (with current or seabed)"),
+    ("W_ACC", 3, "dv/dt", "N/m", "momentum rate"),
+    ("W_IDOT", 3, "di/dt", "1/s", "tangent rate (bending damping)"),
+    ("W_KAP", 3, "kappa", "1/m", "di/ds"),
+    ("W_KDOT", 3, "dkappa/dt", "1/(m s)", "d(di/dt)/ds"),
+    ("W_MS", 3, "M*", "N m", "M / l^2 [Eq. 19]"),
+    ("W_TAU", 3, "tau", "N", "dM*/ds"),
+    ("W_NUS", 3, "d(v/gamma0)/ds", "1/s", "velocity gradient with central fluxes (damping strain rate)"),
+], "NWQ")
 
-# --- interface flux channels fl[k, ...] ---
-F_Q = 0  # v_hat / gamma0
-F_V = 3  # T_hat
-F_I = 6
-F_IDOT = 9
-F_MS = 12
-F_NU = 15  # central velocity flux (damping strain rate)
-NFL = 18
+define(globals(), "wm", [
+    ("M_TV", 3, "T i + T_s", "N", "tension vector"),
+    ("M_DT", 3, "dT/ds", "N/m", "strong derivative of the tension vector"),
+    ("M_I", 3, "i", "-", "tangent"),
+    ("M_KAP", 3, "kappa", "1/m", "curvature vector"),
+    ("M_IDOT", 3, "di/dt", "1/s", "tangent rate"),
+    ("M_KDOT", 3, "dkappa/dt", "1/(m s)", "curvature rate"),
+    ("M_MS", 3, "M*", "N m", "M / l^2"),
+    ("M_TAU", 3, "tau", "N", "dM*/ds"),
+    ("M_NUS", 3, "d(v/gamma0)/ds", "1/s", "velocity gradient with central fluxes"),
+], "NWM")
 
-# --- end outputs endf[end, ...]: force by the cable on the end (3), axial tension, moment (3) ---
-E_F = 0
-E_T = 3
-E_M = 4
-E_VHAT = 7  # flux velocity of the end (m/s)
-N_ENDF = 10
+define(globals(), "tr", [
+    ("T_Q", 3, "q", "-", "trace of q"),
+    ("T_V", 3, "v", "kg/s", "trace of v"),
+    ("T_TV", 3, "T i + T_s", "N", "trace of the tension vector"),
+    ("T_I", 3, "i", "-", "trace of the tangent"),
+    ("T_IDOT", 3, "di/dt", "1/s", "trace of the tangent rate"),
+    ("T_MS", 3, "M*", "N m", "trace of M*"),
+    ("T_LAM", 1, "lambda", "m/s", "local wave speed [Eq. 25]"),
+], "NTR")
+
+define(globals(), "fl", [
+    ("F_Q", 3, "v_hat / gamma0", "m/s", "flux of the q equation"),
+    ("F_V", 3, "T_hat", "N", "flux of the v equation"),
+    ("F_I", 3, "i_hat", "-", "LDG flux of the tangent [Eq. 26, 29]"),
+    ("F_IDOT", 3, "i_hat-dot", "1/s", "LDG flux of the tangent rate [Eq. 27]"),
+    ("F_MS", 3, "M*_hat", "N m", "LDG flux of M* [Eq. 28, 30]"),
+    ("F_NU", 3, "v_hat / gamma0 (central)", "m/s", "central velocity flux (damping strain rate)"),
+], "NFL")
+
+define(globals(), "endf", [
+    ("E_F", 3, "-n T_hat", "N", "force by the cable on the end"),
+    ("E_T", 1, "T_hat . i+", "N", "axial end tension"),
+    ("E_M", 3, "-n M*_hat", "N m", "moment by the cable on the end"),
+    ("E_VHAT", 3, "v_hat / gamma0", "m/s", "flux velocity of the end"),
+], "N_ENDF")
+
+if __name__ == "__main__":
+    from tether_sim.solvers.dg.columns import describe
+
+    print(describe())

@@ -16,9 +16,10 @@ impose M*_hat = n M_BC; every other end (prescribed, fixed pin, free, body) is m
 """
 
 from tether_sim.numerics.jit import jit
+from tether_sim.physics.end_conditions import M_APPLIED, M_INTERIOR, holds_direction, moment_rule
 from tether_sim.solvers.dg.elementops import eval_points, eval_traces, project_points, strong_derivative
 from tether_sim.solvers.dg.layout import (
-    B_DIR, B_M, F_I, F_IDOT, F_MS, I_BENDDAMP, I_KIND0, I_KIND1, I_N, K_CLAMPED, K_FORCE, M_I,
+    B_DIR, B_M, F_I, F_IDOT, F_MS, I_BENDDAMP, I_KIND0, I_KIND1, I_N, M_I,
     M_IDOT, M_KAP, M_KDOT, M_MS, M_TAU, P_BETA, P_EI, P_TORQUE, P_ZETAB, T_I, T_IDOT, T_MS,
     W_EDOT, W_I, W_IDOT, W_KAP, W_KDOT, W_L, W_MS, W_NUS, W_TAU, W_TV,
 )
@@ -59,13 +60,13 @@ def ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, bc, wq, wm, tr, fl):
     if damp:
         _ldg_fluxes(fl, tr, N, F_IDOT, T_IDOT, beta)
     for c in range(3):
-        if k0 == K_CLAMPED:
+        if holds_direction(k0):
             fl[0, F_I + c] = bc[0, B_DIR + c]
             fl[0, F_IDOT + c] = 0.0
         else:
             fl[0, F_I + c] = tr[0, 0, T_I + c]
             fl[0, F_IDOT + c] = tr[0, 0, T_IDOT + c]
-        if k1 == K_CLAMPED:
+        if holds_direction(k1):
             fl[N, F_I + c] = bc[1, B_DIR + c]
             fl[N, F_IDOT + c] = 0.0
         else:
@@ -96,15 +97,15 @@ def ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, bc, wq, wm, tr, fl):
         eval_traces(Tr, wm, e, M_MS, tr, T_MS, 3, 1.0)
     _ldg_fluxes(fl, tr, N, F_MS, T_MS, -beta)
     for c in range(3):
-        if k0 == K_CLAMPED:
+        if moment_rule(k0) == M_INTERIOR:
             fl[0, F_MS + c] = tr[0, 0, T_MS + c]
-        elif k0 == K_FORCE:
+        elif moment_rule(k0) == M_APPLIED:
             fl[0, F_MS + c] = -bc[0, B_M + c]
         else:
             fl[0, F_MS + c] = 0.0
-        if k1 == K_CLAMPED:
+        if moment_rule(k1) == M_INTERIOR:
             fl[N, F_MS + c] = tr[N - 1, 1, T_MS + c]
-        elif k1 == K_FORCE:
+        elif moment_rule(k1) == M_APPLIED:
             fl[N, F_MS + c] = bc[1, B_M + c]
         else:
             fl[N, F_MS + c] = 0.0

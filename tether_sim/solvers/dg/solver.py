@@ -14,29 +14,23 @@ import numpy as np
 
 from tether_sim.errors import SolverDivergedError, UnstableTimeStepError
 from tether_sim.numerics.operators import element_operators, project_function
-from tether_sim.numerics.polys import legendre_integral_at
-from tether_sim.physics.bodies import (
-    BODY_STATE_SIZE, body_acceleration, initial_body_state, pack_body_params, submerged_weight,
-)
+from tether_sim.physics.bodies import BODY_STATE_SIZE, initial_body_state, pack_body_params, submerged_weight
 from tether_sim.physics.constitutive import TensionLaw
+from tether_sim.physics.end_conditions import KIND_CODES, anchor_end, end_kind
 from tether_sim.physics.hydrodynamics import added_mass_per_length, current_table, net_weight_per_length
 from tether_sim.physics.statics import solve_static
-from tether_sim.solvers.base import BodyState, EndForces, SolverState, end_index
+from tether_sim.solvers.base import end_index
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.damping_layout import MODE_AXIAL, MODE_EXPLICIT, MODE_GENERAL
 from tether_sim.solvers.dg.implicit_damping import DampingWork
-from tether_sim.solvers.dg.sampling import (
-    NS, S_CURV, S_MOMENT, S_MVEC, S_POS, S_SHEAR, S_STRAIN, S_TENSION, S_TV, S_VEL, SamplingPlan, evaluate_outputs,
-    sample_state,
-)
+from tether_sim.solvers.dg.outputs import OutputsMixin
 from tether_sim.solvers.dg.soa import TMP_HEAD, soa_scratch_size
-from tether_sim.solvers.dg.stepper import STATUS_DIVERGED, dg_advance, dg_evaluate
+from tether_sim.solvers.dg.stepper import STATUS_DIVERGED
+from tether_sim.solvers.dg.tick import TG_P, TG_SET, TG_V, dg_tick, drain_now, evaluate_now, outputs_now
 from tether_sim.solvers.dg.timestep import stable_dt
+from tether_sim.solvers.dg.workspace import Workspace
 
-_HELD = ("prescribed", "fixed", "clamped", "body")
-
-
-class DGCableSolver:
+class DGCableSolver(OutputsMixin):
     """Discontinuous Galerkin cable solver [PE2020 Sec. 2-3]; see docs/dg_solver.md."""
 
     name = "dg"
@@ -45,9 +39,7 @@ class DGCableSolver:
         self.config = config
         cab, env, opt = config.cable, config.environment, config.dg
         self.kinds = (config.ship_end.kind, config.vehicle_end.kind)
-        for end, kind in zip(("ship_end", "vehicle_end"), self.kinds):
-            if kind not in Y.KIND_CODES:
-                raise ValueError(f"{end}.kind: unknown end kind {kind!r}")
+        self.ends = tuple(end_kind(k, f"{e}.kind") for e, k in zip(("ship_end", "vehicle_end"), self.kinds))
         self.law = TensionLaw(cab)
         self.N, self.P = int(opt.n_elements), int(opt.order)
         self.L = float(cab.length)
@@ -66,12 +58,9 @@ class DGCableSolver:
             self.bc[e, Y.B_M:Y.B_M + 3] = ec.moment
             d = np.asarray(ec.direction, float)
             nd = np.linalg.norm(d)
-            if ec.kind == "clamped" and nd == 0.0:
+            if self.ends[e].direction == "held" and nd == 0.0:
                 raise ValueError(f"{('ship_end', 'vehicle_end')[e]}.direction: must be a nonzero vector")
             self.bc[e, Y.B_DIR:Y.B_DIR + 3] = d / nd if nd > 0 else d
-        self._end_pos = [np.array(config.ship_end.position, float), np.array(config.vehicle_end.position, float)]
-        self._end_vel = [np.zeros(3), np.zeros(3)]
-        self._target = [None, None]
         N, nm, nq = self.N, self.P + 1, self.V.shape[0]
         self.U = np.zeros((N, nm, 6))
         self.ra = np.zeros(3)
@@ -86,16 +75,17 @@ class DGCableSolver:
         self._endf = np.zeros((2, Y.N_ENDF))
         self._buf = np.zeros((int(opt.tension_buffer), 3))
         self._cnt = np.zeros(1, dtype=np.int64)
-        self._drained = 0
         self._out = np.zeros(2)
         self._plans = {}
-        self._eval_key = None  # state the output work arrays were last evaluated at (_evaluate_outputs)
+        self._outputs_valid = False  # the output work arrays hold the evaluation at the current state
+        self._want_outputs = False  # outputs were asked for: the tick evaluates them (tick.py)
         self._bs = np.zeros((2, BODY_STATE_SIZE))
         self._bs0 = np.zeros((2, BODY_STATE_SIZE))
         self._dbs = np.zeros((2, BODY_STATE_SIZE))
         bp = pack_body_params(config.body, env)
         self._bp = np.ascontiguousarray(np.stack([bp, bp]))
         self._setup_damping(cab, env, opt)
+        self._build_workspace(config)
         self.time = 0.0
         self._dt_rule = self.stable_time_step()
         self.fixed_dt = float(opt.fixed_time_step)
@@ -147,8 +137,8 @@ class DGCableSolver:
         ip[Y.I_BENDING] = int(cab.EI > 0.0 or cab.bending_damping > 0.0 or cab.torque != 0.0)
         ip[Y.I_BENDDAMP] = int(cab.bending_damping > 0.0)
         ip[Y.I_AXDAMP] = int(cab.damping > 0.0 or cab.bending_damping > 0.0)
-        ip[Y.I_KIND0], ip[Y.I_KIND1] = Y.KIND_CODES[self.kinds[0]], Y.KIND_CODES[self.kinds[1]]
-        ip[Y.I_ANCHOR] = 1 if (self.kinds[0] not in _HELD and self.kinds[1] in _HELD) else 0
+        ip[Y.I_KIND0], ip[Y.I_KIND1] = KIND_CODES[self.kinds[0]], KIND_CODES[self.kinds[1]]
+        ip[Y.I_ANCHOR] = anchor_end(self.kinds)
         ip[Y.I_NEEDPOS] = int(env.seabed or self.cz.size > 0)
         return prm, ip
 
@@ -168,14 +158,56 @@ class DGCableSolver:
             self._iprm_step[Y.I_BENDING] = int(cab.EI > 0.0 or cab.torque != 0.0)
         self._no_fdamp = np.zeros((2, 4))
 
+    def _build_workspace(self, config):
+        """Move every array of the compiled code into the arenas of workspace.py (the attributes
+        become views of them) so that one call with three array arguments runs a tick."""
+        dw = self._damp
+        ends = np.zeros((2, 6))
+        ends[0, 0:3], ends[1, 0:3] = config.ship_end.position, config.vehicle_end.position
+        own = dict(U="U", ra="ra", prm_step="_prm_step", iprm_step="_iprm_step", h="h", V="V", Pj="Pj", D="D",
+                   Lf="Lf", Tr="Tr", Iq="Iq", cz="cz", cx="cx", cy="cy", bc="bc", vbc="_vbc", wq="_wq", wm="_wm",
+                   tr="_tr", fl="_fl", rs="_rs", tmp="_tmp", dU="_dU", dra="_dra", endf="_endf", bs="_bs",
+                   bp="_bp", dbs="_dbs", bs0="_bs0", U0="_U0", ra0="_ra0", buf="_buf", cnt="_cnt", out="_out",
+                   prm="prm", iprm="iprm", no_fdamp="_no_fdamp")
+        damp = dict(idp="idp", dprm="dprm", blk="blk", bvec="bvec", wp="wp", wd="wd", band="band", vec="vec",
+                    dtmp="tmp", fdamp="fdamp")
+        arrays = {slot: getattr(self, a) for slot, a in own.items()}
+        arrays.update({slot: getattr(dw, a) for slot, a in damp.items()})
+        arrays.update(tab_eps=self.law.tab_eps, tab_T=self.law.tab_T, ends=ends, target=np.zeros((2, 7)),
+                      drained=np.zeros(1, dtype=np.int64), drain=np.zeros((3, self._buf.shape[0])))
+        self.ws = ws = Workspace(arrays)
+        for slot, a in own.items():
+            setattr(self, a, getattr(ws, slot))
+        for slot, a in damp.items():
+            setattr(dw, a, getattr(ws, slot))
+
+    @property
+    def _end_pos(self):
+        """(2, 3) view: position of each end at the solver time (driven ends; start of the others)."""
+        return self.ws.ends[:, 0:3]
+
+    @_end_pos.setter
+    def _end_pos(self, value):
+        self.ws.ends[:, 0:3] = np.asarray(value, float)
+
+    @property
+    def _end_vel(self):
+        """(2, 3) view: velocity of each driven end at the solver time."""
+        return self.ws.ends[:, 3:6]
+
+    @_end_vel.setter
+    def _end_vel(self, value):
+        self.ws.ends[:, 3:6] = np.asarray(value, float)
+
     def _set_initial_state(self, config):
         kind = config.initial.kind
         shape = None
         body_load = np.array([0.0, 0.0, -submerged_weight(config.body, config.environment)])
         if kind == "static":
             try:
-                shape = solve_static(config, vehicle_load=body_load if self.kinds[1] == "body" else None,
-                                     ship_load=body_load if self.kinds[0] == "body" else None)
+                body = [k.position == "body" for k in self.ends]
+                shape = solve_static(config, vehicle_load=body_load if body[1] else None,
+                                     ship_load=body_load if body[0] else None)
             except RuntimeError:
                 shape = None  # fall back to dynamic relaxation from the straight line
         if shape is not None:
@@ -183,7 +215,7 @@ class DGCableSolver:
             end_pos = shape.position(np.array([0.0, self.L]))
         else:
             for e in range(2):
-                if self.kinds[e] == "body":
+                if self.ends[e].position == "body":
                     self._end_pos[e] = initial_body_state(config.body)[0:3] + np.asarray(config.body.attachment, float)
             A, B = self._end_pos
             q = (B - A) / self.L
@@ -195,9 +227,9 @@ class DGCableSolver:
         a = self.iprm[Y.I_ANCHOR]
         self.ra[:] = end_pos[a]
         for e in range(2):
-            if self.kinds[e] in ("free", "force", "body"):
+            if self.ends[e].position in ("cable", "body"):
                 self._end_pos[e] = end_pos[e].copy()
-            if self.kinds[e] == "body":
+            if self.ends[e].position == "body":
                 self._bs[e] = initial_body_state(config.body, attachment_world=end_pos[e])
         relax = config.initial.relax_time
         if kind == "relax" or (kind == "static" and shape is None):
@@ -246,7 +278,7 @@ class DGCableSolver:
         strain rate (and damping tension zeta * deps/dt) at restart."""
         self.prm[Y.P_RELAX] = self.relax_rate()
         t0 = self.time
-        saved = [(p.copy(), v.copy()) for p, v in zip(self._end_pos, self._end_vel)]
+        saved = self.ws.ends.copy()
         try:
             self.advance_to(t0 + duration)
         finally:
@@ -254,8 +286,9 @@ class DGCableSolver:
         self.time = t0
         self._bs[:, 7:13] = 0.0  # bodies start at rest (their velocity was damped anyway)
         for e in range(2):
-            if self.kinds[e] in _HELD:
-                self._end_pos[e], self._end_vel[e] = saved[e]
+            if self.ends[e].kinematic:
+                self.ws.ends[e] = saved[e]
+        self._outputs_valid = False
         self.drain_end_tensions()
 
     # ------------------------------------------------------------------ time step
@@ -274,18 +307,21 @@ class DGCableSolver:
     def set_end_motion(self, end, position, velocity) -> None:
         """Target position/velocity of a prescribed end at the target time of the next advance_to."""
         e = end_index(end)
-        if self.kinds[e] != "prescribed":
+        if self.ends[e].position != "motion":
             raise ValueError(f"set_end_motion: the {end} end is {self.kinds[e]!r}, not 'prescribed'")
         p = np.array(position, dtype=float).reshape(3)
         v = np.array(velocity, dtype=float).reshape(3)
         if not all(map(math.isfinite, p.tolist() + v.tolist())):
             raise ValueError(f"set_end_motion: non-finite position or velocity for the {end} end")
-        self._target[e] = (p, v)
+        tg = self.ws.target[e]
+        tg[TG_SET] = 1.0
+        tg[TG_P:TG_P + 3] = p
+        tg[TG_V:TG_V + 3] = v
 
     def set_end_load(self, end, force, moment=(0.0, 0.0, 0.0)) -> None:
         """Point force (and moment) applied on a force end (held until changed)."""
         e = end_index(end)
-        if self.kinds[e] != "force":
+        if self.ends[e].load != "applied":
             raise ValueError(f"set_end_load: the {end} end is {self.kinds[e]!r}, not 'force'")
         f = np.asarray(force, float).reshape(3)
         m = np.asarray(moment, float).reshape(3)
@@ -293,52 +329,22 @@ class DGCableSolver:
             raise ValueError(f"set_end_load: non-finite load for the {end} end")
         self.bc[e, Y.B_F:Y.B_F + 3] = f
         self.bc[e, Y.B_M:Y.B_M + 3] = m
-
-    def _prepare_ends(self, t1):
-        for e in range(2):
-            if self.kinds[e] != "prescribed":
-                continue
-            p0, v0 = self._end_pos[e], self._end_vel[e]
-            if self._target[e] is None:  # no new input: keep the current velocity
-                p1, v1 = p0 + (t1 - self.time) * v0, v0.copy()
-            else:
-                p1, v1 = self._target[e]
-            b = self.bc[e]
-            b[Y.B_T0], b[Y.B_T1] = self.time, t1
-            b[Y.B_P0:Y.B_P0 + 3], b[Y.B_V0:Y.B_V0 + 3] = p0, v0
-            b[Y.B_P1:Y.B_P1 + 3], b[Y.B_V1:Y.B_V1 + 3] = p1, v1
-
-    def _finish_ends(self):
-        for e in range(2):
-            if self.kinds[e] == "prescribed":
-                b = self.bc[e]
-                self._end_pos[e] = b[Y.B_P1:Y.B_P1 + 3].copy()
-                self._end_vel[e] = b[Y.B_V1:Y.B_V1 + 3].copy()
-                b[Y.B_T0] = b[Y.B_T1] = self.time
-                b[Y.B_P0:Y.B_P0 + 3], b[Y.B_V0:Y.B_V0 + 3] = self._end_pos[e], self._end_vel[e]
-                self._target[e] = None
+        self._outputs_valid = False
 
     # ------------------------------------------------------------------ stepping
     def _run(self, nsteps, dt, t_end):
-        self._eval_key = None  # the stages overwrite the output work arrays
-        self._prepare_ends(t_end)
-        prm, iprm, dw = self._prm_step, self._iprm_step, self._damp
-        prm[:] = self.prm
-        if dw.mode != MODE_EXPLICIT:
-            prm[Y.P_ZETA] = prm[Y.P_ZETAB] = 0.0
-        dg_advance(nsteps, self.time, dt, self.U, self.ra, prm, iprm, self.h, self.V, self.Pj,
-                   self.D, self.Lf, self.Tr, self.Iq, self.law.tab_eps, self.law.tab_T, self.cz, self.cx,
-                   self.cy, self.bc, self._vbc, self._wq, self._wm, self._tr, self._fl, self._rs, self._tmp,
-                   self._dU, self._dra, self._endf, self._bs, self._bp, self._dbs, self._bs0, self._U0, self._ra0,
-                   self._buf, self._cnt, self._out, dw.idp, dw.dprm, dw.blk, dw.bvec, dw.wp, dw.wd, dw.band,
-                   dw.vec, dw.tmp, dw.fdamp)
-        if self._out[1] == STATUS_DIVERGED:
+        """One compiled call (tick.dg_tick): driven ends, nsteps substeps of dt, end bookkeeping and,
+        when outputs are being read, their evaluation at t_end."""
+        ws = self.ws
+        self._outputs_valid = False
+        status = dg_tick(ws.F, ws.I, ws.spec, self.time, t_end, nsteps, dt, self._want_outputs)
+        if status == STATUS_DIVERGED:
             done = int(self._out[0])
             raise SolverDivergedError(
                 f"DG state became non-finite at t = {self.time + (done + 1) * dt:.6g} s "
                 f"(substep {dt:.3g} s); restore a snapshot and reduce dg.cfl or check the inputs")
         self.time = t_end
-        self._finish_ends()
+        self._outputs_valid = self._want_outputs
         return nsteps
 
     def advance_to(self, t) -> int:
@@ -361,124 +367,25 @@ class DGCableSolver:
 
     # ------------------------------------------------------------------ outputs
     def _evaluate(self):
-        kin = [k in _HELD for k in self.kinds]
-        for e in range(2):
-            if self.kinds[e] == "prescribed":
-                b = self.bc[e]
-                b[Y.B_T0] = b[Y.B_T1] = self.time
-                b[Y.B_P0:Y.B_P0 + 3], b[Y.B_V0:Y.B_V0 + 3] = self._end_pos[e], self._end_vel[e]
-        del kin
-        dg_evaluate(self.time, self.U, self.ra, self.prm, self.iprm, self.h, self.V, self.Pj, self.D, self.Lf,
-                    self.Tr, self.Iq, self.law.tab_eps, self.law.tab_T, self.cz, self.cx, self.cy, self.bc,
-                    self._vbc, self._wq, self._wm, self._tr, self._fl, self._rs, self._tmp, self._dU,
-                    self._dra, self._endf, self._bs, self._bp, self._dbs, self._no_fdamp, False)
+        """A full right-hand-side evaluation at the current state (dU, endf, work arrays)."""
+        self._outputs_valid = False
+        evaluate_now(self.ws.F, self.ws.I, self.ws.spec, self.time)
 
     def _evaluate_outputs(self):
         """What the outputs (state(), end_forces(), body_state()) read of a right-hand-side evaluation
-        at the current state (end loads, modal work channels; sampling.evaluate_outputs), skipped when
-        nothing it depends on changed since the last one: a node asking for all three per tick pays
-        for one."""
-        for e in range(2):
-            if self.kinds[e] == "prescribed":
-                b = self.bc[e]
-                b[Y.B_T0] = b[Y.B_T1] = self.time
-                b[Y.B_P0:Y.B_P0 + 3], b[Y.B_V0:Y.B_V0 + 3] = self._end_pos[e], self._end_vel[e]
-        key = (self.time, self.U.tobytes(), self.ra.tobytes(), self._bs.tobytes(), self.bc.tobytes(),
-               self.prm.tobytes(), self.iprm.tobytes())
-        if key == self._eval_key:
-            return
-        evaluate_outputs(self.time, self.U, self.prm, self.iprm, self.h, self.V, self.Pj, self.D, self.Lf, self.Tr,
-                         self.law.tab_eps, self.law.tab_T, self.bc, self._vbc, self._wq, self._wm, self._tr, self._fl,
-                         self._dU, self._endf, self._bs, self._bp, self._tmp)
-        self._eval_key = key
-
-    def _locate(self, s):
-        s = np.clip(np.atleast_1d(np.asarray(s, float)), 0.0, self.L)
-        e = np.clip(np.searchsorted(self.s_edges, s, side="right") - 1, 0, self.N - 1)
-        xi = np.clip(2.0 * (s - self.s_edges[e]) / self.h[e] - 1.0, -1.0, 1.0)
-        return s, e, xi
-
-    def positions_at(self, arc_lengths):
-        """r(s) (n, 3) from the anchor and int q ds."""
-        s, e, xi = self._locate(arc_lengths)
-        starts = np.empty((self.N, 3))
-        if self.iprm[Y.I_ANCHOR] == 0:
-            starts[:] = self.ra + np.concatenate(([np.zeros(3)], np.cumsum(self.h[:, None] * self.U[:, 0, 0:3], axis=0)[:-1]))
-        else:
-            tail = np.cumsum((self.h[:, None] * self.U[:, 0, 0:3])[::-1], axis=0)[::-1]
-            starts[:] = self.ra - tail
-        I = legendre_integral_at(self.P, xi)
-        return starts[e] + 0.5 * self.h[e][:, None] * np.einsum("nk,nkc->nc", I, self.U[e, :, 0:3])
-
-    def _plan(self, arc_lengths):
-        """Sampling plan of these arc lengths (cached: a node asks for the same points every tick)."""
-        if arc_lengths is None:
-            key = None
-        else:
-            arr = np.asarray(arc_lengths, float)
-            key = (arr.shape, arr.tobytes())
-        plan = self._plans.get(key)
-        if plan is None:
-            if arc_lengths is None:
-                arr = np.linspace(0.0, self.L, self.config.node.output_points)
-            plan = SamplingPlan(arr, self.s_edges, self.h, self.P)
-            if len(self._plans) >= 16:
-                self._plans.clear()
-            self._plans[key] = plan
-        return plan
-
-    def state(self, arc_lengths=None) -> SolverState:
-        """Position, velocity, strain, tension, curvature and bending moment at arc lengths s
-        (one compiled sampling kernel, sampling.py)."""
-        self._evaluate_outputs()
-        plan = self._plan(arc_lengths)
-        o = np.empty((NS, plan.s.size))
-        sample_state(self.U, self.ra, self._wm, self.h, self.iprm, self.config.cable.gamma0, self.law.code,
-                     self.law.EA, self.law.zeta, self.law.tab_eps, self.law.tab_T, plan.elem, plan.phi, plan.iphi,
-                     plan.starts, o)
-        vec = lambda c0: o[c0:c0 + 3].T.copy()  # noqa: E731  (n, 3) C-contiguous
-        extra = {"moment_vector": vec(S_MVEC), "shear_force": vec(S_SHEAR), "tension_vector": vec(S_TV)}
-        return SolverState(time=self.time, arc_length=plan.s.copy(), position=vec(S_POS),
-                           velocity=vec(S_VEL), tension=o[S_TENSION], strain=o[S_STRAIN],
-                           curvature=o[S_CURV], bending_moment=o[S_MOMENT], time_step=self._substep(),
-                           extra=extra)
-
-    def end_forces(self) -> EndForces:
-        """Force (and moment) BY the cable ON each end: -n T_hat at the boundary fluxes."""
-        self._evaluate_outputs()
-        f = self._endf
-        return EndForces(ship_force=f[0, Y.E_F:Y.E_F + 3].copy(), vehicle_force=f[1, Y.E_F:Y.E_F + 3].copy(),
-                         ship_moment=f[0, Y.E_M:Y.E_M + 3].copy(), vehicle_moment=f[1, Y.E_M:Y.E_M + 3].copy(),
-                         ship_tension=float(f[0, Y.E_T]), vehicle_tension=float(f[1, Y.E_T]))
-
-    def body_state(self, end):
-        """State of the rigid body at a "body" end (None for other kinds)."""
-        e = end_index(end)
-        if self.kinds[e] != "body":
-            return None
-        self._evaluate_outputs()
-        b = self._bs[e]
-        acc = np.zeros(3)
-        uc = np.zeros(3)
-        if self.cz.size:
-            from tether_sim.physics.hydrodynamics import current_at
-            current_at(b[2], self.cz, self.cx, self.cy, uc)
-        body_acceleration(b, self._bp[e], self._endf[e, Y.E_F:Y.E_F + 3].copy(), uc, acc)
-        return BodyState(position=b[0:3].copy(), orientation=b[3:7].copy(), velocity=b[7:10].copy(),
-                         angular_velocity=b[10:13].copy(), acceleration=acc)
+        at the current state (end loads, modal work channels; sampling.evaluate_outputs). Done once
+        per state: by the tick itself once outputs have been asked for (a node asking for all three
+        per tick pays for one evaluation, inside the tick's compiled call), else here."""
+        self._want_outputs = True
+        if not self._outputs_valid:
+            outputs_now(self.ws.F, self.ws.I, self.ws.spec, self.time)
+            self._outputs_valid = True
 
     def drain_end_tensions(self):
         """(t, T_ship, T_vehicle) at the start of every substep since the last call (newest cap kept)."""
-        total = int(self._cnt[0])
-        cap = self._buf.shape[0]
-        first = max(self._drained, total - cap)
-        self._drained = total
-        a, b = first % cap, total % cap
-        if total > first and b <= a:  # the entries wrap around the end of the ring
-            out = np.concatenate((self._buf[a:], self._buf[:b])).T
-        else:
-            out = self._buf[a:a + total - first].T
-        return out[0].copy(), out[1].copy(), out[2].copy()
+        n = drain_now(self.ws.F, self.ws.I, self.ws.spec)
+        d = self.ws.drain
+        return d[0, :n].copy(), d[1, :n].copy(), d[2, :n].copy()
 
     def snapshot(self):
         return dict(time=self.time, U=self.U.copy(), ra=self.ra.copy(), bc=self.bc.copy(), bodies=self._bs.copy(),
@@ -490,6 +397,7 @@ class DGCableSolver:
         self.ra[:] = snap["ra"]
         self.bc[...] = snap["bc"]
         self._bs[...] = snap["bodies"]
-        self._end_pos = [p.copy() for p in snap["end_pos"]]
-        self._end_vel = [v.copy() for v in snap["end_vel"]]
-        self._target = [None, None]
+        self._end_pos = snap["end_pos"]
+        self._end_vel = snap["end_vel"]
+        self.ws.target[:, TG_SET] = 0.0
+        self._outputs_valid = False

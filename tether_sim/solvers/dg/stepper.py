@@ -14,12 +14,13 @@ import math
 from tether_sim.numerics.jit import jit
 from tether_sim.physics.bodies import body_attachment_kinematics, body_derivatives
 from tether_sim.physics.constitutive import LAW_LINEAR
+from tether_sim.physics.end_conditions import has_body, is_kinematic
 from tether_sim.physics.hydrodynamics import added_mass_rate, current_at
 from tether_sim.solvers.dg.damping_layout import MODE_EXPLICIT
 from tether_sim.solvers.dg.implicit_damping import damping_step
 from tether_sim.solvers.dg.kernels import dg_rhs, hermite_end
 from tether_sim.solvers.dg.layout import (
-    E_F, E_T, F_V, I_ANCHOR, I_CURRENT, I_KIND0, I_LAW, I_N, K_BODY, K_FORCE, K_FREE, P_GAMMA0, P_LAMBDA_BC, P_MN,
+    E_F, E_T, F_V, I_ANCHOR, I_CURRENT, I_KIND0, I_LAW, I_N, P_GAMMA0, P_LAMBDA_BC, P_MN,
     P_MT, P_RELAX, T_LAM, T_Q, T_TV, T_V, W_I,
 )
 
@@ -32,9 +33,9 @@ def fill_end_kinematics(bc, iprm, t, vbc, bs, bp):
     """vbc[end] = (position, velocity) of every kinematic end at time t (Hermite segment or body P)."""
     for end in range(2):
         kind = iprm[I_KIND0 + end]
-        if kind == K_BODY:
+        if has_body(kind):
             body_attachment_kinematics(bs[end], bp[end], vbc[end, 0:3], vbc[end, 3:6])
-        elif kind != K_FREE and kind != K_FORCE:
+        elif is_kinematic(kind):
             hermite_end(bc, end, t, vbc[end])
 
 
@@ -57,7 +58,7 @@ def dg_evaluate(t, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz
         if iprm[I_LAW] != LAW_LINEAR:
             clip_end_fluxes(prm, iprm, h, V, Pj, Lf, vbc, wq, tr, fl, dU, endf, fdamp)
     for end in range(2):
-        if iprm[I_KIND0 + end] == K_BODY:
+        if has_body(iprm[I_KIND0 + end]):
             uc = tmp[12:15]
             if iprm[I_CURRENT] != 0:
                 current_at(bs[end, 2], cz, cx, cy, uc)
@@ -86,7 +87,7 @@ def clip_end_fluxes(prm, iprm, h, V, Pj, Lf, vbc, wq, tr, fl, dU, endf, fdamp):
     nq = V.shape[0]
     nm = V.shape[1]
     for end in range(2):
-        if iprm[I_KIND0 + end] == K_FREE or iprm[I_KIND0 + end] == K_FORCE:
+        if not is_kinematic(iprm[I_KIND0 + end]):
             continue
         e = end * (N - 1)
         k = end * N
@@ -150,7 +151,7 @@ def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_ep
     N, nm, nv = U.shape
     anchor = iprm[I_ANCHOR]
     kind_a = iprm[I_KIND0 + anchor]
-    kinematic_anchor = kind_a != K_FREE and kind_a != K_FORCE
+    kinematic_anchor = is_kinematic(kind_a)
     out[0] = 0.0
     out[1] = STATUS_OK
     for n in range(nsteps):
@@ -186,7 +187,7 @@ def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_ep
             for c in range(3):
                 ra[c] = a * ra0[c] + b * (ra[c] + dt * dra[c])
             for end in range(2):
-                if iprm[I_KIND0 + end] == K_BODY:
+                if has_body(iprm[I_KIND0 + end]):
                     for c in range(bs.shape[1]):
                         bs[end, c] = a * bs0[end, c] + b * (bs[end, c] + dt * dbs[end, c])
         t_new = t0 + (n + 1) * dt

@@ -16,10 +16,10 @@ import numpy as np
 from tether_sim.numerics.jit import jit
 from tether_sim.solvers.hybrid.body import body_dynamics_residual, body_end_residual
 from tether_sim.solvers.hybrid.catenary import (catenary_cell_residual, catenary_force_bc, catenary_free_bc,
-                                                catenary_velocity_bc, unit_tangent_residual)
+                                                catenary_node_terms, catenary_velocity_bc, unit_tangent_residual)
 from tether_sim.solvers.hybrid.joint import joint_residual
 from tether_sim.solvers.hybrid.kernels import CAT_EPS, P_DT, P_GAM, ROD_EPS, law_residual
-from tether_sim.solvers.hybrid.rod import rod_cell_residual, rod_end_residual
+from tether_sim.solvers.hybrid.rod import rod_cell_from_terms, rod_cell_residual, rod_end_residual, rod_node_terms
 
 CAT_CELL, ROD_CELL, JOINT_CR, JOINT_RC, UNIT, CAT_VEL, CAT_FORCE, CAT_FREE, ROD_END, BODY_DYN, CAT_BODY, ROD_BODY, LAW = range(13)
 GROUP_ROWS = np.array([6, 12, 9, 9, 1, 3, 3, 3, 6, 13, 3, 6, 1], dtype=np.int64)
@@ -66,12 +66,45 @@ def group_residual(kind, a, b, gp, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, out):
 
 
 @jit
+def _node_terms(c, is_rod, Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, terms, have):
+    """Per-node terms of the cell equations, computed once per node (shared by its two cells)."""
+    if have[c]:
+        return
+    tr = terms[c]
+    if is_rod:  # alpha_f values (0:13), alpha_m rates (13:26), body-frame load (26:29)
+        rod_node_terms(Y[c], Yn[c], Ytn[c], Ln[c], rn[c], P, cz, cx, cy, tr[0:13], tr[13:26], tr[26:29])
+    else:  # r_{n+1} (0:3), (1+eps) t (3:6), load (6:9), T t (9:12)
+        catenary_node_terms(Y[c], Yn[c], Ytn[c], rn[c], P, cz, cx, cy, tr[0:3], tr[3:6], tr[6:9], tr[9:12])
+    have[c] = True
+
+
+@jit
 def assemble_residual(gkind, ga, gb, grow, gpar, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, R):
-    """R (n_rows,) = all group residuals."""
+    """R (n_rows,) = all group residuals (cell groups from per-node terms evaluated once per node; the
+    same arithmetic as group_residual)."""
     out = np.empty(13)
+    K = Y.shape[0]
+    terms = np.empty((K, 29))
+    have = np.zeros(K, dtype=np.bool_)
     for g in range(gkind.shape[0]):
         k = gkind[g]
-        group_residual(k, ga[g], gb[g], gpar[g], Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, out)
+        a = ga[g]
+        b = gb[g]
+        if k == CAT_CELL or k == ROD_CELL:
+            rod = k == ROD_CELL
+            _node_terms(a, rod, Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, terms, have)
+            _node_terms(b, rod, Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, terms, have)
+            ta = terms[a]
+            tb = terms[b]
+            ds = s[b] - s[a]
+            if rod:
+                rod_cell_from_terms(ta[0:13], ta[13:26], ta[26:29], tb[0:13], tb[13:26], tb[26:29], ds, P, out)
+            else:
+                for j in range(3):
+                    out[j] = (tb[j] - ta[j]) / ds - 0.5 * (ta[3 + j] + tb[3 + j])
+                    out[3 + j] = (tb[9 + j] - ta[9 + j]) / ds + 0.5 * (ta[6 + j] + tb[6 + j])
+        else:
+            group_residual(k, a, b, gpar[g], Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, out)
         for r in range(GROUP_ROWS[k]):
             R[grow[g] + r] = out[r]
 

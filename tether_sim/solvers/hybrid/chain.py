@@ -38,6 +38,10 @@ class Chain:
     nnz_max: int
     idx_node: np.ndarray  # (n_unknowns,) node of each unknown
     idx_slot: np.ndarray  # (n_unknowns,) slot of each unknown
+    kl: int = 0  # lower and upper bandwidth of the Jacobian in this unknown and row order
+    ku: int = 0
+    low: np.ndarray = None  # (n,) lowest row with a nonzero in each column (band_lu)
+    last: np.ndarray = None  # (n,) last nonzero column of each row
 
 
 def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
@@ -53,7 +57,12 @@ def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
         if body_params[e] is not None:
             body_node[e] = K + sum(1 for x in body_node if x >= 0)
     nslot = np.concatenate([nslot, np.full(sum(1 for x in body_node if x >= 0), 13)]).astype(np.int64)
-    noff = np.concatenate([[0], np.cumsum(nslot)[:-1]]).astype(np.int64)
+    # unknowns in chain order, a ship-end body first and a vehicle-end body last, so that the Jacobian
+    # is banded (the rows of each body group sit next to its end's rows)
+    order = ([body_node[0]] if body_node[0] >= 0 else []) + list(range(K)) + ([body_node[1]] if body_node[1] >= 0 else [])
+    order = np.array(order, dtype=np.int64)
+    noff = np.zeros(nslot.size, dtype=np.int64)
+    noff[order] = np.concatenate([[0], np.cumsum(nslot[order])[:-1]])
     # groups in node order (ship end, then per node its unit-tangent row and the link to the next node,
     # then the vehicle end) so the Jacobian is banded in this row order
     links = []
@@ -112,10 +121,21 @@ def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
             gpar[g, 0] = e
             gpar[g, 1] = float(kind[b if k == BODY_DYN else a] == ROD)
             gpar[g, BODY_PAR0:] = body_params[e]
-    idx_node = np.repeat(np.arange(nslot.size), nslot)
-    idx_slot = np.concatenate([np.arange(n) for n in nslot]).astype(np.int64)
+    idx_node = np.repeat(order, nslot[order])
+    idx_slot = np.concatenate([np.arange(nslot[n]) for n in order]).astype(np.int64)
+    kl = ku = 0
+    first = np.zeros(n_unknowns, dtype=np.int64)  # structural first and last column of each row
+    last = np.zeros(n_unknowns, dtype=np.int64)
+    for g, (k, a, b) in enumerate(groups):
+        lo = min(noff[x] for x in (a, b) if x >= 0)
+        hi = max(noff[x] + nslot[x] - 1 for x in (a, b) if x >= 0)
+        kl = max(kl, int(grow[g] + GROUP_ROWS[k] - 1 - lo))
+        ku = max(ku, int(hi - grow[g]))
+        first[grow[g]:grow[g] + GROUP_ROWS[k]] = lo
+        last[grow[g]:grow[g] + GROUP_ROWS[k]] = hi
+    low = np.array([np.nonzero(first <= j)[0].max() for j in range(n_unknowns)], dtype=np.int64)
     return Chain(grid, kind, s_grid[grid].astype(float), noff, nslot, gkind, ga, gb, grow, gpar, tuple(end_group),
-                 tuple(body_node), n_unknowns, int(nnz), idx_node, idx_slot)
+                 tuple(body_node), n_unknowns, int(nnz), idx_node, idx_slot, kl, ku, low, last)
 
 
 def rod_blocks(chain):

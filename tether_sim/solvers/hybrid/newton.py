@@ -32,22 +32,25 @@ class NewtonMixin:
         return lam * 2.0 ** LINE_SEARCH_HALVINGS if f0 > 0.0 else lam
 
     def _unknown_scales(self, Y):
-        """Per-unknown magnitude used by the Newton stopping test |dx| <= tol * scale."""
+        """Per-unknown magnitude used by the Newton stopping test |dx| <= tol * scale: speed, tension,
+        1, strain, speed/L, 1/L or L by slot (the category of each unknown is cached per chain)."""
         ch = self.chain
         cat = ch.kind != zoning.ROD
-        rod = ~cat
-        Y = np.asarray(Y)
-        Yc = Y[:cat.size]
+        K = cat.size
+        Yc = np.asarray(Y)[:K]
         loads = max(float(np.linalg.norm(f)) for f, _ in self.end_load)
-        tension = max(np.abs(Yc[cat, 3]).max(initial=0.0), np.abs(Yc[rod, 9:12]).max(initial=0.0),
-                      self.net_weight * self.length, loads, 1e-12)
-        speed = max(np.abs(Yc[:, 0:3]).max(initial=0.0), 1e-3 * math.sqrt(self.config.environment.g * self.length),
+        tension = max(float(np.abs(np.where(cat, Yc[:, 3], 0.0)).max()),
+                      float(np.abs(Yc[~cat, 9:12]).max(initial=0.0)), self.net_weight * self.length, loads, 1e-12)
+        speed = max(float(np.abs(Yc[:, 0:3]).max()), 1e-3 * math.sqrt(self.config.environment.g * self.length),
                     1e-3 * self.length / self.opt.time_step)
         eps = tension * self.ck if self.ck > 0.0 else 1.0
-        per_slot_cat = np.array([speed] * 3 + [tension] + [1.0] * 3 + [eps] + [1.0] * 5)
-        per_slot_rod = np.array([speed] * 3 + [speed / self.length] * 3 + [1.0 / self.length] * 3 + [tension] * 3 + [eps])
-        table = np.where(cat[:, None], per_slot_cat[None, :], per_slot_rod[None, :])
-        per_slot_body = np.array([self.length] * 3 + [1.0] * 4 + [speed] * 3 + [speed / self.length] * 3)
-        nb = Y.shape[0] - cat.size
-        table = np.vstack([table] + [per_slot_body[None]] * nb)
-        return table[ch.idx_node, ch.idx_slot]
+        L = self.length
+        values = np.array([speed, tension, 1.0, eps, speed / L, 1.0 / L, L])
+        category = getattr(ch, "scale_category", None)
+        if category is None:
+            c_cat = [0] * 3 + [1] + [2] * 3 + [3] + [2] * 5
+            c_rod = [0] * 3 + [4] * 3 + [5] * 3 + [1] * 3 + [3]
+            c_body = [6] * 3 + [2] * 4 + [0] * 3 + [4] * 3
+            table = np.array([c_cat if k else c_rod for k in cat] + [c_body] * (ch.nslot.size - K), dtype=np.int64)
+            category = ch.scale_category = table[ch.idx_node, ch.idx_slot]
+        return values[category]

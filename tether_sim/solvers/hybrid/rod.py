@@ -73,6 +73,12 @@ def rod_cell_residual(Ya, Yna, Ytna, La, ra, Yb, Ynb, Ytnb, Lb, rb, ds, P, cz, c
     Fb = np.empty(3)
     rod_node_terms(Ya, Yna, Ytna, La, ra, P, cz, cx, cy, Yfa, Yma, Fa)
     rod_node_terms(Yb, Ynb, Ytnb, Lb, rb, P, cz, cx, cy, Yfb, Ymb, Fb)
+    rod_cell_from_terms(Yfa, Yma, Fa, Yfb, Ymb, Fb, ds, P, out)
+
+
+@jit
+def rod_cell_from_terms(Yfa, Yma, Fa, Yfb, Ymb, Fb, ds, P, out):
+    """The 12 box equations from the two nodes' rod_node_terms (alpha-level values and loads)."""
     Y = np.empty(ROD_SLOTS)
     Yd = np.empty(ROD_SLOTS)
     for k in range(ROD_SLOTS):

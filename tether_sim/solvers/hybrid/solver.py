@@ -16,12 +16,15 @@ from tether_sim.errors import ConfigError, SolverDivergedError
 from tether_sim.numerics.gen_alpha import gen_alpha_coefficients
 from tether_sim.numerics.rotations import rotate_frame
 from tether_sim.physics.bodies import body_acceleration, pack_body_params, submerged_weight
+from tether_sim.physics.end_conditions import end_kind
 from tether_sim.solvers.base import BodyState, EndForces, SolverState, end_index
 from tether_sim.solvers.hybrid import zoning
 from tether_sim.solvers.hybrid.assembly import assemble_jacobian, assemble_residual
 from tether_sim.solvers.hybrid.chain import build_chain, rod_blocks
 from tether_sim.solvers.hybrid.initial import InitialStateMixin
 from tether_sim.solvers.hybrid.newton import NewtonMixin
+from tether_sim.solvers.hybrid.newton_band import (FAIL_ITERATIONS, FAIL_RESIDUAL, FAIL_SINGULAR, FAIL_UPDATE,
+                                                   newton_band)
 from tether_sim.solvers.hybrid.kernels import CAT_EPS, P_AF, P_AM, P_GAM, ROD_EPS, elastic_strain, pack_parameters
 from tether_sim.solvers.hybrid.rod import frame_at
 from tether_sim.solvers.hybrid.state_io import EndMotion, convert_state, node_profile
@@ -29,6 +32,10 @@ from tether_sim.solvers.hybrid.state_io import EndMotion, convert_state, node_pr
 MAX_HALVINGS = 6
 MAX_TURN = 0.3  # rad, largest tangent change per Newton iteration
 MAX_BOOST = 256.0  # largest factor on the rod switching tension after failed Newton solves
+
+
+FAILURES = {FAIL_RESIDUAL: "non-finite residual", FAIL_SINGULAR: "singular Jacobian",
+            FAIL_UPDATE: "non-finite Newton update", FAIL_ITERATIONS: "no convergence"}
 
 
 class _NewtonFailure(Exception):
@@ -64,21 +71,24 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         self.cy = np.asarray(env.current_y, dtype=float)
         self.net_weight = abs(cab.gamma0 - env.fluid_density * cab.area) * env.g
         self.ends = (config.ship_end, config.vehicle_end)
-        body_weight = submerged_weight(config.body, env) if "body" in (config.ship_end.kind, config.vehicle_end.kind) else 0.0
+        self.end_kinds = tuple(end_kind(e.kind, f"{n}.kind") for n, e in zip(("ship_end", "vehicle_end"), self.ends))
+        body = [k.position == "body" for k in self.end_kinds]
+        body_weight = submerged_weight(config.body, env) if any(body) else 0.0
         self.compression_width = 1e-3 * max(self.net_weight * cab.length + body_weight, 1e-9)
-        self.body_params = tuple(pack_body_params(config.body, env) if e.kind == "body" else None for e in self.ends)
+        self.body_params = tuple(pack_body_params(config.body, env) if b else None for b in body)
         holds = (opt.hold_direction_ship, opt.hold_direction_vehicle)
         self.end_modes = []
-        for e, hold in zip(self.ends, holds):
-            if e.kind in ("prescribed", "fixed"):
-                self.end_modes.append("velocity")
-            elif e.kind == "body":
+        for k, hold in zip(self.end_kinds, holds):  # the chain's end modes from the Table 1 row
+            if k.position == "body":
                 self.end_modes.append("body")
-            elif e.kind == "clamped":
+            elif k.direction == "held":
                 self.end_modes.append("clamped")
+            elif k.kinematic:
+                self.end_modes.append("velocity")
             else:
                 self.end_modes.append("force_hold" if hold else "force")
-        self.free_ends = [e.kind == "free" or (e.kind == "force" and not np.any(e.force)) for e in self.ends]
+        self.free_ends = [k.load == "zero" or (k.load == "applied" and not np.any(e.force))
+                          for k, e in zip(self.end_kinds, self.ends)]
         self.end_motion = [EndMotion(np.asarray(e.position, dtype=float)) for e in self.ends]
         self.end_load = [(np.asarray(e.force, dtype=float), np.asarray(e.moment, dtype=float)) for e in self.ends]
         self.time = 0.0
@@ -186,6 +196,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
 
     # ------------------------------------------------------------------ stepping
     _rho = None
+    _band = None
 
     def _parameters(self, dt):
         rho = self.opt.rho_inf if self._rho is None else self._rho
@@ -233,7 +244,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
             mode = self.end_modes[e]
             rod = ch.kind[node] == zoning.ROD
             if mode in ("velocity", "clamped"):
-                v = self.end_motion[e].velocity_at(t_new) if self.ends[e].kind == "prescribed" else np.zeros(3)
+                v = self.end_motion[e].velocity_at(t_new) if self.end_kinds[e].position == "motion" else np.zeros(3)
                 ch.gpar[g, 1:4] = v if rod else 0.0
                 if not rod:
                     ch.gpar[g, 0:3] = v
@@ -269,12 +280,26 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         cat = ch.kind != zoning.ROD
         Y[:K][cat, 4:7] /= np.linalg.norm(Y[:K][cat, 4:7], axis=1)[:, None]
         n = ch.n_unknowns
-        R = np.empty(n)
-        rows, cols, vals = self._coo
         scale = self._unknown_scales(Yn)
         kind_ext = np.concatenate([ch.kind, np.full(nb, 2)])
         tangent_unknowns = (ch.idx_slot >= 4) & (ch.idx_slot < 7) & (kind_ext[ch.idx_node] == zoning.CATENARY)
-        lu = None
+        if self.opt.jacobian == "analytic":
+            it = self._newton_compiled(Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns)
+        else:
+            it = self._newton_python(Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns, n, bodies)
+        for e in bodies:
+            x = Y[ch.body_node[e]].copy()
+            self.body_xd[e] = ((x - self.body_x[e]) / dt - (1.0 - P[P_GAM]) * self.body_xd[e]) / P[P_GAM]
+            x[3:7] /= np.linalg.norm(x[3:7])
+            self.body_x[e] = x
+        self._commit(np.ascontiguousarray(Y[:K]), dt, P, it)
+
+    def _newton_python(self, Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns, n, bodies):
+        """Newton iterations in Python with the forward-difference twin (hybrid.jacobian: finite_difference);
+        the same algorithm as newton_band.newton_band. Returns the iteration count."""
+        ch = self.chain
+        R = np.empty(n)
+        lin = None
         res_prev = np.inf
         err_prev = np.inf
         args = (Yn, Ytn, Ln, rn, ch.s, P, self.cz, self.cx, self.cy)
@@ -284,21 +309,14 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
             if not np.all(np.isfinite(R)):
                 raise _NewtonFailure("non-finite residual")
             # modified Newton: keep the factorised Jacobian while the scaled residual falls fast enough
-            res = np.abs(rs * R).max() if lu is not None else np.inf
-            fresh = lu is None or res > 0.1 * res_prev
+            res = np.abs(rs * R).max() if lin is not None else np.inf
+            fresh = lin is None or res > 0.1 * res_prev
             if fresh:
-                nnz = assemble_jacobian(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, ch.noff, ch.nslot, Y, Yn, Ytn, Ln,
-                                        rn, ch.s, P, self.cz, self.cx, self.cy, rows, cols, vals)
-                J = csr_matrix((vals[:nnz], (rows[:nnz], cols[:nnz])), shape=(n, n))
-                rs = 1.0 / np.maximum(abs(J).max(axis=1).toarray().ravel(), 1e-300)
-                try:
-                    lu = splu((diags(rs) @ J).tocsc(), permc_spec="NATURAL" if nb == 0 or bodies == [1] else "COLAMD")
-                except RuntimeError as exc:
-                    raise _NewtonFailure(f"singular Jacobian ({exc})") from None
+                lin, rs = self._factorise(Y, args, n, bodies)
                 self.stats["jacobians"] = self.stats.get("jacobians", 0) + 1
                 res = np.abs(rs * R).max()
             res_prev = res
-            dx = lu.solve(rs * R)
+            dx = lin(rs * R)
             if not np.all(np.isfinite(dx)):
                 raise _NewtonFailure("non-finite Newton update")
             # damping: a catenary tangent may turn at most MAX_TURN per iteration, so Newton cannot jump
@@ -315,12 +333,40 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
             err_prev = err
         else:
             raise _NewtonFailure(f"no convergence in {self.opt.max_newton_iterations} iterations")
-        for e in bodies:
-            x = Y[ch.body_node[e]].copy()
-            self.body_xd[e] = ((x - self.body_x[e]) / dt - (1.0 - P[P_GAM]) * self.body_xd[e]) / P[P_GAM]
-            x[3:7] /= np.linalg.norm(x[3:7])
-            self.body_x[e] = x
-        self._commit(np.ascontiguousarray(Y[:K]), dt, P, it)
+        return it
+
+    def _newton_compiled(self, Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns):
+        """Newton iterations with the analytic band Jacobian, compiled (newton_band.py)."""
+        ch = self.chain
+        kl, ku = ch.kl, ch.ku
+        n = ch.n_unknowns
+        if self._band is None or self._band.shape != (2 * kl + ku + 1, n):
+            self._band = np.zeros((2 * kl + ku + 1, n))
+        counts = np.zeros(2, dtype=np.int64)
+        groups = (ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, ch.noff, ch.nslot, ch.idx_node, ch.idx_slot)
+        it = newton_band(groups, kl, ku, ch.low, ch.last, tangent_unknowns, scale, Y, Yn, Ytn, Ln, rn, ch.s, P, self.cz, self.cx,
+                         self.cy, self.opt.max_newton_iterations, self.opt.newton_tolerance, MAX_TURN, self._band,
+                         counts)
+        st = self.stats
+        st["jacobians"] = st.get("jacobians", 0) + int(counts[0])
+        if counts[1]:
+            st["line_search_exhausted"] = st.get("line_search_exhausted", 0) + int(counts[1])
+        if it < 0:
+            raise _NewtonFailure(FAILURES[it])
+        return it
+
+    def _factorise(self, Y, args, n, bodies):
+        """Forward-difference Jacobian at Y, row-equilibrated and factorised by SuperLU: (solve(b), row scales)."""
+        ch = self.chain
+        rows, cols, vals = self._coo
+        nnz = assemble_jacobian(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, ch.noff, ch.nslot, Y, *args, rows, cols, vals)
+        J = csr_matrix((vals[:nnz], (rows[:nnz], cols[:nnz])), shape=(n, n))
+        rs = 1.0 / np.maximum(abs(J).max(axis=1).toarray().ravel(), 1e-300)
+        try:
+            lu = splu((diags(rs) @ J).tocsc(), permc_spec="NATURAL" if not bodies or bodies == [1] else "COLAMD")
+        except RuntimeError as exc:
+            raise _NewtonFailure(f"singular Jacobian ({exc})") from None
+        return lu.solve, rs
 
     def _commit(self, Y, dt, P, iterations):
         ch = self.chain
@@ -343,9 +389,9 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         self.rdot = rdot
         K = ch.grid.size
         for e, node in ((0, 0), (1, K - 1)):  # kinematic ends sit exactly where they are driven
-            if self.ends[e].kind == "prescribed":
+            if self.end_kinds[e].position == "motion":
                 self.positions[node] = self.end_motion[e].position_at(self.time)
-            elif self.ends[e].kind in ("fixed", "clamped"):
+            elif self.end_kinds[e].position == "fixed":
                 self.positions[node] = self.ends[e].position
         for first, last in rod_blocks(ch):  # rod shape by integrating its tangents from the block start
             if first > 0 and ch.grid[first] == ch.grid[first - 1]:
@@ -409,10 +455,9 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
 
     def _rezone(self, boost=1.0):
         """Re-evaluate the zones (after each step; with boost > 1 after a failed step); True if changed."""
-        prof = node_profile(self)
         # the lower tension of each element's two nodes (at a joint: the lower of both sides), so that
         # no catenary node is left slack
-        T_node = prof["tension"]
+        T_node = np.where(self.chain.kind == zoning.ROD, self.Y[:, 9], self.Y[:, 3])
         T_grid = np.full(self.s_grid.size, np.inf)
         np.minimum.at(T_grid, self.chain.grid, T_node)
         T_elem = np.minimum(T_grid[1:], T_grid[:-1])

@@ -21,7 +21,7 @@ class EndMotion:
     def begin(self, t0, t1):
         self.t0, self.t1 = t0, t1
         if self.target is None:
-            self.target = (self.p.copy(), self.v.copy()) if np.allclose(self.v, 0.0) else \
+            self.target = (self.p.copy(), self.v.copy()) if float(np.abs(self.v).max()) <= 1e-8 else \
                 (self.p + self.v * (t1 - t0), self.v.copy())
         self.active = t1 > t0
 

@@ -37,13 +37,21 @@ def classify(T_elem, previous, EI, w, chi_on, chi_off, min_zone, end_rod=(0, 0))
     chi = tension_ratio(T_elem, EI, w)
     prev = np.asarray(previous)
     zones = np.where(prev == ROD, np.where(chi < chi_off, CATENARY, ROD), np.where(chi > chi_on, ROD, CATENARY))
+    key = (zones.tobytes(), int(min_zone), tuple(end_rod))
+    if _LAST[0] == key:  # the rest depends only on these (the zones are re-evaluated after every step)
+        return _LAST[1].copy()
+    raw = zones
     zones = _clean_runs(zones, min_zone)
     n = zones.size
     if end_rod[0] > 0:  # after the clean-up, so a short held-end zone is kept
         zones[: min(end_rod[0], n)] = ROD
     if end_rod[1] > 0:
         zones[max(n - end_rod[1], 0):] = ROD
+    _LAST[:] = [(raw.tobytes(), int(min_zone), tuple(end_rod)), zones.copy()]
     return zones
+
+
+_LAST = [None, None]  # last (raw classification, clean-up settings) and its result
 
 
 def _clean_runs(zones, min_zone):

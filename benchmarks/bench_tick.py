@@ -1,0 +1,143 @@
+"""Cost per substep and per node tick of the DG solver, optionally against a baseline tree in the
+same process (thread CPU, best of --repeat).
+
+For each case (L, N, P = 4, alpha; ROPOS tether + cage body, circular fairlead) the solver is run to
+t = 2 s at 50 Hz, then from that state:
+
+- substep: one advance_to over ``--steps`` substeps (the compiled loop; the per-call work amortised);
+- tick: a node tick at 50 Hz, i.e. set_end_motion + advance_to(t + 0.02) + drain_end_tensions +
+  state() at 41 points + end_forces() + body_state(), averaged over 25 ticks;
+- overhead: tick - substeps per tick x substep, the cost per tick that is not substeps (end motion,
+  call, bookkeeping, the output evaluation and sampling, Python).
+
+``--baseline DIR`` loads another checkout's ``tether_sim`` (e.g. a worktree of main) under the name
+``tether_sim_base`` (a copy in a temporary directory with the imports renamed) and times it in the
+same process, interleaved, so that the ratio does not depend on the machine's load.
+
+Usage: PYTHONPATH=. python benchmarks/bench_tick.py [--baseline /path/to/main] [--steps 2000]
+"""
+
+import argparse
+import hashlib
+import importlib
+import os
+import re
+import shutil
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+CASES = ((200.0, 2, 0.0), (200.0, 2, 1.0), (1730.0, 3, 0.0), (1730.0, 3, 1.0), (1730.0, 20, 0.0), (1730.0, 20, 1.0))
+
+
+def load_baseline(root):
+    """(tether_sim package, ropos_case module) of another checkout, renamed to tether_sim_base."""
+    key = hashlib.sha1(str(Path(root).resolve()).encode()).hexdigest()[:10]
+    tmp = Path(tempfile.gettempdir()) / f"tether_sim_base_{key}"  # kept: its numba cache survives runs
+    if not (tmp / "ropos_case_base.py").exists():
+        _copy_renamed(root, tmp)
+    sys.path.insert(0, str(tmp))
+    return importlib.import_module("tether_sim_base.solvers.factory"), importlib.import_module("ropos_case_base")
+
+
+def _copy_renamed(root, tmp):
+    shutil.rmtree(tmp, ignore_errors=True)
+    shutil.copytree(Path(root) / "tether_sim", tmp / "tether_sim_base",
+                    ignore=shutil.ignore_patterns("__pycache__", "ros"))
+    shutil.copy(Path(root) / "benchmarks" / "ropos_case.py", tmp / "ropos_case_base.py")
+    for path in list((tmp / "tether_sim_base").rglob("*.py")) + [tmp / "ropos_case_base.py"]:
+        text = path.read_text()
+        path.write_text(re.sub(r"\btether_sim(?=\.|\s+import)", "tether_sim_base", text))
+
+
+def best_of(fn, repeat):
+    best = np.inf
+    for _ in range(repeat):
+        c = time.thread_time()
+        fn()
+        best = min(best, time.thread_time() - c)
+    return best
+
+
+def prepared(factory, rc, length, n, alpha, t_warm=2.0):
+    sol = factory.build_solver(rc.ropos_config(length, alpha=alpha, n_elements=n, order=4))
+    for k in range(int(t_warm * 50)):
+        t1 = (k + 1) / 50.0
+        sol.set_end_motion("ship", *rc.fairlead_motion(t1))
+        sol.advance_to(t1)
+    sol.drain_end_tensions()
+    return sol
+
+
+def measure(sol, rc, steps, repeat, ticks=25):
+    """(us per substep, us per tick, substeps per tick)."""
+    snap = sol.snapshot()
+    dt = sol._substep()
+    t1 = sol.time + steps * dt
+    target = rc.fairlead_motion(t1)
+
+    def block():
+        sol.restore(snap)
+        sol.set_end_motion("ship", *target)
+        sol.advance_to(t1)
+        sol.drain_end_tensions()
+
+    sub = best_of(block, repeat) / steps
+    sol.restore(snap)
+    sol.drain_end_tensions()
+    t0 = sol.time
+    motions = [rc.fairlead_motion(t0 + (k + 1) / 50.0) for k in range(ticks)]
+    counts = []
+
+    def run_ticks():
+        sol.restore(snap)
+        for k in range(ticks):
+            sol.set_end_motion("ship", *motions[k])
+            counts.append(sol.advance_to(t0 + (k + 1) / 50.0))
+            sol.drain_end_tensions()
+            sol.state()
+            sol.end_forces()
+            sol.body_state("vehicle")
+
+    tick = best_of(run_ticks, repeat) / ticks
+    sol.restore(snap)
+    return 1e6 * sub, 1e6 * tick, float(np.mean(counts))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--baseline", help="root of another checkout to time in the same process")
+    ap.add_argument("--steps", type=int, default=2000)
+    ap.add_argument("--repeat", type=int, default=7)
+    ap.add_argument("--cases", default="all", help="comma-separated indices into CASES, or all")
+    args = ap.parse_args(argv)
+    from benchmarks import ropos_case as rc
+    from tether_sim.solvers import factory
+    trees = [("new", factory, rc)]
+    if args.baseline:
+        trees.insert(0, ("base",) + load_baseline(args.baseline))
+    cases = CASES if args.cases == "all" else [CASES[int(k)] for k in args.cases.split(",")]
+    print(f"bench_tick {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}; "
+          f"thread CPU, best of {args.repeat}; P = 4, cage body, 50 Hz ticks", flush=True)
+    for length, n, alpha in cases:
+        row = {}
+        for name, fac, mod in trees:
+            sol = prepared(fac, mod, length, n, alpha)
+            row[name] = measure(sol, mod, args.steps, args.repeat)
+        line = f"  L={length:6.0f} N={n:2d} alpha={alpha:g}:"
+        for name, (sub, tick, nsub) in row.items():
+            line += f" | {name}: substep {sub:6.2f} us, tick {tick:7.1f} us ({nsub:.1f} substeps), " \
+                    f"overhead {tick - nsub * sub:6.1f} us"
+        if "base" in row:
+            b, w = row["base"], row["new"]
+            line += f" | new/base substep {w[0] / b[0]:.3f}, tick {w[1] / b[1]:.3f}"
+        print(line, flush=True)
+
+
+if __name__ == "__main__":
+    main()

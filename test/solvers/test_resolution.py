@@ -1,0 +1,93 @@
+"""dg.resolution auto: the rule is the measured ladder table, applied with its stated margin and limits.
+
+The table in tether_sim/solvers/resolution.py must be what docs/data/resolution_ladder.csv
+(benchmarks/resolution_ladder.py) measured, rounded up to 1e-4: a test of provenance, so the rule
+cannot drift from its data. No solver runs here (the ladders are a benchmark: minutes of CPU).
+"""
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+
+from benchmarks.resolution_ladder import read_rows, worst_errors
+from tether_sim.errors import ConfigError
+from tether_sim.io.params import from_flat, load_config, to_flat
+from tether_sim.solvers import resolution as res
+
+ROOT = Path(__file__).resolve().parents[2]
+CSV = ROOT / "docs" / "data" / "resolution_ladder.csv"
+TABLE = res._WORST_ERROR
+
+
+def test_table_is_the_measured_ladder_rounded_up():
+    measured = worst_errors(read_rows(CSV))
+    assert set(TABLE) == set(measured)
+    for length, errs in TABLE.items():
+        assert set(errs) == set(measured[length]), length
+        for n, err in errs.items():
+            assert err == math.ceil(measured[length][n] * 1e4) / 1e4, (length, n)
+    assert (min(TABLE), max(TABLE)) == res.LENGTH_RANGE
+
+
+@pytest.mark.parametrize("tolerance", [0.01, 0.02, 0.05])
+def test_smallest_settled_rung_within_half_the_tolerance_at_every_measured_length(tolerance):
+    for length, errs in TABLE.items():
+        chosen = res.choose(length, tolerance)
+        assert (chosen.order, chosen.cfl) == (4, 0.8)
+        settled = [n for n in errs if all(errs[m] <= 0.5 * tolerance for m in errs if m >= n)]
+        assert chosen.n_elements == min(settled)  # this rung and every finer one within half the tolerance
+
+
+def test_between_measured_lengths_both_neighbours_hold():
+    lengths = sorted(TABLE)
+    for a, b in zip(lengths, lengths[1:]):
+        chosen = res.choose(0.5 * (a + b), 0.01)
+        assert TABLE[a][chosen.n_elements] <= 0.005 and TABLE[b][chosen.n_elements] <= 0.005
+        assert chosen.n_elements >= max(res.choose(a, 0.01).n_elements, res.choose(b, 0.01).n_elements)
+
+
+def _auto(**changes):
+    cfg = load_config(ROOT / "config" / "ropos_L200_paper.yaml")
+    return replace(cfg, dg=replace(cfg.dg, resolution="auto"), **changes)
+
+
+def test_refuses_what_was_not_measured():
+    cfg = _auto()
+    with pytest.raises(ConfigError, match="cable.length 3000"):
+        res.resolve(replace(cfg, cable=replace(cfg.cable, length=3000.0)))
+    with pytest.raises(ConfigError, match="cable.EA"):
+        res.resolve(replace(cfg, cable=replace(cfg.cable, EA=2e8)))
+    with pytest.raises(ConfigError, match="cable.EI"):
+        res.resolve(replace(cfg, cable=replace(cfg.cable, EI=26200.0)))
+    with pytest.raises(ConfigError, match="vehicle_end.kind clamped"):
+        res.resolve(replace(cfg, vehicle_end=replace(cfg.vehicle_end, kind="clamped")))
+    with pytest.raises(ConfigError, match="implicit"):
+        res.resolve(replace(cfg, dg=replace(cfg.dg, damping="implicit")))
+    with pytest.raises(ConfigError, match="snap_tolerance 0.0001"):
+        res.choose(200.0, 1e-4)
+
+
+def test_manual_and_hybrid_are_untouched():
+    paper = load_config(ROOT / "config" / "ropos_L200_paper.yaml")
+    assert res.resolve(paper) is paper and (paper.dg.n_elements, paper.dg.order, paper.dg.cfl) == (20, 4, 0.5)
+    hybrid = replace(_auto(), solver="hybrid")
+    assert res.resolve(hybrid) is hybrid
+
+
+def test_parameter_files_get_the_rule_and_refuse_a_second_answer():
+    cfg = load_config(ROOT / "config" / "ropos_L200.yaml")
+    chosen = res.choose(200.0, 0.01)
+    assert (cfg.dg.n_elements, cfg.dg.order, cfg.dg.cfl) == (chosen.n_elements, 4, 0.8)
+    assert from_flat(to_flat(cfg)) == cfg  # the resolved numbers round-trip (the node reads them back)
+    with pytest.raises(ConfigError, match="dg.n_elements = 20 is set while dg.resolution is auto"):
+        load_config(ROOT / "config" / "ropos_L200.yaml", overrides={"dg.n_elements": 20})
+    tight = load_config(ROOT / "config" / "ropos_L200.yaml", overrides={"dg.snap_tolerance": 0.002})
+    assert tight.dg.n_elements >= cfg.dg.n_elements
+
+
+def test_mesh_summary_names_mesh_and_rule():
+    text = res.mesh_summary(3, 4, 0.8, "auto", 0.01)
+    assert text == "N = 3, P = 4, dg.cfl 0.8 (dg.resolution auto, first-snap-peak tolerance 1 %)"
+    assert res.mesh_summary(20, 4, 0.5, "manual", 0.01).endswith("(dg.resolution manual)")

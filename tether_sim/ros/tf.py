@@ -1,0 +1,184 @@
+"""/tf and /tf_static of the simulation node (docs/node.md, "Frames and TF").
+
+- ``/tf_static`` (latched: reliable, transient local, depth 1; sent once, at the first output):
+  each end's body frame -> its tether attachment frame, ``ship/base_link -> ship/tether_sheave``
+  and ``rov/base_link -> rov/tether_attach`` (names from ``node.ship_frame`` /
+  ``node.vehicle_frame``: the last path element replaced), translated by the attachment offset
+  (``node.*_attachment``, or ``body.attachment`` from the centre of gravity for a simulated body),
+  no rotation.
+- ``/tf`` (each output, only while something subscribes): world (``node.world_frame``) -> each end's
+  body frame: the simulated pose of a ``body`` end (cage or vehicle, origin at its centre of
+  gravity), the interpolated input pose of a ``prescribed`` end (unless
+  ``node.tf_prescribed_ends`` is false, for stacks that publish those transforms themselves), and a
+  frame aligned with the world at the end's attachment point minus its offset for the other kinds;
+  plus ``node.tf_tether_frames`` frames ``<tether_frame_prefix>/<k>`` equally spaced along the cable
+  (x along the local tangent, pointing from the ship towards the vehicle).
+
+The message type is ``tf2_msgs/msg/TFMessage``: the distribution's tf2_msgs where importable, else
+the same interface built from its definition by tools/setup_env.sh (msg_defs/tf2_msgs). Without
+either the node runs without TF and says so once.
+"""
+
+from __future__ import annotations
+
+import math
+import struct
+
+import numpy as np
+from geometry_msgs.msg import TransformStamped
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+from tether_sim.ros import cdr, convert
+
+try:
+    from tf2_msgs.msg import TFMessage
+except ImportError:  # no tf2_msgs: neither a ROS 2 install nor msg_defs/tf2_msgs built
+    TFMessage = None
+
+TF_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)  # as tf2_ros' broadcaster
+TF_STATIC_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                           durability=DurabilityPolicy.TRANSIENT_LOCAL)
+ENDS = ("ship", "vehicle")
+_7D = struct.Struct("<7d")
+LEAF = {"ship": "tether_sheave", "vehicle": "tether_attach"}  # ros2-conventions note, 1.1
+
+
+def attachment_frame(body_frame: str, end: str) -> str:
+    """``ship/base_link`` -> ``ship/tether_sheave``, ``rov/base_link`` -> ``rov/tether_attach``;
+    a frame without a ``/`` gets a suffix (``boat`` -> ``boat_tether_sheave``)."""
+    prefix, sep, _ = body_frame.rpartition("/")
+    return f"{prefix}/{LEAF[end]}" if sep else f"{body_frame}_{LEAF[end]}"
+
+
+def end_offset(config, end) -> tuple:
+    """Attachment offset in the end's body frame (as :meth:`SimulationDriver.offset`)."""
+    if getattr(config, f"{end}_end").kind == "body":
+        return tuple(config.body.attachment)
+    return tuple(getattr(config.node, f"{end}_attachment"))
+
+
+def rotate(q, v) -> np.ndarray:
+    """``R(q) v`` for a unit quaternion (x, y, z, w): v + 2 w (u x v) + 2 u x (u x v), u = (x, y, z)."""
+    x, y, z, w = (float(c) for c in q)
+    a, b, c = (float(e) for e in v)
+    tx, ty, tz = y * c - z * b, z * a - x * c, x * b - y * a  # u x v
+    return np.array([a + 2.0 * (w * tx + y * tz - z * ty), b + 2.0 * (w * ty + z * tx - x * tz),
+                     c + 2.0 * (w * tz + x * ty - y * tx)])
+
+
+def tangent_quaternion(t) -> tuple:
+    """Quaternion (x, y, z, w) of the shortest rotation taking the x axis onto the unit vector t."""
+    t = np.asarray(t, float)
+    n = float(np.linalg.norm(t))
+    if n == 0.0 or not math.isfinite(n):
+        return (0.0, 0.0, 0.0, 1.0)
+    t = t / n
+    c = float(t[0])  # cos of the angle between x and t
+    if c < -1.0 + 1e-12:
+        return (0.0, 0.0, 1.0, 0.0)  # half turn about z
+    axis = np.array([0.0, -t[2], t[1]])  # x cross t
+    s = math.sqrt(2.0 * (1.0 + c))
+    return (float(axis[0] / s), float(axis[1] / s), float(axis[2] / s), 0.5 * s)
+
+
+def transform(stamp: float, parent: str, child: str, position, quaternion=(0.0, 0.0, 0.0, 1.0)):
+    msg = TransformStamped()
+    msg.header = convert.header(stamp, parent)
+    msg.child_frame_id = child
+    tr, rq = msg.transform.translation, msg.transform.rotation
+    tr.x, tr.y, tr.z = (float(c) for c in position)
+    rq.x, rq.y, rq.z, rq.w = (float(c) for c in quaternion)
+    return msg
+
+
+def static_transforms(config, stamp: float) -> list:
+    """Body frame -> attachment frame of both ends."""
+    out = []
+    for end in ENDS:
+        frame = getattr(config.node, f"{end}_frame")
+        out.append(transform(stamp, frame, attachment_frame(frame, end), end_offset(config, end)))
+    return out
+
+
+def body_poses(driver, include_prescribed: bool = True) -> list:
+    """(end, position, quaternion) of each end's body frame origin in the world frame."""
+    cfg, solver = driver.config, driver.solver
+    arc = {"ship": 0.0, "vehicle": cfg.cable.length}
+    out, attach = [], None
+    for end in ENDS:
+        kind = getattr(cfg, f"{end}_end").kind
+        if kind == "prescribed" and not include_prescribed:
+            continue
+        if kind == "body":
+            body = solver.body_state(end)
+            if body is not None:
+                out.append((end, np.asarray(body.position, float), np.asarray(body.orientation, float)))
+                continue
+        if attach is None:
+            attach = np.asarray(solver.state(np.array([arc["ship"], arc["vehicle"]])).position, float)
+        q = np.asarray(driver.end_orientation(end), float)
+        p_att = attach[0 if end == "ship" else 1]
+        out.append((end, p_att - rotate(q, end_offset(cfg, end)), q))
+    return out
+
+
+def tether_frames(solver, length: float, count: int) -> list:
+    """(position, quaternion) of ``count`` equally spaced points along the cable, x along the tangent."""
+    if count <= 0:
+        return []
+    s = np.linspace(0.0, length, count) if count > 1 else np.array([0.5 * length])
+    ds = 1e-3 * length
+    probe = np.concatenate([s, np.clip(s + ds, 0.0, length), np.clip(s - ds, 0.0, length)])
+    pos = np.asarray(solver.state(probe).position, float)
+    p, ahead, behind = pos[:count], pos[count:2 * count], pos[2 * count:]
+    return [(p[k], tangent_quaternion(ahead[k] - behind[k])) for k in range(count)]
+
+
+def dynamic_transforms(driver) -> list:
+    """(child frame, position, quaternion) of every /tf transform, all with the world frame as parent."""
+    node = driver.config.node
+    out = [(getattr(node, f"{end}_frame"), p, q) for end, p, q in body_poses(driver, node.tf_prescribed_ends)]
+    for k, (p, q) in enumerate(tether_frames(driver.solver, driver.config.cable.length, node.tf_tether_frames)):
+        out.append((f"{node.tf_tether_frame_prefix}/{k}", p, q))
+    return out
+
+
+def tf_message_cdr(stamp: float, parent: str, transforms) -> bytes:
+    """Serialized tf2_msgs/TFMessage (CDR, as :mod:`tether_sim.ros.cdr` writes the other periodic
+    outputs; building TransformStamped objects cost ~1 ms per tick, measured with
+    benchmarks/bench_tf.py): ``transforms`` = [(child frame, position, quaternion x y z w)]."""
+    parts = cdr.stamp_parts(stamp)
+    parent = parent.encode("utf-8")
+    b = cdr.CdrBuffer()
+    b.u32(len(transforms))
+    for child, p, q in transforms:
+        b.header(parts, parent)
+        b.string(child.encode("utf-8"))
+        b.packed(_7D, 8, float(p[0]), float(p[1]), float(p[2]), float(q[0]), float(q[1]), float(q[2]), float(q[3]))
+    return b.tobytes()
+
+
+class TfPublisher:
+    """The node's /tf and /tf_static publishers; :meth:`publish` once per output (docs above)."""
+
+    def __init__(self, node):
+        self.node = node
+        self.enabled = TFMessage is not None and node.config.node.publish_tf
+        self._static_sent = False
+        if TFMessage is None:
+            node.get_logger().warning("tf2_msgs is not importable (build msg_defs/tf2_msgs: tools/setup_env.sh): "
+                                      "no /tf or /tf_static")
+        if not self.enabled:
+            return
+        self.pub = node.create_publisher(TFMessage, "/tf", TF_QOS)
+        self.static_pub = node.create_publisher(TFMessage, "/tf_static", TF_STATIC_QOS)
+
+    def publish(self, driver) -> None:
+        if not self.enabled or driver.solver is None:
+            return
+        if not self._static_sent:
+            self.static_pub.publish(TFMessage(transforms=static_transforms(driver.config, driver.stamp)))
+            self._static_sent = True
+        if self.pub.get_subscription_count() > 0:
+            cfg = driver.config
+            self.pub.publish(tf_message_cdr(driver.stamp, cfg.node.world_frame, dynamic_transforms(driver)))

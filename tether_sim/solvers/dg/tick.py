@@ -1,0 +1,155 @@
+"""One compiled call per advance_to: driven-end motion, the substep loop, end bookkeeping, outputs.
+
+``dg_tick`` does everything ``DGCableSolver.advance_to`` needs between two output times, with no
+Python per substep and only the call itself per tick:
+
+1. the Hermite segment of every driven end (kind ``prescribed``) from its state at t0 to the
+   target of ``set_end_motion`` at t1 (no target: it keeps its velocity);
+2. the stepper's parameters (with ``dg.damping: implicit`` the damping is zeroed in the copy the
+   explicit stages see, implicit_damping.py);
+3. the substeps (stepper.dg_advance: SSP-RK3, bodies, ring buffer of end tensions);
+4. the driven ends' state at t1 and the end data held there for the outputs;
+5. on request, the evaluation the outputs read (sampling.evaluate_outputs), so that state(),
+   end_forces() and body_state() after the tick need no further right-hand side.
+
+The arrays come from the arenas of workspace.py (three array arguments per call).
+"""
+
+from tether_sim.numerics.jit import jit
+from tether_sim.physics.end_conditions import is_driven
+from tether_sim.solvers.dg.damping_layout import MODE_EXPLICIT
+from tether_sim.solvers.dg.layout import B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, I_KIND0, P_ZETA, P_ZETAB
+from tether_sim.solvers.dg.sampling import evaluate_outputs
+from tether_sim.solvers.dg.stepper import STATUS_OK, dg_advance, dg_evaluate
+from tether_sim.solvers.dg.workspace import SLOT, bind, bind_driver
+
+# slot indices used below (compile-time constants)
+_U, _PRM_STEP, _H, _V, _PJ, _D, _LF, _TR = (SLOT[n] for n in ("U", "prm_step", "h", "V", "Pj", "D", "Lf", "Tr"))
+_TAB_EPS, _TAB_T, _BC, _VBC, _WQ, _WM, _TRC, _FL = (SLOT[n] for n in ("tab_eps", "tab_T", "bc", "vbc", "wq", "wm",
+                                                                       "tr", "fl"))
+_TMP, _DU, _ENDF, _BS, _BP, _OUT, _IDP = (SLOT[n] for n in ("tmp", "dU", "endf", "bs", "bp", "out", "idp"))
+_BUF, _CNT = SLOT["buf"], SLOT["cnt"]
+
+# target[end, :]: 0 = a target was set (1.0) or not (0.0), 1:4 position (m), 4:7 velocity (m/s)
+TG_SET, TG_P, TG_V = 0, 1, 4
+# ends[end, :]: position (m) 0:3 and velocity (m/s) 3:6 of a driven end at the solver time
+EN_P, EN_V = 0, 3
+
+
+@jit
+def prepare_ends(bc, iprm, t0, t1, ends, target):
+    """Hermite segment of every driven end from (t0, its state) to (t1, target or extrapolation)."""
+    for e in range(2):
+        if not is_driven(iprm[I_KIND0 + e]):
+            continue
+        bc[e, B_T0] = t0
+        bc[e, B_T1] = t1
+        for c in range(3):
+            p0 = ends[e, EN_P + c]
+            v0 = ends[e, EN_V + c]
+            if target[e, TG_SET] != 0.0:
+                p1 = target[e, TG_P + c]
+                v1 = target[e, TG_V + c]
+            else:  # no new input: keep the current velocity
+                p1 = p0 + (t1 - t0) * v0
+                v1 = v0
+            bc[e, B_P0 + c] = p0
+            bc[e, B_V0 + c] = v0
+            bc[e, B_P1 + c] = p1
+            bc[e, B_V1 + c] = v1
+
+
+@jit
+def hold_ends(bc, iprm, t, ends):
+    """End data of driven ends held at their state at time t (what the outputs evaluate)."""
+    for e in range(2):
+        if is_driven(iprm[I_KIND0 + e]):
+            bc[e, B_T0] = t
+            bc[e, B_T1] = t
+            for c in range(3):
+                bc[e, B_P0 + c] = ends[e, EN_P + c]
+                bc[e, B_V0 + c] = ends[e, EN_V + c]
+
+
+@jit
+def finish_ends(bc, iprm, t, ends, target):
+    """Driven ends reached their segment's end point at t; targets are consumed."""
+    for e in range(2):
+        if is_driven(iprm[I_KIND0 + e]):
+            for c in range(3):
+                ends[e, EN_P + c] = bc[e, B_P1 + c]
+                ends[e, EN_V + c] = bc[e, B_V1 + c]
+            target[e, TG_SET] = 0.0
+    hold_ends(bc, iprm, t, ends)
+
+
+@jit
+def outputs_now(F, I, S, t):
+    """The evaluation the outputs read, at time t (sampling.evaluate_outputs, full parameters)."""
+    A = bind(F, I, S)
+    prm, iprm, ends = bind_driver(F, I, S)[0:3]
+    hold_ends(A[_BC], iprm, t, ends)
+    evaluate_outputs(t, A[_U], prm, iprm, A[_H], A[_V], A[_PJ], A[_D], A[_LF], A[_TR], A[_TAB_EPS], A[_TAB_T],
+                     A[_BC], A[_VBC], A[_WQ], A[_WM], A[_TRC], A[_FL], A[_DU], A[_ENDF], A[_BS], A[_BP], A[_TMP])
+
+
+@jit
+def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
+    """nsteps substeps of dt from t0 to t1 (module docstring); returns the stepper's status."""
+    A = bind(F, I, S)
+    prm, iprm, ends, target = bind_driver(F, I, S)[0:4]
+    bc = A[_BC]
+    prm_step = A[_PRM_STEP]
+    prepare_ends(bc, iprm, t0, t1, ends, target)
+    for k in range(prm.shape[0]):
+        prm_step[k] = prm[k]
+    if A[_IDP][0] != MODE_EXPLICIT:
+        prm_step[P_ZETA] = 0.0
+        prm_step[P_ZETAB] = 0.0
+    dg_advance(nsteps, t0, dt, *A)
+    status = int(A[_OUT][1])
+    if status != STATUS_OK:
+        return status
+    finish_ends(bc, iprm, t1, ends, target)
+    if outputs:
+        outputs_now(F, I, S, t1)
+    return status
+
+
+@jit
+def evaluate_now(F, I, S, t):
+    """One full right-hand-side evaluation at time t with the full parameters (solver._evaluate)."""
+    A = bind(F, I, S)
+    prm, iprm, ends, target, no_fdamp = bind_driver(F, I, S)[0:5]
+    hold_ends(A[_BC], iprm, t, ends)
+    (U, ra, _, _, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc, wq, wm, tr, fl, rs, tmp, dU, dra,
+     endf, bs, bp, dbs) = A[0:30]
+    dg_evaluate(t, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc, wq, wm, tr, fl, rs,
+                tmp, dU, dra, endf, bs, bp, dbs, no_fdamp, False)
+
+
+@jit
+def drain_now(F, I, S):
+    """drain_ring on the workspace's ring (see there)."""
+    A = bind(F, I, S)
+    drained, dst = bind_driver(F, I, S)[5:7]
+    return drain_ring(A[_BUF], A[_CNT], drained, dst)
+
+
+@jit
+def drain_ring(buf, cnt, drained, dst):
+    """Copy the ring entries written since the last drain (newest cap kept) into dst (3, cap) in
+    time order; returns their number and records them as drained (drained[0])."""
+    total = cnt[0]
+    cap = buf.shape[0]
+    first = drained[0]
+    if total - cap > first:
+        first = total - cap
+    drained[0] = total
+    n = total - first
+    for k in range(n):
+        slot = (first + k) % cap
+        dst[0, k] = buf[slot, 0]
+        dst[1, k] = buf[slot, 1]
+        dst[2, k] = buf[slot, 2]
+    return n

@@ -1,0 +1,176 @@
+"""Analytic derivatives of the distributed environment force of kernels.external_force [PE2020 Eq. 13-17]:
+buoyant weight (constant), Morison drag with sqrt(1+eps), added mass, depth-varying current (through the
+alpha_f-level height z(v), kernels.height_at_alpha_f) and seabed contact [PE2020 Eq. 15-16].
+
+external_force_jac gives F and dF/dv, dF/dt, dF/da (3x3) and dF/deps (3) at one point. At the kinks of
+|x|, max(.,0) and of the piecewise-linear current table it takes the derivative of the branch that the
+point is on (a forward difference takes the branch on the side of its step; the two differ only on a
+set of measure zero). Tested against forward differences in test/solvers/hybrid/test_jacobian.py.
+"""
+
+import math
+
+import numpy as np
+
+from tether_sim.numerics.jit import jit
+from tether_sim.physics.hydrodynamics import current_at
+from tether_sim.solvers.hybrid.kernels import (P_AF, P_AM, P_AREA, P_CCRIT, P_CDN, P_CDT, P_CMN, P_CMT, P_D, P_DT,
+                                              P_FBZ, P_G, P_GAM, P_KD, P_M, P_MU, P_RHOF, P_SBZETA, P_SEABED, P_VMU,
+                                              P_ZG, height_at_alpha_f)
+
+
+@jit
+def current_slope(z, cz, cx, cy, out):
+    """d(current)/dz of the piecewise-linear table (0 beyond it); the segment containing z."""
+    out[0] = 0.0
+    out[1] = 0.0
+    out[2] = 0.0
+    n = cz.shape[0]
+    if n < 2 or z <= cz[0] or z >= cz[n - 1]:
+        return
+    for k in range(1, n):
+        if z < cz[k]:
+            h = cz[k] - cz[k - 1]
+            out[0] = (cx[k] - cx[k - 1]) / h
+            out[1] = (cy[k] - cy[k - 1]) / h
+            return
+
+
+@jit
+def _drag_jac(vr, dvr_dv, tu, Pt, cd, dcd, P, F, Jv, Jt, Je, W):
+    """Morison drag cd (Cdt |vrt| vrt tu + Cdn |vn| vn) and its derivatives (added to F, Jv, Jt, Je);
+    W: scratch (>= 33), so that no array is allocated per point."""
+    vrt = vr[0] * tu[0] + vr[1] * tu[1] + vr[2] * tu[2]
+    vn = W[0:3]
+    for k in range(3):
+        vn[k] = vr[k] - vrt * tu[k]
+    vnn = math.sqrt(vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2])
+    cdt = P[P_CDT]
+    cdn = P[P_CDN]
+    dvrt_dv = W[3:6]
+    dvrt_dt = W[6:9]
+    for j in range(3):
+        dvrt_dv[j] = 0.0
+        dvrt_dt[j] = 0.0
+        for k in range(3):
+            dvrt_dv[j] += tu[k] * dvr_dv[k, j]
+            dvrt_dt[j] += vr[k] * Pt[k, j]
+    dvn_dv = W[9:18].reshape(3, 3)
+    dvn_dt = W[18:27].reshape(3, 3)
+    for i in range(3):
+        for j in range(3):
+            dvn_dv[i, j] = dvr_dv[i, j] - tu[i] * dvrt_dv[j]
+            dvn_dt[i, j] = -tu[i] * dvrt_dt[j] - vrt * Pt[i, j]
+    avrt = abs(vrt)
+    for i in range(3):
+        F[i] += cd * (cdt * avrt * vrt * tu[i] + cdn * vnn * vn[i])
+        Je[i] += dcd * (cdt * avrt * vrt * tu[i] + cdn * vnn * vn[i])
+    wv = W[27:30]  # vn^T dvn / |vn|
+    wt = W[30:33]
+    for j in range(3):
+        wv[j] = 0.0
+        wt[j] = 0.0
+    if vnn > 0.0:
+        for j in range(3):
+            for k in range(3):
+                wv[j] += vn[k] * dvn_dv[k, j] / vnn
+                wt[j] += vn[k] * dvn_dt[k, j] / vnn
+    for i in range(3):
+        for j in range(3):
+            Jv[i, j] += cd * (cdt * 2.0 * avrt * tu[i] * dvrt_dv[j] + cdn * (vnn * dvn_dv[i, j] + vn[i] * wv[j]))
+            Jt[i, j] += cd * (cdt * (2.0 * avrt * tu[i] * dvrt_dt[j] + avrt * vrt * Pt[i, j])
+                              + cdn * (vnn * dvn_dt[i, j] + vn[i] * wt[j]))
+
+
+@jit
+def _seabed_jac(z, dz_dv2, v, le, P, F, Jv, Je):
+    """Seabed force [PE2020 Eq. 15-16, damping ramped in over the static penetration] and derivatives."""
+    delta = P[P_ZG] - z
+    if delta <= 0.0:
+        return
+    sl = math.sqrt(le) if le > 0.0 else 0.0
+    dsl = 0.5 / sl if sl > 0.0 else 0.0
+    d_static = -P[P_FBZ] / P[P_KD] if P[P_KD] > 0.0 else 0.0
+    ramp = 1.0
+    dramp_dz = 0.0
+    if d_static > 0.0:
+        x = delta / d_static
+        if x < 1.0:
+            ramp = x
+            dramp_dz = -1.0 / d_static
+    zc = P[P_SBZETA] * P[P_CCRIT]
+    Kd_term = P[P_KD] * delta - ramp * zc * v[2]
+    if sl * Kd_term > 0.0:
+        F[2] += sl * Kd_term
+        Jv[2, 2] += sl * (-P[P_KD] * dz_dv2 - dramp_dz * dz_dv2 * zc * v[2] - ramp * zc)
+        Je[2] += dsl * Kd_term
+    vh = math.sqrt(v[0] * v[0] + v[1] * v[1])
+    mu = P[P_MU]
+    if mu > 0.0 and vh > 0.0 and P[P_FBZ] < 0.0:
+        c = math.pi / P[P_VMU]
+        th = math.tanh(c * vh)
+        gfun = th / vh
+        dg = (c * (1.0 - th * th) - gfun) / vh
+        k0 = sl * mu * P[P_FBZ]
+        for i in range(2):
+            F[i] += k0 * gfun * v[i]
+            Je[i] += dsl * mu * P[P_FBZ] * gfun * v[i]
+            for j in range(2):
+                Jv[i, j] += k0 * ((gfun if i == j else 0.0) + v[i] * dg * v[j] / vh)
+
+
+@jit
+def external_force_jac(v, t, a, rn, eps, P, cz, cx, cy, F, Jv, Jt, Ja, Je, W):
+    """F of kernels.external_force at (v, t, a, eps) and its derivatives: Jv, Jt, Ja (3x3), Je (3,).
+    The height z(v) is the alpha_f-level height (dz/dv_z = alpha_f dt gamma / alpha_m). W: scratch
+    (>= 70 floats)."""
+    dz_dv2 = P[P_AF] * P[P_DT] * P[P_GAM] / P[P_AM]
+    z = height_at_alpha_f(v, rn, P)
+    nt = math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+    tu = W[33:36]
+    for k in range(3):
+        tu[k] = t[k] / nt
+    Pt = W[36:45].reshape(3, 3)  # d tu / d t
+    for i in range(3):
+        for j in range(3):
+            Pt[i, j] = ((1.0 if i == j else 0.0) - tu[i] * tu[j]) / nt
+    uc = W[45:48]
+    current_at(z, cz, cx, cy, uc)
+    duc = W[48:51]
+    current_slope(z, cz, cx, cy, duc)
+    vr = W[51:54]
+    dvr_dv = W[54:63].reshape(3, 3)
+    dvr_dv[:, :] = 0.0
+    for k in range(3):
+        vr[k] = uc[k] - v[k]
+        dvr_dv[k, k] = -1.0
+        dvr_dv[k, 2] += duc[k] * dz_dv2
+    for i in range(3):
+        F[i] = 0.0
+        Je[i] = 0.0
+        for j in range(3):
+            Jv[i, j] = 0.0
+            Jt[i, j] = 0.0
+    le = 1.0 + eps
+    if le < 0.0:
+        le = 0.0
+    half = 0.5 * P[P_D] * P[P_RHOF]
+    sl = math.sqrt(le)
+    _drag_jac(vr, dvr_dv, tu, Pt, half * sl, half * 0.5 / sl if sl > 0.0 else 0.0, P, F, Jv, Jt, Je, W)
+    ma = P[P_RHOF] * P[P_AREA]
+    cmn = P[P_CMN]
+    dcm = P[P_CMT] - cmn
+    at = a[0] * tu[0] + a[1] * tu[1] + a[2] * tu[2]
+    dat_dt = W[63:66]
+    for j in range(3):
+        dat_dt[j] = 0.0
+        for k in range(3):
+            dat_dt[j] += a[k] * Pt[k, j]
+    for i in range(3):
+        F[i] -= ma * (cmn * a[i] + dcm * at * tu[i])
+        for j in range(3):
+            Ja[i, j] = -ma * ((cmn if i == j else 0.0) + dcm * tu[i] * tu[j])
+            Jt[i, j] -= ma * dcm * (tu[i] * dat_dt[j] + at * Pt[i, j])
+    F[2] -= (P[P_M] - P[P_RHOF] * P[P_AREA]) * P[P_G]
+    if P[P_SEABED] > 0.0:
+        _seabed_jac(z, dz_dv2, v, le, P, F, Jv, Je)

@@ -1,0 +1,159 @@
+"""One study case: resolve its configuration, key it, run it through ``tether-sim-offline``'s code path.
+
+The key of a case is a hash of its full resolved configuration (every parameter, after the base file,
+the study's overrides and the public loader's own resolution) and of the code version (package
+version + a hash of the tether_sim source tree). A case whose key is already in the results is not
+run again; a change of any parameter or of any source file of the package runs it again.
+
+:func:`run_task` is what a worker executes (a local process or a Dask worker). It never raises: a
+failing case comes back as a row with ``status = "failed"`` and its error.
+"""
+
+import hashlib
+import importlib.metadata
+import json
+import math
+import os
+import platform
+import subprocess
+import time
+import traceback
+from functools import lru_cache
+from pathlib import Path
+
+import tether_sim
+from tether_sim.io.params import load_config, to_flat
+from tether_sim.studies.stats import TensionTap, end_statistics, event_rows
+
+# Columns that depend on the machine and the moment, not on the physics (left out of comparisons).
+TIMING_COLUMNS = ("wall_s", "cpu_s", "rtf", "worker", "nth_in_process", "finished_utc", "git_describe")
+
+
+@lru_cache(maxsize=1)
+def code_version() -> dict:
+    """Package version, hash of every ``tether_sim/**/*.py`` (path and content), ``git describe``."""
+    root = Path(tether_sim.__file__).resolve().parent
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        digest.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    try:
+        version = importlib.metadata.version("tether_sim")
+    except importlib.metadata.PackageNotFoundError:
+        version = "0+unknown"
+    try:
+        git = subprocess.run(["git", "describe", "--always", "--dirty", "--tags"], cwd=root, capture_output=True,
+                             text=True, timeout=10).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        git = ""
+    return {"version": version, "source_hash": digest.hexdigest()[:16], "git_describe": git}
+
+
+def _jsonable(value):
+    if isinstance(value, float) and not math.isfinite(value):
+        return repr(value)
+    return value
+
+
+def case_key(config, code: dict) -> str:
+    """Hash of the resolved configuration and the code version (20 hex digits)."""
+    flat = {k: _jsonable(v) for k, v in sorted(to_flat(config).items())}
+    text = json.dumps({"config": flat, "code": [code["version"], code["source_hash"]]}, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:20]
+
+
+def make_task(case, study, code, out_dir) -> dict:
+    """Everything a worker needs for one case (plain data: it travels to other machines)."""
+    config = load_config(case.base, case.overrides)
+    key = case_key(config, code)
+    mcap = str(Path(out_dir) / "mcap" / f"case{case.index:05d}_{key}.mcap") if study.keep.get("mcap") else None
+    return {"key": key, "index": case.index, "study": study.name, "variables": dict(case.variables),
+            "base": str(case.base), "overrides": dict(case.overrides), "source_hash": code["source_hash"],
+            "mcap": mcap, "events": bool(study.keep.get("events", True))}
+
+
+def _resolution(tap, config) -> dict:
+    """N, P, cfl (DG) or segments and time step (hybrid) of the solver that ran, and its substep."""
+    solver = tap.solvers[0] if tap.solvers else None
+    cfg = getattr(solver, "config", config)
+    row = {"solver": cfg.solver, "dg_N": math.nan, "dg_P": math.nan, "dg_cfl": math.nan, "dg_damping": "",
+           "hybrid_segments": math.nan, "hybrid_dt_s": math.nan, "dt_start_s": math.nan}
+    if solver is not None and cfg.solver == "dg":
+        row.update(dg_N=int(getattr(solver, "N", cfg.dg.n_elements)), dg_P=int(getattr(solver, "P", cfg.dg.order)),
+                   dg_cfl=float(cfg.dg.cfl), dg_damping=str(cfg.dg.damping))
+    elif solver is not None:
+        row.update(hybrid_segments=int(cfg.hybrid.n_segments), hybrid_dt_s=float(cfg.hybrid.time_step))
+    if solver is not None:
+        try:
+            row["dt_start_s"] = float(solver.stable_time_step())
+        except Exception:  # noqa: BLE001 - a diagnostic only
+            pass
+    return row
+
+
+def fairlead_motion(motion) -> tuple:
+    """(amplitude m, frequency Hz) of the fairlead motion: those of a circle (its radius) or a heave sine;
+    for a sum of sines the amplitude of one sine of equal variance, sqrt(sum a_i^2), and the
+    variance-weighted mean frequency sum a_i^2 f_i / sum a_i^2; (0, 0) at rest; NaN for a record."""
+    if motion.kind in ("circle", "heave"):
+        return float(motion.amplitude), float(motion.frequency)
+    if motion.kind == "sines" and motion.sine_amplitudes:
+        a2 = [a * a for a in motion.sine_amplitudes]
+        total = sum(a2)
+        f = sum(w * f for w, f in zip(a2, motion.sine_frequencies)) / total if total > 0 else 0.0
+        return math.sqrt(total), float(f)
+    if motion.kind in ("none", "sines"):
+        return 0.0, 0.0
+    return math.nan, math.nan
+
+
+def _config_columns(config) -> dict:
+    """The resolved quantities the report plots against, whatever the study called its variables."""
+    amplitude, frequency = fairlead_motion(config.motion)
+    return {"cable.length": float(config.cable.length), "cable.EI": float(config.cable.EI),
+            "motion.kind": str(config.motion.kind), "fairlead_amplitude_m": amplitude,
+            "fairlead_frequency_Hz": frequency, "duration": float(config.duration)}
+
+
+_CASES_IN_PROCESS = [0]
+
+
+def run_task(task: dict) -> dict:
+    """Run one case (see the module docstring); returns {"row": {...}, "events": [...]}."""
+    wall0, cpu0 = time.perf_counter(), time.thread_time()
+    row = {"key": task["key"], "index": task["index"], "study": task["study"], "status": "failed", "error": "",
+           **{f"var.{k}": v for k, v in task["variables"].items()}}
+    events = []
+    try:
+        code = code_version()
+        if code["source_hash"] != task["source_hash"]:
+            raise RuntimeError(f"this worker runs tether_sim source {code['source_hash']}, the study was keyed with "
+                               f"{task['source_hash']}: install the same code on every worker")
+        row.update(code=f"{code['version']}+{code['source_hash']}", git_describe=code["git_describe"])
+        config = load_config(task["base"], task["overrides"])
+        row.update(_config_columns(config))
+        from tether_sim.ros.offline import run_offline  # the tether-sim-offline code path (imports rclpy)
+        from tether_sim.solvers.factory import build_solver
+
+        tap = TensionTap(build_solver)
+        if task["mcap"]:
+            Path(task["mcap"]).parent.mkdir(parents=True, exist_ok=True)
+        summary = run_offline(config, task["mcap"], progress=False, solver_factory=tap)
+        row.update(_resolution(tap, config))
+        row.update(end_statistics(summary["events"], summary["static_tensions"], tap))
+        row.update({"sim_s": float(summary["duration"]), "substeps": int(tap.samples),
+                    "divergences": int(summary["divergences"]), "mcap": task["mcap"] or ""})
+        if task["events"]:
+            events = [{"key": task["key"], **e} for e in event_rows(summary["events"])]
+        row["status"] = "ok"
+    except Exception as exc:  # noqa: BLE001 - a failed case is a row of the table, not the end of the study
+        tb = traceback.extract_tb(exc.__traceback__)
+        where = f" (at {Path(tb[-1].filename).name}:{tb[-1].lineno})" if tb else ""
+        row["error"] = f"{type(exc).__name__}: {exc}{where}"
+    _CASES_IN_PROCESS[0] += 1
+    wall = time.perf_counter() - wall0
+    row.update({"wall_s": wall, "cpu_s": time.thread_time() - cpu0,
+                "rtf": row.get("sim_s", math.nan) / wall if wall > 0 else math.nan,
+                "worker": f"{platform.node()}:{os.getpid()}",
+                "nth_in_process": _CASES_IN_PROCESS[0],  # 1 = first: its times include loading compiled kernels
+                "finished_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())})
+    return {"row": row, "events": events}

@@ -1,0 +1,84 @@
+"""Console script ``tether-sim-study``: run a study file, or report on a results folder.
+
+    tether-sim-study STUDY.yaml [--out DIR] [--workers N] [--scheduler tcp://host:8786 | local]
+                                [--retry-failed] [--limit N] [--list]
+    tether-sim-study report RESULTS [--out DIR]
+
+Results go to ``out/studies/<study name>/`` unless ``--out`` says otherwise (docs/studies.md).
+"""
+
+import argparse
+import sys
+
+from tether_sim.errors import ConfigError
+
+
+def _run_parser():
+    ap = argparse.ArgumentParser(prog="tether-sim-study", description="Run a snap-load study: every case through "
+                                 "the tether-sim-offline code path, results as Parquet and CSV (see "
+                                 "'tether-sim-study report --help' for the figures).")
+    ap.add_argument("study", help="study file (YAML, docs/studies.md)")
+    ap.add_argument("--out", default=None, help="results folder (default out/studies/<study name>)")
+    ap.add_argument("--workers", type=int, default=None, help="local worker processes (default: every core); "
+                    "with --scheduler local, the number of Dask workers")
+    ap.add_argument("--scheduler", default=None, help="Dask scheduler address (tcp://host:8786), or 'local' for a "
+                    "Dask LocalCluster on this machine; default: local processes, no Dask")
+    ap.add_argument("--retry-failed", action="store_true", help="run again the cases recorded as failed")
+    ap.add_argument("--limit", type=int, default=None, help="run at most this many of the pending cases")
+    ap.add_argument("--list", action="store_true", help="print the cases and whether each is done; run nothing")
+    return ap
+
+
+def _report_parser():
+    ap = argparse.ArgumentParser(prog="tether-sim-study report", description="Figures (PNG) and a markdown summary "
+                                 "of a study's results: peak-tension heat maps, DAF against the sea state, "
+                                 "exceedance of the per-case maxima with a Gumbel fit.")
+    ap.add_argument("results", help="results folder (or its results.parquet)")
+    ap.add_argument("--out", default=None, help="folder of the figures and report.md (default RESULTS/report)")
+    return ap
+
+
+def _list(args):
+    from tether_sim.studies.runner import default_out, plan
+    from tether_sim.studies.spec import load_study
+
+    study = load_study(args.study)
+    out = args.out or default_out(study)
+    tasks, invalid, skipped, duplicates = plan(study, out, args.retry_failed)
+    pending = {t["index"] for t in tasks}
+    for case in study.cases():
+        state = "to run" if case.index in pending else "invalid" if any(
+            r["row"]["index"] == case.index for r in invalid) else "done/duplicate"
+        values = ", ".join(f"{k}={v}" for k, v in case.variables.items())
+        print(f"{case.index:5d}  {state:14s}  {case.base.name}  {values}")
+    print(f"{len(tasks)} to run, {skipped} already in {out}, {len(invalid)} invalid, {len(duplicates)} duplicate")
+    return 0
+
+
+def main(argv=None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    try:
+        if argv and argv[0] == "report":
+            args = _report_parser().parse_args(argv[1:])
+            from tether_sim.studies.report import write_report
+
+            md = write_report(args.results, args.out)
+            print(f"wrote {md}")
+            return 0
+        args = _run_parser().parse_args(argv)
+        if args.list:
+            return _list(args)
+        from tether_sim.studies.runner import run_study
+
+        s = run_study(args.study, args.out, scheduler=args.scheduler, workers=args.workers,
+                      retry_failed=args.retry_failed, limit=args.limit)
+    except (ConfigError, FileNotFoundError) as exc:
+        print(f"tether-sim-study: {exc}", file=sys.stderr)
+        return 2
+    print(f"{s['ran']} case(s) run ({s['ok']} ok, {s['failed']} failed), {s['skipped']} already in the results; "
+          f"table {s['table']} (and results.csv)")
+    return 1 if s["failed"] else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,132 @@
+"""Run the pending cases of a study on local processes or on a Dask distributed cluster.
+
+Local (default): a :class:`concurrent.futures.ProcessPoolExecutor` (spawned processes; no server).
+If a worker process dies (the pool breaks), the cases in flight are submitted again on a new pool,
+and a case that was in flight at two breakages is recorded as failed.
+
+Dask: ``scheduler`` is an address (``tcp://host:8786``) or a ``distributed`` cluster object. Each case
+is one task named ``case-<index>-<key>`` (the dashboard groups them as ``case``); a task the cluster
+loses (e.g. ``KilledWorker``) is recorded as a failed case. Workers need the same tether_sim
+(checked: the source hash of each case is compared on the worker).
+
+Both feed finished cases, in completion order, to ``on_result`` (the result store) and to the
+progress line.
+"""
+
+import math
+import multiprocessing
+import os
+import sys
+import time
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+
+from tether_sim.studies.case import run_task
+
+
+class Progress:
+    """Cases done / failed, throughput and time left, on one terminal line (or a line per update)."""
+
+    def __init__(self, total, skipped=0, stream=None, every=2.0):
+        self.total, self.skipped = total, skipped
+        self.done = self.failed = 0
+        self.stream = stream or sys.stderr
+        self.every = every
+        self.t0 = time.monotonic()
+        self._last = -math.inf
+        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
+
+    def line(self) -> str:
+        finished = self.done + self.failed
+        elapsed = time.monotonic() - self.t0
+        rate = finished / elapsed if elapsed > 0 and finished else 0.0
+        left = (self.total - finished) / rate if rate > 0 else math.nan
+        eta = "?" if math.isnan(left) else _duration(left)
+        return (f"[study] {finished}/{self.total} cases ({self.done} ok, {self.failed} failed"
+                f"{f', {self.skipped} already in the results' if self.skipped else ''}) | "
+                f"{rate * 3600:.3g} cases/h | {_duration(elapsed)} elapsed, ~{eta} left")
+
+    def update(self, row, force=False):
+        if row is not None:
+            if row.get("status") == "ok":
+                self.done += 1
+            else:
+                self.failed += 1
+                self._print(f"[study] case {row.get('index')} ({row.get('key')}) failed: {row.get('error')}", newline=True)
+        now = time.monotonic()
+        if force or now - self._last >= self.every or self.done + self.failed == self.total:
+            self._last = now
+            self._print(self.line(), newline=not self.tty)
+
+    def close(self):
+        self._print(self.line(), newline=True)
+
+    def _print(self, text, newline):
+        if self.tty:
+            self.stream.write("\r\033[K" + text + ("\n" if newline else ""))
+        else:
+            self.stream.write(text + "\n")
+        self.stream.flush()
+
+
+def _duration(seconds):
+    seconds = int(round(seconds))
+    h, rest = divmod(seconds, 3600)
+    m, s = divmod(rest, 60)
+    return f"{h}h{m:02d}m" if h else (f"{m}m{s:02d}s" if m else f"{s}s")
+
+
+def failed_result(task, error) -> dict:
+    return {"row": {"key": task["key"], "index": task["index"], "study": task["study"], "status": "failed",
+                    "error": error, **{f"var.{k}": v for k, v in task["variables"].items()}}, "events": []}
+
+
+def run_local(tasks, on_result, workers=None):
+    """Run ``tasks`` on ``workers`` local processes (default: every core)."""
+    workers = max(1, min(workers or os.cpu_count() or 1, len(tasks) or 1))
+    pending = list(tasks)
+    breakages = {}
+    context = multiprocessing.get_context("spawn")  # a clean interpreter per worker (numba, DDS libraries)
+    while pending:
+        with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+            futures = {pool.submit(run_task, t): t for t in pending}
+            pending = []
+            broken = False
+            while futures:
+                finished, _ = wait(futures, return_when=FIRST_COMPLETED)
+                for fut in finished:
+                    task = futures.pop(fut)
+                    try:
+                        on_result(fut.result())
+                    except BrokenProcessPool:
+                        broken = True
+                        breakages[task["key"]] = breakages.get(task["key"], 0) + 1
+                        if breakages[task["key"]] >= 2:
+                            on_result(failed_result(task, "a worker process died twice while this case was running "
+                                                          "(BrokenProcessPool; out of memory or a crash in compiled code?)"))
+                        else:
+                            pending.append(task)
+            if broken:
+                print(f"[study] a worker process died; {len(pending)} case(s) run again on a new pool", file=sys.stderr)
+
+
+def run_dask(tasks, on_result, scheduler):
+    """Run ``tasks`` on the Dask cluster at ``scheduler`` (an address or a cluster object)."""
+    from dask.distributed import Client, as_completed
+
+    with Client(scheduler) as client:
+        link = client.dashboard_link
+        print(f"[study] Dask scheduler {client.scheduler.address}, {len(client.scheduler_info()['workers'])} "
+              f"worker(s); dashboard: {link}", file=sys.stderr)
+        futures = {}
+        for t in tasks:
+            fut = client.submit(run_task, t, key=f"case-{t['index']:05d}-{t['key']}", pure=False)
+            futures[fut] = t
+        for fut in as_completed(list(futures)):
+            task = futures[fut]
+            try:
+                result = fut.result()
+            except Exception as exc:  # noqa: BLE001 - lost worker, cancelled task: a failed case
+                result = failed_result(task, f"{type(exc).__name__}: {exc}")
+            on_result(result)
+            fut.release()

@@ -1,0 +1,101 @@
+"""A study from its file to its results folder: resolve and key every case, skip those already in
+the results, run the rest (local processes or Dask), journal each one as it finishes, write the tables."""
+
+import hashlib
+import json
+import shutil
+import sys
+import time
+from pathlib import Path
+
+from tether_sim.errors import ConfigError
+from tether_sim.studies.case import code_version, make_task
+from tether_sim.studies.execute import Progress, failed_result, run_dask, run_local
+from tether_sim.studies.results import ResultStore
+from tether_sim.studies.spec import load_study
+
+TABLE_INTERVAL = 30.0  # s between rewrites of the Parquet/CSV tables while a study runs
+
+
+def default_out(study) -> Path:
+    return Path("out") / "studies" / study.name
+
+
+def plan(study, out_dir, retry_failed=False):
+    """(tasks to run, invalid cases as failed results, number skipped, duplicates) for a study."""
+    code = code_version()
+    done = ResultStore(out_dir).load()
+    tasks, invalid, seen, duplicates, skipped = [], [], {}, [], 0
+    for case in study.cases():
+        try:
+            task = make_task(case, study, code, out_dir)
+        except ConfigError as exc:  # a case the parameter loader rejects: a failed row, not the end
+            text = json.dumps([str(case.base), case.overrides, code["source_hash"]], sort_keys=True, default=repr)
+            task = {"key": "invalid-" + hashlib.sha256(text.encode()).hexdigest()[:12], "index": case.index,
+                    "study": study.name, "variables": dict(case.variables)}
+            invalid.append(failed_result(task, f"ConfigError: {exc}"))
+            continue
+        if task["key"] in seen:
+            duplicates.append((case.index, seen[task["key"]]))
+            continue
+        seen[task["key"]] = case.index
+        previous = done.get(task["key"])
+        if previous is not None and (previous.get("status") == "ok" or not retry_failed):
+            skipped += 1
+            continue
+        tasks.append(task)
+    new = [r for r in invalid if r["row"]["key"] not in done]
+    return tasks, new, skipped + len(invalid) - len(new), duplicates
+
+
+def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=False, limit=None,
+              stream=None) -> dict:
+    """Run the study file ``path``; returns a summary (results folder, counts)."""
+    stream = stream or sys.stderr
+    study = load_study(path)
+    out_dir = Path(out_dir) if out_dir else default_out(study)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    shutil.copyfile(study.path, out_dir / "study.yaml")
+    tasks, invalid, skipped, duplicates = plan(study, out_dir, retry_failed)
+    for index, first in duplicates:
+        print(f"[study] case {index} resolves to the same configuration as case {first}: run once", file=stream)
+    if limit is not None:
+        tasks = tasks[:max(0, int(limit))]
+    store = ResultStore(out_dir)
+    progress = Progress(len(tasks) + len(invalid), skipped, stream=stream)
+    last_table = [time.monotonic()]
+
+    def on_result(result):
+        store.append(result)
+        progress.update(result["row"])
+        if time.monotonic() - last_table[0] > TABLE_INTERVAL:
+            store.write_tables()
+            last_table[0] = time.monotonic()
+
+    for result in invalid:
+        on_result(result)
+    progress.update(None, force=True)
+    if tasks:
+        if scheduler is None:
+            run_local(tasks, on_result, workers)
+        else:
+            cluster = _cluster(scheduler, workers)
+            try:
+                run_dask(tasks, on_result, cluster)
+            finally:
+                if cluster is not scheduler:
+                    cluster.close()
+    progress.close()
+    table = store.write_tables()
+    return {"out": str(out_dir), "table": str(table), "ran": progress.done + progress.failed,
+            "ok": progress.done, "failed": progress.failed, "skipped": skipped}
+
+
+def _cluster(scheduler, workers):
+    """An address as given, or ``local``: a LocalCluster on loopback (one thread per worker process)."""
+    if scheduler != "local":
+        return scheduler
+    from dask.distributed import LocalCluster
+
+    return LocalCluster(n_workers=workers or None, threads_per_worker=1, processes=True, host="127.0.0.1",
+                        dashboard_address="127.0.0.1:8787")
