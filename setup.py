@@ -52,8 +52,8 @@ setup(
             "tether-sim-record = tether_sim.ros.recorder_node:main",
             "tether-sim-replay = tether_sim.ros.replay_node:main",
             "tether-sim-report = tether_sim.report:main",
-            "tether-sim-recover = tether_sim.io.mcap_recover:main",
             "tether-sim-study = tether_sim.studies.cli:main",
+            "tether-sim-recover = tether_sim.io.mcap_recover:main",
         ],
     },
 )

@@ -140,6 +140,14 @@ def test_report_without_states_is_a_clear_error(tmp_path, prefix, store, capsys)
     assert main([str(tmp_path / "missing.mcap")]) == 2
 
 
+def test_report_names_the_dg_mesh_from_the_description():
+    from tether_sim.report import _mesh_line
+
+    params = {"solver": "dg", "dg.n_elements": "3", "dg.order": "4", "dg.cfl": "0.8", "dg.resolution": "auto",
+              "dg.snap_tolerance": "0.01"}
+    assert _mesh_line(params) == (" DG mesh: N = 3, P = 4, dg.cfl 0.8 (dg.resolution auto, first-snap-peak "
+                                  "tolerance 1 %).")
+    assert _mesh_line({**params, "solver": "hybrid"}) == "" and _mesh_line({}) == ""
 def test_report_of_a_truncated_file_says_so(tmp_path, prefix, store, capsys):
     path = write_output(tmp_path / "out.mcap", prefix, store, chunk_size=16384)
     data = path.read_bytes()
@@ -155,13 +163,3 @@ def test_report_of_a_truncated_file_says_so(tmp_path, prefix, store, capsys):
     empty.write_bytes(single.read_bytes()[: single.stat().st_size // 2])
     assert main([str(empty), "--out-dir", str(tmp_path / "fig2")]) == 2
     assert "truncated" in capsys.readouterr().err
-
-
-def test_report_names_the_dg_mesh_from_the_description():
-    from tether_sim.report import _mesh_line
-
-    params = {"solver": "dg", "dg.n_elements": "3", "dg.order": "4", "dg.cfl": "0.8", "dg.resolution": "auto",
-              "dg.snap_tolerance": "0.01"}
-    assert _mesh_line(params) == (" DG mesh: N = 3, P = 4, dg.cfl 0.8 (dg.resolution auto, first-snap-peak "
-                                  "tolerance 1 %).")
-    assert _mesh_line({**params, "solver": "hybrid"}) == "" and _mesh_line({}) == ""

@@ -62,9 +62,9 @@ class RunData:
     wrench: dict = field(default_factory=dict)     # end -> (t (n,), |F| (n,))
     diagnostics: dict = field(default_factory=dict)  # status name -> {key: value} (last seen)
     time_label: str = "time since the first state"
+    parameters: dict = field(default_factory=dict)  # key -> value text of the last TetherDescription
     degraded: np.ndarray | None = None  # (n_t,) bool: the node marked the state degraded (late/blended)
     truncation: str | None = None  # what a crash cut off the file (None: complete)
-    parameters: dict = field(default_factory=dict)  # key -> value text of the last TetherDescription
 
 
 def _topics_of(summary, type_name):

@@ -14,6 +14,21 @@ END_COLOURS = {"ship": "tab:blue", "vehicle": "tab:orange"}
 ANNOTATED = 5  # snap peaks labelled per end (the largest); all are marked
 
 
+def _label_peaks(ax, snaps, run) -> None:
+    """Peak value and amplification next to each marker, kept inside the frame: headroom above the
+    highest peak, and labels near the right edge placed to the left of their marker."""
+    lo, hi = ax.get_ylim()
+    top = max(e["peak"] / 1e3 for e in snaps)
+    ax.set_ylim(lo, max(hi, top + 0.25 * (top - lo)))
+    t_lo, t_hi = float(run.t[0]), float(run.t[-1])
+    for e in snaps:
+        right = e["t_peak"] > t_lo + 0.85 * (t_hi - t_lo)
+        ax.annotate(f"{e['peak'] / 1e3:.1f} kN\n×{e['amplification']:.2f}",
+                    (e["t_peak"], e["peak"] / 1e3), textcoords="offset points",
+                    xytext=(-4 if right else 4, 4), ha="right" if right else "left", va="bottom",
+                    fontsize=8, color="tab:red", annotation_clip=True)
+
+
 def degraded_intervals(run) -> list:
     """(start, end) times of the runs of states the node marked degraded."""
     flags = getattr(run, "degraded", None)
@@ -29,21 +44,6 @@ def degraded_intervals(run) -> list:
     if start is not None:
         out.append((start, run.t[-1]))
     return out
-
-
-def _label_peaks(ax, snaps, run) -> None:
-    """Peak value and amplification next to each marker, kept inside the frame: headroom above the
-    highest peak, and labels near the right edge placed to the left of their marker."""
-    lo, hi = ax.get_ylim()
-    top = max(e["peak"] / 1e3 for e in snaps)
-    ax.set_ylim(lo, max(hi, top + 0.25 * (top - lo)))
-    t_lo, t_hi = float(run.t[0]), float(run.t[-1])
-    for e in snaps:
-        right = e["t_peak"] > t_lo + 0.85 * (t_hi - t_lo)
-        ax.annotate(f"{e['peak'] / 1e3:.1f} kN\n×{e['amplification']:.2f}",
-                    (e["t_peak"], e["peak"] / 1e3), textcoords="offset points",
-                    xytext=(-4 if right else 4, 4), ha="right" if right else "left", va="bottom",
-                    fontsize=8, color="tab:red", annotation_clip=True)
 
 
 def plot_end_tensions(run, periods: dict, path: Path) -> Path:
