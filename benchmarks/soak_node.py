@@ -152,7 +152,8 @@ def report(args, out, soak, memory, fault_log, died) -> int:
     arr = np.array([s[:4] for s in soak.states], float) if soak.states else np.zeros((0, 4))
     gaps = np.diff(arr[:, 0]) * 1e3 if len(arr) > 1 else np.zeros(1)
     mem = np.array([m for m in memory if math.isfinite(m[1])])
-    slope = np.polyfit(mem[:, 0] / 3600.0, mem[:, 1], 1)[0] if len(mem) > 2 else math.nan
+    steady = mem[mem[:, 0] >= 60.0] if len(mem) else mem  # after start-up (imports, JIT, first solve)
+    slope = np.polyfit(steady[:, 0] / 3600.0, steady[:, 1], 1)[0] if len(steady) > 2 else math.nan
     load = Path("/proc/loadavg").read_text().split()[:3]
     lines = [f"soak of {args.minutes:g} min, params {args.params}, load average at the end {' '.join(load)}",
              f"node alive to the end: {not died}",
@@ -162,8 +163,8 @@ def report(args, out, soak, memory, fault_log, died) -> int:
              f"lag (s): median {np.median(arr[:, 2]) if len(arr) else math.nan:.3f}, max "
              f"{arr[:, 2].max() if len(arr) else math.nan:.3f}; degraded states: "
              f"{100.0 * arr[:, 3].mean() if len(arr) else math.nan:.1f} %",
-             f"node RSS (MB): start {mem[0, 1] if len(mem) else math.nan:.0f}, end {mem[-1, 1] if len(mem) else math.nan:.0f}, "
-             f"slope {slope:.2f} MB/h",
+             f"node RSS (MB): at 1 min {steady[0, 1] if len(steady) else math.nan:.0f}, end "
+             f"{mem[-1, 1] if len(mem) else math.nan:.0f}, slope after 1 min {slope:.2f} MB/h",
              f"faults injected: {len(fault_log)} ({', '.join(sorted(set(k for _, k in fault_log)))})",
              "last diagnostics: " + repr(soak.diag)]
     text = "\n".join(lines)

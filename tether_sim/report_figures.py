@@ -58,7 +58,7 @@ def plot_end_tensions(run, periods: dict, path: Path) -> Path:
                     label=f"|force| of the {end} wrench")
         for i, (a, b) in enumerate(degraded_intervals(run)):
             ax.axvspan(a, b, color="0.5", alpha=0.2, lw=0,
-                       label="degraded (node behind / end blended; not physics)" if i == 0 else None)
+                       label="degraded (late, end blended or snap detection off)" if i == 0 else None)
         for i, p in enumerate(periods[end]):
             ax.axvspan(p["start"], max(p["end"], p["start"] + 1e-3), color="tab:red", alpha=0.15,
                        lw=0, label="slack period" if i == 0 else None)

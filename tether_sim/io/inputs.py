@@ -79,8 +79,8 @@ class EndPoseInput:
 
     ``history_span``: seconds of samples kept behind the newest one (the node passes
     ``input_delay + max_lag`` plus a margin, so a simulation running late still interpolates);
-    at most ``max_samples`` are kept (a flood beyond that shortens the span, counted in
-    ``health()['history_span']``). ``future_tolerance`` / ``max_age``: with the node's clock
+    at most ``max_samples`` (+63, pruned in batches) are kept (a flood beyond that shortens the
+    span, shown in ``health()['history_span']``). ``future_tolerance`` / ``max_age``: with the node's clock
     ``now`` given to :meth:`add_pose`, a stamp later than ``now + future_tolerance`` or earlier
     than ``now - max_age`` is rejected (without ``now``, e.g. offline, stamps are only checked
     against each other).
@@ -146,7 +146,7 @@ class EndPoseInput:
         brackets the edge of the span) and beyond ``max_samples``; in batches (amortised O(1))."""
         cutoff = self._stamps[-1] - self.history_span
         k = max(bisect.bisect_right(self._stamps, cutoff) - 1, len(self._stamps) - self.max_samples)
-        if k >= 64 or len(self._stamps) > self.max_samples:
+        if k >= 64:  # (so at most max_samples + 63 are held)
             del self._samples[:k]
             del self._stamps[:k]
         if len(self._twists) > 128 and self._twists[0][0] < cutoff - 1.0:
