@@ -20,7 +20,7 @@ def write(tmp_path, text, name="s.yaml"):
     return path
 
 
-BASE = f"base: {ROOT / 'config' / 'ropos_L200.yaml'}\n"
+BASE = f"base: {ROOT / 'config' / 'ropos_L200_paper.yaml'}\n"
 
 
 def test_pe2020_sec62_has_the_papers_48_cases():
@@ -32,7 +32,7 @@ def test_pe2020_sec62_has_the_papers_48_cases():
     assert combos == {(L, a, f) for L in (200, 500, 975, 1730) for a in (0, 1, 10, 100) for f in (0.1, 0.2, 0.25)}
     for c in cases:
         L, alpha, f = c.variables["L"], c.variables["alpha"], c.variables["f"]
-        assert c.base.name == f"ropos_L{L}.yaml" and c.base.is_file()
+        assert c.base.name == f"ropos_L{L}_paper.yaml" and c.base.is_file()  # the paper's N = 20, P = 4
         o = c.overrides
         assert o["cable.EI"] == pytest.approx(alpha * 2.62e3, rel=1e-12)
         assert (o["motion.kind"], o["motion.amplitude"], o["motion.frequency"]) == ("circle", 2.0, f)
