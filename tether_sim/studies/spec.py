@@ -3,7 +3,7 @@
 A study file is YAML (documented with examples in docs/studies.md)::
 
     name: pe2020_sec62
-    base: ../ropos_L{L:g}.yaml        # parameter file, relative to this file; {var} fields per case
+    base: ../ropos_L{L:g}_paper.yaml  # parameter file, relative to this file; {var} fields per case
     vary:                             # one block, or a list of blocks crossed with each other
       grid: {L: [200, 500], f: [0.1, 0.2]}            # full factorial
       # zip: {a: [1, 2], f: [0.1, 0.2]}               # lists varied together
