@@ -133,7 +133,9 @@ def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
         ku = max(ku, int(hi - grow[g]))
         first[grow[g]:grow[g] + GROUP_ROWS[k]] = lo
         last[grow[g]:grow[g] + GROUP_ROWS[k]] = hi
-    low = np.array([np.nonzero(first <= j)[0].max() for j in range(n_unknowns)], dtype=np.int64)
+    by_first = np.argsort(first, kind="stable")  # low[j] = max{i : first[i] <= j}
+    pos = np.searchsorted(first[by_first], np.arange(n_unknowns), side="right") - 1
+    low = np.maximum.accumulate(by_first)[pos].astype(np.int64)
     return Chain(grid, kind, s_grid[grid].astype(float), noff, nslot, gkind, ga, gb, grow, gpar, tuple(end_group),
                  tuple(body_node), n_unknowns, int(nnz), idx_node, idx_slot, kl, ku, low, last)
 

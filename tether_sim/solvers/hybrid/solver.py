@@ -197,9 +197,16 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
     # ------------------------------------------------------------------ stepping
     _rho = None
     _band = None
+    _pcache = (None, None)
 
     def _parameters(self, dt):
         rho = self.opt.rho_inf if self._rho is None else self._rho
+        key = (dt, rho)
+        if self._pcache[0] != key:  # packed once per (step, rho_inf); the kernels only read it
+            self._pcache = (key, self._pack_parameters(dt, rho))
+        return self._pcache[1]
+
+    def _pack_parameters(self, dt, rho):
         am, af, g = gen_alpha_coefficients(rho)
         return pack_parameters(self.config.cable, self.config.environment, dt, am, af, g, self.EI, self.GJ,
                                self.inertia_b, self.inertia_t, self.opt.compression_softening, self.compression_width)
@@ -281,8 +288,11 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         Y[:K][cat, 4:7] /= np.linalg.norm(Y[:K][cat, 4:7], axis=1)[:, None]
         n = ch.n_unknowns
         scale = self._unknown_scales(Yn)
-        kind_ext = np.concatenate([ch.kind, np.full(nb, 2)])
-        tangent_unknowns = (ch.idx_slot >= 4) & (ch.idx_slot < 7) & (kind_ext[ch.idx_node] == zoning.CATENARY)
+        tangent_unknowns = getattr(ch, "tangent_unknowns", None)
+        if tangent_unknowns is None:
+            kind_ext = np.concatenate([ch.kind, np.full(nb, 2)])
+            tangent_unknowns = ch.tangent_unknowns = (ch.idx_slot >= 4) & (ch.idx_slot < 7) & (
+                kind_ext[ch.idx_node] == zoning.CATENARY)
         if self.opt.jacobian == "analytic":
             it = self._newton_compiled(Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns)
         else:
@@ -447,7 +457,8 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
     def _world_velocities(self):
         v = self.Y[:, 0:3].copy()
         rod = self.chain.kind == zoning.ROD
-        v[rod] = np.einsum("kji,kj->ki", self.Lf[rod], self.Y[rod, 0:3])
+        if rod.any():
+            v[rod] = np.einsum("kji,kj->ki", self.Lf[rod], self.Y[rod, 0:3])
         return v
 
     def _node_tension(self, c):
