@@ -72,7 +72,7 @@ def classify(words):
         return "pipeline", None
     if exe == ".venv/bin/python" and words[1:3] == ["-m", "tether_sim.ros.watch"]:
         return "watch", None
-    if exe == ".venv/bin/python":
+    if exe == ".venv/bin/python" or exe == ".venv/bin/tether-sim-study":  # studies: hours of CPU
         return "help", None
     return "unknown", None
 

@@ -27,9 +27,11 @@ from tether_sim.studies.case import run_task
 class Progress:
     """Cases done / failed, throughput and time left, on one terminal line (or a line per update)."""
 
-    def __init__(self, total, skipped=0, stream=None, every=2.0):
+    def __init__(self, total, skipped=0, stream=None, every=2.0, heartbeat=30.0):
         self.total, self.skipped = total, skipped
         self.done = self.failed = 0
+        self.instant = 0  # cases recorded without running (rejected by the loader): not in the rate
+        self.heartbeat = heartbeat
         self.stream = stream or sys.stderr
         self.every = every
         self.t0 = time.monotonic()
@@ -39,7 +41,8 @@ class Progress:
     def line(self) -> str:
         finished = self.done + self.failed
         elapsed = time.monotonic() - self.t0
-        rate = finished / elapsed if elapsed > 0 and finished else 0.0
+        ran = finished - self.instant
+        rate = ran / elapsed if elapsed > 0 and ran > 0 else 0.0
         left = (self.total - finished) / rate if rate > 0 else math.nan
         eta = "?" if math.isnan(left) else _duration(left)
         return (f"[study] {finished}/{self.total} cases ({self.done} ok, {self.failed} failed"
@@ -57,6 +60,11 @@ class Progress:
         if force or now - self._last >= self.every or self.done + self.failed == self.total:
             self._last = now
             self._print(self.line(), newline=not self.tty)
+
+    def tick(self):
+        """Called while cases run: reprint the line at least every ``heartbeat`` seconds."""
+        if time.monotonic() - self._last >= self.heartbeat:
+            self.update(None, force=True)
 
     def close(self):
         self._print(self.line(), newline=True)
@@ -81,8 +89,9 @@ def failed_result(task, error) -> dict:
                     "error": error, **{f"var.{k}": v for k, v in task["variables"].items()}}, "events": []}
 
 
-def run_local(tasks, on_result, workers=None):
-    """Run ``tasks`` on ``workers`` local processes (default: every core)."""
+def run_local(tasks, on_result, workers=None, tick=None):
+    """Run ``tasks`` on ``workers`` local processes (default: every core); ``tick()`` is called
+    every few seconds while they run (progress heartbeat)."""
     workers = max(1, min(workers or os.cpu_count() or 1, len(tasks) or 1))
     pending = list(tasks)
     breakages = {}
@@ -93,7 +102,9 @@ def run_local(tasks, on_result, workers=None):
             pending = []
             broken = False
             while futures:
-                finished, _ = wait(futures, return_when=FIRST_COMPLETED)
+                finished, _ = wait(futures, timeout=5.0, return_when=FIRST_COMPLETED)
+                if tick is not None:
+                    tick()
                 for fut in finished:
                     task = futures.pop(fut)
                     try:
@@ -110,23 +121,30 @@ def run_local(tasks, on_result, workers=None):
                 print(f"[study] a worker process died; {len(pending)} case(s) run again on a new pool", file=sys.stderr)
 
 
-def run_dask(tasks, on_result, scheduler):
+def run_dask(tasks, on_result, scheduler, tick=None):
     """Run ``tasks`` on the Dask cluster at ``scheduler`` (an address or a cluster object)."""
-    from dask.distributed import Client, as_completed
+    from dask.distributed import Client
+    from dask.distributed import wait as dask_wait
 
     with Client(scheduler) as client:
         link = client.dashboard_link
         print(f"[study] Dask scheduler {client.scheduler.address}, {len(client.scheduler_info()['workers'])} "
               f"worker(s); dashboard: {link}", file=sys.stderr)
-        futures = {}
-        for t in tasks:
-            fut = client.submit(run_task, t, key=f"case-{t['index']:05d}-{t['key']}", pure=False)
-            futures[fut] = t
-        for fut in as_completed(list(futures)):
-            task = futures[fut]
+        futures = {client.submit(run_task, t, key=f"case-{t['index']:05d}-{t['key']}", pure=False): t for t in tasks}
+        while futures:
             try:
-                result = fut.result()
-            except Exception as exc:  # noqa: BLE001 - lost worker, cancelled task: a failed case
-                result = failed_result(task, f"{type(exc).__name__}: {exc}")
-            on_result(result)
-            fut.release()
+                finished, _ = dask_wait(list(futures), timeout=5.0, return_when="FIRST_COMPLETED")
+            except TimeoutError:
+                finished = ()
+            except Exception:  # noqa: BLE001 - FuturesCancelledError: the cancelled ones become failed cases
+                finished = [f for f in futures if f.status != "pending"]
+            if tick is not None:
+                tick()
+            for fut in finished:
+                task = futures.pop(fut)
+                try:
+                    result = fut.result()
+                except Exception as exc:  # noqa: BLE001 - lost worker, cancelled task: a failed case
+                    result = failed_result(task, f"{type(exc).__name__}: {exc}")
+                on_result(result)
+                fut.release()

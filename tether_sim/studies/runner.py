@@ -92,14 +92,15 @@ def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=
 
     for result in invalid:
         on_result(result)
+    progress.instant = len(invalid)
     progress.update(None, force=True)
     if tasks:
         if scheduler is None:
-            run_local(tasks, on_result, workers)
+            run_local(tasks, on_result, workers, tick=progress.tick)
         else:
             cluster = _cluster(scheduler, workers)
             try:
-                run_dask(tasks, on_result, cluster)
+                run_dask(tasks, on_result, cluster, tick=progress.tick)
             finally:
                 if cluster is not scheduler:
                     cluster.close()
