@@ -44,6 +44,10 @@ from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.stepper import dg_evaluate, fill_end_kinematics
 
 
+class NewtonFailure(RuntimeError):
+    """The stage equation of an implicit stage did not converge."""
+
+
 class Tableau:
     """Additive Runge-Kutta tableau: explicit AE, implicit AI (ESDIRK), weights b, embedded bhat."""
 
@@ -111,8 +115,8 @@ def order_conditions(tab):
 class DGImex:
     """ARK IMEX stepper over a DGCableSolver's state (prototype; module docstring)."""
 
-    def __init__(self, solver, dt, tableau=ARK3, refresh=20, stride=None, newton_tol=(1e-8, 1e-5),
-                 max_newton=12, slow_after=3):
+    def __init__(self, solver, dt, tableau=ARK3, refresh=20, stride=None, newton_tol=(1e-7, 1e-4),
+                 max_newton=8, slow_after=3, loose=20.0, max_refresh=1, max_halvings=0):
         s = solver
         if s.iprm[Y.I_LAW] not in (LAW_LINEAR, LAW_BILINEAR):
             raise ValueError("imex prototype: linear or bilinear law only")
@@ -120,6 +124,9 @@ class DGImex:
             raise ValueError("imex prototype: no bending damping")
         self.s, self.dt, self.tab = s, float(dt), tableau
         self.refresh, self.max_newton, self.slow_after = int(refresh), int(max_newton), int(slow_after)
+        self.max_refresh = int(max_refresh)
+        self.max_halvings = int(max_halvings)
+        self.loose = float(loose)  # accepted scaled update of a Newton iteration stalled on a kink
         self.prm, self.iprm = s.prm.copy(), s.iprm.copy()
         self.prmE, self.iprmE = s.prm.copy(), s.iprm.copy()
         for k in (Y.P_EA, Y.P_ZETA, Y.P_LAMBDA_BC, Y.P_LAMBDA_FLOOR):
@@ -144,8 +151,12 @@ class DGImex:
         self.lu_dt = None
         self.age = 0
         self.stats = {"rhs": 0, "jac": 0, "lu": 0, "solves": 0, "newton_fail": 0, "steps": 0, "max_iter": 0,
+                      "rejected": 0, "min_dt": self.dt, "backtracks": 0, "loose": 0, "loose_max": 0.0,
+                      "fallback": 0, "fallback_time": 0.0, "fallback_substeps": 0,
                       "t_rhs": 0.0, "t_jac": 0.0, "t_lu": 0.0, "t_solve": 0.0}
         self.err_log = []
+        self.fail_elements = {}  # element of the largest Newton update when a stage failed
+        self.verbose = False
 
     # ------------------------------------------------------------ right-hand sides
     def _eval(self, t, U, ra, bs, explicit_part):
@@ -201,11 +212,12 @@ class DGImex:
         self.stats["t_jac"] += time.perf_counter() - c0
         return J
 
-    def factor(self, J, a):
+    def factor(self, J, ha):
+        """LU of I - ha J (ha = dt a_ii), natural column order (band), partial pivoting."""
         c0 = time.perf_counter()
-        M = sp.identity(self.n, format="csc") - (self.dt * a) * J
-        self.lu = spla.splu(M.tocsc(), permc_spec="NATURAL", diag_pivot_thresh=0.0)
-        self.lu_dt = self.dt * a
+        M = sp.identity(self.n, format="csc") - ha * J
+        self.lu = spla.splu(M.tocsc(), permc_spec="NATURAL")
+        self.lu_dt = ha
         self.age = 0
         self.stats["lu"] += 1
         self.stats["t_lu"] += time.perf_counter() - c0
@@ -218,50 +230,85 @@ class DGImex:
         return x
 
     # ------------------------------------------------------------ one ARK step
-    def _stage_solve(self, t, Z, guess, ra, bs, a):
-        """U = Z + dt a f_I(U) by simplified Newton; returns U, fE, fI, dra, dbs, endf at U."""
-        U = guess.copy()
-        refreshed = False
-        for it in range(self.max_newton):
-            fE, fI, dra, dbs, endf = self.split_rhs(t, U, ra, bs)
-            R = U - Z - (self.dt * a) * fI
-            dU = self.solve(-R)
-            if np.all(np.abs(dU) <= self.tol):
-                self.stats["max_iter"] = max(self.stats["max_iter"], it + 1)
-                return U, fE, fI, dra, dbs, endf
-            if it + 1 >= self.slow_after and not refreshed:  # slow: the active set changed, refresh J here
-                self.factor(self.jacobian(t, U, ra, bs, fI), a)
-                refreshed = True
-                dU = self.solve(-R)
-            U = U + dU
-        self.stats["newton_fail"] += 1
-        fE, fI, dra, dbs, endf = self.split_rhs(t, U, ra, bs)
-        return U, fE, fI, dra, dbs, endf
+    def _newton_update(self, t, U, Z, ra, bs, ha):
+        F = self.split_rhs(t, U, ra, bs)
+        dU = self.solve(-(U - Z - ha * F[1]))
+        size = np.max(np.abs(dU) / self.tol)
+        return F, dU, size if np.isfinite(size) else np.inf
 
-    def step(self, t):
-        """One ARK step from (t, solver state) to t + dt, in place. Returns the end tensions at t."""
-        s, tab, dt = self.s, self.tab, self.dt
+    def _stage_solve(self, t, Z, guess, ra, bs, ha):
+        """U = Z + ha f_I(U) by a simplified Newton iteration with backtracking (natural monotonicity
+        test on the scaled update: the tension law is only piecewise smooth -- slack, the damping
+        clip and the no-compression clip of the end fluxes -- and undamped Newton can cycle across
+        those kinks). Converged when the scaled update max |dU| / tol <= 1. The Jacobian is refreshed
+        at the current iterate when the iteration is slow or stalls; an iteration that stalls even
+        with a fresh Jacobian (it sits on a kink: the one-sided Jacobian overshoots) is accepted if
+        its scaled update is <= ``loose`` (default 20: |dq| <= 2e-6, a tension change <= ~100 N on
+        ROPOS), counted in stats "loose". Returns U, fE, fI, dra, dbs, endf at U; raises
+        NewtonFailure (the caller halves the step)."""
+        U = guess.copy()
+        refreshes = 0
+        F, dU, size = self._newton_update(t, U, Z, ra, bs, ha)
+        for it in range(self.max_newton):
+            if self.verbose:
+                print(f"      newton t = {t:.6f} it {it} size {size:.3e} refreshes {refreshes}")
+            if size <= 1.0:
+                self.stats["max_iter"] = max(self.stats["max_iter"], it + 1)
+                return (U,) + F
+            lam = 1.0
+            while True:
+                Un = U + lam * dU
+                Fn, dUn, sn = self._newton_update(t, Un, Z, ra, bs, ha)
+                if sn <= (1.0 - 0.5 * lam) * size or lam < 0.1:
+                    break
+                lam *= 0.5
+                self.stats["backtracks"] += 1
+            stalled = sn > (1.0 - 0.5 * lam) * size
+            if not stalled:
+                U, F, dU, size = Un, Fn, dUn, sn
+            # semismooth Newton: a fresh Jacobian at the iterate whenever the step had to be damped
+            # (a kink was crossed) or the iteration is slow
+            if (stalled or lam < 1.0 or it + 1 >= self.slow_after) and refreshes < self.max_refresh and size > 1.0:
+                self.factor(self.jacobian(t, U, ra, bs, F[1]), ha)
+                refreshes += 1
+                F, dU, size = self._newton_update(t, U, Z, ra, bs, ha)
+            elif stalled:
+                if size <= self.loose:  # stalled on a kink, close enough: accept, counted
+                    self.stats["loose"] += 1
+                    self.stats["loose_max"] = max(self.stats["loose_max"], float(size))
+                    return (U,) + F
+                break
+        self.stats["newton_fail"] += 1
+        e = int(np.unravel_index(np.argmax(np.abs(dU) / self.tol), dU.shape)[0])
+        self.fail_elements[e] = self.fail_elements.get(e, 0) + 1
+        raise NewtonFailure(t)
+
+    def _try_step(self, t, dt):
+        s, tab = self.s, self.tab
         U0, ra0, bs0 = s.U.copy(), s.ra.copy(), s._bs.copy()
         ns = tab.s
         FE, FI, FR, FB = [None] * ns, [None] * ns, [None] * ns, [None] * ns
-        a = tab.AI[1, 1]
-        for i in range(ns):
-            ti = t + tab.c[i] * dt
-            ra = ra0 + dt * sum(tab.AE[i, j] * FR[j] for j in range(i)) if i else ra0
-            bs = bs0 + dt * sum(tab.AE[i, j] * FB[j] for j in range(i)) if i else bs0.copy()
-            if i == 0 or tab.AI[i, i] == 0.0:
+        ha = dt * tab.AI[1, 1]
+        tension = None
+        try:
+            for i in range(ns):
+                ti = t + tab.c[i] * dt
+                ra = ra0 + dt * sum(tab.AE[i, j] * FR[j] for j in range(i)) if i else ra0
+                bs = bs0 + dt * sum(tab.AE[i, j] * FB[j] for j in range(i)) if i else bs0.copy()
                 Z = U0 + dt * sum(tab.AE[i, j] * FE[j] + tab.AI[i, j] * FI[j] for j in range(i)) if i else U0
-                fE, fI, dra, dbs, endf = self.split_rhs(ti, Z, ra, bs)
-                U = Z
-                if i == 0:
-                    tension = (endf[0, Y.E_T], endf[1, Y.E_T])
-                    if self.lu is None or self.age >= self.refresh or self.lu_dt != dt * a:
-                        self.factor(self.jacobian(ti, U0, ra, bs, fI), a)
-            else:
-                Z = U0 + dt * sum(tab.AE[i, j] * FE[j] + tab.AI[i, j] * FI[j] for j in range(i))
-                guess = Z + (dt * tab.AI[i, i]) * FI[i - 1]
-                U, fE, fI, dra, dbs, endf = self._stage_solve(ti, Z, guess, ra, bs, tab.AI[i, i])
-            FE[i], FI[i], FR[i], FB[i] = fE, fI, dra, dbs
+                if tab.AI[i, i] == 0.0:
+                    fE, fI, dra, dbs, endf = self.split_rhs(ti, Z, ra, bs)
+                    if i == 0:
+                        tension = (endf[0, Y.E_T], endf[1, Y.E_T])
+                        if self.lu is None or self.age >= self.refresh or self.lu_dt != ha:
+                            self.factor(self.jacobian(ti, U0, ra, bs, fI), ha)
+                else:
+                    guess = Z + ha * FI[i - 1]
+                    _, fE, fI, dra, dbs, endf = self._stage_solve(ti, Z, guess, ra, bs, ha)
+                FE[i], FI[i], FR[i], FB[i] = fE, fI, dra, dbs
+        except NewtonFailure:
+            s.U[...], s.ra[:], s._bs[...] = U0, ra0, bs0
+            raise
         bE = getattr(tab, "bE", tab.b)
         s.U[...] = U0 + dt * sum(bE[j] * FE[j] + tab.b[j] * FI[j] for j in range(ns))
         s.ra[:] = ra0 + dt * sum(bE[j] * FR[j] for j in range(ns))
@@ -275,6 +322,49 @@ class DGImex:
         if not np.all(np.isfinite(s.U)):
             raise FloatingPointError(f"IMEX state non-finite at t = {t + dt:.6g} s")
         return tension
+
+    def step(self, t, dt=None, depth=0):
+        """One ARK step from (t, solver state) to t + dt, in place; returns the end tensions at t.
+        A step whose Newton iteration fails is redone as two half steps (counted in stats
+        "rejected"), at most ``max_halvings`` times; below that the interval is integrated by the
+        explicit solver itself (compiled SSP-RK3 at its stable step, ``explicit_fallback``,
+        counted in stats "fallback" / "fallback_time")."""
+        dt = self.dt if dt is None else dt
+        try:
+            return self._try_step(t, dt)
+        except NewtonFailure:
+            if depth >= self.max_halvings:
+                return self.explicit_fallback(t, dt)
+            self.stats["rejected"] += 1
+            self.stats["min_dt"] = min(self.stats["min_dt"], 0.5 * dt)
+            tension = self.step(t, 0.5 * dt, depth + 1)
+            self.step(t + 0.5 * dt, 0.5 * dt, depth + 1)
+            return tension
+
+    def explicit_fallback(self, t, dt):
+        """Integrate [t, t + dt] with the solver's own compiled explicit loop (SSP-RK3, explicit
+        damping, its stable substep). The prescribed end follows the same cubic: the Hermite segment
+        of the sub-interval with the tick's position and velocity at its ends is the same cubic."""
+        s = self.s
+        bc_saved = s.bc.copy()
+        pv0, pv1 = np.zeros(6), np.zeros(6)
+        from tether_sim.solvers.dg.kernels import hermite_end
+        for e in range(2):
+            if s.kinds[e] == "prescribed":
+                hermite_end(bc_saved, e, t, pv0)
+                hermite_end(bc_saved, e, t + dt, pv1)
+                s._end_pos[e], s._end_vel[e] = pv0[0:3].copy(), pv0[3:6].copy()
+                s._target[e] = (pv1[0:3].copy(), pv1[3:6].copy())
+        s.time = t
+        s.drain_end_tensions()
+        n = s.advance_to(t + dt)
+        tt, t0, t1 = s.drain_end_tensions()
+        s.bc[...] = bc_saved
+        self.stats["fallback"] += 1
+        self.stats["fallback_time"] += dt
+        self.stats["fallback_substeps"] += n
+        self.lu = None  # the state moved: fresh Jacobian on the next IMEX step
+        return (t0[0], t1[0]) if len(t0) else (np.nan, np.nan)
 
     def _set_anchor(self, t):
         s = self.s
@@ -303,9 +393,9 @@ def run_driven(solver, imex, duration, motion=None, rate=50.0, end=0, progress=N
     p, v = (solver._end_pos[end].copy(), solver._end_vel[end].copy())
     ts, ts0, ts1 = [], [], []
     c0 = time.thread_time()
-    t = solver.time
+    t = t_start = solver.time
     for k in range(int(round(duration * rate))):
-        t1 = (k + 1) / rate
+        t1 = t_start + (k + 1) / rate
         if motion is not None:
             p1, v1 = motion(t1)
             set_hermite(solver, end, t1 - 1.0 / rate, t1, p, v, np.asarray(p1), np.asarray(v1))
@@ -320,4 +410,55 @@ def run_driven(solver, imex, duration, motion=None, rate=50.0, end=0, progress=N
         if progress and (k + 1) % int(rate) == 0:
             progress(t)
     solver.time = t
+    solver._end_pos[end], solver._end_vel[end] = p, v
     return np.array(ts), np.array(ts0), np.array(ts1), time.thread_time() - c0
+
+
+class DGRosW(DGImex):
+    """Linearly implicit IMEX: the two-stage Rosenbrock-W method ROS2 of Verwer, Spee, Blom &
+    Hundsdorfer (1999), gamma = 1 + 1/sqrt(2), with W = I - gamma dt J_I, J_I = d f_I / dU (the
+    implicit part of the split above, frozen between refreshes), f the whole right-hand side:
+
+        W k1 = f(t, y),    W k2 = f(t + dt, y + dt k1) - 2 k1,    y+ = y + dt (3/2 k1 + 1/2 k2)
+
+    Second order for ANY matrix J (a W-method), L-stable for J = df/dy (R(-inf) = 0). With
+    J = J_I the non-stiff part f_E is treated explicitly inside the same stages (no splitting);
+    r_a and the body states have zero rows in J (explicit). No Newton iteration: the slack/taut,
+    damping-clip and end-clip switches are in f (evaluated exactly at both stages), J sees them as
+    at its last refresh. Cost per step: 2 right-hand sides + 2 banded solves (+ J, LU on refresh)."""
+
+    GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
+
+    def __init__(self, solver, dt, refresh=1, **kw):
+        super().__init__(solver, dt, refresh=refresh, **kw)
+        self.tab = None
+
+    def _full(self, t, U, ra, bs):
+        self._eval(t, U, ra, bs, False)
+        return self._dU.copy(), self._dra.copy(), self._dbs.copy(), self._endf.copy()
+
+    def _try_step(self, t, dt):
+        s = self.s
+        U0, ra0, bs0 = s.U.copy(), s.ra.copy(), s._bs.copy()
+        ha = self.GAMMA * dt
+        f1, r1, b1, endf = self._full(t, U0, ra0, bs0)
+        tension = (endf[0, Y.E_T], endf[1, Y.E_T])
+        if self.lu is None or self.age >= self.refresh or self.lu_dt != ha:
+            fI = self.f_implicit(t, U0, ra0, bs0)
+            self.factor(self.jacobian(t, U0, ra0, bs0, fI), ha)
+        k1 = self.solve(f1)
+        f2, r2, b2, _ = self._full(t + dt, U0 + dt * k1, ra0 + dt * r1, bs0 + dt * b1)
+        k2 = self.solve(f2 - 2.0 * k1)
+        s.U[...] = U0 + dt * (1.5 * k1 + 0.5 * k2)
+        s.ra[:] = ra0 + dt * (1.5 * r1 + 0.5 * (r2 - 2.0 * r1))
+        s._bs[...] = bs0 + dt * (1.5 * b1 + 0.5 * (b2 - 2.0 * b1))
+        self.err_log.append((t, np.abs(0.5 * dt * (k2 + k1))[..., 0:3].max(), np.abs(0.5 * dt * (k2 + k1))[..., 3:6].max()))
+        self._set_anchor(t + dt)
+        self.age += 1
+        self.stats["steps"] += 1
+        if not np.all(np.isfinite(s.U)):
+            raise FloatingPointError(f"ROS2 state non-finite at t = {t + dt:.6g} s")
+        return tension
+
+    def step(self, t, dt=None, depth=0):
+        return self._try_step(t, self.dt if dt is None else dt)

@@ -49,10 +49,10 @@ def vehicle_tension(t):
     return PEAK if abs(t - T_PEAK) < 1e-9 else 2000.0
 
 
-def write_output(path, prefix, ts):
+def write_output(path, prefix, ts, chunk_size=1 << 20):
     T = ts.types
     s = np.linspace(0.0, L, N_S)
-    with RosMcapWriter(path, msg_search_path=[prefix]) as w:
+    with RosMcapWriter(path, msg_search_path=[prefix], chunk_size=chunk_size) as w:
         w.add_topic("/tether/state", "tether_sim_msgs/msg/TetherState")
         w.add_topic("/tether/snap_events", "tether_sim_msgs/msg/SnapLoadEvent")
         w.add_topic("/tether/slack_warnings", "tether_sim_msgs/msg/SlackWarning")
@@ -67,7 +67,7 @@ def write_output(path, prefix, ts):
                 velocity=[T["geometry_msgs/msg/Vector3"](x=0.1, y=0.0, z=0.0) for _ in s],
                 tension=np.linspace(ship, tv, N_S), curvature=np.zeros(N_S),
                 bending_moment=np.zeros(N_S), ship_end_tension=ship, vehicle_end_tension=tv,
-                time_step=1e-3, real_time_factor=1.0)
+                time_step=1e-3, real_time_factor=1.0, lag=0.0, degraded=False)
             log = T0_NS + k * 10**8
             w.write("/tether/state", ts.serialize_cdr(state, "tether_sim_msgs/msg/TetherState"), log)
             wrench = T["geometry_msgs/msg/WrenchStamped"](header=_header(ts, t), wrench=T["geometry_msgs/msg/Wrench"](
@@ -84,7 +84,7 @@ def write_output(path, prefix, ts):
                     header=_header(ts, t), end="vehicle", arc_length=L, peak_tension=PEAK,
                     min_tension=50.0, slack_start=_stamp(ts, SLACK[0]), slack_duration=1.0,
                     rise_time=0.3, static_tension=2000.0, amplification=PEAK / 2000.0,
-                    criterion="slack_threshold")
+                    criterion="slack_threshold", lag=0.0, degraded=False)
                 w.write("/tether/snap_events", ts.serialize_cdr(snap, "tether_sim_msgs/msg/SnapLoadEvent"), log)
     return path
 
@@ -148,3 +148,18 @@ def test_report_names_the_dg_mesh_from_the_description():
     assert _mesh_line(params) == (" DG mesh: N = 3, P = 4, dg.cfl 0.8 (dg.resolution auto, first-snap-peak "
                                   "tolerance 1 %).")
     assert _mesh_line({**params, "solver": "hybrid"}) == "" and _mesh_line({}) == ""
+def test_report_of_a_truncated_file_says_so(tmp_path, prefix, store, capsys):
+    path = write_output(tmp_path / "out.mcap", prefix, store, chunk_size=16384)
+    data = path.read_bytes()
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(data[: len(data) // 2])  # a crash half-way through the file
+    with pytest.warns(UserWarning, match="truncated"):
+        result = make_report(cut, tmp_path / "fig")
+    assert 0 < len(result["run"].t) < N_T
+    assert "**Truncated recording.**" in result["markdown"] and "complete chunk(s)" in result["markdown"]
+    # a file cut before its first complete chunk: a clear error naming the truncation, exit 2
+    single = write_output(tmp_path / "single.mcap", prefix, store)
+    empty = tmp_path / "empty_cut.mcap"
+    empty.write_bytes(single.read_bytes()[: single.stat().st_size // 2])
+    assert main([str(empty), "--out-dir", str(tmp_path / "fig2")]) == 2
+    assert "truncated" in capsys.readouterr().err

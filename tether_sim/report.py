@@ -63,6 +63,8 @@ class RunData:
     diagnostics: dict = field(default_factory=dict)  # status name -> {key: value} (last seen)
     time_label: str = "time since the first state"
     parameters: dict = field(default_factory=dict)  # key -> value text of the last TetherDescription
+    degraded: np.ndarray | None = None  # (n_t,) bool: the node marked the state degraded (late/blended)
+    truncation: str | None = None  # what a crash cut off the file (None: complete)
 
 
 def _topics_of(summary, type_name):
@@ -75,9 +77,10 @@ def load_run(path, t0_s: float | None = None) -> RunData:
     path = Path(path)
     summary = read_summary(path)
     state_topics = _topics_of(summary, STATE_TYPE)
+    lost = f" ({summary.damage.describe()})" if summary.damage is not None else ""
     if not state_topics:
         found = ", ".join(f"{t} ({i.type_name})" for t, i in sorted(summary.topics.items())) or "none"
-        raise ReportError(f"{path}: no {STATE_TYPE} topic to report on (topics: {found})")
+        raise ReportError(f"{path}: no {STATE_TYPE} topic to report on (topics: {found}){lost}")
     state_topic = "/tether/state" if "/tether/state" in state_topics else state_topics[0]
     wrench_topics = {end: t for t in _topics_of(summary, WRENCH_TYPE) for end in ENDS if end in t}
     wanted = [state_topic, *_topics_of(summary, SNAP_TYPE), *_topics_of(summary, SLACK_TYPE),
@@ -85,6 +88,7 @@ def load_run(path, t0_s: float | None = None) -> RunData:
     parameters = {}
     diagnostics = {}
     times, positions, tensions, ends, snaps, warns = [], [], [], {e: [] for e in ENDS}, [], []
+    degraded = []
     wrench = {end: ([], []) for end in wrench_topics}
     arc, solver = None, ""
     for topic, type_name, _, msg in read_messages(path, wanted):
@@ -99,6 +103,7 @@ def load_run(path, t0_s: float | None = None) -> RunData:
             tensions.append(np.asarray(msg.tension, dtype=float))
             ends["ship"].append(msg.ship_end_tension)
             ends["vehicle"].append(msg.vehicle_end_tension)
+            degraded.append(bool(getattr(msg, "degraded", False)))  # recordings before the field: False
         elif type_name == SNAP_TYPE:
             snaps.append({"end": msg.end, "arc_length": msg.arc_length,
                           "t_peak": stamp_seconds(msg.header.stamp), "peak": msg.peak_tension,
@@ -122,7 +127,7 @@ def load_run(path, t0_s: float | None = None) -> RunData:
             wrench[end][0].append(stamp_seconds(msg.header.stamp))
             wrench[end][1].append(float(np.sqrt(f.x * f.x + f.y * f.y + f.z * f.z)))
     if not times:
-        raise ReportError(f"{path}: topic {state_topic} holds no TetherState messages")
+        raise ReportError(f"{path}: topic {state_topic} holds no TetherState messages{lost}")
     t = np.asarray(times)
     order = np.argsort(t, kind="stable")
     t0 = float(t[order[0]]) if t0_s is None else float(t0_s)
@@ -135,7 +140,8 @@ def load_run(path, t0_s: float | None = None) -> RunData:
                    np.asarray(tensions)[order],
                    {e: np.asarray(v, dtype=float)[order] for e, v in ends.items()}, snaps, warns,
                    {e: (np.asarray(tw) - t0, np.asarray(fw)) for e, (tw, fw) in wrench.items()},
-                   diagnostics, parameters=parameters)
+                   diagnostics, parameters=parameters, degraded=np.asarray(degraded, bool)[order],
+                   truncation=summary.damage.describe() if summary.damage is not None else None)
 
 
 def below_intervals(t: np.ndarray, values: np.ndarray, threshold: float) -> list[tuple[float, float]]:
@@ -214,8 +220,15 @@ def summary_markdown(run: RunData, periods: dict, figures: dict) -> str:
     lines = [f"# Tether report: `{run.path.name}`", "",
              f"Solver `{run.solver}`, {len(run.t)} states over {duration:.2f} s "
              f"({rate:.1f} Hz), {len(run.arc_length)} output points, L = {run.arc_length[-1]:.1f} m. "
-             f"Times below: {run.time_label}, s.{_mesh_line(run.parameters)}",
-             "", "| end | static (first state) [N] | mean [N] | min [N] | max [N] |",
+             f"Times below: {run.time_label}, s.{_mesh_line(run.parameters)}", ""]
+    if run.truncation:
+        lines += [f"**Truncated recording.** {run.truncation}. This report covers what was kept; "
+                  "`tether-sim-recover` rewrites the file into a complete MCAP.", ""]
+    if run.degraded is not None and run.degraded.any():
+        lines += [f"**Degraded states: {int(run.degraded.sum())} of {len(run.t)}** (the node was behind the clock, "
+                  "blending an end onto its input after a gap, or had snap detection suspended; docs/node.md). "
+                  "Shaded grey in the end-tension figure.", ""]
+    lines += ["| end | static (first state) [N] | mean [N] | min [N] | max [N] |",
              "|---|---|---|---|---|"]
     for end, value in static_tensions(run).items():
         series = run.end_tension[end]

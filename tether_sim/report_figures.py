@@ -29,6 +29,23 @@ def _label_peaks(ax, snaps, run) -> None:
                     fontsize=8, color="tab:red", annotation_clip=True)
 
 
+def degraded_intervals(run) -> list:
+    """(start, end) times of the runs of states the node marked degraded."""
+    flags = getattr(run, "degraded", None)
+    if flags is None or not len(flags) or not flags.any():
+        return []
+    out, start = [], None
+    for t, d in zip(run.t, flags):
+        if d and start is None:
+            start = t
+        elif not d and start is not None:
+            out.append((start, t))
+            start = None
+    if start is not None:
+        out.append((start, run.t[-1]))
+    return out
+
+
 def plot_end_tensions(run, periods: dict, path: Path) -> Path:
     """Ship and vehicle end tension vs time; slack periods shaded, snap peaks marked."""
     fig, axes = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True, constrained_layout=True)
@@ -39,6 +56,9 @@ def plot_end_tensions(run, periods: dict, path: Path) -> Path:
             tw, fw = run.wrench[end]
             ax.plot(tw, fw / 1e3, color="k", lw=0.7, ls="--", alpha=0.7,
                     label=f"|force| of the {end} wrench")
+        for i, (a, b) in enumerate(degraded_intervals(run)):
+            ax.axvspan(a, b, color="0.5", alpha=0.2, lw=0,
+                       label="degraded (node behind / end blended; not physics)" if i == 0 else None)
         for i, p in enumerate(periods[end]):
             ax.axvspan(p["start"], max(p["end"], p["start"] + 1e-3), color="tab:red", alpha=0.15,
                        lw=0, label="slack period" if i == 0 else None)

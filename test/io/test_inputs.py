@@ -144,3 +144,59 @@ def test_slerp_and_rotation_matrix():
     R = rotation_matrix(yaw_quaternion(math.pi / 2))
     np.testing.assert_allclose(R @ np.array([1.0, 0.0, 0.0]), (0.0, 1.0, 0.0), atol=1e-12)
     np.testing.assert_allclose(R.T @ R, np.eye(3), atol=1e-12)
+
+
+# ---------------------------------------------------------------- timing against the node's clock
+def test_stamps_are_checked_against_the_clock_with_distinct_reasons():
+    inp = EndPoseInput("ship", future_tolerance=0.25, max_age=2.0, input_timeout=1.0)
+    assert inp.add_pose(100.0, (0.0, 0.0, 0.0), IDENTITY, now=100.0) is None
+    assert inp.add_pose(3700.0, (0.0, 0.0, 0.0), IDENTITY, now=100.1) == "stamp in the future"
+    assert inp.add_pose(97.0, (0.0, 0.0, 0.0), IDENTITY, now=100.1) == "stamp too old"
+    assert inp.add_pose(99.9, (0.0, 0.0, 0.0), IDENTITY, now=100.1) == "stamp not increasing"
+    assert inp.add_pose(100.2, (0.0, 0.0, 0.0), IDENTITY, now=100.05) is None  # within the tolerance
+    # the single future pose did not block the input: later valid poses are accepted
+    for k in range(1, 6):
+        assert inp.add_pose(100.2 + 0.1 * k, (0.0, 0.0, 0.0), IDENTITY, now=100.2 + 0.1 * k) is None
+    assert dict(inp.rejected) == {"stamp in the future": 1, "stamp too old": 1, "stamp not increasing": 1}
+    assert not inp.is_stale(100.8)
+
+
+def test_stale_when_nothing_valid_arrives_whatever_the_stamps_say():
+    # a pose accepted slightly in the future makes age() negative; silence still makes it stale
+    inp = EndPoseInput("ship", future_tolerance=0.25, input_timeout=1.0)
+    assert inp.add_pose(10.2, (0.0, 0.0, 0.0), IDENTITY, now=10.0) is None
+    assert inp.age(10.1) < 0 and not inp.is_stale(10.1)
+    for k in range(1, 30):  # only future-stamped poses from now on: all rejected
+        assert inp.add_pose(20.0 + k, (0.0, 0.0, 0.0), IDENTITY, now=10.0 + 0.1 * k) == "stamp in the future"
+    assert inp.is_stale(11.1) and inp.health(11.1)["since_accepted"] == pytest.approx(1.1)
+
+
+# ---------------------------------------------------------------- history sized by time
+def test_history_is_sized_by_time_and_correct_at_1_khz():
+    # 1 kHz samples of a 2 m, 0.2 Hz orbit for 4 s; the node looks back input_delay + lag, here up
+    # to 1.2 s. Session 2 kept 64 samples (0.064 s at 1 kHz): a query 0.2 s back returned the oldest
+    # sample with zero velocity. Tolerances: h = 1 ms central differences err by a w^3 h^2 / 6 ~ 4e-7
+    # m/s; Hermite position error ~ h * that ~ 1e-9 m -> 1e-6 m and 1e-4 m/s
+    inp = EndPoseInput("ship", history_span=1.5)
+    for k in range(4001):
+        assert inp.add_pose(k * 1e-3, circle(k * 1e-3)[0], IDENTITY) is None
+    assert 1.5 <= inp.span() < 1.5 + 0.065 and inp.health(4.0)["history_samples"] <= 1566
+    for back in (0.0025, 0.2, 0.7, 1.2, 1.45):  # (the newest interval has a one-sided slope)
+        t = 4.0 - back
+        p, v = inp.attachment_at(t)
+        p_ref, v_ref = circle(t)
+        assert np.linalg.norm(p - p_ref) < 1e-6 and np.linalg.norm(v - v_ref) < 1e-4, back
+
+
+def test_a_flood_is_capped_in_samples():
+    inp = EndPoseInput("ship", history_span=10.0, max_samples=1000)
+    for k in range(5000):  # 100 kHz flood
+        inp.add_pose(k * 1e-5, (0.0, 0.0, 0.0), IDENTITY)
+    assert len(inp._samples) <= 1000 and inp.accepted == 5000
+
+
+def test_is_held_beyond_the_extrapolation():
+    inp = EndPoseInput("ship", max_extrapolation=0.2)
+    assert inp.is_held(0.0)
+    inp.add_pose(1.0, (0.0, 0.0, 0.0), IDENTITY)
+    assert not inp.is_held(1.1) and inp.is_held(1.3)

@@ -246,6 +246,36 @@ def test_sigkill_mid_write_keeps_complete_chunks(tmp_path, prefix):
     with pytest.warns(TruncatedMcapWarning):
         info = read_summary(path)
     assert not info.complete and info.profile == "ros2" and info.topics["/chatter"].message_count == 300
+    assert "kept 3 complete chunk(s)" in info.damage.describe()
+    # mcap's own reader and rosbags refuse the cut file ...
+    from mcap.reader import make_reader
+    from rosbags.highlevel import AnyReader
+
+    with pytest.raises(Exception), open(path, "rb") as handle:  # noqa: B017 - any refusal will do
+        list(make_reader(handle).iter_messages())
+    # ... tether-sim-recover rewrites it into a complete MCAP both open, losing only the open chunk
+    from tether_sim.io.mcap_recover import main as recover_main, recover
+
+    result = recover(path)
+    # (the open chunk lived in the writer's memory: nothing of it reached the file)
+    assert result.messages == 300 and not result.damage.complete
+    out = Path(result.output)
+    with open(out, "rb") as handle:
+        reader = make_reader(handle)
+        summary = reader.get_summary()
+        assert summary.statistics.message_count == 300 and len(summary.chunk_indexes) >= 1
+        got = [m.data[8:-1].decode() for _, _, m in reader.iter_messages(log_time_order=True)]
+        assert got == ["message %05d" % i for i in range(300)]
+        meta = {m.name: m.metadata for m in reader.iter_metadata()}
+    bag = yaml.safe_load(meta["rosbag2"]["serialized_metadata"])
+    assert bag["message_count"] == 300 and bag["topics_with_message_count"][0]["message_count"] == 300
+    assert out.read_bytes()[-8:] == b"\x89MCAP0\r\n"  # end magic
+    with AnyReader([out], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as bag_reader:
+        texts = [bag_reader.deserialize(raw, c.msgtype).data for c, _, raw in bag_reader.messages()]
+    assert texts == ["message %05d" % i for i in range(300)]
+    assert read_summary(out).complete and read_summary(out).damage is None
+    assert recover_main([str(path), str(tmp_path / "again.mcap")]) == 0
+    assert recover_main([str(tmp_path / "missing.mcap")]) == 2
 
 
 def test_truncated_file_reads_up_to_last_complete_chunk(tmp_path, prefix, typestore):

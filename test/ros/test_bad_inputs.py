@@ -138,3 +138,48 @@ def test_clock_jumping_back_like_a_looping_replay(h):
     # poses that arrive before the /clock jump are still judged against the old history; after it
     # the history is reset and the new poses are accepted again
     assert h.node.inputs["ship"].last_stamp == pytest.approx(1.3)
+
+
+def test_one_node_through_future_and_zero_stamps_a_failing_tick_and_an_undeclared_parameter(h):
+    # issue 13, defect 2: one pose stamped an hour ahead is rejected for what it is and does not
+    # disable the input (session 2 then rejected every later pose and never reported it stale)
+    n = len(h.received["/tether/state"])
+    send_bad(h, h.pose_msg(h.time + 3600.0, (1.0, 0.0, 0.0)), "stamp in the future")
+    accepted = h.node.inputs["ship"].accepted
+    h.run(h.time + 1.2, ship=SHIP)
+    still_running(h, n)
+    assert h.node.inputs["ship"].accepted >= accepted + 30 and not h.node.inputs["ship"].is_stale(h.time)
+    st = ship_input_status(h)
+    assert int(values(st)["rejected_stamp in the future"]) == 1 and st.level != b"\x03"  # not STALE
+    # a zero stamp is taken at the node's clock
+    accepted = h.node.inputs["ship"].accepted
+    h.pose_pubs["ship"].publish(h.pose_msg(0.0, SHIP))
+    for _ in range(200):
+        h.spin(1)
+        if h.node.inputs["ship"].accepted > accepted:
+            break
+    assert h.node.inputs["ship"].last_stamp == pytest.approx(h.time)
+    # an exception in a tick (not a divergence) is reported as what it is; the node goes on
+    original = h.node.driver.tick
+    calls = {"n": 0}
+
+    def fail_once(now):
+        calls["n"] += 1
+        if calls["n"] == 1:
+            raise KeyError("injected")
+        return original(now)
+
+    h.node.driver.tick = fail_once
+    n = len(h.received["/tether/state"])
+    h.run(h.time + 1.2, ship=SHIP)
+    still_running(h, n)
+    sims = [status(d, "simulation") for d in h.received["/diagnostics"]]
+    failed = [s for s in sims if "tick(s) failed" in s.message]
+    assert failed and "KeyError" in failed[-1].message and not any("diverged" in s.message for s in sims)
+    assert h.node.driver.divergences == 0
+    # an undeclared parameter is named (rclpy alone answers "undeclared parameter(s): []")
+    from rclpy.exceptions import ParameterNotDeclaredException
+    from rclpy.parameter import Parameter
+
+    with pytest.raises(ParameterNotDeclaredException, match=r"'cable\.EAA' \(did you mean 'cable\.EA'\?\)"):
+        h.node.set_parameters([Parameter("cable.EAA", value=1.0)])

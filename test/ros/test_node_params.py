@@ -129,3 +129,14 @@ def test_resolution_auto_refuses_an_explicit_mesh(node_factory):
     node, path = node_factory(AUTO, extra=("-p", "dg.n_elements:=20"))
     with pytest.raises(ConfigError, match="dg.n_elements = 20 is set while dg.resolution is auto"):
         node_params.declare_all(node, path)
+
+
+def test_a_bad_command_line_override_is_blamed_on_the_override_not_the_file(node_factory):
+    from tether_sim.ros.sim_node import cli_param_keys
+
+    argv = ["tether-sim", "--ros-args", "--params-file", "x.yaml", "-p", "dg.order:=99"]
+    assert cli_param_keys(argv) == {"dg.order"}
+    node, path = node_factory(GOOD, extra=["-p", "dg.order:=99"])
+    with pytest.raises(ConfigError, match="command-line -p override") as err:
+        node_params.declare_all(node, path, cli_keys=cli_param_keys(argv))
+    assert path not in str(err.value)

@@ -120,3 +120,12 @@ def test_parameter_errors_name_the_key_and_the_file(tmp_path, capsys, extra, nee
     assert main(["--params", params, "--output", str(tmp_path / "o.mcap"), "--no-progress"]) == 2
     err = capsys.readouterr().err
     assert needle in err and params in err
+
+
+def test_an_output_path_under_a_regular_file_is_a_clear_error(tmp_path, capsys):
+    params = write_params(tmp_path / "p.yaml")
+    blocker = tmp_path / "file.txt"
+    blocker.write_text("a regular file")
+    assert main(["--params", params, "--output", str(blocker / "sub" / "out.mcap"), "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert "is a regular file, not a directory" in err and "Traceback" not in err

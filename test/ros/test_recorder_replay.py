@@ -163,6 +163,24 @@ def test_recorder_sigkill_keeps_complete_chunks(tmp_path, isolated_ros_env):
         info = read_summary(rec)  # also tolerant
     assert not info.complete and info.topics["/ship/pose"].message_count == len(got)
     assert info.topics["/ship/pose"].offered_qos_profiles[0]["reliability"] == "reliable"
+    # replaying the cut file publishes what is there, with a warning naming the loss
+    proc = start("tether_sim.ros.replay_node", rec, "--no-clock", "--rate", 20, env=env)
+    out, _ = proc.communicate(timeout=60)
+    assert "truncated" in out and f"replay finished: {len(got)} messages published" in out, out
+    # a file cut before its first complete chunk: replay fails loudly (exit 2)
+    empty = tmp_path / "cut_early.mcap"
+    empty.write_bytes(src.read_bytes()[: src.stat().st_size // 2])  # one 1 MB chunk, cut in half
+    proc = start("tether_sim.ros.replay_node", empty, "--no-clock", env=env)
+    out, _ = proc.communicate(timeout=60)
+    assert proc.returncode == 2 and "no complete message to replay" in out and "truncated" in out, out
+    # a recorder started on the same path keeps the leftover (moved aside, said at start-up)
+    from tether_sim.ros.recorder_node import keep_unfinished
+
+    aside = keep_unfinished(rec)
+    assert aside is not None and aside.name == "killed.unfinished-1.mcap" and not rec.exists()
+    from tether_sim.io.mcap_recover import recover
+
+    assert recover(aside).messages == len(got)
 
 
 HEAVE_A, HEAVE_F, NODE_RATE_HZ, NODE_SECONDS = 0.2, 0.5, 20, 3.0

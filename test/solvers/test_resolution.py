@@ -23,28 +23,31 @@ TABLE = res._WORST_ERROR
 
 def test_table_is_the_measured_ladder_rounded_up():
     measured = worst_errors(read_rows(CSV))
-    assert set(TABLE) == set(measured)
-    for length, errs in TABLE.items():
-        assert set(errs) == set(measured[length]), length
-        for n, err in errs.items():
-            assert err == math.ceil(measured[length][n] * 1e4) / 1e4, (length, n)
-    assert (min(TABLE), max(TABLE)) == res.LENGTH_RANGE
+    assert set(TABLE) == set(measured) == {"body", "free"}
+    for kind, table in TABLE.items():
+        assert set(table) == set(measured[kind])
+        for length, errs in table.items():
+            assert set(errs) == set(measured[kind][length]), (kind, length)
+            for n, err in errs.items():
+                assert err == math.ceil(measured[kind][length][n] * 1e4) / 1e4, (kind, length, n)
 
 
 @pytest.mark.parametrize("tolerance", [0.01, 0.02, 0.05])
 def test_smallest_settled_rung_within_half_the_tolerance_at_every_measured_length(tolerance):
-    for length, errs in TABLE.items():
-        chosen = res.choose(length, tolerance)
-        assert (chosen.order, chosen.cfl) == (4, 0.8)
-        settled = [n for n in errs if all(errs[m] <= 0.5 * tolerance for m in errs if m >= n)]
-        assert chosen.n_elements == min(settled)  # this rung and every finer one within half the tolerance
+    for kind, table in TABLE.items():
+        for length, errs in table.items():
+            chosen = res.choose(length, tolerance, kind)
+            assert (chosen.order, chosen.cfl) == (4, 0.8)
+            settled = [n for n in errs if all(errs[m] <= 0.5 * tolerance for m in errs if m >= n)]
+            assert chosen.n_elements == min(settled)  # this rung and every finer one within half the tolerance
 
 
 def test_between_measured_lengths_both_neighbours_hold():
-    lengths = sorted(TABLE)
+    table = TABLE["body"]
+    lengths = sorted(table)
     for a, b in zip(lengths, lengths[1:]):
         chosen = res.choose(0.5 * (a + b), 0.01)
-        assert TABLE[a][chosen.n_elements] <= 0.005 and TABLE[b][chosen.n_elements] <= 0.005
+        assert table[a][chosen.n_elements] <= 0.005 and table[b][chosen.n_elements] <= 0.005
         assert chosen.n_elements >= max(res.choose(a, 0.01).n_elements, res.choose(b, 0.01).n_elements)
 
 
@@ -55,7 +58,7 @@ def _auto(**changes):
 
 def test_refuses_what_was_not_measured():
     cfg = _auto()
-    with pytest.raises(ConfigError, match="cable.length 3000"):
+    with pytest.raises(ConfigError, match="cable.length 3000 m is outside the range measured"):
         res.resolve(replace(cfg, cable=replace(cfg.cable, length=3000.0)))
     with pytest.raises(ConfigError, match="cable.EA"):
         res.resolve(replace(cfg, cable=replace(cfg.cable, EA=2e8)))

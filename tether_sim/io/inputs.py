@@ -9,8 +9,16 @@ Rejected samples (the reason string is returned, the stored history is unchanged
 
 - ``non-finite``: NaN or infinite position, orientation or stamp;
 - ``bad quaternion``: a quaternion whose norm is not within 10 % of 1 (it is normalised otherwise);
-- ``stamp not increasing``: a stamp at or before the last accepted one;
+- ``stamp in the future``: later than the node's clock + ``future_tolerance`` (a single such pose
+  is dropped; it does not block the valid poses after it);
+- ``stamp too old``: earlier than the node's clock - ``max_age``;
+- ``stamp not increasing``: a stamp at or before the last accepted one (but within those bounds);
 - ``jump``: the attachment point moved faster than ``max_end_speed`` since the last accepted sample.
+
+The history is sized by time (``history_span`` s behind the newest sample), not by a sample
+count, so it is correct at any input rate (tested at 1 kHz). An input is stale when no pose was
+accepted for ``input_timeout`` s of the node's clock, or when the newest accepted stamp is older
+than that.
 
 Between samples the attachment point follows a cubic Hermite curve through the samples; the knot
 velocities come from the twist topic when one was received for that instant, and otherwise from
@@ -19,12 +27,17 @@ the motion is extrapolated with the last velocity for at most ``max_extrapolatio
 then held (velocity zero). Orientation is interpolated by spherical linear interpolation.
 """
 
-from collections import Counter, deque
+import bisect
+import math
+from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
 
 QUATERNION_NORM_TOLERANCE = 0.1  # |norm - 1| beyond this is not a rotation with rounding errors
+FUTURE_TOLERANCE = 0.25  # s a stamp may lie ahead of the node's clock (clock skew, replay timing)
+MAX_AGE = 2.0  # s a stamp may lie behind the node's clock (transport latency)
+MAX_SAMPLES = 20000  # hard cap of the pose history (1 kHz for 20 s)
 
 
 def rotation_matrix(q) -> np.ndarray:
@@ -62,17 +75,34 @@ class _Sample:
 
 
 class EndPoseInput:
-    """Validated history of one end's body pose, queried for the attachment point at any time."""
+    """Validated history of one end's body pose, queried for the attachment point at any time.
+
+    ``history_span``: seconds of samples kept behind the newest one (the node passes
+    ``input_delay + max_lag`` plus a margin, so a simulation running late still interpolates);
+    at most ``max_samples`` are kept (a flood beyond that shortens the span, counted in
+    ``health()['history_span']``). ``future_tolerance`` / ``max_age``: with the node's clock
+    ``now`` given to :meth:`add_pose`, a stamp later than ``now + future_tolerance`` or earlier
+    than ``now - max_age`` is rejected (without ``now``, e.g. offline, stamps are only checked
+    against each other).
+    """
 
     def __init__(self, name: str, attachment=(0.0, 0.0, 0.0), *, max_end_speed: float = 20.0,
-                 input_timeout: float = 1.0, max_extrapolation: float = 0.2, history: int = 64):
+                 input_timeout: float = 1.0, max_extrapolation: float = 0.2, history_span: float = 3.0,
+                 max_samples: int = MAX_SAMPLES, future_tolerance: float = FUTURE_TOLERANCE,
+                 max_age: float = MAX_AGE):
         self.name = name
         self.offset = np.asarray(attachment, dtype=float).reshape(3)
         self.max_end_speed = float(max_end_speed)
         self.input_timeout = float(input_timeout)
         self.max_extrapolation = float(max_extrapolation)
-        self._samples: deque[_Sample] = deque(maxlen=max(history, 2))
-        self._twists: deque = deque(maxlen=max(history, 2))  # (stamp, linear_world, angular_world)
+        self.history_span = float(history_span)
+        self.max_samples = max(int(max_samples), 4)
+        self.future_tolerance = float(future_tolerance)
+        self.max_age = float(max_age)
+        self._samples: list[_Sample] = []
+        self._stamps: list[float] = []  # the samples' stamps (bisect)
+        self._twists: list = []  # (stamp, linear_world, angular_world)
+        self._accepted_at = -math.inf  # clock time of the last accepted pose
         self.accepted = 0
         self.rejected: Counter = Counter()
 
@@ -80,29 +110,51 @@ class EndPoseInput:
     def reset(self) -> None:
         """Forget the history (e.g. after the clock jumped back); counters are kept."""
         self._samples.clear()
+        self._stamps.clear()
         self._twists.clear()
+        self._accepted_at = -math.inf
 
-    def add_pose(self, stamp: float, position, orientation) -> str | None:
-        """Offer one pose sample; return None if accepted, else the reason it was rejected."""
+    def _reject(self, reason: str) -> str:
+        self.rejected[reason] += 1
+        return reason
+
+    def add_pose(self, stamp: float, position, orientation, now: float | None = None) -> str | None:
+        """Offer one pose sample; return None if accepted, else the reason it was rejected.
+
+        ``now``: the node's clock (checks future / too old stamps and times staleness)."""
         p = np.asarray(position, dtype=float).reshape(3)
         q = np.asarray(orientation, dtype=float).reshape(4)
-        reason = self._check_pose(stamp, p, q)
+        reason = self._check_pose(stamp, p, q, now)
         if reason is not None:
-            self.rejected[reason] += 1
-            return reason
+            return self._reject(reason)
         q = q / np.linalg.norm(q)
         att = p + rotation_matrix(q) @ self.offset
         if self._samples:
             last = self._samples[-1]
             dt = stamp - last.stamp
             if np.linalg.norm(att - last.attachment) > self.max_end_speed * dt + 1e-9:
-                self.rejected["jump"] += 1
-                return "jump"
+                return self._reject("jump")
         self._samples.append(_Sample(float(stamp), p, q, att, self._twist_velocity_at(stamp, q)))
+        self._stamps.append(float(stamp))
+        self._prune()
+        self._accepted_at = float(stamp) if now is None else float(now)
         self.accepted += 1
         return None
 
-    def add_twist(self, stamp: float, linear, angular, *, body_frame: bool = False) -> str | None:
+    def _prune(self) -> None:
+        """Drop samples older than ``history_span`` behind the newest (keeping the one that
+        brackets the edge of the span) and beyond ``max_samples``; in batches (amortised O(1))."""
+        cutoff = self._stamps[-1] - self.history_span
+        k = max(bisect.bisect_right(self._stamps, cutoff) - 1, len(self._stamps) - self.max_samples)
+        if k >= 64 or len(self._stamps) > self.max_samples:
+            del self._samples[:k]
+            del self._stamps[:k]
+        if len(self._twists) > 128 and self._twists[0][0] < cutoff - 1.0:
+            j = next((i for i, tw in enumerate(self._twists) if tw[0] >= cutoff), len(self._twists))
+            del self._twists[:j]
+
+    def add_twist(self, stamp: float, linear, angular, *, body_frame: bool = False,
+                  now: float | None = None) -> str | None:
         """Offer a twist of the body frame origin (linear m/s, angular rad/s).
 
         ``body_frame``: the vectors are expressed in the body frame (rotated to the world with the
@@ -111,31 +163,43 @@ class EndPoseInput:
         v = np.asarray(linear, dtype=float).reshape(3)
         w = np.asarray(angular, dtype=float).reshape(3)
         if not (np.isfinite(stamp) and np.all(np.isfinite(v)) and np.all(np.isfinite(w))):
-            self.rejected["non-finite twist"] += 1
-            return "non-finite twist"
+            return self._reject("non-finite twist")
+        timing = self._check_clock(stamp, now)
+        if timing is not None:
+            return self._reject(f"twist {timing}")
         if self._twists and stamp <= self._twists[-1][0]:
-            self.rejected["twist stamp not increasing"] += 1
-            return "twist stamp not increasing"
+            return self._reject("twist stamp not increasing")
         if body_frame:
             if not self._samples:
-                self.rejected["twist before any pose"] += 1
-                return "twist before any pose"
+                return self._reject("twist before any pose")
             R = rotation_matrix(self.orientation_at(stamp))
             v, w = R @ v, R @ w
         if np.linalg.norm(v) > self.max_end_speed:
-            self.rejected["twist too fast"] += 1
-            return "twist too fast"
+            return self._reject("twist too fast")
         self._twists.append((float(stamp), v, w))
-        for s in self._samples:  # a twist may arrive just after its pose
+        i = bisect.bisect_left(self._stamps, stamp - 1e-6)
+        for s in self._samples[i:i + 2]:  # a twist may arrive just after its pose
             if s.twist_velocity is None and abs(s.stamp - stamp) < 1e-6:
                 s.twist_velocity = self._attachment_velocity(v, w, s.orientation)
         return None
 
-    def _check_pose(self, stamp, p, q) -> str | None:
+    def _check_clock(self, stamp, now) -> str | None:
+        if now is None:
+            return None
+        if stamp > now + self.future_tolerance:
+            return "stamp in the future"
+        if stamp < now - self.max_age:
+            return "stamp too old"
+        return None
+
+    def _check_pose(self, stamp, p, q, now) -> str | None:
         if not (np.isfinite(stamp) and np.all(np.isfinite(p)) and np.all(np.isfinite(q))):
             return "non-finite"
         if abs(np.linalg.norm(q) - 1.0) > QUATERNION_NORM_TOLERANCE:
             return "bad quaternion"
+        timing = self._check_clock(stamp, now)
+        if timing is not None:
+            return timing
         if self._samples and stamp <= self._samples[-1].stamp:
             return "stamp not increasing"
         return None
@@ -159,12 +223,18 @@ class EndPoseInput:
         return self._samples[-1].stamp if self._samples else None
 
     def age(self, now: float) -> float:
-        """Seconds since the last accepted sample (inf when none)."""
+        """Seconds from the newest accepted stamp to ``now`` (inf when none)."""
         return float("inf") if not self._samples else now - self._samples[-1].stamp
 
     def is_stale(self, now: float) -> bool:
-        """True when no sample was accepted within ``input_timeout``."""
-        return self.age(now) > self.input_timeout
+        """True when no sample was accepted within ``input_timeout`` of clock time, or the newest
+        accepted stamp is older than that (whatever the stamps say, silence is stale)."""
+        return (not self._samples or now - self._accepted_at > self.input_timeout
+                or self.age(now) > self.input_timeout)
+
+    def span(self) -> float:
+        """Seconds of history held (newest minus oldest stamp)."""
+        return self._stamps[-1] - self._stamps[0] if self._stamps else 0.0
 
     def _knot_velocity(self, i: int) -> np.ndarray:
         s = self._samples
@@ -177,14 +247,12 @@ class EndPoseInput:
 
     def _bracket(self, t: float) -> int:
         """Index i with stamp[i] <= t < stamp[i+1] (samples must cover t)."""
-        lo, hi = 0, len(self._samples) - 1
-        while hi - lo > 1:
-            mid = (lo + hi) // 2
-            if self._samples[mid].stamp <= t:
-                lo = mid
-            else:
-                hi = mid
-        return lo
+        return min(max(bisect.bisect_right(self._stamps, t) - 1, 0), len(self._stamps) - 2)
+
+    def is_held(self, t: float) -> bool:
+        """True when ``t`` lies beyond the newest sample plus ``max_extrapolation`` (the end is
+        held at rest there) or no sample exists: the pose stream gives no motion at ``t``."""
+        return not self._samples or t - self._samples[-1].stamp > self.max_extrapolation  # (as attachment_at)
 
     def attachment_at(self, t: float):
         """Attachment point position (3,) and velocity (3,) at time t (world frame).
@@ -230,4 +298,5 @@ class EndPoseInput:
     def health(self, now: float) -> dict:
         """Counters for diagnostics: accepted, rejected by reason, age of the last sample."""
         return {"accepted": self.accepted, "rejected": dict(self.rejected), "age": self.age(now),
-                "stale": self.is_stale(now)}
+                "stale": self.is_stale(now), "history_span": self.span(), "history_samples": len(self._samples),
+                "since_accepted": now - self._accepted_at}

@@ -75,6 +75,7 @@ class McapSummary:
     end_ns: int
     metadata: dict[str, dict]
     complete: bool
+    damage: "Damage | None" = None  # what a crash cut off (None for a complete file)
 
     @property
     def rosbag2_metadata(self) -> dict | None:
@@ -119,8 +120,31 @@ def _type_name(channel: Channel, schemas: dict) -> str:
     return schema.name if schema is not None else ""
 
 
-def _scan_records(path: Path):
-    """Yield every complete top-level record (chunks broken up); warn at a truncated tail."""
+@dataclass
+class Damage:
+    """What a scan found at the end of a file: complete, or where and why it stops."""
+
+    path: str
+    size: int  # bytes
+    good_end: int  # byte offset after the last complete record
+    chunks: int  # complete chunks
+    complete: bool  # footer reached
+
+    @property
+    def lost_bytes(self) -> int:
+        return self.size - self.good_end
+
+    def describe(self) -> str:
+        if self.complete:
+            return f"{self.path}: complete"
+        tail = (f"the last {self.lost_bytes} byte(s) (from byte {self.good_end} of {self.size}: the chunk being "
+                f"written, its messages are lost)" if self.lost_bytes else "no footer, summary or end magic")
+        return (f"{self.path}: truncated (the writer stopped without closing it); kept {self.chunks} complete "
+                f"chunk(s), lost {tail}")
+
+
+def _scan_records(path: Path, damage: list | None = None, warn: bool = True):
+    """Yield every complete top-level record (chunks broken up); warn at a truncated tail; append a :class:`Damage` to ``damage`` when given."""
     data = path.read_bytes()
     pos, size, n_chunks = len(MCAP_MAGIC), len(data), 0
     while pos < size:
@@ -134,6 +158,8 @@ def _scan_records(path: Path):
         body = ReadDataStream(io.BytesIO(data[pos + _RECORD_PREFIX:end]))
         try:
             if opcode == Opcode.FOOTER:
+                if damage is not None:
+                    damage.append(Damage(str(path), size, size, n_chunks, True))
                 return
             if opcode == Opcode.CHUNK:
                 records = breakup_chunk(Chunk.read(body), validate_crc=True)
@@ -155,10 +181,27 @@ def _scan_records(path: Path):
                                f"{exc}") from exc
         yield from records
         pos = end
-    where = f"ends inside a record at byte {pos} of {size}" if pos < size else "has no footer"
-    warnings.warn(f"{path}: file {where} (the writer stopped without closing it); read the "
-                  f"{n_chunks} complete chunk(s) before that point",
-                  TruncatedMcapWarning, stacklevel=3)
+    found = Damage(str(path), size, pos, n_chunks, False)
+    if damage is not None:
+        damage.append(found)
+    if warn:
+        warnings.warn(found.describe(), TruncatedMcapWarning, stacklevel=3)
+
+
+def inspect(path) -> Damage:
+    """Scan a file to its end: complete (footer and a usable summary), or what a crash cut off."""
+    path = Path(path)
+    handle = _open_mcap(path)
+    try:
+        if _complete_summary(handle) is not None:
+            size = path.stat().st_size
+            return Damage(str(path), size, size, 0, True)
+    finally:
+        handle.close()
+    damage = []
+    for _ in _scan_records(path, damage, warn=False):
+        pass
+    return damage[0]
 
 
 def iter_raw(path, topics=None):
@@ -225,8 +268,8 @@ def read_summary(path) -> McapSummary:
                                stats.message_start_time if stats else 0,
                                stats.message_end_time if stats else 0, metadata, True)
         profile, schemas, channels, metadata, topics = "", {}, {}, {}, {}
-        times = []
-        for record in _scan_records(path):
+        times, damage = [], []
+        for record in _scan_records(path, damage):
             if isinstance(record, Schema):
                 schemas[record.id] = record
             elif isinstance(record, Channel):
@@ -242,6 +285,6 @@ def read_summary(path) -> McapSummary:
             elif isinstance(record, Header):
                 profile = record.profile
         return McapSummary(profile, topics, len(times), min(times, default=0),
-                           max(times, default=0), metadata, False)
+                           max(times, default=0), metadata, False, damage[0] if damage else None)
     finally:
         handle.close()

@@ -91,7 +91,7 @@ def _text(s: str) -> bytes:
 
 def tether_state(stamp: tuple, frame: str, solver_name: str, arc_length, position, velocity, tension, curvature,
                  bending_moment, ship_tension: float, vehicle_tension: float, time_step: float,
-                 real_time_factor: float) -> bytes:
+                 real_time_factor: float, lag: float = 0.0, degraded: bool = False) -> bytes:
     """tether_sim_msgs/TetherState (msg_defs/msg/TetherState.msg); arrays (n,) or (n, 3), world frame."""
     b = CdrBuffer()
     b.header(stamp, _text(frame))
@@ -102,7 +102,8 @@ def tether_state(stamp: tuple, frame: str, solver_name: str, arc_length, positio
     b.float64_sequence(tension)
     b.float64_sequence(curvature)
     b.float64_sequence(bending_moment)
-    b.float64s((ship_tension, vehicle_tension, time_step, real_time_factor))
+    b.float64s((ship_tension, vehicle_tension, time_step, real_time_factor, lag))
+    b.raw(b"\x01" if degraded else b"\x00")  # bool (1 byte, no alignment)
     return b.tobytes()
 
 

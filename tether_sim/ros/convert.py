@@ -47,6 +47,7 @@ def ros_name(topic: str) -> str:
 
 LEVEL_OK, LEVEL_WARN, LEVEL_ERROR, LEVEL_STALE = (DiagnosticStatus.OK, DiagnosticStatus.WARN,
                                                   DiagnosticStatus.ERROR, DiagnosticStatus.STALE)
+_SEVERITY = {LEVEL_OK: 0, LEVEL_WARN: 1, LEVEL_STALE: 2, LEVEL_ERROR: 3}
 
 
 def time_msg(t: float) -> Time:
@@ -71,14 +72,15 @@ def _end_label(location: str) -> str:
     return location if location in ("ship", "vehicle") else "span"
 
 
-def snap_event(ev, frame_id: str) -> SnapLoadEvent:
-    """SnapLoadEvent from the detector's SnapEvent (times are clock times)."""
+def snap_event(ev, frame_id: str, degraded: bool = False, lag: float = 0.0) -> SnapLoadEvent:
+    """SnapLoadEvent from the detector's SnapEvent (times are clock times); ``degraded`` / ``lag``:
+    the simulation was running late when the event was detected (its stamps are still honest)."""
     return SnapLoadEvent(header=header(ev.time, frame_id), end=_end_label(ev.location), arc_length=float(ev.arc_length),
                          peak_tension=float(ev.peak_tension), min_tension=float(ev.min_tension),
                          slack_start=time_msg(ev.slack_start), slack_duration=float(ev.slack_duration),
                          rise_time=float(ev.rise_time), static_tension=float(ev.static_tension),
                          amplification=float(ev.amplification) if math.isfinite(ev.amplification) else 0.0,
-                         criterion=str(ev.criterion))
+                         criterion=str(ev.criterion), degraded=bool(degraded), lag=float(lag))
 
 
 def slack_warning(ev, frame_id: str, static_tension: float) -> SlackWarning:
@@ -111,30 +113,40 @@ def _status(name, level, message, values) -> DiagnosticStatus:
 def diagnostics(t: float, node_name: str, sim: dict, inputs: dict) -> DiagnosticArray:
     """DiagnosticArray: one status for the simulation, one per pose input.
 
-    ``sim`` has: real_time_factor, time_step, lag, dropped_total, capped, divergences, last_error,
-    slack (dict end -> bool), snaps (count in the period), running (bool).
+    ``sim`` has: real_time_factor, time_step, lag, degraded, dropped_total, resyncs(_recent),
+    capped_ticks, behind, divergences, error_recent, last_error, tick_errors(_recent),
+    last_tick_error, slack (dict end -> bool), snaps (count in the period), running (bool).
     ``inputs``: end -> EndPoseInput.health(now) dict plus ``rejected_recent`` (count in the period).
+    The simulation status message lists every problem of the period (none hides another, e.g.
+    "cannot keep up" stays visible next to snap loads); the level is the worst of them.
     """
     msg = DiagnosticArray(header=header(t, ""))
+    problems = []  # (level, text)
     if not sim.get("running", True):
-        level, text = LEVEL_STALE, "waiting for inputs or clock"
-    elif sim.get("error_recent"):
-        level, text = LEVEL_ERROR, f"solver diverged and was recovered: {sim.get('last_error')}"
-    elif sim.get("snaps"):
-        level, text = LEVEL_ERROR, f"{sim['snaps']} snap load(s) in the last period"
-    elif sim.get("behind"):
-        level, text = LEVEL_WARN, "cannot keep up with the clock (lag dropped or substeps capped)"
-    elif any(sim.get("slack", {}).values()):
-        level, text = LEVEL_WARN, "tether slack at " + ", ".join(k for k, v in sim["slack"].items() if v)
-    else:
-        level, text = LEVEL_OK, "running"
+        problems.append((LEVEL_STALE, "waiting for inputs or clock"))
+    if sim.get("error_recent"):
+        problems.append((LEVEL_ERROR, f"solver diverged and was recovered: {sim.get('last_error')}"))
+    if sim.get("tick_errors_recent"):
+        problems.append((LEVEL_ERROR, f"{sim['tick_errors_recent']} tick(s) failed: {sim.get('last_tick_error')}"))
+    if sim.get("snaps"):
+        problems.append((LEVEL_ERROR, f"{sim['snaps']} snap load(s) in the last period"))
+    if sim.get("resyncs_recent"):
+        problems.append((LEVEL_WARN, "cannot keep up with the clock: re-synchronised (lag beyond node.max_lag)"))
+    elif sim.get("behind") or sim.get("degraded"):
+        problems.append((LEVEL_WARN, f"cannot keep up with the clock: outputs {float(sim.get('lag', 0.0)):.3g} s late "
+                                     "(degraded)" if sim.get("behind") else "degraded (end blend or snap detection suspended)"))
+    if any(sim.get("slack", {}).values()):
+        problems.append((LEVEL_WARN, "tether slack at " + ", ".join(k for k, v in sim["slack"].items() if v)))
+    level = max((lvl for lvl, _ in problems), default=LEVEL_OK, key=lambda lvl: _SEVERITY[lvl])
+    text = "; ".join(txt for _, txt in problems) or "running"
     values = {k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in sim.items()
               if k not in ("slack",)}
     values.update({f"slack_{k}": v for k, v in sim.get("slack", {}).items()})
     msg.status.append(_status(f"{node_name}: simulation", level, text, values))
     for end, h in inputs.items():
         if h["stale"]:
-            level, text = LEVEL_STALE, f"no valid {end} pose for {h['age']:.3g} s"
+            level, text = LEVEL_STALE, (f"no valid {end} pose for {h.get('since_accepted', h['age']):.3g} s "
+                                        f"(newest accepted stamp {h['age']:.3g} s old)")
         elif h.get("rejected_recent"):
             level, text = LEVEL_WARN, f"{h['rejected_recent']} {end} pose(s) rejected in the last period"
         else:
@@ -198,7 +210,7 @@ def tick_outputs(driver, arc_lengths, wanted=None) -> list:
             out.append(("/tether/state", cdr.tether_state(
                 stamp, world, solver.name, state.arc_length, points, state.velocity, state.tension, state.curvature,
                 state.bending_moment, float(forces.ship_tension), float(forces.vehicle_tension),
-                float(state.time_step), float(driver.real_time_factor))))
+                float(state.time_step), float(driver.real_time_factor), float(driver.lag), bool(driver.degraded))))
         if want("/tether/marker"):
             out.append(("/tether/marker", cdr.marker_line_strip(
                 stamp, world, "tether", 0, MARKER_WIDTH, MARKER_COLOUR, points,
@@ -225,7 +237,7 @@ def event_outputs(events, driver) -> list:
     out = []
     for ev in events:
         if hasattr(ev, "peak_tension"):
-            out.append(("/tether/snap_events", snap_event(ev, frame)))
+            out.append(("/tether/snap_events", snap_event(ev, frame, driver.degraded, driver.lag)))
         else:
             static = driver.static_by_location.get(ev.location, 0.0)
             out.append(("/tether/slack_warnings", slack_warning(ev, frame, static)))

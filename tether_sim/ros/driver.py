@@ -3,25 +3,43 @@
 Clock mapping: a solver time ``t_sim`` corresponds to the clock time ``anchor + t_sim`` (node clock:
 wall time, /clock, or the stamps of an input recording). Each :meth:`SimulationDriver.tick` advances
 the solver towards ``now - node.input_delay - anchor`` (the small delay lets pose inputs be
-interpolated between samples instead of extrapolated):
+interpolated between samples instead of extrapolated). Overload policy (docs/node.md): the
+simulation never squeezes motion in time and never invents a snap from a discontinuity.
 
 1. If the clock went backwards (a replay loop), the pose histories are reset and the anchor moves
    so that the simulation continues from its current state (reported as a clock jump).
-2. If the lag ``now - anchor - t_sim`` exceeds ``node.max_lag``, the excess is dropped by moving the
-   anchor (the simulation skips that stretch of clock time; reported).
-3. At most ``node.max_substeps_per_tick`` stable substeps are taken, and (node only) no more than
-   fit in ``wall_budget`` seconds at the measured cost per substep, so one tick never blocks the
-   caller for long; the remaining lag carries over to the next tick (reported).
-4. Prescribed ends get the attachment position/velocity at the target time from their source
-   (a validated pose input, an analytic motion, or their fixed configured position).
-   If an end would move faster than ``node.max_end_speed`` (a held end whose input appears far
-   away), the solver restarts from a static equilibrium at the new positions (reported).
-5. A :class:`SolverDivergedError` is caught: the last good snapshot is restored (or, if that fails
-   again from the same snapshot, the solver is rebuilt from a fresh static equilibrium at the
-   current end positions); the anchor moves so the lost time is skipped; the error is reported.
-6. The end tensions of every substep go through the streaming snap detector.
+2. Falling behind: simulated time may lag the clock. The ends are always driven with their pose
+   history evaluated at the simulated instant (never at the clock), outputs carry the simulated
+   instant as stamp, and ``lag`` / ``degraded`` say how late they are. Only when the lag exceeds
+   ``node.max_lag`` does the driver re-synchronise: the anchor moves so that the simulated instant
+   is the newest input time, the cable keeps its current state, and every prescribed end is blended
+   (C1, see 4) from its current position and velocity onto the pose stream (reported).
+3. Each tick steps in chunks: at most ``node.max_substeps_per_tick`` substeps, and (node only) no
+   more than fit in ``wall_budget`` seconds of wall time at the measured cost per substep; while
+   that cost is unknown (the first tick) one substep is taken and timed first, so the first ticks
+   respect the budget too. The remaining lag carries over (reported as ``capped``).
+4. Prescribed ends get the attachment position/velocity at each chunk's target time from their
+   source (a validated pose input, an analytic motion, or their fixed configured position). When
+   an input falls silent beyond ``max_extrapolation`` (the source then holds the end at rest) or a
+   held end gets motion again, after a re-synchronisation, a recovery and a (re)start from rest (pose
+   inputs only: an analytic motion of the offline runner is the scenario and starts as given), the
+   end is moved by a C2 blend ``p = h + w(u) (p_s - h)``
+   from its held trajectory ``h`` (current position, extrapolated with its current velocity) onto
+   the stream ``p_s``, with the quintic ``w = 10u^3 - 15u^4 + 6u^5``, over a time chosen so that the blend adds at
+   most ``BLEND_ACCELERATION`` and half of ``node.max_end_speed`` (:func:`blend_time`). Only an
+   end that never had an input and whose first pose lies farther than ``node.max_end_speed`` allows
+   in one tick restarts the solver from a static equilibrium (its held position was a placeholder).
+5. A :class:`SolverDivergedError` is caught: the last good snapshot (cable and end states) is
+   restored (or, if that fails again from the same snapshot, the solver is rebuilt from a fresh
+   static equilibrium at the current end positions); the anchor moves so the lost time is skipped
+   and the ends are blended onto the stream; the error is reported.
+6. The end tensions of every substep go through the streaming snap detector, except across a
+   discontinuity (re-synchronisation, recovery, restart, clock jump) or an end blend: detection is
+   suspended from the discontinuity until the blend ends and then restarts with a fresh detector,
+   so no snap can be made of dropped time, a restart or a bridging blend (reported).
 """
 
+import math
 import time as wallclock
 from dataclasses import dataclass, field, replace
 
@@ -34,20 +52,58 @@ from tether_sim.solvers.factory import build_solver
 END_NAMES = ("ship", "vehicle")
 
 
+BLEND_ACCELERATION = 0.5  # m/s^2 a blend onto a pose stream may add to the end's own motion
+BLEND_MIN_TIME = 0.5  # s, shortest blend
+
+
 @dataclass
 class TickReport:
     """What one tick did (for diagnostics and logs)."""
 
-    stamp: float  # clock time of the state after the tick, s
+    stamp: float  # clock time of the state after the tick, s (the simulated instant)
     substeps: int = 0
-    lag: float = 0.0  # clock time still to simulate after the tick, s
-    capped: bool = False  # the substep cap stopped the tick short of its target
-    dropped: float = 0.0  # clock time skipped by re-anchoring this tick, s
+    lag: float = 0.0  # simulated instant behind clock - input_delay after the tick, s
+    capped: bool = False  # the substep cap or the wall budget stopped the tick short of its target
+    dropped: float = 0.0  # clock time skipped by a re-synchronisation this tick, s
     clock_jump: bool = False
+    degraded: bool = False  # outputs of this tick are late, blended or have snap detection suspended
+    blending: bool = False  # an end is being blended onto its input (its motion is a bridge, not the input)
     events: list = field(default_factory=list)  # SlackStarted / SnapEvent
     error: str | None = None  # divergence message, if any
     recovery: str | None = None  # "snapshot" or "static"
     restart: str | None = None  # why the solver was restarted at new end positions
+    blends: list = field(default_factory=list)  # (end, duration s, reason) of blends started this tick
+
+
+@dataclass
+class Blend:
+    """A C1 blend of one end from its held trajectory onto the pose stream (module doc, 4)."""
+
+    t0: float  # clock time of the start
+    duration: float  # s
+    p0: np.ndarray
+    v0: np.ndarray
+    reason: str
+
+    def command(self, t, p_s, v_s):
+        """(position, velocity, finished) at clock time ``t`` given the stream's (p_s, v_s)."""
+        tau = t - self.t0
+        u = min(max(tau / self.duration, 0.0), 1.0)
+        h, dh = self.p0 + self.v0 * tau, self.v0
+        w, dw = u ** 3 * (10.0 + u * (6.0 * u - 15.0)), 30.0 * (u * (1.0 - u)) ** 2 / self.duration
+        return h + w * (p_s - h), dh + w * (v_s - dh) + dw * (p_s - h), u >= 1.0
+
+
+def blend_time(distance, speed_change, max_end_speed):
+    """Blend duration (s) for an offset ``distance`` (m) and velocity change (m/s). The weight is
+    the quintic ``w = 10u^3 - 15u^4 + 6u^5`` (zero slope and curvature at both ends, so the blend
+    adds no acceleration step: C2 where the stream is); the blend term of the acceleration,
+    ``w'' d / T^2 + 2 w' dv / T`` (max |w''| = 10/sqrt(3), max |w'| = 15/8), is kept under
+    ``BLEND_ACCELERATION`` (half each) and its speed ``15/8 d / T`` under half of
+    ``max_end_speed``; at least ``BLEND_MIN_TIME``."""
+    d, dv = float(distance), float(speed_change)
+    return max(BLEND_MIN_TIME, math.sqrt(20.0 / math.sqrt(3.0) * d / BLEND_ACCELERATION),
+               7.5 * dv / BLEND_ACCELERATION, 3.75 * d / max(max_end_speed, 1e-9))
 
 
 class MotionSource:
@@ -67,22 +123,30 @@ class MotionSource:
 class SimulationDriver:
     """Owns the solver, the clock mapping, recovery and the snap detector."""
 
-    def __init__(self, config, sources: dict | None = None, *, solver_factory=build_solver, wall_budget=None):
+    def __init__(self, config, sources: dict | None = None, *, solver_factory=build_solver, wall_budget=None,
+                 start_blend=True):
         self.config = config
+        self.start_blend = start_blend  # blend pose-input ends from rest at a (re)start (the node)
         self.sources = dict(sources or {})  # end -> EndPoseInput | MotionSource (prescribed ends)
         self.solver_factory = solver_factory
         self.solver = None
         self.wall_budget = wall_budget  # s of wall time one tick may spend stepping (None: no limit)
-        self.wall_per_substep = 0.0
-        self._ticks_advanced = 0
+        self.wall_per_substep = 0.0  # measured cost of a substep, s (0: not yet measured)
         self._solver_config = config
-        self._commanded = {}
-        self._last_position = {}
+        self._end_state = {}  # end -> (position, velocity) commanded at the solver's current time
+        self._held = {}  # end -> the last command came from a held (silent) input
+        self._had_input = {}  # end -> the end ever followed an input
+        self._blends = {}  # end -> Blend
+        self._suspended_until = None  # clock time until which snap detection is suspended
+        self._pending = TickReport(stamp=0.0)  # what a (re)start did, reported by the next tick
         self.anchor = 0.0
         self.last_now = None
         self.divergences = 0
+        self.resyncs = 0
         self.dropped_total = 0.0
         self.capped_ticks = 0
+        self.lag = 0.0  # simulated instant behind (clock - input_delay), s, after the last tick
+        self.degraded = False  # the last tick's outputs are late, blended or unmonitored for snaps
         self.last_error = None
         self.last_recovery = None  # "snapshot" or "static" after a divergence
         self._snapshot = None
@@ -116,18 +180,14 @@ class SimulationDriver:
         """Build the solver (static equilibrium at the current end positions) at clock time ``now``
         (minus ``node.input_delay``)."""
         now -= self.config.node.input_delay
-        self._solver_config = self._start_config(now)
-        self._commanded = {}
-        self._last_position = {}
-        self.solver = self.solver_factory(self._solver_config)
-        self.anchor = now - self.solver.time
         self.last_now = now
         self._last_wall = wallclock.perf_counter()
-        forces = self.solver.end_forces()
-        self.static_tensions = (float(forces.ship_tension), float(forces.vehicle_tension))
-        self.solver.drain_end_tensions()
-        self._build_detector()
-        self._take_snapshot()
+        self._rebuild(now)
+        self._had_input = {end: self._has_data(end) for end in END_NAMES if self._prescribed(end)}
+
+    def _has_data(self, end):
+        src = self.sources.get(end)
+        return src is not None and getattr(src, "has_data", True)
 
     def _build_detector(self):
         """Ends: every substep (drained end tensions). Span points (``snap.monitor_arc_lengths``):
@@ -140,9 +200,10 @@ class SimulationDriver:
         self.span_detector = None
         if self.span_arc.size:
             names = [f"span s={s:g} m" for s in self.span_arc]
-            static = self.solver.state(self.span_arc).tension
-            self.span_detector = SnapDetector(self.config.snap, names, list(static), list(self.span_arc))
-            self.static_by_location.update(zip(names, (float(x) for x in static)))
+            if not hasattr(self, "_span_static") or len(self._span_static) != len(names):
+                self._span_static = [float(x) for x in self.solver.state(self.span_arc).tension]
+            self.span_detector = SnapDetector(self.config.snap, names, list(self._span_static), list(self.span_arc))
+            self.static_by_location.update(zip(names, self._span_static))
             self.slack.update({name: False for name in names})
 
     def set_snap_config(self, snap_config) -> None:
@@ -155,79 +216,191 @@ class SimulationDriver:
     def _take_snapshot(self):
         # (the substep is re-read here, not every tick: it only sizes the substep cap)
         self._substep = self.solver.stable_time_step()
-        self._snapshot = self.solver.snapshot()
+        self._snapshot = (self.solver.snapshot(), {e: (p.copy(), v.copy()) for e, (p, v) in self._end_state.items()})
         self._snapshot_time = self.solver.time
         self._snapshot_failed = False
 
-    # ------------------------------------------------------------------ stepping
+    # ------------------------------------------------------------------ end commands
     def end_target(self, end, clock_time):
-        """(position, velocity) of a prescribed end at a clock time; held at rest without input."""
+        """(position, velocity) of a prescribed end's source at a clock time (no blend); held at
+        rest at its last commanded (else configured) position without input."""
         src = self.sources.get(end)
         if src is None or not getattr(src, "has_data", True):
-            held = self._commanded.get(end)
+            held = self._end_state.get(end, (None,))[0]
             if held is None:
                 held = np.asarray(getattr(self._solver_config, f"{end}_end").position, float)
-            return held, np.zeros(3)
+            return np.asarray(held, float), np.zeros(3)
         p, v = src.attachment_at(clock_time)
-        self._commanded[end] = p
+        return np.asarray(p, float), np.asarray(v, float)
+
+    def _start_blend(self, end, t, reason, report, probe=None):
+        """Blend ``end`` from its current commanded state at clock time ``t`` onto its source
+        (sized by the offset to the source at ``probe``, default ``t``)."""
+        if end not in self._end_state or self.sources.get(end) is None:
+            return
+        p0, v0 = self._end_state[end]
+        p_s, v_s = self.end_target(end, t if probe is None else probe)
+        p0 = p0 + v0 * (0.0 if probe is None else probe - t)
+        distance, speed_change = np.linalg.norm(p_s - p0), np.linalg.norm(v_s - v0)
+        if distance < 1e-9 and speed_change < 1e-9:
+            return  # already on the stream
+        duration = blend_time(distance, speed_change, self.config.node.max_end_speed)
+        self._blends[end] = Blend(t, duration, p0.copy(), v0.copy(), reason)
+        report.blends.append((end, duration, reason))
+        self._suspend_detection(t + duration)
+
+    def _command(self, end, t, report):
+        """(position, velocity) commanded for ``end`` at clock time ``t`` (blends applied); starts a
+        blend when a held input gets motion again."""
+        src = self.sources.get(end)
+        held = src is None or not getattr(src, "has_data", True) or \
+            (hasattr(src, "is_held") and src.is_held(t))
+        was_held = self._held.get(end, False)
+        if was_held != held and (not held or self._has_data(end)):  # (replaces a running blend)
+            # resumed: blend onto the stream; lost: blend from the motion to rest at the held point
+            self._start_blend(end, self.anchor + self.solver.time, "input lost" if held else "input resumed", report, t)
+        self._held[end] = held
+        p, v = self.end_target(end, t)
+        blend = self._blends.get(end)
+        if blend is not None:
+            p, v, finished = blend.command(t, p, v)
+            if finished:
+                del self._blends[end]
         return p, v
 
+    def _suspend_detection(self, until):
+        self._suspended_until = until if self._suspended_until is None else max(self._suspended_until, until)
+
+    # ------------------------------------------------------------------ stepping
     def tick(self, now: float) -> TickReport:
         """Advance towards clock time ``now`` under the policy of the module docstring."""
         if self.solver is None:
             self.start(now)
         now -= self.config.node.input_delay  # simulate the past, where the inputs are known
-        report = TickReport(stamp=self.stamp)
+        report = TickReport(stamp=self.stamp, blends=self._pending.blends)
+        self._pending = TickReport(stamp=now)
         if self.last_now is not None and now < self.last_now:
             report.clock_jump = True
             for src in self.sources.values():
                 if hasattr(src, "reset"):
                     src.reset()
             self.anchor = now - self.solver.time
+            self._suspend_detection(now)
         self.last_now = now
         node = self.config.node
         lag = now - self.anchor - self.solver.time
         if lag > node.max_lag:
-            report.dropped = lag - node.max_lag
-            self.anchor += report.dropped
-            self.dropped_total += report.dropped
+            self._resync(now, lag, report)
         target = now - self.anchor
-        if target <= self.solver.time:
-            report.lag = max(0.0, target - self.solver.time)
-            return report
-        max_steps = node.max_substeps_per_tick
-        if self.wall_budget is not None and self.wall_per_substep > 0.0:
-            max_steps = min(max_steps, max(1, int(self.wall_budget / self.wall_per_substep)))
-        cap = self.solver.time + max_steps * self._substep
-        if target > cap:
-            target, report.capped = cap, True
-            self.capped_ticks += 1
-        t0, wall0 = self.solver.time, wallclock.perf_counter()
-        targets = {end: self.end_target(end, self.anchor + target) for end in END_NAMES if self._prescribed(end)}
-        held = {end: self._last_position.get(end) for end in targets}
-        self._last_position = {end: p for end, (p, _) in targets.items()}
-        for end, (position, _) in targets.items():
-            # (time dropped by re-anchoring counts: the end really moved during the skipped time)
-            reach = node.max_end_speed * (target - t0 + report.dropped) + 1e-6
-            if held[end] is not None and np.linalg.norm(position - held[end]) > reach:
-                # an end that was held (no input) got its first pose far away: restart there
-                report.restart = f"{end} end moved {np.linalg.norm(position - held[end]):.3g} m in one tick"
+        if target > self.solver.time:
+            t0, wall0 = self.solver.time, wallclock.perf_counter()
+            if not self._step_to(target, now, wall0, report):
+                return self._finish(now, report)
+            self._update_rate(self.solver.time - t0, wall0)
+            self._detect(report)
+            if self.solver.time - self._snapshot_time >= node.snapshot_interval:
+                self._take_snapshot()
+        return self._finish(now, report)
+
+    def _finish(self, now, report):
+        report.stamp = self.stamp
+        self.lag = report.lag = max(0.0, now - report.stamp)
+        report.blending = bool(self._blends)
+        period = 1.0 / max(self.config.node.output_rate, 1e-9)
+        report.degraded = (report.lag > 1.5 * period or bool(self._blends) or self._suspended_until is not None
+                           or report.dropped > 0.0 or report.error is not None or report.restart is not None)
+        self.degraded = report.degraded
+        return report
+
+    def _resync(self, now, lag, report):
+        """Lag beyond max_lag: jump the simulated instant to ``now`` keeping the cable state, and
+        blend every prescribed end from its current state onto its stream (module doc, 2)."""
+        report.dropped = lag
+        self.dropped_total += lag
+        self.resyncs += 1
+        self.anchor += lag
+        self._blends.clear()
+        for end in self._end_state:
+            self._start_blend(end, now, "re-synchronised", report)
+        self._suspend_detection(now)
+
+    def _chunk_substeps(self, steps_done, wall0):
+        """Substeps the next chunk may take (0: stop): the cap, then the wall budget at the measured
+        cost; one substep (to measure it) while the cost is unknown."""
+        left = self.config.node.max_substeps_per_tick - steps_done
+        if self.wall_budget is None or left <= 0:
+            return max(left, 0)
+        if self.wall_per_substep <= 0.0:
+            return 1
+        remaining = self.wall_budget - (wallclock.perf_counter() - wall0)
+        n = int(remaining / self.wall_per_substep)
+        return min(left, n if steps_done else max(n, 1))  # at least one substep a tick: progress
+
+    def _step_to(self, target, now, wall0, report) -> bool:
+        """Chunks of substeps towards ``target`` (solver time) within the tick's limits; False when
+        the tick ended in a recovery or a restart."""
+        while self.solver.time < target - 1e-12:
+            n = self._chunk_substeps(report.substeps, wall0)
+            if n <= 0:
+                break
+            chunk = min(target, self.solver.time + n * self._substep)
+            t_clock = self.anchor + chunk
+            if self._first_pose_far(t_clock, chunk, report):
                 self._rebuild(now)
-                report.stamp = self.stamp
-                return report
-        for end, (position, velocity) in targets.items():
-            self.solver.set_end_motion(end, position, velocity)
-        try:
-            report.substeps = self.solver.advance_to(target)
-        except SolverDivergedError as exc:
-            self._recover(now, str(exc), report)
-            return report
-        self._update_rate(self.solver.time - t0, wall0)
-        if report.substeps > 0 and self._ticks_advanced > 0:  # the first advance includes JIT compiling
-            cost = (wallclock.perf_counter() - wall0) / report.substeps
-            self.wall_per_substep = cost if self.wall_per_substep == 0.0 else 0.7 * self.wall_per_substep + 0.3 * cost
-        self._ticks_advanced += 1
+                return False
+            commands = {end: self._command(end, t_clock, report) for end in END_NAMES if self._prescribed(end)}
+            for end, (position, velocity) in commands.items():
+                self.solver.set_end_motion(end, position, velocity)
+            chunk_wall = wallclock.perf_counter()
+            try:
+                k = self.solver.advance_to(chunk)
+            except SolverDivergedError as exc:
+                self._recover(now, str(exc), report)
+                return False
+            self._end_state = {end: (np.asarray(p, float), np.asarray(v, float)) for end, (p, v) in commands.items()}
+            self._measure(k, wallclock.perf_counter() - chunk_wall)
+            report.substeps += k
+        report.capped = self.solver.time < target - 1e-12
+        self.capped_ticks += report.capped
+        return True
+
+    def _first_pose_far(self, t_clock, chunk, report) -> bool:
+        """An end that never had an input whose first pose lies beyond what ``max_end_speed``
+        allows in this step: its held position was a placeholder, restart there (module doc, 4)."""
+        for end in list(self._end_state):
+            if self._had_input.get(end, True) or not self._has_data(end):
+                continue
+            self._had_input[end] = True
+            position = self.end_target(end, t_clock)[0]
+            held = self._end_state.get(end, (None,))[0]
+            reach = self.config.node.max_end_speed * max(chunk - self.solver.time, 1.0 / self.config.node.output_rate)
+            if held is not None and np.linalg.norm(position - held) > reach + 1e-6:
+                report.restart = f"{end} end's first pose is {np.linalg.norm(position - held):.3g} m from its placeholder"
+                self._blends.pop(end, None)
+                return True
+        return False
+
+    def _measure(self, substeps, seconds):
+        """Running cost per substep: a lower measurement is taken at once (the first one may include
+        JIT compiling), a higher one is averaged in."""
+        if substeps <= 0:
+            return
+        cost = seconds / substeps
+        if self.wall_per_substep == 0.0 or cost < self.wall_per_substep:
+            self.wall_per_substep = cost
+        else:
+            self.wall_per_substep = 0.7 * self.wall_per_substep + 0.3 * cost
+
+    def _detect(self, report):
+        """Feed the snap detectors, unless detection is suspended (module doc, 6)."""
         times, t_ship, t_vehicle = self.solver.drain_end_tensions()
+        if self._suspended_until is not None:
+            if self.stamp < self._suspended_until or self._blends:
+                return
+            self._suspended_until = None
+            self._build_detector()  # fresh: nothing carries across the discontinuity
+            keep = np.asarray(times) + self.anchor >= self.stamp - 1e-12
+            times, t_ship, t_vehicle = np.asarray(times)[keep], np.asarray(t_ship)[keep], np.asarray(t_vehicle)[keep]
         if len(times):
             report.events = self.detector.update(np.asarray(times) + self.anchor,
                                                  np.column_stack([t_ship, t_vehicle]))
@@ -236,11 +409,6 @@ class SimulationDriver:
             report.events += self.span_detector.update(np.array([self.stamp]), np.asarray(tension, float).reshape(1, -1))
         for ev in report.events:
             self.slack[ev.location] = isinstance(ev, SlackStarted)
-        if self.solver.time - self._snapshot_time >= node.snapshot_interval:
-            self._take_snapshot()
-        report.stamp = self.stamp
-        report.lag = now - report.stamp
-        return report
 
     def _update_rate(self, sim_advance, wall0):
         wall = wallclock.perf_counter()
@@ -255,17 +423,21 @@ class SimulationDriver:
         self.last_error = message
         self.last_recovery = None
         report.error = message
+        self._blends.clear()
         if self._snapshot is not None and not self._snapshot_failed:
-            self.solver.restore(self._snapshot)
+            state, ends = self._snapshot
+            self.solver.restore(state)
             self._snapshot_failed = True  # a second divergence before a new snapshot -> rebuild
             report.recovery = self.last_recovery = "snapshot"
             self.solver.drain_end_tensions()
             self.anchor = now - self.solver.time
+            self._end_state = {e: (p.copy(), v.copy()) for e, (p, v) in ends.items()}
+            for end in self._end_state:
+                self._start_blend(end, now, "recovered from a snapshot", report)
+            self._suspend_detection(now)
         else:
             self._rebuild(now)
             report.recovery = self.last_recovery = "static"
-        self._build_detector()
-        report.stamp = self.stamp
 
     def _rebuild(self, now):
         """A fresh solver (static equilibrium) at the current end positions, clock ``now``."""
@@ -273,11 +445,22 @@ class SimulationDriver:
         self.solver = self.solver_factory(self._solver_config)
         self.solver.drain_end_tensions()
         self.anchor = now - self.solver.time
-        self._last_position = {}
+        self._blends.clear()
+        self._suspended_until = None
+        self._end_state = {end: (np.asarray(getattr(self._solver_config, f"{end}_end").position, float), np.zeros(3))
+                           for end in END_NAMES if self._prescribed(end)}
+        self._held = {end: False for end in self._end_state}
         forces = self.solver.end_forces()
         self.static_tensions = (float(forces.ship_tension), float(forces.vehicle_tension))
+        if hasattr(self, "_span_static"):
+            del self._span_static
         self._build_detector()
         self._take_snapshot()
+        self._pending = TickReport(stamp=now)  # blends started here are reported by the next tick
+        for end in list(self._end_state):  # the cable is at rest: start pose-input ends from rest too
+            # (an analytic motion, or the offline runner's inputs, are the scenario: applied as given)
+            if self.start_blend and hasattr(self.sources.get(end), "is_held"):
+                self._start_blend(end, now, "started from rest", self._pending)
 
     # ------------------------------------------------------------------ queries
     @property

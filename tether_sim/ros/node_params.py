@@ -53,10 +53,11 @@ def _as_parameter(key, value) -> Parameter:
     return Parameter(key.name, _TYPES[key.kind], value)
 
 
-def declare_all(node, where: str = "parameters"):
+def declare_all(node, where: str = "parameters", cli_keys=()):
     """Validate the node's overrides, declare every key, return the SimConfig read back.
 
-    ``where`` names the parameter file(s) in error messages. Raises ConfigError.
+    ``where`` names the parameter file(s) in error messages; keys in ``cli_keys`` came from a
+    command-line ``-p`` (which wins over the files) and are blamed on it. Raises ConfigError.
     """
     keys = key_map()
     overrides = node._parameter_overrides  # rclpy keeps --params-file / -p values here
@@ -64,6 +65,7 @@ def declare_all(node, where: str = "parameters"):
     for name, value in raw.items():
         if value is None and name in keys and keys[name].kind.endswith("array"):
             raw[name] = ()  # an empty YAML list arrives untyped
+    from_flat({k: v for k, v in raw.items() if k in set(cli_keys)}, where="command-line -p override")
     config = from_flat(raw, where=where)  # names unknown / out-of-range keys and the file
     validated = to_flat(config)
     derived = [k for k, v in validated.items() if k not in raw and v != keys[k].default]  # dg.resolution auto

@@ -128,7 +128,8 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
         duration = config.duration if duration is None else duration
     for r in recorded.values():
         r.feed_until(t0)
-    driver = SimulationDriver(config, sources, solver_factory=solver_factory)
+    # (the recorded poses are the scenario: applied from the first instant, no start-up blend)
+    driver = SimulationDriver(config, sources, solver_factory=solver_factory, start_blend=False)
     rate = config.node.output_rate
     n_ticks = max(1, int(round(duration * rate)))
     arc = np.linspace(0.0, config.cable.length, config.node.output_points)
@@ -179,7 +180,8 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
             if now >= next_diag:
                 next_diag += 1.0
                 sim = {"running": True, "real_time_factor": driver.real_time_factor,
-                       "time_step": driver.solver.stable_time_step(), "lag": 0.0, "divergences": driver.divergences,
+                       "time_step": driver.solver.stable_time_step(), "lag": 0.0, "degraded": driver.degraded,
+                       "divergences": driver.divergences,
                        "error_recent": report.error is not None, "last_error": driver.last_error or "",
                        "snaps": 0, "slack": dict(driver.slack)}
                 health = {end: dict(src.health(now), rejected_recent=0) for end, src in sources.items()
@@ -196,6 +198,19 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
     return {"output": str(output) if output is not None else None, "duration": duration, "ticks": n_ticks, "wall_time": wall,
             "speed": duration / wall if wall > 0 else math.inf, "static_tensions": driver.static_tensions,
             "snap_peaks": peaks, "events": events, **counts}
+
+
+def check_output_path(output) -> None:
+    """ConfigError when ``output`` cannot be a file: a directory, or a folder on its path is a
+    regular file (checked before the run, so no time is spent simulating into nowhere)."""
+    path = Path(output)
+    if path.is_dir():
+        raise ConfigError(f"--output {output} is a directory; give a file name such as {path / 'run.mcap'}")
+    for parent in path.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise ConfigError(f"--output {output}: {parent} is a regular file, not a directory")
+            break
 
 
 def main(argv=None) -> int:
@@ -217,6 +232,7 @@ def main(argv=None) -> int:
             raise ConfigError(f"--duration must be a positive number of seconds, got {args.duration}")
         if args.input and not Path(args.input).is_file():
             raise ConfigError(f"--input {args.input}: no such file")
+        check_output_path(args.output)
         summary = run_offline(config, args.output, duration=args.duration, input_path=args.input,
                               topics={"ship": args.ship_topic, "vehicle": args.vehicle_topic},
                               progress=not args.no_progress)
@@ -225,6 +241,9 @@ def main(argv=None) -> int:
         return 2
     except (ValueError, TetherSimError) as exc:  # a configuration the solver cannot build or start
         print(f"tether-sim-offline: cannot run this configuration: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # the output cannot be written (disk full, permissions, ...)
+        print(f"tether-sim-offline: cannot write --output {args.output}: {exc.strerror or exc}", file=sys.stderr)
         return 2
     s = summary
     print(f"wrote {s['output']}: {s['duration']:.3g} s simulated in {s['wall_time']:.3g} s "

@@ -25,7 +25,8 @@ from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
-from tether_sim.io.mcap_log import RosMcapWriter
+from tether_sim.io.mcap_log import McapLogError, RosMcapWriter
+from tether_sim.io.mcap_scan import inspect
 from tether_sim.ros.bag_common import adapted_subscription_qos, message_class, offer_to_dict, stop_on_signals
 
 NODE_NAME = "tether_sim_recorder"
@@ -41,6 +42,30 @@ def _describe(text, *, float_range=None, int_range=None) -> ParameterDescriptor:
         descriptor.integer_range = [IntegerRange(from_value=int_range[0], to_value=int_range[1],
                                                  step=0)]
     return descriptor
+
+
+def keep_unfinished(output: Path, logger=None):
+    """If ``output`` is a leftover unfinished MCAP (a recorder killed before closing it), move it
+    aside to ``<name>.unfinished-<n>.mcap`` instead of overwriting it, and say so (with how to
+    recover it). Returns the new path or None."""
+    if not output.is_file():
+        return None
+    try:
+        damage = inspect(output)
+    except McapLogError:
+        return None  # not an MCAP file: the writer overwrites it as before
+    if damage.complete:
+        return None
+    stem = output.name[:-5] if output.name.endswith(".mcap") else output.name
+    n = 1
+    while (aside := output.with_name(f"{stem}.unfinished-{n}.mcap")).exists():
+        n += 1
+    output.rename(aside)
+    text = (f"found a leftover unfinished recording at {output} ({damage.describe()}); moved it to {aside}; "
+            f"run `tether-sim-recover {aside}` to make it a complete MCAP")
+    if logger is not None:
+        logger.warning(text)
+    return aside
 
 
 class RecorderNode(Node):
@@ -71,6 +96,7 @@ class RecorderNode(Node):
             raise ValueError("no topics to record: give topic names, 'topics' or 'all_topics'")
         self.depth = int(get("depth"))
         self.duration_s = float(get("duration_s"))
+        self.leftover = keep_unfinished(self.output, self.get_logger())
         self.writer = RosMcapWriter(self.output, chunk_size=int(get("chunk_size")),
                                     flush_interval_s=float(get("flush_interval_s")))
         self._recorded = {}

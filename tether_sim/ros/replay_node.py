@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+import warnings
 
 import rclpy
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
@@ -24,6 +25,7 @@ from rclpy.parameter import Parameter
 from rclpy.signals import SignalHandlerOptions
 
 from tether_sim.io.mcap_log import McapLogError, iter_raw, read_summary
+from tether_sim.io.mcap_scan import TruncatedMcapWarning
 from tether_sim.ros.bag_common import clock_qos, message_class, replay_qos, stop_on_signals, wait_for
 
 NODE_NAME = "tether_sim_replay"
@@ -71,7 +73,16 @@ class ReplayNode(Node):
         self.duration_ns = int(float(values["duration_s"]) * 1e9)
         self.loop, self.wait_s = bool(values["loop"]), float(values["wait_for_subscribers_s"])
         self.clock_period = 1.0 / max(MIN_CLOCK_HZ, float(values["clock_hz"]))
-        summary = read_summary(self.path)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", TruncatedMcapWarning)  # reported below, once
+            summary = read_summary(self.path)
+        if summary.damage is not None:
+            warnings.filterwarnings("ignore", category=TruncatedMcapWarning)  # said once, here
+            self.get_logger().warning(f"{summary.damage.describe()}; replaying the {summary.message_count} "
+                                      f"message(s) kept (tether-sim-recover {self.path} writes a complete copy)")
+        if summary.message_count == 0:
+            raise ValueError(f"{self.path}: no complete message to replay"
+                             + (f" ({summary.damage.describe()})" if summary.damage is not None else ""))
         if summary.profile != "ros2":
             self.get_logger().warning(f"{self.path}: profile {summary.profile!r}, expected 'ros2'")
         wanted = [t for t in values["topics"] if t] or sorted(summary.topics)

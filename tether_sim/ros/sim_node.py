@@ -6,6 +6,7 @@ A timer at ``node.output_rate`` drives :class:`SimulationDriver` to the node clo
 the outputs built by :mod:`tether_sim.ros.convert`; diagnostics go out at 1 Hz.
 """
 
+import difflib
 import math
 import sys
 import time
@@ -15,8 +16,10 @@ import rclpy
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
 from nav_msgs.msg import Path
+from rclpy.exceptions import ParameterNotDeclaredException
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription, TetherState
 from visualization_msgs.msg import Marker
@@ -46,9 +49,10 @@ WARN_PERIOD = 2.0  # s between repeated warnings of one kind
 class TetherSimNode(Node):
     """Simulation node: validated inputs -> solver -> outputs (docs/node.md)."""
 
-    def __init__(self, *, node_name="tether_sim", where="parameters", solver_factory=build_solver, **kwargs):
+    def __init__(self, *, node_name="tether_sim", where="parameters", solver_factory=build_solver, cli_keys=(),
+                 **kwargs):
         super().__init__(node_name, **kwargs)
-        self.config = node_params.declare_all(self, where)
+        self.config = node_params.declare_all(self, where, cli_keys)
         node = self.config.node
         if self.config.solver == "dg":
             dg = self.config.dg
@@ -58,7 +62,9 @@ class TetherSimNode(Node):
         for end in END_NAMES:
             if getattr(self.config, f"{end}_end").kind == "prescribed":
                 inp = EndPoseInput(end, getattr(node, f"{end}_attachment"), max_end_speed=node.max_end_speed,
-                                   input_timeout=node.input_timeout, max_extrapolation=node.max_extrapolation)
+                                   input_timeout=node.input_timeout, max_extrapolation=node.max_extrapolation,
+                                   history_span=history_span(node), future_tolerance=node.future_stamp_tolerance,
+                                   max_age=node.max_input_age)
                 self.inputs[end] = inp
                 self.create_subscription(PoseStamped, f"{end}/pose", lambda m, e=end: self._on_pose(e, m),
                                          qos_profile_sensor_data)
@@ -82,8 +88,9 @@ class TetherSimNode(Node):
         # periodic outputs: built (and published) only while someone subscribes to them
         self._tick_topics = [t for t in self.pubs if t in convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
         self._first_tick = None
+        self.tick_errors, self.last_tick_error = 0, ""
         self._last_output = -float("inf")
-        self._period = {"snaps": 0, "errors": 0, "rejected": {e: 0 for e in self.inputs}, "behind": False}
+        self._period = _new_period(self.inputs)
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.create_timer(1.0 / node.output_rate, self._on_tick)
         self.create_timer(1.0, self._publish_diagnostics)
@@ -123,7 +130,12 @@ class TetherSimNode(Node):
         if t - self._last_log.get(key, -math.inf) < WARN_PERIOD:
             return
         self._last_log[key] = t
-        getattr(self.get_logger(), level)(text)
+        # one call line per severity: rclpy refuses two severities from the same call site
+        # ("Logger severity cannot be changed between calls"), which made a failing tick raise here
+        if level == "error":
+            self.get_logger().error(text)
+        else:
+            self.get_logger().warning(text)
 
     def _reject(self, end, what, reason):
         self._period["rejected"][end] += 1
@@ -134,18 +146,21 @@ class TetherSimNode(Node):
         if frame and frame.lstrip("/") != self.config.node.world_frame.lstrip("/"):
             self.inputs[end].rejected["wrong frame"] += 1
             return self._reject(end, "pose", f"frame {frame!r} is not the world frame {self.config.node.world_frame!r}")
-        stamp = convert.to_seconds(msg.header.stamp) or self._now()
+        now = self._now()
+        stamp = convert.to_seconds(msg.header.stamp) or now
         p, q = msg.pose.position, msg.pose.orientation
-        reason = self.inputs[end].add_pose(stamp, (p.x, p.y, p.z), (q.x, q.y, q.z, q.w))
+        reason = self.inputs[end].add_pose(stamp, (p.x, p.y, p.z), (q.x, q.y, q.z, q.w), now=now if now > 0.0 else None)
         if reason is not None:
             self._reject(end, "pose", reason)
 
     def _on_twist(self, end, msg: TwistStamped):
-        stamp = convert.to_seconds(msg.header.stamp) or self._now()
+        now = self._now()
+        stamp = convert.to_seconds(msg.header.stamp) or now
         frame = msg.header.frame_id.lstrip("/")
         body = bool(frame) and frame != self.config.node.world_frame.lstrip("/")
         lin, ang = msg.twist.linear, msg.twist.angular
-        reason = self.inputs[end].add_twist(stamp, (lin.x, lin.y, lin.z), (ang.x, ang.y, ang.z), body_frame=body)
+        reason = self.inputs[end].add_twist(stamp, (lin.x, lin.y, lin.z), (ang.x, ang.y, ang.z), body_frame=body,
+                                            now=now if now > 0.0 else None)
         if reason is not None:
             self._reject(end, "twist", reason)
 
@@ -183,9 +198,10 @@ class TetherSimNode(Node):
         except Exception as exc:  # noqa: BLE001 - the node must stay up; the error is reported
             if not self.context.ok():
                 return  # shutting down (Ctrl-C): publishers are gone
-            self._period["errors"] += 1
-            self.driver.last_error = f"{type(exc).__name__}: {exc}"
-            self._log_throttled("tick failed", "error", f"tick failed: {self.driver.last_error}")
+            self._period["tick_errors"] += 1
+            self.tick_errors += 1
+            self.last_tick_error = f"{type(exc).__name__}: {exc}"
+            self._log_throttled("tick failed", "error", f"tick failed (not a solver divergence): {self.last_tick_error}")
 
     def _handle_report(self, now, report):
         log = self.get_logger()
@@ -199,9 +215,16 @@ class TetherSimNode(Node):
         if report.clock_jump:
             self._last_output = -float("inf")
             log.warning("clock jumped backwards: pose histories reset, simulation continues")
-        if report.dropped > 0 or report.capped:
+        if report.dropped > 0:
+            self._period["resyncs"] += 1
+            log.warning(f"{report.dropped:.3f} s behind the clock (beyond node.max_lag): re-synchronised to the newest "
+                        "inputs, cable state kept, ends blended, snap detection suspended across the gap")
+        for end, duration, reason in report.blends:
+            self._log_throttled(("blend", end), "warning", f"{end} end blended onto its pose input over {duration:.2f} s ({reason})")
+        if report.capped or report.degraded and report.lag > 0.0:
             self._period["behind"] = True
-            self._log_throttled("behind", "warning", f"behind the clock: lag {report.lag:.3f} s, dropped {report.dropped:.3f} s")
+            self._log_throttled("behind", "warning", f"cannot keep up with the clock: outputs {report.lag:.3f} s late "
+                                "(stamped with the simulated instant, marked degraded)")
         for end, inp in self.inputs.items():
             if inp.is_stale(now):
                 self._log_throttled(("stale", end), "warning", f"{end} pose input stale (age {inp.age(now):.3g} s): holding/extrapolating")
@@ -223,6 +246,16 @@ class TetherSimNode(Node):
                 self._publish_description()
         return result
 
+    def _check_undeclared_parameters(self, parameter_list):
+        """rclpy's own check consumes its generator in ``any()`` and so answers "undeclared
+        parameter(s): []"; name the parameters (and the closest known key) instead."""
+        unknown = [p.name for p in parameter_list if isinstance(p, Parameter) and p.name not in self._parameters]
+        if unknown:
+            hints = [difflib.get_close_matches(name, list(self._parameters), n=1, cutoff=0.7) for name in unknown]
+            text = ", ".join(f"{n!r}" + (f" (did you mean {h[0]!r}?)" if h else "") for n, h in zip(unknown, hints))
+            raise ParameterNotDeclaredException(f"{text}; tether_sim declares every key of docs/parameters.md")
+        super()._check_undeclared_parameters(parameter_list)
+
     def _publish_description(self):
         self.pubs["/tether/description"].publish(convert.description(self.config, self.arc_lengths, self._now()))
 
@@ -231,16 +264,65 @@ class TetherSimNode(Node):
         running = d.solver is not None
         sim = {"running": running, "real_time_factor": float(d.real_time_factor),
                "time_step": float(d.solver.stable_time_step()) if running else 0.0,
-               "lag": float(max(0.0, now - d.stamp)) if running else 0.0, "dropped_total": float(d.dropped_total),
-               "capped_ticks": d.capped_ticks, "behind": p["behind"], "divergences": d.divergences,
-               "error_recent": p["errors"] > 0, "last_error": d.last_error or "", "snaps": p["snaps"],
-               "slack": dict(d.slack)}
+               "lag": float(d.lag) if running else 0.0, "input_delay": float(self.config.node.input_delay),
+               "degraded": bool(d.degraded), "dropped_total": float(d.dropped_total), "resyncs": d.resyncs,
+               "resyncs_recent": p["resyncs"], "capped_ticks": d.capped_ticks, "behind": p["behind"],
+               "divergences": d.divergences, "error_recent": p["errors"] > 0, "last_error": d.last_error or "",
+               "tick_errors": self.tick_errors, "tick_errors_recent": p["tick_errors"],
+               "last_tick_error": self.last_tick_error, "snaps": p["snaps"], "slack": dict(d.slack)}
         inputs = {}
         for end, inp in self.inputs.items():
             inputs[end] = inp.health(now)
             inputs[end]["rejected_recent"] = p["rejected"][end]
         self.pubs["/diagnostics"].publish(convert.diagnostics(now, self.get_name(), sim, inputs))
-        self._period = {"snaps": 0, "errors": 0, "rejected": {e: 0 for e in self.inputs}, "behind": False}
+        self._period = _new_period(self.inputs)
+
+
+def _new_period(inputs) -> dict:
+    """Counters of one diagnostics period."""
+    return {"snaps": 0, "errors": 0, "tick_errors": 0, "resyncs": 0, "rejected": {e: 0 for e in inputs},
+            "behind": False}
+
+
+def history_span(node) -> float:
+    """Seconds of pose history an input keeps: the input delay plus the largest lag the node runs
+    with before re-synchronising, plus 1 s of margin (bounded: a 60 s lag at most is covered)."""
+    return node.input_delay + min(node.max_lag, 60.0) + 1.0
+
+
+USAGE = """usage: tether-sim [-h] [--ros-args [--params-file FILE] [-p KEY:=VALUE] [-r FROM:=TO] ...]
+
+The real-time tether simulation node (docs/node.md). Every configuration key of
+docs/parameters.md is a ROS parameter: give a parameter file (config/*.yaml) with --params-file
+and single values with -p (e.g. -p use_sim_time:=true). Inputs /ship/pose, /vehicle/pose; outputs
+/tether/state, /tether/marker, /tether/path, wrenches, snap events, slack warnings, /diagnostics.
+
+  tether-sim --ros-args --params-file config/ropos_L200.yaml
+"""
+
+
+def wants_help(argv) -> bool:
+    """-h/--help before any --ros-args section."""
+    for a in argv[1:]:
+        if a == "--ros-args":
+            return False
+        if a in ("-h", "--help"):
+            return True
+    return False
+
+
+def cli_param_keys(argv) -> set:
+    """Parameter names set with ``-p``/``--param NAME:=VALUE`` inside ``--ros-args`` (a
+    ``node:`` prefix is dropped)."""
+    keys, in_ros = set(), False
+    for i, a in enumerate(argv):
+        if a == "--ros-args":
+            in_ros = True
+        elif a == "--":
+            in_ros = False
+        elif in_ros and a in ("-p", "--param") and i + 1 < len(argv) and ":=" in argv[i + 1]:
+            keys.add(argv[i + 1].split(":=", 1)[0].rsplit(":", 1)[-1])
+    return keys
 
 
 def params_files(argv) -> list:
@@ -268,6 +350,9 @@ def check_params_files(files) -> None:
 
 def main(args=None):
     argv = list(sys.argv if args is None else args)
+    if wants_help(argv):
+        print(USAGE)
+        return 0
     files = params_files(argv)
     try:
         check_params_files(files)
@@ -279,7 +364,7 @@ def main(args=None):
     rclpy.init(args=argv)
     node = None
     try:
-        node = TetherSimNode(where=", ".join(files) or "command-line parameters")
+        node = TetherSimNode(where=", ".join(files) or "command-line parameters", cli_keys=cli_param_keys(argv))
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
         exit_if_compiling(0)  # SIGINT during the start-up compile: leave without waiting for it

@@ -7,16 +7,18 @@ for lengths 100-2000 m, a stiff (ROPOS, EA = 45.5 MN) and a soft (EA = 2 MN) cab
 and on (EI = 0 and EI* = 2620 N m^2) and the cage or a free end; the measured figures are in
 docs/data/resolution_ladder.csv and docs/performance.md ("Accuracy-chosen resolution").
 
-``_WORST_ERROR[L][N]`` is the worst relative error of the first snap peak (largest end tension of
-the first full-amplitude forcing period, ship and vehicle end, resampled at 200 Hz) over every
-case measured at length L, and of the bending effect on it (peak(EI*) - peak(EI = 0), relative
-to the peak) where both were measured. The rule:
+``_WORST_ERROR[end][L][N]`` is the worst relative error of the first snap peak (largest end tension
+of the first full-amplitude forcing period, ship and vehicle end, resampled at 200 Hz) over every
+case measured with vehicle end kind ``end`` (body = the cage, free) at length L, and of the
+bending effect on it (peak(EI*) - peak(EI = 0), relative to the peak) where both were measured.
+The rule:
 
 1. the smallest N whose worst error, and that of every finer N of the ladder, is at most
    SAFETY x tolerance (SAFETY = 1/2: a margin for what the ladders did not vary, e.g. the
    forcing). "Every finer N" because the error is not monotone in N (at L = 500 m: 0.55 % at
    N = 3, 0.28 % at N = 4, 0.91 % at N = 6): a lucky zero crossing is not convergence;
-2. between two measured lengths, both bracketing lengths must satisfy 1 for the same N;
+2. between two measured lengths, both bracketing lengths must satisfy 1 for the same N (the
+   range is that of the measured lengths: 100-2000 m with the cage, 200-975 m free);
 3. P = 4 and dg.cfl = 0.8, the values every ladder rung ran at (cfl 1.1 was measured to give
    +68 % at L = 200 m in session 2, so no larger factor is ever chosen).
 
@@ -32,20 +34,27 @@ ORDER = 4
 CFL = 0.8
 SAFETY = 0.5
 
-# L (m) -> {N: worst first-snap-peak error (relative) over the cases measured at L}, P = 4, cfl 0.8.
+# vehicle_end.kind -> L (m) -> {N: worst first-snap-peak error (relative) over the cases measured with
+# that end at L}, P = 4, cfl 0.8.
 # Source: docs/data/resolution_ladder.csv (benchmarks/resolution_ladder.py --table prints this).
 _WORST_ERROR = {
-    200: {1: 0.0179, 2: 0.0047, 3: 0.0012, 4: 0.0009, 6: 0.0009, 8: 0.0006},
-    500: {1: 0.0310, 2: 0.0168, 3: 0.0056, 4: 0.0029, 6: 0.0092, 8: 0.0043, 12: 0.0016, 16: 0.0015, 24: 0.0009},
-    975: {1: 0.0423, 2: 0.0099, 3: 0.0166, 4: 0.0190, 6: 0.0042, 8: 0.0062, 12: 0.0126, 16: 0.0060, 24: 0.0041, 32: 0.0018},
-    1730: {1: 0.0848, 2: 0.0225, 3: 0.0061, 4: 0.0002, 6: 0.0016, 8: 0.0009, 12: 0.0011, 16: 0.0013, 24: 0.0007, 32: 0.0009},
+    "body": {
+        100: {1: 0.0116, 2: 0.0080, 3: 0.0068, 4: 0.0054, 6: 0.0031, 8: 0.0012},
+        200: {1: 0.0179, 2: 0.0047, 3: 0.0012, 4: 0.0009, 6: 0.0009, 8: 0.0006},
+        500: {1: 0.0310, 2: 0.0168, 3: 0.0056, 4: 0.0029, 6: 0.0092, 8: 0.0043, 12: 0.0016, 16: 0.0015, 24: 0.0011},
+        975: {1: 0.0430, 2: 0.0099, 3: 0.0170, 4: 0.0193, 6: 0.0042, 8: 0.0062, 12: 0.0126, 16: 0.0094, 24: 0.0041, 32: 0.0018},
+        1730: {1: 0.0848, 2: 0.0225, 3: 0.0061, 4: 0.0002, 6: 0.0016, 8: 0.0009, 12: 0.0011, 16: 0.0013, 24: 0.0007, 32: 0.0009},
+        2000: {1: 0.0546, 2: 0.0093, 3: 0.0003, 4: 0.0063, 6: 0.0030, 8: 0.0025, 12: 0.0018, 16: 0.0016, 24: 0.0012, 32: 0.0010},
+    },
+    "free": {
+        200: {1: 0.1276, 2: 0.1030, 3: 0.0167, 4: 0.0014, 6: 0.0011, 8: 0.0004},
+        975: {1: 0.0023, 2: 0.0078, 3: 0.0031, 4: 0.0031, 6: 0.0018, 8: 0.0009, 12: 0.0015, 16: 0.0007, 24: 0.0001, 32: 0.0001},
+    },
 }
 
-LENGTH_RANGE = (min(_WORST_ERROR), max(_WORST_ERROR))  # m, the measured lengths
 EA_RANGE = (2.0e6, 45.5e6)  # N
 EI_MAX = 2620.0  # N m^2
 SHIP_KINDS = ("prescribed",)
-VEHICLE_KINDS = ("body", "free")
 
 
 @dataclass(frozen=True)
@@ -63,24 +72,28 @@ class Resolution:
                 f"tolerance of {100 * self.tolerance:g} % (worst measured error {100 * self.measured_error:.2f} %)")
 
 
-def choose(length, tolerance):
-    """N, P, cfl for a tether of unstretched length ``length`` (m) and first-snap-peak ``tolerance``:
-    the smallest N whose measured worst error, and that of every finer measured N, is within
-    SAFETY x tolerance at both measured lengths that bracket ``length`` (one when it was measured)."""
-    lo, hi = LENGTH_RANGE
+def choose(length, tolerance, end="body"):
+    """N, P, cfl for a tether of unstretched length ``length`` (m) with vehicle end kind ``end`` and
+    first-snap-peak ``tolerance``: the smallest N whose measured worst error, and that of every finer
+    measured N, is within SAFETY x tolerance at both measured lengths that bracket ``length``."""
+    if end not in _WORST_ERROR:
+        raise ConfigError(f"dg.resolution auto: vehicle_end.kind {end} was not measured "
+                          f"(only {', '.join(_WORST_ERROR)}); set dg.resolution: manual (docs/performance.md)")
+    table = _WORST_ERROR[end]
+    lo, hi = min(table), max(table)
     if not lo <= length <= hi:
-        raise ConfigError(f"dg.resolution auto: cable.length {length:g} m is outside the measured range "
-                          f"{lo:g}-{hi:g} m; set dg.resolution: manual (docs/performance.md)")
-    measured = sorted(_WORST_ERROR)
+        raise ConfigError(f"dg.resolution auto: cable.length {length:g} m is outside the range measured with "
+                          f"vehicle_end.kind {end}, {lo:g}-{hi:g} m; set dg.resolution: manual (docs/performance.md)")
+    measured = sorted(table)
     brackets = {max(x for x in measured if x <= length), min(x for x in measured if x >= length)}
-    rungs = sorted(set.intersection(*(set(_WORST_ERROR[x]) for x in brackets)))
+    rungs = sorted(set.intersection(*(set(table[x]) for x in brackets)))
     for i, n in enumerate(rungs):
         # n and every finer measured rung within the margin: the error has settled, not crossed zero
-        if all(_WORST_ERROR[x][m] <= SAFETY * tolerance for x in brackets for m in rungs[i:]):
-            worst = max(_WORST_ERROR[x][n] for x in brackets)
+        if all(table[x][m] <= SAFETY * tolerance for x in brackets for m in rungs[i:]):
+            worst = max(table[x][n] for x in brackets)
             return Resolution(n_elements=n, order=ORDER, cfl=CFL, tolerance=tolerance, measured_error=worst)
     finest = rungs[-1]
-    worst = max(_WORST_ERROR[x][finest] for x in brackets)
+    worst = max(table[x][finest] for x in brackets)
     raise ConfigError(
         f"dg.snap_tolerance {tolerance:g}: the finest measured rung near L = {length:g} m (N = {finest}) has "
         f"{100 * worst:.2f} % error, more than {SAFETY:g} x the tolerance; set dg.resolution: manual with a "
@@ -97,8 +110,8 @@ def check_domain(config):
         problems.append(f"cable.EI {cable.EI:g} N m^2 is above the measured {EI_MAX:g} N m^2")
     if config.ship_end.kind not in SHIP_KINDS:
         problems.append(f"ship_end.kind {config.ship_end.kind} was not measured (only {', '.join(SHIP_KINDS)})")
-    if config.vehicle_end.kind not in VEHICLE_KINDS:
-        problems.append(f"vehicle_end.kind {config.vehicle_end.kind} was not measured (only {', '.join(VEHICLE_KINDS)})")
+    if config.vehicle_end.kind not in _WORST_ERROR:
+        problems.append(f"vehicle_end.kind {config.vehicle_end.kind} was not measured (only {', '.join(_WORST_ERROR)})")
     if dg.damping != "explicit":
         problems.append("dg.damping implicit was not measured")
     if dg.element_lengths or dg.fixed_time_step > 0.0:
@@ -118,7 +131,7 @@ def resolve(config, given=()):
     if dg.resolution != "auto" or config.solver != "dg":
         return config
     check_domain(config)
-    chosen = choose(float(config.cable.length), float(dg.snap_tolerance))
+    chosen = choose(float(config.cable.length), float(dg.snap_tolerance), config.vehicle_end.kind)
     values = {"n_elements": chosen.n_elements, "order": chosen.order, "cfl": chosen.cfl}
     for name, value in values.items():
         if f"dg.{name}" in given and getattr(dg, name) != value:

@@ -1,7 +1,7 @@
 """Console script ``tether-sim-study``: run a study file, or report on a results folder.
 
     tether-sim-study STUDY.yaml [--out DIR] [--workers N] [--scheduler tcp://host:8786 | local]
-                                [--retry-failed] [--limit N] [--list]
+                                [--retry-failed] [--limit N] [--cases 0,5,10-12] [--list]
     tether-sim-study report RESULTS [--out DIR]
 
 Results go to ``out/studies/<study name>/`` unless ``--out`` says otherwise (docs/studies.md).
@@ -25,6 +25,7 @@ def _run_parser():
                     "Dask LocalCluster on this machine; default: local processes, no Dask")
     ap.add_argument("--retry-failed", action="store_true", help="run again the cases recorded as failed")
     ap.add_argument("--limit", type=int, default=None, help="run at most this many of the pending cases")
+    ap.add_argument("--cases", default=None, help="run only these case indices (as --list numbers them), e.g. 0,5,10-12")
     ap.add_argument("--list", action="store_true", help="print the cases and whether each is done; run nothing")
     return ap
 
@@ -68,10 +69,11 @@ def main(argv=None) -> int:
         args = _run_parser().parse_args(argv)
         if args.list:
             return _list(args)
-        from tether_sim.studies.runner import run_study
+        from tether_sim.studies.runner import parse_indices, run_study
 
         s = run_study(args.study, args.out, scheduler=args.scheduler, workers=args.workers,
-                      retry_failed=args.retry_failed, limit=args.limit)
+                      retry_failed=args.retry_failed, limit=args.limit,
+                      cases=parse_indices(args.cases) if args.cases is not None else None)
     except (ConfigError, FileNotFoundError) as exc:
         print(f"tether-sim-study: {exc}", file=sys.stderr)
         return 2

@@ -59,7 +59,7 @@ def heatmap(rows, path):
     values = sorted({r[facet] for r in rows}) if facet else [None]
     lengths = sorted({r[L_KEY] for r in rows})
     freqs = sorted({r[F_KEY] for r in rows})
-    fig, axes = plt.subplots(2, len(values), figsize=(3.4 * len(values) + 1.2, 2.2 + 1.1 * len(lengths) * 2),
+    fig, axes = plt.subplots(2, len(values), figsize=(max(6.0, 3.4 * len(values) + 1.2), 2.6 + 1.1 * len(lengths) * 2),
                              squeeze=False)
     for col, v in enumerate(values):
         sub = [r for r in rows if facet is None or r[facet] == v]
@@ -84,7 +84,7 @@ def heatmap(rows, path):
             title = f"{label}: largest tension (kN)"
             ax.set_title(title + (f"\n{facet[4:]} = {v:g}" if facet else ""), fontsize=9)
             fig.colorbar(im, ax=ax, shrink=0.85)
-    fig.suptitle(f"Peak tension against length and frequency (* = slack: T_min < {DNV_SLACK_FRACTION:g} T_static, "
+    fig.suptitle(f"Peak tension against length and frequency\n(* = slack: T_min < {DNV_SLACK_FRACTION:g} T_static, "
                  "DNV-RP-H103 criterion not met)", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -228,6 +228,8 @@ def write_report(results, out=None) -> Path:
                  "study, not the extreme-value distribution of one sea state (use seeds for that).", ""]
         from scipy.stats import gumbel_r
 
+        if not fits:
+            text += ["No fit: fewer than 3 distinct per-case maxima.", ""]
         text += _table([{"g": k, "n": n, "mu": loc / 1e3, "beta": s / 1e3,
                          "q": gumbel_r.ppf(0.9, loc, s) / 1e3} for k, (loc, s, n) in fits.items()],
                        ["g", "n", "mu", "beta", "q"],

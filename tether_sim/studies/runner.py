@@ -48,9 +48,24 @@ def plan(study, out_dir, retry_failed=False):
     return tasks, new, skipped + len(invalid) - len(new), duplicates
 
 
+def parse_indices(text) -> set:
+    """Case indices from ``"0,3,10-12"`` (ranges inclusive)."""
+    out = set()
+    for part in str(text).split(","):
+        part = part.strip()
+        if not part:
+            continue
+        try:
+            lo, _, hi = part.partition("-")
+            out.update(range(int(lo), int(hi or lo) + 1))
+        except ValueError:
+            raise ConfigError(f"--cases: expected indices like 0,3,10-12, got {part!r}") from None
+    return out
+
+
 def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=False, limit=None,
-              stream=None) -> dict:
-    """Run the study file ``path``; returns a summary (results folder, counts)."""
+              cases=None, stream=None) -> dict:
+    """Run the study file ``path`` (only the case indices ``cases``, if given); returns a summary."""
     stream = stream or sys.stderr
     study = load_study(path)
     out_dir = Path(out_dir) if out_dir else default_out(study)
@@ -59,6 +74,9 @@ def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=
     tasks, invalid, skipped, duplicates = plan(study, out_dir, retry_failed)
     for index, first in duplicates:
         print(f"[study] case {index} resolves to the same configuration as case {first}: run once", file=stream)
+    if cases is not None:
+        tasks = [t for t in tasks if t["index"] in cases]
+        invalid = [r for r in invalid if r["row"]["index"] in cases]
     if limit is not None:
         tasks = tasks[:max(0, int(limit))]
     store = ResultStore(out_dir)

@@ -1,0 +1,207 @@
+"""Soak test of the simulation node (not in CI): one hour of a gentle heave with faults injected.
+
+    .venv/bin/python benchmarks/soak_node.py [--minutes 60] [--params config/ropos_L200.yaml]
+                                             [--out out/soak]
+
+The node (``tether-sim``, wall clock, its own process) drives a taut tether whose ship end follows
+/ship/pose: a heave of 0.5 m at 0.1 Hz (peak acceleration 0.2 m/s^2; the tether never goes slack,
+so every snap event would be false). Every 30 s one fault from a fixed cycle is injected: NaN and
+infinite poses, a bad quaternion, a pose stamped 1 h ahead, one 10 s in the past, a backwards
+stamp, a wrong frame, a 3 s dropout, a 1 s flood at 1 kHz. This process publishes the poses
+(loopback only, private ROS_DOMAIN_ID), subscribes to /tether/state, /tether/snap_events and
+/diagnostics, samples the node's resident memory every 10 s, and prints / writes
+(``summary.txt``, ``soak.png``): memory at start and end (and its slope), interval between states
+(median, p99, max), lag and degraded share, non-finite values received (must be 0), snap events
+(must be 0), rejected inputs by reason. Exit code 1 when a non-finite value or a snap event came,
+or the node died.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[1]
+FAULTS = ("nan", "inf", "bad quaternion", "future", "past", "backwards", "wrong frame", "dropout", "flood")
+
+
+def rss_mb(pid: int) -> float:
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024.0
+    return math.nan
+
+
+def heave(t: float) -> float:
+    return 0.5 * math.sin(2 * math.pi * 0.1 * t)
+
+
+class Soak:
+    def __init__(self, node):
+        from diagnostic_msgs.msg import DiagnosticArray
+        from geometry_msgs.msg import PoseStamped
+        from rclpy.qos import qos_profile_sensor_data
+        from tether_sim_msgs.msg import SnapLoadEvent, TetherState
+
+        self.node, self.PoseStamped = node, PoseStamped
+        self.pub = node.create_publisher(PoseStamped, "/ship/pose", qos_profile_sensor_data)
+        self.states, self.snaps, self.nonfinite, self.diag = [], [], 0, None
+        node.create_subscription(TetherState, "/tether/state", self.on_state, 100)
+        node.create_subscription(SnapLoadEvent, "/tether/snap_events", self.snaps.append, 100)
+        node.create_subscription(DiagnosticArray, "/diagnostics", self.on_diag, 10)
+
+    def on_state(self, msg):
+        values = [msg.ship_end_tension, msg.vehicle_end_tension, *msg.tension,
+                  *(c for p in msg.position for c in (p.x, p.y, p.z))]
+        if not all(map(math.isfinite, values)):
+            self.nonfinite += 1
+        self.states.append((time.monotonic(), msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec,
+                            msg.lag, msg.degraded, msg.ship_end_tension))
+
+    def on_diag(self, msg):
+        self.diag = {s.name: {kv.key: kv.value for kv in s.values} for s in msg.status}
+
+    def pose(self, t, z, q=(0.0, 0.0, 0.0, 1.0), frame="map"):
+        from tether_sim.ros.convert import time_msg
+
+        msg = self.PoseStamped()
+        msg.header.stamp, msg.header.frame_id = time_msg(t), frame
+        msg.pose.position.z = float(z)
+        msg.pose.orientation.x, msg.pose.orientation.y, msg.pose.orientation.z, msg.pose.orientation.w = q
+        self.pub.publish(msg)
+
+
+def run(args) -> int:
+    import rclpy
+
+    from tether_sim.ros.processes import claim_domain_id, isolated_env
+
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    env = isolated_env(claim_domain_id())
+    import os
+
+    os.environ.update(env)
+    log = open(out / "node.log", "w")  # noqa: SIM115
+    node_proc = subprocess.Popen([str(REPO / ".venv/bin/tether-sim"), "--ros-args", "--params-file", args.params],
+                                 env=env, stdout=log, stderr=subprocess.STDOUT)
+    rclpy.init()
+    probe = rclpy.create_node("soak_probe")
+    soak = Soak(probe)
+    memory, fault_log = [], []
+    t_start = time.monotonic()
+    end = t_start + 60.0 * args.minutes
+    next_pose, next_mem, next_fault, fault_i, dropout_until = t_start, t_start, t_start + 30.0, 0, 0.0
+    try:
+        while time.monotonic() < end and node_proc.poll() is None:
+            rclpy.spin_once(probe, timeout_sec=0.005)
+            now_wall = time.monotonic()
+            t = probe.get_clock().now().nanoseconds * 1e-9
+            if now_wall >= next_pose:
+                next_pose += 0.05
+                if now_wall >= dropout_until:
+                    soak.pose(t, heave(now_wall - t_start))
+            if now_wall >= next_mem:
+                next_mem += 10.0
+                memory.append((now_wall - t_start, rss_mb(node_proc.pid)))
+            if now_wall >= next_fault:
+                next_fault += 30.0
+                kind = FAULTS[fault_i % len(FAULTS)]
+                fault_i += 1
+                fault_log.append((now_wall - t_start, kind))
+                z = heave(now_wall - t_start)
+                if kind == "nan":
+                    soak.pose(t + 0.01, math.nan)
+                elif kind == "inf":
+                    soak.pose(t + 0.01, math.inf)
+                elif kind == "bad quaternion":
+                    soak.pose(t + 0.01, z, (0.0, 0.0, 0.0, 0.0))
+                elif kind == "future":
+                    soak.pose(t + 3600.0, z)
+                elif kind == "past":
+                    soak.pose(t - 10.0, z)
+                elif kind == "backwards":
+                    soak.pose(t - 0.5, z)
+                elif kind == "wrong frame":
+                    soak.pose(t + 0.01, z, frame="odom")
+                elif kind == "dropout":
+                    dropout_until = now_wall + 3.0
+                elif kind == "flood":
+                    for k in range(1000):
+                        soak.pose(t + k * 1e-3, heave(now_wall - t_start + k * 1e-3))
+    finally:
+        died = node_proc.poll() is not None
+        node_proc.terminate()
+        try:
+            node_proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            node_proc.kill()
+        memory.append((time.monotonic() - t_start, math.nan))
+        probe.destroy_node()
+        rclpy.shutdown()
+    return report(args, out, soak, memory, fault_log, died)
+
+
+def report(args, out, soak, memory, fault_log, died) -> int:
+    arr = np.array([s[:4] for s in soak.states], float) if soak.states else np.zeros((0, 4))
+    gaps = np.diff(arr[:, 0]) * 1e3 if len(arr) > 1 else np.zeros(1)
+    mem = np.array([m for m in memory if math.isfinite(m[1])])
+    slope = np.polyfit(mem[:, 0] / 3600.0, mem[:, 1], 1)[0] if len(mem) > 2 else math.nan
+    load = Path("/proc/loadavg").read_text().split()[:3]
+    lines = [f"soak of {args.minutes:g} min, params {args.params}, load average at the end {' '.join(load)}",
+             f"node alive to the end: {not died}",
+             f"TetherState received: {len(arr)}; non-finite: {soak.nonfinite}; snap events: {len(soak.snaps)}",
+             f"interval between states (wall, ms): median {np.median(gaps):.1f}, p99 {np.percentile(gaps, 99):.1f}, "
+             f"max {gaps.max():.1f}",
+             f"lag (s): median {np.median(arr[:, 2]) if len(arr) else math.nan:.3f}, max "
+             f"{arr[:, 2].max() if len(arr) else math.nan:.3f}; degraded states: "
+             f"{100.0 * arr[:, 3].mean() if len(arr) else math.nan:.1f} %",
+             f"node RSS (MB): start {mem[0, 1] if len(mem) else math.nan:.0f}, end {mem[-1, 1] if len(mem) else math.nan:.0f}, "
+             f"slope {slope:.2f} MB/h",
+             f"faults injected: {len(fault_log)} ({', '.join(sorted(set(k for _, k in fault_log)))})",
+             "last diagnostics: " + repr(soak.diag)]
+    text = "\n".join(lines)
+    print(text)
+    (out / "summary.txt").write_text(text + "\n")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(3, 1, figsize=(9, 7), sharex=True, constrained_layout=True)
+    t0 = arr[0, 0] if len(arr) else 0.0
+    if len(mem):
+        axes[0].plot(mem[:, 0] / 60.0, mem[:, 1], "o-", ms=3)
+    axes[0].set_ylabel("node RSS [MB]")
+    if len(arr) > 1:
+        axes[1].plot((arr[1:, 0] - t0) / 60.0, gaps, lw=0.5)
+        axes[2].plot((arr[:, 0] - t0) / 60.0, arr[:, 2], lw=0.7, label="lag")
+        axes[2].fill_between((arr[:, 0] - t0) / 60.0, 0, arr[:, 3] * max(arr[:, 2].max(), 0.1), color="0.8",
+                             label="degraded")
+    axes[1].set_ylabel("state interval [ms]")
+    axes[2].set_ylabel("lag [s]")
+    axes[2].set_xlabel("wall time [min]")
+    axes[2].legend(loc="upper right", fontsize=8)
+    for tf, kind in fault_log:
+        axes[1].axvline(tf / 60.0, color="tab:red", lw=0.4, alpha=0.5)
+    axes[0].set_title(f"node soak ({args.minutes:g} min, {Path(args.params).name}; red lines: injected faults)")
+    fig.savefig(out / "soak.png", dpi=100)
+    return 1 if (died or soak.nonfinite or soak.snaps) else 0
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--minutes", type=float, default=60.0)
+    ap.add_argument("--params", default=str(REPO / "config" / "ropos_L200.yaml"))
+    ap.add_argument("--out", default=str(REPO / "out" / "soak"))
+    return run(ap.parse_args(argv))
+
+
+if __name__ == "__main__":
+    sys.exit(main())

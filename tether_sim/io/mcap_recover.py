@@ -1,0 +1,149 @@
+"""Recover an MCAP file cut by a crash, SIGKILL or power loss (console script ``tether-sim-recover``).
+
+    tether-sim-recover IN [OUT]      # OUT defaults to IN with the suffix .recovered.mcap
+
+A recorder killed mid-write leaves the header, the schemas and channels, and every chunk it closed;
+the chunk it was filling is cut and the summary, the rosbag2 metadata record and the footer are
+missing, so mcap's ``make_reader`` and rosbags refuse the file. This rewrites every complete record
+(schemas, channels, messages of every complete chunk with its CRC checked, metadata) into a new,
+complete MCAP: chunked (zstd), with summary, statistics, chunk and message indexes, footer and end
+magic, plus the ``rosbag2`` metadata record (BagMetadata v9) recomputed from the recovered
+messages when the original had none. Nothing of the input is changed; the output is written
+beside it and renamed into place only when complete. No rclpy.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import yaml
+from mcap.records import Channel, Header, Message, Metadata, Schema
+from mcap.writer import CompressionType, Writer
+
+from tether_sim.io.mcap_scan import Damage, McapLogError, _open_mcap, _qos_list, _scan_records
+
+
+@dataclass
+class Recovery:
+    """What :func:`recover` kept and lost."""
+
+    output: str
+    damage: Damage
+    messages: int
+    topics: dict  # topic -> message count
+    start_ns: int
+    end_ns: int
+
+    def describe(self) -> str:
+        span = (self.end_ns - self.start_ns) * 1e-9 if self.messages else 0.0
+        return (f"{self.damage.describe()}\nwrote {self.output}: {self.messages} message(s) on "
+                f"{len(self.topics)} topic(s), {span:.3f} s")
+
+
+def default_output(path) -> Path:
+    path = Path(path)
+    stem = path.name[:-5] if path.name.endswith(".mcap") else path.name
+    return path.with_name(f"{stem}.recovered.mcap")
+
+
+def _bag_metadata(name, topics, channels, schemas, start, end, count) -> str:
+    """BagMetadata v9 YAML (as rosbag2 writes it at close) for the recovered messages."""
+    entries = []
+    for cid, channel in channels.items():
+        schema = schemas.get(channel.schema_id)
+        entries.append({"topic_metadata": {"name": channel.topic, "type": schema.name if schema else "",
+                                           "serialization_format": channel.message_encoding,
+                                           "offered_qos_profiles": _qos_list(channel),
+                                           "type_description_hash": channel.metadata.get("topic_type_hash", "")},
+                        "message_count": topics.get(channel.topic, 0)})
+    duration = max(0, end - start)
+    data = {"version": 9, "storage_identifier": "mcap", "duration": {"nanoseconds": duration},
+            "starting_time": {"nanoseconds_since_epoch": start}, "message_count": count,
+            "topics_with_message_count": entries, "compression_format": "", "compression_mode": "",
+            "relative_file_paths": [name],
+            "files": [{"path": name, "starting_time": {"nanoseconds_since_epoch": start},
+                       "duration": {"nanoseconds": duration}, "message_count": count}],
+            "custom_data": None, "ros_distro": os.environ.get("ROS_DISTRO") or "jazzy"}
+    return yaml.safe_dump(data, sort_keys=False, default_flow_style=False).strip()
+
+
+def recover(path, output=None, *, chunk_size: int = 1 << 20) -> Recovery:
+    """Rewrite the complete records of ``path`` into a complete MCAP ``output`` (see module doc).
+
+    Raises McapLogError when ``path`` is not an MCAP file or a complete record is corrupt."""
+    path = Path(path)
+    output = Path(output) if output else default_output(path)
+    if output.resolve() == path.resolve():
+        raise McapLogError(f"{path}: the output must be a different file from the input")
+    _open_mcap(path).close()  # not MCAP -> McapLogError
+    tmp = output.with_name(output.name + ".part")
+    damage, schemas, channels, topics = [], {}, {}, {}
+    schema_ids, channel_ids, metadata_names = {}, {}, set()
+    count, start, end = 0, None, 0
+    with open(tmp, "wb") as handle:
+        writer = Writer(handle, chunk_size=chunk_size, compression=CompressionType.ZSTD, enable_crcs=True)
+        started = False
+        for record in _scan_records(path, damage, warn=False):
+            if isinstance(record, Header):
+                writer.start(profile=record.profile, library=record.library or "tether-sim-recover")
+                started = True
+                continue
+            if not started:
+                writer.start(profile="ros2", library="tether-sim-recover")
+                started = True
+            if isinstance(record, Schema) and record.id not in schema_ids:
+                schemas[record.id] = record
+                schema_ids[record.id] = writer.register_schema(record.name, record.encoding, record.data)
+            elif isinstance(record, Channel) and record.id not in channel_ids:
+                channels[record.id] = record
+                channel_ids[record.id] = writer.register_channel(
+                    record.topic, record.message_encoding, schema_ids.get(record.schema_id, 0), dict(record.metadata))
+            elif isinstance(record, Message):
+                if record.channel_id not in channel_ids:
+                    raise McapLogError(f"{path}: message on unknown channel {record.channel_id}")
+                writer.add_message(channel_ids[record.channel_id], record.log_time, record.data,
+                                   record.publish_time, record.sequence)
+                topic = channels[record.channel_id].topic
+                topics[topic] = topics.get(topic, 0) + 1
+                count += 1
+                start = record.log_time if start is None else min(start, record.log_time)
+                end = max(end, record.log_time)
+            elif isinstance(record, Metadata):
+                metadata_names.add(record.name)
+                writer.add_metadata(record.name, dict(record.metadata))
+        if not started:
+            writer.start(profile="ros2", library="tether-sim-recover")
+        if "rosbag2" not in metadata_names:
+            writer.add_metadata("rosbag2", {"serialized_metadata": _bag_metadata(
+                output.name, topics, channels, schemas, start or 0, end, count)})
+        writer.finish()
+    os.replace(tmp, output)
+    return Recovery(str(output), damage[0], count, topics, start or 0, end)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="tether-sim-recover", description=__doc__.split("\n\n")[0])
+    ap.add_argument("input", help="MCAP file cut by a crash")
+    ap.add_argument("output", nargs="?", help="complete MCAP to write (default: INPUT.recovered.mcap)")
+    args = ap.parse_args(argv)
+    try:
+        result = recover(args.input, args.output)
+    except McapLogError as exc:
+        print(f"tether-sim-recover: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"tether-sim-recover: cannot write {args.output or default_output(args.input)}: "
+              f"{exc.strerror or exc}", file=sys.stderr)
+        return 2
+    print(result.describe())
+    if result.damage.complete:
+        print("(the input was already complete; the output is a rewritten copy)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
