@@ -9,8 +9,6 @@ import copy
 import math
 
 import numpy as np
-from scipy.sparse import csr_matrix, diags
-from scipy.sparse.linalg import splu
 
 from tether_sim.errors import ConfigError, SolverDivergedError
 from tether_sim.numerics.gen_alpha import gen_alpha_coefficients
@@ -19,10 +17,9 @@ from tether_sim.physics.bodies import body_acceleration, pack_body_params, subme
 from tether_sim.physics.end_conditions import end_kind
 from tether_sim.solvers.base import BodyState, EndForces, SolverState, end_index
 from tether_sim.solvers.hybrid import zoning
-from tether_sim.solvers.hybrid.assembly import assemble_jacobian, assemble_residual
 from tether_sim.solvers.hybrid.chain import build_chain, rod_blocks
 from tether_sim.solvers.hybrid.initial import InitialStateMixin
-from tether_sim.solvers.hybrid.newton import NewtonMixin
+from tether_sim.solvers.hybrid.newton import MAX_TURN, NewtonMixin, _NewtonFailure
 from tether_sim.solvers.hybrid.newton_band import (FAIL_ITERATIONS, FAIL_RESIDUAL, FAIL_SINGULAR, FAIL_UPDATE,
                                                    newton_band)
 from tether_sim.solvers.hybrid.kernels import CAT_EPS, P_AF, P_AM, P_GAM, ROD_EPS, elastic_strain, pack_parameters
@@ -30,16 +27,11 @@ from tether_sim.solvers.hybrid.rod import frame_at
 from tether_sim.solvers.hybrid.state_io import EndMotion, convert_state, node_profile
 
 MAX_HALVINGS = 6
-MAX_TURN = 0.3  # rad, largest tangent change per Newton iteration
 MAX_BOOST = 256.0  # largest factor on the rod switching tension after failed Newton solves
 
 
 FAILURES = {FAIL_RESIDUAL: "non-finite residual", FAIL_SINGULAR: "singular Jacobian",
             FAIL_UPDATE: "non-finite Newton update", FAIL_ITERATIONS: "no convergence"}
-
-
-class _NewtonFailure(Exception):
-    pass
 
 
 class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
@@ -304,47 +296,6 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
             self.body_x[e] = x
         self._commit(np.ascontiguousarray(Y[:K]), dt, P, it)
 
-    def _newton_python(self, Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns, n, bodies):
-        """Newton iterations in Python with the forward-difference twin (hybrid.jacobian: finite_difference);
-        the same algorithm as newton_band.newton_band. Returns the iteration count."""
-        ch = self.chain
-        R = np.empty(n)
-        lin = None
-        res_prev = np.inf
-        err_prev = np.inf
-        args = (Yn, Ytn, Ln, rn, ch.s, P, self.cz, self.cx, self.cy)
-        for it in range(1, self.opt.max_newton_iterations + 1):
-            assemble_residual(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, Y, Yn, Ytn, Ln, rn, ch.s, P,
-                              self.cz, self.cx, self.cy, R)
-            if not np.all(np.isfinite(R)):
-                raise _NewtonFailure("non-finite residual")
-            # modified Newton: keep the factorised Jacobian while the scaled residual falls fast enough
-            res = np.abs(rs * R).max() if lin is not None else np.inf
-            fresh = lin is None or res > 0.1 * res_prev
-            if fresh:
-                lin, rs = self._factorise(Y, args, n, bodies)
-                self.stats["jacobians"] = self.stats.get("jacobians", 0) + 1
-                res = np.abs(rs * R).max()
-            res_prev = res
-            dx = lin(rs * R)
-            if not np.all(np.isfinite(dx)):
-                raise _NewtonFailure("non-finite Newton update")
-            # damping: a catenary tangent may turn at most MAX_TURN per iteration, so Newton cannot jump
-            # to the mirror solution (T, t) -> (-T, -t) of the unit-tangent parameterisation
-            turn = np.abs(dx[tangent_unknowns]).max(initial=0.0)
-            lam = min(1.0, MAX_TURN / turn) if turn > 0.0 else 1.0
-            if fresh:
-                lam = self._line_search(Y, dx, lam, rs, R, args)
-            Y[ch.idx_node, ch.idx_slot] -= lam * dx
-            err = float(np.max(np.abs(dx) / scale)) / self.opt.newton_tolerance
-            # converged, or stagnating at round-off within 1000x of the tolerance
-            if lam == 1.0 and (err <= 1.0 or (err <= 1e3 and err >= 0.5 * err_prev)):
-                break
-            err_prev = err
-        else:
-            raise _NewtonFailure(f"no convergence in {self.opt.max_newton_iterations} iterations")
-        return it
-
     def _newton_compiled(self, Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns):
         """Newton iterations with the analytic band Jacobian, compiled (newton_band.py)."""
         ch = self.chain
@@ -364,19 +315,6 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         if it < 0:
             raise _NewtonFailure(FAILURES[it])
         return it
-
-    def _factorise(self, Y, args, n, bodies):
-        """Forward-difference Jacobian at Y, row-equilibrated and factorised by SuperLU: (solve(b), row scales)."""
-        ch = self.chain
-        rows, cols, vals = self._coo
-        nnz = assemble_jacobian(ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, ch.noff, ch.nslot, Y, *args, rows, cols, vals)
-        J = csr_matrix((vals[:nnz], (rows[:nnz], cols[:nnz])), shape=(n, n))
-        rs = 1.0 / np.maximum(abs(J).max(axis=1).toarray().ravel(), 1e-300)
-        try:
-            lu = splu((diags(rs) @ J).tocsc(), permc_spec="NATURAL" if not bodies or bodies == [1] else "COLAMD")
-        except RuntimeError as exc:
-            raise _NewtonFailure(f"singular Jacobian ({exc})") from None
-        return lu.solve, rs
 
     def _commit(self, Y, dt, P, iterations):
         ch = self.chain
