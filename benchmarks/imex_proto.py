@@ -354,7 +354,7 @@ class DGImex:
                 hermite_end(bc_saved, e, t, pv0)
                 hermite_end(bc_saved, e, t + dt, pv1)
                 s._end_pos[e], s._end_vel[e] = pv0[0:3].copy(), pv0[3:6].copy()
-                s._target[e] = (pv1[0:3].copy(), pv1[3:6].copy())
+                s.set_end_motion(("ship", "vehicle")[e], pv1[0:3].copy(), pv1[3:6].copy())
         s.time = t
         s.drain_end_tensions()
         n = s.advance_to(t + dt)
