@@ -16,12 +16,13 @@ from tether_sim.errors import SolverDivergedError, UnstableTimeStepError
 from tether_sim.numerics.operators import element_operators, project_function
 from tether_sim.physics.bodies import BODY_STATE_SIZE, initial_body_state, pack_body_params, submerged_weight
 from tether_sim.physics.constitutive import TensionLaw
-from tether_sim.physics.end_conditions import KIND_CODES, anchor_end, end_kind
+from tether_sim.physics.end_conditions import KIND_CODES, anchor_end, end_kind, held_in_place
 from tether_sim.physics.hydrodynamics import added_mass_per_length, current_table, net_weight_per_length
 from tether_sim.physics.statics import solve_static
 from tether_sim.solvers.base import end_index
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.damping_layout import MODE_AXIAL, MODE_EXPLICIT, MODE_GENERAL
+from tether_sim.solvers.dg.equilibrium import polish_equilibrium
 from tether_sim.solvers.dg.implicit_damping import DampingWork
 from tether_sim.solvers.dg.outputs import OutputsMixin
 from tether_sim.solvers.dg.soa import TMP_HEAD, soa_scratch_size
@@ -87,6 +88,7 @@ class DGCableSolver(OutputsMixin):
         self._setup_damping(cab, env, opt)
         self._build_workspace(config)
         self.time = 0.0
+        self.equilibrium_iterations = 0  # Newton iterations of the discrete static equilibrium (-1: failed)
         self._dt_rule = self.stable_time_step()
         self.fixed_dt = float(opt.fixed_time_step)
         if self.fixed_dt > 0.0 and self.fixed_dt > self._dt_rule / opt.cfl:
@@ -128,7 +130,8 @@ class DGCableSolver(OutputsMixin):
         prm[Y.P_TORQUE] = cab.torque
         prm[Y.P_LAMBDA_FLOOR] = opt.lambda_floor
         prm[Y.P_LAMBDA_BC] = math.sqrt(self.law.max_slope() / cab.gamma0)
-        prm[Y.P_QPEN] = opt.q_penalty
+        prm[Y.P_QPEN] = opt.q_penalty if opt.q_penalty_jump == "strain" else 0.0
+        prm[Y.P_QPENT] = opt.q_penalty if opt.q_penalty_jump == "tension" else 0.0
         ip = np.zeros(Y.N_IPRM, dtype=np.int64)
         ip[Y.I_N], ip[Y.I_P], ip[Y.I_Q] = self.N, self.P, self.V.shape[0]
         ip[Y.I_LAW] = self.law.code
@@ -231,6 +234,8 @@ class DGCableSolver(OutputsMixin):
                 self._end_pos[e] = end_pos[e].copy()
             if self.ends[e].position == "body":
                 self._bs[e] = initial_body_state(config.body, attachment_world=end_pos[e])
+        if shape is not None and all(held_in_place(k) for k in self.kinds):
+            self.equilibrium_iterations = polish_equilibrium(self, end_pos[1] - end_pos[0])
         relax = config.initial.relax_time
         if kind == "relax" or (kind == "static" and shape is None):
             relax = relax if relax > 0 else self._default_relax_time()
