@@ -95,18 +95,27 @@ def _low_modes(EA, **dg):
     return lam.real.max(), osc[np.argsort(np.abs(osc))][:4], s.stable_time_step()
 
 
-def test_default_neither_grows_nor_overdamps_held_arcs():
-    """Stiff arc (EA = 455 MN): Eq. 24 has a growing pair, the default none. Soft arc (EA = 1 MN,
-    ROPOS-like EA/T ~ 1e2): the default's lowest four modes have the frequencies of the
+def test_auto_default_picks_the_penalty_by_ea_over_t():
+    """dg.q_penalty_jump auto (default): EA/T_min = 455 MN / 8.9 kN = 5e4 -> tension jump; EA = 1 MN
+    (EA/T_min ~ 1e2, ROPOS-like: ROPOS has 1e3) -> Eq. 24, so ROPOS runs are unchanged."""
+    assert DGCableSolver(held_arc()).q_penalty_form == "tension"
+    soft = held_arc()
+    soft = replace(soft, cable=replace(soft.cable, EA=1e6))
+    assert DGCableSolver(soft).q_penalty_form == "strain"
+
+
+def test_tension_penalty_neither_grows_nor_overdamps_held_arcs():
+    """Stiff arc (EA = 455 MN): Eq. 24 has a growing pair, the tension jump none. Soft arc (EA = 1 MN,
+    ROPOS-like EA/T ~ 1e2): the tension jump's lowest four modes have the frequencies of the
     non-dissipative central q flux (to 1e-4) and damping ratios below Eq. 24's (measured N = 10:
     1e-5..5e-5 against 3e-4..8e-4): it is not over-damping. The stable step is the same."""
     re_new, _, dt_new = _low_modes(4.55e8)
     re_old, _, dt_old = _low_modes(4.55e8, q_penalty_jump="strain")
     assert re_new < 1e-9 and re_old > 1.0, (re_new, re_old)  # 1/s; measured ~1e-13 and +43 (N = 10)
     assert dt_new == dt_old
-    re_soft, m_new, _ = _low_modes(1e6)
+    re_soft, m_new, _ = _low_modes(1e6, q_penalty_jump="tension")
     _, m_old, _ = _low_modes(1e6, q_penalty_jump="strain")
-    _, m_cen, _ = _low_modes(1e6, q_penalty=0.0)
+    _, m_cen, _ = _low_modes(1e6, q_penalty=0.0, q_penalty_jump="tension")
     assert re_soft < 1e-9
     assert np.allclose(np.abs(m_new), np.abs(m_cen), rtol=1e-4)
     zeta_new, zeta_old = -m_new.real / np.abs(m_new), -m_old.real / np.abs(m_old)

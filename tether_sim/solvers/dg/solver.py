@@ -88,6 +88,7 @@ class DGCableSolver(OutputsMixin):
         self._setup_damping(cab, env, opt)
         self._build_workspace(config)
         self.time = 0.0
+        self.q_penalty_form = "tension" if opt.q_penalty_jump == "tension" else "strain"
         self.equilibrium_iterations = 0  # Newton iterations of the discrete static equilibrium (-1: failed)
         self._dt_rule = self.stable_time_step()
         self.fixed_dt = float(opt.fixed_time_step)
@@ -130,7 +131,7 @@ class DGCableSolver(OutputsMixin):
         prm[Y.P_TORQUE] = cab.torque
         prm[Y.P_LAMBDA_FLOOR] = opt.lambda_floor
         prm[Y.P_LAMBDA_BC] = math.sqrt(self.law.max_slope() / cab.gamma0)
-        prm[Y.P_QPEN] = opt.q_penalty if opt.q_penalty_jump == "strain" else 0.0
+        prm[Y.P_QPEN] = opt.q_penalty if opt.q_penalty_jump != "tension" else 0.0  # auto: _choose_q_penalty
         prm[Y.P_QPENT] = opt.q_penalty if opt.q_penalty_jump == "tension" else 0.0
         ip = np.zeros(Y.N_IPRM, dtype=np.int64)
         ip[Y.I_N], ip[Y.I_P], ip[Y.I_Q] = self.N, self.P, self.V.shape[0]
@@ -234,6 +235,8 @@ class DGCableSolver(OutputsMixin):
                 self._end_pos[e] = end_pos[e].copy()
             if self.ends[e].position == "body":
                 self._bs[e] = initial_body_state(config.body, attachment_world=end_pos[e])
+        if shape is not None and self.config.dg.q_penalty_jump == "auto":
+            self._choose_q_penalty(shape)
         if shape is not None and all(held_in_place(k) for k in self.kinds):
             self.equilibrium_iterations = polish_equilibrium(self, end_pos[1] - end_pos[0])
         relax = config.initial.relax_time
@@ -241,6 +244,16 @@ class DGCableSolver(OutputsMixin):
             relax = relax if relax > 0 else self._default_relax_time()
         if relax > 0:
             self.relax(relax)
+
+    def _choose_q_penalty(self, shape):
+        """dg.q_penalty_jump auto: the tension-jump penalty when max dT/deps / min T of the static
+        state exceeds dg.q_penalty_auto_ratio (docs/dg_solver.md, "q-equation penalty")."""
+        t_min = float(np.min(shape.tension(np.linspace(0.0, self.L, 201))))
+        ratio = self.law.max_slope() / max(t_min, 1e-300)
+        self.q_penalty_form = "tension" if ratio > self.config.dg.q_penalty_auto_ratio else "strain"
+        if self.q_penalty_form == "tension":
+            for p in (self.prm, self._prm_step):
+                p[Y.P_QPENT], p[Y.P_QPEN] = self.config.dg.q_penalty, 0.0
 
     def set_shape(self, tangent, velocity=None, origin=None):
         """Replace the state: q = tangent(s) (n, 3) = dr/ds and cable velocity velocity(s) (n, 3) (m/s),
