@@ -59,6 +59,11 @@ SOFT_EA, SOFT_ZETA = 2.0e6, 2.0e3  # N, N s
 CANDIDATES = (("1", 4, 0.8), ("2", 4, 0.8), ("3", 4, 0.8), ("4", 4, 0.8), ("6", 4, 0.8), ("8", 4, 0.8),
               ("12", 4, 0.8), ("16", 4, 0.8), ("24", 4, 0.8), ("32", 4, 0.8))
 VARIANTS = (("2", 4, 0.5), ("3", 4, 0.5), ("2", 3, 0.8), ("3", 3, 0.8), ("4", 3, 0.8))  # --variants
+# --orders: the P = 2 and P = 3 ladders and the safety factor dg.cfl (0.5, 0.65, 1.0 next to 0.8) at P = 3, 4
+ORDER_LADDERS = (tuple((str(n), 3, 0.8) for n in (1, 2, 3, 4, 6, 8, 12, 16, 24))
+                 + tuple((str(n), 2, 0.8) for n in (2, 3, 4, 6, 8, 12, 16, 24, 32))
+                 + tuple((str(n), p, c) for p in (3, 4) for c in (0.65, 1.0) for n in (2, 3, 4, 6, 8))
+                 + tuple((str(n), p, 0.5) for p in (3, 4) for n in (4, 6, 8)))
 RECORDS = ""  # directory for the end-tension records (5 s on) of every run; "" = none
 FIELDS = ("case", "length", "cable", "EA", "zeta", "alpha", "end", "n_elements", "order", "cfl", "reference",
           "time_step", "ship_raw", "ship_grid", "ship_t", "vehicle_raw", "vehicle_grid", "vehicle_t",
@@ -164,6 +169,7 @@ def ladder(case, duration, csv_path, candidates=CANDIDATES, extra=()):
     n_ref = reference_elements(float(case.split(":")[0]))
     plan = [(n_ref, 4, 0.5, True)] + [(int(n), p, c, False) for n, p, c in candidates if int(n) < n_ref]
     plan += [(int(n), int(p), float(c), False) for n, p, c in (x.split(":") for x in extra)]
+    plan = list(dict.fromkeys(plan))  # a rung listed twice (--variants and --orders) runs once
     for n, p, c, is_ref in plan:
         if (case, n, p, round(c, 3)) in done:
             continue
@@ -350,6 +356,7 @@ def main(argv=None):
     ap.add_argument("--extra", nargs="*", default=[], help="more rungs 'N:P:cfl' for every case (e.g. 20:4:0.5)")
     ap.add_argument("--records", default="", help="save each run's end-tension record (npz) in this folder")
     ap.add_argument("--variants", action="store_true", help="also the dg.cfl 0.5 and P = 3 rungs")
+    ap.add_argument("--orders", action="store_true", help="also the P = 2, 3 ladders and dg.cfl 0.5 / 0.65 / 1.0 rungs")
     ap.add_argument("--summary", action="store_true")
     ap.add_argument("--markdown", default="", help="write the generated tables to this file (docs/resolution_ladder.md)")
     ap.add_argument("--table", action="store_true", help="print the rule's _WORST_ERROR table from the CSV")
@@ -357,8 +364,8 @@ def main(argv=None):
     global RECORDS
     RECORDS = args.records
     for case in args.cases:
-        ladder(case, args.duration, args.csv, candidates=CANDIDATES + (VARIANTS if args.variants else ()),
-               extra=args.extra)
+        ladder(case, args.duration, args.csv, candidates=CANDIDATES + (VARIANTS if args.variants else ())
+               + (ORDER_LADDERS if args.orders else ()), extra=args.extra)
     if args.summary:
         summary(args.csv)
     if args.markdown:
