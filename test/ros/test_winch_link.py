@@ -128,3 +128,12 @@ def test_offline_run_records_winch_state_and_the_scheduled_commands(tmp_path):
     for s, st in zip(states[::50], tether[::50]):
         assert st.arc_length[-1] == pytest.approx(s.length) and st.ship_end_tension == pytest.approx(s.tension)
     assert any(s.acceleration_limited for s in states)
+    from tether_sim.report import make_report
+
+    result = make_report(out, tmp_path / "figures")
+    md = result["markdown"]
+    assert "## Winch" in md and "| 1.00 | speed | 1 m/s | 200.0 |" in md and "| 20.00 | length | 230 m | 218.0 |" in md
+    assert {"winch: tension and length against time", "winch: tension against length"} <= set(result["figures"])
+    assert all(p.is_file() for p in result["figures"].values())
+    run = result["run"]
+    assert run.arc_history is not None and run.arc_history[-1, -1] == pytest.approx(last.length)
