@@ -46,6 +46,7 @@ import numpy as np
 
 from tether_sim.errors import SolverDivergedError
 from tether_sim.physics.snap import SnapDetector, SnapEvent, SlackStarted
+from tether_sim.ros import winch_link
 from tether_sim.ros.body_frame import BodyFrame
 from tether_sim.ros.end_commands import BLEND_ACCELERATION, BLEND_MIN_TIME, Blend, EndCommands, MotionSource, blend_time
 from tether_sim.solvers.factory import build_solver
@@ -82,7 +83,7 @@ class SimulationDriver(EndCommands, BodyFrame):
         self.config = config
         self.start_blend = start_blend  # blend pose-input ends from rest at a (re)start (the node)
         self.sources = dict(sources or {})  # end -> EndPoseInput | MotionSource (prescribed ends)
-        self.solver_factory = solver_factory
+        self.solver_factory = winch_link.wrap_factory(config, solver_factory)  # winch.enabled: the winch drives L
         self.solver = None
         self.wall_budget = wall_budget  # s of wall time one tick may spend stepping (None: no limit)
         self.wall_per_substep = 0.0  # measured cost of a substep, s (0: not yet measured)
