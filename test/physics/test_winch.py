@@ -208,3 +208,23 @@ def test_braking_speed_profile():
     assert braking_speed(0.64, 5.0, 0.5, 1.0) == pytest.approx(math.sqrt(0.32))
     assert braking_speed(0.1, 5.0, 0.5, 1.0) == pytest.approx(0.1)
     assert braking_speed(-1.0, 5.0, 0.5, 1.0) == 0.0
+
+
+def test_ropos_descent_schedule_reaches_its_lengths_within_the_run():
+    """config/ropos_descent.yaml: the winch alone (speed 1 m/s, 0.2 m/s^2) lowers 200 -> 1730 m from
+    t = 20 s: 1530 m at 1 m/s plus the ramps and the linear tail, ~1560 s, so it holds at 1730 m
+    (within 1 mm) before the recovery command at 1650 s, and is back at 200 m before the end."""
+    from pathlib import Path
+
+    from tether_sim.io.params import load_config
+
+    cfg = load_config(Path(__file__).resolve().parents[2] / "config" / "ropos_descent.yaml")
+    winch, schedule = Winch(cfg.winch, cfg.cable.length), Schedule(cfg.winch)
+    dt, lengths = 0.2, {}  # ticks of 0.2 s (k_L dt = 0.1 < 0.34) keep this test cheap
+    for k in range(int(round(cfg.duration / dt))):
+        for _, mode, setpoint in schedule.due(k * dt):
+            assert winch.command(mode, setpoint) is None
+        winch.step(dt, 50000.0)
+        lengths[round(winch.time, 6)] = winch.length
+    assert abs(lengths[1649.0] - 1730.0) < 1e-3 and abs(lengths[round(cfg.duration - 20.0, 6)] - 200.0) < 1e-3
+    assert max(lengths.values()) <= 1730.0 + 1e-9 and min(lengths.values()) >= 200.0 - 1e-9
