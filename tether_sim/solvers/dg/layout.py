@@ -43,6 +43,10 @@ define(globals(), "prm", [
     ("P_LAMBDA_FLOOR", 1, "lambda_min", "m/s", "lower bound of the Lax-Friedrichs speed"),
     ("P_LAMBDA_BC", 1, "c", "m/s", "upwind speed of the velocity-end fluxes (taut wave speed)"),
     ("P_QPEN", 1, "-", "-", "factor on the Lax-Friedrichs penalty of the q equation (1 = Eq. 24, 0 = central)"),
+    ("P_WL", 1, "L", "m", "winch: unstretched length in the domain (the stage value while stepping)"),
+    ("P_WLDOT", 1, "dL/dt", "m/s", "winch: pay-out rate at the current (stage) time, > 0 pays out"),
+    ("P_WR0", 1, "dL/dt_0", "m/s", "winch: pay-out rate at the start of the tick"),
+    ("P_WR1", 1, "dL/dt_1", "m/s", "winch: pay-out rate at the end of the tick (linear ramp between)"),
 ], "N_PRM")
 
 define(globals(), "iprm", [
@@ -59,6 +63,7 @@ define(globals(), "iprm", [
     ("I_NEEDPOS", 1, "-", "-", "positions at the Gauss points needed (current or seabed)"),
     ("I_BENDDAMP", 1, "-", "-", "bending damping on"),
     ("I_AXDAMP", 1, "-", "-", "any damping on: the strain-rate gradient is needed"),
+    ("I_WINCH", 1, "-", "-", "winch end + 1 (0: no winch, 1: ship end s = 0, 2: vehicle end s = L)"),
 ], "N_IPRM")
 
 define(globals(), "bc", [
