@@ -48,6 +48,10 @@ define(globals(), "prm", [
     ("P_CDT_AIR", 1, "C_dt,air", "-", "tangential drag coefficient in air"),
     ("P_CDN_AIR", 1, "C_dn,air", "-", "normal drag coefficient in air"),
     ("P_SURF_B", 1, "L_s / 2", "m", "minimum half-width of the wetted-fraction ramp"),
+    ("P_WL", 1, "L", "m", "winch: unstretched length in the domain (the stage value while stepping)"),
+    ("P_WLDOT", 1, "dL/dt", "m/s", "winch: pay-out rate at the current (stage) time, > 0 pays out"),
+    ("P_WR0", 1, "dL/dt_0", "m/s", "winch: pay-out rate at the start of the tick"),
+    ("P_WR1", 1, "dL/dt_1", "m/s", "winch: pay-out rate at the end of the tick (linear ramp between)"),
 ], "N_PRM")
 
 define(globals(), "iprm", [
@@ -65,6 +69,7 @@ define(globals(), "iprm", [
     ("I_BENDDAMP", 1, "-", "-", "bending damping on"),
     ("I_AXDAMP", 1, "-", "-", "any damping on: the strain-rate gradient is needed"),
     ("I_SURFACE", 1, "-", "-", "free surface on (wetted fraction per Gauss point)"),
+    ("I_WINCH", 1, "-", "-", "winch end + 1 (0: no winch, 1: ship end s = 0, 2: vehicle end s = L)"),
 ], "N_IPRM")
 
 define(globals(), "bc", [
