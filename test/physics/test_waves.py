@@ -170,6 +170,7 @@ def test_jonswap_is_seeded_and_its_time_record_has_the_spectral_variance():
     assert 4 * np.std(eta) == pytest.approx(3.0, rel=0.03)
 
 
+@pytest.mark.jit_off  # `make test` also runs it with NUMBA_DISABLE_JIT=1 (the kernels as plain Python)
 def test_compiled_sums_equal_the_numpy_twin():
     cfg = _config(kind="jonswap", Hs=3.0, Tp=9.0, n_frequencies=24, n_directions=5, seed=11, depth=80.0)
     rng = np.random.default_rng(0)
