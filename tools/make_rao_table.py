@@ -23,7 +23,7 @@ import numpy as np
 
 L, B, T, G = 80.0, 18.0, 6.0, 9.81
 HEADINGS = np.arange(0.0, 360.0, 30.0)
-OMEGAS = np.round(np.arange(0.20, 3.2001, 0.10), 2)
+OMEGAS = np.round(np.arange(0.20, 4.0001, 0.10), 2)
 
 
 def sinc(x):
