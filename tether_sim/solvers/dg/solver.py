@@ -17,7 +17,9 @@ from tether_sim.numerics.operators import element_operators, project_function
 from tether_sim.physics.bodies import BODY_STATE_SIZE, initial_body_state, pack_body_params, submerged_weight
 from tether_sim.physics.constitutive import TensionLaw
 from tether_sim.physics.end_conditions import KIND_CODES, anchor_end, end_kind
-from tether_sim.physics.hydrodynamics import added_mass_per_length, current_table, net_weight_per_length
+from tether_sim.physics.hydrodynamics import (
+    added_mass_per_length, air_weight_per_length, current_table, net_weight_per_length,
+)
 from tether_sim.physics.statics import solve_static
 from tether_sim.solvers.base import end_index
 from tether_sim.solvers.dg import layout as Y
@@ -131,6 +133,10 @@ class DGCableSolver(OutputsMixin, WinchMixin):
         prm[Y.P_LAMBDA_FLOOR] = opt.lambda_floor
         prm[Y.P_LAMBDA_BC] = math.sqrt(self.law.max_slope() / cab.gamma0)
         prm[Y.P_QPEN] = opt.q_penalty
+        prm[Y.P_FBZ_AIR] = -air_weight_per_length(cab, env)
+        prm[Y.P_HALF_RHO_D_AIR] = 0.5 * env.air_density * cab.diameter
+        prm[Y.P_CDT_AIR], prm[Y.P_CDN_AIR] = env.air_Cdt, env.air_Cdn
+        prm[Y.P_SURF_B] = 0.5 * env.surface_smoothing
         ip = np.zeros(Y.N_IPRM, dtype=np.int64)
         ip[Y.I_N], ip[Y.I_P], ip[Y.I_Q] = self.N, self.P, self.V.shape[0]
         ip[Y.I_LAW] = self.law.code
@@ -141,7 +147,8 @@ class DGCableSolver(OutputsMixin, WinchMixin):
         ip[Y.I_AXDAMP] = int(cab.damping > 0.0 or cab.bending_damping > 0.0)
         ip[Y.I_KIND0], ip[Y.I_KIND1] = KIND_CODES[self.kinds[0]], KIND_CODES[self.kinds[1]]
         ip[Y.I_ANCHOR] = anchor_end(self.kinds)
-        ip[Y.I_NEEDPOS] = int(env.seabed or self.cz.size > 0)
+        ip[Y.I_SURFACE] = int(env.free_surface)
+        ip[Y.I_NEEDPOS] = int(env.seabed or self.cz.size > 0 or env.free_surface)
         return prm, ip
 
     def _setup_damping(self, cab, env, opt):

@@ -20,8 +20,8 @@ from tether_sim.solvers.dg.damping_layout import MODE_EXPLICIT
 from tether_sim.solvers.dg.implicit_damping import damping_step
 from tether_sim.solvers.dg.kernels import dg_rhs, hermite_end
 from tether_sim.solvers.dg.layout import (
-    E_F, E_T, F_V, I_ANCHOR, I_CURRENT, I_KIND0, I_LAW, I_N, P_GAMMA0, P_LAMBDA_BC, P_MN,
-    P_MT, P_RELAX, P_WL, T_LAM, T_Q, T_TV, T_V, W_I,
+    E_F, E_T, F_V, I_ANCHOR, I_CURRENT, I_KIND0, I_LAW, I_N, I_SURFACE, P_GAMMA0, P_LAMBDA_BC, P_MN,
+    P_MT, P_RELAX, P_WL, T_LAM, T_Q, T_TV, T_V, W_I, W_WET,
 )
 from tether_sim.solvers.dg.winch import (
     winch_active, winch_end_velocity, winch_length, winch_moving, winch_stage, winch_transport, winch_update,
@@ -133,8 +133,9 @@ def clip_end_fluxes(prm, iprm, h, V, Pj, Lf, vbc, wq, tr, fl, dU, endf, fdamp):
             lj = 0.0
             for l in range(nm):
                 lj += V[j, l] * Lf[end, l]
+            wet = wq[e, j, W_WET] if iprm[I_SURFACE] != 0 else 1.0  # added mass of the wetted part
             a0, a1, a2 = added_mass_rate(wq[e, j, W_I], wq[e, j, W_I + 1], wq[e, j, W_I + 2], w * lj * d0,
-                                         w * lj * d1, w * lj * d2, g0, prm[P_MT], prm[P_MN])
+                                         w * lj * d1, w * lj * d2, g0, wet * prm[P_MT], wet * prm[P_MN])
             for l in range(nm):
                 dU[e, l, 3] += Pj[l, j] * a0
                 dU[e, l, 4] += Pj[l, j] * a1

@@ -41,6 +41,9 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
 
     def __init__(self, config):
         self.config = config
+        if config.winch.enabled:
+            raise ConfigError("winch.enabled: the hybrid solver keeps its length fixed during a run (segments added "
+                              "and removed at the winch end are not implemented); use solver: dg for a winch")
         cab, env, opt = config.cable, config.environment, config.hybrid
         self.opt = opt
         self.length = cab.length
