@@ -450,7 +450,7 @@ def test_twin_transport_kernel_against_the_quadrature_version(rate, end):
     s._evaluate()  # fills the traces tr and the sheave's v_BC
     dU = np.zeros_like(s.U)
     dra = np.zeros(3)
-    winch_transport(s.U, s.prm, s.iprm, s.h, s.D, s.Lf, s._tr, s._vbc, dU, dra)
+    winch_transport(s.U, s.prm, s.iprm, s.h, s.Lf, s._tr, s._vbc, dU, dra)
     w = 0 if end == "ship" else 1
     ref = plain_transport(s.U, s.h, rate, w, cab.gamma0, s._vbc)
     assert np.abs(dU - ref).max() < 1e-11 * np.abs(ref).max()
