@@ -57,7 +57,7 @@ def dg_evaluate(t, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz
     dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc,
            wq, wm, tr, fl, rs, tmp, dU, dra, endf)
     if winch:  # transport of the moving mapping onto the elements
-        winch_transport(U, prm, iprm, h, D, Lf, tr, vbc, dU, dra)
+        winch_transport(U, prm, iprm, h, Lf, tr, vbc, dU, dra)
     if implicit:
         for end in range(2):
             for c in range(3):
