@@ -204,7 +204,8 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
     def _pack_parameters(self, dt, rho):
         am, af, g = gen_alpha_coefficients(rho)
         return pack_parameters(self.config.cable, self.config.environment, dt, am, af, g, self.EI, self.GJ,
-                               self.inertia_b, self.inertia_t, self.opt.compression_softening, self.compression_width)
+                               self.inertia_b, self.inertia_t, self.opt.compression_softening, self.compression_width,
+                               segment=self.ds)
 
     def _step_with_retry(self, dt):
         pieces = [dt]
