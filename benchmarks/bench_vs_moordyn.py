@@ -21,13 +21,14 @@ MoorDyn has no bending stiffness: the alpha = 1 rows compare DG with bending aga
 MoorDyn runs. ``--baseline DIR`` adds another checkout's DG (bench_tick.load_baseline).
 
 Usage: PYTHONPATH=. python benchmarks/bench_vs_moordyn.py [--duration 10.2] [--repeat 3] [--cfl 0.8]
-       [--rungs 2 3] [--baseline DIR]
+       [--rungs 2 3] [--quad-points Q] [--baseline DIR]
 """
 
 import argparse
 import os
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -53,10 +54,14 @@ def reference_peaks(length, alpha):
     return None
 
 
-def dg_cost(factory, mod, length, n, alpha, duration, cfl=0.8):
+def dg_cost(factory, mod, length, n, alpha, duration, cfl=0.8, quad_points=0):
     """(thread CPU per simulated s of 50 Hz node ticks, (ship, vehicle) first snap peaks or None);
-    construction and static solve excluded, the record of end tensions kept outside the timer."""
-    sol = factory.build_solver(mod.ropos_config(length, alpha=alpha, n_elements=n, order=4, cfl=cfl))
+    construction and static solve excluded, the record of end tensions kept outside the timer.
+    quad_points > 0 sets dg.quad_points (0: the automatic (3P+1)//2 + 1 = 7 at P = 4)."""
+    cfg = mod.ropos_config(length, alpha=alpha, n_elements=n, order=4, cfl=cfl)
+    if quad_points:
+        cfg = replace(cfg, dg=replace(cfg.dg, quad_points=int(quad_points)))
+    sol = factory.build_solver(cfg)
     sol.drain_end_tensions()
     ticks = int(round(duration * 50))
     cpu = 0.0
@@ -92,6 +97,7 @@ def main(argv=None):
     ap.add_argument("--lengths", type=float, nargs="+", default=[200.0, 1730.0])
     ap.add_argument("--cfl", type=float, default=0.8, help="dg.cfl of the DG rungs (the rule's 0.8)")
     ap.add_argument("--rungs", type=int, nargs="+", help="DG elements per length (default: RUNGS)")
+    ap.add_argument("--quad-points", type=int, default=0, help="dg.quad_points of the DG runs (0: automatic)")
     ap.add_argument("--baseline")
     ap.add_argument("--workdir", default="out/moordyn")
     args = ap.parse_args(argv)
@@ -108,13 +114,13 @@ def main(argv=None):
         n = args.rungs[i] if args.rungs else RUNGS[length]
         for _, fac, mod in trees:  # warm the JIT caches, untimed
             for alpha in (0.0, 1.0):
-                dg_cost(fac, mod, length, n, alpha, 0.1, args.cfl)
+                dg_cost(fac, mod, length, n, alpha, 0.1, args.cfl, args.quad_points)
         best, err = {}, {}
         dt_md = rc.moordyn_time_step(length, MOORDYN_SEGMENTS, bench_moordyn.NODE_STEP)
         for _ in range(args.repeat):
             for name, fac, mod in trees:
                 for alpha in (0.0, 1.0):
-                    c, peaks = dg_cost(fac, mod, length, n, alpha, args.duration, args.cfl)
+                    c, peaks = dg_cost(fac, mod, length, n, alpha, args.duration, args.cfl, args.quad_points)
                     best[(name, alpha)] = min(best.get((name, alpha), c), c)
                     err[(name, alpha)] = peak_error(peaks, reference_peaks(length, alpha))
             _, cpu = bench_moordyn.best_wall(length, MOORDYN_SEGMENTS, args.duration, bench_moordyn.NODE_STEP, dt_md,
