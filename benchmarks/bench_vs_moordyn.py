@@ -21,7 +21,7 @@ MoorDyn has no bending stiffness: the alpha = 1 rows compare DG with bending aga
 MoorDyn runs. ``--baseline DIR`` adds another checkout's DG (bench_tick.load_baseline).
 
 Usage: PYTHONPATH=. python benchmarks/bench_vs_moordyn.py [--duration 10.2] [--repeat 3] [--cfl 0.8]
-       [--rungs 2 3] [--quad-points Q] [--baseline DIR]
+       [--rungs 2 3] [--order 4] [--quad-points Q] [--baseline DIR]
 """
 
 import argparse
@@ -38,7 +38,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from benchmarks import bench_moordyn  # noqa: E402
 from benchmarks import ropos_case as rc  # noqa: E402
 from benchmarks.bench_tick import load_baseline  # noqa: E402
-from benchmarks.resolution_ladder import WINDOW, _peaks, read_rows  # noqa: E402
+from benchmarks.resolution_ladder import WINDOW, _peaks  # noqa: E402
+from benchmarks.resolution_report import read_rows  # noqa: E402
 
 RUNGS = {200.0: 2, 1730.0: 3}  # DG elements of the 1 % rung (P = 4, dg.cfl 0.8)
 MOORDYN_SEGMENTS = 40
@@ -54,11 +55,11 @@ def reference_peaks(length, alpha):
     return None
 
 
-def dg_cost(factory, mod, length, n, alpha, duration, cfl=0.8, quad_points=0):
+def dg_cost(factory, mod, length, n, alpha, duration, cfl=0.8, quad_points=0, order=4):
     """(thread CPU per simulated s of 50 Hz node ticks, (ship, vehicle) first snap peaks or None);
     construction and static solve excluded, the record of end tensions kept outside the timer.
     quad_points > 0 sets dg.quad_points (0: the automatic (3P+1)//2 + 1 = 7 at P = 4)."""
-    cfg = mod.ropos_config(length, alpha=alpha, n_elements=n, order=4, cfl=cfl)
+    cfg = mod.ropos_config(length, alpha=alpha, n_elements=n, order=order, cfl=cfl)
     if quad_points:
         cfg = replace(cfg, dg=replace(cfg.dg, quad_points=int(quad_points)))
     sol = factory.build_solver(cfg)
@@ -97,6 +98,7 @@ def main(argv=None):
     ap.add_argument("--lengths", type=float, nargs="+", default=[200.0, 1730.0])
     ap.add_argument("--cfl", type=float, default=0.8, help="dg.cfl of the DG rungs (the rule's 0.8)")
     ap.add_argument("--rungs", type=int, nargs="+", help="DG elements per length (default: RUNGS)")
+    ap.add_argument("--order", type=int, default=4, help="DG order P of the rungs")
     ap.add_argument("--quad-points", type=int, default=0, help="dg.quad_points of the DG runs (0: automatic)")
     ap.add_argument("--baseline")
     ap.add_argument("--workdir", default="out/moordyn")
@@ -114,13 +116,14 @@ def main(argv=None):
         n = args.rungs[i] if args.rungs else RUNGS[length]
         for _, fac, mod in trees:  # warm the JIT caches, untimed
             for alpha in (0.0, 1.0):
-                dg_cost(fac, mod, length, n, alpha, 0.1, args.cfl, args.quad_points)
+                dg_cost(fac, mod, length, n, alpha, 0.1, args.cfl, args.quad_points, args.order)
         best, err = {}, {}
         dt_md = rc.moordyn_time_step(length, MOORDYN_SEGMENTS, bench_moordyn.NODE_STEP)
         for _ in range(args.repeat):
             for name, fac, mod in trees:
                 for alpha in (0.0, 1.0):
-                    c, peaks = dg_cost(fac, mod, length, n, alpha, args.duration, args.cfl, args.quad_points)
+                    c, peaks = dg_cost(fac, mod, length, n, alpha, args.duration, args.cfl, args.quad_points,
+                                       args.order)
                     best[(name, alpha)] = min(best.get((name, alpha), c), c)
                     err[(name, alpha)] = peak_error(peaks, reference_peaks(length, alpha))
             _, cpu = bench_moordyn.best_wall(length, MOORDYN_SEGMENTS, args.duration, bench_moordyn.NODE_STEP, dt_md,
@@ -132,7 +135,8 @@ def main(argv=None):
             for name, _, _ in trees:
                 c = best[(name, alpha)]
                 e = err[(name, alpha)]
-                line += (f" | {name} N={n} P=4 cfl {args.cfl:g} {1e3 * c:7.2f} ms/s, {name}/MoorDyn {c / md:.3f}, "
+                line += (f" | {name} N={n} P={args.order} cfl {args.cfl:g} {1e3 * c:7.2f} ms/s, "
+                         f"{name}/MoorDyn {c / md:.3f}, "
                          f"first snap peak error {'n/a' if e is None else f'{100 * e:.3f} %'}")
             print(line, flush=True)
 

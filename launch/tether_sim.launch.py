@@ -38,7 +38,7 @@ PACKAGE = "tether_sim"
 # what the recorder records (as config/recorder.yaml): relative names resolve in the namespace
 RECORDED_TOPICS = ["tether/state", "tether/snap_events", "tether/slack_warnings", "tether/ship_wrench",
                    "tether/vehicle_wrench", "tether/description", "tether/marker", "tether/path",
-                   "ship/pose", "vehicle/sim_pose", "/diagnostics", "/tf", "/tf_static"]
+                   "ship/pose", "vehicle/sim_pose", "winch/state", "winch/command", "/diagnostics", "/tf", "/tf_static"]
 
 # (name, default, description); a default of None is computed below
 ARGUMENTS = (

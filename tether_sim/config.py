@@ -2,7 +2,7 @@
 
 Sections (YAML keys under ``tether_sim: ros__parameters:``): ``solver``, ``duration``, ``cable``,
 ``environment``, ``ship_end``, ``vehicle_end``, ``body``, ``dg``, ``hybrid``, ``initial``,
-``motion``, ``snap``, ``node``. ``io.schema`` derives the flat key list from these classes.
+``motion``, ``snap``, ``node``, ``winch``, ``waves``. ``io.schema`` derives the flat key list from these classes.
 """
 
 from dataclasses import dataclass, field
@@ -13,6 +13,8 @@ from tether_sim.physics.cable import CableProperties
 from tether_sim.physics.environment import Environment
 from tether_sim.physics.motion import MotionConfig
 from tether_sim.physics.snap import SnapConfig
+from tether_sim.physics.waves import WaveConfig
+from tether_sim.physics.winch import WinchConfig
 from tether_sim.solvers.config import DGOptions, HybridOptions, InitialState
 from tether_sim.spec import param
 
@@ -61,3 +63,5 @@ class SimConfig:
     motion: MotionConfig = field(default_factory=MotionConfig)
     snap: SnapConfig = field(default_factory=SnapConfig)
     node: NodeOptions = field(default_factory=NodeOptions)
+    winch: WinchConfig = field(default_factory=WinchConfig)
+    waves: WaveConfig = field(default_factory=WaveConfig)

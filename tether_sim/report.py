@@ -24,6 +24,7 @@ import numpy as np
 from tether_sim.errors import TetherSimError
 from tether_sim.io.mcap_log import McapLogError, read_messages, read_summary
 from tether_sim.solvers.resolution import mesh_summary
+from tether_sim.report_winch import load_winch, winch_figures, winch_markdown
 
 STATE_TYPE = "tether_sim_msgs/msg/TetherState"
 SNAP_TYPE = "tether_sim_msgs/msg/SnapLoadEvent"
@@ -65,6 +66,8 @@ class RunData:
     parameters: dict = field(default_factory=dict)  # key -> value text of the last TetherDescription
     degraded: np.ndarray | None = None  # (n_t,) bool: the node marked the state degraded (late/blended)
     truncation: str | None = None  # what a crash cut off the file (None: complete)
+    arc_history: np.ndarray | None = None  # (n_t, n_s) output points of each state when they move (winch), else None
+    winch: object = None  # report_winch.WinchSeries of the winch/state topic, or None
 
 
 def _topics_of(summary, type_name):
@@ -88,6 +91,7 @@ def load_run(path, t0_s: float | None = None) -> RunData:
     parameters = {}
     diagnostics = {}
     times, positions, tensions, ends, snaps, warns = [], [], [], {e: [] for e in ENDS}, [], []
+    arcs = []
     degraded = []
     wrench = {end: ([], []) for end in wrench_topics}
     arc, solver = None, ""
@@ -99,6 +103,7 @@ def load_run(path, t0_s: float | None = None) -> RunData:
             if s.shape != arc.shape:
                 continue  # a resized output grid cannot share the s-t map; skip such states
             times.append(stamp_seconds(msg.header.stamp))
+            arcs.append(s)
             positions.append([(p.x, p.y, p.z) for p in msg.position])
             tensions.append(np.asarray(msg.tension, dtype=float))
             ends["ship"].append(msg.ship_end_tension)
@@ -141,7 +146,13 @@ def load_run(path, t0_s: float | None = None) -> RunData:
                    {e: np.asarray(v, dtype=float)[order] for e, v in ends.items()}, snaps, warns,
                    {e: (np.asarray(tw) - t0, np.asarray(fw)) for e, (tw, fw) in wrench.items()},
                    diagnostics, parameters=parameters, degraded=np.asarray(degraded, bool)[order],
-                   truncation=summary.damage.describe() if summary.damage is not None else None)
+                   truncation=summary.damage.describe() if summary.damage is not None else None,
+                   arc_history=_moving(np.asarray(arcs)[order]))
+
+
+def _moving(arcs):
+    """The (n_t, n_s) output points when they change over the run (a winch), else None."""
+    return arcs if len(arcs) and np.ptp(arcs[:, -1]) > 0.0 else None
 
 
 def below_intervals(t: np.ndarray, values: np.ndarray, threshold: float) -> list[tuple[float, float]]:
@@ -263,6 +274,7 @@ def summary_markdown(run: RunData, periods: dict, figures: dict) -> str:
                   f"solver was behind: {health['dropped_s']:.1f} s of {duration:.1f} s; divergence "
                   f"recoveries: {health['divergences']:.0f}; ticks capped: {health['capped_ticks']:.0f}."]
     counts = {end: sum(w["end"] == end for w in run.warnings) for end in ("ship", "vehicle", "span")}
+    lines += winch_markdown(run, periods)
     lines += ["", "Slack warnings: " + ", ".join(f"{k} {v}" for k, v in counts.items()) + ".",
               "", "## Figures", ""] + [f"- {name}: `{path}`" for name, path in figures.items()]
     return "\n".join(lines) + "\n"
@@ -275,7 +287,8 @@ def render(run: RunData, periods: dict, out_dir: Path, n_snapshots: int = 8) -> 
     out_dir.mkdir(parents=True, exist_ok=True)
     return {"end tensions": plot_end_tensions(run, periods, out_dir / "end_tensions.png"),
             "shape snapshots": plot_shapes(run, out_dir / "shapes.png", n_snapshots),
-            "tension map": plot_tension_map(run, out_dir / "tension_map.png")}
+            "tension map": plot_tension_map(run, out_dir / "tension_map.png"),
+            **winch_figures(run, periods, out_dir)}  # winch runs: tension against length and time
 
 
 def make_report(mcap_path, out_dir=None, n_snapshots: int = 8, t0_s: float | None = None,
@@ -285,6 +298,7 @@ def make_report(mcap_path, out_dir=None, n_snapshots: int = 8, t0_s: float | Non
     out_dir = Path(out_dir) if out_dir is not None else mcap_path.parent / "figures"
     run = load_run(mcap_path, t0_s)
     run.time_label = time_label
+    run.winch = load_winch(mcap_path, run.t0)  # None without a winch/state topic
     periods = slack_periods(run)
     figures = render(run, periods, out_dir, n_snapshots)
     markdown = summary_markdown(run, periods, figures)

@@ -101,6 +101,9 @@ def plot_shapes(run, path: Path, n_snapshots: int = 8) -> Path:
         xyz = run.positions[k]
         ax_shape.plot(xyz[:, 0], xyz[:, 2], color=colour, lw=1.3, label=label)
         ax_shape.plot(xyz[[0, -1], 0], xyz[[0, -1], 2], "o", color=colour, ms=3)
+        if getattr(run, "arc_history", None) is not None:  # a winch: points move along s, show T(s) instead
+            ax_disp.plot(run.tension[k] / 1e3, run.arc_history[k], color=colour, lw=1.3)
+            continue
         ax_disp.plot(xyz[:, 2] - reference[:, 2], run.arc_length, color=colour, lw=1.3)
         horizontal = np.hypot(xyz[:, 0] - reference[:, 0], xyz[:, 1] - reference[:, 1])
         ax_disp.plot(horizontal, run.arc_length, color=colour, lw=0.8, ls=":")
@@ -112,9 +115,13 @@ def plot_shapes(run, path: Path, n_snapshots: int = 8) -> Path:
     ax_shape.legend(fontsize=8, loc="best")
     ax_disp.invert_yaxis()
     ax_disp.axvline(0.0, color="k", lw=0.6)
-    ax_disp.set_xlabel("displacement from the first state [m]\nvertical (solid), horizontal (dotted)")
+    if getattr(run, "arc_history", None) is not None:
+        ax_disp.set_xlabel("axial tension [kN]")
+        ax_disp.set_title("tension along the cable (its length changes: winch)")
+    else:
+        ax_disp.set_xlabel("displacement from the first state [m]\nvertical (solid), horizontal (dotted)")
+        ax_disp.set_title("motion along the cable")
     ax_disp.set_ylabel("arc length s from the ship [m]")
-    ax_disp.set_title("motion along the cable")
     for ax in (ax_shape, ax_disp):
         ax.grid(alpha=0.3)
     fig.suptitle(f"Cable shape snapshots — {run.path.name}")
@@ -138,7 +145,10 @@ def plot_tension_map(run, path: Path) -> Path:
     """Axial tension T(s, t) as a colour map; snap-load peaks marked at their arc length."""
     fig, ax = plt.subplots(figsize=(10, 5.5), constrained_layout=True)
     tension = run.tension / 1e3
-    if len(run.t) > 1:
+    arcs = getattr(run, "arc_history", None)
+    if arcs is not None and len(run.t) > 1:  # a winch: the points follow L(t)
+        mesh = ax.pcolormesh(np.repeat(run.t[:, None], arcs.shape[1], 1), arcs, tension, shading="gouraud", cmap="magma")
+    elif len(run.t) > 1:
         mesh = ax.pcolormesh(run.t, run.arc_length, tension.T, shading="nearest", cmap="magma")
     else:
         mesh = ax.scatter(np.repeat(run.t, len(run.arc_length)), run.arc_length, c=tension[0],

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 MSG_DIR = Path(__file__).resolve().parents[2] / "msg_defs" / "msg"
-MESSAGES = ("TetherState", "SnapLoadEvent", "SlackWarning", "TetherDescription")
+MESSAGES = ("TetherState", "SnapLoadEvent", "SlackWarning", "TetherDescription", "WinchCommand", "WinchState")
 # units a numeric field comment must name (dimensionless quantities say "dimensionless")
 UNIT = re.compile(r"(?<![\w/])(m|m/s|N|N m|N m\^2|1/m|kg/m|s|dimensionless|SI units)(?![\w/^])")
 
@@ -71,6 +71,12 @@ def _filled(name):
     if name == "SlackWarning":
         return m.SlackWarning(header=header, end=m.SlackWarning.END_SHIP, arc_length=0.0, tension=420.0,
                               threshold=900.0, static_tension=9000.0)
+    if name == "WinchCommand":
+        return m.WinchCommand(header=header, mode=m.WinchCommand.MODE_LENGTH, setpoint=1730.0)
+    if name == "WinchState":
+        return m.WinchState(header=header, end="ship", mode="tension", setpoint=60000.0, length=812.5, speed=-0.75,
+                            commanded_speed=-1.2, tension=61234.5, speed_limited=True, acceleration_limited=True,
+                            at_min_length=False, at_max_length=True)
     return m.TetherDescription(
         header=header, solver="hybrid", length=200.0, axial_stiffness=45.5e6, bending_stiffness=120.0,
         mass_per_length=3.01, diameter=0.03, wave_speed=(45.5e6 / 3.01) ** 0.5,

@@ -11,14 +11,14 @@ from pathlib import Path
 
 import pytest
 
-from benchmarks.resolution_ladder import read_rows, worst_errors
+from benchmarks.resolution_report import read_rows, worst_errors
 from tether_sim.errors import ConfigError
 from tether_sim.io.params import from_flat, load_config, to_flat
 from tether_sim.solvers import resolution as res
 
 ROOT = Path(__file__).resolve().parents[2]
 CSV = ROOT / "docs" / "data" / "resolution_ladder.csv"
-TABLE = res._WORST_ERROR
+TABLE = res.WORST_ERROR
 
 
 def test_table_is_the_measured_ladder_rounded_up():
@@ -26,20 +26,35 @@ def test_table_is_the_measured_ladder_rounded_up():
     assert set(TABLE) == set(measured) == {"body", "free"}
     for kind, table in TABLE.items():
         assert set(table) == set(measured[kind])
-        for length, errs in table.items():
-            assert set(errs) == set(measured[kind][length]), (kind, length)
-            for n, err in errs.items():
-                assert err == math.ceil(measured[kind][length][n] * 1e4) / 1e4, (kind, length, n)
+        for length, ladders in table.items():
+            assert set(ladders) == set(measured[kind][length]), (kind, length)
+            for fam, errs in ladders.items():
+                assert set(errs) == set(measured[kind][length][fam]), (kind, length, fam)
+                for n, err in errs.items():
+                    assert err == math.ceil(measured[kind][length][fam][n] * 1e4) / 1e4, (kind, length, fam, n)
+
+
+def _settled_rungs(ladder, tolerance):
+    """Rungs N >= 2 of one measured ladder within half the tolerance together with every finer rung."""
+    return [n for n in ladder if n >= 2 and all(ladder[m] <= 0.5 * tolerance for m in ladder if m >= n)]
 
 
 @pytest.mark.parametrize("tolerance", [0.01, 0.02, 0.05])
-def test_smallest_settled_rung_within_half_the_tolerance_at_every_measured_length(tolerance):
+def test_cheapest_settled_rung_of_a_complete_ladder_at_every_measured_length(tolerance):
     for kind, table in TABLE.items():
-        for length, errs in table.items():
+        for length, ladders in table.items():
             chosen = res.choose(length, tolerance, kind)
-            assert (chosen.order, chosen.cfl) == (4, 0.8)
-            settled = [n for n in errs if all(errs[m] <= 0.5 * tolerance for m in errs if m >= n)]
-            assert chosen.n_elements == min(settled)  # this rung and every finer one within half the tolerance
+            ladder = ladders[(chosen.order, chosen.cfl)]
+            assert chosen.cfl <= 0.8  # never at or beyond the calibrated stability limit
+            assert chosen.n_elements == min(_settled_rungs(ladder, tolerance))
+            # complete: every rung from N = 2 to the finest below the reference was measured
+            assert {n for n in res.LADDER_NS if 2 <= n <= res.finest_rung(length)} <= set(ladder)
+            # no other complete ladder at cfl <= 0.8 has a settled rung the cost model puts cheaper
+            for (p, c), other in ladders.items():
+                complete = {n for n in res.LADDER_NS if 2 <= n <= res.finest_rung(length)} <= set(other)
+                settled = _settled_rungs(other, tolerance)
+                if c <= 0.8 and complete and settled:
+                    assert res.cost(length, min(settled), p, c) >= chosen.cost, (kind, length, p, c)
 
 
 def test_between_measured_lengths_both_neighbours_hold():
@@ -47,8 +62,26 @@ def test_between_measured_lengths_both_neighbours_hold():
     lengths = sorted(table)
     for a, b in zip(lengths, lengths[1:]):
         chosen = res.choose(0.5 * (a + b), 0.01)
-        assert table[a][chosen.n_elements] <= 0.005 and table[b][chosen.n_elements] <= 0.005
-        assert chosen.n_elements >= max(res.choose(a, 0.01).n_elements, res.choose(b, 0.01).n_elements)
+        fam = (chosen.order, chosen.cfl)
+        for x in (a, b):
+            assert all(err <= 0.005 for n, err in table[x][fam].items() if n >= chosen.n_elements), (a, b, x)
+
+
+def test_cost_constants_are_the_fit_to_the_ladders_thread_cpu():
+    from benchmarks.resolution_report import cost_fit
+
+    (fixed, node, bending), n_rows = cost_fit(read_rows(CSV))
+    assert n_rows > 500
+    assert (res.COST_FIXED, res.COST_NODE, res.COST_NODE_BENDING) == pytest.approx((fixed, node, bending), rel=5e-3)
+
+
+def test_cost_model_is_the_substep_rate_times_the_substep_cost():
+    """cost = (fixed + per node x N (P + 1)) / (cfl x the solver's stability limit): doubling N
+    about doubles the substep rate (the axial wave term dominates at these element sizes)."""
+    one = res.cost(1730.0, 4, 4, 0.8)
+    assert res.cost(1730.0, 4, 4, 0.4) == pytest.approx(2.0 * one)
+    assert 2.0 < res.cost(1730.0, 8, 4, 0.8) / one < 3.0
+    assert res.cost(1730.0, 4, 4, 0.8, {"EI": 2620.0}) > one
 
 
 def _auto(**changes):
@@ -82,7 +115,10 @@ def test_manual_and_hybrid_are_untouched():
 def test_parameter_files_get_the_rule_and_refuse_a_second_answer():
     cfg = load_config(ROOT / "config" / "ropos_L200.yaml")
     chosen = res.choose(200.0, 0.01)
-    assert (cfg.dg.n_elements, cfg.dg.order, cfg.dg.cfl) == (chosen.n_elements, 4, 0.8)
+    assert (cfg.dg.n_elements, cfg.dg.order, cfg.dg.cfl) == (chosen.n_elements, chosen.order, chosen.cfl)
+    bent = load_config(ROOT / "config" / "ropos_L200.yaml", overrides={"cable.EI": 2620.0})
+    want = res.choose(200.0, 0.01, cable={"EI": 2620.0})  # the rule sees the configuration's own cable
+    assert (bent.dg.n_elements, bent.dg.order, bent.dg.cfl) == (want.n_elements, want.order, want.cfl)
     assert from_flat(to_flat(cfg)) == cfg  # the resolved numbers round-trip (the node reads them back)
     with pytest.raises(ConfigError, match="dg.n_elements = 20 is set while dg.resolution is auto"):
         load_config(ROOT / "config" / "ropos_L200.yaml", overrides={"dg.n_elements": 20})

@@ -37,6 +37,8 @@ def _kind_of(default, annotation) -> str:
     if isinstance(default, tuple):
         if default and all(isinstance(x, str) for x in default):
             return "str_array"
+        if not default and "str" in str(annotation):  # an empty tuple[str, ...]
+            return "str_array"
         return "float_array"
     raise TypeError(f"unsupported parameter default {default!r} ({annotation})")
 

@@ -84,9 +84,50 @@ def added_mass_rate(i0, i1, i2, f0, f1, f2, gamma0, m_t, m_n):
     return ct * p0 + cn * (f0 - p0), ct * p1 + cn * (f1 - p1), ct * p2 + cn * (f2 - p2)
 
 
+@jit
+def wetted_fraction(z, eta, b):
+    """Wetted fraction phi of a point at height z under a surface at eta, and dphi/dz.
+
+    phi = x^2 (3 - 2 x) with x = (eta - z + b) / (2 b) clipped to [0, 1]: 1 at z <= eta - b, 0 at
+    z >= eta + b, C1 in z. The ramp is odd about eta (phi(eta + y) = 1 - phi(eta - y)), so a straight
+    cable crossing the band gets exactly the wetted length of the sharp interface.
+    """
+    x = (eta - z + b) / (2.0 * b)
+    if x >= 1.0:
+        return 1.0, 0.0
+    if x <= 0.0:
+        return 0.0, 0.0
+    return x * x * (3.0 - 2.0 * x), -6.0 * x * (1.0 - x) / (2.0 * b)
+
+
+@jit
+def surface_drag(i0, i1, i2, l, n0, n1, n2, u0, u1, u2, phi, hrd, cdt, cdn, hra, cdta, cdna):
+    """Drag of a point with wetted fraction phi: phi f_d(water, v* = u - nu) + (1 - phi) f_d(air, v* = -nu)
+    [PE2020 Eq. 17 with the air density and air coefficients above the surface]; returns (fx, fy, fz)."""
+    fx = 0.0
+    fy = 0.0
+    fz = 0.0
+    if phi > 0.0:
+        wx, wy, wz = morison_drag(i0, i1, i2, l, u0 - n0, u1 - n1, u2 - n2, hrd, cdt, cdn)
+        fx = phi * wx
+        fy = phi * wy
+        fz = phi * wz
+    if phi < 1.0 and hra > 0.0:
+        ax, ay, az = morison_drag(i0, i1, i2, l, -n0, -n1, -n2, hra, cdta, cdna)
+        fx += (1.0 - phi) * ax
+        fy += (1.0 - phi) * ay
+        fz += (1.0 - phi) * az
+    return fx, fy, fz
+
+
 def net_weight_per_length(cable, env) -> float:
     """Submerged weight per unstretched metre w = g (gamma0 - rho_f A) (N/m), > 0 sinks [PE2020 Eq. 14]."""
     return env.g * (cable.gamma0 - env.fluid_density * cable.area)
+
+
+def air_weight_per_length(cable, env) -> float:
+    """Weight per unstretched metre in air w_air = g (gamma0 - rho_air A) (N/m) (free surface on)."""
+    return env.g * (cable.gamma0 - env.air_density * cable.area)
 
 
 def buoyancy_vector(cable, env) -> np.ndarray:

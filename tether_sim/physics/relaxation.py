@@ -152,7 +152,7 @@ def relax_cable(start, end, length, law, w, held=(True, False), loads=None, n_no
         if env.seabed:
             seabed, zg, Kd = True, env.seabed_z, env.seabed_stiffness * cable.diameter
     F, v, m = np.zeros_like(r), np.zeros_like(r), np.zeros(n_nodes)
-    scale = abs(w) * length + float(np.abs(loads).sum()) + 1.0
+    scale = float(np.max(np.abs(w))) * length + float(np.abs(loads).sum()) + 1.0  # w: scalar or per node
     it, res = _relax(r, hold, ds, law.code, law.EA, law.max_slope(), law.tab_eps, law.tab_T, fext, hrd, Cdt, Cdn,
                      cz, cx, cy, seabed, zg, Kd, max_iter, tol * scale, F, v, m)
     return DiscreteShape(s, r, law, res < tol * scale, res, it)

@@ -11,6 +11,10 @@ has the closed form of the elastic catenary (H = |T_h|, V = T_z):
 Solved cases: two fixed points (Newton on T0), a cable hanging from one end with a point load at
 the other (a cage's submerged weight, a force end, or nothing), and a cable partly lying on a
 frictionless seabed (touchdown point and horizontal tension, the lying part sunk by w / (K_g d)).
+With ``environment.free_surface`` and the ship (s = 0) end above z = 0, the part above the still-water
+surface weighs w_air = g (gamma0 - rho_air A) per metre: the shape is two elastic catenaries joined at
+the crossing arc s_c (z(s_c) = 0) with T continuous there, T(s) = T0 + (w_air min(s, s_c) +
+w max(s - s_c, 0)) z_hat.
 With a current, or when Newton fails, ``solve_static`` finishes with the lumped-mass dynamic
 relaxation of ``physics/relaxation.py`` (current drag included). Bending stiffness is ignored.
 Tabulated laws use numerical quadrature of the same integrals.
@@ -23,7 +27,7 @@ import numpy as np
 
 from tether_sim.physics.constitutive import TensionLaw
 from tether_sim.physics.end_conditions import KINDS, TABLE
-from tether_sim.physics.hydrodynamics import net_weight_per_length
+from tether_sim.physics.hydrodynamics import air_weight_per_length, net_weight_per_length
 from tether_sim.physics.relaxation import relax_cable
 
 KINEMATIC_KINDS = tuple(k.name for k in TABLE if k.kinematic and k.position != "body")  # held in place
@@ -42,11 +46,16 @@ class StaticSolution:
     seabed_z: float = 0.0
     sink: float = 0.0
     method: str = "catenary"
+    w_air: float = 0.0  # weight per metre in air (free surface)
+    crossing: float = 0.0  # arc length where the cable enters the water (free surface; 0: all wet)
 
     def force_at(self, s):
         """Internal force vector T(s), (n, 3)."""
         s = np.atleast_1d(np.asarray(s, float))
         T = np.repeat(self.T0[None, :], s.size, axis=0)
+        if self.crossing > 0.0:
+            T[:, 2] += self.w_air * np.minimum(s, self.crossing) + self.w * np.maximum(s - self.crossing, 0.0)
+            return T
         T[:, 2] += self.w * np.minimum(s, self.touchdown if self.touchdown >= 0 else np.inf)
         return T
 
@@ -65,6 +74,8 @@ class StaticSolution:
     def position(self, s):
         """r(s) (n, 3)."""
         s = np.atleast_1d(np.asarray(s, float))
+        if self.crossing > 0.0:
+            return self.origin + _integral_split(self.T0, self.w_air, self.w, self.law, s, self.crossing)
         if self.touchdown < 0:
             return self.origin + _integral(self.T0, self.w, self.law, s)
         sh = np.minimum(s, self.touchdown)
@@ -100,6 +111,52 @@ def _integral(T0, w, law, s):
     return xh[:, None] * eh[None, :] + z[:, None] * np.array([0.0, 0.0, 1.0])[None, :]
 
 
+def _integral_split(T0, w_air, w, law, s, sc):
+    """r(s) - r(0) with weight w_air on [0, sc] (in air) and w beyond (in water)."""
+    s = np.atleast_1d(np.asarray(s, float))
+    out = np.empty((s.size, 3))
+    top = s <= sc
+    if np.any(top):
+        out[top] = _integral(T0, w_air, law, s[top])
+    if not np.all(top):
+        rc = _integral(T0, w_air, law, np.array([sc]))[0]
+        Tc = np.array([T0[0], T0[1], T0[2] + w_air * sc])
+        out[~top] = rc + _integral(Tc, w, law, s[~top] - sc)
+    return out
+
+
+def surface_crossing(T0, w_air, law, length, z0, n=200):
+    """Arc length where a cable starting at height z0 > 0 (in air, weight w_air) first reaches the
+    still-water surface z = 0; 0 if z0 <= 0, length if it stays in air."""
+    if z0 <= 0.0:
+        return 0.0
+    grid = np.linspace(0.0, length, n + 1)
+    z = z0 + _integral(T0, w_air, law, grid)[:, 2]
+    below = np.nonzero(z <= 0.0)[0]
+    if below.size == 0:
+        return float(length)
+    k = int(below[0])
+    a, b = grid[k - 1], grid[k]
+    for _ in range(100):  # bisection on the monotone stretch [a, b]
+        m = 0.5 * (a + b)
+        if z0 + _integral(T0, w_air, law, np.array([m]))[0, 2] > 0.0:
+            a = m
+        else:
+            b = m
+        if b - a < 1e-13 * max(length, 1.0):
+            break
+    return 0.5 * (a + b)
+
+
+def _end_point(T0, w, law, length, fs, z0):
+    """r(L) - r(0); fs = w_air (free surface on) or None."""
+    if fs is None:
+        return _integral(T0, w, law, np.array([length]))[0]
+    sc = surface_crossing(T0, fs, law, length, z0)
+    return _integral_split(T0, fs, w, law, np.array([length]), sc)[0] if sc > 0.0 else \
+        _integral(T0, w, law, np.array([length]))[0]
+
+
 def _integral_numeric(T0, w, law, s, n=4000):
     """Same integral by composite Gauss quadrature (tabulated laws, weightless cables)."""
     smax = float(np.max(s)) if s.size else 0.0
@@ -125,8 +182,9 @@ def _integral_numeric(T0, w, law, s, n=4000):
     return out
 
 
-def catenary_between(A, B, length, w, law, *, seabed_z=None, sink=0.0, tol=1e-11, max_iter=100):
+def catenary_between(A, B, length, w, law, *, seabed_z=None, sink=0.0, tol=1e-11, max_iter=100, w_air=None):
     """Elastic catenary from A (s = 0) to B (s = L) under weight w; touchdown if seabed_z is given.
+    w_air (free surface): weight per metre of the part above z = 0 (A in air, B in water).
 
     Raises RuntimeError when Newton does not converge (callers fall back to dynamic relaxation).
     """
@@ -142,7 +200,7 @@ def catenary_between(A, B, length, w, law, *, seabed_z=None, sink=0.0, tol=1e-11
         return np.array([x[0] * eh[0], x[0] * eh[1], x[1]])
 
     def resid(x):
-        r = _integral(T0_of(x), w, law, np.array([length]))[0]
+        r = _end_point(T0_of(x), w, law, length, w_air, A[2])
         return np.array([np.dot(r, eh) - dh, r[2] - d[2]])
 
     # initial guess: Irvine/Peyrot for slack chords, taut straight line otherwise
@@ -180,7 +238,9 @@ def catenary_between(A, B, length, w, law, *, seabed_z=None, sink=0.0, tol=1e-11
         raise RuntimeError("static catenary: Newton did not converge")
     if np.max(np.abs(resid(x))) > 1e-6 * max(length, 1.0):
         raise RuntimeError("static catenary: Newton did not converge")
-    sol = StaticSolution(length, T0_of(x), w, law, A.copy())
+    sol = _with_surface(StaticSolution(length, T0_of(x), w, law, A.copy()), w_air)
+    if sol.crossing > 0.0:
+        return sol  # touchdown with a surface crossing: not in closed form (solve_static relaxes it)
     if seabed_z is not None and w > 0:
         zmin = _lowest_z(sol)
         if zmin < seabed_z - sink or B[2] <= seabed_z - sink + 1e-9 * length:
@@ -238,13 +298,36 @@ def _touchdown(A, B, length, w, law, zg, sink, eh, dh):
                           seabed_z=zg, sink=sink, method="catenary+seabed")
 
 
-def hanging_from(A, length, w, law, end_load, at_start=True):
+def _with_surface(sol, w_air):
+    """Attach the free-surface split (air above z = 0 from s = 0 to the crossing) to a solution."""
+    if w_air is not None:
+        sol.w_air = float(w_air)
+        sol.crossing = surface_crossing(sol.T0, w_air, sol.law, sol.length, float(sol.origin[2]))
+    return sol
+
+
+def hanging_from(A, length, w, law, end_load, at_start=True, w_air=None):
     """Cable hanging from the fixed point A with a point load end_load (3,) on its other end.
 
     at_start=True: A is the s = 0 end and the load acts on s = L (T(L) = load);
     otherwise A is the s = L end and the load acts on s = 0 (T(0) = -load).
+    w_air (free surface, at_start only): weight per metre above z = 0; the crossing arc s_c solves
+    z(s_c) = 0 with T0 = load - (w_air s_c + w (L - s_c)) z_hat (fixed point on s_c).
     """
     load = np.asarray(end_load, float)
+    if at_start and w_air is not None and A[2] > 0.0:
+        sc = 0.0
+        for _ in range(200):  # s_c -> T0 -> crossing of that shape: a contraction (T0 depends on s_c weakly)
+            T0 = load - np.array([0.0, 0.0, w_air * sc + w * (length - sc)])
+            sn = surface_crossing(T0, w_air, law, length, float(A[2]))
+            if abs(sn - sc) <= 1e-12 * max(length, 1.0):
+                sc = sn
+                break
+            sc = sn
+        T0 = load - np.array([0.0, 0.0, w_air * sc + w * (length - sc)])
+        sol = StaticSolution(length, T0, w, law, np.asarray(A, float).copy(), method="hanging", w_air=w_air)
+        sol.crossing = surface_crossing(T0, w_air, law, length, float(A[2]))
+        return sol
     if at_start:
         T0 = load - np.array([0.0, 0.0, w * length])
         return StaticSolution(length, T0, w, law, np.asarray(A, float).copy(), method="hanging")
@@ -276,18 +359,19 @@ def solve_static(config, vehicle_load=None, ship_load=None):
     if vehicle_load is not None:
         loads[1] = vehicle_load
     held = (ks in KINEMATIC_KINDS, kv in KINEMATIC_KINDS)
+    w_air = _surface_weight(config, A, B)
     if held[0] and held[1]:
         try:
-            sol = catenary_between(A, B, L, w, law, seabed_z=seabed, sink=sink)
+            sol = catenary_between(A, B, L, w, law, seabed_z=seabed, sink=sink, w_air=w_air)
         except RuntimeError:
             sol = None
     elif held[0]:
-        sol = hanging_from(A, L, w, law, loads[1], at_start=True)
+        sol = hanging_from(A, L, w, law, loads[1], at_start=True, w_air=w_air)
     elif held[1]:
         sol = hanging_from(B, L, w, law, loads[0], at_start=False)
     else:
         raise RuntimeError("static equilibrium needs at least one end held in place")
-    if sol is not None and len(env.current_z) == 0:
+    if sol is not None and len(env.current_z) == 0 and not (sol.crossing > 0.0 and env.seabed):
         return sol
     # dynamic relaxation: no catenary solution, or a current to balance (the catenary ignores it)
     n = 101
@@ -295,7 +379,26 @@ def solve_static(config, vehicle_load=None, ship_load=None):
     initial = sol.position(s) if sol is not None else None
     start = initial[0] if initial is not None else A
     end = initial[-1] if initial is not None else B
-    shape = relax_cable(start, end, L, law, w, held=held, loads=loads, n_nodes=n, initial=initial, env=env, cable=cable)
+    wn = w
+    if w_air is not None and initial is not None:  # free surface: per-node weight from the first guess
+        wn = np.where(initial[:, 2] > 0.0, w_air, w)
+    shape = relax_cable(start, end, L, law, wn, held=held, loads=loads, n_nodes=n, initial=initial, env=env, cable=cable)
     if not shape.converged:
         raise RuntimeError(f"static shape: dynamic relaxation did not converge (residual {shape.residual:.3g} N)")
     return shape
+
+
+def _surface_weight(config, A, B):
+    """Weight per metre in air when the free surface is on and the ship end is above z = 0 (else None).
+
+    The static state uses the sharp interface z = 0 (still water): the dynamic solvers' wetted fraction
+    is odd about the surface, so a straight cable crossing its band carries the same wetted length."""
+    env = config.environment
+    if not env.free_surface:
+        return None
+    if B[2] > 0.0 and A[2] <= 0.0:
+        raise RuntimeError("free surface: the static solve handles a cable entering the water from the "
+                           "s = 0 (ship) end; here the s = L end is above z = 0")
+    if A[2] <= 0.0:
+        return None
+    return air_weight_per_length(config.cable, env)

@@ -39,7 +39,6 @@ simulation never squeezes motion in time and never invents a snap from a discont
    so no snap can be made of dropped time, a restart or a bridging blend (reported).
 """
 
-import math
 import time as wallclock
 from dataclasses import dataclass, field, replace
 
@@ -47,13 +46,12 @@ import numpy as np
 
 from tether_sim.errors import SolverDivergedError
 from tether_sim.physics.snap import SnapDetector, SnapEvent, SlackStarted
+from tether_sim.ros import winch_link
+from tether_sim.ros.body_frame import BodyFrame
+from tether_sim.ros.end_commands import BLEND_ACCELERATION, BLEND_MIN_TIME, Blend, EndCommands, MotionSource, blend_time
 from tether_sim.solvers.factory import build_solver
 
 END_NAMES = ("ship", "vehicle")
-
-
-BLEND_ACCELERATION = 0.5  # m/s^2 a blend onto a pose stream may add to the end's own motion
-BLEND_MIN_TIME = 0.5  # s, shortest blend
 
 
 @dataclass
@@ -75,60 +73,17 @@ class TickReport:
     blends: list = field(default_factory=list)  # (end, duration s, reason) of blends started this tick
 
 
-@dataclass
-class Blend:
-    """A C1 blend of one end from its held trajectory onto the pose stream (module doc, 4)."""
-
-    t0: float  # clock time of the start
-    duration: float  # s
-    p0: np.ndarray
-    v0: np.ndarray
-    reason: str
-
-    def command(self, t, p_s, v_s):
-        """(position, velocity, finished) at clock time ``t`` given the stream's (p_s, v_s)."""
-        tau = t - self.t0
-        u = min(max(tau / self.duration, 0.0), 1.0)
-        h, dh = self.p0 + self.v0 * tau, self.v0
-        w, dw = u ** 3 * (10.0 + u * (6.0 * u - 15.0)), 30.0 * (u * (1.0 - u)) ** 2 / self.duration
-        return h + w * (p_s - h), dh + w * (v_s - dh) + dw * (p_s - h), u >= 1.0
-
-
-def blend_time(distance, speed_change, max_end_speed):
-    """Blend duration (s) for an offset ``distance`` (m) and velocity change (m/s). The weight is
-    the quintic ``w = 10u^3 - 15u^4 + 6u^5`` (zero slope and curvature at both ends, so the blend
-    adds no acceleration step: C2 where the stream is); the blend term of the acceleration,
-    ``w'' d / T^2 + 2 w' dv / T`` (max |w''| = 10/sqrt(3), max |w'| = 15/8), is kept under
-    ``BLEND_ACCELERATION`` (half each) and its speed ``15/8 d / T`` under half of
-    ``max_end_speed``; at least ``BLEND_MIN_TIME``."""
-    d, dv = float(distance), float(speed_change)
-    return max(BLEND_MIN_TIME, math.sqrt(20.0 / math.sqrt(3.0) * d / BLEND_ACCELERATION),
-               7.5 * dv / BLEND_ACCELERATION, 3.75 * d / max(max_end_speed, 1e-9))
-
-
-class MotionSource:
-    """A prescribed end driven by an analytic motion ``motion.at(t) -> (position, velocity, ...)``."""
-
-    def __init__(self, motion):
-        self.motion = motion
-
-    def attachment_at(self, t):
-        result = self.motion.at(t)
-        return np.asarray(result[0], float), np.asarray(result[1], float)
-
-    def orientation_at(self, t):
-        return np.array([0.0, 0.0, 0.0, 1.0])
-
-
-class SimulationDriver:
-    """Owns the solver, the clock mapping, recovery and the snap detector."""
+class SimulationDriver(EndCommands, BodyFrame):
+    """Owns the solver, the clock mapping, recovery and the snap detector; the end commands and blends
+    (input handling) are :class:`~tether_sim.ros.end_commands.EndCommands`, the body-frame queries
+    :class:`~tether_sim.ros.body_frame.BodyFrame`."""
 
     def __init__(self, config, sources: dict | None = None, *, solver_factory=build_solver, wall_budget=None,
                  start_blend=True):
         self.config = config
         self.start_blend = start_blend  # blend pose-input ends from rest at a (re)start (the node)
         self.sources = dict(sources or {})  # end -> EndPoseInput | MotionSource (prescribed ends)
-        self.solver_factory = solver_factory
+        self.solver_factory = winch_link.wrap_factory(config, solver_factory)  # winch.enabled: the winch drives L
         self.solver = None
         self.wall_budget = wall_budget  # s of wall time one tick may spend stepping (None: no limit)
         self.wall_per_substep = 0.0  # measured cost of a substep, s (0: not yet measured)
@@ -162,9 +117,6 @@ class SimulationDriver:
         self.span_arc = np.zeros(0)
 
     # ------------------------------------------------------------------ set-up
-    def _prescribed(self, end):
-        return getattr(self.config, f"{end}_end").kind == "prescribed"
-
     def _start_config(self, now):
         """The configuration with prescribed end positions taken from their sources at ``now``."""
         cfg = self.config
@@ -184,10 +136,6 @@ class SimulationDriver:
         self._last_wall = wallclock.perf_counter()
         self._rebuild(now)
         self._had_input = {end: self._has_data(end) for end in END_NAMES if self._prescribed(end)}
-
-    def _has_data(self, end):
-        src = self.sources.get(end)
-        return src is not None and getattr(src, "has_data", True)
 
     def _build_detector(self):
         """Ends: every substep (drained end tensions). Span points (``snap.monitor_arc_lengths``):
@@ -219,57 +167,6 @@ class SimulationDriver:
         self._snapshot = (self.solver.snapshot(), {e: (p.copy(), v.copy()) for e, (p, v) in self._end_state.items()})
         self._snapshot_time = self.solver.time
         self._snapshot_failed = False
-
-    # ------------------------------------------------------------------ end commands
-    def end_target(self, end, clock_time):
-        """(position, velocity) of a prescribed end's source at a clock time (no blend); held at
-        rest at its last commanded (else configured) position without input."""
-        src = self.sources.get(end)
-        if src is None or not getattr(src, "has_data", True):
-            held = self._end_state.get(end, (None,))[0]
-            if held is None:
-                held = np.asarray(getattr(self._solver_config, f"{end}_end").position, float)
-            return np.asarray(held, float), np.zeros(3)
-        p, v = src.attachment_at(clock_time)
-        return np.asarray(p, float), np.asarray(v, float)
-
-    def _start_blend(self, end, t, reason, report, probe=None):
-        """Blend ``end`` from its current commanded state at clock time ``t`` onto its source
-        (sized by the offset to the source at ``probe``, default ``t``)."""
-        if end not in self._end_state or self.sources.get(end) is None:
-            return
-        p0, v0 = self._end_state[end]
-        p_s, v_s = self.end_target(end, t if probe is None else probe)
-        p0 = p0 + v0 * (0.0 if probe is None else probe - t)
-        distance, speed_change = np.linalg.norm(p_s - p0), np.linalg.norm(v_s - v0)
-        if distance < 1e-9 and speed_change < 1e-9:
-            return  # already on the stream
-        duration = blend_time(distance, speed_change, self.config.node.max_end_speed)
-        self._blends[end] = Blend(t, duration, p0.copy(), v0.copy(), reason)
-        report.blends.append((end, duration, reason))
-        self._suspend_detection(t + duration)
-
-    def _command(self, end, t, report):
-        """(position, velocity) commanded for ``end`` at clock time ``t`` (blends applied); starts a
-        blend when a held input gets motion again."""
-        src = self.sources.get(end)
-        held = src is None or not getattr(src, "has_data", True) or \
-            (hasattr(src, "is_held") and src.is_held(t))
-        was_held = self._held.get(end, False)
-        if was_held != held and (not held or self._has_data(end)):  # (replaces a running blend)
-            # resumed: blend onto the stream; lost: blend from the motion to rest at the held point
-            self._start_blend(end, self.anchor + self.solver.time, "input lost" if held else "input resumed", report, t)
-        self._held[end] = held
-        p, v = self.end_target(end, t)
-        blend = self._blends.get(end)
-        if blend is not None:
-            p, v, finished = blend.command(t, p, v)
-            if finished:
-                del self._blends[end]
-        return p, v
-
-    def _suspend_detection(self, until):
-        self._suspended_until = until if self._suspended_until is None else max(self._suspended_until, until)
 
     # ------------------------------------------------------------------ stepping
     def tick(self, now: float) -> TickReport:
@@ -364,22 +261,6 @@ class SimulationDriver:
         self.capped_ticks += report.capped
         return True
 
-    def _first_pose_far(self, t_clock, chunk, report) -> bool:
-        """An end that never had an input whose first pose lies beyond what ``max_end_speed``
-        allows in this step: its held position was a placeholder, restart there (module doc, 4)."""
-        for end in list(self._end_state):
-            if self._had_input.get(end, True) or not self._has_data(end):
-                continue
-            self._had_input[end] = True
-            position = self.end_target(end, t_clock)[0]
-            held = self._end_state.get(end, (None,))[0]
-            reach = self.config.node.max_end_speed * max(chunk - self.solver.time, 1.0 / self.config.node.output_rate)
-            if held is not None and np.linalg.norm(position - held) > reach + 1e-6:
-                report.restart = f"{end} end's first pose is {np.linalg.norm(position - held):.3g} m from its placeholder"
-                self._blends.pop(end, None)
-                return True
-        return False
-
     def _measure(self, substeps, seconds):
         """Running cost per substep: a lower measurement is taken at once (the first one may include
         JIT compiling), a higher one is averaged in."""
@@ -468,45 +349,6 @@ class SimulationDriver:
         """Clock time of the current solver state."""
         return self.anchor + (self.solver.time if self.solver is not None else 0.0)
 
-    def offset(self, end):
-        """Attachment offset in the body frame of an end: ``body.attachment`` (from the centre of
-        gravity) for a simulated body, else ``node.ship_attachment`` / ``node.vehicle_attachment``."""
-        if getattr(self.config, f"{end}_end").kind == "body":
-            return self.config.body.attachment
-        return getattr(self.config.node, f"{end}_attachment")
 
-    def end_orientation(self, end, body=None):
-        """Quaternion (x, y, z, w) of the body frame of an end at the current state: a simulated
-        body's own (``body``: its BodyState if the caller already has it), a pose input's
-        interpolated one, otherwise aligned with the world."""
-        if getattr(self.config, f"{end}_end").kind == "body":
-            body = body if body is not None else self.solver.body_state(end)
-            if body is not None:
-                return np.asarray(body.orientation, float)
-        src = self.sources.get(end)
-        if src is not None and getattr(src, "has_data", True):
-            return np.asarray(src.orientation_at(self.stamp), float)
-        return np.array([0.0, 0.0, 0.0, 1.0])
-
-    def body_wrench(self, end, forces, body=None):
-        """Force and torque BY the tether ON the body of ``end``, in its body frame, about its origin
-        (``body``: the BodyState of a simulated body end, if the caller already has it):
-        ``f = R^T F``, ``torque = r x f + R^T M`` (world force F and moment M, offset r)."""
-        q = self.end_orientation(end, body).tolist()
-        f = _to_body(q, getattr(forces, f"{end}_force"))
-        m = _to_body(q, getattr(forces, f"{end}_moment"))
-        (rx, ry, rz), (fx, fy, fz) = self.offset(end), f
-        return np.array(f), np.array([ry * fz - rz * fy + m[0], rz * fx - rx * fz + m[1], rx * fy - ry * fx + m[2]])
-
-
-def _to_body(q, v):
-    """``R(q)^T v`` for a unit quaternion (x, y, z, w) and a 3-vector, in plain floats (a few
-    microseconds instead of tens for the numpy version with its small-array overheads)."""
-    x, y, z, w = q
-    a, b, c = (float(e) for e in v)
-    return ((1 - 2 * (y * y + z * z)) * a + 2 * (x * y + z * w) * b + 2 * (x * z - y * w) * c,
-            2 * (x * y - z * w) * a + (1 - 2 * (x * x + z * z)) * b + 2 * (y * z + x * w) * c,
-            2 * (x * z + y * w) * a + 2 * (y * z - x * w) * b + (1 - 2 * (x * x + y * y)) * c)
-
-
-__all__ = ["SimulationDriver", "TickReport", "MotionSource", "SnapEvent", "SlackStarted"]
+__all__ = ["SimulationDriver", "TickReport", "MotionSource", "SnapEvent", "SlackStarted", "Blend", "blend_time",
+           "BLEND_ACCELERATION", "BLEND_MIN_TIME"]

@@ -25,7 +25,7 @@ from tqdm import tqdm
 from tether_sim.errors import ConfigError, TetherSimError
 from tether_sim.io.inputs import EndPoseInput
 from tether_sim.io.params import load_config
-from tether_sim.ros import cdr, convert
+from tether_sim.ros import cdr, convert, winch_io
 from tether_sim.ros.driver import END_NAMES, MotionSource, SimulationDriver
 from tether_sim.solvers.factory import build_solver
 
@@ -141,6 +141,8 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
             if topic.endswith("sim_pose") and getattr(config, f"{topic.split('/')[1]}_end").kind != "body":
                 continue
             writer.add_topic(topic, type_name, qos)
+        for topic, (type_name, qos) in (winch_io.TOPICS.items() if config.winch.enabled else ()):
+            writer.add_topic(topic, type_name, qos)
 
         def write(items):
             for topic, msg in items:
@@ -155,6 +157,9 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
 
         def write_tick():
             """The periodic outputs (already serialized), log time = their stamp."""
+            nonlocal arc
+            arc, winch_items = winch_io.offline_outputs(driver, arc)  # winch: points on [0, L(t)], its topics
+            write(winch_items)
             sec, nanosec = cdr.stamp_parts(driver.stamp)
             ns = sec * 1_000_000_000 + nanosec
             for topic, data in convert.tick_outputs(driver, arc):

@@ -33,6 +33,7 @@ from tether_sim.ros.driver import END_NAMES, SimulationDriver
 from tether_sim.ros.namespacing import retarget
 from tether_sim.ros.snap_markers import SnapMarkerPublisher
 from tether_sim.ros.tf import TfPublisher
+from tether_sim.ros.winch_io import NodeWinch
 from tether_sim.warm import Interrupted, exit_if_compiling, run_interruptibly
 from tether_sim.solvers.factory import build_solver
 from tether_sim.solvers.resolution import mesh_summary
@@ -85,6 +86,7 @@ class TetherSimNode(Node):
             self.pubs[topic] = self.create_publisher(_TYPES[type_name.rsplit("/", 1)[1]], convert.ros_name(topic), profile)
         self.tf = TfPublisher(self)  # /tf, /tf_static (tether_sim/ros/tf.py)
         self.snap_markers = SnapMarkerPublisher(self)  # tether/snap_markers, for RViz
+        self.winch_io = NodeWinch(self)  # winch/command in, winch/state out (winch.enabled; ros/winch_io.py)
         # periodic outputs: built (and published) only while someone subscribes to them
         self._tick_topics = [t for t in self.pubs if t in convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
         self._first_tick = None
@@ -191,6 +193,7 @@ class TetherSimNode(Node):
             self._handle_report(now, report)
             if self.driver.stamp > max(self._last_output, 0.0):  # one output per simulated instant
                 self._last_output = self.driver.stamp
+                self.arc_lengths = self.winch_io.tick(self.arc_lengths)  # outputs follow L(t) (winch)
                 wanted = {topic for topic in self._tick_topics if self.pubs[topic].get_subscription_count() > 0}
                 for topic, data in convert.tick_outputs(self.driver, self.arc_lengths, wanted):
                     self.pubs[topic].publish(data)

@@ -1,60 +1,62 @@
 """``dg.resolution: auto``: the DG mesh (N, P) and safety factor dg.cfl chosen for a snap-peak tolerance.
 
 The rule is a table of MEASURED errors, not a model. ``benchmarks/resolution_ladder.py`` ran the
-ROPOS slack-snap case (circular fairlead orbit a = 2 m, f = 0.2 Hz) on ladders of N at P = 4 and
-dg.cfl 0.8 against a converged explicit reference (N = max(10, ceil(L / 20 m)), P = 4, cfl 0.5)
-for lengths 100-2000 m, a stiff (ROPOS, EA = 45.5 MN) and a soft (EA = 2 MN) cable, bending off
-and on (EI = 0 and EI* = 2620 N m^2) and the cage or a free end; the measured figures are in
-docs/data/resolution_ladder.csv and docs/performance.md ("Accuracy-chosen resolution").
+ROPOS slack-snap case (circular fairlead orbit a = 2 m, f = 0.2 Hz) on ladders of N at P = 2, 3
+and 4 and dg.cfl 0.8 (full ladders N = 1 ... 32 below the reference), and at dg.cfl 0.5, 0.65
+and 1.0 (N = 2 ... 8), against a converged explicit reference (N = max(10, ceil(L / 20 m)),
+P = 4, cfl 0.5) for lengths 100-2000 m, a stiff (ROPOS, EA = 45.5 MN) and a soft (EA = 2 MN)
+cable, bending off and on (EI = 0 and EI* = 2620 N m^2) and the cage or a free end; the figures
+are in docs/data/resolution_ladder.csv and docs/resolution_ladder.md (which also explains the rule).
 
-``_WORST_ERROR[end][L][N]`` is the worst relative error of the first snap peak (largest end tension
-of the first full-amplitude forcing period, ship and vehicle end, resampled at 200 Hz) over every
-case measured with vehicle end kind ``end`` (body = the cage, free) at length L, and of the
-bending effect on it (peak(EI*) - peak(EI = 0), relative to the peak) where both were measured.
-The rule:
+``WORST_ERROR[end][L][(P, cfl)][N]`` (tether_sim/solvers/resolution_table.py, generated from the
+CSV) is the worst relative error of the first snap peak (largest end tension of the first
+full-amplitude forcing period, ship and vehicle end, resampled at 200 Hz) over every case
+measured with vehicle end kind ``end`` (body = the cage, free) at length L, and of the bending
+effect on it (peak(EI*) - peak(EI = 0), relative to the peak) where both were measured. The rule:
 
-1. the smallest N whose worst error, and that of every finer N of the ladder, is at most
-   SAFETY x tolerance (SAFETY = 1/2: a margin for what the ladders did not vary, e.g. the
-   forcing). "Every finer N" because the error is not monotone in N (at L = 500 m: 0.55 % at
-   N = 3, 0.28 % at N = 4, 0.91 % at N = 6): a lucky zero crossing is not convergence;
-2. between two measured lengths, both bracketing lengths must satisfy 1 for the same N (the
-   range is that of the measured lengths: 100-2000 m with the cage, 200-975 m free);
-3. P = 4 and dg.cfl = 0.8, the values every ladder rung ran at (cfl 1.1 was measured to give
-   +68 % at L = 200 m in session 2, so no larger factor is ever chosen).
+1. per ladder (P, cfl): the smallest N >= 2 whose worst error, and that of every finer N of that
+   ladder, is at most SAFETY x tolerance (SAFETY = 1/2: a margin for what the ladders did not
+   vary, e.g. the forcing). "Every finer N" because the error is not monotone in N (at L = 975 m,
+   P = 3: 0.5 % at N = 3 and 4, 2.1 % at N = 6, 0.3 % from N = 12 on): a lucky zero crossing is
+   not convergence. Only a ladder with every rung from N = 2 to the finest below the reference
+   at that length takes part (the dg.cfl 0.5 / 0.65 / 1.0 ladders stop at N = 8: they take part
+   at 100 and 200 m only);
+2. between two measured lengths, both bracketing lengths must satisfy 1 for the same (P, cfl, N)
+   (the range is that of the measured lengths: 100-2000 m with the cage, 200-1730 m free);
+3. dg.cfl at most MAX_CFL = 0.8: cfl 1.0 is the stability limit itself (calibrated on a straight
+   taut cable, docs/dg_solver.md) and cfl 1.1 gave +68 % at L = 200 m in session 2;
+4. of the rungs that pass 1-3, the cheapest by the cost model :func:`cost` (substeps per
+   simulated second from the solver's own stability rule x a per-substep cost fitted to the
+   ladders' thread CPU).
 
 Outside what was measured (length, EA, EI, end kinds, explicit damping, a uniform mesh) the rule
 refuses with a ConfigError rather than guess: set dg.resolution to manual there.
 """
 
+import math
 from dataclasses import dataclass, replace
 
 from tether_sim.errors import ConfigError
+from tether_sim.solvers.dg.timestep import stable_dt
+from tether_sim.solvers.resolution_table import WORST_ERROR
 
-ORDER = 4
-CFL = 0.8
 SAFETY = 0.5
+MAX_CFL = 0.8
+MIN_ELEMENTS = 2  # one element has no inner element boundary: never chosen (975 m free end measured it "good")
+LADDER_NS = (1, 2, 3, 4, 6, 8, 12, 16, 24, 32)  # the rungs of benchmarks/resolution_ladder.py
 
-# vehicle_end.kind -> L (m) -> {N: worst first-snap-peak error (relative) over the cases measured with
-# that end at L}, P = 4, cfl 0.8.
-# Source: docs/data/resolution_ladder.csv (benchmarks/resolution_ladder.py --table prints this).
-_WORST_ERROR = {
-    "body": {
-        100: {1: 0.0116, 2: 0.0080, 3: 0.0068, 4: 0.0054, 6: 0.0031, 8: 0.0012},
-        200: {1: 0.0179, 2: 0.0047, 3: 0.0012, 4: 0.0009, 6: 0.0009, 8: 0.0006},
-        500: {1: 0.0310, 2: 0.0168, 3: 0.0056, 4: 0.0029, 6: 0.0092, 8: 0.0043, 12: 0.0016, 16: 0.0015, 24: 0.0011},
-        975: {1: 0.0430, 2: 0.0099, 3: 0.0170, 4: 0.0193, 6: 0.0042, 8: 0.0062, 12: 0.0126, 16: 0.0094, 24: 0.0041, 32: 0.0018},
-        1730: {1: 0.0848, 2: 0.0225, 3: 0.0061, 4: 0.0002, 6: 0.0016, 8: 0.0009, 12: 0.0011, 16: 0.0013, 24: 0.0007, 32: 0.0009},
-        2000: {1: 0.0546, 2: 0.0093, 3: 0.0003, 4: 0.0063, 6: 0.0030, 8: 0.0025, 12: 0.0018, 16: 0.0016, 24: 0.0012, 32: 0.0010},
-    },
-    "free": {
-        200: {1: 0.1276, 2: 0.1030, 3: 0.0167, 4: 0.0014, 6: 0.0011, 8: 0.0004},
-        975: {1: 0.0023, 2: 0.0078, 3: 0.0031, 4: 0.0031, 6: 0.0018, 8: 0.0009, 12: 0.0015, 16: 0.0007, 24: 0.0001, 32: 0.0001},
-    },
-}
+# Per-substep cost model (thread CPU): COST_FIXED + (COST_NODE + COST_NODE_BENDING [EI > 0]) x N (P + 1),
+# least squares over the stiff-cable rows of docs/data/resolution_ladder.csv (benchmarks/
+# resolution_report.cost_fit; test/solvers/test_resolution.py checks these are that fit, rounded).
+# At the coarse 1 % meshes the fixed part dominates, so the choice is mostly "fewest substeps".
+COST_FIXED = 18.4e-6  # s per substep
+COST_NODE = 0.331e-6  # s per substep per node N (P + 1)
+COST_NODE_BENDING = 0.388e-6  # s, extra with bending (the LDG gradient and its flux)
 
 EA_RANGE = (2.0e6, 45.5e6)  # N
 EI_MAX = 2620.0  # N m^2
 SHIP_KINDS = ("prescribed",)
+ROPOS_CABLE = {"EA": 45.5e6, "gamma0": 3.01, "damping": 45.5e3, "EI": 0.0, "bending_damping": 0.0}
 
 
 @dataclass(frozen=True)
@@ -65,39 +67,88 @@ class Resolution:
     order: int
     cfl: float
     tolerance: float
-    measured_error: float  # worst measured first-snap-peak error of this N at the bracketing lengths
+    measured_error: float  # worst measured first-snap-peak error of this rung at the bracketing lengths
+    cost: float = 0.0  # modelled thread CPU per simulated second (s), :func:`cost`
 
     def describe(self) -> str:
         return (f"N = {self.n_elements}, P = {self.order}, dg.cfl {self.cfl:g} for a first-snap-peak "
                 f"tolerance of {100 * self.tolerance:g} % (worst measured error {100 * self.measured_error:.2f} %)")
 
 
-def choose(length, tolerance, end="body"):
-    """N, P, cfl for a tether of unstretched length ``length`` (m) with vehicle end kind ``end`` and
-    first-snap-peak ``tolerance``: the smallest N whose measured worst error, and that of every finer
-    measured N, is within SAFETY x tolerance at both measured lengths that bracket ``length``."""
-    if end not in _WORST_ERROR:
+def reference_elements(length):
+    """N of the ladders' converged reference: h <= 20 m, at least 10 elements."""
+    return max(10, math.ceil(length / 20.0))
+
+
+def finest_rung(length):
+    """The finest ladder rung below the reference at ``length``: a ladder must reach it to count."""
+    return max(n for n in LADDER_NS if n < reference_elements(length))
+
+
+def cost(length, n, order, cfl, cable=None):
+    """Modelled thread CPU (s) per simulated second of a uniform mesh of ``n`` elements of order
+    ``order`` at ``cfl``: substeps per second (the solver's stability rule, explicit damping)
+    times the per-substep cost model above. ``cable``: dict with EA, gamma0, damping, EI,
+    bending_damping (default: the ROPOS cable, alpha = 0)."""
+    c = dict(ROPOS_CABLE, **(cable or {}))
+    dt = cfl * stable_dt([length / n], order, c["EA"], c["gamma0"], c["damping"], c["EI"], c["bending_damping"])
+    per_node = COST_NODE + (COST_NODE_BENDING if c["EI"] > 0.0 else 0.0)
+    return (COST_FIXED + per_node * n * (order + 1)) / dt
+
+
+def _complete(ladder, length):
+    """A ladder counts at a measured length if it has every rung N = 2 ... finest_rung(length)."""
+    return all(n in ladder for n in LADDER_NS if 2 <= n <= finest_rung(length))
+
+
+def _brackets(table, length):
+    measured = sorted(table)
+    return sorted({max(x for x in measured if x <= length), min(x for x in measured if x >= length)})
+
+
+def _settled(ladders, tol):
+    """The smallest N >= MIN_ELEMENTS measured at every bracketing length whose error, and that of
+    every finer rung measured at each of them, is within ``tol`` (``ladders``: one {N: error} per
+    bracketing length), with its worst error; else None."""
+    common = sorted(set.intersection(*(set(errs) for errs in ladders)))
+    for n in common:
+        if n >= MIN_ELEMENTS and all(e <= tol for errs in ladders for m, e in errs.items() if m >= n):
+            return n, max(errs[n] for errs in ladders)
+    return None
+
+
+def candidates(length, tolerance, end="body", cable=None):
+    """Every ladder's settled rung near ``length`` (rule points 1-3), cheapest first:
+    [(cost, n, order, cfl, worst_error)]."""
+    if end not in WORST_ERROR:
         raise ConfigError(f"dg.resolution auto: vehicle_end.kind {end} was not measured "
-                          f"(only {', '.join(_WORST_ERROR)}); set dg.resolution: manual (docs/performance.md)")
-    table = _WORST_ERROR[end]
+                          f"(only {', '.join(WORST_ERROR)}); set dg.resolution: manual (docs/resolution_ladder.md)")
+    table = WORST_ERROR[end]
     lo, hi = min(table), max(table)
     if not lo <= length <= hi:
         raise ConfigError(f"dg.resolution auto: cable.length {length:g} m is outside the range measured with "
-                          f"vehicle_end.kind {end}, {lo:g}-{hi:g} m; set dg.resolution: manual (docs/performance.md)")
-    measured = sorted(table)
-    brackets = {max(x for x in measured if x <= length), min(x for x in measured if x >= length)}
-    rungs = sorted(set.intersection(*(set(table[x]) for x in brackets)))
-    for i, n in enumerate(rungs):
-        # n and every finer measured rung within the margin: the error has settled, not crossed zero
-        if all(table[x][m] <= SAFETY * tolerance for x in brackets for m in rungs[i:]):
-            worst = max(table[x][n] for x in brackets)
-            return Resolution(n_elements=n, order=ORDER, cfl=CFL, tolerance=tolerance, measured_error=worst)
-    finest = rungs[-1]
-    worst = max(table[x][finest] for x in brackets)
-    raise ConfigError(
-        f"dg.snap_tolerance {tolerance:g}: the finest measured rung near L = {length:g} m (N = {finest}) has "
-        f"{100 * worst:.2f} % error, more than {SAFETY:g} x the tolerance; set dg.resolution: manual with a "
-        "finer mesh (docs/performance.md)")
+                          f"vehicle_end.kind {end}, {lo:g}-{hi:g} m; set dg.resolution: manual (docs/resolution_ladder.md)")
+    brackets = _brackets(table, length)
+    out = []
+    for order, cfl in sorted(set.intersection(*(set(table[x]) for x in brackets))):
+        if cfl > MAX_CFL or not all(_complete(table[x][(order, cfl)], x) for x in brackets):
+            continue
+        found = _settled([table[x][(order, cfl)] for x in brackets], SAFETY * tolerance)
+        if found is not None:
+            out.append((cost(length, found[0], order, cfl, cable), found[0], order, cfl, found[1]))
+    return sorted(out)
+
+
+def choose(length, tolerance, end="body", cable=None):
+    """N, P, cfl for a tether of unstretched length ``length`` (m) with vehicle end kind ``end`` and
+    first-snap-peak ``tolerance``: the cheapest of the settled rungs of :func:`candidates`."""
+    found = candidates(length, tolerance, end, cable)
+    if not found:
+        raise ConfigError(
+            f"dg.snap_tolerance {tolerance:g}: no measured ladder near L = {length:g} m settles within "
+            f"{SAFETY:g} x the tolerance; set dg.resolution: manual with a finer mesh (docs/resolution_ladder.md)")
+    c, n, order, cfl, worst = found[0]
+    return Resolution(n_elements=n, order=order, cfl=cfl, tolerance=tolerance, measured_error=worst, cost=c)
 
 
 def check_domain(config):
@@ -110,15 +161,15 @@ def check_domain(config):
         problems.append(f"cable.EI {cable.EI:g} N m^2 is above the measured {EI_MAX:g} N m^2")
     if config.ship_end.kind not in SHIP_KINDS:
         problems.append(f"ship_end.kind {config.ship_end.kind} was not measured (only {', '.join(SHIP_KINDS)})")
-    if config.vehicle_end.kind not in _WORST_ERROR:
-        problems.append(f"vehicle_end.kind {config.vehicle_end.kind} was not measured (only {', '.join(_WORST_ERROR)})")
+    if config.vehicle_end.kind not in WORST_ERROR:
+        problems.append(f"vehicle_end.kind {config.vehicle_end.kind} was not measured (only {', '.join(WORST_ERROR)})")
     if dg.damping != "explicit":
         problems.append("dg.damping implicit was not measured")
     if dg.element_lengths or dg.fixed_time_step > 0.0:
         problems.append("dg.element_lengths / dg.fixed_time_step set (the ladders use uniform meshes and the stability rule)")
     if problems:
         raise ConfigError("dg.resolution auto: " + "; ".join(problems)
-                          + "; set dg.resolution: manual (docs/performance.md)")
+                          + "; set dg.resolution: manual (docs/resolution_ladder.md)")
 
 
 def resolve(config, given=()):
@@ -131,7 +182,10 @@ def resolve(config, given=()):
     if dg.resolution != "auto" or config.solver != "dg":
         return config
     check_domain(config)
-    chosen = choose(float(config.cable.length), float(dg.snap_tolerance), config.vehicle_end.kind)
+    cab = config.cable
+    cable = {"EA": cab.EA, "gamma0": cab.gamma0, "damping": cab.damping, "EI": cab.EI,
+             "bending_damping": cab.bending_damping}
+    chosen = choose(float(cab.length), float(dg.snap_tolerance), config.vehicle_end.kind, cable)
     values = {"n_elements": chosen.n_elements, "order": chosen.order, "cfl": chosen.cfl}
     for name, value in values.items():
         if f"dg.{name}" in given and getattr(dg, name) != value:

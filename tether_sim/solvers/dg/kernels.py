@@ -32,15 +32,16 @@ import math
 from tether_sim.numerics.jit import jit
 from tether_sim.physics.constitutive import LAW_BILINEAR, LAW_LINEAR, LAW_TABLE, axial_tension, tension_slope
 from tether_sim.physics.end_conditions import is_kinematic
-from tether_sim.physics.hydrodynamics import current_at, morison_drag
+from tether_sim.physics.hydrodynamics import current_at, morison_drag, surface_drag, wetted_fraction
 from tether_sim.physics.seabed import seabed_force
 from tether_sim.solvers.dg.elementops import strong_derivative
 from tether_sim.solvers.dg.layout import (
     B_F, B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, F_NU, F_Q, F_V,
-    I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_SEABED,
-    M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDT, P_EA, P_FBZ, P_GAMMA0, P_HALF_RHO_D,
+    I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_SEABED, I_SURFACE,
+    M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDN_AIR, P_CDT, P_CDT_AIR, P_EA, P_FBZ, P_FBZ_AIR, P_GAMMA0,
+    P_HALF_RHO_D, P_HALF_RHO_D_AIR, P_SURF_B,
     P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
-    T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TV, W_V,
+    T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TV, W_V, W_WET,
 )
 from tether_sim.solvers.dg.fluxes import (  # noqa: F401 (re-exported)
     clip_compression, end_outputs, interface_fluxes, velocity_fluxes,
@@ -303,7 +304,12 @@ def tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, w
 
 @jit
 def momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr, fl, rs, tmp, dU):
-    """Step 5 of dg_rhs: dT/ds, drag, weight, seabed, added mass; dv/dt projected into dU[..., 3:6]."""
+    """Step 5 of dg_rhs: dT/ds, drag, weight, seabed, added mass; dv/dt projected into dU[..., 3:6].
+
+    Free surface (I_SURFACE): each Gauss point is wetted by the fraction phi (physics/hydrodynamics.
+    wetted_fraction) over a band of half-width max(L_s / 2, |dz/ds| h / (2 Q)), the vertical half-extent
+    of the arc h / Q it stands for; buoyancy, added mass and water drag scale with phi, air buoyancy
+    and air drag with 1 - phi."""
     N = iprm[I_N]
     nq = V.shape[0]
     nm = V.shape[1]
@@ -327,7 +333,9 @@ def momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr,
     u0 = 0.0
     u1 = 0.0
     u2 = 0.0
+    surface = iprm[I_SURFACE] != 0
     for e in range(N):
+        hq = h[e] / nq  # arc per Gauss point (free surface band)
         strong_derivative(h[e], D, Lf, wm, e, M_TV, 1.0, tr, T_TV, fl, F_V, wm, M_DT, 3)
         if needpos:
             for j in range(nq):
@@ -360,13 +368,25 @@ def momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr,
                 u0 = tmp[0]
                 u1 = tmp[1]
                 u2 = tmp[2]
-            fx, fy, fz = morison_drag(i0, i1, i2, l, u0 - n0, u1 - n1, u2 - n2, hrd, cdt, cdn)
+            fb = fbz
+            if surface:  # wetted fraction over the band max(L_s / 2, vertical half-extent of the point's arc)
+                eta = 0.0
+                b = max(prm[P_SURF_B], 0.5 * hq * abs(wq[e, j, W_Q + 2]))
+                phi, _ = wetted_fraction(wq[e, j, W_R + 2], eta, b)
+                wq[e, j, W_WET] = phi
+                fx, fy, fz = surface_drag(i0, i1, i2, l, n0, n1, n2, u0, u1, u2, phi, hrd, cdt, cdn,
+                                          prm[P_HALF_RHO_D_AIR], prm[P_CDT_AIR], prm[P_CDN_AIR])
+                fb = prm[P_FBZ_AIR] + phi * (fbz - prm[P_FBZ_AIR])
+                ct = g0 / (g0 + phi * prm[P_MT])
+                cn = g0 / (g0 + phi * prm[P_MN])
+            else:
+                fx, fy, fz = morison_drag(i0, i1, i2, l, u0 - n0, u1 - n1, u2 - n2, hrd, cdt, cdn)
             fx += d0
             fy += d1
-            fz += d2 + fbz
+            fz += d2 + fb
             if seabed:
                 sx, sy, sz = seabed_force(wq[e, j, W_R + 2], n0, n1, n2, l, prm[P_ZG], prm[P_KD], prm[P_CCRIT],
-                                          prm[P_SBZETA], prm[P_MU], prm[P_VMU], fbz)
+                                          prm[P_SBZETA], prm[P_MU], prm[P_VMU], fb)
                 fx += sx
                 fy += sy
                 fz += sz

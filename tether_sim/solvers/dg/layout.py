@@ -43,6 +43,15 @@ define(globals(), "prm", [
     ("P_LAMBDA_FLOOR", 1, "lambda_min", "m/s", "lower bound of the Lax-Friedrichs speed"),
     ("P_LAMBDA_BC", 1, "c", "m/s", "upwind speed of the velocity-end fluxes (taut wave speed)"),
     ("P_QPEN", 1, "-", "-", "factor on the Lax-Friedrichs penalty of the q equation (1 = Eq. 24, 0 = central)"),
+    ("P_FBZ_AIR", 1, "f_b,z air", "N/m", "net vertical force per metre in air (free surface)"),
+    ("P_HALF_RHO_D_AIR", 1, "rho_a d / 2", "kg/m^2", "air drag prefactor"),
+    ("P_CDT_AIR", 1, "C_dt,air", "-", "tangential drag coefficient in air"),
+    ("P_CDN_AIR", 1, "C_dn,air", "-", "normal drag coefficient in air"),
+    ("P_SURF_B", 1, "L_s / 2", "m", "minimum half-width of the wetted-fraction ramp"),
+    ("P_WL", 1, "L", "m", "winch: unstretched length in the domain (the stage value while stepping)"),
+    ("P_WLDOT", 1, "dL/dt", "m/s", "winch: pay-out rate at the current (stage) time, > 0 pays out"),
+    ("P_WR0", 1, "dL/dt_0", "m/s", "winch: pay-out rate at the start of the tick"),
+    ("P_WR1", 1, "dL/dt_1", "m/s", "winch: pay-out rate at the end of the tick (linear ramp between)"),
 ], "N_PRM")
 
 define(globals(), "iprm", [
@@ -56,9 +65,11 @@ define(globals(), "iprm", [
     ("I_ANCHOR", 1, "-", "-", "end the positions are integrated from (0: s = 0, 1: s = L)"),
     ("I_KIND0", 1, "-", "-", "end kind code at s = 0 (physics/end_conditions.py)"),
     ("I_KIND1", 1, "-", "-", "end kind code at s = L"),
-    ("I_NEEDPOS", 1, "-", "-", "positions at the Gauss points needed (current or seabed)"),
+    ("I_NEEDPOS", 1, "-", "-", "positions at the Gauss points needed (current, seabed or free surface)"),
     ("I_BENDDAMP", 1, "-", "-", "bending damping on"),
     ("I_AXDAMP", 1, "-", "-", "any damping on: the strain-rate gradient is needed"),
+    ("I_SURFACE", 1, "-", "-", "free surface on (wetted fraction per Gauss point)"),
+    ("I_WINCH", 1, "-", "-", "winch end + 1 (0: no winch, 1: ship end s = 0, 2: vehicle end s = L)"),
 ], "N_IPRM")
 
 define(globals(), "bc", [
@@ -85,7 +96,7 @@ define(globals(), "wq", [
     ("W_L", 1, "l", "-", "stretch |q| = 1 + eps"),
     ("W_EDOT", 1, "deps/dt", "1/s", "strain rate i . d(v/gamma0)/ds"),
     ("W_TV", 3, "T i + T_s", "N", "tension vector"),
-    ("W_R", 3, "r", "m", "position (with current or seabed)"),
+    ("W_R", 3, "r", "m", "position (with current, seabed or free surface)"),
     ("W_ACC", 3, "dv/dt", "N/m", "momentum rate"),
     ("W_IDOT", 3, "di/dt", "1/s", "tangent rate (bending damping)"),
     ("W_KAP", 3, "kappa", "1/m", "di/ds"),
@@ -93,6 +104,7 @@ define(globals(), "wq", [
     ("W_MS", 3, "M*", "N m", "M / l^2 [Eq. 19]"),
     ("W_TAU", 3, "tau", "N", "dM*/ds"),
     ("W_NUS", 3, "d(v/gamma0)/ds", "1/s", "velocity gradient with central fluxes (damping strain rate)"),
+    ("W_WET", 1, "phi", "-", "wetted fraction (free surface on)"),
 ], "NWQ")
 
 define(globals(), "wm", [

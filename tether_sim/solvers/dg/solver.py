@@ -17,7 +17,9 @@ from tether_sim.numerics.operators import element_operators, project_function
 from tether_sim.physics.bodies import BODY_STATE_SIZE, initial_body_state, pack_body_params, submerged_weight
 from tether_sim.physics.constitutive import TensionLaw
 from tether_sim.physics.end_conditions import KIND_CODES, anchor_end, end_kind
-from tether_sim.physics.hydrodynamics import added_mass_per_length, current_table, net_weight_per_length
+from tether_sim.physics.hydrodynamics import (
+    added_mass_per_length, air_weight_per_length, current_table, net_weight_per_length,
+)
 from tether_sim.physics.statics import solve_static
 from tether_sim.solvers.base import end_index
 from tether_sim.solvers.dg import layout as Y
@@ -29,9 +31,10 @@ from tether_sim.solvers.dg.soa import TMP_HEAD, soa_scratch_size
 from tether_sim.solvers.dg.stepper import STATUS_DIVERGED
 from tether_sim.solvers.dg.tick import TG_P, TG_SET, TG_V, dg_tick, drain_now, evaluate_now, outputs_now
 from tether_sim.solvers.dg.timestep import stable_dt
+from tether_sim.solvers.dg.winch_driver import WinchMixin
 from tether_sim.solvers.dg.workspace import Workspace
 
-class DGCableSolver(OutputsMixin):
+class DGCableSolver(OutputsMixin, WinchMixin):
     """Discontinuous Galerkin cable solver [PE2020 Sec. 2-3]; see docs/dg_solver.md."""
 
     name = "dg"
@@ -51,6 +54,7 @@ class DGCableSolver(OutputsMixin):
         self.V, self.Pj, self.D, self.Lf, self.Tr, self.Iq = o.vandermonde, o.projection, o.derivative, o.lift, o.trace, o.integral
         self.cz, self.cx, self.cy = current_table(env)
         self.prm, self.iprm = self._parameters(cab, env, opt)
+        self._setup_winch(config)  # winch_driver.py (a moving end of the domain, winch.py)
         self.bc = np.zeros((2, Y.N_BC))
         for e, ec in enumerate((config.ship_end, config.vehicle_end)):
             self.bc[e, Y.B_P0:Y.B_P0 + 3] = ec.position
@@ -130,6 +134,10 @@ class DGCableSolver(OutputsMixin):
         prm[Y.P_LAMBDA_FLOOR] = opt.lambda_floor
         prm[Y.P_LAMBDA_BC] = math.sqrt(self.law.max_slope() / cab.gamma0)
         prm[Y.P_QPEN] = opt.q_penalty
+        prm[Y.P_FBZ_AIR] = -air_weight_per_length(cab, env)
+        prm[Y.P_HALF_RHO_D_AIR] = 0.5 * env.air_density * cab.diameter
+        prm[Y.P_CDT_AIR], prm[Y.P_CDN_AIR] = env.air_Cdt, env.air_Cdn
+        prm[Y.P_SURF_B] = 0.5 * env.surface_smoothing
         ip = np.zeros(Y.N_IPRM, dtype=np.int64)
         ip[Y.I_N], ip[Y.I_P], ip[Y.I_Q] = self.N, self.P, self.V.shape[0]
         ip[Y.I_LAW] = self.law.code
@@ -140,7 +148,8 @@ class DGCableSolver(OutputsMixin):
         ip[Y.I_AXDAMP] = int(cab.damping > 0.0 or cab.bending_damping > 0.0)
         ip[Y.I_KIND0], ip[Y.I_KIND1] = KIND_CODES[self.kinds[0]], KIND_CODES[self.kinds[1]]
         ip[Y.I_ANCHOR] = anchor_end(self.kinds)
-        ip[Y.I_NEEDPOS] = int(env.seabed or self.cz.size > 0)
+        ip[Y.I_SURFACE] = int(env.free_surface)
+        ip[Y.I_NEEDPOS] = int(env.seabed or self.cz.size > 0 or env.free_surface)
         return prm, ip
 
     def _setup_damping(self, cab, env, opt):
@@ -169,7 +178,7 @@ class DGCableSolver(OutputsMixin):
                    Lf="Lf", Tr="Tr", Iq="Iq", cz="cz", cx="cx", cy="cy", bc="bc", vbc="_vbc", wq="_wq", wm="_wm",
                    tr="_tr", fl="_fl", rs="_rs", tmp="_tmp", dU="_dU", dra="_dra", endf="_endf", bs="_bs",
                    bp="_bp", dbs="_dbs", bs0="_bs0", U0="_U0", ra0="_ra0", buf="_buf", cnt="_cnt", out="_out",
-                   prm="prm", iprm="iprm", no_fdamp="_no_fdamp")
+                   prm="prm", iprm="iprm", no_fdamp="_no_fdamp", hw="_hw")
         damp = dict(idp="idp", dprm="dprm", blk="blk", bvec="bvec", wp="wp", wd="wd", band="band", vec="vec",
                     dtmp="tmp", fdamp="fdamp")
         arrays = {slot: getattr(self, a) for slot, a in own.items()}
@@ -293,11 +302,11 @@ class DGCableSolver(OutputsMixin):
         self.drain_end_tensions()
 
     # ------------------------------------------------------------------ time step
-    def stable_time_step(self) -> float:
-        """Automatic substep = dg.cfl x the stability limit of docs/dg_solver.md."""
+    def stable_time_step(self, h=None) -> float:
+        """Automatic substep = dg.cfl x the stability limit of docs/dg_solver.md (element sizes h)."""
         cab, env = self.config.cable, self.config.environment
         kd = env.seabed_stiffness * cab.diameter if env.seabed else 0.0
-        return self.config.dg.cfl * stable_dt(self.h, self.P, self.law.max_slope(), cab.gamma0, cab.damping,
+        return self.config.dg.cfl * stable_dt(self.h if h is None else h, self.P, self.law.max_slope(), cab.gamma0, cab.damping,
                                               cab.EI, cab.bending_damping, self.config.dg.lambda_floor,
                                               kd, env.seabed_damping, self._damp.mode != MODE_EXPLICIT)
 
@@ -337,6 +346,7 @@ class DGCableSolver(OutputsMixin):
         when outputs are being read, their evaluation at t_end."""
         ws = self.ws
         self._outputs_valid = False
+        winch = self._winch_moving()
         status = dg_tick(ws.F, ws.I, ws.spec, self.time, t_end, nsteps, dt, self._want_outputs)
         if status == STATUS_DIVERGED:
             done = int(self._out[0])
@@ -344,6 +354,8 @@ class DGCableSolver(OutputsMixin):
                 f"DG state became non-finite at t = {self.time + (done + 1) * dt:.6g} s "
                 f"(substep {dt:.3g} s); restore a snapshot and reduce dg.cfl or check the inputs")
         self.time = t_end
+        if winch:
+            self._winch_sync()
         self._outputs_valid = self._want_outputs
         return nsteps
 
@@ -355,12 +367,14 @@ class DGCableSolver(OutputsMixin):
         span = t - self.time
         if span <= 0.0:
             return 0
-        n = max(1, math.ceil(span / self._substep() * (1.0 - 1e-12)))
+        n = max(1, math.ceil(span / (self._winch_substep(span) or self._substep()) * (1.0 - 1e-12)))
         return self._run(n, span / n, t)
 
     def step(self, dt) -> None:
         """One substep of size dt (UnstableTimeStepError above the stability limit)."""
         limit = self._dt_rule / self.config.dg.cfl
+        if self._winch_moving() and dt > 0:
+            limit = min(limit, self._winch_limit(float(dt)))
         if dt <= 0 or dt > limit:
             raise UnstableTimeStepError(f"step: dt = {dt:g} s outside (0, {limit:g}] s (stability limit)")
         self._run(1, float(dt), self.time + float(dt))
@@ -389,7 +403,8 @@ class DGCableSolver(OutputsMixin):
 
     def snapshot(self):
         return dict(time=self.time, U=self.U.copy(), ra=self.ra.copy(), bc=self.bc.copy(), bodies=self._bs.copy(),
-                    end_pos=[p.copy() for p in self._end_pos], end_vel=[v.copy() for v in self._end_vel])
+                    end_pos=[p.copy() for p in self._end_pos], end_vel=[v.copy() for v in self._end_vel],
+                    **self._winch_snapshot())
 
     def restore(self, snap) -> None:
         self.time = snap["time"]
@@ -400,4 +415,5 @@ class DGCableSolver(OutputsMixin):
         self._end_pos = snap["end_pos"]
         self._end_vel = snap["end_vel"]
         self.ws.target[:, TG_SET] = 0.0
+        self._winch_restore(snap)
         self._outputs_valid = False

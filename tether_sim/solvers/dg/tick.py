@@ -21,6 +21,7 @@ from tether_sim.solvers.dg.damping_layout import MODE_EXPLICIT
 from tether_sim.solvers.dg.layout import B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, I_KIND0, P_ZETA, P_ZETAB
 from tether_sim.solvers.dg.sampling import evaluate_outputs
 from tether_sim.solvers.dg.stepper import STATUS_OK, dg_advance, dg_evaluate
+from tether_sim.solvers.dg.winch import winch_finish, winch_moving
 from tether_sim.solvers.dg.workspace import SLOT, X_DRAIN, X_DRAINED, _f1, _f2, bind, bind_driver
 
 # slot indices used below (compile-time constants)
@@ -28,7 +29,7 @@ _U, _PRM_STEP, _H, _V, _PJ, _D, _LF, _TR = (SLOT[n] for n in ("U", "prm_step", "
 _TAB_EPS, _TAB_T, _BC, _VBC, _WQ, _WM, _TRC, _FL = (SLOT[n] for n in ("tab_eps", "tab_T", "bc", "vbc", "wq", "wm",
                                                                        "tr", "fl"))
 _TMP, _DU, _ENDF, _BS, _BP, _OUT, _IDP = (SLOT[n] for n in ("tmp", "dU", "endf", "bs", "bp", "out", "idp"))
-_BUF, _CNT = SLOT["buf"], SLOT["cnt"]
+_BUF, _CNT, _HW = SLOT["buf"], SLOT["cnt"], SLOT["hw"]
 
 # target[end, :]: 0 = a target was set (1.0) or not (0.0), 1:4 position (m), 4:7 velocity (m/s)
 TG_SET, TG_P, TG_V = 0, 1, 4
@@ -112,10 +113,13 @@ def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
     if A[_IDP][0] != MODE_EXPLICIT:
         prm_step[P_ZETA] = 0.0
         prm_step[P_ZETAB] = 0.0
+    winch = winch_moving(prm, iprm)
     dg_advance(nsteps, t0, dt, *A)
     status = int(A[_OUT][1])
     if status != STATUS_OK:
         return status
+    if winch:  # length, rate and element sizes at t1 back to the driver's parameters
+        winch_finish(prm, prm_step, A[_HW], A[_H])
     finish_ends(bc, iprm, t1, ends, target)
     if outputs:
         _outputs_bound(A, prm, iprm, ends, t1)

@@ -1,6 +1,7 @@
 """Analytic derivatives of the distributed environment force of kernels.external_force [PE2020 Eq. 13-17]:
 buoyant weight (constant), Morison drag with sqrt(1+eps), added mass, depth-varying current (through the
-alpha_f-level height z(v), kernels.height_at_alpha_f) and seabed contact [PE2020 Eq. 15-16].
+alpha_f-level height z(v), kernels.height_at_alpha_f), seabed contact [PE2020 Eq. 15-16] and the free
+surface (wetted fraction phi(z(v)) blending water and air).
 
 external_force_jac gives F and dF/dv, dF/dt, dF/da (3x3) and dF/deps (3) at one point. At the kinks of
 |x|, max(.,0) and of the piecewise-linear current table it takes the derivative of the branch that the
@@ -14,9 +15,10 @@ import numpy as np
 
 from tether_sim.numerics.jit import jit
 from tether_sim.physics.hydrodynamics import current_at
-from tether_sim.solvers.hybrid.kernels import (P_AF, P_AM, P_AREA, P_CCRIT, P_CDN, P_CDT, P_CMN, P_CMT, P_D, P_DT,
-                                              P_FBZ, P_G, P_GAM, P_KD, P_M, P_MU, P_RHOF, P_SBZETA, P_SEABED, P_VMU,
-                                              P_ZG, height_at_alpha_f)
+from tether_sim.physics.hydrodynamics import wetted_fraction
+from tether_sim.solvers.hybrid.kernels import (P_AF, P_AM, P_AREA, P_CCRIT, P_CDN, P_CDN_A, P_CDT, P_CDT_A, P_CMN, P_CMT,
+                                              P_D, P_DT, P_FBZ, P_FS, P_FSB, P_G, P_GAM, P_KD, P_M, P_MU, P_RHOA, P_RHOF,
+                                              P_SBZETA, P_SEABED, P_VMU, P_ZG, height_at_alpha_f)
 
 
 @jit
@@ -37,7 +39,7 @@ def current_slope(z, cz, cx, cy, out):
 
 
 @jit
-def _drag_jac(vr, dvr_dv, tu, Pt, cd, dcd, P, F, Jv, Jt, Je, W):
+def _drag_jac(vr, dvr_dv, tu, Pt, cd, dcd, cdt, cdn, F, Jv, Jt, Je, W):
     """Morison drag cd (Cdt |vrt| vrt tu + Cdn |vn| vn) and its derivatives (added to F, Jv, Jt, Je);
     W: scratch (>= 33), so that no array is allocated per point."""
     vrt = vr[0] * tu[0] + vr[1] * tu[1] + vr[2] * tu[2]
@@ -45,8 +47,6 @@ def _drag_jac(vr, dvr_dv, tu, Pt, cd, dcd, P, F, Jv, Jt, Je, W):
     for k in range(3):
         vn[k] = vr[k] - vrt * tu[k]
     vnn = math.sqrt(vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2])
-    cdt = P[P_CDT]
-    cdn = P[P_CDN]
     dvrt_dv = W[3:6]
     dvrt_dt = W[6:9]
     for j in range(3):
@@ -120,6 +120,65 @@ def _seabed_jac(z, dz_dv2, v, le, P, F, Jv, Je):
 
 
 @jit
+def _fluid_jac(rho, cdt, cdn, cmn, cmt, vr, dvr_dv, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je, W):
+    """kernels.fluid_force (drag, added mass, buoyancy of a fluid of density rho) and its derivatives
+    into F, Jv, Jt, Ja, Je (overwritten); W: scratch (>= 66; 33:63 untouched)."""
+    for i in range(3):
+        F[i] = 0.0
+        Je[i] = 0.0
+        for j in range(3):
+            Jv[i, j] = 0.0
+            Jt[i, j] = 0.0
+    half = 0.5 * P[P_D] * rho
+    sl = math.sqrt(le)
+    _drag_jac(vr, dvr_dv, tu, Pt, half * sl, half * 0.5 / sl if sl > 0.0 else 0.0, cdt, cdn, F, Jv, Jt, Je, W)
+    ma = rho * P[P_AREA]
+    dcm = cmt - cmn
+    at = a[0] * tu[0] + a[1] * tu[1] + a[2] * tu[2]
+    dat_dt = W[63:66]
+    for j in range(3):
+        dat_dt[j] = 0.0
+        for k in range(3):
+            dat_dt[j] += a[k] * Pt[k, j]
+    for i in range(3):
+        F[i] -= ma * (cmn * a[i] + dcm * at * tu[i])
+        for j in range(3):
+            Ja[i, j] = -ma * ((cmn if i == j else 0.0) + dcm * tu[i] * tu[j])
+            Jt[i, j] -= ma * dcm * (tu[i] * dat_dt[j] + at * Pt[i, j])
+    F[2] += ma * P[P_G]
+
+
+@jit
+def _blend_air(z, dz_dv2, v, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je):
+    """Free surface: F = phi F_water + (1 - phi) F_air with the wetted fraction phi(z) and its z
+    derivative through z(v_z) (kernels.external_force); the air part is allocated only here."""
+    phi, dphi = wetted_fraction(z, 0.0, P[P_FSB])
+    if phi >= 1.0:
+        return
+    Fa = np.zeros(3)
+    Jva = np.zeros((3, 3))
+    Jta = np.zeros((3, 3))
+    Jaa = np.zeros((3, 3))
+    Jea = np.zeros(3)
+    Wa = np.empty(66)
+    vra = np.empty(3)
+    dvra = np.zeros((3, 3))
+    for k in range(3):
+        vra[k] = -v[k]
+        dvra[k, k] = -1.0
+    _fluid_jac(P[P_RHOA], P[P_CDT_A], P[P_CDN_A], 0.0, 0.0, vra, dvra, tu, Pt, a, le, P, Fa, Jva, Jta, Jaa, Jea, Wa)
+    for i in range(3):
+        d = dphi * dz_dv2 * (F[i] - Fa[i])
+        F[i] = phi * F[i] + (1.0 - phi) * Fa[i]
+        Je[i] = phi * Je[i] + (1.0 - phi) * Jea[i]
+        for j in range(3):
+            Jv[i, j] = phi * Jv[i, j] + (1.0 - phi) * Jva[i, j]
+            Jt[i, j] = phi * Jt[i, j] + (1.0 - phi) * Jta[i, j]
+            Ja[i, j] = phi * Ja[i, j] + (1.0 - phi) * Jaa[i, j]
+        Jv[i, 2] += d
+
+
+@jit
 def external_force_jac(v, t, a, rn, eps, P, cz, cx, cy, F, Jv, Jt, Ja, Je, W):
     """F of kernels.external_force at (v, t, a, eps) and its derivatives: Jv, Jt, Ja (3x3), Je (3,).
     The height z(v) is the alpha_f-level height (dz/dv_z = alpha_f dt gamma / alpha_m). W: scratch
@@ -145,32 +204,12 @@ def external_force_jac(v, t, a, rn, eps, P, cz, cx, cy, F, Jv, Jt, Ja, Je, W):
         vr[k] = uc[k] - v[k]
         dvr_dv[k, k] = -1.0
         dvr_dv[k, 2] += duc[k] * dz_dv2
-    for i in range(3):
-        F[i] = 0.0
-        Je[i] = 0.0
-        for j in range(3):
-            Jv[i, j] = 0.0
-            Jt[i, j] = 0.0
     le = 1.0 + eps
     if le < 0.0:
         le = 0.0
-    half = 0.5 * P[P_D] * P[P_RHOF]
-    sl = math.sqrt(le)
-    _drag_jac(vr, dvr_dv, tu, Pt, half * sl, half * 0.5 / sl if sl > 0.0 else 0.0, P, F, Jv, Jt, Je, W)
-    ma = P[P_RHOF] * P[P_AREA]
-    cmn = P[P_CMN]
-    dcm = P[P_CMT] - cmn
-    at = a[0] * tu[0] + a[1] * tu[1] + a[2] * tu[2]
-    dat_dt = W[63:66]
-    for j in range(3):
-        dat_dt[j] = 0.0
-        for k in range(3):
-            dat_dt[j] += a[k] * Pt[k, j]
-    for i in range(3):
-        F[i] -= ma * (cmn * a[i] + dcm * at * tu[i])
-        for j in range(3):
-            Ja[i, j] = -ma * ((cmn if i == j else 0.0) + dcm * tu[i] * tu[j])
-            Jt[i, j] -= ma * dcm * (tu[i] * dat_dt[j] + at * Pt[i, j])
-    F[2] -= (P[P_M] - P[P_RHOF] * P[P_AREA]) * P[P_G]
+    _fluid_jac(P[P_RHOF], P[P_CDT], P[P_CDN], P[P_CMN], P[P_CMT], vr, dvr_dv, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je, W)
+    if P[P_FS] > 0.0:
+        _blend_air(z, dz_dv2, v, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je)
+    F[2] -= P[P_M] * P[P_G]
     if P[P_SEABED] > 0.0:
         _seabed_jac(z, dz_dv2, v, le, P, F, Jv, Je)

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from tether_sim.numerics.jit import jit
-from tether_sim.physics.hydrodynamics import current_at
+from tether_sim.physics.hydrodynamics import current_at, wetted_fraction
 from tether_sim.physics.seabed import seabed_force
 
 P_M, P_CK, P_G, P_RHOF, P_AREA, P_D, P_CDN, P_CDT, P_CMN, P_CMT = range(10)
@@ -25,7 +25,8 @@ P_TW = 21  # width W of the smooth transition into compression (N)
 P_EA = 22  # axial stiffness EA (0: inextensible, eps = 0)
 P_ZETA = 23  # axial material damping zeta (N s) [PE2020 Eq. 22]
 P_SEABED, P_ZG, P_KD, P_CCRIT, P_SBZETA, P_MU, P_VMU, P_FBZ = range(24, 32)  # seabed [PE2020 Eq. 15-16]
-P_SIZE = 32
+P_FS, P_RHOA, P_CDN_A, P_CDT_A, P_FSB = range(32, 37)  # free surface: on, air density, air drag, ramp half-width
+P_SIZE = 37
 
 # chain-node slot layout: catenary v(0:3) T(3) t(4:7) eps(7); rod v(0:3) omega(3:6) kappa(6:9) f(9:12) eps(12)
 N_SLOTS = 13  # node arrays are 13 wide so that a rigid-body node (13 states) fits
@@ -36,8 +37,10 @@ ROD_EPS = 12
 
 
 def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia_b, inertia_t, compression_factor=1.0,
-                    compression_width=1.0):
-    """P vector of the kernels from CableProperties/Environment and the step coefficients."""
+                    compression_width=1.0, segment=0.0):
+    """P vector of the kernels from CableProperties/Environment and the step coefficients; segment: the
+    node spacing (the free-surface ramp is at least one segment wide, so that the wetted length of the
+    node sum does not jump as a node crosses the surface)."""
     P = np.zeros(P_SIZE)
     P[P_M] = cable.gamma0
     P[P_CK] = 1.0 / cable.EA if cable.EA > 0 else 0.0
@@ -62,6 +65,9 @@ def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia
     P[P_MU] = env.seabed_friction
     P[P_VMU] = env.seabed_friction_speed
     P[P_FBZ] = -(cable.gamma0 - env.fluid_density * cable.area) * env.g
+    P[P_FS] = 1.0 if env.free_surface else 0.0
+    P[P_RHOA], P[P_CDN_A], P[P_CDT_A] = env.air_density, env.air_Cdn, env.air_Cdt
+    P[P_FSB] = 0.5 * max(env.surface_smoothing, segment)
     return P
 
 
@@ -132,12 +138,35 @@ def height_at_alpha_f(v, rn, P):
 
 
 @jit
+def fluid_force(v, tu, a, uc, le, rho, cdt, cdn, cmn, cmt, P, out):
+    """out = Morison drag (relative velocity uc - v) + added-mass reaction + buoyancy rho A g z_hat of a
+    fluid of density rho, per unstretched metre [PE2020 Eq. 13, 14, 17]; tu: unit tangent."""
+    vr0 = uc[0] - v[0]
+    vr1 = uc[1] - v[1]
+    vr2 = uc[2] - v[2]
+    vrt = vr0 * tu[0] + vr1 * tu[1] + vr2 * tu[2]
+    vn0 = vr0 - vrt * tu[0]
+    vn1 = vr1 - vrt * tu[1]
+    vn2 = vr2 - vrt * tu[2]
+    vnn = math.sqrt(vn0 * vn0 + vn1 * vn1 + vn2 * vn2)
+    cdrag = 0.5 * P[P_D] * rho * math.sqrt(le)
+    at = a[0] * tu[0] + a[1] * tu[1] + a[2] * tu[2]
+    ma = rho * P[P_AREA]
+    out[0] = cdrag * (cdt * abs(vrt) * vrt * tu[0] + cdn * vnn * vn0) - ma * (cmn * (a[0] - at * tu[0]) + cmt * at * tu[0])
+    out[1] = cdrag * (cdt * abs(vrt) * vrt * tu[1] + cdn * vnn * vn1) - ma * (cmn * (a[1] - at * tu[1]) + cmt * at * tu[1])
+    out[2] = cdrag * (cdt * abs(vrt) * vrt * tu[2] + cdn * vnn * vn2) - ma * (cmn * (a[2] - at * tu[2]) + cmt * at * tu[2])
+    out[2] += ma * P[P_G]
+
+
+@jit
 def external_force(v, t, a, rn, eps, P, cz, cx, cy, out):
     """Distributed force F (N/m, world) on a cable point [PE2020 Eq. 13-17; GP Eq. 19-22].
 
     v: velocity, t: tangent (normalised here), a: inertial acceleration (all at the alpha levels),
     rn: position and its rate at t_n (the height at t_{n+alpha_f} follows from v, so that the seabed
-    spring is implicit), eps: strain.
+    spring is implicit), eps: strain. Free surface (P_FS): the water part is weighted by the wetted
+    fraction phi(z) (physics/hydrodynamics.wetted_fraction, half-width P_FSB), the air part (air
+    density and drag coefficients, no added mass, still air) by 1 - phi.
     """
     z = height_at_alpha_f(v, rn, P)
     nt = math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
@@ -146,25 +175,21 @@ def external_force(v, t, a, rn, eps, P, cz, cx, cy, out):
         tu[k] = t[k] / nt
     uc = np.empty(3)
     current_at(z, cz, cx, cy, uc)
-    vr = np.empty(3)
-    for k in range(3):
-        vr[k] = uc[k] - v[k]
-    vrt = vr[0] * tu[0] + vr[1] * tu[1] + vr[2] * tu[2]
-    vn = np.empty(3)
-    for k in range(3):
-        vn[k] = vr[k] - vrt * tu[k]
-    vnn = math.sqrt(vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2])
     le = 1.0 + eps
     if le < 0.0:
         le = 0.0
-    cdrag = 0.5 * P[P_D] * P[P_RHOF] * math.sqrt(le)
-    at = a[0] * tu[0] + a[1] * tu[1] + a[2] * tu[2]
-    ma = P[P_RHOF] * P[P_AREA]
-    for k in range(3):
-        drag = cdrag * (P[P_CDT] * abs(vrt) * vrt * tu[k] + P[P_CDN] * vnn * vn[k])
-        added = -ma * (P[P_CMN] * (a[k] - at * tu[k]) + P[P_CMT] * at * tu[k])
-        out[k] = drag + added
-    out[2] -= (P[P_M] - P[P_RHOF] * P[P_AREA]) * P[P_G]
+    fluid_force(v, tu, a, uc, le, P[P_RHOF], P[P_CDT], P[P_CDN], P[P_CMN], P[P_CMT], P, out)
+    if P[P_FS] > 0.0:
+        phi, _ = wetted_fraction(z, 0.0, P[P_FSB])
+        if phi < 1.0:
+            air = np.empty(3)
+            uc[0] = 0.0
+            uc[1] = 0.0
+            uc[2] = 0.0
+            fluid_force(v, tu, a, uc, le, P[P_RHOA], P[P_CDT_A], P[P_CDN_A], 0.0, 0.0, P, air)
+            for k in range(3):
+                out[k] = phi * out[k] + (1.0 - phi) * air[k]
+    out[2] -= P[P_M] * P[P_G]
     if P[P_SEABED] > 0.0:  # the DG solver's contact law [PE2020 Eq. 15-16], l = 1 + eps
         # its damping term jumps from 0 to zeta c_crit |v_z| at first contact: a discontinuity an implicit
         # Newton solve cannot converge across, so it is ramped in over the static penetration -F_bz/K_d

@@ -41,6 +41,9 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
 
     def __init__(self, config):
         self.config = config
+        if config.winch.enabled:
+            raise ConfigError("winch.enabled: the hybrid solver keeps its length fixed during a run (segments added "
+                              "and removed at the winch end are not implemented); use solver: dg for a winch")
         cab, env, opt = config.cable, config.environment, config.hybrid
         self.opt = opt
         self.length = cab.length
@@ -201,7 +204,8 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
     def _pack_parameters(self, dt, rho):
         am, af, g = gen_alpha_coefficients(rho)
         return pack_parameters(self.config.cable, self.config.environment, dt, am, af, g, self.EI, self.GJ,
-                               self.inertia_b, self.inertia_t, self.opt.compression_softening, self.compression_width)
+                               self.inertia_b, self.inertia_t, self.opt.compression_softening, self.compression_width,
+                               segment=self.ds)
 
     def _step_with_retry(self, dt):
         pieces = [dt]

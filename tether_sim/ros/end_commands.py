@@ -1,0 +1,144 @@
+"""Input handling of :class:`tether_sim.ros.driver.SimulationDriver`: what each prescribed end is told.
+
+The driver's policy (module doc of ``driver.py``, point 4): a prescribed end follows its source (a
+validated pose input, an analytic motion or its fixed configured position); when the source falls
+silent, resumes, or the simulation jumps (re-synchronisation, recovery, start from rest), the end is
+moved by a C2 blend from its held trajectory onto the stream (:class:`Blend`, :func:`blend_time`),
+and snap detection is suspended until the blend ends. An end that never had an input and whose
+first pose lies beyond what ``node.max_end_speed`` allows restarts the solver there
+(:meth:`EndCommands._first_pose_far`).
+
+:class:`EndCommands` is a mixin of the driver: it reads and writes the driver's end state
+(``sources``, ``_end_state``, ``_held``, ``_had_input``, ``_blends``, ``_suspended_until``,
+``anchor``, ``solver``, ``config``, ``_solver_config``) and holds none of its own. No rclpy here.
+"""
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+BLEND_ACCELERATION = 0.5  # m/s^2 a blend onto a pose stream may add to the end's own motion
+BLEND_MIN_TIME = 0.5  # s, shortest blend
+
+
+@dataclass
+class Blend:
+    """A C1 blend of one end from its held trajectory onto the pose stream (module doc, 4)."""
+
+    t0: float  # clock time of the start
+    duration: float  # s
+    p0: np.ndarray
+    v0: np.ndarray
+    reason: str
+
+    def command(self, t, p_s, v_s):
+        """(position, velocity, finished) at clock time ``t`` given the stream's (p_s, v_s)."""
+        tau = t - self.t0
+        u = min(max(tau / self.duration, 0.0), 1.0)
+        h, dh = self.p0 + self.v0 * tau, self.v0
+        w, dw = u ** 3 * (10.0 + u * (6.0 * u - 15.0)), 30.0 * (u * (1.0 - u)) ** 2 / self.duration
+        return h + w * (p_s - h), dh + w * (v_s - dh) + dw * (p_s - h), u >= 1.0
+
+
+def blend_time(distance, speed_change, max_end_speed):
+    """Blend duration (s) for an offset ``distance`` (m) and velocity change (m/s). The weight is
+    the quintic ``w = 10u^3 - 15u^4 + 6u^5`` (zero slope and curvature at both ends, so the blend
+    adds no acceleration step: C2 where the stream is); the blend term of the acceleration,
+    ``w'' d / T^2 + 2 w' dv / T`` (max |w''| = 10/sqrt(3), max |w'| = 15/8), is kept under
+    ``BLEND_ACCELERATION`` (half each) and its speed ``15/8 d / T`` under half of
+    ``max_end_speed``; at least ``BLEND_MIN_TIME``."""
+    d, dv = float(distance), float(speed_change)
+    return max(BLEND_MIN_TIME, math.sqrt(20.0 / math.sqrt(3.0) * d / BLEND_ACCELERATION),
+               7.5 * dv / BLEND_ACCELERATION, 3.75 * d / max(max_end_speed, 1e-9))
+
+
+class MotionSource:
+    """A prescribed end driven by an analytic motion ``motion.at(t) -> (position, velocity, ...)``."""
+
+    def __init__(self, motion):
+        self.motion = motion
+
+    def attachment_at(self, t):
+        result = self.motion.at(t)
+        return np.asarray(result[0], float), np.asarray(result[1], float)
+
+    def orientation_at(self, t):
+        return np.array([0.0, 0.0, 0.0, 1.0])
+
+
+class EndCommands:
+    """End commands and blends of :class:`~tether_sim.ros.driver.SimulationDriver` (module doc)."""
+
+    def _prescribed(self, end):
+        return getattr(self.config, f"{end}_end").kind == "prescribed"
+
+    def _has_data(self, end):
+        src = self.sources.get(end)
+        return src is not None and getattr(src, "has_data", True)
+
+    def end_target(self, end, clock_time):
+        """(position, velocity) of a prescribed end's source at a clock time (no blend); held at
+        rest at its last commanded (else configured) position without input."""
+        src = self.sources.get(end)
+        if src is None or not getattr(src, "has_data", True):
+            held = self._end_state.get(end, (None,))[0]
+            if held is None:
+                held = np.asarray(getattr(self._solver_config, f"{end}_end").position, float)
+            return np.asarray(held, float), np.zeros(3)
+        p, v = src.attachment_at(clock_time)
+        return np.asarray(p, float), np.asarray(v, float)
+
+    def _start_blend(self, end, t, reason, report, probe=None):
+        """Blend ``end`` from its current commanded state at clock time ``t`` onto its source
+        (sized by the offset to the source at ``probe``, default ``t``)."""
+        if end not in self._end_state or self.sources.get(end) is None:
+            return
+        p0, v0 = self._end_state[end]
+        p_s, v_s = self.end_target(end, t if probe is None else probe)
+        p0 = p0 + v0 * (0.0 if probe is None else probe - t)
+        distance, speed_change = np.linalg.norm(p_s - p0), np.linalg.norm(v_s - v0)
+        if distance < 1e-9 and speed_change < 1e-9:
+            return  # already on the stream
+        duration = blend_time(distance, speed_change, self.config.node.max_end_speed)
+        self._blends[end] = Blend(t, duration, p0.copy(), v0.copy(), reason)
+        report.blends.append((end, duration, reason))
+        self._suspend_detection(t + duration)
+
+    def _command(self, end, t, report):
+        """(position, velocity) commanded for ``end`` at clock time ``t`` (blends applied); starts a
+        blend when a held input gets motion again."""
+        src = self.sources.get(end)
+        held = src is None or not getattr(src, "has_data", True) or \
+            (hasattr(src, "is_held") and src.is_held(t))
+        was_held = self._held.get(end, False)
+        if was_held != held and (not held or self._has_data(end)):  # (replaces a running blend)
+            # resumed: blend onto the stream; lost: blend from the motion to rest at the held point
+            self._start_blend(end, self.anchor + self.solver.time, "input lost" if held else "input resumed", report, t)
+        self._held[end] = held
+        p, v = self.end_target(end, t)
+        blend = self._blends.get(end)
+        if blend is not None:
+            p, v, finished = blend.command(t, p, v)
+            if finished:
+                del self._blends[end]
+        return p, v
+
+    def _suspend_detection(self, until):
+        self._suspended_until = until if self._suspended_until is None else max(self._suspended_until, until)
+
+    def _first_pose_far(self, t_clock, chunk, report) -> bool:
+        """An end that never had an input whose first pose lies beyond what ``max_end_speed``
+        allows in this step: its held position was a placeholder, restart there (module doc, 4)."""
+        for end in list(self._end_state):
+            if self._had_input.get(end, True) or not self._has_data(end):
+                continue
+            self._had_input[end] = True
+            position = self.end_target(end, t_clock)[0]
+            held = self._end_state.get(end, (None,))[0]
+            reach = self.config.node.max_end_speed * max(chunk - self.solver.time, 1.0 / self.config.node.output_rate)
+            if held is not None and np.linalg.norm(position - held) > reach + 1e-6:
+                report.restart = f"{end} end's first pose is {np.linalg.norm(position - held):.3g} m from its placeholder"
+                self._blends.pop(end, None)
+                return True
+        return False

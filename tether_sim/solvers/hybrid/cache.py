@@ -1,0 +1,48 @@
+"""Guard against stale numba caches of the hybrid solver's composed kernels (as solvers/dg/cache.py).
+
+numba's on-disk cache of a function is invalidated only when *its own* source file changes; the
+compiled node terms in catenary.py, rod.py, assembly.py and jacobian.py call kernels of kernels.py,
+jac_env.py and physics/*.py, so an edit there (the free surface, session 4) would silently keep
+running the old machine code. Before anything is compiled, cache files of this package older than
+the newest source they may depend on are removed.
+"""
+
+import glob
+import os
+
+_HERE = os.path.dirname(os.path.abspath(__file__))
+_ROOT = os.path.dirname(os.path.dirname(_HERE))  # tether_sim/
+_DEPENDENCIES = (
+    os.path.join(_HERE, "*.py"),
+    os.path.join(_ROOT, "physics", "hydrodynamics.py"),
+    os.path.join(_ROOT, "physics", "seabed.py"),
+    os.path.join(_ROOT, "physics", "bodies.py"),
+    os.path.join(_ROOT, "physics", "waves.py"),
+    os.path.join(_ROOT, "numerics", "rotations.py"),
+    os.path.join(_ROOT, "numerics", "jit.py"),
+)
+# modules without compiled code (editing them keeps the cache)
+_PYTHON_ONLY = ("__init__.py", "cache.py", "chain.py", "initial.py", "newton.py", "solver.py", "state_io.py",
+                "zoning.py")
+
+
+def drop_stale_kernel_cache() -> int:
+    """Delete this package's numba cache files older than any dependency; returns how many."""
+    newest = 0.0
+    for pattern in _DEPENDENCIES:
+        for path in glob.glob(pattern):
+            if os.path.dirname(path) == _HERE and os.path.basename(path) in _PYTHON_ONLY:
+                continue
+            try:
+                newest = max(newest, os.path.getmtime(path))
+            except OSError:
+                pass
+    removed = 0
+    for path in glob.glob(os.path.join(_HERE, "__pycache__", "*.nb[ic]")):
+        try:
+            if os.path.getmtime(path) < newest:
+                os.remove(path)
+                removed += 1
+        except OSError:
+            pass  # another process got there first
+    return removed
