@@ -11,7 +11,8 @@ file (``*_paper.yaml``, N = 20, P = 4) run in the same process for a shorter str
 so the speed-up is a ratio taken in one process. The load average is printed with every line.
 
 Usage: PYTHONPATH=. python benchmarks/bench_live_configs.py [--duration 30] [--alphas 0 1]
-       [--paper 5] [--params config/ropos_L200.yaml ...] [--json out/bench_live_configs.json]
+       [--paper 5] [--params config/ropos_L200.yaml ...] [--set dg.snap_tolerance=0.02 ...]
+       [--json out/bench_live_configs.json]
 """
 
 import argparse
@@ -58,6 +59,8 @@ def main(argv=None):
     ap.add_argument("--alphas", type=float, nargs="+", default=[0.0, 1.0])
     ap.add_argument("--duration", type=float, default=30.0, help="simulated s of each live run")
     ap.add_argument("--paper", type=float, default=5.0, help="simulated s of the paper-resolution run (0: none)")
+    ap.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE",
+                    help="parameter overrides of the live files (e.g. dg.snap_tolerance=0.02); the mesh is re-chosen")
     ap.add_argument("--json", default="out/bench_live_configs.json")
     args = ap.parse_args(argv)
     print(f"bench_live_configs, {os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
@@ -66,7 +69,8 @@ def main(argv=None):
     for params in args.params:
         for alpha in args.alphas:
             overrides = {"cable.EI": alpha * EI_STAR} if alpha else {}
-            live = load_config(ROOT / params, overrides=overrides)
+            extra = {k: float(v) for k, v in (item.split("=", 1) for item in args.set)}
+            live = load_config(ROOT / params, overrides={**overrides, **extra})
             r = timed_run(live, args.duration)
             r.update(params=params, alpha=alpha, kind="live")
             rows.append(r)

@@ -119,10 +119,8 @@ def helper(params, subscribe):
         pass
 
 
-def child(params, seconds, alpha, t_launch, preload_kernels=True):
-    """Runs in the child process: the node alone (the helper is another process), prints one JSON line.
-    Same start-up sequence as ``tether-sim`` (sim_node.main): imports, the parameter file read, the
-    kernel preload thread (``preload_kernels``, tether_sim.warm.preload), rclpy.init, the node."""
+def child(params, seconds, alpha, t_launch):
+    """Runs in the child process: the node alone (the helper is another process), prints one JSON line."""
     t_main = time.time()
     import numpy as np
     import rclpy
@@ -131,13 +129,10 @@ def child(params, seconds, alpha, t_launch, preload_kernels=True):
     from tether_sim.io.params import load_config
     from tether_sim.ros.sim_node import TetherSimNode
     from tether_sim.solvers.factory import build_solver
-    from tether_sim.warm import preload
 
     t_imported = time.time()
     rss_imported = _rss_mb()
     cfg = load_config(params)
-    if preload_kernels:
-        preload(cfg)
     parts = {f"{k}{c}": 0.0 for k in ("advance", "state", "outputs", "publish") for c in ("", "_cpu")}
 
     def timed(fn, key):
@@ -258,7 +253,7 @@ def child(params, seconds, alpha, t_launch, preload_kernels=True):
     rclpy.shutdown()
 
 
-def launch(params, seconds, alpha, cache_dir, subscribe, preload_kernels=True):
+def launch(params, seconds, alpha, cache_dir, subscribe):
     """One node run with NUMBA_CACHE_DIR = cache_dir next to a helper process; returns the dict."""
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
                ROS_DOMAIN_ID=str(100 + os.getpid() % 100))
@@ -269,8 +264,7 @@ def launch(params, seconds, alpha, cache_dir, subscribe, preload_kernels=True):
             raise RuntimeError("the pose/subscriber helper did not start")
         t_launch = time.time()
         proc = subprocess.run([sys.executable, __file__, "--child", str(params), "--seconds", str(seconds),
-                               "--alpha", str(alpha), "--t-launch", repr(t_launch),
-                               "--preload", "on" if preload_kernels else "off"],
+                               "--alpha", str(alpha), "--t-launch", repr(t_launch)],
                               env=env, cwd=ROOT, capture_output=True, text=True, timeout=2400)
     finally:
         helper_proc.send_signal(signal.SIGINT)
@@ -329,8 +323,6 @@ def main(argv=None):
     ap.add_argument("--starts", nargs="+", default=["cold", "warm"], choices=["cold", "warm"],
                     help="cold: empty numba cache; warm: the cache the previous run filled (or the tree's "
                          "__pycache__ when only 'warm' is given)")
-    ap.add_argument("--preload", nargs="+", default=["on"], choices=["on", "off"],
-                    help="start-up with / without the kernel preload thread of tether-sim (both: an A/B pair)")
     ap.add_argument("--json", default="out/bench_node.json")
     ap.add_argument("--child", default=None)
     ap.add_argument("--helper", default=None)
@@ -339,7 +331,7 @@ def main(argv=None):
                     help="which periodic outputs get a reader (the node builds and publishes only those)")
     args = ap.parse_args(argv)
     if args.child:
-        return child(args.child, args.seconds, args.alpha, args.t_launch, args.preload[0] == "on")
+        return child(args.child, args.seconds, args.alpha, args.t_launch)
     if args.helper:
         return helper(args.helper, args.subscribe)
     print(f"bench_node, {os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
@@ -348,13 +340,12 @@ def main(argv=None):
     for params in args.params:
         with tempfile.TemporaryDirectory(prefix="numba_cold_") as cold_dir:
             for kind in args.starts:
-                for pre in args.preload:
-                    cache = cold_dir if "cold" in args.starts else os.environ.get("NUMBA_CACHE_DIR", "")
-                    r = launch(params, args.seconds, args.alpha, cache, args.subscribe, pre == "on")
-                    r.update(start=kind, preload=pre, params=params)
-                    rows.append(r)
-                    print(f"{Path(params).name}, {kind} start, kernel preload {pre}:")
-                    report(r)
+                cache = cold_dir if "cold" in args.starts else os.environ.get("NUMBA_CACHE_DIR", "")
+                r = launch(params, args.seconds, args.alpha, cache, args.subscribe)
+                r["start"] = kind
+                rows.append(r)
+                print(f"{Path(params).name}, {kind} start:")
+                report(r)
     Path(args.json).parent.mkdir(parents=True, exist_ok=True)
     Path(args.json).write_text(json.dumps(rows, indent=1))
     print(f"wrote {args.json}")

@@ -9,7 +9,9 @@ a = 2 m, f = 0.2 Hz, ramped over the first period) is run for ``--duration`` sim
   explicit run, h <= 20 m; session 2 found N = 3 within 0.1 % of N = 20 at L = 200 m);
 * the candidate rungs: N = 1, 2, 3, 4, 6, 8, 12, 16, 24, 32 (below N_ref) at P = 4 and dg.cfl 0.8;
   with ``--variants`` also N = 2 and 3 at dg.cfl 0.5 (the time-step part of the error) and
-  N = 2, 3, 4 at P = 3.
+  N = 2, 3, 4 at P = 3; with ``--orders`` (session 4) the P = 3 (N = 1-32) and P = 2 (N = 2-32)
+  ladders at dg.cfl 0.8 and N = 2-8 at dg.cfl 0.65 and 1.0 (P = 3, 4) and N = 4-8 at dg.cfl 0.5;
+  ``--extra N:P:cfl`` adds single rungs (975 m: N = 40, 48 at P = 3, 4).
 
 Metric (both ends): the largest end tension in the first full-amplitude period (5-10 s, the first
 slack-snap event), interpolated onto a common 200 Hz grid (``grid``: like-for-like with session 2's
@@ -26,7 +28,8 @@ free cable end (kind free).
 
 Every run appends one row to the CSV at once (``--csv``), so an interrupted ladder loses nothing;
 rows already present are skipped, so the same command resumes. ``--summary`` prints the error
-tables from the CSV (no runs).
+tables from the CSV, ``--table`` writes the rule's table (tether_sim/solvers/resolution_table.py)
+and ``--markdown docs/resolution_ladder.md`` the generated page (no runs; benchmarks/resolution_report.py).
 
 Usage: PYTHONPATH=. python benchmarks/resolution_ladder.py --cases 200:stiff:0:cage 200:stiff:1:cage
        [--duration 10.2] [--csv docs/data/resolution_ladder.csv] [--summary]
@@ -52,7 +55,6 @@ from benchmarks import ropos_case as rc  # noqa: E402
 from benchmarks.resolution_report import FIELDS, TABLE_MODULE, markdown, read_rows, summary, table_module  # noqa: E402
 from tether_sim.physics.boundary import EndCondition  # noqa: E402
 
-ORDER, CFL = 4, 0.8  # the rule's rungs (tether_sim/solvers/resolution.py)
 GRID_STEP = 0.005  # s, 200 Hz common sampling (bench_moordyn.COUPLING_STEP)
 WINDOW = rc.FIRST_SNAP_WINDOW  # (5, 10) s
 SOFT_EA, SOFT_ZETA = 2.0e6, 2.0e3  # N, N s

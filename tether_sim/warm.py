@@ -84,29 +84,6 @@ def exercise(config, solver_factory=None) -> None:
     detector.update(np.asarray(times, float), np.column_stack([t_ship, t_vehicle]))
 
 
-def preload(config, solver_factory=None) -> threading.Thread:
-    """Start :func:`exercise` of ``config`` in a daemon thread and return at once.
-
-    The node's start-up (``tether-sim``): the numba cache loads (or, cold, the kernels compile)
-    while rclpy initialises and the node declares its parameters; the node's own warm-up then finds
-    the kernels loaded (numba serialises the two on its compiler lock). An exception is dropped
-    here on purpose: the node's warm-up runs the same work on the configuration it finally uses
-    (parameter overrides included) and reports any error there."""
-
-    def target():
-        try:
-            exercise(config, solver_factory)
-        except Exception:  # noqa: BLE001 - reported by the node's own warm-up (docstring)
-            pass
-        finally:
-            _workers.discard(threading.current_thread())
-
-    worker = threading.Thread(target=target, name="tether-sim-preload", daemon=True)
-    _workers.add(worker)
-    worker.start()
-    return worker
-
-
 def warm_groups(groups=GROUPS, root: Path = REPO, out=print) -> float:
     """Run :func:`exercise` for each group, printing progress; returns the total wall time."""
     from tether_sim.io.params import load_config

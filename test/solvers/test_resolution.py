@@ -67,6 +67,14 @@ def test_between_measured_lengths_both_neighbours_hold():
             assert all(err <= 0.005 for n, err in table[x][fam].items() if n >= chosen.n_elements), (a, b, x)
 
 
+def test_cost_constants_are_the_fit_to_the_ladders_thread_cpu():
+    from benchmarks.resolution_report import cost_fit
+
+    (fixed, node, bending), n_rows = cost_fit(read_rows(CSV))
+    assert n_rows > 500
+    assert (res.COST_FIXED, res.COST_NODE, res.COST_NODE_BENDING) == pytest.approx((fixed, node, bending), rel=5e-3)
+
+
 def test_cost_model_is_the_substep_rate_times_the_substep_cost():
     """cost = (fixed + per node x N (P + 1)) / (cfl x the solver's stability limit): doubling N
     about doubles the substep rate (the axial wave term dominates at these element sizes)."""

@@ -35,7 +35,7 @@ from tether_sim.ros.processes import (ProcessGroup, StepFailed, claim_domain_id,
                                       isolated_env)
 
 REPO = Path(__file__).resolve().parents[2]
-RECORD = Path("data/ropos_ship_heave.mcap")
+RECORD = DEFAULT_RECORD = Path("data/ropos_ship_heave.mcap")
 PARAMS = Path("config/ropos_validation.yaml")
 OUT = Path("out/ropos_validation")
 MCAP_NAME = "ropos_validation.mcap"
@@ -310,6 +310,7 @@ def main(argv=None) -> int:
                         help="replay seconds (0: to the end; default: the window around the largest "
                              "wave, or to the end when --start-offset is given)")
     parser.add_argument("--params", default=str(PARAMS), help="parameter file of the node")
+    parser.add_argument("--record", default=str(DEFAULT_RECORD), help="MCAP of /ship/pose to replay (default: %(default)s)")
     parser.add_argument("--out", default=str(OUT), help="output directory")
     parser.add_argument("--domain-id", type=int, default=None,
                         help="ROS_DOMAIN_ID (default: a free one, claimed with a lock file)")
@@ -318,6 +319,8 @@ def main(argv=None) -> int:
     parser.add_argument("--solver-timeout", type=float, default=600.0,
                         help="s to wait for the node to build its solver")
     args = parser.parse_args(argv)
+    global RECORD
+    RECORD = Path(args.record)  # (another ship motion, e.g. the ROPOS descent's heave: scenarios/ropos_descent.py)
     root = Path.cwd() if (Path.cwd() / "config").is_dir() else REPO
     os.chdir(root)
     out = (root / args.out).resolve()

@@ -34,7 +34,7 @@ from tether_sim.ros.namespacing import retarget
 from tether_sim.ros.snap_markers import SnapMarkerPublisher
 from tether_sim.ros.tf import TfPublisher
 from tether_sim.ros.winch_io import NodeWinch
-from tether_sim.warm import Interrupted, exit_if_compiling, preload, run_interruptibly
+from tether_sim.warm import Interrupted, exit_if_compiling, run_interruptibly
 from tether_sim.solvers.factory import build_solver
 from tether_sim.solvers.resolution import mesh_summary
 
@@ -341,17 +341,14 @@ def params_files(argv) -> list:
     return files
 
 
-def check_params_files(files):
-    """Validate the tether_sim sections of parameter files (ConfigError names key and file); returns
-    the configuration of the last file that has one (None if none has)."""
-    config = None
+def check_params_files(files) -> None:
+    """Validate the tether_sim sections of parameter files (ConfigError names key and file)."""
     for f in files:
         try:
-            config = load_config(f)
+            load_config(f)
         except ConfigError as exc:
             if "no 'tether_sim'" not in str(exc):  # a file for other nodes only is fine
                 raise
-    return config
 
 
 def main(args=None):
@@ -361,12 +358,10 @@ def main(args=None):
         return 0
     files = params_files(argv)
     try:
-        config = check_params_files(files)
+        check_params_files(files)
     except ConfigError as exc:
         print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
         return 2
-    if config is not None:  # load the numba kernels while rclpy and the node start (warm.preload)
-        preload(config)
     # a namespaced / renamed node still gets the files' `tether_sim:` sections (namespacing.py)
     argv = retarget(argv, log=lambda text: print(f"tether-sim: {text}", file=sys.stderr))
     rclpy.init(args=argv)

@@ -45,12 +45,13 @@ MAX_CFL = 0.8
 MIN_ELEMENTS = 2  # one element has no inner element boundary: never chosen (975 m free end measured it "good")
 LADDER_NS = (1, 2, 3, 4, 6, 8, 12, 16, 24, 32)  # the rungs of benchmarks/resolution_ladder.py
 
-# Per-substep cost model (thread CPU), least squares over the 1000 ladder rows of the stiff cable
-# (docs/resolution_ladder.md): COST_FIXED + (COST_NODE + COST_NODE_BENDING [EI > 0]) x N (P + 1).
+# Per-substep cost model (thread CPU): COST_FIXED + (COST_NODE + COST_NODE_BENDING [EI > 0]) x N (P + 1),
+# least squares over the stiff-cable rows of docs/data/resolution_ladder.csv (benchmarks/
+# resolution_report.cost_fit; test/solvers/test_resolution.py checks these are that fit, rounded).
 # At the coarse 1 % meshes the fixed part dominates, so the choice is mostly "fewest substeps".
-COST_FIXED = 17.4e-6  # s per substep
-COST_NODE = 0.375e-6  # s per substep per node N (P + 1)
-COST_NODE_BENDING = 0.43e-6  # s, extra with bending (the LDG gradient and its flux)
+COST_FIXED = 18.4e-6  # s per substep
+COST_NODE = 0.331e-6  # s per substep per node N (P + 1)
+COST_NODE_BENDING = 0.388e-6  # s, extra with bending (the LDG gradient and its flux)
 
 EA_RANGE = (2.0e6, 45.5e6)  # N
 EI_MAX = 2620.0  # N m^2

@@ -42,12 +42,17 @@ define(globals(), "prm", [
     ("P_RELAX", 1, "c_relax", "1/s", "linear momentum damping rate, dynamic relaxation only"),
     ("P_LAMBDA_FLOOR", 1, "lambda_min", "m/s", "lower bound of the Lax-Friedrichs speed"),
     ("P_LAMBDA_BC", 1, "c", "m/s", "upwind speed of the velocity-end fluxes (taut wave speed)"),
-    ("P_QPEN", 1, "-", "-", "factor on the Lax-Friedrichs penalty of the q equation (1 = Eq. 24, 0 = central)"),
+    ("P_QPEN", 1, "-", "-", "factor on the Lax-Friedrichs penalty lambda/2 [q] of the q equation (Eq. 24; dg.q_penalty_jump = strain)"),
+    ("P_QPENT", 1, "-", "-", "factor on the tension-jump penalty [T_el]/(2 gamma0 lambda) of the q equation (dg.q_penalty_jump = tension)"),
     ("P_FBZ_AIR", 1, "f_b,z air", "N/m", "net vertical force per metre in air (free surface)"),
     ("P_HALF_RHO_D_AIR", 1, "rho_a d / 2", "kg/m^2", "air drag prefactor"),
     ("P_CDT_AIR", 1, "C_dt,air", "-", "tangential drag coefficient in air"),
     ("P_CDN_AIR", 1, "C_dn,air", "-", "normal drag coefficient in air"),
     ("P_SURF_B", 1, "L_s / 2", "m", "minimum half-width of the wetted-fraction ramp"),
+    ("P_WL", 1, "L", "m", "winch: unstretched length in the domain (the stage value while stepping)"),
+    ("P_WLDOT", 1, "dL/dt", "m/s", "winch: pay-out rate at the current (stage) time, > 0 pays out"),
+    ("P_WR0", 1, "dL/dt_0", "m/s", "winch: pay-out rate at the start of the tick"),
+    ("P_WR1", 1, "dL/dt_1", "m/s", "winch: pay-out rate at the end of the tick (linear ramp between)"),
 ], "N_PRM")
 
 define(globals(), "iprm", [
@@ -65,6 +70,7 @@ define(globals(), "iprm", [
     ("I_BENDDAMP", 1, "-", "-", "bending damping on"),
     ("I_AXDAMP", 1, "-", "-", "any damping on: the strain-rate gradient is needed"),
     ("I_SURFACE", 1, "-", "-", "free surface on (wetted fraction per Gauss point)"),
+    ("I_WINCH", 1, "-", "-", "winch end + 1 (0: no winch, 1: ship end s = 0, 2: vehicle end s = L)"),
 ], "N_IPRM")
 
 define(globals(), "bc", [
@@ -100,6 +106,7 @@ define(globals(), "wq", [
     ("W_TAU", 3, "tau", "N", "dM*/ds"),
     ("W_NUS", 3, "d(v/gamma0)/ds", "1/s", "velocity gradient with central fluxes (damping strain rate)"),
     ("W_WET", 1, "phi", "-", "wetted fraction (free surface on)"),
+    ("W_TE", 3, "T(eps) i", "N", "elastic tension vector (no damping, no bending; q-equation penalty)"),
 ], "NWQ")
 
 define(globals(), "wm", [
@@ -122,6 +129,7 @@ define(globals(), "tr", [
     ("T_IDOT", 3, "di/dt", "1/s", "trace of the tangent rate"),
     ("T_MS", 3, "M*", "N m", "trace of M*"),
     ("T_LAM", 1, "lambda", "m/s", "local wave speed [Eq. 25]"),
+    ("T_TE", 3, "T(eps) i", "N", "trace of the projected elastic tension vector (q-equation penalty)"),
 ], "NTR")
 
 define(globals(), "fl", [

@@ -19,6 +19,7 @@ from tether_sim.physics.constitutive import axial_tension
 from tether_sim.solvers.dg.kernels import internal_forces
 from tether_sim.solvers.dg.layout import I_ANCHOR, I_BENDING, M_KAP, M_MS, M_NUS, M_TAU, M_TV
 from tether_sim.solvers.dg.stepper import fill_end_kinematics
+from tether_sim.solvers.dg.winch import winch_active, winch_end_velocity
 
 S_POS = 0
 S_VEL = 3
@@ -54,6 +55,8 @@ def evaluate_outputs(t, U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, v
     """The part of a right-hand-side evaluation at time t the outputs read (end loads endf, the
     modal work channels of wm): end kinematics and kernels.internal_forces, no momentum rate."""
     fill_end_kinematics(bc, iprm, t, vbc, bs, bp)
+    if winch_active(prm, iprm):
+        winch_end_velocity(U, prm, iprm, Tr, vbc)
     internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf, tmp)
 
 

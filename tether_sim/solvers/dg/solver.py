@@ -16,7 +16,7 @@ from tether_sim.errors import SolverDivergedError, UnstableTimeStepError
 from tether_sim.numerics.operators import element_operators, project_function
 from tether_sim.physics.bodies import BODY_STATE_SIZE, initial_body_state, pack_body_params, submerged_weight
 from tether_sim.physics.constitutive import TensionLaw
-from tether_sim.physics.end_conditions import KIND_CODES, anchor_end, end_kind
+from tether_sim.physics.end_conditions import KIND_CODES, anchor_end, end_kind, held_in_place
 from tether_sim.physics.hydrodynamics import (
     added_mass_per_length, air_weight_per_length, current_table, net_weight_per_length,
 )
@@ -24,15 +24,18 @@ from tether_sim.physics.statics import solve_static
 from tether_sim.solvers.base import end_index
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.damping_layout import MODE_AXIAL, MODE_EXPLICIT, MODE_GENERAL
+from tether_sim.solvers.dg.equilibrium import polish_equilibrium
 from tether_sim.solvers.dg.implicit_damping import DampingWork
+from tether_sim.solvers.dg.inputs import motion_floats
 from tether_sim.solvers.dg.outputs import OutputsMixin
 from tether_sim.solvers.dg.soa import TMP_HEAD, soa_scratch_size
 from tether_sim.solvers.dg.stepper import STATUS_DIVERGED
 from tether_sim.solvers.dg.tick import TG_P, TG_SET, TG_V, dg_tick, drain_now, evaluate_now, outputs_now
 from tether_sim.solvers.dg.timestep import stable_dt
+from tether_sim.solvers.dg.winch_driver import WinchMixin
 from tether_sim.solvers.dg.workspace import Workspace
 
-class DGCableSolver(OutputsMixin):
+class DGCableSolver(OutputsMixin, WinchMixin):
     """Discontinuous Galerkin cable solver [PE2020 Sec. 2-3]; see docs/dg_solver.md."""
 
     name = "dg"
@@ -52,6 +55,7 @@ class DGCableSolver(OutputsMixin):
         self.V, self.Pj, self.D, self.Lf, self.Tr, self.Iq = o.vandermonde, o.projection, o.derivative, o.lift, o.trace, o.integral
         self.cz, self.cx, self.cy = current_table(env)
         self.prm, self.iprm = self._parameters(cab, env, opt)
+        self._setup_winch(config)  # winch_driver.py (a moving end of the domain, winch.py)
         self.bc = np.zeros((2, Y.N_BC))
         for e, ec in enumerate((config.ship_end, config.vehicle_end)):
             self.bc[e, Y.B_P0:Y.B_P0 + 3] = ec.position
@@ -89,6 +93,8 @@ class DGCableSolver(OutputsMixin):
         self._setup_damping(cab, env, opt)
         self._build_workspace(config)
         self.time = 0.0
+        self.q_penalty_form = "tension" if opt.q_penalty_jump == "tension" else "strain"
+        self.equilibrium_iterations = 0  # Newton iterations of the discrete static equilibrium (-1: failed)
         self._dt_rule = self.stable_time_step()
         self.fixed_dt = float(opt.fixed_time_step)
         if self.fixed_dt > 0.0 and self.fixed_dt > self._dt_rule / opt.cfl:
@@ -130,7 +136,8 @@ class DGCableSolver(OutputsMixin):
         prm[Y.P_TORQUE] = cab.torque
         prm[Y.P_LAMBDA_FLOOR] = opt.lambda_floor
         prm[Y.P_LAMBDA_BC] = math.sqrt(self.law.max_slope() / cab.gamma0)
-        prm[Y.P_QPEN] = opt.q_penalty
+        prm[Y.P_QPEN] = opt.q_penalty if opt.q_penalty_jump != "tension" else 0.0  # auto: _choose_q_penalty
+        prm[Y.P_QPENT] = opt.q_penalty if opt.q_penalty_jump == "tension" else 0.0
         prm[Y.P_FBZ_AIR] = -air_weight_per_length(cab, env)
         prm[Y.P_HALF_RHO_D_AIR] = 0.5 * env.air_density * cab.diameter
         prm[Y.P_CDT_AIR], prm[Y.P_CDN_AIR] = env.air_Cdt, env.air_Cdn
@@ -175,7 +182,7 @@ class DGCableSolver(OutputsMixin):
                    Lf="Lf", Tr="Tr", Iq="Iq", cz="cz", cx="cx", cy="cy", bc="bc", vbc="_vbc", wq="_wq", wm="_wm",
                    tr="_tr", fl="_fl", rs="_rs", tmp="_tmp", dU="_dU", dra="_dra", endf="_endf", bs="_bs",
                    bp="_bp", dbs="_dbs", bs0="_bs0", U0="_U0", ra0="_ra0", buf="_buf", cnt="_cnt", out="_out",
-                   prm="prm", iprm="iprm", no_fdamp="_no_fdamp")
+                   prm="prm", iprm="iprm", no_fdamp="_no_fdamp", hw="_hw")
         damp = dict(idp="idp", dprm="dprm", blk="blk", bvec="bvec", wp="wp", wd="wd", band="band", vec="vec",
                     dtmp="tmp", fdamp="fdamp")
         arrays = {slot: getattr(self, a) for slot, a in own.items()}
@@ -238,11 +245,25 @@ class DGCableSolver(OutputsMixin):
                 self._end_pos[e] = end_pos[e].copy()
             if self.ends[e].position == "body":
                 self._bs[e] = initial_body_state(config.body, attachment_world=end_pos[e])
+        if shape is not None and self.config.dg.q_penalty_jump == "auto":
+            self._choose_q_penalty(shape)
+        if shape is not None and all(held_in_place(k) for k in self.kinds):
+            self.equilibrium_iterations = polish_equilibrium(self, end_pos[1] - end_pos[0])
         relax = config.initial.relax_time
         if kind == "relax" or (kind == "static" and shape is None):
             relax = relax if relax > 0 else self._default_relax_time()
         if relax > 0:
             self.relax(relax)
+
+    def _choose_q_penalty(self, shape):
+        """dg.q_penalty_jump auto: the tension-jump penalty when max dT/deps / min T of the static
+        state exceeds dg.q_penalty_auto_ratio (docs/dg_solver.md, "q-equation penalty")."""
+        t_min = float(np.min(shape.tension(np.linspace(0.0, self.L, 201))))
+        ratio = self.law.max_slope() / max(t_min, 1e-300)
+        self.q_penalty_form = "tension" if ratio > self.config.dg.q_penalty_auto_ratio else "strain"
+        if self.q_penalty_form == "tension":
+            for p in (self.prm, self._prm_step):
+                p[Y.P_QPENT], p[Y.P_QPEN] = self.config.dg.q_penalty, 0.0
 
     def set_shape(self, tangent, velocity=None, origin=None):
         """Replace the state: q = tangent(s) (n, 3) = dr/ds and cable velocity velocity(s) (n, 3) (m/s),
@@ -299,11 +320,11 @@ class DGCableSolver(OutputsMixin):
         self.drain_end_tensions()
 
     # ------------------------------------------------------------------ time step
-    def stable_time_step(self) -> float:
-        """Automatic substep = dg.cfl x the stability limit of docs/dg_solver.md."""
+    def stable_time_step(self, h=None) -> float:
+        """Automatic substep = dg.cfl x the stability limit of docs/dg_solver.md (element sizes h)."""
         cab, env = self.config.cable, self.config.environment
         kd = env.seabed_stiffness * cab.diameter if env.seabed else 0.0
-        return self.config.dg.cfl * stable_dt(self.h, self.P, self.law.max_slope(), cab.gamma0, cab.damping,
+        return self.config.dg.cfl * stable_dt(self.h if h is None else h, self.P, self.law.max_slope(), cab.gamma0, cab.damping,
                                               cab.EI, cab.bending_damping, self.config.dg.lambda_floor,
                                               kd, env.seabed_damping, self._damp.mode != MODE_EXPLICIT)
 
@@ -316,14 +337,13 @@ class DGCableSolver(OutputsMixin):
         e = end_index(end)
         if self.ends[e].position != "motion":
             raise ValueError(f"set_end_motion: the {end} end is {self.kinds[e]!r}, not 'prescribed'")
-        p = np.array(position, dtype=float).reshape(3)
-        v = np.array(velocity, dtype=float).reshape(3)
-        if not all(map(math.isfinite, p.tolist() + v.tolist())):
+        vals = motion_floats(position, velocity)
+        if not all(map(math.isfinite, vals)):
             raise ValueError(f"set_end_motion: non-finite position or velocity for the {end} end")
-        tg = self.ws.target[e]
+        tg = self.ws.target[e]  # element-wise stores: cheaper than numpy converting a tuple
+        tg[TG_P], tg[TG_P + 1], tg[TG_P + 2] = vals[0:3]
+        tg[TG_V], tg[TG_V + 1], tg[TG_V + 2] = vals[3:6]
         tg[TG_SET] = 1.0
-        tg[TG_P:TG_P + 3] = p
-        tg[TG_V:TG_V + 3] = v
 
     def set_end_load(self, end, force, moment=(0.0, 0.0, 0.0)) -> None:
         """Point force (and moment) applied on a force end (held until changed)."""
@@ -344,6 +364,7 @@ class DGCableSolver(OutputsMixin):
         when outputs are being read, their evaluation at t_end."""
         ws = self.ws
         self._outputs_valid = False
+        winch = self._winch_moving()
         status = dg_tick(ws.F, ws.I, ws.spec, self.time, t_end, nsteps, dt, self._want_outputs)
         if status == STATUS_DIVERGED:
             done = int(self._out[0])
@@ -351,6 +372,8 @@ class DGCableSolver(OutputsMixin):
                 f"DG state became non-finite at t = {self.time + (done + 1) * dt:.6g} s "
                 f"(substep {dt:.3g} s); restore a snapshot and reduce dg.cfl or check the inputs")
         self.time = t_end
+        if winch:
+            self._winch_sync()
         self._outputs_valid = self._want_outputs
         return nsteps
 
@@ -362,12 +385,14 @@ class DGCableSolver(OutputsMixin):
         span = t - self.time
         if span <= 0.0:
             return 0
-        n = max(1, math.ceil(span / self._substep() * (1.0 - 1e-12)))
+        n = max(1, math.ceil(span / (self._winch_substep(span) or self._substep()) * (1.0 - 1e-12)))
         return self._run(n, span / n, t)
 
     def step(self, dt) -> None:
         """One substep of size dt (UnstableTimeStepError above the stability limit)."""
         limit = self._dt_rule / self.config.dg.cfl
+        if self._winch_moving() and dt > 0:
+            limit = min(limit, self._winch_limit(float(dt)))
         if dt <= 0 or dt > limit:
             raise UnstableTimeStepError(f"step: dt = {dt:g} s outside (0, {limit:g}] s (stability limit)")
         self._run(1, float(dt), self.time + float(dt))
@@ -391,12 +416,13 @@ class DGCableSolver(OutputsMixin):
     def drain_end_tensions(self):
         """(t, T_ship, T_vehicle) at the start of every substep since the last call (newest cap kept)."""
         n = drain_now(self.ws.F, self.ws.I, self.ws.spec)
-        d = self.ws.drain
-        return d[0, :n].copy(), d[1, :n].copy(), d[2, :n].copy()
+        t, ship, vehicle = self.ws.drain[:, :n].copy()  # one copy; rows are views of it
+        return t, ship, vehicle
 
     def snapshot(self):
         return dict(time=self.time, U=self.U.copy(), ra=self.ra.copy(), bc=self.bc.copy(), bodies=self._bs.copy(),
-                    end_pos=[p.copy() for p in self._end_pos], end_vel=[v.copy() for v in self._end_vel])
+                    end_pos=[p.copy() for p in self._end_pos], end_vel=[v.copy() for v in self._end_vel],
+                    **self._winch_snapshot())
 
     def restore(self, snap) -> None:
         self.time = snap["time"]
@@ -407,4 +433,5 @@ class DGCableSolver(OutputsMixin):
         self._end_pos = snap["end_pos"]
         self._end_vel = snap["end_vel"]
         self.ws.target[:, TG_SET] = 0.0
+        self._winch_restore(snap)
         self._outputs_valid = False

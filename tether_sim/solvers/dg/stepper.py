@@ -21,7 +21,10 @@ from tether_sim.solvers.dg.implicit_damping import damping_step
 from tether_sim.solvers.dg.kernels import dg_rhs, hermite_end
 from tether_sim.solvers.dg.layout import (
     E_F, E_T, F_V, I_ANCHOR, I_CURRENT, I_KIND0, I_LAW, I_N, I_SURFACE, P_GAMMA0, P_LAMBDA_BC, P_MN,
-    P_MT, P_RELAX, T_LAM, T_Q, T_TV, T_V, W_I, W_WET,
+    P_MT, P_RELAX, P_WL, T_LAM, T_Q, T_TV, T_V, W_I, W_WET,
+)
+from tether_sim.solvers.dg.winch import (
+    winch_active, winch_end_velocity, winch_length, winch_moving, winch_stage, winch_transport, winch_update,
 )
 
 STATUS_OK = 0
@@ -48,8 +51,13 @@ def dg_evaluate(t, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz
     end forces (3) and tensions, added to endf, and the no-compression clip of velocity-end
     fluxes is applied to the sum (clip_end_fluxes)."""
     fill_end_kinematics(bc, iprm, t, vbc, bs, bp)
+    winch = winch_active(prm, iprm)
+    if winch:  # the material at the sheave moves along the tangent (winch.py)
+        winch_end_velocity(U, prm, iprm, Tr, vbc)
     dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc,
            wq, wm, tr, fl, rs, tmp, dU, dra, endf)
+    if winch:  # transport of the moving mapping onto the elements
+        winch_transport(U, prm, iprm, h, Lf, tr, vbc, dU, dra)
     if implicit:
         for end in range(2):
             for c in range(3):
@@ -137,19 +145,28 @@ def clip_end_fluxes(prm, iprm, h, V, Pj, Lf, vbc, wq, tr, fl, dU, endf, fdamp):
 @jit
 def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy,
                bc, vbc, wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs, bs0, U0, ra0, buf, cnt, out,
-               idp, dprm, blk, bvec, wp, wd, band, vec, dtmp, fdamp):
+               idp, dprm, blk, bvec, wp, wd, band, vec, dtmp, fdamp, hw):
     """Take nsteps SSP-RK3 substeps of size dt from t0. out[0] = steps done, out[1] = status.
 
     The end tensions at the start of every substep (from the first stage, no extra work) go into
     the ring buffer buf (cap, 3) = (t, T_ship, T_vehicle); cnt[0] counts entries ever written.
     idp ... fdamp: arrays of implicit_damping.DampingWork; idp[0] = 0 (explicit) skips the splitting.
+    hw: element sizes / length; while a winch moves, the stages take h = hw L and update on L u (winch.py).
     """
     implicit = idp[0] != MODE_EXPLICIT
+    winch = winch_moving(prm, iprm)
+    t1 = t0 + nsteps * dt
+    L_tick = prm[P_WL]
     if implicit:
         fill_end_kinematics(bc, iprm, t0, vbc, bs, bp)
         damping_step(0.5 * dt, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, dtmp, fdamp)
     cap = buf.shape[0]
-    N, nm, nv = U.shape
+    # the RK update, copy and finiteness sum run over flat views (element-major order, as U's
+    # own loops would: the same operations in the same order)
+    nu = U.size
+    Uf = U.reshape(nu)
+    U0f = U0.reshape(nu)
+    dUf = dU.reshape(nu)
     anchor = iprm[I_ANCHOR]
     kind_a = iprm[I_KIND0 + anchor]
     kinematic_anchor = is_kinematic(kind_a)
@@ -157,15 +174,14 @@ def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_ep
     out[1] = STATUS_OK
     for n in range(nsteps):
         t = t0 + n * dt
-        for e in range(N):
-            for k in range(nm):
-                for c in range(nv):
-                    U0[e, k, c] = U[e, k, c]
+        for i in range(nu):
+            U0f[i] = Uf[i]
         for c in range(3):
             ra0[c] = ra[c]
         for end in range(2):
             for c in range(bs.shape[1]):
                 bs0[end, c] = bs[end, c]
+        Ls = prm[P_WL]
         for stage in range(3):
             if stage == 0:
                 a, b, ts = 0.0, 1.0, t
@@ -173,6 +189,8 @@ def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_ep
                 a, b, ts = 0.75, 0.25, t + dt
             else:
                 a, b, ts = 1.0 / 3.0, 2.0 / 3.0, t + 0.5 * dt
+            if winch:
+                winch_stage(prm, hw, h, ts, t0, t1)
             dg_evaluate(ts, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc,
                         vbc, wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs, fdamp, implicit)
             if stage == 0:
@@ -181,10 +199,12 @@ def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_ep
                 buf[slot, 1] = endf[0, E_T]
                 buf[slot, 2] = endf[1, E_T]
                 cnt[0] += 1
-            for e in range(N):
-                for k in range(nm):
-                    for c in range(nv):
-                        U[e, k, c] = a * U0[e, k, c] + b * (U[e, k, c] + dt * dU[e, k, c])
+            if winch:
+                L_end = winch_length(prm, L_tick, t0 + (n + 1) * dt, t0, t1) if stage == 2 else 0.0
+                winch_update(a, b, dt, Ls, U, U0, dU, prm, L_end)
+            else:
+                for i in range(nu):
+                    Uf[i] = a * U0f[i] + b * (Uf[i] + dt * dUf[i])
             for c in range(3):
                 ra[c] = a * ra0[c] + b * (ra[c] + dt * dra[c])
             for end in range(2):
@@ -201,10 +221,8 @@ def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_ep
             damping_step(dt if n < nsteps - 1 else 0.5 * dt, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd,
                          band, vec, dtmp, fdamp)
         s = 0.0
-        for e in range(N):
-            for k in range(nm):
-                for c in range(nv):
-                    s += abs(U[e, k, c])
+        for i in range(nu):
+            s += abs(Uf[i])
         for end in range(2):
             for c in range(bs.shape[1]):
                 s += abs(bs[end, c])

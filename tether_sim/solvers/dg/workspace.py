@@ -28,11 +28,12 @@ SLOTS = (
     ("buf", "f", 2), ("cnt", "i", 1), ("out", "f", 1),
     ("idp", "i", 1), ("dprm", "f", 1), ("blk", "f", 5), ("bvec", "f", 2), ("wp", "f", 3), ("wd", "f", 3),
     ("band", "f", 2), ("vec", "f", 2), ("dtmp", "f", 5), ("fdamp", "f", 2),
+    ("hw", "f", 1),
     # the driver's slots
     ("prm", "f", 1), ("iprm", "i", 1), ("ends", "f", 2), ("target", "f", 2), ("no_fdamp", "f", 2),
     ("drained", "i", 1), ("drain", "f", 2),
 )
-N_STEP_SLOTS = 46
+N_STEP_SLOTS = 47
 SLOT = {name: k for k, (name, _, _) in enumerate(SLOTS)}
 # slot indices of the driver's slots (compile-time constants)
 X_PRM, X_IPRM, X_ENDS, X_TARGET, X_NO_FDAMP, X_DRAINED, X_DRAIN = (
@@ -106,7 +107,8 @@ def bind(F, I, S):
             _f2(F, S, 27), _f2(F, S, 28), _f2(F, S, 29), _f2(F, S, 30), _f3(F, S, 31), _f1(F, S, 32),
             _f2(F, S, 33), _f1(I, S, 34), _f1(F, S, 35),
             _f1(I, S, 36), _f1(F, S, 37), _f5(F, S, 38), _f2(F, S, 39), _f3(F, S, 40), _f3(F, S, 41),
-            _f2(F, S, 42), _f2(F, S, 43), _f5(F, S, 44), _f2(F, S, 45))
+            _f2(F, S, 42), _f2(F, S, 43), _f5(F, S, 44), _f2(F, S, 45),
+            _f1(F, S, 46))
 
 
 @jit
