@@ -7,7 +7,7 @@ from tether_sim.numerics.jit import jit
 from tether_sim.physics.end_conditions import is_kinematic
 from tether_sim.solvers.dg.layout import (
     E_F, E_M, E_T, E_VHAT, F_MS, F_NU, F_Q, F_V, I_AXDAMP, I_KIND0, I_KIND1, I_N, P_GAMMA0, P_QPEN,
-    T_LAM, T_Q, T_V,
+    P_QPENT, T_LAM, T_Q, T_TE, T_V, W_TE,
 )
 
 
@@ -40,6 +40,53 @@ def velocity_fluxes(prm, iprm, vbc, tr, fl):
         for c in range(3):
             fl[0, F_NU + c] = fl[0, F_Q + c]
             fl[N, F_NU + c] = fl[N, F_Q + c]
+
+
+@jit
+def tension_jump_penalty(prm, iprm, h, Pj, Tr, Lf, wq, tr, fl, dU):
+    """Penalty of the q equation on the jump of the projected elastic tension vector
+    (dg.q_penalty_jump = tension, docs/dg_solver.md "q-equation penalty"):
+
+        F_hat_q += a [Pi T_el],   a = q_penalty / (2 gamma0 lambda),   lambda = max of the two traces
+
+    added to the interface flux and lifted into dq/dt (dU[..., 0:3], already holding the central
+    or Eq. 24 part). T_el = T(eps) i without damping and bending (wq[..., W_TE]). The energy
+    rate of the interface term is -a |[Pi T_el]|^2 <= 0 for any law and geometry (the energy
+    tests dq/dt with Pi T_el), where Eq. 24's lambda/2 [q] gives -lambda/2 [q].[Pi T_el], which is
+    indefinite when EA/T is large. For a straight cable under a linear law [Pi T_el] = EA [q]
+    and the two coincide (the exact upwind flux of the axial waves).
+    """
+    N = iprm[I_N]
+    nm = Pj.shape[0]
+    nq = Pj.shape[1]
+    for e in range(N):
+        for side in range(2):
+            s0 = 0.0
+            s1 = 0.0
+            s2 = 0.0
+            for j in range(nq):
+                a = 0.0
+                for k in range(nm):
+                    a += Tr[side, k] * Pj[k, j]
+                s0 += a * wq[e, j, W_TE]
+                s1 += a * wq[e, j, W_TE + 1]
+                s2 += a * wq[e, j, W_TE + 2]
+            tr[e, side, T_TE] = s0
+            tr[e, side, T_TE + 1] = s1
+            tr[e, side, T_TE + 2] = s2
+    for k in range(1, N):
+        lam = max(tr[k - 1, 1, T_LAM], tr[k, 0, T_LAM])
+        if lam <= 0.0:
+            continue
+        a = 0.5 * prm[P_QPENT] / (prm[P_GAMMA0] * lam)
+        hl = 1.0 / h[k - 1]
+        hr = 1.0 / h[k]
+        for c in range(3):
+            p = a * (tr[k, 0, T_TE + c] - tr[k - 1, 1, T_TE + c])
+            fl[k, F_Q + c] += p
+            for l in range(nm):
+                dU[k - 1, l, c] += hl * Lf[1, l] * p
+                dU[k, l, c] -= hr * Lf[0, l] * p
 
 
 @jit

@@ -40,11 +40,11 @@ from tether_sim.solvers.dg.layout import (
     I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_SEABED, I_SURFACE,
     M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDN_AIR, P_CDT, P_CDT_AIR, P_EA, P_FBZ, P_FBZ_AIR, P_GAMMA0,
     P_HALF_RHO_D, P_HALF_RHO_D_AIR, P_SURF_B,
-    P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
-    T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TV, W_V, W_WET,
+    P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_QPENT, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
+    T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TE, W_TV, W_V, W_WET,
 )
 from tether_sim.solvers.dg.fluxes import (  # noqa: F401 (re-exported)
-    clip_compression, end_outputs, interface_fluxes, velocity_fluxes,
+    clip_compression, end_outputs, interface_fluxes, tension_jump_penalty, velocity_fluxes,
 )
 from tether_sim.solvers.dg.ldg import ldg_shear_force
 from tether_sim.solvers.dg.soa import momentum_rate_soa, soa_momentum_applies
@@ -229,6 +229,7 @@ def tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, w
     EA = prm[P_EA]
     zeta = prm[P_ZETA]
     damped = iprm[I_AXDAMP] != 0
+    qtens = prm[P_QPENT] != 0.0
     for e in range(N):
         # dq/dt = d(v/gamma0)/ds with the Lax-Friedrichs fluxes; the strain-rate gradient shares
         # the volume term and differs only in the (central) interface fluxes
@@ -294,12 +295,19 @@ def tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, w
             wq[e, j, W_TV] = T * i0
             wq[e, j, W_TV + 1] = T * i1
             wq[e, j, W_TV + 2] = T * i2
+            if qtens:  # elastic part alone, for the q-equation penalty (fluxes.tension_jump_penalty)
+                Te = axial_tension(law, eps, 0.0, EA, 0.0, tab_eps, tab_T)
+                wq[e, j, W_TE] = Te * i0
+                wq[e, j, W_TE + 1] = Te * i1
+                wq[e, j, W_TE + 2] = Te * i2
         if not bending:
             _project_tension(Pj, Tr, wq, wm, tr, e, nm, nq)
     if bending:
         ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, bc, wq, wm, tr, fl)
         for e in range(N):
             _project_tension(Pj, Tr, wq, wm, tr, e, nm, nq)
+    if qtens:
+        tension_jump_penalty(prm, iprm, h, Pj, Tr, Lf, wq, tr, fl, dU)
 
 
 @jit

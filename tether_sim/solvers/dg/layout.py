@@ -42,7 +42,8 @@ define(globals(), "prm", [
     ("P_RELAX", 1, "c_relax", "1/s", "linear momentum damping rate, dynamic relaxation only"),
     ("P_LAMBDA_FLOOR", 1, "lambda_min", "m/s", "lower bound of the Lax-Friedrichs speed"),
     ("P_LAMBDA_BC", 1, "c", "m/s", "upwind speed of the velocity-end fluxes (taut wave speed)"),
-    ("P_QPEN", 1, "-", "-", "factor on the Lax-Friedrichs penalty of the q equation (1 = Eq. 24, 0 = central)"),
+    ("P_QPEN", 1, "-", "-", "factor on the Lax-Friedrichs penalty lambda/2 [q] of the q equation (Eq. 24; dg.q_penalty_jump = strain)"),
+    ("P_QPENT", 1, "-", "-", "factor on the tension-jump penalty [T_el]/(2 gamma0 lambda) of the q equation (dg.q_penalty_jump = tension)"),
     ("P_FBZ_AIR", 1, "f_b,z air", "N/m", "net vertical force per metre in air (free surface)"),
     ("P_HALF_RHO_D_AIR", 1, "rho_a d / 2", "kg/m^2", "air drag prefactor"),
     ("P_CDT_AIR", 1, "C_dt,air", "-", "tangential drag coefficient in air"),
@@ -105,6 +106,7 @@ define(globals(), "wq", [
     ("W_TAU", 3, "tau", "N", "dM*/ds"),
     ("W_NUS", 3, "d(v/gamma0)/ds", "1/s", "velocity gradient with central fluxes (damping strain rate)"),
     ("W_WET", 1, "phi", "-", "wetted fraction (free surface on)"),
+    ("W_TE", 3, "T(eps) i", "N", "elastic tension vector (no damping, no bending; q-equation penalty)"),
 ], "NWQ")
 
 define(globals(), "wm", [
@@ -127,6 +129,7 @@ define(globals(), "tr", [
     ("T_IDOT", 3, "di/dt", "1/s", "trace of the tangent rate"),
     ("T_MS", 3, "M*", "N m", "trace of M*"),
     ("T_LAM", 1, "lambda", "m/s", "local wave speed [Eq. 25]"),
+    ("T_TE", 3, "T(eps) i", "N", "trace of the projected elastic tension vector (q-equation penalty)"),
 ], "NTR")
 
 define(globals(), "fl", [

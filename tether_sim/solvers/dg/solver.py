@@ -16,7 +16,7 @@ from tether_sim.errors import SolverDivergedError, UnstableTimeStepError
 from tether_sim.numerics.operators import element_operators, project_function
 from tether_sim.physics.bodies import BODY_STATE_SIZE, initial_body_state, pack_body_params, submerged_weight
 from tether_sim.physics.constitutive import TensionLaw
-from tether_sim.physics.end_conditions import KIND_CODES, anchor_end, end_kind
+from tether_sim.physics.end_conditions import KIND_CODES, anchor_end, end_kind, held_in_place
 from tether_sim.physics.hydrodynamics import (
     added_mass_per_length, air_weight_per_length, current_table, net_weight_per_length,
 )
@@ -24,7 +24,9 @@ from tether_sim.physics.statics import solve_static
 from tether_sim.solvers.base import end_index
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.damping_layout import MODE_AXIAL, MODE_EXPLICIT, MODE_GENERAL
+from tether_sim.solvers.dg.equilibrium import polish_equilibrium
 from tether_sim.solvers.dg.implicit_damping import DampingWork
+from tether_sim.solvers.dg.inputs import motion_floats
 from tether_sim.solvers.dg.outputs import OutputsMixin
 from tether_sim.solvers.dg.soa import TMP_HEAD, soa_scratch_size
 from tether_sim.solvers.dg.stepper import STATUS_DIVERGED
@@ -91,6 +93,8 @@ class DGCableSolver(OutputsMixin, WinchMixin):
         self._setup_damping(cab, env, opt)
         self._build_workspace(config)
         self.time = 0.0
+        self.q_penalty_form = "tension" if opt.q_penalty_jump == "tension" else "strain"
+        self.equilibrium_iterations = 0  # Newton iterations of the discrete static equilibrium (-1: failed)
         self._dt_rule = self.stable_time_step()
         self.fixed_dt = float(opt.fixed_time_step)
         if self.fixed_dt > 0.0 and self.fixed_dt > self._dt_rule / opt.cfl:
@@ -132,7 +136,8 @@ class DGCableSolver(OutputsMixin, WinchMixin):
         prm[Y.P_TORQUE] = cab.torque
         prm[Y.P_LAMBDA_FLOOR] = opt.lambda_floor
         prm[Y.P_LAMBDA_BC] = math.sqrt(self.law.max_slope() / cab.gamma0)
-        prm[Y.P_QPEN] = opt.q_penalty
+        prm[Y.P_QPEN] = opt.q_penalty if opt.q_penalty_jump != "tension" else 0.0  # auto: _choose_q_penalty
+        prm[Y.P_QPENT] = opt.q_penalty if opt.q_penalty_jump == "tension" else 0.0
         prm[Y.P_FBZ_AIR] = -air_weight_per_length(cab, env)
         prm[Y.P_HALF_RHO_D_AIR] = 0.5 * env.air_density * cab.diameter
         prm[Y.P_CDT_AIR], prm[Y.P_CDN_AIR] = env.air_Cdt, env.air_Cdn
@@ -240,11 +245,25 @@ class DGCableSolver(OutputsMixin, WinchMixin):
                 self._end_pos[e] = end_pos[e].copy()
             if self.ends[e].position == "body":
                 self._bs[e] = initial_body_state(config.body, attachment_world=end_pos[e])
+        if shape is not None and self.config.dg.q_penalty_jump == "auto":
+            self._choose_q_penalty(shape)
+        if shape is not None and all(held_in_place(k) for k in self.kinds):
+            self.equilibrium_iterations = polish_equilibrium(self, end_pos[1] - end_pos[0])
         relax = config.initial.relax_time
         if kind == "relax" or (kind == "static" and shape is None):
             relax = relax if relax > 0 else self._default_relax_time()
         if relax > 0:
             self.relax(relax)
+
+    def _choose_q_penalty(self, shape):
+        """dg.q_penalty_jump auto: the tension-jump penalty when max dT/deps / min T of the static
+        state exceeds dg.q_penalty_auto_ratio (docs/dg_solver.md, "q-equation penalty")."""
+        t_min = float(np.min(shape.tension(np.linspace(0.0, self.L, 201))))
+        ratio = self.law.max_slope() / max(t_min, 1e-300)
+        self.q_penalty_form = "tension" if ratio > self.config.dg.q_penalty_auto_ratio else "strain"
+        if self.q_penalty_form == "tension":
+            for p in (self.prm, self._prm_step):
+                p[Y.P_QPENT], p[Y.P_QPEN] = self.config.dg.q_penalty, 0.0
 
     def set_shape(self, tangent, velocity=None, origin=None):
         """Replace the state: q = tangent(s) (n, 3) = dr/ds and cable velocity velocity(s) (n, 3) (m/s),
@@ -318,14 +337,13 @@ class DGCableSolver(OutputsMixin, WinchMixin):
         e = end_index(end)
         if self.ends[e].position != "motion":
             raise ValueError(f"set_end_motion: the {end} end is {self.kinds[e]!r}, not 'prescribed'")
-        p = np.array(position, dtype=float).reshape(3)
-        v = np.array(velocity, dtype=float).reshape(3)
-        if not all(map(math.isfinite, p.tolist() + v.tolist())):
+        vals = motion_floats(position, velocity)
+        if not all(map(math.isfinite, vals)):
             raise ValueError(f"set_end_motion: non-finite position or velocity for the {end} end")
-        tg = self.ws.target[e]
+        tg = self.ws.target[e]  # element-wise stores: cheaper than numpy converting a tuple
+        tg[TG_P], tg[TG_P + 1], tg[TG_P + 2] = vals[0:3]
+        tg[TG_V], tg[TG_V + 1], tg[TG_V + 2] = vals[3:6]
         tg[TG_SET] = 1.0
-        tg[TG_P:TG_P + 3] = p
-        tg[TG_V:TG_V + 3] = v
 
     def set_end_load(self, end, force, moment=(0.0, 0.0, 0.0)) -> None:
         """Point force (and moment) applied on a force end (held until changed)."""
@@ -398,8 +416,8 @@ class DGCableSolver(OutputsMixin, WinchMixin):
     def drain_end_tensions(self):
         """(t, T_ship, T_vehicle) at the start of every substep since the last call (newest cap kept)."""
         n = drain_now(self.ws.F, self.ws.I, self.ws.spec)
-        d = self.ws.drain
-        return d[0, :n].copy(), d[1, :n].copy(), d[2, :n].copy()
+        t, ship, vehicle = self.ws.drain[:, :n].copy()  # one copy; rows are views of it
+        return t, ship, vehicle
 
     def snapshot(self):
         return dict(time=self.time, U=self.U.copy(), ra=self.ra.copy(), bc=self.bc.copy(), bodies=self._bs.copy(),
