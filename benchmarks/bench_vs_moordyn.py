@@ -1,59 +1,105 @@
 """DG against MoorDyn at equal first-snap accuracy (1 %), both coupled at the node's 50 Hz, one process.
 
-The 1 % rungs are those of BENCHMARKS.md "Accuracy against cost" (bench_accuracy.py, session 2):
-DG N = 2, P = 4 (L = 200 m, 0.45 % off) and N = 3, P = 4 (L = 1730 m, 0.52 %), MoorDyn N = 40
-(0.71 % / 1730 m: 0.6 % against its own finest rung). The DG results are bit-identical to that
-session's (benchmarks/dg_regression.py), so its accuracy figures hold. Cost: thread CPU per simulated
-second, best of --repeat runs of --duration s, DG and MoorDyn interleaved:
+The DG 1 % rungs are those of the resolution ladder (docs/performance.md, dg.resolution: auto), at
+its dg.cfl 0.8: N = 2, P = 4 at L = 200 m and N = 3, P = 4 at L = 1730 m (--cfl and --rungs change
+them). Each timed DG run also measures its own first snap peak (resolution_ladder's metric: largest
+end tension in 5-10 s, 200 Hz resampling, both ends) against the reference rows of
+docs/data/resolution_ladder.csv (N = max(10, L / 20 m), P = 4, cfl 0.5) and prints the error, so a
+change of the kernels that moved the peak would show (needs --duration >= 10). MoorDyn N = 40 is
+its 1 % rung of BENCHMARKS.md "Accuracy against cost" (0.71 % at 1730 m; 0.6 % at 200 m against its
+own finest rung). Cost: thread CPU per simulated second, best of --repeat runs of --duration s, DG
+and MoorDyn interleaved:
 
 - DG: a node tick = set_end_motion + advance_to(t + 0.02) + drain_end_tensions + end_forces();
 - MoorDyn: moordyn.Step over 0.02 s with its largest stable internal step dividing 0.02 s
   (bench_moordyn.best_wall with NODE_STEP), the fairlead fed the same orbit.
 
+The fairlead orbit itself (ropos_case.fairlead_motion, ~20 us of Python a call) is computed outside
+both timers, as bench_moordyn does for MoorDyn (sessions 2-3 timed it inside the DG tick only).
+
 MoorDyn has no bending stiffness: the alpha = 1 rows compare DG with bending against the same
 MoorDyn runs. ``--baseline DIR`` adds another checkout's DG (bench_tick.load_baseline).
 
-Usage: PYTHONPATH=. python benchmarks/bench_vs_moordyn.py [--duration 20] [--repeat 3] [--baseline DIR]
+Usage: PYTHONPATH=. python benchmarks/bench_vs_moordyn.py [--duration 10.2] [--repeat 3] [--cfl 0.8]
+       [--rungs 2 3] [--order 4] [--quad-points Q] [--baseline DIR]
 """
 
 import argparse
 import os
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
+
+import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from benchmarks import bench_moordyn  # noqa: E402
 from benchmarks import ropos_case as rc  # noqa: E402
 from benchmarks.bench_tick import load_baseline  # noqa: E402
+from benchmarks.resolution_ladder import WINDOW, _peaks  # noqa: E402
+from benchmarks.resolution_report import read_rows  # noqa: E402
 
-RUNGS = {200.0: 2, 1730.0: 3}  # DG elements of the 1 % rung (P = 4)
+RUNGS = {200.0: 2, 1730.0: 3}  # DG elements of the 1 % rung (P = 4, dg.cfl 0.8)
 MOORDYN_SEGMENTS = 40
+LADDER_CSV = Path(__file__).resolve().parents[1] / "docs" / "data" / "resolution_ladder.csv"
 
 
-def dg_cost(factory, mod, length, n, alpha, duration):
-    """Thread CPU per simulated s of 50 Hz node ticks (construction and static solve excluded)."""
-    sol = factory.build_solver(mod.ropos_config(length, alpha=alpha, n_elements=n, order=4))
+def reference_peaks(length, alpha):
+    """(ship, vehicle) first snap peaks (200 Hz grid) of the ladder's reference for the cage case."""
+    case = f"{length:g}:stiff:{alpha:g}:cage"
+    for r in read_rows(LADDER_CSV):
+        if r["case"] == case and r["reference"] == 1.0:
+            return r["ship_grid"], r["vehicle_grid"]
+    return None
+
+
+def dg_cost(factory, mod, length, n, alpha, duration, cfl=0.8, quad_points=0, order=4):
+    """(thread CPU per simulated s of 50 Hz node ticks, (ship, vehicle) first snap peaks or None);
+    construction and static solve excluded, the record of end tensions kept outside the timer.
+    quad_points > 0 sets dg.quad_points (0: the automatic (3P+1)//2 + 1 = 7 at P = 4)."""
+    cfg = mod.ropos_config(length, alpha=alpha, n_elements=n, order=order, cfl=cfl)
+    if quad_points:
+        cfg = replace(cfg, dg=replace(cfg.dg, quad_points=int(quad_points)))
+    sol = factory.build_solver(cfg)
     sol.drain_end_tensions()
     ticks = int(round(duration * 50))
     cpu = 0.0
+    rec = []
     for k in range(ticks):
         t1 = (k + 1) / 50.0
+        motion = mod.fairlead_motion(t1)
         c = time.thread_time()
-        sol.set_end_motion("ship", *mod.fairlead_motion(t1))
+        sol.set_end_motion("ship", *motion)
         sol.advance_to(t1)
-        sol.drain_end_tensions()
+        drained = sol.drain_end_tensions()
         sol.end_forces()
         cpu += time.thread_time() - c
-    return cpu / duration
+        rec.append(drained)
+    peaks = None
+    if duration >= WINDOW[1]:
+        t, ship, veh = (np.concatenate([d[i] for d in rec]) for i in range(3))
+        peaks = (_peaks(t, ship)[1], _peaks(t, veh)[1])
+    return cpu / duration, peaks
+
+
+def peak_error(peaks, ref):
+    """Worst relative first-snap-peak error over both ends, or None."""
+    if peaks is None or ref is None:
+        return None
+    return max(abs(p - r) / r for p, r in zip(peaks, ref))
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--duration", type=float, default=20.0)
+    ap.add_argument("--duration", type=float, default=10.2)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--lengths", type=float, nargs="+", default=[200.0, 1730.0])
+    ap.add_argument("--cfl", type=float, default=0.8, help="dg.cfl of the DG rungs (the rule's 0.8)")
+    ap.add_argument("--rungs", type=int, nargs="+", help="DG elements per length (default: RUNGS)")
+    ap.add_argument("--order", type=int, default=4, help="DG order P of the rungs")
+    ap.add_argument("--quad-points", type=int, default=0, help="dg.quad_points of the DG runs (0: automatic)")
     ap.add_argument("--baseline")
     ap.add_argument("--workdir", default="out/moordyn")
     args = ap.parse_args(argv)
@@ -64,18 +110,22 @@ def main(argv=None):
     Path(args.workdir).mkdir(parents=True, exist_ok=True)
     print(f"bench_vs_moordyn {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}; "
           f"thread CPU ms per simulated s, best of {args.repeat} x {args.duration:g} s, 50 Hz coupling", flush=True)
-    for length in args.lengths:
-        n = RUNGS[length]
+    if args.rungs and len(args.rungs) != len(args.lengths):
+        ap.error("--rungs needs one N per length")
+    for i, length in enumerate(args.lengths):
+        n = args.rungs[i] if args.rungs else RUNGS[length]
         for _, fac, mod in trees:  # warm the JIT caches, untimed
             for alpha in (0.0, 1.0):
-                dg_cost(fac, mod, length, n, alpha, 0.1)
-        best = {}
+                dg_cost(fac, mod, length, n, alpha, 0.1, args.cfl, args.quad_points, args.order)
+        best, err = {}, {}
         dt_md = rc.moordyn_time_step(length, MOORDYN_SEGMENTS, bench_moordyn.NODE_STEP)
         for _ in range(args.repeat):
             for name, fac, mod in trees:
                 for alpha in (0.0, 1.0):
-                    c = dg_cost(fac, mod, length, n, alpha, args.duration)
+                    c, peaks = dg_cost(fac, mod, length, n, alpha, args.duration, args.cfl, args.quad_points,
+                                       args.order)
                     best[(name, alpha)] = min(best.get((name, alpha), c), c)
+                    err[(name, alpha)] = peak_error(peaks, reference_peaks(length, alpha))
             _, cpu = bench_moordyn.best_wall(length, MOORDYN_SEGMENTS, args.duration, bench_moordyn.NODE_STEP, dt_md,
                                              args.workdir, 1)
             best["md"] = min(best.get("md", cpu / args.duration), cpu / args.duration)
@@ -84,7 +134,10 @@ def main(argv=None):
             line = f"  L={length:6.0f} alpha={alpha:g}: MoorDyn N={MOORDYN_SEGMENTS} {1e3 * md:7.2f} ms/s"
             for name, _, _ in trees:
                 c = best[(name, alpha)]
-                line += f" | {name} N={n} P=4 {1e3 * c:7.2f} ms/s, {name}/MoorDyn {c / md:.3f}"
+                e = err[(name, alpha)]
+                line += (f" | {name} N={n} P={args.order} cfl {args.cfl:g} {1e3 * c:7.2f} ms/s, "
+                         f"{name}/MoorDyn {c / md:.3f}, "
+                         f"first snap peak error {'n/a' if e is None else f'{100 * e:.3f} %'}")
             print(line, flush=True)
 
 

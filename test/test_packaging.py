@@ -163,7 +163,7 @@ def test_data_files_install_the_ament_index_marker_and_manifest(setup_py):
     assert (ROOT / "resource" / PACKAGE).is_file()
     assert data[f"share/{PACKAGE}"] == ["package.xml"]
     assert sorted(data[f"share/{PACKAGE}/config"]) == sorted(
-        str(p.relative_to(ROOT)) for p in (ROOT / "config").glob("*.yaml"))
+        str(p.relative_to(ROOT)) for p in [*(ROOT / "config").glob("*.yaml"), *(ROOT / "config").glob("*.txt")])
     packages = set(setup_py["packages"])
     assert PACKAGE in packages and not any(p.startswith("test") for p in packages)
 

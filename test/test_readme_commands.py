@@ -134,7 +134,8 @@ def test_help_of_the_long_programs(monkeypatch, capsys):
 def test_offline_run_and_report(tmp_path, monkeypatch, capsys):
     mcap = tmp_path / "L200.mcap"
     for words in (w for w in readme_commands() if classify(w)[0] == "pipeline"):
-        words = [str(mcap) if w == "out/L200.mcap" else w for w in words]
+        words = [str(mcap) if w == "out/L200.mcap" else str(tmp_path / w[len("out/"):]) if w.startswith("out/")
+                 and w.endswith(".mcap") else w for w in words]  # every README MCAP into tmp_path
         if "--duration" in words:
             words[words.index("--duration") + 1] = "0.2"
         code, out = run_in_process(words + (["--no-progress"] if "offline" in words[0] else []), monkeypatch, capsys)

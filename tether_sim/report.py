@@ -224,13 +224,20 @@ def _mesh_line(parameters: dict) -> str:
                                        p.get("dg.snap_tolerance", "nan")) + "."
 
 
+def _length_text(run: RunData) -> str:
+    arcs = run.arc_history
+    if arcs is None:
+        return f"L = {run.arc_length[-1]:.1f} m"
+    return f"L = {arcs[0, -1]:.1f} m at the start, {arcs[:, -1].min():.1f} to {arcs[:, -1].max():.1f} m (winch)"
+
+
 def summary_markdown(run: RunData, periods: dict, figures: dict) -> str:
     """The summary and event tables as markdown."""
     duration = float(run.t[-1] - run.t[0]) if len(run.t) else 0.0
     rate = (len(run.t) - 1) / duration if duration > 0 else float("nan")
     lines = [f"# Tether report: `{run.path.name}`", "",
              f"Solver `{run.solver}`, {len(run.t)} states over {duration:.2f} s "
-             f"({rate:.1f} Hz), {len(run.arc_length)} output points, L = {run.arc_length[-1]:.1f} m. "
+             f"({rate:.1f} Hz), {len(run.arc_length)} output points, {_length_text(run)}. "
              f"Times below: {run.time_label}, s.{_mesh_line(run.parameters)}", ""]
     if run.truncation:
         lines += [f"**Truncated recording.** {run.truncation}. This report covers what was kept; "

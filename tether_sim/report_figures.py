@@ -146,8 +146,10 @@ def plot_tension_map(run, path: Path) -> Path:
     fig, ax = plt.subplots(figsize=(10, 5.5), constrained_layout=True)
     tension = run.tension / 1e3
     arcs = getattr(run, "arc_history", None)
-    if arcs is not None and len(run.t) > 1:  # a winch: the points follow L(t)
-        mesh = ax.pcolormesh(np.repeat(run.t[:, None], arcs.shape[1], 1), arcs, tension, shading="gouraud", cmap="magma")
+    if arcs is not None and len(run.t) > 1:  # a winch: the points follow L(t); at most ~2000 states drawn
+        k = slice(None, None, max(1, len(run.t) // 2000))
+        mesh = ax.pcolormesh(np.repeat(run.t[k, None], arcs.shape[1], 1), arcs[k], tension[k], shading="gouraud",
+                             cmap="magma")
     elif len(run.t) > 1:
         mesh = ax.pcolormesh(run.t, run.arc_length, tension.T, shading="nearest", cmap="magma")
     else:

@@ -83,10 +83,14 @@ def synthetic_heave(seed=20200811, duration=600.0, rate=10.0, f_max=0.8, tp=7.0,
 
 
 def pose_messages(t, z):
-    for ti, zi in zip(t, z):
+    """PoseStamped dicts of heave z (n,) at x = y = 0, or of positions z (n, 3)."""
+    xyz = np.asarray(z, float)
+    if xyz.ndim == 1:
+        xyz = np.column_stack([np.zeros_like(xyz), np.zeros_like(xyz), xyz])
+    for ti, (xi, yi, zi) in zip(t, xyz):
         ns = START_STAMP_NS + int(round(ti * 1e9))
         yield ns, {"header": {"stamp": {"sec": ns // 10**9, "nanosec": ns % 10**9}, "frame_id": "map"},
-                   "pose": {"position": {"x": 0.0, "y": 0.0, "z": float(zi)},
+                   "pose": {"position": {"x": float(xi), "y": float(yi), "z": float(zi)},
                             "orientation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}}}
 
 

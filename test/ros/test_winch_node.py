@@ -17,7 +17,9 @@ pytestmark = pytest.mark.ros
 FLAT = {"ship_end.kind": "fixed", "ship_end.position": (0.0, 0.0, 0.0), "vehicle_end.kind": "fixed",
         "vehicle_end.position": (0.0, 0.0, -200.0), "cable.length": 200.0, "node.input_delay": 0.0,
         "winch.enabled": True, "winch.mode": "speed", "winch.setpoint": 0.5, "winch.max_speed": 1.0,
-        "winch.max_acceleration": 1.0, "winch.min_length": 10.0, "winch.max_length": 1000.0}
+        "winch.max_acceleration": 1.0, "winch.min_length": 10.0, "winch.max_length": 1000.0,
+        # a schedule (arrays whose default is empty): its first entry is the start's own command
+        "winch.schedule_times": (0.0,), "winch.schedule_modes": ("speed",), "winch.schedule_setpoints": (0.5,)}
 
 
 class Logger:
@@ -33,6 +35,7 @@ class Logger:
 def test_winch_state_commands_and_rejections():
     h = SimHarness(FLAT, solver_factory=HangingCable)
     try:
+        assert h.node.config.winch.schedule_modes == ("speed",)  # arrays with an empty default, from parameters
         logger = Logger()
         h.node.get_logger = lambda: logger
         states, tether = [], h.received["/tether/state"]

@@ -23,13 +23,20 @@ from tether_sim.solvers.factory import build_solver
 from tether_sim.solvers.resolution import choose
 
 
+LIVE_TOLERANCE = {975: 0.02}
+
+
 @pytest.mark.parametrize("length", [200, 500, 975, 1730])
 def test_live_config_files_differ_from_the_paper_files_only_in_the_mesh(length):
     """The live files choose their mesh by dg.resolution auto; everything else is the paper file's."""
     live = load_config(CONFIG_DIR / f"ropos_L{length}.yaml")
     paper = load_config(CONFIG_DIR / f"ropos_L{length}_paper.yaml")
-    assert (live.dg.resolution, live.dg.snap_tolerance, paper.dg.resolution) == ("auto", 0.01, "manual")
-    chosen = choose(float(length), 0.01)
+    # 975 m states 2 % for real time (its 1 % mesh, N = 24, P = 4, runs below 10x): the mesh that picks
+    # must still have measured within 1 % on every ladder case there (the rule's margin is what is given up)
+    tolerance = LIVE_TOLERANCE.get(length, 0.01)
+    assert (live.dg.resolution, live.dg.snap_tolerance, paper.dg.resolution) == ("auto", tolerance, "manual")
+    chosen = choose(float(length), tolerance)
+    assert chosen.measured_error <= 0.01
     assert (live.dg.n_elements, live.dg.order, live.dg.cfl) == (chosen.n_elements, chosen.order, chosen.cfl)
     assert replace(live, dg=paper.dg) == paper
 

@@ -9,6 +9,10 @@ velocity and acceleration (each (3,)) of a prescribed cable end:
 - ``sines``: d = sum_i a_i sin(w_i t + phi_i) e_z.
 - ``record``: a recorded pose series (times, positions), taken relative to its first sample,
   scaled by ``record_scale`` (PE2020 Sec. 6.1 needed +20%) and interpolated by a C2 cubic spline.
+- ``rao``: the ship's response to the sea state of the ``waves`` section through the RAO table
+  ``rao_path`` (physics/ship_motion.py, docs/ship_motion.md), carried to the fairlead by the lever arm
+  ``rao_lever_arm``; ``origin`` is the fairlead's mean position (ship reference point = origin minus
+  the rotated lever arm), so the ship and the cable see the same waves.
 
 All analytic offsets are multiplied by a C2 quintic ramp r(t) (0 -> 1 over ``ramp_time``), so a
 run starting from a static shape at ``origin`` sees no jump in position, velocity or acceleration.
@@ -23,7 +27,7 @@ import numpy as np
 
 from tether_sim.spec import param
 
-MOTION_KINDS = ("none", "circle", "heave", "sines", "record")
+MOTION_KINDS = ("none", "circle", "heave", "sines", "record", "rao")
 
 
 @dataclass(frozen=True)
@@ -41,6 +45,9 @@ class MotionConfig:
     record_path: str = param("", doc="MCAP file of geometry_msgs/PoseStamped (kind=record); relative to the package share")
     record_topic: str = param("/ship/pose", doc="topic of the recorded poses")
     record_scale: float = param(1.0, doc="amplitude factor applied to the recorded motion (PE2020 calibrated +20%)", min=0.0, max=10.0)
+    rao_path: str = param("", doc="kind=rao: RAO table (plain text, docs/ship_motion.md); relative to the package share")
+    rao_lever_arm: tuple = param((0.0, 0.0, 0.0), unit="m", doc="kind=rao: fairlead position relative to the ship reference point, ship axes (x bow, y port, z up)")
+    ship_heading: float = param(0.0, unit="deg", doc="kind=rao: mean heading of the ship's bow, from +x (east) counter-clockwise", min=-360.0, max=360.0)
 
 
 def ramp(t: float, duration: float):
@@ -148,6 +155,24 @@ class RecordedMotion(_Offset):
         return self.spline(t), self.spline(t, 1), self.spline(t, 2)
 
 
+class RaoMotion(_Offset):
+    """The fairlead of a ship responding to the sea through its RAOs (kind ``rao``)."""
+
+    def __init__(self, origin, table, waves, lever_arm, heading_deg, ramp_time=0.0):
+        from tether_sim.physics.ship_motion import ShipResponse
+
+        super().__init__(origin, ramp_time)
+        self.lever = np.asarray(lever_arm, dtype=np.float64).reshape(3)
+        c, s = math.cos(math.radians(heading_deg)), math.sin(math.radians(heading_deg))
+        reference = self.origin - np.array([c * self.lever[0] - s * self.lever[1], s * self.lever[0] + c * self.lever[1], self.lever[2]])
+        self.response = ShipResponse(table, waves, reference, heading_deg)
+
+    def offset(self, t):
+        from tether_sim.physics.ship_motion import fairlead_offset
+
+        return fairlead_offset(self.response, self.lever, t)
+
+
 def resolve_record_path(path: str) -> Path:
     """Absolute path, else relative to the working directory, the repository or a package share."""
     p = Path(path)
@@ -184,8 +209,9 @@ def read_pose_record(path, topic="/ship/pose"):
     return np.asarray(times), np.asarray(positions)
 
 
-def build_motion(config: MotionConfig, origin):
-    """The motion generator ``config`` describes, about ``origin`` (3,) (world frame)."""
+def build_motion(config: MotionConfig, origin, waves=None):
+    """The motion generator ``config`` describes, about ``origin`` (3,) (world frame); kind ``rao``
+    needs the run's wave components ``waves`` (physics.waves.wave_components)."""
     ramp_time = config.ramp_time
     if config.kind == "none":
         return StillMotion(origin, 0.0)
@@ -200,4 +226,12 @@ def build_motion(config: MotionConfig, origin):
             raise ValueError("motion.record_path: required for motion.kind = record")
         times, positions = read_pose_record(config.record_path, config.record_topic)
         return RecordedMotion(origin, times, positions, config.record_scale, ramp_time)
+    if config.kind == "rao":
+        from tether_sim.physics.ship_motion import read_rao_table
+
+        if not config.rao_path:
+            raise ValueError("motion.rao_path: required for motion.kind = rao")
+        if waves is None:
+            raise ValueError("motion.kind = rao: the sea state (waves section) was not passed to build_motion")
+        return RaoMotion(origin, read_rao_table(config.rao_path), waves, config.rao_lever_arm, config.ship_heading, ramp_time)
     raise ValueError(f"motion.kind: unknown {config.kind!r}; choose one of {MOTION_KINDS}")

@@ -127,17 +127,26 @@ def _regular(w: WaveConfig, g, depth):
                           np.array([math.radians(w.phase)]), depth)
 
 
+def _bin_energy(edges, Hs, Tp, gamma):
+    """Integral of S over each bin [edges[i], edges[i+1]] (16-point Gauss-Legendre: S is smooth)."""
+    x, wq = np.polynomial.legendre.leggauss(16)
+    a, b = edges[:-1, None], edges[1:, None]
+    nodes = 0.5 * (a + b) + 0.5 * (b - a) * x[None, :]
+    return 0.5 * np.diff(edges) * (jonswap_spectrum(nodes, Hs, Tp, gamma) @ wq)
+
+
 def _jonswap(w: WaveConfig, g, depth):
     """Equal frequency bins with one seeded frequency per bin (no repetition period), a random phase per
-    component, amplitude a = sqrt(2 S(omega) d_omega D(b) d_b)."""
+    component, amplitude a = sqrt(2 E_bin D(b)) with E_bin the integral of S over the bin, so that
+    m0 = sum a^2 / 2 is the spectrum's integral over the discretised band whatever the bin count."""
     rng = np.random.default_rng(w.seed)
     wp = 2.0 * math.pi / w.Tp
     edges = np.linspace(w.min_frequency_ratio * wp, w.max_frequency_ratio * wp, w.n_frequencies + 1)
     dw = np.diff(edges)
     omega = edges[:-1] + dw * rng.uniform(0.0, 1.0, w.n_frequencies)
-    s_omega = jonswap_spectrum(omega, w.Hs, w.Tp, w.gamma)
+    energy = _bin_energy(edges, w.Hs, w.Tp, w.gamma)
     dirs, weights = spreading_weights(w.n_directions, w.spreading, math.radians(w.direction))
-    amp = np.sqrt(2.0 * np.outer(s_omega * dw, weights)).ravel()
+    amp = np.sqrt(2.0 * np.outer(energy, weights)).ravel()
     om = np.repeat(omega, dirs.size)
     b = np.tile(dirs, omega.size)
     phase = rng.uniform(0.0, 2.0 * math.pi, amp.size)

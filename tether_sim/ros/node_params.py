@@ -76,8 +76,8 @@ def declare_all(node, where: str = "parameters", cli_keys=()):
             overrides[name] = _as_parameter(keys[name], validated[name])
     for key in all_keys():
         d = descriptor(key)
-        if key.kind.endswith("array") and len(validated[key.name]) == 0:
-            node.declare_parameter(key.name, _TYPES[key.kind], d)  # empty: declared by type, read as ()
+        if key.kind.endswith("array") and (len(validated[key.name]) == 0 or len(key.default) == 0):
+            node.declare_parameter(key.name, _TYPES[key.kind], d)  # empty (or empty default): by type, an override wins
         else:
             node.declare_parameter(key.name, _as_parameter(key, key.default).value, d)
     return read_config(node)

@@ -123,7 +123,10 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
         if config.ship_end.kind == "prescribed" and config.motion.kind != "none":
             from tether_sim.physics.motion import build_motion
 
-            sources["ship"] = MotionSource(build_motion(config.motion, np.asarray(config.ship_end.position, float)))
+            from tether_sim.physics.waves import wave_components
+
+            sources["ship"] = MotionSource(build_motion(config.motion, np.asarray(config.ship_end.position, float),
+                                                        wave_components(config)))
         t0 = 0.0
         duration = config.duration if duration is None else duration
     for r in recorded.values():

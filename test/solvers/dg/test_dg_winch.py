@@ -95,19 +95,22 @@ def test_length_mass_and_far_end_follow_the_rate_schedule_to_round_off():
 
 
 @pytest.mark.parametrize("rate", [0.8, -0.8])
-@pytest.mark.parametrize("end", ["ship", "vehicle"])
-def test_momentum_balance_with_the_material_flux_through_the_winch(rate, end):
+@pytest.mark.parametrize("end,far_kind", [("ship", "fixed"), ("vehicle", "fixed"), ("vehicle", "body")])
+def test_momentum_balance_with_the_material_flux_through_the_winch(rate, end, far_kind):
     """d/dt int v ds = T_hat(L) - T_hat(0) (the end forces) + int f ds + dL/dt v* (pay-out, inflow:
     v* = gamma0 v_BC, the sheave's material; haul-in, outflow: v* = the trace), and
     d/dt int q ds = (v_hat(L) - v_hat(0)) / gamma0 + dL/dt q+; with h_e = w_e L, d/dt sum h_e u_e0 = sum (w_e dL/dt u_e0 + h_e du_e0).
     Semi-discrete identities of the scheme: 1e-12 of the largest term. No fluid (the added mass
-    would move momentum into the water), gravity on, a curved moving state."""
+    would move momentum into the water), gravity on, a curved moving state; the vehicle-end winch
+    also on a rigid body (a tether-management system: the sheave is the body's attachment point)."""
     cab = CableProperties(length=50.0, EA=1e5, gamma0=3.0, material="linear", damping=20.0)
-    ends = (EndCondition(kind="prescribed", position=(0, 0, 0)), EndCondition(kind="fixed", position=(30.0, 0, -35.0)))
+    ends = (EndCondition(kind="prescribed", position=(0, 0, 0)), EndCondition(kind=far_kind, position=(30.0, 0, -35.0)))
     s = solver(cab, ends, env=Environment(g=9.81, fluid_density=0.0), N=5, P=4, initial="static", winch=end)
     rng = np.random.default_rng(3)
     s.U[:, :, 3:6] += 0.3 * rng.standard_normal(s.U[:, :, 3:6].shape)
     s._end_vel = [(0.2, -0.1, 0.4), (0.0, 0.0, 0.0)]
+    if far_kind == "body":
+        s._bs[1, 7:13] = (0.3, 0.1, -0.2, 0.05, -0.02, 0.01)  # body translating and rotating
     start_moving(s, rate)
     s._evaluate()
     w = 0 if end == "ship" else 1
@@ -126,8 +129,14 @@ def test_momentum_balance_with_the_material_flux_through_the_winch(rate, end):
     assert np.abs(dQ - expected_Q).max() < 1e-12 * max(1.0, np.abs(expected_Q).max())
     # the sheave's kinematic condition: v_BC = v_end - n dL/dt q+
     q_w = s._tr[w * (N - 1), w, Y.T_Q:Y.T_Q + 3]
-    assert np.allclose(s._vbc[w, 3:6], np.asarray(s._end_vel[w]) + (1.0 if w == 0 else -1.0) * rate * q_w,
-                       rtol=0, atol=1e-14)
+    v_end = s._vbc[w, 3:6] - (1.0 if w == 0 else -1.0) * rate * q_w  # the sheave's own velocity
+    if far_kind == "body" and w == 1:
+        from tether_sim.physics.bodies import body_attachment_kinematics
+        p, v = np.zeros(3), np.zeros(3)
+        body_attachment_kinematics(s._bs[1], s._bp[1], p, v)
+        assert np.abs(v).max() > 0.1 and np.allclose(v_end, v, rtol=0, atol=1e-14)
+    else:
+        assert np.allclose(v_end, s._end_vel[w], rtol=0, atol=1e-14)
 
 
 # ----------------------------------------------------------------------------- errors and the idle winch
@@ -441,7 +450,7 @@ def test_twin_transport_kernel_against_the_quadrature_version(rate, end):
     s._evaluate()  # fills the traces tr and the sheave's v_BC
     dU = np.zeros_like(s.U)
     dra = np.zeros(3)
-    winch_transport(s.U, s.prm, s.iprm, s.h, s.D, s.Lf, s._tr, s._vbc, dU, dra)
+    winch_transport(s.U, s.prm, s.iprm, s.h, s.Lf, s._tr, s._vbc, dU, dra)
     w = 0 if end == "ship" else 1
     ref = plain_transport(s.U, s.h, rate, w, cab.gamma0, s._vbc)
     assert np.abs(dU - ref).max() < 1e-11 * np.abs(ref).max()

@@ -105,8 +105,8 @@ define(globals(), "wq", [
     ("W_MS", 3, "M*", "N m", "M / l^2 [Eq. 19]"),
     ("W_TAU", 3, "tau", "N", "dM*/ds"),
     ("W_NUS", 3, "d(v/gamma0)/ds", "1/s", "velocity gradient with central fluxes (damping strain rate)"),
-    ("W_TE", 3, "T(eps) i", "N", "elastic tension vector (no damping, no bending; q-equation penalty)"),
     ("W_WET", 1, "phi", "-", "wetted fraction (free surface on)"),
+    ("W_TE", 3, "T(eps) i", "N", "elastic tension vector (no damping, no bending; q-equation penalty)"),
 ], "NWQ")
 
 define(globals(), "wm", [

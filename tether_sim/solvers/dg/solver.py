@@ -26,6 +26,7 @@ from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.damping_layout import MODE_AXIAL, MODE_EXPLICIT, MODE_GENERAL
 from tether_sim.solvers.dg.equilibrium import polish_equilibrium
 from tether_sim.solvers.dg.implicit_damping import DampingWork
+from tether_sim.solvers.dg.inputs import motion_floats
 from tether_sim.solvers.dg.outputs import OutputsMixin
 from tether_sim.solvers.dg.soa import TMP_HEAD, soa_scratch_size
 from tether_sim.solvers.dg.stepper import STATUS_DIVERGED
@@ -336,14 +337,13 @@ class DGCableSolver(OutputsMixin, WinchMixin):
         e = end_index(end)
         if self.ends[e].position != "motion":
             raise ValueError(f"set_end_motion: the {end} end is {self.kinds[e]!r}, not 'prescribed'")
-        p = np.array(position, dtype=float).reshape(3)
-        v = np.array(velocity, dtype=float).reshape(3)
-        if not all(map(math.isfinite, p.tolist() + v.tolist())):
+        vals = motion_floats(position, velocity)
+        if not all(map(math.isfinite, vals)):
             raise ValueError(f"set_end_motion: non-finite position or velocity for the {end} end")
-        tg = self.ws.target[e]
+        tg = self.ws.target[e]  # element-wise stores: cheaper than numpy converting a tuple
+        tg[TG_P], tg[TG_P + 1], tg[TG_P + 2] = vals[0:3]
+        tg[TG_V], tg[TG_V + 1], tg[TG_V + 2] = vals[3:6]
         tg[TG_SET] = 1.0
-        tg[TG_P:TG_P + 3] = p
-        tg[TG_V:TG_V + 3] = v
 
     def set_end_load(self, end, force, moment=(0.0, 0.0, 0.0)) -> None:
         """Point force (and moment) applied on a force end (held until changed)."""
@@ -416,8 +416,8 @@ class DGCableSolver(OutputsMixin, WinchMixin):
     def drain_end_tensions(self):
         """(t, T_ship, T_vehicle) at the start of every substep since the last call (newest cap kept)."""
         n = drain_now(self.ws.F, self.ws.I, self.ws.spec)
-        d = self.ws.drain
-        return d[0, :n].copy(), d[1, :n].copy(), d[2, :n].copy()
+        t, ship, vehicle = self.ws.drain[:, :n].copy()  # one copy; rows are views of it
+        return t, ship, vehicle
 
     def snapshot(self):
         return dict(time=self.time, U=self.U.copy(), ra=self.ra.copy(), bc=self.bc.copy(), bodies=self._bs.copy(),

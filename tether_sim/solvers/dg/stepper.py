@@ -57,7 +57,7 @@ def dg_evaluate(t, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz
     dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc,
            wq, wm, tr, fl, rs, tmp, dU, dra, endf)
     if winch:  # transport of the moving mapping onto the elements
-        winch_transport(U, prm, iprm, h, D, Lf, tr, vbc, dU, dra)
+        winch_transport(U, prm, iprm, h, Lf, tr, vbc, dU, dra)
     if implicit:
         for end in range(2):
             for c in range(3):
@@ -161,7 +161,12 @@ def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_ep
         fill_end_kinematics(bc, iprm, t0, vbc, bs, bp)
         damping_step(0.5 * dt, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, dtmp, fdamp)
     cap = buf.shape[0]
-    N, nm, nv = U.shape
+    # the RK update, copy and finiteness sum run over flat views (element-major order, as U's
+    # own loops would: the same operations in the same order)
+    nu = U.size
+    Uf = U.reshape(nu)
+    U0f = U0.reshape(nu)
+    dUf = dU.reshape(nu)
     anchor = iprm[I_ANCHOR]
     kind_a = iprm[I_KIND0 + anchor]
     kinematic_anchor = is_kinematic(kind_a)
@@ -169,10 +174,8 @@ def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_ep
     out[1] = STATUS_OK
     for n in range(nsteps):
         t = t0 + n * dt
-        for e in range(N):
-            for k in range(nm):
-                for c in range(nv):
-                    U0[e, k, c] = U[e, k, c]
+        for i in range(nu):
+            U0f[i] = Uf[i]
         for c in range(3):
             ra0[c] = ra[c]
         for end in range(2):
@@ -200,10 +203,8 @@ def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_ep
                 L_end = winch_length(prm, L_tick, t0 + (n + 1) * dt, t0, t1) if stage == 2 else 0.0
                 winch_update(a, b, dt, Ls, U, U0, dU, prm, L_end)
             else:
-                for e in range(N):
-                    for k in range(nm):
-                        for c in range(nv):
-                            U[e, k, c] = a * U0[e, k, c] + b * (U[e, k, c] + dt * dU[e, k, c])
+                for i in range(nu):
+                    Uf[i] = a * U0f[i] + b * (Uf[i] + dt * dUf[i])
             for c in range(3):
                 ra[c] = a * ra0[c] + b * (ra[c] + dt * dra[c])
             for end in range(2):
@@ -220,10 +221,8 @@ def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_ep
             damping_step(dt if n < nsteps - 1 else 0.5 * dt, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd,
                          band, vec, dtmp, fdamp)
         s = 0.0
-        for e in range(N):
-            for k in range(nm):
-                for c in range(nv):
-                    s += abs(U[e, k, c])
+        for i in range(nu):
+            s += abs(Uf[i])
         for end in range(2):
             for c in range(bs.shape[1]):
                 s += abs(bs[end, c])
