@@ -130,3 +130,45 @@ def test_mesh_summary_names_mesh_and_rule():
     text = res.mesh_summary(3, 4, 0.8, "auto", 0.01)
     assert text == "N = 3, P = 4, dg.cfl 0.8 (dg.resolution auto, first-snap-peak tolerance 1 %)"
     assert res.mesh_summary(20, 4, 0.5, "manual", 0.01).endswith("(dg.resolution manual)")
+
+
+# --- winch runs: one fixed mesh over a varying length (config/ropos_descent.yaml) ---
+
+def test_a_range_at_one_measured_length_is_the_single_length_rule():
+    from tether_sim.solvers.resolution import WORST_ERROR, choose
+
+    for length in sorted(WORST_ERROR["body"]):
+        for tol in (0.01, 0.02):
+            try:
+                single = choose(float(length), tol)
+            except ConfigError:
+                continue
+            ranged = choose(float(length), tol, up_to=float(length))
+            assert (ranged.n_elements, ranged.order, ranged.cfl) == (single.n_elements, single.order, single.cfl)
+            # the range rule reports the worst error over the settled rungs, not only at N
+            assert single.measured_error <= ranged.measured_error <= res.SAFETY * tol
+
+
+def test_a_winch_range_gets_a_mesh_settled_at_every_measured_length_inside_it():
+    """At every measured length of the range, each measured rung of the chosen family at or above the
+    chosen N (or, where the ladder stops below N, its finest rungs) is within half the tolerance."""
+    from tether_sim.solvers.resolution import SAFETY, WORST_ERROR, choose
+
+    table = WORST_ERROR["body"]
+    for lo, hi, tol in ((200.0, 1800.0, 0.01), (200.0, 1800.0, 0.02), (200.0, 500.0, 0.01)):
+        r = choose(lo, tol, up_to=hi)
+        for x in (x for x in table if lo <= x <= hi):
+            errs = table[x][(r.order, r.cfl)]
+            above = [e for m, e in errs.items() if m >= min(r.n_elements, max(errs))]
+            assert max(above) <= SAFETY * tol, (lo, hi, tol, x)
+    # the ROPOS descent (200-1800 m) at 1 % needs the 975 m mesh, N = 24, P = 4
+    assert (choose(200.0, 0.01, up_to=1800.0).n_elements, choose(200.0, 0.01, up_to=1800.0).order) == (24, 4)
+
+
+def test_a_winch_range_outside_the_measured_lengths_is_refused():
+    from tether_sim.solvers.resolution import resolve
+
+    cfg = load_config(Path(__file__).resolve().parents[2] / "config" / "ropos_descent.yaml")
+    assert (cfg.dg.n_elements, cfg.dg.order) == (12, 2)
+    with pytest.raises(ConfigError, match="shortest winch length 50"):
+        resolve(replace(cfg, winch=replace(cfg.winch, min_length=50.0)))

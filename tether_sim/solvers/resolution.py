@@ -117,32 +117,55 @@ def _settled(ladders, tol):
     return None
 
 
-def candidates(length, tolerance, end="body", cable=None):
+def _settled_range(ladders, tol):
+    """A winch run's rung: settled (:func:`_settled`) at each measured length on its own, and the finest
+    of those N. At a length whose ladder stops below that N the mesh is finer than its settled rung and
+    than every rung measured there (the ladders stop below the converged reference), so it counts as
+    settled there too; worst error: at each length, the largest error over its measured rungs >= N's
+    settled rung there."""
+    found = [_settled([errs], tol) for errs in ladders]
+    if any(f is None for f in found):
+        return None
+    n = max(f[0] for f in found)
+    worst = max(max(e for m, e in errs.items() if m >= f[0]) for errs, f in zip(ladders, found))
+    return n, worst
+
+
+def candidates(length, tolerance, end="body", cable=None, up_to=None):
     """Every ladder's settled rung near ``length`` (rule points 1-3), cheapest first:
-    [(cost, n, order, cfl, worst_error)]."""
+    [(cost, n, order, cfl, worst_error)]. ``up_to`` (a winch run, length varying in [length, up_to]):
+    the rung must be settled at every measured length bracketing or inside that range; its cost is
+    taken at the shortest length (the most substeps per simulated second)."""
     if end not in WORST_ERROR:
         raise ConfigError(f"dg.resolution auto: vehicle_end.kind {end} was not measured "
                           f"(only {', '.join(WORST_ERROR)}); set dg.resolution: manual (docs/resolution_ladder.md)")
     table = WORST_ERROR[end]
     lo, hi = min(table), max(table)
-    if not lo <= length <= hi:
-        raise ConfigError(f"dg.resolution auto: cable.length {length:g} m is outside the range measured with "
-                          f"vehicle_end.kind {end}, {lo:g}-{hi:g} m; set dg.resolution: manual (docs/resolution_ladder.md)")
-    brackets = _brackets(table, length)
+    top = length if up_to is None else max(length, up_to)
+    for x, what in ((length, "cable.length" if up_to is None else "the shortest winch length"),
+                    (top, "the longest winch length")):
+        if not lo <= x <= hi:
+            raise ConfigError(f"dg.resolution auto: {what} {x:g} m is outside the range measured with "
+                              f"vehicle_end.kind {end}, {lo:g}-{hi:g} m; set dg.resolution: manual (docs/resolution_ladder.md)")
+    brackets = sorted(set(_brackets(table, length)) | set(_brackets(table, top))
+                      | {x for x in table if length <= x <= top})
     out = []
     for order, cfl in sorted(set.intersection(*(set(table[x]) for x in brackets))):
         if cfl > MAX_CFL or not all(_complete(table[x][(order, cfl)], x) for x in brackets):
             continue
-        found = _settled([table[x][(order, cfl)] for x in brackets], SAFETY * tolerance)
+        ladders = [table[x][(order, cfl)] for x in brackets]
+        found = (_settled(ladders, SAFETY * tolerance) if up_to is None
+                 else _settled_range(ladders, SAFETY * tolerance))
         if found is not None:
             out.append((cost(length, found[0], order, cfl, cable), found[0], order, cfl, found[1]))
     return sorted(out)
 
 
-def choose(length, tolerance, end="body", cable=None):
+def choose(length, tolerance, end="body", cable=None, up_to=None):
     """N, P, cfl for a tether of unstretched length ``length`` (m) with vehicle end kind ``end`` and
-    first-snap-peak ``tolerance``: the cheapest of the settled rungs of :func:`candidates`."""
-    found = candidates(length, tolerance, end, cable)
+    first-snap-peak ``tolerance``: the cheapest of the settled rungs of :func:`candidates`
+    (``up_to``: a winch run whose length varies over [length, up_to])."""
+    found = candidates(length, tolerance, end, cable, up_to)
     if not found:
         raise ConfigError(
             f"dg.snap_tolerance {tolerance:g}: no measured ladder near L = {length:g} m settles within "
@@ -185,7 +208,12 @@ def resolve(config, given=()):
     cab = config.cable
     cable = {"EA": cab.EA, "gamma0": cab.gamma0, "damping": cab.damping, "EI": cab.EI,
              "bending_damping": cab.bending_damping}
-    chosen = choose(float(cab.length), float(dg.snap_tolerance), config.vehicle_end.kind, cable)
+    shortest, longest = float(cab.length), None
+    winch = getattr(config, "winch", None)
+    if winch is not None and winch.enabled:  # fixed elements over a varying length: settled over the whole range
+        shortest = min(shortest, float(winch.min_length))
+        longest = max(float(cab.length), float(winch.max_length))
+    chosen = choose(shortest, float(dg.snap_tolerance), config.vehicle_end.kind, cable, longest)
     values = {"n_elements": chosen.n_elements, "order": chosen.order, "cfl": chosen.cfl}
     for name, value in values.items():
         if f"dg.{name}" in given and getattr(dg, name) != value:
