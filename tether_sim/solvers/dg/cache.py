@@ -16,6 +16,7 @@ _DEPENDENCIES = (
     os.path.join(_ROOT, "physics", "constitutive.py"),
     os.path.join(_ROOT, "physics", "hydrodynamics.py"),
     os.path.join(_ROOT, "physics", "seabed.py"),
+    os.path.join(_ROOT, "physics", "waves.py"),
     os.path.join(_ROOT, "physics", "bodies.py"),
     os.path.join(_ROOT, "physics", "end_conditions.py"),
     os.path.join(_ROOT, "numerics", "banded.py"),

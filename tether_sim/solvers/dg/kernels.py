@@ -34,12 +34,13 @@ from tether_sim.physics.constitutive import LAW_BILINEAR, LAW_LINEAR, LAW_TABLE,
 from tether_sim.physics.end_conditions import is_kinematic
 from tether_sim.physics.hydrodynamics import current_at, morison_drag, surface_drag, wetted_fraction
 from tether_sim.physics.seabed import seabed_force
+from tether_sim.physics.waves import wave_kinematics
 from tether_sim.solvers.dg.elementops import strong_derivative
 from tether_sim.solvers.dg.layout import (
     B_F, B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, F_NU, F_Q, F_V,
-    I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_SEABED, I_SURFACE,
+    I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_NWAVE, I_SEABED, I_SURFACE,
     M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDN_AIR, P_CDT, P_CDT_AIR, P_EA, P_FBZ, P_FBZ_AIR, P_GAMMA0,
-    P_HALF_RHO_D, P_HALF_RHO_D_AIR, P_SURF_B,
+    P_HALF_RHO_D, P_HALF_RHO_D_AIR, P_RHO_AH, P_SURF_B, P_TIME, P_WAVE_DEPTH, P_WAVE_ZCUT, N_PRM,
     P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_QPENT, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
     T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TE, W_TV, W_V, W_WET,
 )
@@ -342,6 +343,12 @@ def momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr,
     u1 = 0.0
     u2 = 0.0
     surface = iprm[I_SURFACE] != 0
+    nw = iprm[I_NWAVE]
+    o = N_PRM  # wave components (layout.py): amp, omega, k, cos, sin, phase
+    wamp, wom, wk = prm[o:o + nw], prm[o + nw:o + 2 * nw], prm[o + 2 * nw:o + 3 * nw]
+    wc, ws, wph = prm[o + 3 * nw:o + 4 * nw], prm[o + 4 * nw:o + 5 * nw], prm[o + 5 * nw:o + 6 * nw]
+    uw = tmp[3:6]
+    aw = tmp[6:9]
     for e in range(N):
         hq = h[e] / nq  # arc per Gauss point (free surface band)
         strong_derivative(h[e], D, Lf, wm, e, M_TV, 1.0, tr, T_TV, fl, F_V, wm, M_DT, 3)
@@ -376,9 +383,17 @@ def momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr,
                 u0 = tmp[0]
                 u1 = tmp[1]
                 u2 = tmp[2]
+            eta = 0.0
+            wave = nw > 0 and wq[e, j, W_R + 2] > prm[P_WAVE_ZCUT]
+            if wave:  # wave particle velocity (drag) and acceleration (inertia below), elevation (surface)
+                eta = wave_kinematics(wq[e, j, W_R], wq[e, j, W_R + 1], wq[e, j, W_R + 2], prm[P_TIME], wamp, wom, wk,
+                                      wc, ws, wph, prm[P_WAVE_DEPTH], uw, aw)
+                u0 += uw[0]
+                u1 += uw[1]
+                u2 += uw[2]
+            phi = 1.0
             fb = fbz
             if surface:  # wetted fraction over the band max(L_s / 2, vertical half-extent of the point's arc)
-                eta = 0.0
                 b = max(prm[P_SURF_B], 0.5 * hq * abs(wq[e, j, W_Q + 2]))
                 phi, _ = wetted_fraction(wq[e, j, W_R + 2], eta, b)
                 wq[e, j, W_WET] = phi
@@ -389,6 +404,15 @@ def momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr,
                 cn = g0 / (g0 + phi * prm[P_MN])
             else:
                 fx, fy, fz = morison_drag(i0, i1, i2, l, u0 - n0, u1 - n1, u2 - n2, hrd, cdt, cdn)
+            if wave:  # Froude-Krylov + added mass of the wave acceleration [Eq. 13 with a_w != 0]
+                wx, wy, wz = wave_inertia(i0, i1, i2, aw[0], aw[1], aw[2], prm[P_RHO_AH], prm[P_MT], prm[P_MN])
+                fx += phi * wx
+                fy += phi * wy
+                fz += phi * wz
+            if wave or current:
+                u0 = 0.0
+                u1 = 0.0
+                u2 = 0.0
             fx += d0
             fy += d1
             fz += d2 + fb
@@ -417,6 +441,18 @@ def momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr,
             dU[e, l, 3] = s0
             dU[e, l, 4] = s1
             dU[e, l, 5] = s2
+
+
+@jit
+def wave_inertia(i0, i1, i2, a0, a1, a2, rho_ah, m_t, m_n):
+    """rho_f A (a_w,perp + C_m,par a_w,par + C_m,perp a_w,perp) [PE2020 Eq. 13, the fluid part of a*]
+    = (rho_f A + m_n) a_w,perp + m_t a_w,par with A = pi d^2 / 4 (A of the added masses)."""
+    at = a0 * i0 + a1 * i1 + a2 * i2
+    p0 = at * i0
+    p1 = at * i1
+    p2 = at * i2
+    cn = rho_ah + m_n
+    return cn * (a0 - p0) + m_t * p0, cn * (a1 - p1) + m_t * p1, cn * (a2 - p2) + m_t * p2
 
 
 @jit

@@ -5,7 +5,8 @@ Work arrays: ``wq`` (N, Q, NWQ) values at the Gauss points, ``wm`` (N, P+1, NWM)
 coefficients, ``tr`` (N, 2, NTR) element traces (side 0 = left, xi = -1; 1 = right),
 ``fl`` (N+1, NFL) numerical fluxes at the N+1 interfaces (0 = ship end s = 0, N = vehicle end
 s = L), ``bc`` (2, N_BC) end data, ``vbc`` (2, 6) end kinematics, ``endf`` (2, N_ENDF) end loads;
-``prm`` / ``iprm`` the float / integer parameters. Each table below gives every column's name
+``prm`` / ``iprm`` the float / integer parameters (``prm`` is N_PRM + 6 n_w long: the wave components'
+arrays amp, omega, k, cos_dir, sin_dir, phase of physics/waves.py, n_w = iprm[I_NWAVE] each, follow the table). Each table below gives every column's name
 (a module constant = its offset, a compile-time constant in numba), width, symbol, unit and
 meaning; a vector column of width 3 holds x, y, z (world frame, ENU). Symbols: l = |q| (stretch,
 1 + eps), i = q / l (tangent), M* = M / l^2 [Eq. 19], T_s the bending shear force [Eq. 20].
@@ -53,6 +54,10 @@ define(globals(), "prm", [
     ("P_WLDOT", 1, "dL/dt", "m/s", "winch: pay-out rate at the current (stage) time, > 0 pays out"),
     ("P_WR0", 1, "dL/dt_0", "m/s", "winch: pay-out rate at the start of the tick"),
     ("P_WR1", 1, "dL/dt_1", "m/s", "winch: pay-out rate at the end of the tick (linear ramp between)"),
+    ("P_TIME", 1, "t", "s", "time of the right-hand-side evaluation (waves; written by stepper.dg_evaluate)"),
+    ("P_RHO_AH", 1, "rho_f pi d^2 / 4", "kg/m", "Froude-Krylov mass per metre (waves) [Eq. 13]"),
+    ("P_WAVE_DEPTH", 1, "h", "m", "water depth of the wave kinematics (inf: deep water)"),
+    ("P_WAVE_ZCUT", 1, "z_cut", "m", "below this height the wave kinematics are < 1e-4 of their surface value and skipped"),
 ], "N_PRM")
 
 define(globals(), "iprm", [
@@ -71,6 +76,7 @@ define(globals(), "iprm", [
     ("I_AXDAMP", 1, "-", "-", "any damping on: the strain-rate gradient is needed"),
     ("I_SURFACE", 1, "-", "-", "free surface on (wetted fraction per Gauss point)"),
     ("I_WINCH", 1, "-", "-", "winch end + 1 (0: no winch, 1: ship end s = 0, 2: vehicle end s = L)"),
+    ("I_NWAVE", 1, "n_w", "-", "wave components; their arrays follow N_PRM in prm (amp, omega, k, cos, sin, phase: n_w each)"),
 ], "N_IPRM")
 
 define(globals(), "bc", [

@@ -21,6 +21,7 @@ from tether_sim.physics.hydrodynamics import (
     added_mass_per_length, air_weight_per_length, current_table, net_weight_per_length,
 )
 from tether_sim.physics.statics import solve_static
+from tether_sim.physics.waves import wave_components
 from tether_sim.solvers.base import end_index
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.damping_layout import MODE_AXIAL, MODE_EXPLICIT, MODE_GENERAL
@@ -56,6 +57,7 @@ class DGCableSolver(OutputsMixin, WinchMixin):
         self.cz, self.cx, self.cy = current_table(env)
         self.prm, self.iprm = self._parameters(cab, env, opt)
         self._setup_winch(config)  # winch_driver.py (a moving end of the domain, winch.py)
+        self.prm = self._with_waves(config, cab, env, self.prm, self.iprm)
         self.bc = np.zeros((2, Y.N_BC))
         for e, ec in enumerate((config.ship_end, config.vehicle_end)):
             self.bc[e, Y.B_P0:Y.B_P0 + 3] = ec.position
@@ -155,6 +157,27 @@ class DGCableSolver(OutputsMixin, WinchMixin):
         ip[Y.I_SURFACE] = int(env.free_surface)
         ip[Y.I_NEEDPOS] = int(env.seabed or self.cz.size > 0 or env.free_surface)
         return prm, ip
+
+    def _with_waves(self, config, cab, env, prm, ip):
+        """prm with the wave components appended (layout.py), the Froude-Krylov mass and the depth
+        below which the wave kinematics are negligible (< 1e-4 of their surface value: skipped)."""
+        comps = wave_components(config)
+        n = int(np.asarray(comps.amp).size)
+        ip[Y.I_NWAVE] = n
+        prm[Y.P_RHO_AH] = env.fluid_density * math.pi * cab.diameter**2 / 4.0
+        prm[Y.P_WAVE_DEPTH] = float(comps.depth)
+        prm[Y.P_WAVE_ZCUT] = math.inf
+        if n == 0:
+            return prm
+        ip[Y.I_NEEDPOS] = 1
+        amp = np.abs(np.asarray(comps.amp, float))
+        kmin = float(np.min(np.asarray(comps.k, float)))
+        zcut = -float(amp.sum()) - math.log(1e4) / kmin if kmin > 0.0 else -math.inf
+        if math.isfinite(comps.depth) and kmin * comps.depth < math.log(1e4):
+            zcut = -math.inf  # shallow for its longest component: the kinematics reach the bottom
+        prm[Y.P_WAVE_ZCUT] = zcut
+        tail = [np.asarray(getattr(comps, f), float) for f in ("amp", "omega", "k", "cos_dir", "sin_dir", "phase")]
+        return np.ascontiguousarray(np.concatenate([prm] + tail))
 
     def _setup_damping(self, cab, env, opt):
         """dg.damping = implicit: the stepper gets prm/iprm without the damping terms (E of the

@@ -21,7 +21,7 @@ from tether_sim.solvers.dg.implicit_damping import damping_step
 from tether_sim.solvers.dg.kernels import dg_rhs, hermite_end
 from tether_sim.solvers.dg.layout import (
     E_F, E_T, F_V, I_ANCHOR, I_CURRENT, I_KIND0, I_LAW, I_N, I_SURFACE, P_GAMMA0, P_LAMBDA_BC, P_MN,
-    P_MT, P_RELAX, P_WL, T_LAM, T_Q, T_TV, T_V, W_I, W_WET,
+    P_MT, P_RELAX, P_TIME, P_WL, T_LAM, T_Q, T_TV, T_V, W_I, W_WET,
 )
 from tether_sim.solvers.dg.winch import (
     winch_active, winch_end_velocity, winch_length, winch_moving, winch_stage, winch_transport, winch_update,
@@ -51,6 +51,7 @@ def dg_evaluate(t, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz
     end forces (3) and tensions, added to endf, and the no-compression clip of velocity-end
     fluxes is applied to the sum (clip_end_fluxes)."""
     fill_end_kinematics(bc, iprm, t, vbc, bs, bp)
+    prm[P_TIME] = t  # the wave field is evaluated at the stage time (kernels.momentum_rate)
     winch = winch_active(prm, iprm)
     if winch:  # the material at the sheave moves along the tangent (winch.py)
         winch_end_velocity(U, prm, iprm, Tr, vbc)
