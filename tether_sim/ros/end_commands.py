@@ -67,6 +67,21 @@ class MotionSource:
         return np.array([0.0, 0.0, 0.0, 1.0])
 
 
+class SolverTimeMotion(MotionSource):
+    """An analytic motion evaluated at solver time (clock time minus the driver's anchor; 0 before the
+    solver starts): the node's RAO ship (motion.kind rao), so the ship and the waves on the cable, which
+    the solver evaluates at its own time, follow the same sea across re-synchronisations."""
+
+    def __init__(self, motion, driver):
+        super().__init__(motion)
+        self._driver = driver  # callable returning the SimulationDriver (None while it is being built)
+
+    def attachment_at(self, t):
+        d = self._driver()
+        tau = t - d.anchor if d is not None and d.solver is not None else 0.0
+        return super().attachment_at(tau)
+
+
 class EndCommands:
     """End commands and blends of :class:`~tether_sim.ros.driver.SimulationDriver` (module doc)."""
 

@@ -30,6 +30,7 @@ from tether_sim.io.params import load_config
 from tether_sim.physics.snap import SnapDetector
 from tether_sim.ros import convert, node_params
 from tether_sim.ros.driver import END_NAMES, SimulationDriver
+from tether_sim.ros.end_commands import SolverTimeMotion
 from tether_sim.ros.namespacing import retarget
 from tether_sim.ros.snap_markers import SnapMarkerPublisher
 from tether_sim.ros.tf import TfPublisher
@@ -61,7 +62,7 @@ class TetherSimNode(Node):
         self.inputs = {}
         self._last_log = {}  # key -> time.monotonic() of the last throttled log line
         for end in END_NAMES:
-            if getattr(self.config, f"{end}_end").kind == "prescribed":
+            if getattr(self.config, f"{end}_end").kind == "prescribed" and not self._ship_from_sea(end):
                 inp = EndPoseInput(end, getattr(node, f"{end}_attachment"), max_end_speed=node.max_end_speed,
                                    input_timeout=node.input_timeout, max_extrapolation=node.max_extrapolation,
                                    history_span=history_span(node), future_tolerance=node.future_stamp_tolerance,
@@ -74,7 +75,8 @@ class TetherSimNode(Node):
         # numba compile / cache load in a worker thread: logged when slow, stoppable by SIGINT/SIGTERM
         run_interruptibly(lambda: self._warm_up(solver_factory), log=self.get_logger().info,
                           should_stop=lambda: not self.context.ok(), what=f"{self.config.solver} solver warm-up")
-        self.driver = SimulationDriver(self.config, self.inputs, solver_factory=solver_factory,
+        self.driver = None
+        self.driver = SimulationDriver(self.config, self._sources(), solver_factory=solver_factory,
                                        wall_budget=node.tick_budget / node.output_rate)
         self.arc_lengths = np.linspace(0.0, self.config.cable.length, node.output_points)
         self.pubs = {}
@@ -96,6 +98,26 @@ class TetherSimNode(Node):
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.create_timer(1.0 / node.output_rate, self._on_tick)
         self.create_timer(1.0, self._publish_diagnostics)
+
+    def _ship_from_sea(self, end) -> bool:
+        """The ship end follows the RAO response to the configured sea (motion.kind rao), not a pose topic."""
+        return end == "ship" and self.config.motion.kind == "rao"
+
+    def _sources(self) -> dict:
+        """The driver's end sources: the pose inputs, and the RAO ship motion (in solver time) if configured."""
+        sources = dict(self.inputs)
+        if getattr(self.config, "ship_end").kind == "prescribed" and self._ship_from_sea("ship"):
+            from tether_sim.physics.motion import build_motion
+            from tether_sim.physics.waves import wave_components
+
+            try:
+                motion = build_motion(self.config.motion, self.config.ship_end.position, wave_components(self.config))
+            except (ValueError, OSError) as exc:
+                raise ConfigError(f"motion.kind rao: {exc}") from exc
+            sources["ship"] = SolverTimeMotion(motion, lambda: self.driver)
+            self.get_logger().info(f"ship end: RAO response to the {self.config.waves.kind} sea "
+                                   f"({self.config.motion.rao_path}); ship/pose is not subscribed")
+        return sources
 
     def _warm_up(self, solver_factory):
         """Build a throw-away solver, take two substeps and call every output the ticks use (state
