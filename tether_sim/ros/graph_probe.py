@@ -33,16 +33,17 @@ class GraphProbe:
         return waiting
 
     def prime(self, t_start_ns: int, pose_cdr: bytes, timeout_s: float, check,
-              measure_s: float = 0.0) -> tuple[float, float | None]:
+              measure_s: float = 0.0) -> tuple[float, float | None, float | None]:
         """Bring the node up before the replay, like a paused player; returns (wall time taken,
-        measured real-time factor or None).
+        measured real-time factor, measured tick load), each None when not measured.
 
         1. /clock runs up to ``measure_s + 2`` s before the record's start and holds there, with
            the record's first ship pose offered (stamped with the clock), until the node has built
            its solver (latched /tether/description) and stepped up to the held clock: building
            and the first steps (numba compilation) stay out of the replayed time.
         2. If ``measure_s`` > 0 the clock then runs in real time up to just before the start
-           while the node's /diagnostics real_time_factor is sampled (the ship is still at rest).
+           while the node's /diagnostics real_time_factor and tick_load (the fraction of wall
+           time the node spends in its ticks) are sampled (the ship is still at rest).
         The replay then continues the clock from the record's start."""
         t0 = time.monotonic()
         watch = _PrimeWatch(self, t_start_ns, pose_cdr, check)
@@ -63,9 +64,7 @@ class GraphProbe:
                             "the node did not catch up")
         finally:
             watch.close()
-        rtf = watch.rtf[1:]  # the first sample may include the start
-        measured = float(sorted(rtf)[len(rtf) // 2]) if rtf else None
-        return time.monotonic() - t0, measured
+        return time.monotonic() - t0, _median(watch.rtf), _median(watch.load)
 
     def _spin(self, seconds: float) -> None:
         from rclpy.executors import SingleThreadedExecutor
@@ -80,6 +79,12 @@ class GraphProbe:
             self._executor.shutdown()
         self.node.destroy_node()
         self.rclpy.try_shutdown(context=self.context)
+
+
+def _median(samples):
+    """Median of the samples after the first (which may include the start), None without any."""
+    rest = sorted(samples[1:])
+    return float(rest[len(rest) // 2]) if rest else None
 
 
 class _PrimeWatch:
@@ -101,7 +106,7 @@ class _PrimeWatch:
         self.clock_pub = node.create_publisher(Clock, "/clock", clock_qos())
         self.pose_pub = node.create_publisher(PoseStamped, "/ship/pose",
                                               QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT))
-        self.seen, self.latest, self.rtf, self.measuring = [], 0, [], False
+        self.seen, self.latest, self.rtf, self.load, self.measuring = [], 0, [], [], False
         latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                              durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self.subs = [node.create_subscription(TetherDescription, "/tether/description", self.seen.append, latched),
@@ -119,9 +124,10 @@ class _PrimeWatch:
             return
         for status in msg.status:
             for kv in status.values:
-                if kv.key == "real_time_factor":
+                sink = {"real_time_factor": self.rtf, "tick_load": self.load}.get(kv.key)
+                if sink is not None:
                     try:
-                        self.rtf.append(float(kv.value))
+                        sink.append(float(kv.value))
                     except ValueError:
                         pass
 

@@ -237,19 +237,32 @@ def _prime_node(probe: GraphProbe, first, args, group: ProcessGroup, node) -> No
                              f"{node.log_path}:\n{node.tail()}")
 
     auto = args.rate <= 0
-    took, rtf = probe.prime(first.log_time_ns, first.data, args.solver_timeout, check,
-                            measure_s=8.0 if auto else 0.0)
+    took, rtf, load = probe.prime(first.log_time_ns, first.data, args.solver_timeout, check,
+                                  measure_s=8.0 if auto else 0.0)
     say(f"the node is ready after {took:.1f} s")
-    if not auto:
-        return
-    if rtf is None:
-        args.rate = 1.0
-        say("could not measure the node's real-time factor; replaying in real time")
-        return
-    # 70 % of the measured speed, in steps of 0.05, at most real time
-    args.rate = max(0.05, min(1.0, math.floor(0.7 * rtf * 20) / 20))
-    say(f"the node runs at {rtf:.2f} x real time on this machine: replaying at "
-        f"x{args.rate:g}" + (" (slower than real time so that the node keeps up)" if args.rate < 1 else ""))
+    if auto:
+        args.rate = replay_rate(rtf, load)
+        if rtf is None:
+            say("could not measure the node's speed; replaying in real time")
+        else:
+            say(f"the node kept {rtf:.2f} x real time, its ticks taking {100 * (load or 0.0):.0f} % of the wall "
+                f"time: replaying at x{args.rate:g}" + (" (slower than real time so that the node keeps up)"
+                                                         if args.rate < 1 else ""))
+
+
+def replay_rate(rtf: float | None, load: float | None) -> float:
+    """Replay rate from what the node showed under a real-time clock, in steps of 0.05, between
+    0.05 and real time. ``load`` is the fraction of wall time the node spent in its ticks: when it
+    kept up (``rtf`` >= 0.95) it could run 1 / load x real time, and half of that is taken. When it
+    fell behind, or gave no load figure (an older node), 70 % of the simulated time it kept per
+    wall second (``rtf``). With neither figure, real time."""
+    if load is not None and load > 0.0 and (rtf is None or rtf >= 0.95):
+        rate = 0.5 / load
+    elif rtf is not None:
+        rate = 0.7 * rtf
+    else:
+        return 1.0
+    return max(0.05, min(1.0, math.floor(rate * 20) / 20))
 
 
 def _replay(root: Path, mcap: Path, args, group: ProcessGroup, node, record) -> None:
