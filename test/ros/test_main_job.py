@@ -48,3 +48,14 @@ def test_children_get_a_private_localhost_domain():
     assert env["ROS_DOMAIN_ID"] == "42" and env["ROS_AUTOMATIC_DISCOVERY_RANGE"] == "LOCALHOST"
     argv = command_for("tether-sim-record")
     assert argv[0].endswith("tether-sim-record") or argv[-1] == "tether-sim-record"
+
+
+def test_replay_rate_follows_the_measured_capacity():
+    """Half the measured capacity when the node kept up, 70 % of what it kept when it fell behind."""
+    from tether_sim.ros.main_job import replay_rate
+
+    assert replay_rate(0.99, 0.05) == 1.0  # 20x capacity: real time
+    assert replay_rate(1.0, 0.8) == 0.6  # 1.25x capacity: 0.625 -> 0.6
+    assert replay_rate(0.5, 0.9) == 0.35  # behind the clock: 0.7 x 0.5
+    assert replay_rate(None, None) == 1.0
+    assert replay_rate(0.01, None) == 0.05  # never below 0.05

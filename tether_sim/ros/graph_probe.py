@@ -33,96 +33,38 @@ class GraphProbe:
         return waiting
 
     def prime(self, t_start_ns: int, pose_cdr: bytes, timeout_s: float, check,
-              measure_s: float = 0.0) -> tuple[float, float | None]:
+              measure_s: float = 0.0) -> tuple[float, float | None, float | None]:
         """Bring the node up before the replay, like a paused player; returns (wall time taken,
-        measured real-time factor or None).
+        measured real-time factor, measured tick load), each None when not measured.
 
         1. /clock runs up to ``measure_s + 2`` s before the record's start and holds there, with
            the record's first ship pose offered (stamped with the clock), until the node has built
            its solver (latched /tether/description) and stepped up to the held clock: building
            and the first steps (numba compilation) stay out of the replayed time.
         2. If ``measure_s`` > 0 the clock then runs in real time up to just before the start
-           while the node's /diagnostics real_time_factor is sampled (the ship is still at rest).
+           while the node's /diagnostics real_time_factor and tick_load (the fraction of wall
+           time the node spends in its ticks) are sampled (the ship is still at rest).
         The replay then continues the clock from the record's start."""
-        from diagnostic_msgs.msg import DiagnosticArray
-        from geometry_msgs.msg import PoseStamped
-        from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-        from rclpy.serialization import deserialize_message
-        from rosgraph_msgs.msg import Clock
-        from tether_sim_msgs.msg import TetherDescription, TetherState
-
-        from tether_sim.ros.bag_common import clock_qos
-
-        node = self.node
-        clock_pub = node.create_publisher(Clock, "/clock", clock_qos())
-        pose_pub = node.create_publisher(PoseStamped, "/ship/pose",
-                                         QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT))
-        seen, latest, rtf = [], [0], []
-        measuring = [False]
-
-        def on_state(msg):
-            latest[0] = max(latest[0], msg.header.stamp.sec * 10**9 + msg.header.stamp.nanosec)
-
-        def on_diagnostics(msg):
-            for status in msg.status:
-                for kv in status.values:
-                    if kv.key == "real_time_factor" and measuring[0]:
-                        try:
-                            rtf.append(float(kv.value))
-                        except ValueError:
-                            pass
-
-        subs = [node.create_subscription(
-                    TetherDescription, "/tether/description", seen.append,
-                    QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
-                               durability=DurabilityPolicy.TRANSIENT_LOCAL)),
-                node.create_subscription(TetherState, "/tether/state", on_state, 10),
-                node.create_subscription(DiagnosticArray, "/diagnostics", on_diagnostics, 10)]
-        pose = deserialize_message(pose_cdr, PoseStamped)
-        clock = Clock()
         t0 = time.monotonic()
-        state = {"last_pose": -1.0}
-
-        def drive(clock_at, done, limit_s, what):
-            """Publish /clock = clock_at(elapsed) and the pose until done() (or fail after limit_s)."""
-            start = time.monotonic()
-            while not done():
-                check()
-                elapsed = time.monotonic() - start
-                if elapsed > limit_s:
-                    raise StepFailed(f"{what} within {limit_s:.0f} s (description seen: "
-                                     f"{bool(seen)}, last state {(latest[0] - t_start_ns) / 1e9:+.2f} s "
-                                     f"from the record's start)")
-                clock.clock.sec, clock.clock.nanosec = divmod(int(clock_at(elapsed)), 10**9)
-                clock_pub.publish(clock)
-                if time.monotonic() - state["last_pose"] >= 0.2:
-                    state["last_pose"] = time.monotonic()
-                    pose.header.stamp = clock.clock
-                    pose_pub.publish(pose)
-                self._spin(0.02)
-
+        watch = _PrimeWatch(self, t_start_ns, pose_cdr, check)
         hold_a = t_start_ns - int((measure_s + 0.05) * 1e9)
         try:
-            drive(lambda e: hold_a - int(1e9 * max(0.0, 2.0 - e)),
-                  lambda: seen and latest[0] >= hold_a - 500_000_000, timeout_s,
-                  "the node did not start its solver")
+            watch.drive(lambda e: hold_a - int(1e9 * max(0.0, 2.0 - e)),
+                        lambda: watch.seen and watch.latest >= hold_a - 500_000_000, timeout_s,
+                        "the node did not start its solver")
             if measure_s > 0:
-                measuring[0] = True
+                watch.measuring = True
                 t_m = time.monotonic()
-                drive(lambda e: hold_a + int(1e9 * min(e, measure_s)),
-                      lambda: time.monotonic() - t_m >= measure_s + 0.5, measure_s + 5, "measuring")
-                measuring[0] = False
+                watch.drive(lambda e: hold_a + int(1e9 * min(e, measure_s)),
+                            lambda: time.monotonic() - t_m >= measure_s + 0.5, measure_s + 5, "measuring")
+                watch.measuring = False
                 hold_b = t_start_ns - 50_000_000
-                drive(lambda e: hold_b, lambda: latest[0] >= hold_b - 1_000_000_000
-                      or time.monotonic() - t_m > 3 * measure_s, 4 * measure_s + 10,
-                      "the node did not catch up")
+                watch.drive(lambda e: hold_b, lambda: watch.latest >= hold_b - 1_000_000_000
+                            or time.monotonic() - t_m > 3 * measure_s, 4 * measure_s + 10,
+                            "the node did not catch up")
         finally:
-            for sub in subs:
-                node.destroy_subscription(sub)
-            node.destroy_publisher(pose_pub)
-            node.destroy_publisher(clock_pub)
-        measured = float(sorted(rtf[1:])[len(rtf[1:]) // 2]) if len(rtf) > 1 else None
-        return time.monotonic() - t0, measured
+            watch.close()
+        return time.monotonic() - t0, _median(watch.rtf), _median(watch.load)
 
     def _spin(self, seconds: float) -> None:
         from rclpy.executors import SingleThreadedExecutor
@@ -137,3 +79,79 @@ class GraphProbe:
             self._executor.shutdown()
         self.node.destroy_node()
         self.rclpy.try_shutdown(context=self.context)
+
+
+def _median(samples):
+    """Median of the samples after the first (which may include the start), None without any."""
+    rest = sorted(samples[1:])
+    return float(rest[len(rest) // 2]) if rest else None
+
+
+class _PrimeWatch:
+    """What GraphProbe.prime publishes (/clock, the held ship pose) and watches (the latched
+    description, the newest TetherState stamp, the node's real_time_factor diagnostics)."""
+
+    def __init__(self, probe: GraphProbe, t_start_ns: int, pose_cdr: bytes, check):
+        from diagnostic_msgs.msg import DiagnosticArray
+        from geometry_msgs.msg import PoseStamped
+        from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+        from rclpy.serialization import deserialize_message
+        from rosgraph_msgs.msg import Clock
+        from tether_sim_msgs.msg import TetherDescription, TetherState
+
+        from tether_sim.ros.bag_common import clock_qos
+
+        self.probe, self.t_start_ns, self.check = probe, t_start_ns, check
+        node = probe.node
+        self.clock_pub = node.create_publisher(Clock, "/clock", clock_qos())
+        self.pose_pub = node.create_publisher(PoseStamped, "/ship/pose",
+                                              QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT))
+        self.seen, self.latest, self.rtf, self.load, self.measuring = [], 0, [], [], False
+        latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.subs = [node.create_subscription(TetherDescription, "/tether/description", self.seen.append, latched),
+                     node.create_subscription(TetherState, "/tether/state", self._on_state, 10),
+                     node.create_subscription(DiagnosticArray, "/diagnostics", self._on_diagnostics, 10)]
+        self.pose = deserialize_message(pose_cdr, PoseStamped)
+        self.clock = Clock()
+        self.last_pose = -1.0
+
+    def _on_state(self, msg):
+        self.latest = max(self.latest, msg.header.stamp.sec * 10**9 + msg.header.stamp.nanosec)
+
+    def _on_diagnostics(self, msg):
+        if not self.measuring:
+            return
+        for status in msg.status:
+            for kv in status.values:
+                sink = {"real_time_factor": self.rtf, "tick_load": self.load}.get(kv.key)
+                if sink is not None:
+                    try:
+                        sink.append(float(kv.value))
+                    except ValueError:
+                        pass
+
+    def drive(self, clock_at, done, limit_s, what):
+        """Publish /clock = clock_at(elapsed) and the pose until done() (StepFailed after limit_s)."""
+        start = time.monotonic()
+        while not done():
+            self.check()
+            elapsed = time.monotonic() - start
+            if elapsed > limit_s:
+                raise StepFailed(f"{what} within {limit_s:.0f} s (description seen: "
+                                 f"{bool(self.seen)}, last state {(self.latest - self.t_start_ns) / 1e9:+.2f} s "
+                                 f"from the record's start)")
+            self.clock.clock.sec, self.clock.clock.nanosec = divmod(int(clock_at(elapsed)), 10**9)
+            self.clock_pub.publish(self.clock)
+            if time.monotonic() - self.last_pose >= 0.2:
+                self.last_pose = time.monotonic()
+                self.pose.header.stamp = self.clock.clock
+                self.pose_pub.publish(self.pose)
+            self.probe._spin(0.02)
+
+    def close(self):
+        node = self.probe.node
+        for sub in self.subs:
+            node.destroy_subscription(sub)
+        node.destroy_publisher(self.pose_pub)
+        node.destroy_publisher(self.clock_pub)

@@ -154,6 +154,27 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) ->
     mcap = out / MCAP_NAME
     if mcap.exists():
         mcap.unlink()
+    recorder, node = _start_recorder_and_node(root, mcap, args, group)
+    probe = GraphProbe()
+    try:
+        _wait_for_discovery(probe, args, group, node, recorder)
+        first = _replay_start(root, args, checked)
+        _prime_node(probe, first, args, group, node)
+    finally:
+        probe.close()
+    _replay(root, mcap, args, group, node, checked["record"])
+    time.sleep(1.0)  # the last ticks of the node reach the recorder
+    code_node = node.stop()
+    code_rec = recorder.stop(sig=signal.SIGTERM)
+    if code_rec != 0:
+        raise StepFailed(f"the recorder exited with {code_rec}; see {recorder.log_path}:\n{recorder.tail()}")
+    if code_node not in (0, -2, 130):
+        say(f"warning: the simulation node exited with {code_node}; see {node.log_path}")
+    return mcap
+
+
+def _start_recorder_and_node(root: Path, mcap: Path, args, group: ProcessGroup):
+    """The recorder (sim time, writing ``mcap``) and the simulation node with the job's parameters."""
     recorder = group.start("recorder", command_for("tether-sim-record") + [
         "--ros-args", "--params-file", str(root / "config/recorder.yaml"),
         "-p", f"output:={mcap}", "-p", "use_sim_time:=true"])
@@ -162,67 +183,95 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) ->
     say(f"started recorder (pid {recorder.proc.pid}) and simulation node (pid {node.proc.pid}) "
         f"in ROS_DOMAIN_ID={group.env['ROS_DOMAIN_ID']}; waiting for the node's outputs (its "
         f"warm-up only loads the kernels compiled in step 2) ...")
-    probe = GraphProbe()
-    try:
-        deadline = time.monotonic() + args.discovery_timeout
-        waiting = list(NODE_OUTPUTS)
-        while waiting:
-            group.check_alive()
-            if not node.alive or not recorder.alive:
-                gone = node if not node.alive else recorder
-                raise StepFailed(f"{gone.name} stopped during start-up; last lines of "
-                                 f"{gone.log_path}:\n{gone.tail()}")
-            if time.monotonic() > deadline:
-                raise StepFailed(f"after {args.discovery_timeout:.0f} s the recorder is still not "
-                                 f"subscribed to {', '.join(waiting)} (is the node publishing "
-                                 f"them?); node log {node.log_path}:\n{node.tail()}")
-            time.sleep(0.2)
-            waiting = probe.recorder_matched(NODE_OUTPUTS)
-        say("discovery complete: the recorder is subscribed to the node's outputs")
-        if args.start_offset is None:
-            args.start_offset, window, t_wave, height = largest_wave_window(root / RECORD)
-            if args.duration is None:
-                args.duration = window
-            say(f"window: {args.start_offset:.1f}-{args.start_offset + args.duration:.1f} s of the "
-                f"record, around its largest wave ({height:.2f} m peak to trough at {t_wave:.1f} s), "
-                f"starting where the ship moves slowest")
-        elif args.duration is None:
-            args.duration = 0.0
-        from tether_sim.io.mcap_log import iter_raw
+    return recorder, node
 
-        first = next(r for r in iter_raw(root / RECORD, ["/ship/pose"])
-                     if r.log_time_ns >= checked["record"].start_ns + int(args.start_offset * 1e9))
-        checked["t_record_s"] = first.log_time_ns / 1e9
-        say("holding /clock just before the replay's start while the node builds its solver ...")
 
-        def check():
-            group.check_alive()
-            if not node.alive:
-                raise StepFailed(f"the simulation node stopped while starting; last lines of "
-                                 f"{node.log_path}:\n{node.tail()}")
+def _wait_for_discovery(probe: GraphProbe, args, group: ProcessGroup, node, recorder) -> None:
+    """Until the recorder is subscribed to every node output (StepFailed after the timeout or when
+    either process stops)."""
+    deadline = time.monotonic() + args.discovery_timeout
+    waiting = list(NODE_OUTPUTS)
+    while waiting:
+        group.check_alive()
+        if not node.alive or not recorder.alive:
+            gone = node if not node.alive else recorder
+            raise StepFailed(f"{gone.name} stopped during start-up; last lines of "
+                             f"{gone.log_path}:\n{gone.tail()}")
+        if time.monotonic() > deadline:
+            raise StepFailed(f"after {args.discovery_timeout:.0f} s the recorder is still not "
+                             f"subscribed to {', '.join(waiting)} (is the node publishing "
+                             f"them?); node log {node.log_path}:\n{node.tail()}")
+        time.sleep(0.2)
+        waiting = probe.recorder_matched(NODE_OUTPUTS)
+    say("discovery complete: the recorder is subscribed to the node's outputs")
 
-        auto = args.rate <= 0
-        took, rtf = probe.prime(first.log_time_ns, first.data, args.solver_timeout, check,
-                                measure_s=8.0 if auto else 0.0)
-        say(f"the node is ready after {took:.1f} s")
-        if auto:
-            if rtf is None:
-                args.rate = 1.0
-                say("could not measure the node's real-time factor; replaying in real time")
-            else:
-                # 80 % of the measured speed, in steps of 0.05, at most real time
-                args.rate = max(0.05, min(1.0, math.floor(0.7 * rtf * 20) / 20))
-                say(f"the node runs at {rtf:.2f} x real time on this machine: replaying at "
-                    f"x{args.rate:g}" + (" (slower than real time so that the node keeps up)"
-                                         if args.rate < 1 else ""))
-    finally:
-        probe.close()
+
+def _replay_start(root: Path, args, checked: dict):
+    """The replay window (default: around the record's largest wave) and its first ship pose."""
+    if args.start_offset is None:
+        args.start_offset, window, t_wave, height = largest_wave_window(root / RECORD)
+        if args.duration is None:
+            args.duration = window
+        say(f"window: {args.start_offset:.1f}-{args.start_offset + args.duration:.1f} s of the "
+            f"record, around its largest wave ({height:.2f} m peak to trough at {t_wave:.1f} s), "
+            f"starting where the ship moves slowest")
+    elif args.duration is None:
+        args.duration = 0.0
+    from tether_sim.io.mcap_log import iter_raw
+
+    first = next(r for r in iter_raw(root / RECORD, ["/ship/pose"])
+                 if r.log_time_ns >= checked["record"].start_ns + int(args.start_offset * 1e9))
+    checked["t_record_s"] = first.log_time_ns / 1e9
+    return first
+
+
+def _prime_node(probe: GraphProbe, first, args, group: ProcessGroup, node) -> None:
+    """Hold /clock before the replay's start until the node has built its solver; with ``--rate``
+    <= 0 measure its speed and choose the replay rate from it."""
+    say("holding /clock just before the replay's start while the node builds its solver ...")
+
+    def check():
+        group.check_alive()
+        if not node.alive:
+            raise StepFailed(f"the simulation node stopped while starting; last lines of "
+                             f"{node.log_path}:\n{node.tail()}")
+
+    auto = args.rate <= 0
+    took, rtf, load = probe.prime(first.log_time_ns, first.data, args.solver_timeout, check,
+                                  measure_s=8.0 if auto else 0.0)
+    say(f"the node is ready after {took:.1f} s")
+    if auto:
+        args.rate = replay_rate(rtf, load)
+        if rtf is None:
+            say("could not measure the node's speed; replaying in real time")
+        else:
+            say(f"the node kept {rtf:.2f} x real time, its ticks taking {100 * (load or 0.0):.0f} % of the wall "
+                f"time: replaying at x{args.rate:g}" + (" (slower than real time so that the node keeps up)"
+                                                         if args.rate < 1 else ""))
+
+
+def replay_rate(rtf: float | None, load: float | None) -> float:
+    """Replay rate from what the node showed under a real-time clock, in steps of 0.05, between
+    0.05 and real time. ``load`` is the fraction of wall time the node spent in its ticks: when it
+    kept up (``rtf`` >= 0.95) it could run 1 / load x real time, and half of that is taken. When it
+    fell behind, or gave no load figure (an older node), 70 % of the simulated time it kept per
+    wall second (``rtf``). With neither figure, real time."""
+    if load is not None and load > 0.0 and (rtf is None or rtf >= 0.95):
+        rate = 0.5 / load
+    elif rtf is not None:
+        rate = 0.7 * rtf
+    else:
+        return 1.0
+    return max(0.05, min(1.0, math.floor(rate * 20) / 20))
+
+
+def _replay(root: Path, mcap: Path, args, group: ProcessGroup, node, record) -> None:
+    """The replay of the record's window with /clock at ``args.rate``, watched until it ends."""
     replay_args = ["--ros-args", "--params-file", str(root / "config/replay.yaml"),
                    "-p", f"input:={root / RECORD}", "-p", f"rate:={args.rate}",
                    "-p", f"start_offset_s:={args.start_offset}", "-p", f"duration_s:={args.duration}",
                    "-p", "wait_for_subscribers_s:=20.0", "-p", "topics:=['/ship/pose']"]
     replay = group.start("replay", command_for("tether-sim-replay") + replay_args)
-    record = checked["record"]
     span = (args.duration or (record.end_ns - record.start_ns) / 1e9 - args.start_offset) / args.rate
     stage("replay", f"{RECORD} at x{args.rate:g} (about {span:.0f} s of wall time)")
     t0, last_note = time.monotonic(), time.monotonic()
@@ -241,14 +290,6 @@ def run_live(root: Path, out: Path, args, group: ProcessGroup, checked: dict) ->
     if replay.proc.returncode != 0:
         raise StepFailed(f"the replay failed (exit {replay.proc.returncode}); last lines of "
                          f"{replay.log_path}:\n{replay.tail()}")
-    time.sleep(1.0)  # the last ticks of the node reach the recorder
-    code_node = node.stop()
-    code_rec = recorder.stop(sig=signal.SIGTERM)
-    if code_rec != 0:
-        raise StepFailed(f"the recorder exited with {code_rec}; see {recorder.log_path}:\n{recorder.tail()}")
-    if code_node not in (0, -2, 130):
-        say(f"warning: the simulation node exited with {code_node}; see {node.log_path}")
-    return mcap
 
 
 def print_findings(result: dict, static_expected, out: Path) -> None:

@@ -197,6 +197,15 @@ class TetherSimNode(Node):
         return now - self._first_tick >= self.config.node.input_timeout
 
     def _on_tick(self):
+        wall0 = time.perf_counter()
+        try:
+            self._tick()
+        finally:  # wall time inside the tick: the node's compute load (diagnostics tick_load)
+            busy = time.perf_counter() - wall0
+            self._period["busy"] += busy
+            self._period["tick_max"] = max(self._period["tick_max"], busy)
+
+    def _tick(self):
         now = self._now()
         if now <= 0.0:
             return  # use_sim_time and no /clock yet
@@ -294,7 +303,8 @@ class TetherSimNode(Node):
                "resyncs_recent": p["resyncs"], "capped_ticks": d.capped_ticks, "behind": p["behind"],
                "divergences": d.divergences, "error_recent": p["errors"] > 0, "last_error": d.last_error or "",
                "tick_errors": self.tick_errors, "tick_errors_recent": p["tick_errors"],
-               "last_tick_error": self.last_tick_error, "snaps": p["snaps"], "slack": dict(d.slack)}
+               "last_tick_error": self.last_tick_error, "snaps": p["snaps"], "slack": dict(d.slack),
+               "tick_load": p["busy"] / max(time.perf_counter() - p["wall0"], 1e-9), "tick_max_ms": 1e3 * p["tick_max"]}
         inputs = {}
         for end, inp in self.inputs.items():
             inputs[end] = inp.health(now)
@@ -306,7 +316,7 @@ class TetherSimNode(Node):
 def _new_period(inputs) -> dict:
     """Counters of one diagnostics period."""
     return {"snaps": 0, "errors": 0, "tick_errors": 0, "resyncs": 0, "rejected": {e: 0 for e in inputs},
-            "behind": False}
+            "behind": False, "busy": 0.0, "tick_max": 0.0, "wall0": time.perf_counter()}
 
 
 def history_span(node) -> float:

@@ -7,8 +7,9 @@ running the old machine code. Before anything is compiled, cache files of this p
 the newest source they may depend on are removed.
 """
 
-import glob
 import os
+
+from tether_sim.numerics.kernel_cache import drop_stale
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
 _ROOT = os.path.dirname(os.path.dirname(_HERE))  # tether_sim/
@@ -28,21 +29,4 @@ _PYTHON_ONLY = ("__init__.py", "cache.py", "chain.py", "initial.py", "newton.py"
 
 def drop_stale_kernel_cache() -> int:
     """Delete this package's numba cache files older than any dependency; returns how many."""
-    newest = 0.0
-    for pattern in _DEPENDENCIES:
-        for path in glob.glob(pattern):
-            if os.path.dirname(path) == _HERE and os.path.basename(path) in _PYTHON_ONLY:
-                continue
-            try:
-                newest = max(newest, os.path.getmtime(path))
-            except OSError:
-                pass
-    removed = 0
-    for path in glob.glob(os.path.join(_HERE, "__pycache__", "*.nb[ic]")):
-        try:
-            if os.path.getmtime(path) < newest:
-                os.remove(path)
-                removed += 1
-        except OSError:
-            pass  # another process got there first
-    return removed
+    return drop_stale(_HERE, _DEPENDENCIES, _PYTHON_ONLY)
