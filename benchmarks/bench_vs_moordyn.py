@@ -10,7 +10,10 @@ its 1 % rung of BENCHMARKS.md "Accuracy against cost" (0.71 % at 1730 m; 0.6 % a
 own finest rung). Cost: thread CPU per simulated second, best of --repeat runs of --duration s, DG
 and MoorDyn interleaved:
 
-- DG: a node tick = set_end_motion + advance_to(t + 0.02) + drain_end_tensions + end_forces();
+- DG: a node tick = solver.tick(t + 0.02, ship=(position, velocity)): the targets, the substeps,
+  the drain of the end tensions and the end loads in one compiled call (session 5; ``--compose``
+  also times the four calls set_end_motion + advance_to + drain_end_tensions + end_forces of
+  sessions 1-4, in the same run);
 - MoorDyn: moordyn.Step over 0.02 s with its largest stable internal step dividing 0.02 s
   (bench_moordyn.best_wall with NODE_STEP), the fairlead fed the same orbit.
 
@@ -55,10 +58,12 @@ def reference_peaks(length, alpha):
     return None
 
 
-def dg_cost(factory, mod, length, n, alpha, duration, cfl=0.8, quad_points=0, order=4):
+def dg_cost(factory, mod, length, n, alpha, duration, cfl=0.8, quad_points=0, order=4, path="tick"):
     """(thread CPU per simulated s of 50 Hz node ticks, (ship, vehicle) first snap peaks or None);
     construction and static solve excluded, the record of end tensions kept outside the timer.
-    quad_points > 0 sets dg.quad_points (0: the automatic (3P+1)//2 + 1 = 7 at P = 4)."""
+    quad_points > 0 sets dg.quad_points (0: the automatic (3P+1)//2 + 1 = 7 at P = 4).
+    path "tick": one solver.tick per node tick (one compiled call); "compose": set_end_motion +
+    advance_to + drain_end_tensions + end_forces (sessions 1-4; a tree without tick() uses it)."""
     cfg = mod.ropos_config(length, alpha=alpha, n_elements=n, order=order, cfl=cfl)
     if quad_points:
         cfg = replace(cfg, dg=replace(cfg.dg, quad_points=int(quad_points)))
@@ -67,15 +72,23 @@ def dg_cost(factory, mod, length, n, alpha, duration, cfl=0.8, quad_points=0, or
     ticks = int(round(duration * 50))
     cpu = 0.0
     rec = []
+    if not hasattr(sol, "tick"):
+        path = "compose"
     for k in range(ticks):
         t1 = (k + 1) / 50.0
         motion = mod.fairlead_motion(t1)
-        c = time.thread_time()
-        sol.set_end_motion("ship", *motion)
-        sol.advance_to(t1)
-        drained = sol.drain_end_tensions()
-        sol.end_forces()
-        cpu += time.thread_time() - c
+        if path == "tick":
+            c = time.thread_time()
+            out = sol.tick(t1, ship=motion)
+            cpu += time.thread_time() - c
+            drained = out.samples[:, :out.count].copy()
+        else:
+            c = time.thread_time()
+            sol.set_end_motion("ship", *motion)
+            sol.advance_to(t1)
+            drained = sol.drain_end_tensions()
+            sol.end_forces()
+            cpu += time.thread_time() - c
         rec.append(drained)
     peaks = None
     if duration >= WINDOW[1]:
@@ -101,12 +114,16 @@ def main(argv=None):
     ap.add_argument("--order", type=int, default=4, help="DG order P of the rungs")
     ap.add_argument("--quad-points", type=int, default=0, help="dg.quad_points of the DG runs (0: automatic)")
     ap.add_argument("--baseline")
+    ap.add_argument("--compose", action="store_true",
+                    help="also time this tree's DG through the composition of four calls per tick (old path)")
     ap.add_argument("--workdir", default="out/moordyn")
     args = ap.parse_args(argv)
     from tether_sim.solvers import factory
-    trees = [("dg", factory, rc)]
+    trees = [("dg", factory, rc, "tick")]
+    if args.compose:
+        trees.append(("dg_compose", factory, rc, "compose"))
     if args.baseline:
-        trees.append(("dg_base",) + load_baseline(args.baseline))
+        trees.append(("dg_base",) + tuple(load_baseline(args.baseline)) + ("tick",))
     Path(args.workdir).mkdir(parents=True, exist_ok=True)
     print(f"bench_vs_moordyn {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}; "
           f"thread CPU ms per simulated s, best of {args.repeat} x {args.duration:g} s, 50 Hz coupling", flush=True)
@@ -114,16 +131,16 @@ def main(argv=None):
         ap.error("--rungs needs one N per length")
     for i, length in enumerate(args.lengths):
         n = args.rungs[i] if args.rungs else RUNGS[length]
-        for _, fac, mod in trees:  # warm the JIT caches, untimed
+        for _, fac, mod, path in trees:  # warm the JIT caches, untimed
             for alpha in (0.0, 1.0):
-                dg_cost(fac, mod, length, n, alpha, 0.1, args.cfl, args.quad_points, args.order)
+                dg_cost(fac, mod, length, n, alpha, 0.1, args.cfl, args.quad_points, args.order, path)
         best, err = {}, {}
         dt_md = rc.moordyn_time_step(length, MOORDYN_SEGMENTS, bench_moordyn.NODE_STEP)
         for _ in range(args.repeat):
-            for name, fac, mod in trees:
+            for name, fac, mod, path in trees:
                 for alpha in (0.0, 1.0):
                     c, peaks = dg_cost(fac, mod, length, n, alpha, args.duration, args.cfl, args.quad_points,
-                                       args.order)
+                                       args.order, path)
                     best[(name, alpha)] = min(best.get((name, alpha), c), c)
                     err[(name, alpha)] = peak_error(peaks, reference_peaks(length, alpha))
             _, cpu = bench_moordyn.best_wall(length, MOORDYN_SEGMENTS, args.duration, bench_moordyn.NODE_STEP, dt_md,
@@ -132,7 +149,7 @@ def main(argv=None):
         md = best["md"]
         for alpha in (0.0, 1.0):
             line = f"  L={length:6.0f} alpha={alpha:g}: MoorDyn N={MOORDYN_SEGMENTS} {1e3 * md:7.2f} ms/s"
-            for name, _, _ in trees:
+            for name, _, _, _ in trees:
                 c = best[(name, alpha)]
                 e = err[(name, alpha)]
                 line += (f" | {name} N={n} P={args.order} cfl {args.cfl:g} {1e3 * c:7.2f} ms/s, "

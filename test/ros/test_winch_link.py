@@ -58,6 +58,25 @@ def test_the_schedule_drives_the_solver_length_through_the_pay_out_api():
     assert link.winch.speed == pytest.approx(-0.5) and link.winch.tension == pytest.approx(W + w * link.winch.length, rel=1e-3)
 
 
+def test_the_node_tick_call_runs_the_winch_like_advance_to():
+    """WinchedSolver.tick (the interface's one-call tick) applies the schedule before the interval
+    exactly as advance_to does: the same lengths, speeds and drained tensions, tick by tick."""
+    a = SimulationDriver(descent_config(), solver_factory=HangingCable)
+    b = SimulationDriver(descent_config(), solver_factory=HangingCable)
+    a.start(0.0)
+    b.start(0.0)
+    sa, sb = a.solver, b.solver
+    for k in range(1, 400):  # 8 s: the 1 m/s pay-out ramps up from t = 1 s
+        t = k / 50.0
+        out = sa.tick(t)
+        sb.advance_to(t)
+        times, ship, _ = sb.drain_end_tensions()
+        assert sa.unstretched_length == sb.unstretched_length
+        np.testing.assert_array_equal(out.ship_tension, ship)
+        assert out.loads[0, 3] == sb.end_forces().ship_tension
+    assert sa.unstretched_length == pytest.approx(200.0 + 0.25 * 2.0 ** 2 + (7.98 - 3.0), abs=1e-9)
+
+
 def test_a_topic_command_takes_over_and_a_bad_one_changes_nothing():
     driver = SimulationDriver(descent_config(), solver_factory=HangingCable)
     driver.start(0.0)

@@ -10,7 +10,7 @@ current value to ``rate`` over the next ``advance_to`` (so L follows the trapezo
 import numpy as np
 
 from tether_sim.errors import SolverDivergedError
-from tether_sim.solvers.base import EndForces, SolverState
+from tether_sim.solvers.base import EndForces, SolverState, compose_tick
 
 W, w = 43000.0, 25.0  # N, N/m: ROPOS cage and tether in water, rounded
 DT = 0.01
@@ -76,6 +76,9 @@ class HangingCable:
         t = np.array([x[0] for x in log])
         T = np.array([x[1] for x in log])
         return t, T, np.full(len(t), W)
+
+    def tick(self, t, ship=None, vehicle=None, drain=True):
+        return compose_tick(self, t, ship, vehicle, drain)
 
     def snapshot(self):
         return (self.time, self.L, self.rate, self.target_rate)

@@ -100,6 +100,15 @@ class WinchedSolver:
         self.winch_link.after(self.inner)
         return k
 
+    def tick(self, t, ship=None, vehicle=None, drain=True):
+        for end, motion in (("ship", ship), ("vehicle", vehicle)):  # the winch sees the tick's targets
+            if motion is not None:
+                self.inner.set_end_motion(end, *motion)
+        self.winch_link.before(self.inner, t)
+        out = self.inner.tick(t, drain=drain)
+        self.winch_link.after(self.inner)
+        return out
+
     def step(self, dt):
         self.winch_link.before(self.inner, self.inner.time + dt)
         self.inner.step(dt)

@@ -13,11 +13,17 @@ Contract
   the number of substeps. It raises ``SolverDivergedError`` when the state becomes non-finite.
 - ``drain_end_tensions()`` returns the end tensions at every substep since the last call, so that
   snap detection sees every peak even when the node samples at 50 Hz.
+- ``tick(t, ship=None, vehicle=None, drain=True)`` is one node tick: ``set_end_motion`` of the
+  ends given as (position, velocity), ``advance_to(t)``, ``drain_end_tensions()`` (unless
+  ``drain`` is false) and the end loads, returned as a :class:`TickOutput` of views that stay
+  valid until the next call on the solver. The results equal those of the composition; the DG
+  solver does it in one compiled call (no Python per substep, one call per tick), any other
+  solver by :func:`compose_tick`.
 - ``snapshot()`` / ``restore(snap)`` copy the full state (for recovery after divergence).
 """
 
 from dataclasses import dataclass, field
-from typing import Protocol, runtime_checkable
+from typing import NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -61,6 +67,62 @@ class BodyState:
     acceleration: np.ndarray  # (3,) m/s^2
 
 
+# columns of TickOutput.loads[end]: force by the cable on the end (N), axial end tension (N), moment (N m)
+LOAD_F, LOAD_T, LOAD_M = 0, 3, 4
+N_LOAD = 7
+
+
+class TickOutput(NamedTuple):
+    """One node tick's results (``tick``): views into the solver's arrays, valid until its next call."""
+
+    count: int  # end-tension samples drained by this tick (one per substep; the newest ring capacity kept)
+    samples: np.ndarray  # (3, >= count): rows t (s), T_ship (N), T_vehicle (N); the first count columns
+    loads: np.ndarray  # (2, >= N_LOAD): per end (0 ship, 1 vehicle) the columns LOAD_F, LOAD_T, LOAD_M
+    substeps: int = 0  # substeps taken (advance_to's return)
+
+    @property
+    def times(self):
+        return self.samples[0, :self.count]
+
+    @property
+    def ship_tension(self):
+        return self.samples[1, :self.count]
+
+    @property
+    def vehicle_tension(self):
+        return self.samples[2, :self.count]
+
+    def end_forces(self) -> "EndForces":
+        """The loads as an :class:`EndForces` (copies)."""
+        f = self.loads
+        return EndForces(ship_force=f[0, LOAD_F:LOAD_F + 3].copy(), vehicle_force=f[1, LOAD_F:LOAD_F + 3].copy(),
+                         ship_moment=f[0, LOAD_M:LOAD_M + 3].copy(), vehicle_moment=f[1, LOAD_M:LOAD_M + 3].copy(),
+                         ship_tension=float(f[0, LOAD_T]), vehicle_tension=float(f[1, LOAD_T]))
+
+
+def compose_tick(solver, t, ship=None, vehicle=None, drain=True) -> TickOutput:
+    """``tick`` as the composition of the interface's calls (the reference the DG solver's compiled
+    tick is tested against; the implementation of solvers without a compiled one)."""
+    for end, motion in (("ship", ship), ("vehicle", vehicle)):
+        if motion is not None:
+            position, velocity = motion
+            solver.set_end_motion(end, position, velocity)
+    substeps = solver.advance_to(t)
+    if drain:
+        times, t_ship, t_vehicle = solver.drain_end_tensions()
+        samples = np.vstack([np.asarray(times, float), np.asarray(t_ship, float), np.asarray(t_vehicle, float)])
+    else:
+        samples = np.zeros((3, 0))
+    f = solver.end_forces()
+    loads = np.zeros((2, N_LOAD))
+    for e, (force, tension, moment) in enumerate(((f.ship_force, f.ship_tension, f.ship_moment),
+                                                   (f.vehicle_force, f.vehicle_tension, f.vehicle_moment))):
+        loads[e, LOAD_F:LOAD_F + 3] = force
+        loads[e, LOAD_T] = tension
+        loads[e, LOAD_M:LOAD_M + 3] = moment
+    return TickOutput(samples.shape[1], samples, loads, substeps)
+
+
 @runtime_checkable
 class TetherSolver(Protocol):
     """What every tether solver provides."""
@@ -85,6 +147,8 @@ class TetherSolver(Protocol):
     def body_state(self, end: str) -> BodyState | None: ...
 
     def drain_end_tensions(self) -> tuple: ...  # (t (k,), T_ship (k,), T_vehicle (k,))
+
+    def tick(self, t: float, ship=None, vehicle=None, drain: bool = True) -> TickOutput: ...
 
     def snapshot(self) -> object: ...
 

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from tether_sim.errors import SolverDivergedError, UnstableTimeStepError
+from tether_sim.errors import UnstableTimeStepError
 from tether_sim.numerics.operators import element_operators, project_function
 from tether_sim.physics.bodies import BODY_STATE_SIZE, initial_body_state, pack_body_params, submerged_weight
 from tether_sim.physics.constitutive import TensionLaw
@@ -22,21 +22,18 @@ from tether_sim.physics.hydrodynamics import (
 )
 from tether_sim.physics.statics import solve_static
 from tether_sim.physics.waves import wave_components
-from tether_sim.solvers.base import end_index
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.damping_layout import MODE_AXIAL, MODE_EXPLICIT, MODE_GENERAL
 from tether_sim.solvers.dg.equilibrium import polish_equilibrium
 from tether_sim.solvers.dg.implicit_damping import DampingWork
-from tether_sim.solvers.dg.inputs import motion_floats
 from tether_sim.solvers.dg.outputs import OutputsMixin
 from tether_sim.solvers.dg.soa import TMP_HEAD, soa_scratch_size
-from tether_sim.solvers.dg.stepper import STATUS_DIVERGED
-from tether_sim.solvers.dg.tick import TG_P, TG_SET, TG_V, dg_tick, drain_now, evaluate_now, outputs_now
-from tether_sim.solvers.dg.timestep import stable_dt
+from tether_sim.solvers.dg.stepping import SteppingMixin
+from tether_sim.solvers.dg.tick import TG_SET
 from tether_sim.solvers.dg.winch_driver import WinchMixin
 from tether_sim.solvers.dg.workspace import Workspace
 
-class DGCableSolver(OutputsMixin, WinchMixin):
+class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
     """Discontinuous Galerkin cable solver [PE2020 Sec. 2-3]; see docs/dg_solver.md."""
 
     name = "dg"
@@ -84,6 +81,7 @@ class DGCableSolver(OutputsMixin, WinchMixin):
         self._buf = np.zeros((int(opt.tension_buffer), 3))
         self._cnt = np.zeros(1, dtype=np.int64)
         self._out = np.zeros(2)
+        self._tick_in = np.zeros((2, 6))  # tick(): targets of the driven ends, tick.node_tick's tin
         self._plans = {}
         self._outputs_valid = False  # the output work arrays hold the evaluation at the current state
         self._want_outputs = False  # outputs were asked for: the tick evaluates them (tick.py)
@@ -341,106 +339,6 @@ class DGCableSolver(OutputsMixin, WinchMixin):
                 self.ws.ends[e] = saved[e]
         self._outputs_valid = False
         self.drain_end_tensions()
-
-    # ------------------------------------------------------------------ time step
-    def stable_time_step(self, h=None) -> float:
-        """Automatic substep = dg.cfl x the stability limit of docs/dg_solver.md (element sizes h)."""
-        cab, env = self.config.cable, self.config.environment
-        kd = env.seabed_stiffness * cab.diameter if env.seabed else 0.0
-        return self.config.dg.cfl * stable_dt(self.h if h is None else h, self.P, self.law.max_slope(), cab.gamma0, cab.damping,
-                                              cab.EI, cab.bending_damping, self.config.dg.lambda_floor,
-                                              kd, env.seabed_damping, self._damp.mode != MODE_EXPLICIT)
-
-    def _substep(self):
-        return self.fixed_dt if self.fixed_dt > 0 else self._dt_rule
-
-    # ------------------------------------------------------------------ ends
-    def set_end_motion(self, end, position, velocity) -> None:
-        """Target position/velocity of a prescribed end at the target time of the next advance_to."""
-        e = end_index(end)
-        if self.ends[e].position != "motion":
-            raise ValueError(f"set_end_motion: the {end} end is {self.kinds[e]!r}, not 'prescribed'")
-        vals = motion_floats(position, velocity)
-        if not all(map(math.isfinite, vals)):
-            raise ValueError(f"set_end_motion: non-finite position or velocity for the {end} end")
-        tg = self.ws.target[e]  # element-wise stores: cheaper than numpy converting a tuple
-        tg[TG_P], tg[TG_P + 1], tg[TG_P + 2] = vals[0:3]
-        tg[TG_V], tg[TG_V + 1], tg[TG_V + 2] = vals[3:6]
-        tg[TG_SET] = 1.0
-
-    def set_end_load(self, end, force, moment=(0.0, 0.0, 0.0)) -> None:
-        """Point force (and moment) applied on a force end (held until changed)."""
-        e = end_index(end)
-        if self.ends[e].load != "applied":
-            raise ValueError(f"set_end_load: the {end} end is {self.kinds[e]!r}, not 'force'")
-        f = np.asarray(force, float).reshape(3)
-        m = np.asarray(moment, float).reshape(3)
-        if not (np.all(np.isfinite(f)) and np.all(np.isfinite(m))):
-            raise ValueError(f"set_end_load: non-finite load for the {end} end")
-        self.bc[e, Y.B_F:Y.B_F + 3] = f
-        self.bc[e, Y.B_M:Y.B_M + 3] = m
-        self._outputs_valid = False
-
-    # ------------------------------------------------------------------ stepping
-    def _run(self, nsteps, dt, t_end):
-        """One compiled call (tick.dg_tick): driven ends, nsteps substeps of dt, end bookkeeping and,
-        when outputs are being read, their evaluation at t_end."""
-        ws = self.ws
-        self._outputs_valid = False
-        winch = self._winch_moving()
-        status = dg_tick(ws.F, ws.I, ws.spec, self.time, t_end, nsteps, dt, self._want_outputs)
-        if status == STATUS_DIVERGED:
-            done = int(self._out[0])
-            raise SolverDivergedError(
-                f"DG state became non-finite at t = {self.time + (done + 1) * dt:.6g} s "
-                f"(substep {dt:.3g} s); restore a snapshot and reduce dg.cfl or check the inputs")
-        self.time = t_end
-        if winch:
-            self._winch_sync()
-        self._outputs_valid = self._want_outputs
-        return nsteps
-
-    def advance_to(self, t) -> int:
-        """Advance to time t in equal stable substeps (compiled loop); returns the substep count."""
-        t = float(t)
-        if not math.isfinite(t) or t < self.time - 1e-12:
-            raise ValueError(f"advance_to: target time {t} is before the current time {self.time}")
-        span = t - self.time
-        if span <= 0.0:
-            return 0
-        n = max(1, math.ceil(span / (self._winch_substep(span) or self._substep()) * (1.0 - 1e-12)))
-        return self._run(n, span / n, t)
-
-    def step(self, dt) -> None:
-        """One substep of size dt (UnstableTimeStepError above the stability limit)."""
-        limit = self._dt_rule / self.config.dg.cfl
-        if self._winch_moving() and dt > 0:
-            limit = min(limit, self._winch_limit(float(dt)))
-        if dt <= 0 or dt > limit:
-            raise UnstableTimeStepError(f"step: dt = {dt:g} s outside (0, {limit:g}] s (stability limit)")
-        self._run(1, float(dt), self.time + float(dt))
-
-    # ------------------------------------------------------------------ outputs
-    def _evaluate(self):
-        """A full right-hand-side evaluation at the current state (dU, endf, work arrays)."""
-        self._outputs_valid = False
-        evaluate_now(self.ws.F, self.ws.I, self.ws.spec, self.time)
-
-    def _evaluate_outputs(self):
-        """What the outputs (state(), end_forces(), body_state()) read of a right-hand-side evaluation
-        at the current state (end loads, modal work channels; sampling.evaluate_outputs). Done once
-        per state: by the tick itself once outputs have been asked for (a node asking for all three
-        per tick pays for one evaluation, inside the tick's compiled call), else here."""
-        self._want_outputs = True
-        if not self._outputs_valid:
-            outputs_now(self.ws.F, self.ws.I, self.ws.spec, self.time)
-            self._outputs_valid = True
-
-    def drain_end_tensions(self):
-        """(t, T_ship, T_vehicle) at the start of every substep since the last call (newest cap kept)."""
-        n = drain_now(self.ws.F, self.ws.I, self.ws.spec)
-        t, ship, vehicle = self.ws.drain[:, :n].copy()  # one copy; rows are views of it
-        return t, ship, vehicle
 
     def snapshot(self):
         return dict(time=self.time, U=self.U.copy(), ra=self.ra.copy(), bc=self.bc.copy(), bodies=self._bs.copy(),

@@ -13,7 +13,13 @@ Python per substep and only the call itself per tick:
    end_forces() and body_state() after the tick need no further right-hand side.
 
 The arrays come from the arenas of workspace.py (three array arguments per call).
+
+``node_tick`` is what a node (or a benchmark coupled at its rate) calls once per tick: the driven
+ends' new targets, ``dg_tick`` with the outputs, and the drain of the end-tension ring, in one
+compiled call (solver.tick, the interface's ``tick``).
 """
+
+import math
 
 from tether_sim.numerics.jit import jit
 from tether_sim.physics.end_conditions import is_driven
@@ -22,7 +28,7 @@ from tether_sim.solvers.dg.layout import B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, I_K
 from tether_sim.solvers.dg.sampling import evaluate_outputs
 from tether_sim.solvers.dg.stepper import STATUS_OK, dg_advance, dg_evaluate
 from tether_sim.solvers.dg.winch import winch_finish, winch_moving
-from tether_sim.solvers.dg.workspace import SLOT, X_DRAIN, X_DRAINED, _f1, _f2, bind, bind_driver
+from tether_sim.solvers.dg.workspace import SLOT, X_DRAIN, X_DRAINED, X_TARGET, _f1, _f2, bind, bind_driver
 
 # slot indices used below (compile-time constants)
 _U, _PRM_STEP, _H, _V, _PJ, _D, _LF, _TR = (SLOT[n] for n in ("U", "prm_step", "h", "V", "Pj", "D", "Lf", "Tr"))
@@ -35,6 +41,10 @@ _BUF, _CNT, _HW = SLOT["buf"], SLOT["cnt"], SLOT["hw"]
 TG_SET, TG_P, TG_V = 0, 1, 4
 # ends[end, :]: position (m) 0:3 and velocity (m/s) 3:6 of a driven end at the solver time
 EN_P, EN_V = 0, 3
+# node_tick's input tin[end, :]: position (m) 0:3 and velocity (m/s) 3:6 of a driven end at t1
+TI_P, TI_V = 0, 3
+# node_tick's results below zero: the stepper's status s as -1 - s; a non-finite row e of tin as BAD_INPUT - e
+BAD_INPUT = -10
 
 
 @jit
@@ -161,3 +171,30 @@ def drain_ring(buf, cnt, drained, dst):
         dst[1, k] = buf[slot, 1]
         dst[2, k] = buf[slot, 2]
     return n
+
+
+@jit
+def node_tick(F, I, S, tin, ends_set, t0, t1, nsteps, dt, drain):
+    """One node tick (module docstring): for every end e with bit e of ends_set, the target of
+    set_end_motion from tin[e]; dg_tick(t0 -> t1, nsteps of dt) with the outputs; then, if drain,
+    the ring of end tensions into the drain slot. Returns the number of drained samples (>= 0),
+    -1 - status when the stepper stopped, or BAD_INPUT - e when tin[e] is not finite (nothing
+    was changed then)."""
+    for e in range(2):
+        if ends_set >> e & 1:
+            for c in range(6):
+                if not math.isfinite(tin[e, c]):
+                    return BAD_INPUT - e
+    target = _f2(F, S, X_TARGET)
+    for e in range(2):
+        if ends_set >> e & 1:
+            for c in range(3):
+                target[e, TG_P + c] = tin[e, TI_P + c]
+                target[e, TG_V + c] = tin[e, TI_V + c]
+            target[e, TG_SET] = 1.0
+    status = dg_tick(F, I, S, t0, t1, nsteps, dt, True)
+    if status != STATUS_OK:
+        return -1 - status
+    if not drain:
+        return 0
+    return drain_now(F, I, S)

@@ -15,7 +15,7 @@ from tether_sim.numerics.gen_alpha import gen_alpha_coefficients
 from tether_sim.numerics.rotations import rotate_frame
 from tether_sim.physics.bodies import body_acceleration, pack_body_params, submerged_weight
 from tether_sim.physics.end_conditions import end_kind
-from tether_sim.solvers.base import BodyState, EndForces, SolverState, end_index
+from tether_sim.solvers.base import BodyState, EndForces, SolverState, compose_tick, end_index
 from tether_sim.solvers.hybrid import zoning
 from tether_sim.solvers.hybrid.chain import build_chain, rod_blocks
 from tether_sim.solvers.hybrid.initial import InitialStateMixin
@@ -172,6 +172,10 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         t, a, b = (np.asarray(x, dtype=float) for x in self._record)
         self._record = ([], [], [])
         return t, a, b
+
+    def tick(self, t, ship=None, vehicle=None, drain=True):
+        """One node tick (base.py's contract) as the composition of the calls above."""
+        return compose_tick(self, t, ship, vehicle, drain)
 
     def snapshot(self):
         return copy.deepcopy({"Y": self.Y, "Yt": self.Yt, "Lf": self.Lf, "zones": self.zones, "time": self.time,
