@@ -79,48 +79,32 @@ def element_starts(U, ra, h, iprm, starts):
 
 
 @jit
+def _at3(w, p, arr, e, col):
+    """sum_k w[p, k] arr[e, k, col + c] for c = 0, 1, 2: a three-component channel of element e at
+    point p from its modes (w = phi for values, iphi for integrals)."""
+    a0 = 0.0
+    a1 = 0.0
+    a2 = 0.0
+    for k in range(arr.shape[1]):
+        a = w[p, k]
+        a0 += a * arr[e, k, col]
+        a1 += a * arr[e, k, col + 1]
+        a2 += a * arr[e, k, col + 2]
+    return a0, a1, a2
+
+
+@jit
 def sample_state(U, ra, wm, h, iprm, g0, law, EA, zeta, tab_eps, tab_T, elem, phi, iphi, starts, out):
     """Fill out (NS, n) at the points of a sampling plan (module docstring)."""
     element_starts(U, ra, h, iprm, starts)
-    n = elem.shape[0]
-    nm = U.shape[1]
     bending = iprm[I_BENDING] != 0
     ig0 = 1.0 / g0
-    for p in range(n):
+    for p in range(elem.shape[0]):
         e = elem[p]
-        q0 = 0.0
-        q1 = 0.0
-        q2 = 0.0
-        v0 = 0.0
-        v1 = 0.0
-        v2 = 0.0
-        d0 = 0.0
-        d1 = 0.0
-        d2 = 0.0
-        r0 = 0.0
-        r1 = 0.0
-        r2 = 0.0
-        t0 = 0.0
-        t1 = 0.0
-        t2 = 0.0
-        for k in range(nm):
-            a = phi[p, k]
-            b = iphi[p, k]
-            q0 += a * U[e, k, 0]
-            q1 += a * U[e, k, 1]
-            q2 += a * U[e, k, 2]
-            v0 += a * U[e, k, 3]
-            v1 += a * U[e, k, 4]
-            v2 += a * U[e, k, 5]
-            d0 += a * wm[e, k, M_NUS]
-            d1 += a * wm[e, k, M_NUS + 1]
-            d2 += a * wm[e, k, M_NUS + 2]
-            t0 += a * wm[e, k, M_TV]
-            t1 += a * wm[e, k, M_TV + 1]
-            t2 += a * wm[e, k, M_TV + 2]
-            r0 += b * U[e, k, 0]
-            r1 += b * U[e, k, 1]
-            r2 += b * U[e, k, 2]
+        q0, q1, q2 = _at3(phi, p, U, e, 0)
+        v0, v1, v2 = _at3(phi, p, U, e, 3)
+        d0, d1, d2 = _at3(phi, p, wm, e, M_NUS)
+        r0, r1, r2 = _at3(iphi, p, U, e, 0)
         hh = 0.5 * h[e]
         out[S_POS, p] = starts[e, 0] + hh * r0
         out[S_POS + 1, p] = starts[e, 1] + hh * r1
@@ -136,41 +120,28 @@ def sample_state(U, ra, wm, h, iprm, g0, law, EA, zeta, tab_eps, tab_T, elem, ph
         eps = l - 1.0
         out[S_STRAIN, p] = eps
         out[S_TENSION, p] = axial_tension(law, eps, i0 * d0 + i1 * d1 + i2 * d2, EA, zeta, tab_eps, tab_T)
-        out[S_TV, p] = t0
-        out[S_TV + 1, p] = t1
-        out[S_TV + 2, p] = t2
+        out[S_TV, p], out[S_TV + 1, p], out[S_TV + 2, p] = _at3(phi, p, wm, e, M_TV)
         for c in range(S_CURV, S_SHEAR + 3):
             out[c, p] = 0.0
         if bending:
-            k0 = 0.0
-            k1 = 0.0
-            k2 = 0.0
-            m0 = 0.0
-            m1 = 0.0
-            m2 = 0.0
-            u0 = 0.0
-            u1 = 0.0
-            u2 = 0.0
-            for k in range(nm):
-                a = phi[p, k]
-                k0 += a * wm[e, k, M_KAP]
-                k1 += a * wm[e, k, M_KAP + 1]
-                k2 += a * wm[e, k, M_KAP + 2]
-                m0 += a * wm[e, k, M_MS]
-                m1 += a * wm[e, k, M_MS + 1]
-                m2 += a * wm[e, k, M_MS + 2]
-                u0 += a * wm[e, k, M_TAU]
-                u1 += a * wm[e, k, M_TAU + 1]
-                u2 += a * wm[e, k, M_TAU + 2]
-            l2 = l * l
-            m0 *= l2
-            m1 *= l2
-            m2 *= l2
-            out[S_CURV, p] = np.sqrt(k0 * k0 + k1 * k1 + k2 * k2)
-            out[S_MOMENT, p] = np.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
-            out[S_MVEC, p] = m0
-            out[S_MVEC + 1, p] = m1
-            out[S_MVEC + 2, p] = m2
-            out[S_SHEAR, p] = (i1 * u2 - i2 * u1) * il
-            out[S_SHEAR + 1, p] = (i2 * u0 - i0 * u2) * il
-            out[S_SHEAR + 2, p] = (i0 * u1 - i1 * u0) * il
+            _bending_at(phi, p, wm, e, l, il, i0, i1, i2, out)
+
+
+@jit
+def _bending_at(phi, p, wm, e, l, il, i0, i1, i2, out):
+    """Curvature |kappa|, bending moment |M| and M = l^2 M*, shear force (1/l) i x tau at point p."""
+    k0, k1, k2 = _at3(phi, p, wm, e, M_KAP)
+    m0, m1, m2 = _at3(phi, p, wm, e, M_MS)
+    u0, u1, u2 = _at3(phi, p, wm, e, M_TAU)
+    l2 = l * l
+    m0 *= l2
+    m1 *= l2
+    m2 *= l2
+    out[S_CURV, p] = np.sqrt(k0 * k0 + k1 * k1 + k2 * k2)
+    out[S_MOMENT, p] = np.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
+    out[S_MVEC, p] = m0
+    out[S_MVEC + 1, p] = m1
+    out[S_MVEC + 2, p] = m2
+    out[S_SHEAR, p] = (i1 * u2 - i2 * u1) * il
+    out[S_SHEAR + 1, p] = (i2 * u0 - i0 * u2) * il
+    out[S_SHEAR + 2, p] = (i0 * u1 - i1 * u0) * il
