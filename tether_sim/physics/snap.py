@@ -207,6 +207,15 @@ class SnapDetector:
         self._thresholds[:, 1] = np.maximum(config.retension_fraction * np.abs(self.static_tensions), slack)
         self._thresholds[:, 2] = config.snap_fraction * np.abs(self.static_tensions)
 
+    def set_static_tensions(self, static_tensions) -> None:
+        """New reference (static) tensions, e.g. as a winch changes the length; thresholds follow, the
+        state (slack or not, an open re-tensioning window) of every location is kept."""
+        values = np.asarray(static_tensions, dtype=np.float64).reshape(-1)
+        if values.shape != self.static_tensions.shape or not np.all(np.isfinite(values)):
+            raise ValueError(f"snap detector: {self.static_tensions.size} finite static tensions needed, got {values}")
+        self.static_tensions = values
+        self.set_config(self.config)
+
     @property
     def thresholds(self) -> np.ndarray:
         """(n_loc,) slack thresholds in N."""

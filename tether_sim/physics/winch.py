@@ -37,6 +37,8 @@ max_length`` always holds. The flags of :class:`WinchState` say which limit cut 
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from tether_sim.errors import ConfigError
 from tether_sim.spec import param
 
@@ -135,6 +137,25 @@ class Schedule:
             out.append(self.entries[self.next])
             self.next += 1
         return out
+
+
+def static_end_tensions(forces, upper: int, weight_per_length: float, paid_out: float) -> tuple:
+    """Static end tensions (ship, vehicle) after ``paid_out`` metres (negative: hauled in) of cable
+    were added to a static state whose end forces (by the cable on each end, world frame, N) are
+    ``forces`` (2, 3). The added cable's weight in water, w x paid_out, is carried by the ``upper``
+    end (0 ship, 1 vehicle) as vertical force; the horizontal forces and the other end are kept:
+
+        T_upper = sqrt(H^2 + (|F_z| + w x paid_out)^2),   T_other unchanged.
+
+    Exact for a cable hanging a load that is free to move (the ROV or cage below the ship, in still
+    water: H = 0 and T = W_load + w L at the top); with a fixed far end or a current it is the
+    first-order estimate (the added weight changes the shape, hence H, only at second order)."""
+    f = np.asarray(forces, float).reshape(2, 3)
+    out = [float(np.linalg.norm(f[0])), float(np.linalg.norm(f[1]))]
+    h = math.hypot(f[upper, 0], f[upper, 1])
+    v = max(abs(f[upper, 2]) + weight_per_length * paid_out, 0.0)
+    out[upper] = math.hypot(h, v)
+    return out[0], out[1]
 
 
 def braking_speed(distance: float, max_speed: float, max_acceleration: float, gain: float) -> float:

@@ -111,6 +111,7 @@ class SimulationDriver(EndCommands, BodyFrame):
         self.real_time_factor = 0.0
         self._last_wall = None
         self.static_tensions = (0.0, 0.0)
+        self._reference = None  # winch_link.LengthReference while a winch changes the length
         self.detector = self.span_detector = None
         self.slack = {"ship": False, "vehicle": False}
         self.static_by_location = {}
@@ -282,6 +283,10 @@ class SimulationDriver(EndCommands, BodyFrame):
             self._build_detector()  # fresh: nothing carries across the discontinuity
             keep = np.asarray(times) + self.anchor >= self.stamp - 1e-12
             times, t_ship, t_vehicle = np.asarray(times)[keep], np.asarray(t_ship)[keep], np.asarray(t_vehicle)[keep]
+        if self._reference is not None:  # the references follow the winch's length (docs/winch.md)
+            refs = self._reference.tensions(self.solver.unstretched_length)
+            self.detector.set_static_tensions(refs)
+            self.static_by_location.update(zip(END_NAMES, refs))
         if len(times):
             report.events = self.detector.update(np.asarray(times) + self.anchor,
                                                  np.column_stack([t_ship, t_vehicle]))
@@ -333,6 +338,7 @@ class SimulationDriver(EndCommands, BodyFrame):
         self._held = {end: False for end in self._end_state}
         forces = self.solver.end_forces()
         self.static_tensions = (float(forces.ship_tension), float(forces.vehicle_tension))
+        self._reference = winch_link.length_reference(self.solver, self.config)  # None without a winch
         if hasattr(self, "_span_static"):
             del self._span_static
         self._build_detector()

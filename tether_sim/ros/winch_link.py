@@ -16,8 +16,11 @@ after a divergence) starts at the winch's current length, not at ``cable.length`
 
 from dataclasses import replace
 
+import numpy as np
+
 from tether_sim.errors import ConfigError
-from tether_sim.physics.winch import Schedule, Winch, command_problem
+from tether_sim.physics.hydrodynamics import net_weight_per_length
+from tether_sim.physics.winch import Schedule, Winch, command_problem, static_end_tensions
 
 END_TENSION = {"ship": "ship_tension", "vehicle": "vehicle_tension"}
 
@@ -124,6 +127,28 @@ class WinchedSolver:
         link = self.winch_link
         link.winch.restore(winch)
         link.schedule.next, link.offset = schedule_next, offset
+
+
+class LengthReference:
+    """The snap detector's reference (static) end tensions as the winch changes the length
+    (physics.winch.static_end_tensions from the static state the solver was built in)."""
+
+    def __init__(self, solver, config):
+        f = solver.end_forces()
+        self.forces = np.array([f.ship_force, f.vehicle_force], float)
+        z = solver.state(np.array([0.0, solver.unstretched_length])).position[:, 2]
+        self.upper = 0 if z[0] >= z[1] else 1  # the end that carries the weight of the added cable
+        self.weight = net_weight_per_length(config.cable, config.environment)
+        self.length0 = float(solver.unstretched_length)
+
+    def tensions(self, length: float) -> tuple:
+        """(ship, vehicle) reference tensions at unstretched length ``length`` (m)."""
+        return static_end_tensions(self.forces, self.upper, self.weight, float(length) - self.length0)
+
+
+def length_reference(solver, config):
+    """A :class:`LengthReference` for a solver built with the winch on, else None."""
+    return LengthReference(solver, config) if config.winch.enabled else None
 
 
 def wrap_factory(config, factory):
