@@ -163,3 +163,18 @@ def test_report_of_a_truncated_file_says_so(tmp_path, prefix, store, capsys):
     empty.write_bytes(single.read_bytes()[: single.stat().st_size // 2])
     assert main([str(empty), "--out-dir", str(tmp_path / "fig2")]) == 2
     assert "truncated" in capsys.readouterr().err
+
+
+def test_threshold_series_follows_the_warnings_in_time():
+    """A winch run's threshold changes with the length: each instant takes the latest warning's
+    threshold (the first one before any), so a dip is judged against the threshold of its time."""
+    from tether_sim.report import below_intervals, threshold_series
+
+    t = np.arange(0.0, 10.0, 1.0)
+    warned = [(7.0, 8000.0), (2.0, 5000.0)]  # unsorted on purpose
+    thr = threshold_series(t, warned)
+    np.testing.assert_array_equal(thr, [5000.0] * 7 + [8000.0] * 3)
+    tension = np.array([9e3, 9e3, 4e3, 9e3, 9e3, 6e3, 9e3, 7e3, 7e3, 9e3])
+    # 6 kN at t = 5 s is above that time's 5 kN threshold; 7 kN at 7-8 s is below the 8 kN then
+    assert below_intervals(t, tension, thr) == [(2.0, 2.0), (7.0, 8.0)]
+    np.testing.assert_array_equal(threshold_series(t, []), np.zeros(10))

@@ -9,7 +9,10 @@ cable over time, s-t colour map). ``report.md`` holds the summary and the event 
 
 Slack periods of an end are the intervals where its recorded tension is below the slack threshold
 the node reported for that end (SlackWarning.threshold; 0 N when it reported none), merged with
-the slack interval of each SnapLoadEvent (slack_start .. slack_start + slack_duration).
+the slack interval of each SnapLoadEvent (slack_start .. slack_start + slack_duration). The
+threshold is that of the latest warning at each instant (the first one before it): with a winch
+the node's threshold follows the length (docs/winch.md), so one value for the whole run would
+misjudge every length but one.
 """
 
 from __future__ import annotations
@@ -172,12 +175,25 @@ def _merge(intervals):
     return merged
 
 
+def threshold_series(t: np.ndarray, warned: list) -> np.ndarray:
+    """The slack threshold at every time of ``t`` from the (time, threshold) of the warnings: that
+    of the latest warning at or before each time, the first warning's before it; 0 N without any."""
+    if not warned:
+        return np.zeros(len(t))
+    times = np.array([w[0] for w in warned], float)
+    values = np.array([w[1] for w in warned], float)
+    order = np.argsort(times, kind="stable")
+    times, values = times[order], values[order]
+    k = np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 1)
+    return values[k]
+
+
 def slack_periods(run: RunData) -> dict:
     """end -> list of {start, end, duration, min_tension, threshold} (see module docstring)."""
     out = {}
     for end in ENDS:
-        thresholds = [w["threshold"] for w in run.warnings if w["end"] == end]
-        threshold = float(thresholds[-1]) if thresholds else 0.0
+        warned = [(w["t"], w["threshold"]) for w in run.warnings if w["end"] == end]
+        threshold = threshold_series(run.t, warned)
         series = run.end_tension[end]
         spans = below_intervals(run.t, series, threshold)
         spans += [(e["slack_start"], e["slack_start"] + e["slack_duration"])
@@ -189,8 +205,9 @@ def slack_periods(run: RunData) -> dict:
                           and a <= e["slack_start"] <= b]
             lows = list(series[inside]) + event_mins  # events see every substep; states do not
             low = float(min(lows)) if lows else float("nan")
+            at = threshold[min(int(np.searchsorted(run.t, a)), len(run.t) - 1)] if len(run.t) else 0.0
             periods.append({"start": a, "end": b, "duration": b - a, "min_tension": low,
-                            "threshold": threshold})
+                            "threshold": float(at)})
         out[end] = periods
     return out
 

@@ -62,9 +62,12 @@ def plot_end_tensions(run, periods: dict, path: Path) -> Path:
         for i, p in enumerate(periods[end]):
             ax.axvspan(p["start"], max(p["end"], p["start"] + 1e-3), color="tab:red", alpha=0.15,
                        lw=0, label="slack period" if i == 0 else None)
-        if periods[end]:
-            ax.axhline(periods[end][0]["threshold"] / 1e3, color="tab:red", lw=0.6, ls=":",
-                       label="slack threshold")
+        levels = [p["threshold"] for p in periods[end]]
+        if levels and max(levels) == min(levels):
+            ax.axhline(levels[0] / 1e3, color="tab:red", lw=0.6, ls=":", label="slack threshold")
+        elif levels:  # a winch run: the threshold follows the length (report.threshold_series)
+            ax.step([p["start"] for p in periods[end]], [x / 1e3 for x in levels], where="post", color="tab:red",
+                    lw=0.6, ls=":", label="slack threshold (follows the length)")
         snaps = [e for e in run.snaps if e["end"] == end]
         if snaps:
             ax.plot([e["t_peak"] for e in snaps], [e["peak"] / 1e3 for e in snaps], "v",
