@@ -112,6 +112,46 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
     # offline: never drop lag, never cap a tick (the loop below repeats a tick until it is done);
     # no input delay: the recorded poses are fed one sample ahead of the clock
     config = replace(config, node=replace(config.node, max_lag=math.inf, input_delay=0.0))
+    sources, recorded, t0, duration = _inputs(config, input_path, topics, duration)
+    # (the recorded poses are the scenario: applied from the first instant, no start-up blend)
+    driver = SimulationDriver(config, sources, solver_factory=solver_factory, start_blend=False)
+    rate = config.node.output_rate
+    n_ticks = max(1, int(round(duration * rate)))
+    wall0 = wallclock.perf_counter()
+    with RosMcapWriter(str(output)) if output is not None else _NoMcap() as writer:
+        run = _OfflineOutputs(writer, driver, config)
+        driver.start(t0)
+        run.write([("/tether/description", convert.description(config, run.arc, t0))])
+        run.write_tick()
+        next_diag = t0 + 1.0
+        bar = tqdm(total=n_ticks, unit="tick", disable=not progress, desc="tether-sim-offline")
+        for k in range(1, n_ticks + 1):
+            now = t0 + k / rate
+            for r in recorded.values():
+                r.feed_until(now)
+            while True:
+                report = driver.tick(now)
+                run.events.extend(report.events)
+                run.write(convert.event_outputs(report.events, driver))
+                run.counts["divergences"] += report.error is not None
+                if not report.capped:
+                    break
+            run.write_tick()
+            if now >= next_diag:
+                next_diag += 1.0
+                run.write_diagnostics(now, report, sources)
+            bar.update(1)
+        bar.close()
+        run.flush()
+    wall = wallclock.perf_counter() - wall0
+    return {"output": str(output) if output is not None else None, "duration": duration, "ticks": n_ticks, "wall_time": wall,
+            "speed": duration / wall if wall > 0 else math.inf, "static_tensions": driver.static_tensions,
+            "snap_peaks": run.peaks, "events": run.events, **run.counts}
+
+
+def _inputs(config, input_path, topics, duration):
+    """(sources, recorded inputs, t0, duration): the recorded poses of ``input_path`` (clock from the
+    first pose, default duration their span) or the analytic ``motion`` of the file (clock from 0)."""
     recorded = read_pose_inputs(input_path, config, topics) if input_path else {}
     if recorded:
         sources = {end: r.input for end, r in recorded.items()}
@@ -122,7 +162,6 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
         sources = {}
         if config.ship_end.kind == "prescribed" and config.motion.kind != "none":
             from tether_sim.physics.motion import build_motion
-
             from tether_sim.physics.waves import wave_components
 
             sources["ship"] = MotionSource(build_motion(config.motion, np.asarray(config.ship_end.position, float),
@@ -131,15 +170,18 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
         duration = config.duration if duration is None else duration
     for r in recorded.values():
         r.feed_until(t0)
-    # (the recorded poses are the scenario: applied from the first instant, no start-up blend)
-    driver = SimulationDriver(config, sources, solver_factory=solver_factory, start_blend=False)
-    rate = config.node.output_rate
-    n_ticks = max(1, int(round(duration * rate)))
-    arc = np.linspace(0.0, config.cable.length, config.node.output_points)
-    counts = {"snap_events": 0, "slack_warnings": 0, "divergences": 0}
-    peaks, events = [], []
-    wall0 = wallclock.perf_counter()
-    with RosMcapWriter(str(output)) if output is not None else _NoMcap() as writer:
+    return sources, recorded, t0, duration
+
+
+class _OfflineOutputs:
+    """What run_offline writes: the node's topics into ``writer`` (log time = publish time = stamp),
+    with the counts, snap peaks and events of the run."""
+
+    def __init__(self, writer, driver, config):
+        self.writer, self.driver = writer, driver
+        self.arc = np.linspace(0.0, config.cable.length, config.node.output_points)
+        self.counts = {"snap_events": 0, "slack_warnings": 0, "divergences": 0}
+        self.peaks, self.events = [], []
         for topic, (type_name, qos) in convert.TOPICS.items():
             if topic.endswith("sim_pose") and getattr(config, f"{topic.split('/')[1]}_end").kind != "body":
                 continue
@@ -147,65 +189,46 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
         for topic, (type_name, qos) in (winch_io.TOPICS.items() if config.winch.enabled else ()):
             writer.add_topic(topic, type_name, qos)
 
-        def write(items):
-            for topic, msg in items:
-                t = convert.to_seconds(msg.header.stamp)
-                ns = int(round(t * 1e9))
-                writer.write(topic, serialize_message(msg), ns, ns)
-                if topic == "/tether/snap_events":
-                    counts["snap_events"] += 1
-                    peaks.append((msg.end, msg.peak_tension, msg.amplification, t))
-                elif topic == "/tether/slack_warnings":
-                    counts["slack_warnings"] += 1
+    def write(self, items):
+        for topic, msg in items:
+            t = convert.to_seconds(msg.header.stamp)
+            ns = int(round(t * 1e9))
+            self.writer.write(topic, serialize_message(msg), ns, ns)
+            if topic == "/tether/snap_events":
+                self.counts["snap_events"] += 1
+                self.peaks.append((msg.end, msg.peak_tension, msg.amplification, t))
+            elif topic == "/tether/slack_warnings":
+                self.counts["slack_warnings"] += 1
 
-        def write_tick():
-            """The periodic outputs (already serialized), log time = their stamp."""
-            nonlocal arc
-            arc, winch_items = winch_io.offline_outputs(driver, arc)  # winch: points on [0, L(t)], its topics
-            write(winch_items)
-            sec, nanosec = cdr.stamp_parts(driver.stamp)
-            ns = sec * 1_000_000_000 + nanosec
-            for topic, data in convert.tick_outputs(driver, arc):
-                writer.write(topic, data, ns, ns)
+    def write_tick(self):
+        """The periodic outputs (already serialized), log time = their stamp."""
+        driver = self.driver
+        self.arc, winch_items = winch_io.offline_outputs(driver, self.arc)  # winch: points on [0, L(t)], its topics
+        self.write(winch_items)
+        sec, nanosec = cdr.stamp_parts(driver.stamp)
+        ns = sec * 1_000_000_000 + nanosec
+        for topic, data in convert.tick_outputs(driver, self.arc):
+            self.writer.write(topic, data, ns, ns)
 
-        driver.start(t0)
-        write([("/tether/description", convert.description(config, arc, t0))])
-        write_tick()
-        next_diag = t0 + 1.0
-        bar = tqdm(total=n_ticks, unit="tick", disable=not progress, desc="tether-sim-offline")
-        for k in range(1, n_ticks + 1):
-            now = t0 + k / rate
-            for r in recorded.values():
-                r.feed_until(now)
-            while True:
-                report = driver.tick(now)
-                events.extend(report.events)
-                write(convert.event_outputs(report.events, driver))
-                counts["divergences"] += report.error is not None
-                if not report.capped:
-                    break
-            write_tick()
-            if now >= next_diag:
-                next_diag += 1.0
-                sim = {"running": True, "real_time_factor": driver.real_time_factor,
-                       "time_step": driver.solver.stable_time_step(), "lag": 0.0, "degraded": driver.degraded,
-                       "divergences": driver.divergences,
-                       "error_recent": report.error is not None, "last_error": driver.last_error or "",
-                       "snaps": 0, "slack": dict(driver.slack)}
-                health = {end: dict(src.health(now), rejected_recent=0) for end, src in sources.items()
-                          if isinstance(src, EndPoseInput)}
-                write([("/diagnostics", convert.diagnostics(now, "tether_sim_offline", sim, health))])
-            bar.update(1)
-        bar.close()
-        for detector in (driver.detector, driver.span_detector):
+    def write_diagnostics(self, now, report, sources):
+        driver = self.driver
+        sim = {"running": True, "real_time_factor": driver.real_time_factor,
+               "time_step": driver.solver.stable_time_step(), "lag": 0.0, "degraded": driver.degraded,
+               "divergences": driver.divergences,
+               "error_recent": report.error is not None, "last_error": driver.last_error or "",
+               "snaps": 0, "slack": dict(driver.slack)}
+        health = {end: dict(src.health(now), rejected_recent=0) for end, src in sources.items()
+                  if isinstance(src, EndPoseInput)}
+        self.write([("/diagnostics", convert.diagnostics(now, "tether_sim_offline", sim, health))])
+
+    def flush(self):
+        """Close the detectors' open re-tensioning windows (end of the run) and write those events."""
+        for detector in (self.driver.detector, self.driver.span_detector):
             if detector is not None:
                 flushed = detector.flush()
-                events.extend(flushed)
-                write(convert.event_outputs(flushed, driver))
-    wall = wallclock.perf_counter() - wall0
-    return {"output": str(output) if output is not None else None, "duration": duration, "ticks": n_ticks, "wall_time": wall,
-            "speed": duration / wall if wall > 0 else math.inf, "static_tensions": driver.static_tensions,
-            "snap_peaks": peaks, "events": events, **counts}
+                self.events.extend(flushed)
+                self.write(convert.event_outputs(flushed, self.driver))
+
 
 
 def check_output_path(output) -> None:

@@ -63,8 +63,31 @@ def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
     order = np.array(order, dtype=np.int64)
     noff = np.zeros(nslot.size, dtype=np.int64)
     noff[order] = np.concatenate([[0], np.cumsum(nslot[order])[:-1]])
-    # groups in node order (ship end, then per node its unit-tangent row and the link to the next node,
-    # then the vehicle end) so the Jacobian is banded in this row order
+    groups, end_group = _groups(grid, kind, body_node, end_modes, free_ends)
+    gkind = np.array([g[0] for g in groups], dtype=np.int64)
+    rows = GROUP_ROWS[gkind]
+    grow = np.concatenate([[0], np.cumsum(rows)[:-1]]).astype(np.int64)
+    n_unknowns = int(nslot.sum())
+    if int(rows.sum()) != n_unknowns:
+        raise AssertionError(f"hybrid chain: {int(rows.sum())} equations for {n_unknowns} unknowns")
+    ga = np.array([g[1] for g in groups], dtype=np.int64)
+    gb = np.array([g[2] for g in groups], dtype=np.int64)
+    nnz = 0
+    for g, (k, a, b) in enumerate(groups):
+        nnz += GROUP_ROWS[k] * (nslot[a] + (nslot[b] if b >= 0 else 0))
+    gpar = _group_parameters(groups, gkind, end_group, kind, body_node, end_modes, body_params)
+    idx_node = np.repeat(order, nslot[order])
+    idx_slot = np.concatenate([np.arange(nslot[n]) for n in order]).astype(np.int64)
+    kl, ku, low, last = _band(groups, grow, noff, nslot, n_unknowns)
+    return Chain(grid, kind, s_grid[grid].astype(float), noff, nslot, gkind, ga, gb, grow, gpar, tuple(end_group),
+                 tuple(body_node), n_unknowns, int(nnz), idx_node, idx_slot, kl, ku, low, last)
+
+
+def _groups(grid, kind, body_node, end_modes, free_ends):
+    """Equation groups (kind, node a, node b or -1) in node order -- ship end, then per node its
+    unit-tangent row, its law and the link to the next node, then the vehicle end -- so that the
+    Jacobian is banded in this row order; and the indices of the two end groups."""
+    K = len(grid)
     links = []
     for c in range(K - 1):
         if grid[c] == grid[c + 1]:
@@ -97,17 +120,11 @@ def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
     end_group = [0, len(groups) - 1]
     if body_node[1] >= 0:
         groups.append((BODY_DYN, body_node[1], K - 1))
-    gkind = np.array([g[0] for g in groups], dtype=np.int64)
-    rows = GROUP_ROWS[gkind]
-    grow = np.concatenate([[0], np.cumsum(rows)[:-1]]).astype(np.int64)
-    n_unknowns = int(nslot.sum())
-    if int(rows.sum()) != n_unknowns:
-        raise AssertionError(f"hybrid chain: {int(rows.sum())} equations for {n_unknowns} unknowns")
-    ga = np.array([g[1] for g in groups], dtype=np.int64)
-    gb = np.array([g[2] for g in groups], dtype=np.int64)
-    nnz = 0
-    for g, (k, a, b) in enumerate(groups):
-        nnz += GROUP_ROWS[k] * (nslot[a] + (nslot[b] if b >= 0 else 0))
+    return groups, end_group
+
+
+def _group_parameters(groups, gkind, end_group, kind, body_node, end_modes, body_params):
+    """Per group parameters: the rod end kind, the law's rod flag, the body's end and parameters."""
     gpar = np.zeros((len(groups), GPAR_SIZE))
     for e in range(2):
         g = end_group[e]
@@ -121,8 +138,12 @@ def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
             gpar[g, 0] = e
             gpar[g, 1] = float(kind[b if k == BODY_DYN else a] == ROD)
             gpar[g, BODY_PAR0:] = body_params[e]
-    idx_node = np.repeat(order, nslot[order])
-    idx_slot = np.concatenate([np.arange(nslot[n]) for n in order]).astype(np.int64)
+    return gpar
+
+
+def _band(groups, grow, noff, nslot, n_unknowns):
+    """Lower and upper bandwidths of the Jacobian, the lowest row with a nonzero in each column
+    (band_lu's ``low``) and the last nonzero column of each row."""
     kl = ku = 0
     first = np.zeros(n_unknowns, dtype=np.int64)  # structural first and last column of each row
     last = np.zeros(n_unknowns, dtype=np.int64)
@@ -136,8 +157,7 @@ def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
     by_first = np.argsort(first, kind="stable")  # low[j] = max{i : first[i] <= j}
     pos = np.searchsorted(first[by_first], np.arange(n_unknowns), side="right") - 1
     low = np.maximum.accumulate(by_first)[pos].astype(np.int64)
-    return Chain(grid, kind, s_grid[grid].astype(float), noff, nslot, gkind, ga, gb, grow, gpar, tuple(end_group),
-                 tuple(body_node), n_unknowns, int(nnz), idx_node, idx_slot, kl, ku, low, last)
+    return kl, ku, low, last
 
 
 def rod_blocks(chain):
