@@ -1,4 +1,23 @@
-"""The one numba configuration every kernel uses: compiled once, cached on disk, fastmath off.
+"""The two numba configurations the kernels use: compiled once, cached on disk, fastmath off.
+
+``jit``: the kernels. Compiled **without numba's runtime (NRT)**: no reference counting of arrays.
+With NRT, every array passed to a compiled callee, sliced or reshaped costs an atomic
+increment and decrement of its owner's count; the DG right-hand side passes ~25 arrays down
+four call levels, and these counts were ~40 % of a substep at the live configurations' meshes
+(measured 2026-11-25, BENCHMARKS.md "Kernels without reference counting": SSP-RK3 substep at
+L = 1730 m, N = 6, P = 2: 10.6 -> 6.1 us; bit-identical results). What this asks of a kernel:
+it allocates nothing (no np.empty/zeros/array..., no lists) and returns no array it created (a
+view of an argument made inside may be used and passed down, not returned). numba refuses
+both at compile time ("NRT required but not enabled", "Only accept returning of array passed
+into the function"), never silently; test/numerics/test_jit_modes.py checks the sources for both, and for
+returned arrays and calls from a ``jit`` kernel to a ``jit_alloc`` function (which would
+unbalance the counts without an error).
+
+``jit_alloc``: the few compiled functions that allocate or return views they make (the arena
+views of solvers/dg/workspace.py, the hybrid solver's Newton work). Same options, with NRT.
+
+Arrays reaching a ``jit`` kernel are owned by the Python caller for the whole call (the
+solvers' work arrays), so dropping the counts inside it cannot free anything early.
 
 Set ``NUMBA_DISABLE_JIT=1`` to run the kernels as plain Python: ``make test`` runs the tests
 marked ``jit_off`` (the DG kernel twin tests, test/solvers/dg) a second time that way.
@@ -6,4 +25,7 @@ marked ``jit_off`` (the DG kernel twin tests, test/solvers/dg) a second time tha
 
 from numba import njit
 
-jit = njit(cache=True, fastmath=False, nogil=True)
+OPTIONS = dict(cache=True, fastmath=False, nogil=True)
+
+jit = njit(**OPTIONS, _nrt=False)
+jit_alloc = njit(**OPTIONS)

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit, jit_alloc
 
 
 @jit
@@ -51,7 +51,7 @@ def exp_skew(x, out):
     out[2, 1] += a * x[0]
 
 
-@jit
+@jit_alloc
 def rotate_frame(L_old, theta, out):
     """out = exp(-theta~) @ L_old: incremental frame update [GP Eq. 15-16], theta in body components."""
     mt = np.empty(3)

@@ -13,12 +13,12 @@ import math
 
 import numpy as np
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit_alloc
 from tether_sim.physics.constitutive import axial_tension
 from tether_sim.physics.hydrodynamics import current_at, morison_drag
 
 
-@jit
+@jit_alloc
 def _node_forces(r, ds, law, EA, tab_eps, tab_T, fext, hrd, Cdt, Cdn, cz, cx, cy, seabed, zg, Kd, F):
     n = r.shape[0]
     uc = np.zeros(3)
@@ -55,7 +55,7 @@ def _node_forces(r, ds, law, EA, tab_eps, tab_T, fext, hrd, Cdt, Cdn, cz, cx, cy
                 F[i, 2] += Kd * delta * trib
 
 
-@jit
+@jit_alloc
 def _relax(r, held, ds, law, EA, kmax, tab_eps, tab_T, fext, hrd, Cdt, Cdn, cz, cx, cy, seabed, zg, Kd,
            max_iter, ftol, F, v, m):
     n = r.shape[0]

@@ -12,13 +12,13 @@ independent value of the static tensions, the slack/snap pattern and the snap ma
 
 import numpy as np
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit_alloc
 from tether_sim.physics.bodies import submerged_weight
 from tether_sim.physics.motion import build_motion
 from tether_sim.physics.snap import SnapDetector
 
 
-@jit
+@jit_alloc
 def axial_run(z, v, ship_z, ship_v, n_sub, dt, ds, EA, zeta, node_mass, cage_mass, w_node, w_cage,
               drag_node, drag_cage, out_ship, out_cage, out_acc):
     """Advance n_sub substeps per output interval; ship motion linear within each interval.

@@ -13,7 +13,7 @@ Node arrays: Y, Yn, Ytn (K, 13) (cable nodes, then body nodes); Ln (K, 3, 3) rod
 
 import numpy as np
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit_alloc
 from tether_sim.solvers.hybrid.body import body_dynamics_residual, body_end_residual
 from tether_sim.solvers.hybrid.catenary import (catenary_cell_residual, catenary_force_bc, catenary_free_bc,
                                                 catenary_node_terms, catenary_velocity_bc, unit_tangent_residual)
@@ -25,7 +25,7 @@ CAT_CELL, ROD_CELL, JOINT_CR, JOINT_RC, UNIT, CAT_VEL, CAT_FORCE, CAT_FREE, ROD_
 GROUP_ROWS = np.array([6, 12, 9, 9, 1, 3, 3, 3, 6, 13, 3, 6, 1], dtype=np.int64)
 
 
-@jit
+@jit_alloc
 def node_law_residual(Y, Yn, Ytn, is_rod, P, out):
     """Constitutive equation of one node at t_{n+1} [PE2020 Eq. 22]; deps/dt from the gamma relation."""
     iT = 9 if is_rod else 3
@@ -35,7 +35,7 @@ def node_law_residual(Y, Yn, Ytn, is_rod, P, out):
     out[0] = law_residual(Y[iT], Y[ie], rate, P)
 
 
-@jit
+@jit_alloc
 def group_residual(kind, a, b, gp, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, out):
     """Residual of one equation group into out[:rows]."""
     if kind == CAT_CELL:
@@ -65,7 +65,7 @@ def group_residual(kind, a, b, gp, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, out):
         body_end_residual(Y[a], Yn[a], Ln[a], kind == ROD_BODY, Y[b], gp, P, out)
 
 
-@jit
+@jit_alloc
 def _node_terms(c, is_rod, Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, terms, have):
     """Per-node terms of the cell equations, computed once per node (shared by its two cells)."""
     if have[c]:
@@ -78,7 +78,7 @@ def _node_terms(c, is_rod, Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, terms, have):
     have[c] = True
 
 
-@jit
+@jit_alloc
 def assemble_residual(gkind, ga, gb, grow, gpar, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, R):
     """R (n_rows,) = all group residuals (cell groups from per-node terms evaluated once per node; the
     same arithmetic as group_residual)."""
@@ -109,7 +109,7 @@ def assemble_residual(gkind, ga, gb, grow, gpar, Y, Yn, Ytn, Ln, rn, s, P, cz, c
             R[grow[g] + r] = out[r]
 
 
-@jit
+@jit_alloc
 def assemble_jacobian(gkind, ga, gb, grow, gpar, noff, nslot, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy,
                       rows, cols, vals):
     """Forward-difference Jacobian in COO form (group by group); returns the number of entries."""

@@ -9,7 +9,7 @@ Group parameters gp: gp[0] = end (0 ship, 1 vehicle), gp[8:8+BODY_PARAMS_SIZE] =
 
 import numpy as np
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit_alloc
 from tether_sim.physics.bodies import BODY_PARAMS_SIZE, BODY_STATE_SIZE, body_attachment_kinematics, body_derivatives
 from tether_sim.solvers.hybrid.kernels import P_AF, P_DT, alpha_levels, current_at
 from tether_sim.solvers.hybrid.rod import frame_at
@@ -18,7 +18,7 @@ BODY_PAR0 = 8
 GPAR_SIZE = BODY_PAR0 + BODY_PARAMS_SIZE
 
 
-@jit
+@jit_alloc
 def _end_force_world(Yc, Ync, Lnc, is_rod, level_new, P, out):
     """Internal force f (world) at a cable end node, at t_{n+1} (level_new) or t_n."""
     if is_rod:
@@ -38,7 +38,7 @@ def _end_force_world(Yc, Ync, Lnc, is_rod, level_new, P, out):
             out[i] = Y[3] * Y[4 + i] / nt
 
 
-@jit
+@jit_alloc
 def body_dynamics_residual(Yb, Ynb, Ytnb, Yc, Ync, Lnc, is_rod, gp, P, cz, cx, cy, out):
     """13 equations: x'_{am} - body_derivatives(x_{af}, F_{af}) (F by the cable on the body)."""
     Yf = np.empty(BODY_STATE_SIZE)
@@ -61,7 +61,7 @@ def body_dynamics_residual(Yb, Ynb, Ytnb, Yc, Ync, Lnc, is_rod, gp, P, cz, cx, c
         out[k] = Ym[k] - d[k]
 
 
-@jit
+@jit_alloc
 def body_end_residual(Yc, Ync, Lnc, is_rod, Yb, gp, P, out):
     """Cable end moves with P: v = v_P(x_{n+1}) (3 rows); a rod end is also moment free (3 more)."""
     pos = np.empty(3)

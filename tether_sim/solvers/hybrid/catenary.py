@@ -24,11 +24,11 @@ import math
 
 import numpy as np
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit_alloc
 from tether_sim.solvers.hybrid.kernels import CAT_EPS, CAT_SLOTS, P_AF, P_AM, P_DT, P_GAM, P_M, alpha_levels, external_force
 
 
-@jit
+@jit_alloc
 def catenary_node_terms(Y, Yn, Ytn, rn, P, cz, cx, cy, out_pos, out_q, out_load, out_tension_vec):
     """rn = (r_n, r'_n) (6,). Per-node terms: r_{n+1}, (1+eps) t at t_{n+1}; F - m dv/dt and T t at the alpha levels."""
     Yf = np.empty(CAT_SLOTS)
@@ -51,7 +51,7 @@ def catenary_node_terms(Y, Yn, Ytn, rn, P, cz, cx, cy, out_pos, out_q, out_load,
         out_load[k] = F[k] - P[P_M] * Ym[k]
 
 
-@jit
+@jit_alloc
 def catenary_cell_residual(Ya, Yna, Ytna, rna, Yb, Ynb, Ytnb, rnb, ds, P, cz, cx, cy, out):
     """The 6 box equations of one catenary cell [GP Eq. 2-3, 5] (Eq. 2 in its position form)."""
     pa = np.empty(3)
@@ -69,27 +69,27 @@ def catenary_cell_residual(Ya, Yna, Ytna, rna, Yb, Ynb, Ytnb, rnb, ds, P, cz, cx
         out[3 + k] = (tb[k] - ta[k]) / ds + 0.5 * (la[k] + lb[k])
 
 
-@jit
+@jit_alloc
 def unit_tangent_residual(Y, out):
     """|t|^2 - 1 = 0 at a catenary node (replaces the angle chart of GP Eq. 4)."""
     out[0] = Y[4] * Y[4] + Y[5] * Y[5] + Y[6] * Y[6] - 1.0
 
 
-@jit
+@jit_alloc
 def catenary_velocity_bc(Y, vbc, out):
     """Prescribed/fixed/body end: v = v_BC (3 equations)."""
     for k in range(3):
         out[k] = Y[k] - vbc[k]
 
 
-@jit
+@jit_alloc
 def catenary_force_bc(Y, force, out):
     """Point-force end: T t = force on the internal-force convention (sign set by the caller)."""
     for k in range(3):
         out[k] = Y[3] * Y[4 + k] - force[k]
 
 
-@jit
+@jit_alloc
 def catenary_free_bc(Y, Ynb, p1, p2, tscale, out):
     """Tension-free end: T = 0; the end tangent follows its neighbour across the plane (p1, p2) normal to it."""
     out[0] = Y[3] / tscale

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit_alloc
 from tether_sim.physics.hydrodynamics import current_at
 from tether_sim.physics.hydrodynamics import wetted_fraction
 from tether_sim.solvers.hybrid.kernels import (P_AF, P_AM, P_AREA, P_CCRIT, P_CDN, P_CDN_A, P_CDT, P_CDT_A, P_CMN, P_CMT,
@@ -21,7 +21,7 @@ from tether_sim.solvers.hybrid.kernels import (P_AF, P_AM, P_AREA, P_CCRIT, P_CD
                                               P_SBZETA, P_SEABED, P_VMU, P_ZG, height_at_alpha_f)
 
 
-@jit
+@jit_alloc
 def current_slope(z, cz, cx, cy, out):
     """d(current)/dz of the piecewise-linear table (0 beyond it); the segment containing z."""
     out[0] = 0.0
@@ -38,7 +38,7 @@ def current_slope(z, cz, cx, cy, out):
             return
 
 
-@jit
+@jit_alloc
 def _drag_jac(vr, dvr_dv, tu, Pt, cd, dcd, cdt, cdn, F, Jv, Jt, Je, W):
     """Morison drag cd (Cdt |vrt| vrt tu + Cdn |vn| vn) and its derivatives (added to F, Jv, Jt, Je);
     W: scratch (>= 33), so that no array is allocated per point."""
@@ -82,7 +82,7 @@ def _drag_jac(vr, dvr_dv, tu, Pt, cd, dcd, cdt, cdn, F, Jv, Jt, Je, W):
                               + cdn * (vnn * dvn_dt[i, j] + vn[i] * wt[j]))
 
 
-@jit
+@jit_alloc
 def _seabed_jac(z, dz_dv2, v, le, P, F, Jv, Je):
     """Seabed force [PE2020 Eq. 15-16, damping ramped in over the static penetration] and derivatives."""
     delta = P[P_ZG] - z
@@ -119,7 +119,7 @@ def _seabed_jac(z, dz_dv2, v, le, P, F, Jv, Je):
                 Jv[i, j] += k0 * ((gfun if i == j else 0.0) + v[i] * dg * v[j] / vh)
 
 
-@jit
+@jit_alloc
 def _fluid_jac(rho, cdt, cdn, cmn, cmt, vr, dvr_dv, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je, W):
     """kernels.fluid_force (drag, added mass, buoyancy of a fluid of density rho) and its derivatives
     into F, Jv, Jt, Ja, Je (overwritten); W: scratch (>= 66; 33:63 untouched)."""
@@ -148,7 +148,7 @@ def _fluid_jac(rho, cdt, cdn, cmn, cmt, vr, dvr_dv, tu, Pt, a, le, P, F, Jv, Jt,
     F[2] += ma * P[P_G]
 
 
-@jit
+@jit_alloc
 def _blend_air(z, dz_dv2, v, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je):
     """Free surface: F = phi F_water + (1 - phi) F_air with the wetted fraction phi(z) and its z
     derivative through z(v_z) (kernels.external_force); the air part is allocated only here."""
@@ -178,7 +178,7 @@ def _blend_air(z, dz_dv2, v, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je):
         Jv[i, 2] += d
 
 
-@jit
+@jit_alloc
 def external_force_jac(v, t, a, rn, eps, P, cz, cx, cy, F, Jv, Jt, Ja, Je, W):
     """F of kernels.external_force at (v, t, a, eps) and its derivatives: Jv, Jt, Ja (3x3), Je (3,).
     The height z(v) is the alpha_f-level height (dz/dv_z = alpha_f dt gamma / alpha_m). W: scratch

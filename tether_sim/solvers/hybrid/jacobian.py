@@ -15,7 +15,7 @@ Band storage: A[i, j] -> ab[kl + ku + i - j, j] (LAPACK dgbtrf with kl extra row
 
 import numpy as np
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit_alloc
 from tether_sim.solvers.hybrid.assembly import (CAT_CELL, CAT_FORCE, CAT_FREE, CAT_VEL, GROUP_ROWS, LAW, ROD_CELL, UNIT,
                                                 group_residual)
 from tether_sim.solvers.hybrid.jac_env import external_force_jac
@@ -26,12 +26,12 @@ from tether_sim.solvers.hybrid.rod import rod_node_terms
 FD_STEP = 1e-7  # relative forward-difference step of the FD parts (same as assembly.assemble_jacobian)
 
 
-@jit
+@jit_alloc
 def _put(ab, kl, ku, i, j, val):
     ab[kl + ku + i - j, j] += val
 
 
-@jit
+@jit_alloc
 def catenary_node_jac(Y, Yn, Ytn, rn, P, cz, cx, cy, D, W):
     """D (12, 8): derivatives of the node terms of catenary.catenary_node_terms (rows: r_{n+1} 0:3,
     (1+eps) t 3:6, F - m dv/dt 6:9, T t 9:12) with respect to the node's unknowns. W: scratch (>= 130)."""
@@ -62,7 +62,7 @@ def catenary_node_jac(Y, Yn, Ytn, rn, P, cz, cx, cy, D, W):
         D[6 + k, CAT_EPS] = af * Je[k]
 
 
-@jit
+@jit_alloc
 def catenary_cell_jac(r0, ca, cb, Da, Db, ds, ab, kl, ku):
     """The 6 rows of catenary.catenary_cell_residual into the band, from the node-term derivatives Da, Db
     (catenary_node_jac) of its two nodes (columns ca, cb: node offsets)."""
@@ -80,7 +80,7 @@ def catenary_cell_jac(r0, ca, cb, Da, Db, ds, ab, kl, ku):
                     _put(ab, kl, ku, r0 + 3 + k, c0 + j, v2)
 
 
-@jit
+@jit_alloc
 def rod_load_jac(Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, DF):
     """DF (3, 13): forward-difference derivative of the body-frame load F_b of rod.rod_node_terms (it
     depends on v, omega and eps only)."""
@@ -102,7 +102,7 @@ def rod_load_jac(Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, DF):
             DF[k, slot] = (F1[k] - F0[k]) / h
 
 
-@jit
+@jit_alloc
 def _skew_into(M, r, c, x, sign):
     """M[r:r+3, c:c+3] += sign * x~ (x~ y = x cross y)."""
     M[r + 0, c + 1] -= sign * x[2]
@@ -113,7 +113,7 @@ def _skew_into(M, r, c, x, sign):
     M[r + 2, c + 1] += sign * x[0]
 
 
-@jit
+@jit_alloc
 def rod_mean_jac(M, P, JM):
     """JM (12, 13): derivative of the rod cell rows [GP Eq. 7-10] with respect to the cell-mean alpha_f
     values M (v, omega, kappa, f, eps), excluding the s-differences, the rates and the load."""
@@ -155,7 +155,7 @@ def rod_mean_jac(M, P, JM):
     _skew_into(JM, 9, 0, om, -m)
 
 
-@jit
+@jit_alloc
 def rod_cell_jac(r0, ca, cb, Ya, Yna, Ytna, Yb, Ynb, Ytnb, DFa, DFb, ds, P, ab, kl, ku):
     """The 12 rows of rod.rod_cell_residual into the band (columns ca, cb: node offsets; DFa, DFb: the
     load derivatives of rod_load_jac)."""
@@ -195,7 +195,7 @@ def rod_cell_jac(r0, ca, cb, Ya, Yna, Ytna, Yb, Ynb, Ytnb, DFa, DFb, ds, P, ab, 
                     _put(ab, kl, ku, r0 + i, c0 + j, Jn[i, j])
 
 
-@jit
+@jit_alloc
 def _group_fd(k, a, b, gp, noff, nslot, r0, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, ab, kl, ku):
     """Group-local forward differences (as assembly.assemble_jacobian) into the band."""
     nr = GROUP_ROWS[k]
@@ -219,7 +219,7 @@ def _group_fd(k, a, b, gp, noff, nslot, r0, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy
                     _put(ab, kl, ku, r0 + r, noff[node] + slot, d)
 
 
-@jit
+@jit_alloc
 def assemble_band_jacobian(gkind, ga, gb, grow, gpar, noff, nslot, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, kl, ku, ab):
     """Jacobian of assembly.assemble_residual into ab (2 kl + ku + 1, n) (zeroed here)."""
     ab[:, :] = 0.0
@@ -279,7 +279,7 @@ def assemble_band_jacobian(gkind, ga, gb, grow, gpar, noff, nslot, Y, Yn, Ytn, L
             _group_fd(k, a, b, gpar[g], noff, nslot, r0, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, ab, kl, ku)
 
 
-@jit
+@jit_alloc
 def scale_band_rows(ab, kl, ku, n, rs):
     """rs[i] = 1 / max_j |A[i, j]| and A <- diag(rs) A, in the band storage (equilibrated rows)."""
     for i in range(n):

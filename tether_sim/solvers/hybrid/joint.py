@@ -9,12 +9,12 @@ The catenary tangent need not equal the rod tangent at the joint (GP Sec. 2.3).
 
 import numpy as np
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit_alloc
 from tether_sim.solvers.hybrid.kernels import P_DT
 from tether_sim.solvers.hybrid.rod import frame_at
 
 
-@jit
+@jit_alloc
 def joint_residual(Yc, Yr, Ynr, Lnr, P, out):
     """The 9 joint equations [GP Eq. 12-14]; Yc catenary node, Yr/Ynr/Lnr rod node."""
     L1 = np.empty((3, 3))

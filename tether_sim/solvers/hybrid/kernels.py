@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit_alloc
 from tether_sim.physics.hydrodynamics import current_at, wetted_fraction
 from tether_sim.physics.seabed import seabed_force
 
@@ -71,17 +71,17 @@ def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia
     return P
 
 
-@jit
+@jit_alloc
 def _softplus(x):
     return x + math.log1p(math.exp(-x)) if x > 0.0 else math.log1p(math.exp(x))
 
 
-@jit
+@jit_alloc
 def _sigmoid(x):
     return 1.0 / (1.0 + math.exp(-x)) if x > -700.0 else 0.0
 
 
-@jit
+@jit_alloc
 def tension_only(x, P):
     """Smooth no-compression map Phi of the visco-elastic tension x = EA eps + zeta deps/dt
     [PE2020 Eq. 22: T = max(x, 0)]: Phi(x) = x/s + (1 - 1/s) W (softplus(x/W) - ln 2), i.e. slope 1
@@ -94,7 +94,7 @@ def tension_only(x, P):
     return x / s + (1.0 - 1.0 / s) * w * (_softplus(x / w) - math.log(2.0))
 
 
-@jit
+@jit_alloc
 def tension_only_slope(x, P):
     """dPhi/dx, between 1/s (compression) and 1 (tension)."""
     s = P[P_SOFT]
@@ -103,7 +103,7 @@ def tension_only_slope(x, P):
     return 1.0 / s + (1.0 - 1.0 / s) * _sigmoid(x / P[P_TW])
 
 
-@jit
+@jit_alloc
 def law_residual(T, eps, eps_rate, P):
     """Constitutive equation of one node at t_{n+1}: T - Phi(EA eps + zeta deps/dt) = 0
     [PE2020 Eq. 22, GP Eq. 1 with c_k = 1/EA]; for EA = 0 (c_k = 0, inextensible) eps = 0."""
@@ -112,7 +112,7 @@ def law_residual(T, eps, eps_rate, P):
     return T - tension_only(P[P_EA] * eps + P[P_ZETA] * eps_rate, P)
 
 
-@jit
+@jit_alloc
 def elastic_strain(T, P):
     """Static strain carrying tension T (inverse of Phi(EA eps), deps/dt = 0; 0 if inextensible)."""
     if P[P_EA] <= 0.0:
@@ -126,7 +126,7 @@ def elastic_strain(T, P):
     return x / P[P_EA]
 
 
-@jit
+@jit_alloc
 def height_at_alpha_f(v, rn, P):
     """z at t_{n+alpha_f} of a point with alpha_f-level velocity v: the position is a generalized-alpha
     variable of dr/dt = v (rate r' with r'_{n+alpha_m} = v_{n+alpha_f}); rn = (r_n, r'_n)."""
@@ -137,7 +137,7 @@ def height_at_alpha_f(v, rn, P):
     return (1.0 - P[P_AF]) * rn[2] + P[P_AF] * z1
 
 
-@jit
+@jit_alloc
 def fluid_force(v, tu, a, uc, le, rho, cdt, cdn, cmn, cmt, P, out):
     """out = Morison drag (relative velocity uc - v) + added-mass reaction + buoyancy rho A g z_hat of a
     fluid of density rho, per unstretched metre [PE2020 Eq. 13, 14, 17]; tu: unit tangent."""
@@ -158,7 +158,7 @@ def fluid_force(v, tu, a, uc, le, rho, cdt, cdn, cmn, cmt, P, out):
     out[2] += ma * P[P_G]
 
 
-@jit
+@jit_alloc
 def external_force(v, t, a, rn, eps, P, cz, cx, cy, out):
     """Distributed force F (N/m, world) on a cable point [PE2020 Eq. 13-17; GP Eq. 19-22].
 
@@ -204,7 +204,7 @@ def external_force(v, t, a, rn, eps, P, cz, cx, cy, out):
         out[2] += fz
 
 
-@jit
+@jit_alloc
 def alpha_levels(Y, Yn, Ytn, nslot, P, Yf, Ym):
     """Y at t_{n+alpha_f} and dY/dt at t_{n+alpha_m} from the gamma relation [GP Sec. 3]."""
     dt = P[P_DT]
@@ -217,7 +217,7 @@ def alpha_levels(Y, Yn, Ytn, nslot, P, Yf, Ym):
         Ym[k] = (1.0 - am) * Ytn[k] + am * ydot
 
 
-@jit
+@jit_alloc
 def cross(a, b, out):
     """out = a x b."""
     out[0] = a[1] * b[2] - a[2] * b[1]

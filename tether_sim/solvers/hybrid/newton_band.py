@@ -9,7 +9,7 @@ LAPACK band storage A[i, j] -> ab[kl + ku + i - j, j].
 
 import numpy as np
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit_alloc
 from tether_sim.solvers.hybrid.assembly import assemble_residual
 from tether_sim.solvers.hybrid.jacobian import assemble_band_jacobian, scale_band_rows
 
@@ -17,7 +17,7 @@ LINE_SEARCH_HALVINGS = 6  # as newton.LINE_SEARCH_HALVINGS
 FAIL_RESIDUAL, FAIL_SINGULAR, FAIL_UPDATE, FAIL_ITERATIONS = -1, -2, -3, -4
 
 
-@jit
+@jit_alloc
 def band_lu(ab, n, kl, ku, low, last, ipiv):
     """In-place LU with partial pivoting of the band matrix (the algorithm of LAPACK dgbtf2), skipping the
     structural zeros inside the band: low[j] is the lowest row with a nonzero in column j (no fill-in
@@ -58,7 +58,7 @@ def band_lu(ab, n, kl, ku, low, last, ipiv):
     return 0
 
 
-@jit
+@jit_alloc
 def band_solve(ab, n, kl, ku, low, ipiv, b):
     """Solve A x = b in place with the factors of band_lu (dgbtrs, no transpose)."""
     kv = kl + ku
@@ -78,7 +78,7 @@ def band_solve(ab, n, kl, ku, low, ipiv, b):
             b[i] -= ab[kv + i - j, j] * bj
 
 
-@jit
+@jit_alloc
 def _scaled_norm2(rs, R, n):
     acc = 0.0
     for i in range(n):
@@ -86,7 +86,7 @@ def _scaled_norm2(rs, R, n):
     return acc
 
 
-@jit
+@jit_alloc
 def _all_finite(x, n):
     for i in range(n):
         if not np.isfinite(x[i]):
@@ -94,13 +94,13 @@ def _all_finite(x, n):
     return True
 
 
-@jit
+@jit_alloc
 def _apply(Y, Ybase, idx_node, idx_slot, dx, lam, n):
     for i in range(n):
         Y[idx_node[i], idx_slot[i]] = Ybase[idx_node[i], idx_slot[i]] - lam * dx[i]
 
 
-@jit
+@jit_alloc
 def _line_search(ch, Y, Ytry, dx, lam, rs, R, Rt, n, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, counts):
     """Backtracking on the scaled residual norm after a fresh Jacobian (as NewtonMixin._line_search)."""
     gkind, ga, gb, grow, gpar, noff, nslot, idx_node, idx_slot = ch
@@ -116,7 +116,7 @@ def _line_search(ch, Y, Ytry, dx, lam, rs, R, Rt, n, Yn, Ytn, Ln, rn, s, P, cz, 
     return lam * 2.0 ** LINE_SEARCH_HALVINGS if f0 > 0.0 else lam
 
 
-@jit
+@jit_alloc
 def newton_band(ch, kl, ku, low, last, tangent, scale, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, max_it, tol, max_turn, ab, counts):
     """Newton iterations of one step on Y (in place). ch = (gkind, ga, gb, grow, gpar, noff, nslot,
     idx_node, idx_slot); low, last: the structure of band_lu; tangent: bool mask of the catenary tangent unknowns; scale: per-unknown scales

@@ -23,13 +23,13 @@ Box scheme in s at t_{n+alpha_f}, generalized-alpha rates at t_{n+alpha_m} [GP S
 
 import numpy as np
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit_alloc
 from tether_sim.numerics.rotations import rotate_frame
 from tether_sim.solvers.hybrid.kernels import (P_AF, P_B0, P_DT, P_I0, P_M, ROD_EPS, ROD_SLOTS, alpha_levels, cross,
                                               external_force)
 
 
-@jit
+@jit_alloc
 def frame_at(Y, Yn, Ln, frac, out):
     """Frame at t_n + frac*dt: exp(-frac*theta~) L_n, theta = dt (omega_n + omega_{n+1})/2 [GP Eq. 15-16]."""
     th = np.empty(3)
@@ -38,7 +38,7 @@ def frame_at(Y, Yn, Ln, frac, out):
     rotate_frame(Ln, th, out)
 
 
-@jit
+@jit_alloc
 def rod_node_terms(Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, Yf, Ym, Fb):
     """Alpha-level values (Yf, Ym) and the body-frame external load Fb (N/m) of one rod node."""
     alpha_levels(Y, Yn, Ytn, ROD_SLOTS, P, Yf, Ym)
@@ -62,7 +62,7 @@ def rod_node_terms(Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, Yf, Ym, Fb):
         Fb[k] = La[k, 0] * Fw[0] + La[k, 1] * Fw[1] + La[k, 2] * Fw[2]
 
 
-@jit
+@jit_alloc
 def rod_cell_residual(Ya, Yna, Ytna, La, ra, Yb, Ynb, Ytnb, Lb, rb, ds, P, cz, cx, cy, out):
     """The 12 box equations of one rod cell [GP Eq. 7-11]."""
     Yfa = np.empty(ROD_SLOTS)
@@ -76,7 +76,7 @@ def rod_cell_residual(Ya, Yna, Ytna, La, ra, Yb, Ynb, Ytnb, Lb, rb, ds, P, cz, c
     rod_cell_from_terms(Yfa, Yma, Fa, Yfb, Ymb, Fb, ds, P, out)
 
 
-@jit
+@jit_alloc
 def rod_cell_from_terms(Yfa, Yma, Fa, Yfb, Ymb, Fb, ds, P, out):
     """The 12 box equations from the two nodes' rod_node_terms (alpha-level values and loads)."""
     Y = np.empty(ROD_SLOTS)
@@ -125,7 +125,7 @@ def rod_cell_from_terms(Yfa, Yma, Fa, Yfb, Ymb, Fb, ds, P, out):
         out[9 + k] = (Yfb[9 + k] - Yfa[9 + k]) / ds + c[k] - m * (Yd[k] + w[k]) + 0.5 * (Fa[k] + Fb[k])
 
 
-@jit
+@jit_alloc
 def rod_end_residual(kind, Y, Yn, Ln, P, vec_a, vec_b, out):
     """Six end conditions of a rod end at t_{n+1}; vectors in world components.
 
