@@ -29,3 +29,4 @@ OPTIONS = dict(cache=True, fastmath=False, nogil=True)
 
 jit = njit(**OPTIONS, _nrt=False)
 jit_alloc = njit(**OPTIONS)
+jit_inline = njit(**OPTIONS, _nrt=False, inline="always")

@@ -21,7 +21,7 @@ compiled call (solver.tick, the interface's ``tick``).
 
 import math
 
-from tether_sim.numerics.jit import jit, jit_alloc
+from tether_sim.numerics.jit import jit
 from tether_sim.physics.end_conditions import is_driven
 from tether_sim.solvers.dg.damping_layout import MODE_EXPLICIT
 from tether_sim.solvers.dg.layout import B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, I_KIND0, P_ZETA, P_ZETAB
@@ -94,7 +94,7 @@ def finish_ends(bc, iprm, t, ends, target):
     hold_ends(bc, iprm, t, ends)
 
 
-@jit_alloc
+@jit
 def outputs_now(F, I, S, t):
     """The evaluation the outputs read, at time t (sampling.evaluate_outputs, full parameters)."""
     A = bind(F, I, S)
@@ -110,7 +110,7 @@ def _outputs_bound(A, prm, iprm, ends, t):
                      A[_BC], A[_VBC], A[_WQ], A[_WM], A[_TRC], A[_FL], A[_DU], A[_ENDF], A[_BS], A[_BP], A[_TMP])
 
 
-@jit_alloc
+@jit
 def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
     """nsteps substeps of dt from t0 to t1 (module docstring); returns the stepper's status."""
     A = bind(F, I, S)
@@ -136,7 +136,7 @@ def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
     return status
 
 
-@jit_alloc
+@jit
 def evaluate_now(F, I, S, t):
     """One full right-hand-side evaluation at time t with the full parameters (solver._evaluate)."""
     A = bind(F, I, S)
@@ -148,7 +148,7 @@ def evaluate_now(F, I, S, t):
                 tmp, dU, dra, endf, bs, bp, dbs, no_fdamp, False)
 
 
-@jit_alloc
+@jit
 def drain_now(F, I, S):
     """drain_ring on the workspace's ring (see there); binds only the four views it reads."""
     return drain_ring(_f2(F, S, _BUF), _f1(I, S, _CNT), _f1(I, S, X_DRAINED), _f2(F, S, X_DRAIN))
@@ -173,7 +173,7 @@ def drain_ring(buf, cnt, drained, dst):
     return n
 
 
-@jit_alloc
+@jit
 def node_tick(F, I, S, tin, ends_set, t0, t1, nsteps, dt, drain):
     """One node tick (module docstring): for every end e with bit e of ends_set, the target of
     set_end_motion from tin[e]; dg_tick(t0 -> t1, nsteps of dt) with the outputs; then, if drain,

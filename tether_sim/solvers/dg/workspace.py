@@ -15,7 +15,7 @@ the compiled tick calls ``dg_advance(nsteps, t0, dt, *bind(F, I, spec))``; the s
 
 import numpy as np
 
-from tether_sim.numerics.jit import jit, jit_alloc
+from tether_sim.numerics.jit import jit_inline
 
 # (name, arena, rank). The first N_STEP_SLOTS are stepper.dg_advance's arguments, in its order.
 SLOTS = (
@@ -71,32 +71,32 @@ class Workspace:
 
 
 # ------------------------------------------------------------------------------ compiled views
-@jit_alloc
+@jit_inline
 def _f1(F, S, k):
     o = S[k, 0]
     return F[o:o + S[k, 2]]
 
 
-@jit_alloc
+@jit_inline
 def _f2(F, S, k):
     o = S[k, 0]
     return F[o:o + S[k, 2] * S[k, 3]].reshape((S[k, 2], S[k, 3]))
 
 
-@jit_alloc
+@jit_inline
 def _f3(F, S, k):
     o = S[k, 0]
     return F[o:o + S[k, 2] * S[k, 3] * S[k, 4]].reshape((S[k, 2], S[k, 3], S[k, 4]))
 
 
-@jit_alloc
+@jit_inline
 def _f5(F, S, k):
     o = S[k, 0]
     n = S[k, 2] * S[k, 3] * S[k, 4] * S[k, 5] * S[k, 6]
     return F[o:o + n].reshape((S[k, 2], S[k, 3], S[k, 4], S[k, 5], S[k, 6]))
 
 
-@jit_alloc
+@jit_inline
 def bind(F, I, S):
     """The views of the first N_STEP_SLOTS slots (dg_advance's arguments), in SLOTS order."""
     return (_f3(F, S, 0), _f1(F, S, 1), _f1(F, S, 2), _f1(I, S, 3), _f1(F, S, 4),
@@ -111,7 +111,7 @@ def bind(F, I, S):
             _f1(F, S, 46))
 
 
-@jit_alloc
+@jit_inline
 def bind_driver(F, I, S):
     """The views of the driver's slots: prm, iprm, ends, target, no_fdamp, drained, drain."""
     return (_f1(F, S, X_PRM), _f1(I, S, X_IPRM), _f2(F, S, X_ENDS), _f2(F, S, X_TARGET),
