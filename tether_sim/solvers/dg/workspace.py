@@ -6,7 +6,8 @@ data, bodies, the end-tension ring, the implicit-damping arrays) is a view into 
 int array ``spec`` (offset and shape of each slot). A compiled call then takes three arrays
 instead of ~50: an njit call pays ~0.1-0.3 us per array argument to unbox it (measured
 2026-11-23: 49 array arguments 4.4 us a call, the same 49 arrays as one tuple 5.8 us, the two
-arenas and the spec 0.47 us), and ``bind`` rebuilds the views inside compiled code for free.
+arenas and the spec 0.47 us), and ``bind`` rebuilds the views inside compiled code (inlined, without reference counting:
+numerics/jit.py ``jit_inline``).
 
 ``SLOTS`` starts with the arguments of ``stepper.dg_advance`` after (nsteps, t0, dt), in order, so
 the compiled tick calls ``dg_advance(nsteps, t0, dt, *bind(F, I, spec))``; the slots after
