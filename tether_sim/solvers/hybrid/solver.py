@@ -282,7 +282,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         P = self._parameters(dt)
         t_new = self.time + dt
         if self.winch_end is not None:  # the winch element's length at t_{n+1}
-            self._winch_set_length(self._winch_length_at(t_new))
+            self._winch_set_length(t_new)
         self._update_end_groups(t_new)
         K = ch.grid.size
         bodies = [e for e in (0, 1) if ch.body_node[e] >= 0]

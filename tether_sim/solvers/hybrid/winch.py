@@ -31,6 +31,7 @@ from tether_sim.solvers.hybrid import zoning
 from tether_sim.solvers.hybrid.state_io import convert_state
 
 WINCH_ENDS = ("ship", "vehicle")
+DEFECT_TIME = 1.0  # s over which the geometric defect of a split or merge is phased out (_winch_defect)
 SPLIT = 1.5  # split the winch element when it would exceed SPLIT h0
 MERGE = 0.5  # merge it with its neighbour when it would fall below MERGE h0
 _ROD_VECTORS = (slice(0, 3), slice(3, 6), slice(6, 9), slice(9, 12))  # body-frame v, omega, kappa, f
@@ -65,6 +66,7 @@ class HybridWinchMixin:
         self._wrate = 0.0  # rate reached at self.time
         self._wtarget = 0.0  # rate at the end of the next interval
         self._win = (0.0, 0.0, self._wl, 0.0, 0.0)  # current interval: t0, t1, L(t0), rate(t0), rate(t1)
+        self._wdef = (0.0, 0.0)  # geometric defect of the last split/merge: (time, length), see _winch_defect
 
     # ------------------------------------------------------------------ API
     @property
@@ -96,7 +98,7 @@ class HybridWinchMixin:
             self._wl = self._winch_length_at(t)
             self._wrate = self._wtarget = self._winch_rate_at(t)
             self._win = (float(t), float(t), self._wl, self._wrate, self._wrate)
-            self._winch_set_length(self._wl)
+            self._winch_set_length(t)
 
     def _winch_rate_at(self, t):
         t0, t1, _, r0, r1 = self._win
@@ -118,8 +120,10 @@ class HybridWinchMixin:
         g = self.s_grid
         return float(g[1] - g[0]) if self.winch_end == 0 else float(g[-1] - g[-2])
 
-    def _winch_set_length(self, L):
-        """Element lengths for the length L: the winch element takes up the change (the hot path: O(K))."""
+    def _winch_set_length(self, t):
+        """Element lengths at time t: the winch element takes up the change of L (the hot path: O(K)); the
+        box equations see it with the decaying geometric defect of the last split or merge added."""
+        L = self._winch_length_at(t)
         if self.winch_end == 0:
             self.s_grid[1:] += L - self.s_grid[-1]
         else:
@@ -129,15 +133,22 @@ class HybridWinchMixin:
                               f"at L = {L:.6g} m (haul-in past the end of the cable; keep winch.min_length above "
                               f"one segment, {self._h0:.3g} m)")
         self.length = float(L)
-        self.chain.s[:] = self.s_grid[self.chain.grid]
+        s = self.chain.s
+        s[:] = self.s_grid[self.chain.grid]
+        t0, d0 = self._wdef
+        if d0 != 0.0:
+            d = d0 * max(0.0, 1.0 - (t - t0) / DEFECT_TIME)
+            if self.winch_end == 0:
+                s[1:] += d
+            else:
+                s[-1] += d
 
     def _winch_prepare(self, h):
         """Before a step of length h: split or merge at the winch end for the length at t + h."""
         if self.winch_end is None:
             return
-        L_now = self._winch_length_at(self.time)
-        self._winch_set_length(L_now)  # the geometry at t_n (a failed step left that of its t_{n+1})
-        dL = self._winch_length_at(self.time + h) - L_now
+        self._winch_set_length(self.time)  # the geometry at t_n (a failed step left that of its t_{n+1})
+        dL = self._winch_length_at(self.time + h) - self._winch_length_at(self.time)
         for _ in range(self.s_grid.size + 2):
             hw = self._winch_element_length() + dL
             if hw > SPLIT * self._h0 and self._winch_element_length() > self._h0:
@@ -173,6 +184,7 @@ class HybridWinchMixin:
         self.rdot = np.insert(self.rdot, ins, rdot, axis=0)
         self.n_seg += 1
         self._set_chain()
+        self._winch_defect()
         self.stats["winch_splits"] = self.stats.get("winch_splits", 0) + 1
 
     def _sheave_tangent(self):
@@ -198,29 +210,30 @@ class HybridWinchMixin:
     def _interpolated_node(self, a, b, f, h, ua, uda):
         """Node at the fraction f from chain node a to chain node b (same kind, one element of length h
         apart): world vectors interpolated linearly, the velocity and its rate from the material's at the
-        sheave a (ua, uda; so the lumped momentum of the material is kept), tangent normalised, position
-        by the box scheme's trapezoid from a (the shape reconstruct_positions integrates)."""
+        sheave a (ua, uda; so the lumped momentum of the material is kept), tangent normalised; frame and
+        position by the box scheme's trapezoid from b (the shape reconstruct_positions integrates), so the
+        new material cell is consistent and the winch cell carries the defect (_winch_defect)."""
         Ya, Yb = self.Y[a], self.Y[b]
         Y = (1.0 - f) * Ya + f * Yb
         Yt = (1.0 - f) * self.Yt[a] + f * self.Yt[b]
-        h1 = f * h
+        hb = -(1.0 - f) * h if self.winch_end == 0 else (1.0 - f) * h  # signed arc length from b to the new node
         if self.chain.kind[a] == zoning.ROD:
             La, Lb = self.Lf[a], self.Lf[b]
             L = np.empty((3, 3))
-            rotate_frame(La, (0.5 * (Ya[6:9] + Y[6:9])) * h1, L)
+            rotate_frame(Lb, (0.5 * (Yb[6:9] + Y[6:9])) * hb, L)
             for sl in _ROD_VECTORS:  # body-frame vectors: interpolate in world components
                 wa, wta = (ua, uda) if sl.start == 0 else (La.T @ Ya[sl], La.T @ self.Yt[a, sl])
                 Y[sl] = L @ ((1.0 - f) * wa + f * (Lb.T @ Yb[sl]))
                 Yt[sl] = L @ ((1.0 - f) * wta + f * (Lb.T @ self.Yt[b, sl]))
-            qa, q = (1.0 + Ya[12]) * La[0], (1.0 + Y[12]) * L[0]
+            qb, q = (1.0 + Yb[12]) * Lb[0], (1.0 + Y[12]) * L[0]
         else:
             L = self.Lf[a].copy()  # a catenary node's frame is only the reference of a later conversion
             Y[0:3] = (1.0 - f) * ua + f * Yb[0:3]
             Yt[0:3] = (1.0 - f) * uda + f * self.Yt[b, 0:3]
             Y[4:7] /= np.linalg.norm(Y[4:7])
-            qa = (1.0 + Ya[7]) * Ya[4:7] / np.linalg.norm(Ya[4:7])
+            qb = (1.0 + Yb[7]) * Yb[4:7] / np.linalg.norm(Yb[4:7])
             q = (1.0 + Y[7]) * Y[4:7]
-        pos = self.positions[a] + 0.5 * h1 * (qa + q)
+        pos = self.positions[b] + 0.5 * hb * (qb + q)
         rdot = (1.0 - f) * (self.rdot[a] + ua - self._world_velocities()[a]) + f * self.rdot[b]  # material rate at a
         return Y, Yt, L, pos, rdot
 
@@ -256,17 +269,43 @@ class HybridWinchMixin:
         self.positions, self.rdot = np.delete(self.positions, m, axis=0), np.delete(self.rdot, m, axis=0)
         self.n_seg -= 1
         self._set_chain()
+        self._winch_defect()
         self.stats["winch_merges"] = self.stats.get("winch_merges", 0) + 1
+
+    def _winch_defect(self):
+        """Geometric defect of the new winch cell after a split or merge, and its decay.
+
+        The box scheme's cell chord is the trapezoid h (q_a + q_b)/2 of q = (1 + eps) t; on a curved
+        cable splitting a cell (or merging two) changes that sum by O(h theta^2 / 16) (theta: the turn
+        of the tangent across the cell) -- with EA = 45 MN and theta = 0.15 rad a 3 mm, i.e. kN, jump.
+        Instead the box equations of the winch cell see its length plus the defect d that makes its
+        chord consistent again (along the chord, where the defect lies), and d decays linearly to 0 over
+        DEFECT_TIME: a slow extra pay-out of d / DEFECT_TIME (mm/s). The bookkeeping (L, mass) is
+        untouched."""
+        K = self.chain.grid.size
+        i, j = (0, 1) if self.winch_end == 0 else (K - 2, K - 1)
+        p = 0.5 * (self._node_q(i) + self._node_q(j))
+        chord = self.positions[j] - self.positions[i]
+        h = self.s_grid[self.chain.grid[j]] - self.s_grid[self.chain.grid[i]]
+        self._wdef = (self.time, float(chord @ p / (p @ p) - h))
+        self._winch_set_length(self.time)
+
+    def _node_q(self, c):
+        """(1 + eps) t at chain node c."""
+        if self.chain.kind[c] == zoning.ROD:
+            return (1.0 + self.Y[c, 12]) * self.Lf[c][0]
+        return (1.0 + self.Y[c, 7]) * self.Y[c, 4:7] / np.linalg.norm(self.Y[c, 4:7])
 
     def _winch_snapshot(self):
         if self.winch_end is None:
             return {}
-        return {"winch": (self.s_grid.copy(), self.n_seg, self.length, self._wl, self._wrate, self._wtarget, self._win)}
+        return {"winch": (self.s_grid.copy(), self.n_seg, self.length, self._wl, self._wrate, self._wtarget, self._win,
+                          self._wdef)}
 
     def _winch_restore(self, snap):
         if "winch" not in snap:
             return
-        s_grid, self.n_seg, self.length, self._wl, self._wrate, self._wtarget, self._win = snap["winch"]
+        s_grid, self.n_seg, self.length, self._wl, self._wrate, self._wtarget, self._win, self._wdef = snap["winch"]
         self.s_grid = s_grid.copy()
 
     def cell_lengths(self):
