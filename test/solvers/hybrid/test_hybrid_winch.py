@@ -63,7 +63,7 @@ def lumped_momentum(s):
 
 
 # ----------------------------------------------------------------------------- 1. length, mass, momentum
-@pytest.mark.parametrize("end", ["ship", "vehicle"])
+@pytest.mark.parametrize("end", ["ship"])
 def test_length_is_the_trapezoid_of_the_rates_and_the_mass_gamma0_L_across_splits_and_merges(end):
     """Rates changed every 0.2 s interval (ramped linearly over each), paying out 6 m then hauling in
     past the start: h0 = 2.5 m, so the winch element splits and merges several times. L(t) and the
@@ -92,7 +92,7 @@ def test_length_is_the_trapezoid_of_the_rates_and_the_mass_gamma0_L_across_split
     assert np.allclose(np.delete(h, 0 if end == "ship" else -1), s._h0, rtol=1e-12)  # material elements keep h0
 
 
-@pytest.mark.parametrize("end", ["ship", "vehicle"])
+@pytest.mark.parametrize("end", ["ship"])
 def test_a_split_and_a_merge_keep_the_lumped_momentum(end):
     """On a moving state (paying out at 0.8 m/s), splitting and merging at the winch end change neither
     the mass nor the lumped momentum sum m_j u_j beyond round-off (rel 1e-12 of |m| |u|max)."""
@@ -183,10 +183,13 @@ def test_slow_pay_out_of_a_taut_cable_follows_the_quasi_static_tension_without_a
 
 # ----------------------------------------------------------------------------- 4. refusals, API, snapshots
 @pytest.mark.parametrize("end, ends, match", [
-    ("vehicle", (FIXED_TOP, EndCondition(kind="force", position=(0, 0, -100.0), force=(0, 0, -500.0))),
-     r"winch.end = vehicle: vehicle_end.kind is 'force', a force end"),
-    ("vehicle", (FIXED_TOP, EndCondition(kind="free", position=(0, 0, -100.0))),
-     r"winch.end = vehicle: vehicle_end.kind is 'free', a force end"),
+    ("ship", (EndCondition(kind="force", position=(0, 0, 0), force=(0, 0, 500.0)),
+              EndCondition(kind="fixed", position=(0, 0, -100.0))),
+     r"winch.end = ship: ship_end.kind is 'force', a force end"),
+    ("ship", (EndCondition(kind="free", position=(0, 0, 0)), EndCondition(kind="fixed", position=(0, 0, -100.0))),
+     r"winch.end = ship: ship_end.kind is 'free', a force end"),
+    ("vehicle", (FIXED_TOP, EndCondition(kind="fixed", position=(60.0, 0.0, -60.0))),
+     r"winch.end = vehicle: not supported by the hybrid solver.*unstable.*use solver: dg"),
     ("ship", (EndCondition(kind="body", position=(0, 0, 0)), EndCondition(kind="fixed", position=(0, 0, -100.0))),
      r"winch.end = ship: ship_end.kind is body.*not implemented in the hybrid solver"),
 ])
