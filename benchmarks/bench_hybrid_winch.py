@@ -72,12 +72,13 @@ def main(argv=None):
             solvers[name] = s
     print(f"hybrid winch: L0 = {a.length:g} m, {a.duration:g} s simulated at {RATE:g} Hz ticks, speed {a.speed:g} m/s, "
           f"best of {a.repeats}; load {os.getloadavg()[0]:.2f}")
-    print("| run | ms CPU per simulated s | x fixed | L end (m) | splits | merges | Newton it./step |")
-    print("|---|---|---|---|---|---|---|")
+    print("| run | ms CPU per simulated s | x fixed | us per step | L end (m) | splits | merges | Newton it./step |")
+    print("|---|---|---|---|---|---|---|---|")
     for name in cases:
         s = solvers[name]
         st = s.stats
         print(f"| {name} | {1e3 * best[name] / a.duration:.1f} | {best[name] / best['fixed']:.3f} | "
+              f"{1e6 * best[name] / max(st['steps'], 1):.0f} | "
               f"{s.unstretched_length:.2f} | {st.get('winch_splits', 0)} | {st.get('winch_merges', 0)} | "
               f"{st['newton_iterations'] / max(st['steps'], 1):.2f} |")
 
