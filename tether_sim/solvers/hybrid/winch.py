@@ -61,8 +61,8 @@ class HybridWinchMixin:
         name = ("ship_end", "vehicle_end")[e]
         mode = self.end_modes[e]
         if mode == "body":
-            raise ConfigError(f"winch.end = {end}: {name}.kind is body; the hybrid solver's winch keeps the sheave on a "
-                              "prescribed, fixed or clamped end (a rigid body at the winch end is not implemented "
+            raise ConfigError(f"winch.end = {end}: {name}.kind is body; the hybrid solver's winch keeps the sheave on "
+                              "a prescribed, fixed or clamped end (a rigid body at the winch end is not implemented "
                               "in the hybrid solver; use solver: dg for a winch on a body)")
         if mode not in ("velocity", "clamped"):
             raise ConfigError(f"winch.end = {end}: {name}.kind is {self.ends[e].kind!r}, a force end; the winch "
@@ -246,7 +246,8 @@ class HybridWinchMixin:
 
     def _winch_merge(self):
         """Remove the winch element's material node: the winch element absorbs its neighbour. The surviving
-        neighbour's velocity keeps the lumped momentum (the sheave's lumped mass grows at the material velocity there)."""
+        neighbour's velocity keeps the lumped momentum (the sheave's lumped mass grows at the material velocity
+        there)."""
         n = self.n_seg
         w, nb = (0, 1) if self.winch_end == 0 else (n - 1, n - 2)  # winch element and its neighbour
         if self.zones[w] != self.zones[nb]:  # one model for the merged element (a held end keeps its rod)
