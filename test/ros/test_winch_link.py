@@ -120,12 +120,34 @@ def test_solvers_without_a_winch_refuse_winch_enabled():
         driver.start(0.0)
 
 
-def test_hybrid_solver_refuses_winch_enabled():
-    from tether_sim.solvers.hybrid.solver import HybridRodCatenarySolver
+def test_the_link_drives_the_hybrid_solver():
+    """The descent schedule on the hybrid solver (segments added at the winch end, its own test file
+    test/solvers/hybrid/test_hybrid_winch.py): a 200 m cable hanging in water with a 500 N load, 1 m/s
+    from t = 1 s at 0.5 m/s^2, h0 = 5 m. The solver's length is the winch's at every tick (round-off), the
+    winch element split as L grew, and the drum-side tension the winch saw is the quasi-static
+    w L + F less the tangential drag 0.5 rho d Cdt V^2 L (62 N) within the ringing the ramp's end at
+    3 s excites (at most the inertia gamma0 L a = 305 N): measured 207 N below w L + F at 5 s."""
+    from tether_sim.physics.hydrodynamics import net_weight_per_length
+    from tether_sim.solvers.config import HybridOptions
 
-    cfg = replace(descent_config(), solver="hybrid")
-    with pytest.raises(ConfigError, match="winch.enabled"):
-        HybridRodCatenarySolver(cfg)
+    cfg = replace(descent_config(), solver="hybrid", hybrid=HybridOptions(n_segments=40, time_step=0.02),
+                  vehicle_end=EndCondition(kind="force", position=(0.0, 0.0, -200.0), force=(0.0, 0.0, -500.0)))
+    driver = SimulationDriver(cfg)
+    driver.start(0.0)
+    assert isinstance(driver.solver, WinchedSolver) and driver.solver.inner.name == "hybrid"
+    hist = run(driver, 5.0)
+    t, L = hist[:, 0], hist[:, 1]
+    exact = np.where(t < 1.0, 200.0, np.where(t < 3.0, 200.0 + 0.25 * (t - 1.0) ** 2, 201.0 + (t - 3.0)))
+    assert np.max(np.abs(L - exact)) < 1e-9
+    link = link_of(driver)
+    assert link.winch.length == driver.solver.unstretched_length and driver.solver.pay_out_rate == pytest.approx(1.0)
+    assert driver.solver.stats["winch_splits"] >= 1
+    wl = net_weight_per_length(cfg.cable, cfg.environment)
+    print(f"hybrid under the link: L {link.winch.length:.3f} m, drum tension {link.winch.tension:.1f} N, "
+          f"w L + F {wl * link.winch.length + 500.0:.1f} N")
+    cab, env = cfg.cable, cfg.environment
+    drag = 0.5 * env.fluid_density * cab.diameter * cab.Cdt * link.winch.length
+    assert abs(link.winch.tension - (wl * link.winch.length + 500.0 - drag)) < cab.gamma0 * link.winch.length * 0.5
 
 
 def test_offline_run_records_winch_state_and_the_scheduled_commands(tmp_path):

@@ -25,6 +25,7 @@ from tether_sim.solvers.hybrid.newton_band import (FAIL_ITERATIONS, FAIL_RESIDUA
 from tether_sim.solvers.hybrid.kernels import CAT_EPS, P_AF, P_AM, P_GAM, ROD_EPS, elastic_strain, pack_parameters
 from tether_sim.solvers.hybrid.rod import frame_at
 from tether_sim.solvers.hybrid.state_io import EndMotion, convert_state, node_profile
+from tether_sim.solvers.hybrid.winch import HybridWinchMixin
 
 MAX_HALVINGS = 6
 MAX_BOOST = 256.0  # largest factor on the rod switching tension after failed Newton solves
@@ -34,16 +35,13 @@ FAILURES = {FAIL_RESIDUAL: "non-finite residual", FAIL_SINGULAR: "singular Jacob
             FAIL_UPDATE: "non-finite Newton update", FAIL_ITERATIONS: "no convergence"}
 
 
-class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
+class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
     """TetherSolver of Goyal & Perkins (see tether_sim.solvers.base for the interface contract)."""
 
     name = "hybrid"
 
     def __init__(self, config):
         self.config = config
-        if config.winch.enabled:
-            raise ConfigError("winch.enabled: the hybrid solver keeps its length fixed during a run (segments added "
-                              "and removed at the winch end are not implemented); use solver: dg for a winch")
         cab, env, opt = config.cable, config.environment, config.hybrid
         self.opt = opt
         self.length = cab.length
@@ -90,6 +88,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         self._last_zoning = -np.inf
         self.stats = {"steps": 0, "newton_iterations": 0, "max_iterations": 0, "halvings": 0, "rezonings": 0}
         self._record = ([], [], [])
+        self._setup_winch(config)  # winch.py: segments added and removed at the winch end
         self._init_state()
 
     # ------------------------------------------------------------------ set-up
@@ -109,12 +108,15 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         return self.opt.time_step
 
     def step(self, dt):
+        self._winch_begin(self.time, self.time + float(dt))
         self._step_with_retry(float(dt))
+        self._winch_finish(self.time)
 
     def advance_to(self, t):
         t = float(t)
         for m in self.end_motion:
             m.begin(self.time, t)
+        self._winch_begin(self.time, t)
         n = 0
         dt = self.opt.time_step
         while self.time < t - 1e-12 * max(1.0, abs(t)):
@@ -126,6 +128,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         self.time = max(self.time, t)
         for m in self.end_motion:
             m.finish(t)
+        self._winch_finish(self.time)
         return n
 
     def state(self, arc_lengths=None):
@@ -136,7 +139,10 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         order = prof["s"]
         pos = np.stack([np.interp(s, order, prof["position"][:, k]) for k in range(3)], axis=1)
         vel = np.stack([np.interp(s, order, prof["velocity"][:, k]) for k in range(3)], axis=1)
-        elem = np.clip((s / self.ds).astype(int), 0, self.n_seg - 1)
+        if self.winch_end is None:
+            elem = np.clip((s / self.ds).astype(int), 0, self.n_seg - 1)
+        else:  # the grid is not uniform with a winch
+            elem = np.clip(np.searchsorted(self.s_grid, s, side="right") - 1, 0, self.n_seg - 1)
         extra = {"zone": self.zones[elem].astype(np.int64), "shear": np.interp(s, order, prof["shear"]),
                  "torsion_moment": np.interp(s, order, prof["torsion"]), "newton": dict(self.stats)}
         return SolverState(time=self.time, arc_length=s, position=pos, velocity=vel,
@@ -181,7 +187,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         return copy.deepcopy({"Y": self.Y, "Yt": self.Yt, "Lf": self.Lf, "zones": self.zones, "time": self.time,
                               "positions": self.positions, "rdot": self.rdot, "motion": self.end_motion,
                               "load": self.end_load, "stats": self.stats, "body_x": self.body_x,
-                              "body_xd": self.body_xd, "last_zoning": self._last_zoning})
+                              "body_xd": self.body_xd, "last_zoning": self._last_zoning, **self._winch_snapshot()})
 
     def restore(self, snap):
         snap = copy.deepcopy(snap)
@@ -190,6 +196,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         self.end_motion, self.end_load, self.stats = snap["motion"], snap["load"], snap["stats"]
         self.body_x, self.body_xd = snap["body_x"], snap["body_xd"]
         self._last_zoning = snap.get("last_zoning", -np.inf)
+        self._winch_restore(snap)
         self._set_chain()
         self._record = ([], [], [])
 
@@ -217,6 +224,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         boost = 4.0
         while pieces:
             h = pieces.pop(0)
+            self._winch_prepare(h)  # split or merge at the winch end for the length at time + h
             snap = (self.Y.copy(), self.Yt.copy(), self.Lf.copy())
             try:
                 self._step(h)
@@ -273,6 +281,8 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin):
         ch = self.chain
         P = self._parameters(dt)
         t_new = self.time + dt
+        if self.winch_end is not None:  # the winch element's length at t_{n+1}
+            self._winch_set_length(t_new)
         self._update_end_groups(t_new)
         K = ch.grid.size
         bodies = [e for e in (0, 1) if ch.body_node[e] >= 0]

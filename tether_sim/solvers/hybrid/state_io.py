@@ -159,7 +159,7 @@ def convert_state(solver, new_zones):
         tang = [solver.Lf[src[i][0]][0] if keep[k] else solver.Y[src[i][0], 4:7] / np.linalg.norm(
             solver.Y[src[i][0], 4:7]) for k, i in enumerate(block)]
         frames = zoning.rod_block_frames(tang, [Lf[i] for i in block], keep)
-        ds = solver.ds
+        ds = solver.cell_lengths()[[nodes[i][0] for i in block[:-1]]]  # element k joins block nodes k, k + 1
         for k, i in enumerate(block):
             if keep[k]:
                 continue
@@ -167,9 +167,9 @@ def convert_state(solver, new_zones):
             Y[i], Yt[i] = zoning.cat_to_rod(solver.Y[src[i][0]], solver.Yt[src[i][0]], frames[k])
             kap = []
             if k > 0:
-                kap.append(zoning.curvature_between(frames[k - 1], frames[k], ds))
+                kap.append(zoning.curvature_between(frames[k - 1], frames[k], ds[k - 1]))
             if k < len(frames) - 1:
-                kap.append(zoning.curvature_between(frames[k], frames[k + 1], ds))
+                kap.append(zoning.curvature_between(frames[k], frames[k + 1], ds[k]))
             if kap:
                 Y[i, 6:9] = np.mean(kap, axis=0)
         n = m + 1
