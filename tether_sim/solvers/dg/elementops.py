@@ -2,7 +2,8 @@
 
 Every function acts on element ``e`` of 3-D work arrays (element, mode or point, channel) and
 ``c_*`` select the first of ``nc`` consecutive channels. The arrays are indexed directly (no views
-are created: array views in numba cost a reference-count update each). See numerics/operators.py.
+are created: with reference counting, array views cost a count update each; the kernels are now
+compiled without it, numerics/jit.py, and the direct indexing stays). See numerics/operators.py.
 
 The three-channel case (every vector field of the cable) is unrolled by hand: three independent
 accumulators per row instead of an inner loop of length 3, the same sums in the same order.
