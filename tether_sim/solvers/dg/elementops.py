@@ -9,10 +9,10 @@ The three-channel case (every vector field of the cable) is unrolled by hand: th
 accumulators per row instead of an inner loop of length 3, the same sums in the same order.
 """
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit_inline
 
 
-@jit
+@jit_inline
 def apply_element_matrix(M, src, e, c_src, dst, c_dst, nc, scale):
     """dst[e, i, c_dst + c] = scale * sum_k M[i, k] src[e, k, c_src + c] for one element e.
 
@@ -46,13 +46,13 @@ eval_points = apply_element_matrix  # V: modes -> Gauss points
 eval_traces = apply_element_matrix  # Tr: modes -> traces (side 0: xi = -1, side 1: xi = +1)
 
 
-@jit
+@jit_inline
 def project_points(Pj, src, e, c_src, dst, c_dst, nc):
     """Gauss points -> modes (L2 projection with Pj)."""
     apply_element_matrix(Pj, src, e, c_src, dst, c_dst, nc, 1.0)
 
 
-@jit
+@jit_inline
 def strong_derivative(h, D, Lf, src, e, c_src, scale, tr, c_tr, fl, c_fl, dst, c_dst, nc):
     """Strong-form DG derivative of F = scale * src on element e [PE2020 Eq. 23] with numerical fluxes.
 

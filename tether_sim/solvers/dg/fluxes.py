@@ -3,7 +3,7 @@ end loads they give (boundary rules: kernels.py module docstring)."""
 
 import math
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit, jit_inline
 from tether_sim.physics.end_conditions import is_kinematic
 from tether_sim.solvers.dg.layout import (
     E_F, E_M, E_T, E_VHAT, F_MS, F_NU, F_Q, F_V, I_AXDAMP, I_KIND0, I_KIND1, I_N, P_GAMMA0, P_QPEN,
@@ -11,7 +11,7 @@ from tether_sim.solvers.dg.layout import (
 )
 
 
-@jit
+@jit_inline
 def interface_fluxes(fl, tr, N, c_fl, c_u, c_f, scale_f, penalty):
     """Interior Lax-Friedrichs fluxes F_hat = (F_L + F_R)/2 + penalty lambda/2 (u_R - u_L) [Eq. 24]."""
     for k in range(1, N):
@@ -21,7 +21,7 @@ def interface_fluxes(fl, tr, N, c_fl, c_u, c_f, scale_f, penalty):
                 + 0.5 * lam * (tr[k, 0, c_u + c] - tr[k - 1, 1, c_u + c])
 
 
-@jit
+@jit_inline
 def velocity_fluxes(prm, iprm, vbc, tr, fl):
     """Fluxes of F_q = v / gamma0 [Eq. 24] and, with damping, the central fluxes of the
     strain-rate gradient (an LDG auxiliary variable, module docstring) at every interface."""
@@ -89,7 +89,7 @@ def tension_jump_penalty(prm, iprm, h, Pj, Tr, Lf, wq, tr, fl, dU):
                 dU[k, l, c] -= hr * Lf[0, l] * p
 
 
-@jit
+@jit_inline
 def clip_compression(fl, tr, k, e, side):
     """Remove a compressive axial part of the boundary flux T_hat (laws without compression).
 
@@ -112,7 +112,7 @@ def clip_compression(fl, tr, k, e, side):
         fl[k, F_V + 2] -= a * i2
 
 
-@jit
+@jit_inline
 def end_outputs(N, tr, fl, endf, k0, k1, bc):
     """Force and moment by the cable on each end (-n T_hat, -n M_hat), axial end tension, v_hat."""
     for end in range(2):

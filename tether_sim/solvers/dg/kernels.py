@@ -29,7 +29,7 @@ be pulled taut, never pushed).
 
 import math
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit, jit_inline
 from tether_sim.physics.constitutive import LAW_BILINEAR, LAW_LINEAR, LAW_TABLE, axial_tension, tension_slope
 from tether_sim.physics.end_conditions import is_kinematic
 from tether_sim.physics.hydrodynamics import current_at, morison_drag, surface_drag, wetted_fraction
@@ -108,7 +108,7 @@ def element_positions(U, ra, h, iprm, rs):
                 rs[e, c] = acc
 
 
-@jit
+@jit_inline
 def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc,
            wq, wm, tr, fl, rs, tmp, dU, dra, endf):
     """du/dt of the DG cable [PE2020 Eq. 23] into dU; anchor velocity into dra; end loads into endf."""
@@ -119,7 +119,7 @@ def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy
         dra[c] = fl[k, F_Q + c]
 
 
-@jit
+@jit_inline
 def internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf, tmp):
     """Steps 1-4 of dg_rhs (module docstring): point values, dq/dt into dU[..., 0:3], the tension
     vector (+ bending shear) on the modes and at the traces, all fluxes and the end loads endf.
@@ -460,7 +460,7 @@ def wave_inertia(i0, i1, i2, a0, a1, a2, rho_ah, m_t, m_n):
     return cn * (a0 - p0) + m_t * p0, cn * (a1 - p1) + m_t * p1, cn * (a2 - p2) + m_t * p2
 
 
-@jit
+@jit_inline
 def _project_tension(Pj, Tr, wq, wm, tr, e, nm, nq):
     """Tension vector of element e: Gauss points -> modes (M_TV) -> traces (T_TV)."""
     for l in range(nm):
