@@ -51,7 +51,7 @@ from tether_sim.solvers.dg.ldg import ldg_shear_force
 from tether_sim.solvers.dg.soa import momentum_rate_soa, soa_momentum_applies
 
 
-@jit
+@jit_inline
 def hermite_end(bc, end, t, out):
     """Position out[0:3] and velocity out[3:6] of an end from its cubic Hermite segment."""
     t0 = bc[end, B_T0]
@@ -316,7 +316,7 @@ def tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, w
         tension_jump_penalty(prm, iprm, h, Pj, Tr, Lf, wq, tr, fl, dU)
 
 
-@jit
+@jit_inline
 def momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr, fl, rs, tmp, dU):
     """Step 5 of dg_rhs: dT/ds, drag, weight, seabed, added mass; dv/dt projected into dU[..., 3:6].
 

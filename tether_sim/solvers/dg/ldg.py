@@ -15,7 +15,7 @@ impose M*_hat = n M_BC; every other end (prescribed, fixed pin, free, body) is m
 (M*_hat = 0) with i_hat, i_hat-dot from the interior.
 """
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit_inline
 from tether_sim.physics.end_conditions import M_APPLIED, M_INTERIOR, holds_direction, moment_rule
 from tether_sim.solvers.dg.elementops import eval_points, eval_traces, project_points, strong_derivative
 from tether_sim.solvers.dg.layout import (
@@ -25,7 +25,7 @@ from tether_sim.solvers.dg.layout import (
 )
 
 
-@jit
+@jit_inline
 def _ldg_fluxes(fl, tr, N, c_fl, c_tr, bias):
     """Interior fluxes 0.5 (u_L + u_R) + bias (u_R - u_L) [Eq. 29 with bias = beta, Eq. 30 with -beta]."""
     for k in range(1, N):
@@ -35,7 +35,7 @@ def _ldg_fluxes(fl, tr, N, c_fl, c_tr, bias):
             fl[k, c_fl + c] = 0.5 * (uL + uR) + bias * (uR - uL)
 
 
-@jit
+@jit_inline
 def ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, bc, wq, wm, tr, fl):
     """Add the bending shear force T_s to wq[..., W_TV] (see module docstring)."""
     N = iprm[I_N]

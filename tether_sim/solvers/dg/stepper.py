@@ -11,7 +11,7 @@ of every E stage (bodies feel them; the recorded end tension includes them).
 
 import math
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit, jit_inline
 from tether_sim.physics.bodies import body_attachment_kinematics, body_derivatives
 from tether_sim.physics.constitutive import LAW_LINEAR
 from tether_sim.physics.end_conditions import has_body, is_kinematic
@@ -31,7 +31,7 @@ STATUS_OK = 0
 STATUS_DIVERGED = 1
 
 
-@jit
+@jit_inline
 def fill_end_kinematics(bc, iprm, t, vbc, bs, bp):
     """vbc[end] = (position, velocity) of every kinematic end at time t (Hermite segment or body P)."""
     for end in range(2):
