@@ -41,8 +41,8 @@ def _kernels():
     plain, counted = {}, {}
     for path in sorted(PKG.rglob("*.py")):
         for node, decos in _decorated(path):
-            if "jit" in decos:
-                plain[(path, node.name)] = node
+            if "jit" in decos or ("jit_inline" in decos and not path.name == "workspace.py"):
+                plain[(path, node.name)] = node  # the arena binding (workspace.py) returns views by design
             if "jit_alloc" in decos:
                 counted.setdefault(_module(path), set()).add(node.name)
     return plain, counted
