@@ -26,8 +26,13 @@ from tether_sim.solvers.dg.layout import (
 TMP_HEAD = 16  # tmp[0:16] belongs to the scalar kernels and the stepper
 # Fewer elements than this: the element-wise path is cheaper (each SoA row loop is only N long; ROPOS
 # P = 4, thread CPU per right-hand side, 2026-11-23: N = 2 / 3 / 5 element-wise 0.8 / 1.6 / 1.7 us,
-# SoA 2.4 / 3.1 / 2.7 us; N = 8 / 12: element-wise 3.9 / 4.2 us, SoA 2.2 / 3.2 us).
-SOA_MIN_ELEMENTS = 7
+# SoA 2.4 / 3.1 / 2.7 us; N = 8 / 12: element-wise 3.9 / 4.2 us, SoA 2.2 / 3.2 us). Session 6, after
+# the kernels lost their reference counts and their small helpers were inlined (numerics/jit.py),
+# the element-wise path won up to N = 20 (us per 50 Hz tick, ROPOS, bending off / on, 2026-11-25,
+# load ~1, SoA from 7 elements vs never: N = 8 P = 2 59.6 / 86.1 vs 51.2 / 82.6; N = 12 P = 2
+# 63.1 / 91.7 vs 56.9 / 89.9; N = 20 P = 4 81.2 / 128.6 vs 79.7 / 123.0 at 1730 m; N = 32 P = 2
+# 36.4 / 59.0 vs 37.5 / 58.8) and lost at N = 24, P = 4 (253 / 434 vs 274 / 436 at 975 m).
+SOA_MIN_ELEMENTS = 24
 # Unsigned indices: numba adds a negative-index wrap-around check to every signed index computed at
 # run time, which keeps the compiler from vectorising the element loops (measured x3).
 U64 = np.uint64
