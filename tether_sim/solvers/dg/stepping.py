@@ -95,7 +95,8 @@ class SteppingMixin:
         span = t - self.time
         if span <= 0.0:
             return 0, 0.0
-        n = max(1, math.ceil(span / (self._winch_substep(span) or self._substep()) * (1.0 - 1e-12)))
+        step = (self._winch_substep(span) if self.winch_enabled else None) or self._substep()
+        n = max(1, math.ceil(span / step * (1.0 - 1e-12)))
         return n, span / n
 
     def advance_to(self, t) -> int:
