@@ -1,6 +1,7 @@
-"""The two compile modes of numerics/jit.py: ``jit`` kernels run without numba's reference counting.
+"""The compile modes of numerics/jit.py: ``jit`` and ``jit_inline`` kernels run without numba's reference
+counting, ``jit_alloc`` functions with it.
 
-What that asks of a ``jit`` kernel (jit.py): it allocates nothing, returns no array, and calls no
+What that asks of an uncounted kernel (jit.py): it allocates nothing, returns no array, and calls no
 ``jit_alloc`` function (the counted functions sit above the uncounted ones, never below). numba
 refuses an allocation at compile time; a returned array or a counted callee would instead unbalance
 the counts silently (an array freed early or never), so these tests check the sources (the
@@ -9,7 +10,6 @@ compile its callees).
 """
 
 import ast
-import importlib
 import os
 from pathlib import Path
 
