@@ -1,4 +1,4 @@
-"""The two numba configurations the kernels use: compiled once, cached on disk, fastmath off.
+"""The three numba configurations of the kernels: compiled once, cached on disk, fastmath off.
 
 ``jit``: the kernels. Compiled **without numba's runtime (NRT)**: no reference counting of arrays.
 With NRT, every array passed to a compiled callee, sliced or reshaped costs an atomic
