@@ -176,7 +176,7 @@ class HybridWinchMixin:
     def _winch_split(self):
         """Insert a node h0 from the winch element's material end, on the current shape (state at t_n)."""
         a, b, jb = self._winch_nodes()
-        h = abs(self.s_grid[jb] - self.s_grid[jb - 1 if self.winch_end == 0 else jb + 1])
+        h = self._winch_element_length()
         f = (h - self._h0) / h  # fraction of the way from the sheave a to b
         Y, Yt, Lf, pos, rdot = self._interpolated_node(a, b, f, h, *self._sheave_material_motion())
         ins = b if self.winch_end == 0 else a  # chain index of the new node (between a and b)
