@@ -7,7 +7,9 @@ end tension in 5-10 s, 200 Hz resampling, both ends) against the reference rows 
 docs/data/resolution_ladder.csv (N = max(10, L / 20 m), P = 4, cfl 0.5) and prints the error, so a
 change of the kernels that moved the peak would show (needs --duration >= 10). MoorDyn N = 40 is
 its 1 % rung of BENCHMARKS.md "Accuracy against cost" (0.71 % at 1730 m; 0.6 % at 200 m against its
-own finest rung). Cost: thread CPU per simulated second, best of --repeat runs of --duration s, DG
+own finest rung), with bending too (EI = EI_STAR, 10.2 s runs against N = 160: 0.89 % at 1730 m,
+0.12 % at 200 m; BENCHMARKS.md "MoorDyn with bending stiffness (session 7)",
+moordyn_bending_rungs.py). Cost: thread CPU per simulated second, best of --repeat runs of --duration s, DG
 and MoorDyn interleaved:
 
 - DG: a node tick = solver.tick(t + 0.02, ship=(position, velocity)): the targets, the substeps,
