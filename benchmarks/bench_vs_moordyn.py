@@ -157,7 +157,7 @@ def main(argv=None):
         md0 = best[("md", 0.0)]
         for alpha in (0.0, 1.0):
             md = best[("md", alpha)]
-            line = (f"  L={length:6.0f} alpha={alpha:g}: MoorDyn N={MOORDYN_SEGMENTS} EI={alpha * rc.EI_STAR:g} "
+            line = (f"  L={length:6.0f} alpha={alpha:g}: MoorDyn N={MOORDYN_SEGMENTS} EI={alpha * rc.EI_STAR:4.0f} "
                     f"{1e3 * md:7.2f} ms/s")
             for name, _, _, _ in trees:
                 c = best[(name, alpha)]
