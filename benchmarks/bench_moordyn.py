@@ -68,7 +68,8 @@ def run_moordyn(length, n_segments, duration, coupling_step=COUPLING_STEP, dt=No
 
     dt = dt if dt is not None else rc.moordyn_time_step(length, n_segments, COUPLING_STEP)
     workdir = Path(workdir or tempfile.mkdtemp(prefix="md_ropos_"))
-    path = workdir / f"ropos_L{int(length)}_N{n_segments}.txt"
+    tag = f"_a{alpha:g}" if alpha else ""
+    path = workdir / f"ropos_L{int(length)}_N{n_segments}{tag}.txt"
     path.write_text(rc.moordyn_input(length, n_segments, dt, alpha=alpha))
     system, init_wall = _quiet_create(moordyn, path)
     n = int(round(duration / coupling_step))
@@ -101,12 +102,14 @@ def run_moordyn(length, n_segments, duration, coupling_step=COUPLING_STEP, dt=No
 METRICS = ("first_peak", "mean_peak", "max_peak")
 
 
-def best_wall(length, n_seg, duration, coupling_step, dt, workdir, repeats):
+def best_wall(length, n_seg, duration, coupling_step, dt, workdir, repeats, alpha=0.0):
     """Smallest (wall, thread CPU) time inside moordyn.Step over ``repeats`` runs (the machine is
-    shared: the CPU time is the robust cost figure, the wall time what a real-time loop sees)."""
+    shared: the CPU time is the robust cost figure, the wall time what a real-time loop sees).
+    ``alpha``: the line's bending stiffness EI = alpha * EI_STAR (MoorDyn v2 line-type column EI)."""
     walls, cpus = [], []
     for _ in range(repeats):
-        res = run_moordyn(length, n_seg, duration, coupling_step=coupling_step, dt=dt, workdir=workdir)
+        res = run_moordyn(length, n_seg, duration, coupling_step=coupling_step, dt=dt, alpha=alpha,
+                          workdir=workdir)
         walls.append(res["step_wall"])
         cpus.append(res["step_cpu"])
         if walls[-1] > 20.0:  # expensive rung: one timing is enough

@@ -7,7 +7,9 @@ end tension in 5-10 s, 200 Hz resampling, both ends) against the reference rows 
 docs/data/resolution_ladder.csv (N = max(10, L / 20 m), P = 4, cfl 0.5) and prints the error, so a
 change of the kernels that moved the peak would show (needs --duration >= 10). MoorDyn N = 40 is
 its 1 % rung of BENCHMARKS.md "Accuracy against cost" (0.71 % at 1730 m; 0.6 % at 200 m against its
-own finest rung). Cost: thread CPU per simulated second, best of --repeat runs of --duration s, DG
+own finest rung), with bending too (EI = EI_STAR, 10.2 s runs against N = 160: 0.89 % at 1730 m,
+0.12 % at 200 m; BENCHMARKS.md "MoorDyn with bending stiffness (session 7)",
+moordyn_bending_rungs.py). Cost: thread CPU per simulated second, best of --repeat runs of --duration s, DG
 and MoorDyn interleaved:
 
 - DG: a node tick = solver.tick(t + 0.02, ship=(position, velocity)): the targets, the substeps,
@@ -15,13 +17,18 @@ and MoorDyn interleaved:
   also times the four calls set_end_motion + advance_to + drain_end_tensions + end_forces of
   sessions 1-4, in the same run);
 - MoorDyn: moordyn.Step over 0.02 s with its largest stable internal step dividing 0.02 s
-  (bench_moordyn.best_wall with NODE_STEP), the fairlead fed the same orbit.
+  (bench_moordyn.best_wall with NODE_STEP), the fairlead fed the same orbit, and the same bending
+  stiffness as the DG row: EI = alpha * EI_STAR in the line type's EI column (MoorDyn v2 lines
+  carry bending stiffness: curvature at the internal nodes, bending forces from EI; pinned ends).
 
 The fairlead orbit itself (ropos_case.fairlead_motion, ~20 us of Python a call) is computed outside
 both timers, as bench_moordyn does for MoorDyn (sessions 2-3 timed it inside the DG tick only).
 
-MoorDyn has no bending stiffness: the alpha = 1 rows compare DG with bending against the same
-MoorDyn runs. ``--baseline DIR`` adds another checkout's DG (bench_tick.load_baseline).
+Each repeat runs MoorDyn once per alpha (EI = 0 and EI = EI_STAR), interleaved with the DG runs.
+The alpha = 1 row gives DG/MoorDyn against MoorDyn with bending (like for like) and, labelled
+"vs MoorDyn EI=0", against MoorDyn without bending (the figure printed before session 7, when
+the alpha = 1 rows were wrongly compared with MoorDyn at EI = 0). ``--baseline DIR`` adds
+another checkout's DG (bench_tick.load_baseline).
 
 Usage: PYTHONPATH=. python benchmarks/bench_vs_moordyn.py [--duration 10.2] [--repeat 3] [--cfl 0.8]
        [--rungs 2 3] [--order 4] [--quad-points Q] [--baseline DIR]
@@ -143,18 +150,23 @@ def main(argv=None):
                                        args.order, path)
                     best[(name, alpha)] = min(best.get((name, alpha), c), c)
                     err[(name, alpha)] = peak_error(peaks, reference_peaks(length, alpha))
-            _, cpu = bench_moordyn.best_wall(length, MOORDYN_SEGMENTS, args.duration, bench_moordyn.NODE_STEP, dt_md,
-                                             args.workdir, 1)
-            best["md"] = min(best.get("md", cpu / args.duration), cpu / args.duration)
-        md = best["md"]
+            for alpha in (0.0, 1.0):  # MoorDyn with the DG row's bending stiffness
+                _, cpu = bench_moordyn.best_wall(length, MOORDYN_SEGMENTS, args.duration, bench_moordyn.NODE_STEP,
+                                                 dt_md, args.workdir, 1, alpha=alpha)
+                best[("md", alpha)] = min(best.get(("md", alpha), cpu / args.duration), cpu / args.duration)
+        md0 = best[("md", 0.0)]
         for alpha in (0.0, 1.0):
-            line = f"  L={length:6.0f} alpha={alpha:g}: MoorDyn N={MOORDYN_SEGMENTS} {1e3 * md:7.2f} ms/s"
+            md = best[("md", alpha)]
+            line = (f"  L={length:6.0f} alpha={alpha:g}: MoorDyn N={MOORDYN_SEGMENTS} EI={alpha * rc.EI_STAR:4.0f} "
+                    f"{1e3 * md:7.2f} ms/s")
             for name, _, _, _ in trees:
                 c = best[(name, alpha)]
                 e = err[(name, alpha)]
                 line += (f" | {name} N={n} P={args.order} cfl {args.cfl:g} {1e3 * c:7.2f} ms/s, "
-                         f"{name}/MoorDyn {c / md:.3f}, "
-                         f"first snap peak error {'n/a' if e is None else f'{100 * e:.3f} %'}")
+                         f"{name}/MoorDyn {c / md:.3f}")
+                if alpha:
+                    line += f" (vs MoorDyn EI=0 {c / md0:.3f})"
+                line += f", first snap peak error {'n/a' if e is None else f'{100 * e:.3f} %'}"
             print(line, flush=True)
 
 

@@ -83,3 +83,52 @@ def test_snap_metrics_on_synthetic_record():
     assert m["mean_peak"] == pytest.approx(103.5)
     assert m["first_peak"] == pytest.approx(97.0)
     assert m["max_peak"] == pytest.approx(107.0)
+
+
+def _line_type_row(text):
+    """{column: value} of the single line type of a MoorDyn input text (header row below the
+    LINE TYPES banner, then the units row, then the type row)."""
+    lines = text.splitlines()
+    i = next(k for k, s in enumerate(lines) if "LINE TYPES" in s)
+    header, row = lines[i + 1].split(), lines[i + 3].split()
+    assert len(header) == len(row)
+    return dict(zip(header, row))
+
+
+@pytest.mark.parametrize("alpha", [0.0, 1.0])
+def test_moordyn_input_carries_bending_stiffness(alpha):
+    """The line type's EI column (MoorDyn v2: bending stiffness, N m^2) is alpha * EI_STAR, so
+    MoorDyn runs with alpha = 1 bend like the DG cable with EI = EI_STAR."""
+    row = _line_type_row(rc.moordyn_input(200.0, 40, 1e-4, alpha=alpha))
+    assert row["TypeName"] == "tether"
+    assert float(row["EI"]) == pytest.approx(alpha * rc.EI_STAR)
+    assert float(row["EA"]) == pytest.approx(rc.EA)
+
+
+def test_best_wall_passes_alpha_to_moordyn(monkeypatch, tmp_path):
+    """bench_moordyn.best_wall hands its alpha to run_moordyn (default 0: no bending)."""
+    from benchmarks import bench_moordyn
+
+    seen = []
+
+    def fake_run(length, n_seg, duration, coupling_step, dt, alpha=0.0, workdir=None):
+        seen.append(alpha)
+        return {"step_wall": 1.0, "step_cpu": 0.5}
+
+    monkeypatch.setattr(bench_moordyn, "run_moordyn", fake_run)
+    assert bench_moordyn.best_wall(200.0, 40, 1.0, 0.02, 1e-4, tmp_path, 2) == (1.0, 0.5)
+    assert bench_moordyn.best_wall(200.0, 40, 1.0, 0.02, 1e-4, tmp_path, 1, alpha=1.0) == (1.0, 0.5)
+    assert seen == [0.0, 0.0, 1.0]
+
+
+def test_moordyn_bending_rungs_table():
+    """Errors against the finest N of the same alpha; the bending effect per N."""
+    from benchmarks import moordyn_bending_rungs as mbr
+
+    peaks = {(0.0, 20): (102.0, 1e-3), (0.0, 40): (100.0, 2e-3),
+             (1.0, 20): (101.0, 1e-3), (1.0, 40): (101.0, 2e-3)}
+    lines = mbr.table(200.0, [20, 40], peaks)
+    assert "N = 40" in lines[0]
+    assert "2.000 %" in lines[2] and "0.000 %" in lines[2]  # EI=0 2 % off, EI* on its reference
+    assert "-0.980 %" in lines[2] and "+1.000 %" in lines[3]  # 101/102 - 1, 101/100 - 1
+    assert lines[3].count("(ref)") == 2
