@@ -1,8 +1,9 @@
 """DG against MoorDyn at equal first-snap accuracy (1 %), both coupled at the node's 50 Hz, one process.
 
-The DG 1 % rungs are those of the resolution ladder (docs/performance.md, dg.resolution: auto), at
-its dg.cfl 0.8: N = 2, P = 4 at L = 200 m and N = 3, P = 4 at L = 1730 m (--cfl and --rungs change
-them). Each timed DG run also measures its own first snap peak (resolution_ladder's metric: largest
+The DG rungs are what ``dg.resolution: auto`` chooses for a 1 % first-snap-peak tolerance
+(resolution.choose, with its safety factor 1/2 on the measured ladders; docs/performance.md):
+N = 2, P = 4 at L = 200 m and N = 6, P = 2 at L = 1730 m, both at dg.cfl 0.8 (--rungs, --order and
+--cfl change them; sessions 4-5 timed the ladder rung N = 3, P = 4 at 1730 m). Each timed DG run also measures its own first snap peak (resolution_ladder's metric: largest
 end tension in 5-10 s, 200 Hz resampling, both ends) against the reference rows of
 docs/data/resolution_ladder.csv (N = max(10, L / 20 m), P = 4, cfl 0.5) and prints the error, so a
 change of the kernels that moved the peak would show (needs --duration >= 10). MoorDyn N = 40 is
@@ -51,7 +52,13 @@ from benchmarks.bench_tick import load_baseline  # noqa: E402
 from benchmarks.resolution_ladder import WINDOW, _peaks  # noqa: E402
 from benchmarks.resolution_report import read_rows  # noqa: E402
 
-RUNGS = {200.0: 2, 1730.0: 3}  # DG elements of the 1 % rung (P = 4, dg.cfl 0.8)
+
+
+def rule_rung(length, tolerance=0.01):
+    """(N, P, dg.cfl) that ``dg.resolution: auto`` chooses for the cage case at this length and tolerance."""
+    from tether_sim.solvers.resolution import choose
+    r = choose(length, tolerance)
+    return r.n_elements, r.order, r.cfl
 MOORDYN_SEGMENTS = 40
 LADDER_CSV = Path(__file__).resolve().parents[1] / "docs" / "data" / "resolution_ladder.csv"
 
@@ -116,9 +123,9 @@ def main(argv=None):
     ap.add_argument("--duration", type=float, default=10.2)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--lengths", type=float, nargs="+", default=[200.0, 1730.0])
-    ap.add_argument("--cfl", type=float, default=0.8, help="dg.cfl of the DG rungs (the rule's 0.8)")
-    ap.add_argument("--rungs", type=int, nargs="+", help="DG elements per length (default: RUNGS)")
-    ap.add_argument("--order", type=int, default=4, help="DG order P of the rungs")
+    ap.add_argument("--cfl", type=float, default=0.0, help="dg.cfl of the DG rungs (0: the rule's)")
+    ap.add_argument("--rungs", type=int, nargs="+", help="DG elements per length (default: the rule's, rule_rung)")
+    ap.add_argument("--order", type=int, default=0, help="DG order P of the rungs (0: the rule's)")
     ap.add_argument("--quad-points", type=int, default=0, help="dg.quad_points of the DG runs (0: automatic)")
     ap.add_argument("--baseline")
     ap.add_argument("--compose", action="store_true",
@@ -137,17 +144,21 @@ def main(argv=None):
     if args.rungs and len(args.rungs) != len(args.lengths):
         ap.error("--rungs needs one N per length")
     for i, length in enumerate(args.lengths):
-        n = args.rungs[i] if args.rungs else RUNGS[length]
+        n, order, cfl = rule_rung(length)
+        if args.rungs:
+            n = args.rungs[i]
+        order = args.order or order
+        cfl = args.cfl or cfl
         for _, fac, mod, path in trees:  # warm the JIT caches, untimed
             for alpha in (0.0, 1.0):
-                dg_cost(fac, mod, length, n, alpha, 0.1, args.cfl, args.quad_points, args.order, path)
+                dg_cost(fac, mod, length, n, alpha, 0.1, cfl, args.quad_points, order, path)
         best, err = {}, {}
         dt_md = rc.moordyn_time_step(length, MOORDYN_SEGMENTS, bench_moordyn.NODE_STEP)
         for _ in range(args.repeat):
             for name, fac, mod, path in trees:
                 for alpha in (0.0, 1.0):
-                    c, peaks = dg_cost(fac, mod, length, n, alpha, args.duration, args.cfl, args.quad_points,
-                                       args.order, path)
+                    c, peaks = dg_cost(fac, mod, length, n, alpha, args.duration, cfl, args.quad_points,
+                                       order, path)
                     best[(name, alpha)] = min(best.get((name, alpha), c), c)
                     err[(name, alpha)] = peak_error(peaks, reference_peaks(length, alpha))
             for alpha in (0.0, 1.0):  # MoorDyn with the DG row's bending stiffness
@@ -162,7 +173,7 @@ def main(argv=None):
             for name, _, _, _ in trees:
                 c = best[(name, alpha)]
                 e = err[(name, alpha)]
-                line += (f" | {name} N={n} P={args.order} cfl {args.cfl:g} {1e3 * c:7.2f} ms/s, "
+                line += (f" | {name} N={n} P={order} cfl {cfl:g} {1e3 * c:7.2f} ms/s, "
                          f"{name}/MoorDyn {c / md:.3f}")
                 if alpha:
                     line += f" (vs MoorDyn EI=0 {c / md0:.3f})"

@@ -110,9 +110,11 @@ def element_positions(U, ra, h, iprm, rs):
 
 @jit_inline
 def dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc,
-           wq, wm, tr, fl, rs, tmp, dU, dra, endf):
-    """du/dt of the DG cable [PE2020 Eq. 23] into dU; anchor velocity into dra; end loads into endf."""
-    internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf, tmp)
+           wq, wm, tr, fl, rs, tmp, dU, dra, endf, internal=True):
+    """du/dt of the DG cable [PE2020 Eq. 23] into dU; anchor velocity into dra; end loads into endf.
+    internal = False: internal_forces of these inputs are already in the work arrays (stepper.dg_evaluate)."""
+    if internal:
+        internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf, tmp)
     momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr, fl, rs, tmp, dU)
     k = iprm[I_ANCHOR] * iprm[I_N]
     for c in range(3):

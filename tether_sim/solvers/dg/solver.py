@@ -209,7 +209,10 @@ class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
         arrays = {slot: getattr(self, a) for slot, a in own.items()}
         arrays.update({slot: getattr(dw, a) for slot, a in damp.items()})
         arrays.update(tab_eps=self.law.tab_eps, tab_T=self.law.tab_T, ends=ends, target=np.zeros((2, 7)),
-                      drained=np.zeros(1, dtype=np.int64), drain=np.zeros((3, self._buf.shape[0])))
+                      drained=np.zeros(1, dtype=np.int64), drain=np.zeros((3, self._buf.shape[0])),
+                      fresh=np.zeros(2, dtype=np.int64),
+                      snap=np.zeros(self.U.size + self.prm.size + self.bc.size + self._vbc.size + self.h.size),
+                      snap_i=np.zeros(self.iprm.size, dtype=np.int64))
         self.ws = ws = Workspace(arrays)
         for slot, a in own.items():
             setattr(self, a, getattr(ws, slot))

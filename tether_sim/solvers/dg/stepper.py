@@ -44,19 +44,21 @@ def fill_end_kinematics(bc, iprm, t, vbc, bs, bp):
 
 @jit
 def dg_evaluate(t, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc,
-                wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs, fdamp, implicit):
+                wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs, fdamp, implicit, internal=True):
     """One right-hand-side evaluation at time t (cable and bodies; also used for outputs).
 
     implicit: the damping is integrated separately (dg.damping = implicit); fdamp (2, 4) holds its
     end forces (3) and tensions, added to endf, and the no-compression clip of velocity-end
-    fluxes is applied to the sum (clip_end_fluxes)."""
+    fluxes is applied to the sum (clip_end_fluxes).
+    internal = False: the work arrays already hold kernels.internal_forces of exactly these inputs
+    (the output evaluation reused as a tick's first stage, tick.py); only the momentum rate is done."""
     fill_end_kinematics(bc, iprm, t, vbc, bs, bp)
     prm[P_TIME] = t  # the wave field is evaluated at the stage time (kernels.momentum_rate)
     winch = winch_active(prm, iprm)
     if winch:  # the material at the sheave moves along the tangent (winch.py)
         winch_end_velocity(U, prm, iprm, Tr, vbc)
     dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc,
-           wq, wm, tr, fl, rs, tmp, dU, dra, endf)
+           wq, wm, tr, fl, rs, tmp, dU, dra, endf, internal)
     if winch:  # transport of the moving mapping onto the elements
         winch_transport(U, prm, iprm, h, Lf, tr, vbc, dU, dra)
     if implicit:
@@ -144,10 +146,13 @@ def clip_end_fluxes(prm, iprm, h, V, Pj, Lf, vbc, wq, tr, fl, dU, endf, fdamp):
 
 
 @jit
-def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy,
+def dg_advance(nsteps, t0, dt, reuse, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy,
                bc, vbc, wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs, bs0, U0, ra0, buf, cnt, out,
                idp, dprm, blk, bvec, wp, wd, band, vec, dtmp, fdamp, hw):
     """Take nsteps SSP-RK3 substeps of size dt from t0. out[0] = steps done, out[1] = status.
+
+    reuse: the first stage's internal forces are already in the work arrays (the output evaluation
+    at t0 on the same inputs, checked by tick.dg_tick); that stage does the momentum rate only.
 
     The end tensions at the start of every substep (from the first stage, no extra work) go into
     the ring buffer buf (cap, 3) = (t, T_ship, T_vehicle); cnt[0] counts entries ever written.
@@ -192,8 +197,9 @@ def dg_advance(nsteps, t0, dt, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_ep
                 a, b, ts = 1.0 / 3.0, 2.0 / 3.0, t + 0.5 * dt
             if winch:
                 winch_stage(prm, hw, h, ts, t0, t1)
+            internal = not reuse or n > 0 or stage > 0
             dg_evaluate(ts, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc,
-                        vbc, wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs, fdamp, implicit)
+                        vbc, wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs, fdamp, implicit, internal)
             if stage == 0:
                 slot = cnt[0] % cap
                 buf[slot, 0] = t

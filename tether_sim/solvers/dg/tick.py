@@ -12,6 +12,17 @@ Python per substep and only the call itself per tick:
 5. on request, the evaluation the outputs read (sampling.evaluate_outputs), so that state(),
    end_forces() and body_state() after the tick need no further right-hand side.
 
+**The output evaluation is the next tick's first stage.** It is kernels.internal_forces at the
+state reached, and the next tick's first stage starts with internal_forces at the same state and
+time. When every input of internal_forces is what the output evaluation used -- U, the parameters
+(prm, iprm; prm's stage time aside, which only the momentum rate reads), the element sizes h, the end
+data bc and the end kinematics vbc at t0, all compared bit for bit against the copy kept in the
+``snap`` slots -- and nothing else has written the work arrays since (``fresh``, set by the output
+evaluation and cleared by every other evaluation), that stage does the momentum rate only. Not
+with implicit damping or a moving winch (their stage inputs differ from the output's). The
+result is bit-identical to evaluating again (test/solvers/dg/test_first_stage_reuse.py); it
+saves one of the seven internal-force evaluations of a two-substep tick.
+
 The arrays come from the arenas of workspace.py (three array arguments per call).
 
 ``node_tick`` is what a node (or a benchmark coupled at its rate) calls once per tick: the driven
@@ -24,11 +35,13 @@ import math
 from tether_sim.numerics.jit import jit
 from tether_sim.physics.end_conditions import is_driven
 from tether_sim.solvers.dg.damping_layout import MODE_EXPLICIT
-from tether_sim.solvers.dg.layout import B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, I_KIND0, P_ZETA, P_ZETAB
+from tether_sim.solvers.dg.layout import B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, I_KIND0, P_TIME, P_ZETA, P_ZETAB
 from tether_sim.solvers.dg.sampling import evaluate_outputs
-from tether_sim.solvers.dg.stepper import STATUS_OK, dg_advance, dg_evaluate
-from tether_sim.solvers.dg.winch import winch_finish, winch_moving
-from tether_sim.solvers.dg.workspace import SLOT, X_DRAIN, X_DRAINED, X_TARGET, _f1, _f2, bind, bind_driver
+from tether_sim.solvers.dg.stepper import STATUS_OK, dg_advance, dg_evaluate, fill_end_kinematics
+from tether_sim.solvers.dg.winch import winch_active, winch_finish, winch_moving
+from tether_sim.solvers.dg.workspace import (
+    SLOT, X_DRAIN, X_DRAINED, X_FRESH, X_SNAP, X_SNAP_I, X_TARGET, _f1, _f2, bind, bind_driver,
+)
 
 # slot indices used below (compile-time constants)
 _U, _PRM_STEP, _H, _V, _PJ, _D, _LF, _TR = (SLOT[n] for n in ("U", "prm_step", "h", "V", "Pj", "D", "Lf", "Tr"))
@@ -36,6 +49,7 @@ _TAB_EPS, _TAB_T, _BC, _VBC, _WQ, _WM, _TRC, _FL = (SLOT[n] for n in ("tab_eps",
                                                                        "tr", "fl"))
 _TMP, _DU, _ENDF, _BS, _BP, _OUT, _IDP = (SLOT[n] for n in ("tmp", "dU", "endf", "bs", "bp", "out", "idp"))
 _BUF, _CNT, _HW = SLOT["buf"], SLOT["cnt"], SLOT["hw"]
+_IPRM_STEP = SLOT["iprm_step"]
 
 # target[end, :]: 0 = a target was set (1.0) or not (0.0), 1:4 position (m), 4:7 velocity (m/s)
 TG_SET, TG_P, TG_V = 0, 1, 4
@@ -99,15 +113,80 @@ def outputs_now(F, I, S, t):
     """The evaluation the outputs read, at time t (sampling.evaluate_outputs, full parameters)."""
     A = bind(F, I, S)
     prm, iprm, ends = bind_driver(F, I, S)[0:3]
-    _outputs_bound(A, prm, iprm, ends, t)
+    _outputs_bound(A, prm, iprm, ends, t, _f1(I, S, X_FRESH), _f1(F, S, X_SNAP), _f1(I, S, X_SNAP_I))
 
 
 @jit
-def _outputs_bound(A, prm, iprm, ends, t):
-    """outputs_now on views already bound (dg_tick: binding the ~50 views costs ~2 us a call)."""
+def _outputs_bound(A, prm, iprm, ends, t, fresh, snap, snap_i):
+    """outputs_now on views already bound (dg_tick: binding the ~50 views costs ~2 us a call); the
+    inputs of the evaluation are kept for its reuse (module docstring)."""
     hold_ends(A[_BC], iprm, t, ends)
     evaluate_outputs(t, A[_U], prm, iprm, A[_H], A[_V], A[_PJ], A[_D], A[_LF], A[_TR], A[_TAB_EPS], A[_TAB_T],
                      A[_BC], A[_VBC], A[_WQ], A[_WM], A[_TRC], A[_FL], A[_DU], A[_ENDF], A[_BS], A[_BP], A[_TMP])
+    keep_inputs(A[_U], prm, iprm, A[_H], A[_BC], A[_VBC], snap, snap_i)
+    fresh[0] = 1
+
+
+@jit
+def keep_inputs(U, prm, iprm, h, bc, vbc, snap, snap_i):
+    """snap = (U, prm, bc, vbc, h) flattened in that order, snap_i = iprm: the inputs of internal_forces."""
+    k = _copy_into(snap, 0, U.reshape(U.size))
+    k = _copy_into(snap, k, prm)
+    k = _copy_into(snap, k, bc.reshape(bc.size))
+    k = _copy_into(snap, k, vbc.reshape(vbc.size))
+    _copy_into(snap, k, h)
+    for i in range(iprm.size):
+        snap_i[i] = iprm[i]
+
+
+@jit
+def _copy_into(dst, k, src):
+    for i in range(src.size):
+        dst[k + i] = src[i]
+    return k + src.size
+
+
+@jit
+def _equal_at(snap, k, src, skip):
+    """snap[k:k + src.size] equals src, index skip excepted: the same numbers and the same signs of
+    zero (a NaN never equals: no reuse)."""
+    for i in range(src.size):
+        if i == skip:
+            continue
+        a = snap[k + i]
+        b = src[i]
+        if a != b or (a == 0.0 and math.copysign(1.0, a) != math.copysign(1.0, b)):
+            return False
+    return True
+
+
+@jit
+def same_inputs(U, prm, iprm, h, bc, vbc, snap, snap_i):
+    """U, prm (its stage time P_TIME aside), iprm, bc and h are those kept by keep_inputs."""
+    if iprm.size != snap_i.size:
+        return False
+    for i in range(iprm.size):
+        if iprm[i] != snap_i[i]:
+            return False
+    nu = U.size
+    npr = prm.size
+    nb = bc.size
+    return (_equal_at(snap, 0, U.reshape(nu), -1) and _equal_at(snap, nu, prm, P_TIME)
+            and _equal_at(snap, nu + npr, bc.reshape(nb), -1)
+            and _equal_at(snap, nu + npr + nb + vbc.size, h, -1))
+
+
+@jit
+def first_stage_reusable(prm, iprm, prm_step, iprm_step, idp, nu, bc, vbc, bs, bp, t0, fresh, snap):
+    """After prepare_ends and the copy of the stepper's parameters: the kept output evaluation is the
+    first stage's internal_forces (module docstring). fresh[0] says the work arrays were written by
+    the output evaluation last and its inputs matched same_inputs at the start of the tick; nu = U.size."""
+    if fresh[0] == 0 or idp[0] != MODE_EXPLICIT or winch_moving(prm, iprm) or winch_active(prm, iprm):
+        return False
+    if not _equal_at(snap, nu, prm_step, P_TIME):  # the stages see prm_step (= prm when explicit)
+        return False
+    fill_end_kinematics(bc, iprm_step, t0, vbc, bs, bp)  # what the first stage computes
+    return _equal_at(snap, nu + prm.size + bc.size, vbc.reshape(vbc.size), -1)
 
 
 @jit
@@ -115,8 +194,11 @@ def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
     """nsteps substeps of dt from t0 to t1 (module docstring); returns the stepper's status."""
     A = bind(F, I, S)
     prm, iprm, ends, target = bind_driver(F, I, S)[0:4]
+    fresh, snap, snap_i = _f1(I, S, X_FRESH), _f1(F, S, X_SNAP), _f1(I, S, X_SNAP_I)
     bc = A[_BC]
     prm_step = A[_PRM_STEP]
+    if fresh[0] != 0 and not same_inputs(A[_U], prm, A[_IPRM_STEP], A[_H], bc, A[_VBC], snap, snap_i):
+        fresh[0] = 0  # checked before prepare_ends rewrites the segment columns of bc
     prepare_ends(bc, iprm, t0, t1, ends, target)
     for k in range(prm.shape[0]):
         prm_step[k] = prm[k]
@@ -124,7 +206,12 @@ def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
         prm_step[P_ZETA] = 0.0
         prm_step[P_ZETAB] = 0.0
     winch = winch_moving(prm, iprm)
-    dg_advance(nsteps, t0, dt, *A)
+    reuse = first_stage_reusable(prm, iprm, prm_step, A[_IPRM_STEP], A[_IDP], A[_U].size, bc, A[_VBC], A[_BS],
+                                 A[_BP], t0, fresh, snap)
+    fresh[0] = 0
+    if reuse:
+        fresh[1] += 1  # first stages reused (a count for tests and benchmarks)
+    dg_advance(nsteps, t0, dt, reuse, *A)
     status = int(A[_OUT][1])
     if status != STATUS_OK:
         return status
@@ -132,7 +219,7 @@ def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
         winch_finish(prm, prm_step, A[_HW], A[_H])
     finish_ends(bc, iprm, t1, ends, target)
     if outputs:
-        _outputs_bound(A, prm, iprm, ends, t1)
+        _outputs_bound(A, prm, iprm, ends, t1, fresh, snap, snap_i)
     return status
 
 
@@ -141,11 +228,12 @@ def evaluate_now(F, I, S, t):
     """One full right-hand-side evaluation at time t with the full parameters (solver._evaluate)."""
     A = bind(F, I, S)
     prm, iprm, ends, target, no_fdamp = bind_driver(F, I, S)[0:5]
+    _f1(I, S, X_FRESH)[0] = 0  # the work arrays now hold this evaluation, not the kept outputs'
     hold_ends(A[_BC], iprm, t, ends)
     (U, ra, _, _, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc, wq, wm, tr, fl, rs, tmp, dU, dra,
      endf, bs, bp, dbs) = A[0:30]
     dg_evaluate(t, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc, wq, wm, tr, fl, rs,
-                tmp, dU, dra, endf, bs, bp, dbs, no_fdamp, False)
+                tmp, dU, dra, endf, bs, bp, dbs, no_fdamp, False, True)
 
 
 @jit

@@ -33,12 +33,15 @@ SLOTS = (
     # the driver's slots
     ("prm", "f", 1), ("iprm", "i", 1), ("ends", "f", 2), ("target", "f", 2), ("no_fdamp", "f", 2),
     ("drained", "i", 1), ("drain", "f", 2),
+    # the output evaluation's inputs, kept for its reuse as the next tick's first stage (tick.py)
+    ("fresh", "i", 1), ("snap", "f", 1), ("snap_i", "i", 1),
 )
 N_STEP_SLOTS = 47
 SLOT = {name: k for k, (name, _, _) in enumerate(SLOTS)}
 # slot indices of the driver's slots (compile-time constants)
 X_PRM, X_IPRM, X_ENDS, X_TARGET, X_NO_FDAMP, X_DRAINED, X_DRAIN = (
     SLOT[n] for n in ("prm", "iprm", "ends", "target", "no_fdamp", "drained", "drain"))
+X_FRESH, X_SNAP, X_SNAP_I = (SLOT[n] for n in ("fresh", "snap", "snap_i"))
 _ALIGN = 8  # every view starts on a 64-byte boundary of its arena
 
 
