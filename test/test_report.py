@@ -148,6 +148,8 @@ def test_report_names_the_dg_mesh_from_the_description():
     assert _mesh_line(params) == (" DG mesh: N = 3, P = 4, dg.cfl 0.8 (dg.resolution auto, first-snap-peak "
                                   "tolerance 1 %).")
     assert _mesh_line({**params, "solver": "hybrid"}) == "" and _mesh_line({}) == ""
+    fine = {**params, "dg.n_elements": 40, "dg.resolution": "manual", "cable.length": 200.0, "cable.EI": 2620.0}
+    assert "Caution: bending" in _mesh_line(fine) and "Caution" not in _mesh_line({**fine, "cable.EI": 0.0})
 def test_report_of_a_truncated_file_says_so(tmp_path, prefix, store, capsys):
     path = write_output(tmp_path / "out.mcap", prefix, store, chunk_size=16384)
     data = path.read_bytes()

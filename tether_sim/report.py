@@ -26,7 +26,7 @@ import numpy as np
 
 from tether_sim.errors import TetherSimError
 from tether_sim.io.mcap_log import McapLogError, read_messages, read_summary
-from tether_sim.solvers.resolution import mesh_summary
+from tether_sim.solvers.resolution import bending_mesh_warning, mesh_summary
 from tether_sim.report_winch import load_winch, winch_figures, winch_markdown
 
 STATE_TYPE = "tether_sim_msgs/msg/TetherState"
@@ -237,8 +237,16 @@ def _mesh_line(parameters: dict) -> str:
     p = parameters
     if p.get("solver") != "dg" or "dg.n_elements" not in p:
         return ""
-    return " DG mesh: " + mesh_summary(p["dg.n_elements"], p["dg.order"], p["dg.cfl"], p.get("dg.resolution", "manual"),
+    line = " DG mesh: " + mesh_summary(p["dg.n_elements"], p["dg.order"], p["dg.cfl"], p.get("dg.resolution", "manual"),
                                        p.get("dg.snap_tolerance", "nan")) + "."
+    if "cable.length" in p and "cable.EI" in p:
+        lengths = p.get("dg.element_lengths")
+        lengths = tuple(float(x) for x in lengths) if isinstance(lengths, (list, tuple)) else ()
+        caution = bending_mesh_warning(p["cable.length"], p["dg.n_elements"], p["dg.order"], float(p["cable.EI"]),
+                                       lengths)
+        if caution:
+            line += " Caution: " + caution + "."
+    return line
 
 
 def _length_text(run: RunData) -> str:

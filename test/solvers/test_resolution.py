@@ -172,3 +172,18 @@ def test_a_winch_range_outside_the_measured_lengths_is_refused():
     assert (cfg.dg.n_elements, cfg.dg.order) == (12, 2)
     with pytest.raises(ConfigError, match="shortest winch length 50"):
         resolve(replace(cfg, winch=replace(cfg.winch, min_length=50.0)))
+
+
+def test_bending_mesh_warning_at_the_measured_spacings():
+    """The caution of session 7 (docs/performance.md "Bending effect at 200 m"): ROPOS 200 m, P = 4,
+    EI* -- N = 20 (2.5 m between nodes) ran clean, N = 40 (1.25 m) spiked, N = 80 diverged."""
+    assert res.bending_mesh_warning(200.0, 20, 4, 2620.0) == ""
+    text = res.bending_mesh_warning(200.0, 40, 4, 2620.0)
+    assert "1.25 m" in text and "slack" in text
+    assert res.bending_mesh_warning(200.0, 80, 4, 0.0) == ""  # no bending: nothing to warn about
+    # non-uniform meshes: the smallest element decides
+    assert res.bending_mesh_warning(200.0, 3, 4, 2620.0, element_lengths=(190.0, 5.0, 5.0)) != ""
+    # the live files' meshes (the rule's) are far coarser than the caution
+    for length in (200.0, 500.0, 1730.0):
+        r = res.choose(length, 0.01)
+        assert res.bending_mesh_warning(length, r.n_elements, r.order, 2620.0) == ""

@@ -37,7 +37,7 @@ from tether_sim.ros.tf import TfPublisher
 from tether_sim.ros.winch_io import NodeWinch
 from tether_sim.warm import Interrupted, exit_if_compiling, run_interruptibly
 from tether_sim.solvers.factory import build_solver
-from tether_sim.solvers.resolution import mesh_summary
+from tether_sim.solvers.resolution import bending_mesh_warning, mesh_summary
 
 RELIABLE = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 EVENTS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
@@ -59,6 +59,10 @@ class TetherSimNode(Node):
         if self.config.solver == "dg":
             dg = self.config.dg
             self.get_logger().info("DG mesh: " + mesh_summary(dg.n_elements, dg.order, dg.cfl, dg.resolution, dg.snap_tolerance))
+            caution = bending_mesh_warning(self.config.cable.length, dg.n_elements, dg.order, self.config.cable.EI,
+                                           dg.element_lengths)
+            if caution:
+                self.get_logger().warning("DG mesh: " + caution)
         self.inputs = {}
         self._last_log = {}  # key -> time.monotonic() of the last throttled log line
         for end in END_NAMES:

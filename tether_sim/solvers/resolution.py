@@ -222,6 +222,28 @@ def resolve(config, given=()):
     return replace(config, dg=replace(dg, **values))
 
 
+# Nested LDG bending in slack parts on fine meshes (session 7; docs/performance.md "Bending effect at
+# 200 m"): on the ROPOS 200 m slack-snap case, P = 4, EI = 2620 N m^2, the ship tension in the slack
+# phase was clean at a node spacing h / P of 2.5 m and above. At 1.25 m it carried +-10 kN spikes
+# that are absent without bending. At 0.625 m the run diverged.
+BENDING_MIN_SPACING = 2.5  # m
+
+
+def bending_mesh_warning(length, n_elements, order, EI, element_lengths=()) -> str:
+    """A warning (one line) when bending is on and the DG node spacing min(h) / P is below
+    BENDING_MIN_SPACING, else "". It is a caution drawn from one measured case, not a proven bound."""
+    if not EI > 0.0:
+        return ""
+    h = min(element_lengths) if len(element_lengths) else float(length) / int(n_elements)
+    spacing = h / max(int(order), 1)
+    if spacing >= BENDING_MIN_SPACING:
+        return ""
+    return (f"bending (EI {EI:g} N m^2) on a DG node spacing of {spacing:.3g} m (h / P): below {BENDING_MIN_SPACING:g} m "
+            f"the nested LDG bending produced grid-scale tension spikes in slack parts (+-10 kN at 1.25 m, divergence "
+            f"at 0.625 m on the ROPOS 200 m slack-snap case; docs/performance.md \"Bending effect at 200 m\"): "
+            f"treat tensions during slack as suspect, or use a coarser mesh")
+
+
 def mesh_summary(n_elements, order, cfl, resolution, snap_tolerance) -> str:
     """One line naming the DG mesh in use and how it was chosen (node log, report)."""
     how = (f"dg.resolution auto, first-snap-peak tolerance {100 * float(snap_tolerance):g} %"
