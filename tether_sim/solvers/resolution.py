@@ -223,9 +223,11 @@ def resolve(config, given=()):
 
 
 # Nested LDG bending in slack parts on fine meshes (session 7; docs/performance.md "Bending effect at
-# 200 m"): on the ROPOS 200 m slack-snap case, P = 4, EI = 2620 N m^2, the ship tension in the slack
-# phase was clean at a node spacing h / P of 2.5 m and above. At 1.25 m it carried +-10 kN spikes
-# that are absent without bending. At 0.625 m the run diverged.
+# 200 m" and "Bending in slack parts: the cause"): on the ROPOS 200 m slack-snap case, P = 4,
+# EI = 2620 N m^2, the ship tension in the slack phase was clean at a node spacing h / P of 2.5 m and
+# above. At 1.25 m it carried +-10 kN spikes that are absent without bending. At 0.625 m the run
+# diverged. The cause: the cage element's chord collapses, and the bending terms (~ l^-3) kick it
+# open, which sends axial pulses to the ship. Finer meshes collapse it further.
 BENDING_MIN_SPACING = 2.5  # m
 
 
@@ -239,9 +241,9 @@ def bending_mesh_warning(length, n_elements, order, EI, element_lengths=()) -> s
     if spacing >= BENDING_MIN_SPACING:
         return ""
     return (f"bending (EI {EI:g} N m^2) on a DG node spacing of {spacing:.3g} m (h / P): below {BENDING_MIN_SPACING:g} m "
-            f"the nested LDG bending produced grid-scale tension spikes in slack parts (+-10 kN at 1.25 m, divergence "
-            f"at 0.625 m on the ROPOS 200 m slack-snap case; docs/performance.md \"Bending effect at 200 m\"): "
-            f"treat tensions during slack as suspect, or use a coarser mesh")
+            f"a slack end element collapsing and rebounding under the bending terms produced tension spikes in slack "
+            f"phases (+-10 kN at 1.25 m, divergence at 0.625 m on the ROPOS 200 m slack-snap case; docs/performance.md "
+            f"\"Bending in slack parts: the cause\"): treat tensions during slack as suspect, or use a coarser mesh")
 
 
 def mesh_summary(n_elements, order, cfl, resolution, snap_tolerance) -> str:
