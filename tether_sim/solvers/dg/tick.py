@@ -118,23 +118,31 @@ def outputs_now(F, I, S, t):
 
 @jit
 def _outputs_bound(A, prm, iprm, ends, t, fresh, snap, snap_i):
-    """outputs_now on views already bound (dg_tick: binding the ~50 views costs ~2 us a call); the
-    inputs of the evaluation are kept for its reuse (module docstring)."""
+    """outputs_now on views already bound (dg_tick: binding the ~50 views costs ~2 us a call); with the
+    explicit scheme the inputs of the evaluation are kept for its reuse (module docstring)."""
     hold_ends(A[_BC], iprm, t, ends)
     evaluate_outputs(t, A[_U], prm, iprm, A[_H], A[_V], A[_PJ], A[_D], A[_LF], A[_TR], A[_TAB_EPS], A[_TAB_T],
                      A[_BC], A[_VBC], A[_WQ], A[_WM], A[_TRC], A[_FL], A[_DU], A[_ENDF], A[_BS], A[_BP], A[_TMP])
-    keep_inputs(A[_U], prm, iprm, A[_H], A[_BC], A[_VBC], snap, snap_i)
-    fresh[0] = 1
+    if A[_IDP][0] == MODE_EXPLICIT:  # (implicit damping never reuses: its stages see other parameters)
+        keep_inputs(A[_U], prm, iprm, A[_H], A[_BC], A[_VBC], snap, snap_i)
+        fresh[0] = 1
+
+
+@jit
+def _snap_offsets(nu, npr, nb, nv):
+    """Offsets of prm, bc, vbc and h in snap, whose order is U, prm, bc, vbc, h (keep_inputs)."""
+    return nu, nu + npr, nu + npr + nb, nu + npr + nb + nv
 
 
 @jit
 def keep_inputs(U, prm, iprm, h, bc, vbc, snap, snap_i):
-    """snap = (U, prm, bc, vbc, h) flattened in that order, snap_i = iprm: the inputs of internal_forces."""
-    k = _copy_into(snap, 0, U.reshape(U.size))
-    k = _copy_into(snap, k, prm)
-    k = _copy_into(snap, k, bc.reshape(bc.size))
-    k = _copy_into(snap, k, vbc.reshape(vbc.size))
-    _copy_into(snap, k, h)
+    """snap = (U, prm, bc, vbc, h) flattened, snap_i = iprm: the inputs of internal_forces."""
+    o_prm, o_bc, o_vbc, o_h = _snap_offsets(U.size, prm.size, bc.size, vbc.size)
+    _copy_into(snap, 0, U.reshape(U.size))
+    _copy_into(snap, o_prm, prm)
+    _copy_into(snap, o_bc, bc.reshape(bc.size))
+    _copy_into(snap, o_vbc, vbc.reshape(vbc.size))
+    _copy_into(snap, o_h, h)
     for i in range(iprm.size):
         snap_i[i] = iprm[i]
 
@@ -143,7 +151,6 @@ def keep_inputs(U, prm, iprm, h, bc, vbc, snap, snap_i):
 def _copy_into(dst, k, src):
     for i in range(src.size):
         dst[k + i] = src[i]
-    return k + src.size
 
 
 @jit
@@ -163,30 +170,24 @@ def _equal_at(snap, k, src, skip):
 @jit
 def same_inputs(U, prm, iprm, h, bc, vbc, snap, snap_i):
     """U, prm (its stage time P_TIME aside), iprm, bc and h are those kept by keep_inputs."""
-    if iprm.size != snap_i.size:
-        return False
     for i in range(iprm.size):
         if iprm[i] != snap_i[i]:
             return False
-    nu = U.size
-    npr = prm.size
-    nb = bc.size
-    return (_equal_at(snap, 0, U.reshape(nu), -1) and _equal_at(snap, nu, prm, P_TIME)
-            and _equal_at(snap, nu + npr, bc.reshape(nb), -1)
-            and _equal_at(snap, nu + npr + nb + vbc.size, h, -1))
+    o_prm, o_bc, o_vbc, o_h = _snap_offsets(U.size, prm.size, bc.size, vbc.size)
+    return (_equal_at(snap, 0, U.reshape(U.size), -1) and _equal_at(snap, o_prm, prm, P_TIME)
+            and _equal_at(snap, o_bc, bc.reshape(bc.size), -1) and _equal_at(snap, o_h, h, -1))
 
 
 @jit
-def first_stage_reusable(prm, iprm, prm_step, iprm_step, idp, nu, bc, vbc, bs, bp, t0, fresh, snap):
-    """After prepare_ends and the copy of the stepper's parameters: the kept output evaluation is the
-    first stage's internal_forces (module docstring). fresh[0] says the work arrays were written by
-    the output evaluation last and its inputs matched same_inputs at the start of the tick; nu = U.size."""
-    if fresh[0] == 0 or idp[0] != MODE_EXPLICIT or winch_moving(prm, iprm) or winch_active(prm, iprm):
-        return False
-    if not _equal_at(snap, nu, prm_step, P_TIME):  # the stages see prm_step (= prm when explicit)
+def first_stage_reusable(prm, prm_step, iprm_step, nu, bc, vbc, bs, bp, t0, snap):
+    """After prepare_ends and the copy of the stepper's parameters, with the kept inputs matching at
+    the start of the tick (dg_tick): the kept output evaluation is the first stage's internal_forces
+    when the stages' parameters and the end kinematics at t0 are those it used (module docstring)."""
+    o_prm, _, o_vbc, _ = _snap_offsets(nu, prm.size, bc.size, vbc.size)
+    if not _equal_at(snap, o_prm, prm_step, P_TIME):  # the stages see prm_step (= prm when explicit)
         return False
     fill_end_kinematics(bc, iprm_step, t0, vbc, bs, bp)  # what the first stage computes
-    return _equal_at(snap, nu + prm.size + bc.size, vbc.reshape(vbc.size), -1)
+    return _equal_at(snap, o_vbc, vbc.reshape(vbc.size), -1)
 
 
 @jit
@@ -197,8 +198,11 @@ def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
     fresh, snap, snap_i = _f1(I, S, X_FRESH), _f1(F, S, X_SNAP), _f1(I, S, X_SNAP_I)
     bc = A[_BC]
     prm_step = A[_PRM_STEP]
-    if fresh[0] != 0 and not same_inputs(A[_U], prm, A[_IPRM_STEP], A[_H], bc, A[_VBC], snap, snap_i):
-        fresh[0] = 0  # checked before prepare_ends rewrites the segment columns of bc
+    # the kept evaluation counts only while the winch is still and every input is unchanged (checked
+    # before prepare_ends rewrites the segment columns of bc)
+    if fresh[0] != 0 and (winch_moving(prm, iprm) or winch_active(prm, iprm)
+                          or not same_inputs(A[_U], prm, A[_IPRM_STEP], A[_H], bc, A[_VBC], snap, snap_i)):
+        fresh[0] = 0
     prepare_ends(bc, iprm, t0, t1, ends, target)
     for k in range(prm.shape[0]):
         prm_step[k] = prm[k]
@@ -206,8 +210,8 @@ def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
         prm_step[P_ZETA] = 0.0
         prm_step[P_ZETAB] = 0.0
     winch = winch_moving(prm, iprm)
-    reuse = first_stage_reusable(prm, iprm, prm_step, A[_IPRM_STEP], A[_IDP], A[_U].size, bc, A[_VBC], A[_BS],
-                                 A[_BP], t0, fresh, snap)
+    reuse = fresh[0] != 0 and first_stage_reusable(prm, prm_step, A[_IPRM_STEP], A[_U].size, bc, A[_VBC], A[_BS],
+                                                   A[_BP], t0, snap)
     fresh[0] = 0
     if reuse:
         fresh[1] += 1  # first stages reused (a count for tests and benchmarks)
