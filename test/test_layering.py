@@ -23,6 +23,7 @@ FORBIDDEN = {
     "solvers": ("io", "ros", "scenarios"),
     "config": ("io", "ros", "scenarios"),
     "io": ("ros",),
+    "forecast": ("io", "ros", "scenarios"),
     "scenarios": ("ros",),
     "spec": ("solvers", "io", "ros", "scenarios", "config", "physics", "numerics"),
     "errors": ("solvers", "io", "ros", "scenarios", "config", "physics", "numerics"),
