@@ -9,7 +9,8 @@
 #         into it (build folder .venv/.build/).
 #   tf2   msg_defs/tf2_msgs (TFMessage only) the same way, unless a tf2_msgs is importable already.
 #   pkg   tether_sim itself, `pip install -e .` (development mode, no build isolation), and its
-#         data files (package.xml, config/*.yaml, data/*, ament index marker) linked into .venv/share.
+#         data files (package.xml, config/*.yaml, data/*, ament index marker) linked into .venv/share,
+#         its console scripts into .venv/lib/tether_sim/ (where ros2 run and launch_ros look).
 #   warm  the numba kernels compiled into their on-disk cache (python -m tether_sim.warm, progress
 #         per kernel group; minutes when cold, seconds when warm). numba keys its cache on each
 #         source file's modification time and size, so this stage reruns whenever those of any
@@ -88,7 +89,7 @@ PKG_INPUTS=("$ROOT/setup.py" "$ROOT/setup.cfg" "$ROOT/package.xml" "$ROOT"/resou
 DATA_LIST="$(cd "$ROOT" && for f in config/*.yaml data/* launch/*.launch.py rviz/*.rviz foxglove/*.json; do [[ -f "$f" ]] && printf '%s\n' "$f"; done; true)"
 shopt -u nullglob
 PKG_HASH="$(hash_of "$MSGS_HASH" "${PKG_INPUTS[@]}")"
-LINKS_HASH="$(hash_of "$PKG_HASH" "$DATA_LIST")"
+LINKS_HASH="$(hash_of "$PKG_HASH" "$DATA_LIST" "$ROOT/tools/link_data_files.py")"
 # numba's cache key of every source file (name, mtime, size), plus the configurations warmed
 WARM_HASH="$(hash_of "$LINKS_HASH" "$(cd "$ROOT" && find tether_sim -name '*.py' -printf '%p %T@ %s\n' | sort)" \
     "$ROOT"/config/*.yaml)"
