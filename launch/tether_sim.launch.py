@@ -23,8 +23,10 @@ Arguments (``ros2 launch tether_sim tether_sim.launch.py --show-args`` lists the
   remapped into ``namespace``.
 
 Checked without ROS 2's launch packages (none exists as a wheel on the package registry):
-test/ros/test_launch_files.py parses this file and checks the arguments, executables and
-parameters against setup.py and config/; with a ROS 2 install, ``--show-args`` checks it for real.
+test/test_launch_and_layouts.py runs this file through a model of what ``ros2 launch`` does with
+it (declarations evaluated in order, every substitution resolved, conditions parsed, executables
+looked up in ``<prefix>/lib/tether_sim/`` through the ament index, parameter files opened); with a
+ROS 2 install, ``--show-args`` checks it for real.
 """
 
 from launch import LaunchDescription
@@ -44,10 +46,12 @@ RECORDED_TOPICS = ["tether/state", "tether/snap_events", "tether/slack_warnings"
 ARGUMENTS = (
     ("params_file", None, "parameter file of tether-sim (default: config/ropos_L200.yaml of the package)"),
     ("namespace", "", "namespace of the nodes; topics are relative, /tf /tf_static /diagnostics /clock global"),
+    # launch evaluates a default when its declaration runs: 'replay' is declared before
+    # 'use_sim_time', whose default reads it
+    ("replay", "false", "also start tether-sim-replay of 'input', publishing /clock"),
     ("use_sim_time", None, "run on /clock (default: true with replay:=true, else false)"),
     ("record", "false", "also start tether-sim-record (topics of config/recorder.yaml)"),
     ("output", "recording.mcap", "MCAP file the recorder writes"),
-    ("replay", "false", "also start tether-sim-replay of 'input', publishing /clock"),
     ("input", "", "MCAP file to replay (PoseStamped on /ship/pose and/or /vehicle/pose)"),
     ("rate", "1.0", "replay speed factor"),
 )
