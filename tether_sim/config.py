@@ -2,12 +2,13 @@
 
 Sections (YAML keys under ``tether_sim: ros__parameters:``): ``solver``, ``duration``, ``cable``,
 ``environment``, ``ship_end``, ``vehicle_end``, ``body``, ``dg``, ``hybrid``, ``initial``,
-``motion``, ``snap``, ``node``, ``winch``, ``waves``. ``io.schema`` derives the flat key list from these classes.
+``motion``, ``snap``, ``node``, ``winch``, ``waves``, ``forecast``. ``io.schema`` derives the flat key list from these classes.
 """
 
 from dataclasses import dataclass, field
 
 from tether_sim.errors import ConfigError
+from tether_sim.forecast.config import ForecastConfig
 from tether_sim.physics.bodies import RigidBodyProperties
 from tether_sim.physics.boundary import EndCondition
 from tether_sim.physics.cable import CableProperties
@@ -107,3 +108,4 @@ class SimConfig:
     node: NodeOptions = field(default_factory=NodeOptions)
     winch: WinchConfig = field(default_factory=WinchConfig)
     waves: WaveConfig = field(default_factory=WaveConfig)
+    forecast: ForecastConfig = field(default_factory=ForecastConfig)
