@@ -44,17 +44,20 @@ def test_pose_source_drives_the_node_in_the_world_frame():
         w = 2.0 * math.pi * F
         stamp = lambda m: m.header.stamp.sec + 1e-9 * m.header.stamp.nanosec  # noqa: E731
         assert len(poses) > 80 and {m.header.frame_id for m in poses + twists} == {"map"}
-        t0 = stamp(poses[0])
-        for m in poses:  # z = A sin(w t) about the ship end, time from the first pose
-            assert m.pose.position.z - SHIP[2] == pytest.approx(A * math.sin(w * (stamp(m) - t0)), abs=1e-12)
+        t0 = src.t0  # the motion's start: HOLD s after the probe and the node matched
+        assert t0 == pytest.approx(stamp(poses[0]) + pose_source.HOLD, abs=0.05)
+        for m in poses:  # z = A sin(w t) about the ship end, held at the start pose until t0
+            t = max(0.0, stamp(m) - t0)
+            assert m.pose.position.z - SHIP[2] == pytest.approx(A * math.sin(w * t), abs=1e-12)
         for m in twists:
-            assert m.twist.linear.z == pytest.approx(A * w * math.cos(w * (stamp(m) - t0)), abs=1e-12)
+            t = stamp(m) - t0
+            assert m.twist.linear.z == pytest.approx(A * w * math.cos(w * t) if t >= 0 else 0.0, abs=1e-12)  # held: still
         ship = values(status(h.received["/diagnostics"][-1], "ship input"))
         assert int(ship["accepted"]) > 80 and not any(k.startswith("rejected_") and int(v) for k, v in ship.items())
         # the node's ship end follows the heave once its start blend is over (input_delay behind the
         # clock, interpolated between 50 Hz samples: error < A w^2 dt^2 / 8 = 2.5e-4 m)
         late = [m for m in h.received["/tether/state"] if stamp(m) > 1.5]
-        assert len(late) > 20
+        assert len(late) > 20 and t0 < 1.5
         for m in late:
             assert m.position[0].z - SHIP[2] == pytest.approx(A * math.sin(w * (stamp(m) - t0)), abs=1e-3)
     finally:

@@ -7,7 +7,8 @@ Publishes ``ship/pose`` (geometry_msgs/PoseStamped) and ``ship/twist`` (TwistSta
 analytic velocity) as the node expects them: stamped with this node's clock, in the parameter
 file's world frame (``node.world_frame``, default ``map``: poses in any other frame are rejected by
 the node), moving the fairlead by the file's ``motion`` section (circle, heave, sines, record or an
-RAO response to its sea) about ``ship_end.position``, from the moment the first pose goes out.
+RAO response to its sea) about ``ship_end.position``; the motion starts 1 s after a subscriber
+(the node) has matched, the start pose is held until then.
 ``--heave A --frequency F`` replaces that motion with a vertical heave of amplitude A (m) and
 frequency F (Hz), ramped in over two periods. The names are relative, so a namespace given with
 ``--ros-args -r __ns:=...`` applies as it does to the node. Exit: Ctrl-C, SIGTERM or ``--duration``.
@@ -57,8 +58,14 @@ def describe(motion_config) -> str:
     return f"{m.kind} (ramped in over {m.ramp_time:g} s)"
 
 
+HOLD = 1.0  # s the start pose is held after a subscriber matched, so the node's first pose is it
+
+
 class PoseSource(Node):
-    """Publishes the ship pose and twist of ``motion`` at ``rate`` Hz (time from the first pose)."""
+    """Publishes the ship pose and twist of ``motion`` at ``rate`` Hz. Until a subscriber has
+    matched and for ``HOLD`` s after, the pose is the motion's start (its time 0), so the node's
+    first pose is where the file puts the ship and the motion starts smoothly (its ramp) under
+    the node's eyes, not half a period into it."""
 
     def __init__(self, config, motion, rate: float, **kwargs):
         super().__init__("tether_sim_poses", **kwargs)
@@ -72,9 +79,12 @@ class PoseSource(Node):
         now = self.get_clock().now().nanoseconds * 1e-9
         if now <= 0.0:
             return  # sim time before the first /clock
-        if self.t0 is None:
-            self.t0 = now
-        position, velocity = (np.asarray(v, float) for v in self.motion.at(now - self.t0)[:2])
+        if self.t0 is None and self.pose_pub.get_subscription_count() > 0:
+            self.t0 = now + HOLD  # a subscriber (the node): hold still a little longer, then move
+        holding = self.t0 is None or now < self.t0
+        position, velocity = (np.asarray(v, float) for v in self.motion.at(0.0 if holding else now - self.t0)[:2])
+        if holding:
+            velocity = np.zeros(3)  # held still (a motion without a ramp starts with a velocity)
         pose, twist = PoseStamped(), TwistStamped()
         pose.header.stamp = twist.header.stamp = time_msg(now)
         pose.header.frame_id = twist.header.frame_id = self.frame
