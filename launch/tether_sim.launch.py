@@ -40,7 +40,8 @@ PACKAGE = "tether_sim"
 # what the recorder records (as config/recorder.yaml): relative names resolve in the namespace
 RECORDED_TOPICS = ["tether/state", "tether/snap_events", "tether/slack_warnings", "tether/ship_wrench",
                    "tether/vehicle_wrench", "tether/description", "tether/marker", "tether/path",
-                   "ship/pose", "vehicle/sim_pose", "winch/state", "winch/command", "/diagnostics", "/tf", "/tf_static"]
+                   "ship/pose", "vehicle/sim_pose", "winch/state", "winch/command", "tether/snap_forecast",
+                   "tether/ship_motion_forecast", "/diagnostics", "/tf", "/tf_static"]
 
 # (name, default, description); a default of None is computed below
 ARGUMENTS = (
