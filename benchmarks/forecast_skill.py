@@ -7,7 +7,7 @@ snap is warned when a forecast with probability >= 0.5 stamped >= ``--lead`` s b
 within +-1.5 s; a false alarm is such a forecast with no snap within +-1.5 s of its predicted time.
 
 The sea (both files): JONSWAP Hs, Tp (``--hs``, ``--tp``), gamma 3.3, waves from 15 deg off the port
-bow, short-crested (cos-2s, s = 6, 5 directions, 40 frequencies), seeds ``--seeds``; the fairlead on
+bow, 40 frequencies, short-crested (cos-2s, s = 6, ``--directions`` 5) or long-crested (1), seeds ``--seeds``; the fairlead on
 the A-frame 35 m aft of the ship's reference point and 5 m up (config/ropos_aframe_jonswap.yaml's
 ship), the motion ramped in over 30 s; waves act on the cable as well. Sources:
 
@@ -50,7 +50,7 @@ def case_config(path, source, seed, args):
     over = {"motion.kind": "rao", "motion.rao_path": "config/rao_support_vessel_80m.txt",
             "motion.rao_lever_arm": [-35.0, 0.0, 5.0], "motion.ship_heading": 0.0, "motion.ramp_time": 30.0,
             "waves.kind": "jonswap", "waves.Hs": args.hs, "waves.Tp": args.tp, "waves.gamma": 3.3,
-            "waves.direction": 195.0, "waves.n_frequencies": 40, "waves.n_directions": 5, "waves.spreading": 6.0,
+            "waves.direction": 195.0, "waves.n_frequencies": 40, "waves.n_directions": args.directions, "waves.spreading": 6.0,
             "waves.seed": seed, "forecast.enabled": True, "forecast.source": source,
             "forecast.horizon": args.horizon, "forecast.rate": args.rate, "forecast.members": args.members,
             "forecast.sea_error": args.sea_error, "forecast.command_rate": args.command_rate,
@@ -88,6 +88,7 @@ def main(argv=None) -> int:
     ap.add_argument("--minutes", type=float, default=10.0, help="simulated minutes per seed")
     ap.add_argument("--hs", type=float, default=3.0)
     ap.add_argument("--tp", type=float, default=9.0)
+    ap.add_argument("--directions", type=int, default=5, help="wave directions (1: long-crested; 5: cos-2s, s = 6)")
     ap.add_argument("--horizon", type=float, default=20.0)
     ap.add_argument("--rate", type=float, default=1.0, help="forecasts per second")
     ap.add_argument("--members", type=int, default=8)
@@ -97,7 +98,7 @@ def main(argv=None) -> int:
     ap.add_argument("--json", default=None, help="write every number here")
     args = ap.parse_args(argv)
     rows = []
-    print(f"forecast skill: Hs {args.hs:g} m, Tp {args.tp:g} s, horizon {args.horizon:g} s, {args.members} members, "
+    print(f"forecast skill: Hs {args.hs:g} m, Tp {args.tp:g} s, {args.directions} direction(s), horizon {args.horizon:g} s, {args.members} members, "
           f"{args.rate:g} forecasts/s, sea_error {args.sea_error:g}, nominal error {args.nominal_error:g}")
     for path in args.files:
         for source in args.sources:

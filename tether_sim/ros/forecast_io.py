@@ -100,7 +100,7 @@ class NodeForecast:
     def add_status(self, array):
         """Append the forecast's status to a DiagnosticArray."""
         if self.service is not None:
-            array.status.append(status(self.service, self.node.get_name()))
+            array.status.append(status(self.service, self.node.get_fully_qualified_name()))
         return array
 
     def close(self):

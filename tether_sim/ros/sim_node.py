@@ -321,7 +321,8 @@ class TetherSimNode(Node):
         for end, inp in self.inputs.items():
             inputs[end] = inp.health(now)
             inputs[end]["rejected_recent"] = p["rejected"][end]
-        self.pubs["/diagnostics"].publish(self.forecast_io.add_status(convert.diagnostics(now, self.get_name(), sim, inputs)))
+        self.pubs["/diagnostics"].publish(
+            self.forecast_io.add_status(convert.diagnostics(now, self.get_fully_qualified_name(), sim, inputs)))
         self._period = _new_period(self.inputs)
 
 
