@@ -9,7 +9,7 @@ period, the lag behind the clock at the end, and the forecasts completed / skipp
 due while the worker is still busy is skipped). Message publishing is not included (no ROS here).
 
     .venv/bin/python benchmarks/forecast_tick_load.py                      # config/ropos_forecast.yaml
-    .venv/bin/python benchmarks/forecast_tick_load.py --window 20 --rounds 3
+    .venv/bin/python benchmarks/forecast_tick_load.py --window 10 --rounds 2 --members 4 --horizon 10
 """
 
 import argparse
@@ -34,8 +34,11 @@ def main(argv=None) -> int:
     ap.add_argument("--params", default="config/ropos_forecast.yaml")
     ap.add_argument("--window", type=float, default=20.0, help="wall seconds per window")
     ap.add_argument("--rounds", type=int, default=3, help="off/on window pairs")
+    ap.add_argument("--members", type=int, default=None, help="override forecast.members")
+    ap.add_argument("--horizon", type=float, default=None, help="override forecast.horizon")
     args = ap.parse_args(argv)
-    cfg = load_config(str(ROOT / args.params))
+    over = {k: v for k, v in (("forecast.members", args.members), ("forecast.horizon", args.horizon)) if v is not None}
+    cfg = load_config(str(ROOT / args.params), over)
     node = cfg.node
     motion = build_motion(cfg.motion, np.asarray(cfg.ship_end.position, float), wave_components(cfg))
     driver = SimulationDriver(cfg, {"ship": MotionSource(motion)}, wall_budget=node.tick_budget / node.output_rate)
@@ -69,7 +72,8 @@ def main(argv=None) -> int:
                 if kind == "on":
                     counts["on"][0] += service.completed - done0
                     counts["on"][1] += service.skipped - skipped0
-                    while service._busy:  # the next "off" window starts without a running look-ahead
+                    wait_end = time.perf_counter() + 60.0
+                    while service._busy and time.perf_counter() < wait_end:  # next "off" window: no look-ahead running
                         time.sleep(0.01)
                     service.next_due = None
     finally:
