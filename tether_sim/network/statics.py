@@ -5,13 +5,17 @@ weight and nothing else balance in force and moment about its centre of gravity.
 Unknowns per body: the CoG position and a rotation vector from upright (6). Newton with a
 forward-difference Jacobian and least-squares steps (a body whose line ends all lie on one
 vertical through its CoG has no moment about that axis: the rank-deficient direction is left at
-its start value), until the residual is below ``tol`` of the body's load scale.
+its start value), with a trust region (a bounded rotation and shift per iteration: Newton stays
+on the branch of the start, never jumps to the upside-down equilibrium), until the residual is
+below ``tol`` of the body's load scale; a body that ends more than 90 degrees from upright is an
+error.
 """
 
 from dataclasses import replace
 
 import numpy as np
 
+from tether_sim.network.body import quat_matrix
 from tether_sim.network.spec import line_end_condition
 from tether_sim.physics.statics import solve_static
 
@@ -89,7 +93,11 @@ def _state_of(body, x):
     return s
 
 
-def solve_network_statics(spec, bodies, tol=1e-12, max_iter=60):
+MAX_TURN = 0.1  # rad, largest rotation of a body in one Newton iteration
+MAX_SHIFT = 5.0  # m, largest move of a body in one Newton iteration
+
+
+def solve_network_statics(spec, bodies, tol=1e-12, max_iter=200):
     """Place every body at its static equilibrium (bodies at rest); returns the :class:`NetworkStatics`
     and the final relative residual. Raises RuntimeError when Newton does not converge."""
     st = NetworkStatics(spec, bodies)
@@ -116,6 +124,14 @@ def solve_network_statics(spec, bodies, tol=1e-12, max_iter=60):
             e[k] = d
             J[:, k] = (F(x + e) - f) / d
         step = np.linalg.lstsq(J, f, rcond=1e-10)[0]
+        # trust region: at most MAX_TURN of rotation and MAX_SHIFT of translation per body and
+        # iteration, so Newton walks to the hanging equilibrium nearest the start, never jumps to
+        # an upside-down one (also an equilibrium of forces and moments, an unstable one)
+        for i in range(len(names)):
+            turn = np.linalg.norm(step[6 * i + 3:6 * i + 6]) / MAX_TURN
+            shift = np.linalg.norm(step[6 * i:6 * i + 3]) / MAX_SHIFT
+            if max(turn, shift) > 1.0:
+                step = step / max(turn, shift)
         alpha, fn = 1.0, f
         while alpha > 1e-4:
             try:
@@ -132,4 +148,7 @@ def solve_network_statics(spec, bodies, tol=1e-12, max_iter=60):
         raise RuntimeError(f"network statics: Newton did not converge (relative residual {err:.3g})")
     for n, s in states_of(x).items():
         bodies[n].state[:] = s
+        if quat_matrix(s[3:7])[2, 2] < 0.0:
+            raise RuntimeError(f"network statics: body {n} ends upside down (an unstable equilibrium); "
+                               "check its attachments and initial_position")
     return st, err
