@@ -25,6 +25,7 @@ FORBIDDEN = {
     "config": ("io", "ros", "scenarios", "network"),
     "io": ("ros", "network"),
     "network": ("ros", "scenarios"),
+    "forecast": ("io", "ros", "scenarios", "network"),
     "scenarios": ("ros",),
     "spec": ("solvers", "io", "ros", "scenarios", "config", "physics", "numerics"),
     "errors": ("solvers", "io", "ros", "scenarios", "config", "physics", "numerics"),
