@@ -32,6 +32,7 @@ from tether_sim.errors import TetherSimError
 from tether_sim.io.mcap_log import McapLogError, read_messages, read_summary
 from tether_sim.solvers.resolution import bending_mesh_warning, mesh_summary
 from tether_sim.report_winch import load_winch, winch_figures, winch_markdown
+from tether_sim.report_forecast import forecast_figures, forecast_markdown, load_forecasts
 
 STATE_TYPE = "tether_sim_msgs/msg/TetherState"
 SNAP_TYPE = "tether_sim_msgs/msg/SnapLoadEvent"
@@ -75,6 +76,7 @@ class RunData:
     truncation: str | None = None  # what a crash cut off the file (None: complete)
     arc_history: np.ndarray | None = None  # (n_t, n_s) output points of each state when they move (winch), else None
     winch: object = None  # report_winch.WinchSeries of the winch/state topic, or None
+    forecast: list | None = None  # the SnapForecast messages (report_forecast.py), or None
 
 
 def _topics_of(summary, type_name):
@@ -384,6 +386,7 @@ def summary_markdown(run: RunData, periods: dict, figures: dict, envelope: dict 
                   f"recoveries: {health['divergences']:.0f}; ticks capped: {health['capped_ticks']:.0f}."]
     counts = {end: sum(w["end"] == end for w in run.warnings) for end in ("ship", "vehicle", "span")}
     lines += winch_markdown(run, periods)
+    lines += forecast_markdown(run)  # snap forecast runs: skill against the snaps above
     lines += ["", "Slack warnings: " + ", ".join(f"{k} {v}" for k, v in counts.items()) + ".",
               "", "## Figures", ""] + [f"- {name}: `{path}`" for name, path in figures.items()]
     return "\n".join(lines) + "\n"
@@ -399,7 +402,8 @@ def render(run: RunData, periods: dict, out_dir: Path, n_snapshots: int = 8, env
             "shape snapshots": plot_shapes(run, out_dir / "shapes.png", n_snapshots),
             "tension map": plot_tension_map(run, out_dir / "tension_map.png"),
             "tension envelope": plot_tension_envelope(run, envelope, out_dir / "tension_envelope.png"),
-            **winch_figures(run, periods, out_dir)}  # winch runs: tension against length and time
+            **winch_figures(run, periods, out_dir),  # winch runs: tension against length and time
+            **forecast_figures(run, out_dir)}  # snap forecast runs: probability against the snaps
 
 
 def make_report(mcap_path, out_dir=None, n_snapshots: int = 8, t0_s: float | None = None,
@@ -410,6 +414,7 @@ def make_report(mcap_path, out_dir=None, n_snapshots: int = 8, t0_s: float | Non
     run = load_run(mcap_path, t0_s)
     run.time_label = time_label
     run.winch = load_winch(mcap_path, run.t0)  # None without a winch/state topic
+    run.forecast = load_forecasts(mcap_path, run.t0)  # None without a SnapForecast topic
     periods = slack_periods(run)
     envelope = tension_envelope(run)
     figures = render(run, periods, out_dir, n_snapshots, envelope)
