@@ -4,6 +4,7 @@ The MCAP is written with RosMcapWriter from CDR made by rosbags (types parsed fr
 msg_defs/), so the report reads it through the same decoder path as a recording.
 """
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -127,6 +128,34 @@ def test_report_on_known_run(tmp_path, prefix, store):
         assert image[..., :3].std() > 0.05  # not a blank canvas
     wrench_t, wrench_f = run.wrench["ship"]
     assert np.allclose(wrench_f, run.end_tension["ship"])
+    # the envelope along the cable: tension is linear from the ship (tv + 4905 N) to the vehicle
+    # (tv), so its largest value is at the ship end at the snap instant, its smallest at the vehicle
+    # end in slack; no breaking load in this file, so no utilisation
+    env = result["envelope"]
+    ship_peak = PEAK + 9.81 * 5.0 * L
+    assert env["largest"] == {"tension_N": pytest.approx(ship_peak), "arc_length_m": 0.0, "time_s": pytest.approx(T_PEAK)}
+    assert env["max_N"] == pytest.approx(np.linspace(ship_peak, PEAK, N_S).tolist())
+    assert env["min_N"][-1] == 50.0 and env["smallest_N"] == 50.0 and env["utilisation"] is None
+    assert "Largest tension anywhere on the cable: **16905.0 N** at s = 0.0 m, t = 7.300 s" in md
+    assert "not computed (`cable.breaking_load` not given" in md
+    summary = json.loads(result["json_path"].read_text())  # report.json: the same numbers, units in names
+    assert result["json_path"].parent == result["report_path"].parent
+    assert summary["tension_envelope"]["largest_N"] == pytest.approx(ship_peak)
+    assert summary["end_tension_N"]["vehicle"]["static"] == 2000.0 and summary["utilisation"] is None
+    assert summary["slack_periods"]["vehicle"] == [{"start_s": pytest.approx(6.0), "end_s": pytest.approx(7.0),
+                                                   "duration_s": pytest.approx(1.0), "min_tension_N": 50.0,
+                                                   "threshold_N": THRESHOLD}]
+    assert [e["peak_N"] for e in summary["snap_events"]] == [PEAK]
+
+
+def test_utilisation_against_the_breaking_load_of_the_description(tmp_path, prefix, store):
+    from tether_sim.report import envelope_markdown, load_run, tension_envelope
+
+    run = load_run(write_output(tmp_path / "out.mcap", prefix, store))
+    run.parameters = {"cable.breaking_load": "50000.0"}  # as TetherDescription.parameters carries it
+    env = tension_envelope(run)
+    assert env["utilisation"] == pytest.approx((PEAK + 9.81 * 5.0 * L) / 50000.0)
+    assert "Utilisation: 33.8 % of the breaking load (`cable.breaking_load` 50000 N)." in envelope_markdown(env)
 
 
 def test_report_without_states_is_a_clear_error(tmp_path, prefix, store, capsys):

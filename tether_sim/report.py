@@ -5,7 +5,10 @@ found by type, so remapped names work. Times are header stamps (simulation time)
 first TetherState. Figures (PNG): ``end_tensions.png`` (ship and vehicle end tension vs time, slack
 periods shaded, snap-load peaks marked, |force| of the wrench topics overlaid as a cross-check),
 ``shapes.png`` (cable shape snapshots, x-z and y-z, ENU), ``tension_map.png`` (tension along the
-cable over time, s-t colour map). ``report.md`` holds the summary and the event tables.
+cable over time, s-t colour map), ``tension_envelope.png`` (largest and smallest tension at each
+point over the run, with the breaking load ``cable.breaking_load`` when given). ``report.md`` holds
+the summary, the tension envelope and utilisation, and the event tables; ``report.json`` the same
+numbers, units in the key names.
 
 Slack periods of an end are the intervals where its recorded tension is below the slack threshold
 the node reported for that end (SlackWarning.threshold; 0 N when it reported none), merged with
@@ -18,6 +21,7 @@ misjudge every length but one.
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,6 +32,7 @@ from tether_sim.errors import TetherSimError
 from tether_sim.io.mcap_log import McapLogError, read_messages, read_summary
 from tether_sim.solvers.resolution import bending_mesh_warning, mesh_summary
 from tether_sim.report_winch import load_winch, winch_figures, winch_markdown
+from tether_sim.report_forecast import forecast_figures, forecast_markdown, load_forecasts
 
 STATE_TYPE = "tether_sim_msgs/msg/TetherState"
 SNAP_TYPE = "tether_sim_msgs/msg/SnapLoadEvent"
@@ -71,6 +76,7 @@ class RunData:
     truncation: str | None = None  # what a crash cut off the file (None: complete)
     arc_history: np.ndarray | None = None  # (n_t, n_s) output points of each state when they move (winch), else None
     winch: object = None  # report_winch.WinchSeries of the winch/state topic, or None
+    forecast: list | None = None  # the SnapForecast messages (report_forecast.py), or None
 
 
 def _topics_of(summary, type_name):
@@ -250,6 +256,78 @@ def _mesh_line(parameters: dict) -> str:
     return line
 
 
+def tension_envelope(run: RunData) -> dict:
+    """Largest and smallest tension at each output point over the run, where and when the largest
+    occurs, and the utilisation against ``cable.breaking_load`` of the description (None when not
+    given). Output instants only (the snap events carry the substep peaks at the ends). With a
+    winch the output points move with L(t): the curve is by output point, s of the first state."""
+    tension = run.tension
+    k_t, k_s = np.unravel_index(int(np.argmax(tension)), tension.shape)
+    arcs = run.arc_history if run.arc_history is not None else np.broadcast_to(run.arc_length, tension.shape)
+    try:
+        mbl = float(run.parameters.get("cable.breaking_load", "0") or 0.0)
+    except ValueError:
+        mbl = 0.0
+    largest = float(tension[k_t, k_s])
+    return {"arc_length_m": [float(x) for x in arcs[0]], "max_N": [float(x) for x in tension.max(axis=0)],
+            "min_N": [float(x) for x in tension.min(axis=0)],
+            "largest": {"tension_N": largest, "arc_length_m": float(arcs[k_t, k_s]), "time_s": float(run.t[k_t])},
+            "smallest_N": float(tension.min()),
+            "end_max_N": {end: float(run.end_tension[end].max()) for end in ENDS},
+            "breaking_load_N": mbl if mbl > 0 else None, "utilisation": largest / mbl if mbl > 0 else None}
+
+
+def envelope_markdown(envelope: dict) -> list:
+    peak, ends = envelope["largest"], envelope["end_max_N"]
+    lines = ["", "## Tension along the cable", "",
+             f"Largest tension anywhere on the cable: **{peak['tension_N']:.1f} N** at s = {peak['arc_length_m']:.1f} m, "
+             f"t = {peak['time_s']:.3f} s (largest at the ship end {ends['ship']:.1f} N, at the vehicle end "
+             f"{ends['vehicle']:.1f} N; output instants). Smallest: {envelope['smallest_N']:.1f} N."]
+    if envelope["breaking_load_N"]:
+        lines.append(f"Utilisation: {100 * envelope['utilisation']:.1f} % of the breaking load "
+                     f"(`cable.breaking_load` {envelope['breaking_load_N']:.0f} N).")
+    else:
+        lines.append("Utilisation: not computed (`cable.breaking_load` not given in the parameters).")
+    s, hi, lo = envelope["arc_length_m"], envelope["max_N"], envelope["min_N"]
+    picks = sorted(set(np.linspace(0, len(s) - 1, min(len(s), 9)).round().astype(int).tolist()))
+    lines += ["", "| s [m] | max tension [N] | min tension [N] |", "|---|---|---|"]
+    lines += [f"| {s[i]:.1f} | {hi[i]:.1f} | {lo[i]:.1f} |" for i in picks]
+    return lines
+
+
+def summary_json(run: RunData, periods: dict, envelope: dict, figures: dict) -> dict:
+    """What report.md says, as numbers with their units in the names (report.json)."""
+    health = node_health(run)
+    return {
+        "file": str(run.path), "solver": run.solver, "time_origin": run.time_label,
+        "states": int(len(run.t)), "duration_s": float(run.t[-1] - run.t[0]) if len(run.t) else 0.0,
+        "length_m": float(run.arc_length[-1]), "degraded_states": int(run.degraded.sum()) if run.degraded is not None else 0,
+        "truncation": run.truncation,
+        "end_tension_N": {end: {"static": float(run.end_tension[end][0]), "mean": float(run.end_tension[end].mean()),
+                                "min": float(run.end_tension[end].min()), "max": float(run.end_tension[end].max())}
+                          for end in ENDS},
+        "tension_envelope": {"largest_N": envelope["largest"]["tension_N"],
+                             "largest_at_arc_length_m": envelope["largest"]["arc_length_m"],
+                             "largest_at_time_s": envelope["largest"]["time_s"], "smallest_N": envelope["smallest_N"],
+                             "arc_length_m": envelope["arc_length_m"], "max_N": envelope["max_N"], "min_N": envelope["min_N"]},
+        "breaking_load_N": envelope["breaking_load_N"], "utilisation": envelope["utilisation"],
+        "slack_periods": {end: [{"start_s": p["start"], "end_s": p["end"], "duration_s": p["duration"],
+                                 "min_tension_N": p["min_tension"], "threshold_N": p["threshold"]} for p in periods[end]]
+                          for end in ENDS},
+        "snap_events": [{"end": e["end"], "arc_length_m": e["arc_length"], "peak_time_s": e["t_peak"], "peak_N": e["peak"],
+                         "static_N": e["static"], "amplification": e["amplification"], "min_tension_N": e["min"],
+                         "slack_start_s": e["slack_start"], "slack_duration_s": e["slack_duration"],
+                         "rise_time_s": e["rise_time"], "criterion": e["criterion"]}
+                        for e in sorted(run.snaps, key=lambda e: e["t_peak"])],
+        "slack_warnings": {end: sum(w["end"] == end for w in run.warnings) for end in ("ship", "vehicle", "span")},
+        "node_health": None if health is None else {"real_time_factor": health["real_time_factor"],
+                                                    "clock_time_skipped_s": health["dropped_s"],
+                                                    "divergences": health["divergences"],
+                                                    "capped_ticks": health["capped_ticks"]},
+        "figures": {name: str(path) for name, path in figures.items()},
+    }
+
+
 def _length_text(run: RunData) -> str:
     arcs = run.arc_history
     if arcs is None:
@@ -257,7 +335,7 @@ def _length_text(run: RunData) -> str:
     return f"L = {arcs[0, -1]:.1f} m at the start, {arcs[:, -1].min():.1f} to {arcs[:, -1].max():.1f} m (winch)"
 
 
-def summary_markdown(run: RunData, periods: dict, figures: dict) -> str:
+def summary_markdown(run: RunData, periods: dict, figures: dict, envelope: dict | None = None) -> str:
     """The summary and event tables as markdown."""
     duration = float(run.t[-1] - run.t[0]) if len(run.t) else 0.0
     rate = (len(run.t) - 1) / duration if duration > 0 else float("nan")
@@ -282,6 +360,7 @@ def summary_markdown(run: RunData, periods: dict, figures: dict) -> str:
               f"output, {rate:.1f} Hz here). The snap-event peaks below come from the solver's end "
               "tension at every substep, so a snap peak can exceed the max of its end above, which "
               "sees the tension only at the output instants."]
+    lines += envelope_markdown(envelope if envelope is not None else tension_envelope(run))
     lines += ["", "## Slack periods", "", "| end | start [s] | end [s] | duration [s] | "
               "min tension [N] | threshold [N] |", "|---|---|---|---|---|---|"]
     for end in ENDS:
@@ -313,20 +392,24 @@ def summary_markdown(run: RunData, periods: dict, figures: dict) -> str:
                   f"recoveries: {health['divergences']:.0f}; ticks capped: {health['capped_ticks']:.0f}."]
     counts = {end: sum(w["end"] == end for w in run.warnings) for end in ("ship", "vehicle", "span")}
     lines += winch_markdown(run, periods)
+    lines += forecast_markdown(run)  # snap forecast runs: skill against the snaps above
     lines += ["", "Slack warnings: " + ", ".join(f"{k} {v}" for k, v in counts.items()) + ".",
               "", "## Figures", ""] + [f"- {name}: `{path}`" for name, path in figures.items()]
     return "\n".join(lines) + "\n"
 
 
-def render(run: RunData, periods: dict, out_dir: Path, n_snapshots: int = 8) -> dict:
-    """Write the three PNG figures; returns {name: path}."""
-    from tether_sim.report_figures import plot_end_tensions, plot_shapes, plot_tension_map
+def render(run: RunData, periods: dict, out_dir: Path, n_snapshots: int = 8, envelope: dict | None = None) -> dict:
+    """Write the PNG figures; returns {name: path}."""
+    from tether_sim.report_figures import plot_end_tensions, plot_shapes, plot_tension_envelope, plot_tension_map
 
     out_dir.mkdir(parents=True, exist_ok=True)
+    envelope = envelope if envelope is not None else tension_envelope(run)
     return {"end tensions": plot_end_tensions(run, periods, out_dir / "end_tensions.png"),
             "shape snapshots": plot_shapes(run, out_dir / "shapes.png", n_snapshots),
             "tension map": plot_tension_map(run, out_dir / "tension_map.png"),
-            **winch_figures(run, periods, out_dir)}  # winch runs: tension against length and time
+            "tension envelope": plot_tension_envelope(run, envelope, out_dir / "tension_envelope.png"),
+            **winch_figures(run, periods, out_dir),  # winch runs: tension against length and time
+            **forecast_figures(run, out_dir)}  # snap forecast runs: probability against the snaps
 
 
 def make_report(mcap_path, out_dir=None, n_snapshots: int = 8, t0_s: float | None = None,
@@ -337,13 +420,26 @@ def make_report(mcap_path, out_dir=None, n_snapshots: int = 8, t0_s: float | Non
     run = load_run(mcap_path, t0_s)
     run.time_label = time_label
     run.winch = load_winch(mcap_path, run.t0)  # None without a winch/state topic
+    run.forecast = load_forecasts(mcap_path, run.t0)  # None without a SnapForecast topic
     periods = slack_periods(run)
-    figures = render(run, periods, out_dir, n_snapshots)
-    markdown = summary_markdown(run, periods, figures)
+    envelope = tension_envelope(run)
+    figures = render(run, periods, out_dir, n_snapshots, envelope)
+    markdown = summary_markdown(run, periods, figures, envelope)
     report_path = out_dir / "report.md"
     report_path.write_text(markdown)
+    summary = summary_json(run, periods, envelope, figures)
+    json_path = out_dir / "report.json"
+    json_path.write_text(json.dumps(summary, indent=1, allow_nan=False, default=_json_number) + "\n")
     return {"run": run, "periods": periods, "static": static_tensions(run), "figures": figures,
-            "markdown": markdown, "report_path": report_path}
+            "markdown": markdown, "report_path": report_path, "envelope": envelope, "summary": summary,
+            "json_path": json_path}
+
+
+def _json_number(value):
+    """numpy scalars for json.dumps."""
+    if isinstance(value, np.generic):
+        return value.item()
+    raise TypeError(f"{type(value).__name__} is not JSON serialisable")
 
 
 def main(argv=None) -> int:

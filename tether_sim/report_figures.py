@@ -144,6 +144,32 @@ def _min_span(ax, positions) -> None:
         ax.set_xlim(mid - 0.5 * need, mid + 0.5 * need)
 
 
+def plot_tension_envelope(run, envelope: dict, path: Path) -> Path:
+    """Largest and smallest tension at each output point over the run (kN), against arc length;
+    the breaking load as a line when the description gives one."""
+    fig, ax = plt.subplots(figsize=(10, 5.0), constrained_layout=True)
+    s = envelope["arc_length_m"]
+    ax.fill_between(s, np.asarray(envelope["min_N"]) / 1e3, np.asarray(envelope["max_N"]) / 1e3,
+                    color="tab:blue", alpha=0.2, label="range over the run")
+    ax.plot(s, np.asarray(envelope["max_N"]) / 1e3, color="tab:red", lw=1.6, label="max over time")
+    ax.plot(s, np.asarray(envelope["min_N"]) / 1e3, color="tab:blue", lw=1.2, label="min over time")
+    peak = envelope["largest"]
+    ax.plot([peak["arc_length_m"]], [peak["tension_N"] / 1e3], "v", color="k", ms=8,
+            label=f"largest {peak['tension_N'] / 1e3:.1f} kN at s = {peak['arc_length_m']:.1f} m, t = {peak['time_s']:.2f} s")
+    if envelope.get("breaking_load_N"):
+        mbl = envelope["breaking_load_N"] / 1e3
+        ax.axhline(mbl, color="k", ls="--", lw=1.0, label=f"breaking load {mbl:.0f} kN")
+    ax.set_xlabel("arc length s from the ship [m]" + (" (fraction of L(t) x L at the start: winch)"
+                                                      if getattr(run, "arc_history", None) is not None else ""))
+    ax.set_ylabel("axial tension [kN]")
+    ax.set_title(f"Tension envelope along the cable (output instants) — {run.path.name}")
+    ax.legend(loc="best", fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
 def plot_tension_map(run, path: Path) -> Path:
     """Axial tension T(s, t) as a colour map; snap-load peaks marked at their arc length."""
     fig, ax = plt.subplots(figsize=(10, 5.5), constrained_layout=True)

@@ -107,7 +107,8 @@ def test_ensemble_members_spread_and_the_probability_counts_them():
     for f in vehicle:
         assert f.members == 6
         assert f.probability == pytest.approx(len(f.member_snaps) / 6)
-        assert f.time_to_snap == pytest.approx(np.mean([t for t, _ in f.member_snaps]) - f.stamp)
+        assert f.time_to_snap == pytest.approx(np.median([t for t, _ in f.member_snaps]) - f.stamp)
+        assert f.predicted_peak == pytest.approx(np.median([p for _, p in f.member_snaps]))
     assert any(f.time_to_snap_std > 0.0 for f in vehicle if len(f.member_snaps) > 1)
 
 

@@ -142,5 +142,5 @@ def test_dg_tick_runs_uncounted():
     from tether_sim.solvers.dg import kernels, stepper, tick, workspace
     for f in (kernels.dg_rhs, stepper.dg_advance, tick.dg_tick, tick.node_tick, tick.drain_now):
         assert f.targetoptions.get("_nrt") is False, f
-    for f in (workspace.bind, workspace.bind_driver, workspace._f3):
+    for f in (workspace.bind, workspace._f1, workspace._f3):
         assert f.targetoptions.get("_nrt") is False and f.targetoptions.get("inline") == "always", f

@@ -10,7 +10,8 @@ from pathlib import Path
 import pytest
 
 MSG_DIR = Path(__file__).resolve().parents[2] / "msg_defs" / "msg"
-MESSAGES = ("TetherState", "SnapLoadEvent", "SlackWarning", "TetherDescription", "WinchCommand", "WinchState")
+MESSAGES = ("TetherState", "SnapLoadEvent", "SlackWarning", "TetherDescription", "WinchCommand", "WinchState",
+            "SnapForecast")
 # units a numeric field comment must name (dimensionless quantities say "dimensionless")
 UNIT = re.compile(r"(?<![\w/])(m|m/s|N|N m|N m\^2|1/m|kg/m|s|dimensionless|SI units)(?![\w/^])")
 
@@ -71,6 +72,10 @@ def _filled(name):
     if name == "SlackWarning":
         return m.SlackWarning(header=header, end=m.SlackWarning.END_SHIP, arc_length=0.0, tension=420.0,
                               threshold=900.0, static_tension=9000.0)
+    if name == "SnapForecast":
+        return m.SnapForecast(header=header, end=m.SnapForecast.END_VEHICLE, horizon=20.0, probability=0.75,
+                              time_to_snap=6.25, time_to_snap_std=0.4, predicted_peak=137000.0, members=8,
+                              source=m.SnapForecast.SOURCE_KNOWN_SEA, degraded=True, reason="1 of 8 members diverged")
     if name == "WinchCommand":
         return m.WinchCommand(header=header, mode=m.WinchCommand.MODE_LENGTH, setpoint=1730.0)
     if name == "WinchState":

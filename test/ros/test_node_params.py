@@ -171,6 +171,7 @@ def test_shipped_sections_apply_in_any_namespace_and_a_plain_section_is_renamed(
     ns = ["--ros-args", "-r", "__ns:=/rov1"]
     shipped = _overrides(ns + ["--params-file", str(config / "ropos_L200.yaml")])
     assert shipped["cable.length"] == 200.0 and shipped["dg.resolution"] == "auto"
+    assert _overrides(["--ros-args", "--params-file", str(config / "ropos_L200.yaml")])["cable.length"] == 200.0  # root
     plain = tmp_path / "mine.yaml"
     plain.write_text("tether_sim:\n  ros__parameters:\n    cable:\n      length: 123.0\n")
     argv = ns + ["--params-file", str(plain)]

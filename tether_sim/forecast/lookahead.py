@@ -16,8 +16,10 @@ restored) and turns a request into one :class:`EndForecast` per end:
   report; after the horizon a member is stepped on (at most 10 peak windows) only to close a
   re-tensioning window already open, and a snap counts when its peak lies within the horizon;
 - per end: ``probability`` = members with a snap / members that finished; ``time_to_snap`` and
-  ``predicted_peak`` = means over the members that snap (NaN when none does), with the spread of
-  the time; members whose solver diverges are left out and make the forecast degraded.
+  ``predicted_peak`` = medians over the members that snap (NaN when none does; the median, not the
+  mean: members that first snap on different waves would average to an instant between them), with
+  the standard deviation of the times; members whose solver diverges are left out and make the
+  forecast degraded.
 
 Times: members' motions are functions of solver time; the detector and the results use the clock
 (``clock = anchor + solver time``), as the driver does.
@@ -64,9 +66,9 @@ class EndForecast:
     end: str
     horizon: float  # s
     probability: float  # of a snap at this end within the horizon
-    time_to_snap: float  # s after the stamp, mean over the members that snap (NaN: none)
+    time_to_snap: float  # s after the stamp, median over the members that snap (NaN: none)
     time_to_snap_std: float  # s, spread of the members' snap times (0 with one; NaN: none)
-    predicted_peak: float  # N, mean peak over the members that snap (NaN: none)
+    predicted_peak: float  # N, median peak over the members that snap (NaN: none)
     members: int  # members that finished
     source: str
     degraded: bool = False
@@ -98,9 +100,9 @@ class LookAhead:
             out.append(EndForecast(
                 stamp=request.issued, end=end, horizon=request.horizon,
                 probability=len(snaps) / n if n else math.nan,
-                time_to_snap=float(times.mean()) if snaps else math.nan,
+                time_to_snap=float(np.median(times)) if snaps else math.nan,
                 time_to_snap_std=float(times.std()) if snaps else math.nan,
-                predicted_peak=float(peaks.mean()) if snaps else math.nan,
+                predicted_peak=float(np.median(peaks)) if snaps else math.nan,
                 members=n, source=request.source, degraded=bool(reasons) or n == 0,
                 reason="; ".join(reasons) if reasons else ("" if n else "no member finished"),
                 member_snaps=[(float(t), float(p)) for t, p in snaps]))

@@ -32,7 +32,7 @@ import numpy as np
 
 from tether_sim.forecast.lookahead import ENDS, EndForecast, ForecastRequest, LookAhead
 from tether_sim.forecast.ship_forecast import (
-    ARShipPredictor, MotionMember, can_perturb, external_members, perturbed_members,
+    ARShipPredictor, MotionMember, can_perturb, component_spread, external_members, perturb_motion, perturbed_members,
 )
 from tether_sim.solvers.factory import build_solver
 
@@ -109,7 +109,7 @@ class ExternalForecast:
 class ForecastService:
     """Forecasts beside a :class:`~tether_sim.ros.driver.SimulationDriver` (module doc)."""
 
-    def __init__(self, config, *, solver_factory=build_solver, threaded=False):
+    def __init__(self, config, *, solver_factory=build_solver, threaded=False, nominal_error=0.0):
         fc = config.forecast
         if config.winch.enabled:
             raise ValueError("forecast.enabled: the snap forecast does not run with winch.enabled (the winch's "
@@ -117,6 +117,10 @@ class ForecastService:
         self.config, self.fc = config, fc
         self.solver_factory = solver_factory
         self.threaded = threaded
+        # known_sea: the run knows its sea exactly; > 0 (the skill benchmark) gives each forecast a nominal
+        # sea that is itself in error by this fraction of Hs (a fresh draw per forecast), as a real
+        # sea-wave forecast would be, and the members spread about that nominal
+        self.nominal_error = float(nominal_error)
         self.predictor = ARShipPredictor(fc.ar_order, fc.ar_sample_period, fc.ar_window)
         node = config.node
         self.external = ExternalForecast(node.world_frame, node.ship_attachment, fc.external_max_age,
@@ -198,6 +202,8 @@ class ForecastService:
             if not can_perturb(motion) and members > 1:
                 degraded = "the ship motion has no perturbation model: one member"
                 members = 1
+            if self.nominal_error > 0.0 and can_perturb(motion):
+                motion = perturb_motion(motion, component_spread(self.nominal_error), rng)
             plan = _Plan(perturbed_members, motion, offset, members, fc.sea_error, rng)
         elif source == "external":
             stamp, times, fair = held
@@ -232,8 +238,9 @@ class ForecastService:
         try:
             request.members = request.members()
         except ValueError as exc:  # the ship-motion forecast cannot be made (e.g. too little history)
+            reason = "; ".join([r for r in (request.degraded, f"no ship-motion forecast: {exc}") if r])
             results = [EndForecast(request.issued, end, request.horizon, math.nan, math.nan, math.nan, math.nan, 0,
-                                   request.source, True, f"no ship-motion forecast: {exc}") for end in ENDS]
+                                   request.source, True, reason) for end in ENDS]
         else:
             results = self._engine.run(request)
         self.last_wall = wallclock.perf_counter() - wall0

@@ -30,6 +30,7 @@ class CableProperties:
     Cdt: float = param(0.02, doc="tangential drag coefficient C_dt [PE2020 Eq. 17]", min=0.0, max=100.0)
     Cmn: float = param(1.0, doc="normal added-mass coefficient C_m,perp [PE2020 Eq. 13]", min=0.0, max=100.0)
     Cmt: float = param(0.0, doc="tangential added-mass coefficient C_m,par [PE2020 Eq. 13]", min=0.0, max=100.0)
+    breaking_load: float = param(0.0, unit="N", doc="minimum breaking load (MBL) of the cable; 0: not given. Not used by the solvers: tether-sim-report states the largest tension as a fraction of it (utilisation)", min=0.0, max=1e10)
 
     @property
     def area(self) -> float:

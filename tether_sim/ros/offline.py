@@ -27,7 +27,7 @@ from tqdm import tqdm
 from tether_sim.errors import ConfigError, TetherSimError
 from tether_sim.io.inputs import EndPoseInput
 from tether_sim.io.params import load_config
-from tether_sim.ros import cdr, convert, winch_io
+from tether_sim.ros import cdr, convert, forecast_io, winch_io
 from tether_sim.ros import tf as tf_out
 from tether_sim.ros.driver import END_NAMES, MotionSource, SimulationDriver
 from tether_sim.solvers.factory import build_solver
@@ -118,6 +118,11 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
     sources, recorded, t0, duration = _inputs(config, input_path, topics, duration)
     # (the recorded poses are the scenario: applied from the first instant, no start-up blend)
     driver = SimulationDriver(config, sources, solver_factory=solver_factory, start_blend=False)
+    forecaster = None
+    if config.forecast.enabled:  # the node's forecasts, run inline on the runner's tick grid (docs/forecast.md)
+        from tether_sim.forecast.service import ForecastService
+
+        forecaster = ForecastService(config, solver_factory=solver_factory)
     rate = config.node.output_rate
     n_ticks = max(1, int(round(duration * rate)))
     wall0 = wallclock.perf_counter()
@@ -140,16 +145,20 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
                 if not report.capped:
                     break
             run.write_tick()
+            if forecaster is not None:
+                forecaster.observe(driver, clock_origin=t0, tick_index=k)
+                run.write_forecasts(forecaster.poll())
             if now >= next_diag:
                 next_diag += 1.0
-                run.write_diagnostics(now, report, sources)
+                run.write_diagnostics(now, report, sources, forecaster)
             bar.update(1)
         bar.close()
         run.flush()
     wall = wallclock.perf_counter() - wall0
     return {"output": str(output) if output is not None else None, "duration": duration, "ticks": n_ticks, "wall_time": wall,
             "speed": duration / wall if wall > 0 else math.inf, "static_tensions": driver.static_tensions,
-            "snap_peaks": run.peaks, "events": run.events, **run.counts, "numerical_snaps": driver.numerical_snaps}
+            "snap_peaks": run.peaks, "events": run.events, "forecasts": run.forecasts, **run.counts,
+            "numerical_snaps": driver.numerical_snaps}
 
 
 def _inputs(config, input_path, topics, duration):
@@ -185,13 +194,16 @@ class _OfflineOutputs:
         self.arc = np.linspace(0.0, config.cable.length, config.node.output_points)
         self.counts = {"snap_events": 0, "slack_warnings": 0, "divergences": 0, "numerical_snaps": 0}
         self._numerical_written = 0
-        self.peaks, self.events = [], []
+        self.peaks, self.events, self.forecasts = [], [], []
+        self.frame = config.node.world_frame
         self.static_written = False
         for topic, (type_name, qos) in convert.TOPICS.items():
             if topic.endswith("sim_pose") and getattr(config, f"{topic.split('/')[1]}_end").kind != "body":
                 continue
             writer.add_topic(topic, type_name, qos)
         for topic, (type_name, qos) in (winch_io.TOPICS.items() if config.winch.enabled else ()):
+            writer.add_topic(topic, type_name, qos)
+        for topic, (type_name, qos) in (forecast_io.TOPICS.items() if config.forecast.enabled else ()):
             writer.add_topic(topic, type_name, qos)
         # /tf and /tf_static as the node publishes them (tf.py), so that RViz and Foxglove place the
         # body-frame wrenches and the frames of a file written here as in a recording of the node
@@ -228,7 +240,12 @@ class _OfflineOutputs:
             self.writer.write("/tf", tf_out.tf_message_cdr(driver.stamp, driver.config.node.world_frame,
                                                            tf_out.dynamic_transforms(driver)), ns, ns)
 
-    def write_diagnostics(self, now, report, sources):
+    def write_forecasts(self, forecasts):
+        """SnapForecast messages of finished forecasts (log time = their stamp, the state they start from)."""
+        self.forecasts.extend(forecasts)
+        self.write([("/tether/snap_forecast", forecast_io.forecast_message(f, self.frame)) for f in forecasts])
+
+    def write_diagnostics(self, now, report, sources, forecaster=None):
         driver = self.driver
         sim = {"running": True, "real_time_factor": driver.real_time_factor,
                "time_step": driver.solver.stable_time_step(), "lag": 0.0, "degraded": driver.degraded,
@@ -240,7 +257,10 @@ class _OfflineOutputs:
         self._numerical_written = driver.numerical_snaps
         health = {end: dict(src.health(now), rejected_recent=0) for end, src in sources.items()
                   if isinstance(src, EndPoseInput)}
-        self.write([("/diagnostics", convert.diagnostics(now, "tether_sim_offline", sim, health))])
+        array = convert.diagnostics(now, "tether_sim_offline", sim, health)
+        if forecaster is not None:
+            array.status.append(forecast_io.status(forecaster, "tether_sim_offline"))
+        self.write([("/diagnostics", array)])
 
     def flush(self):
         """Close the detectors' open re-tensioning windows (end of the run) and write those events."""
@@ -307,6 +327,10 @@ def main(argv=None) -> int:
              if s['numerical_snaps'] else ""))
     for end, peak, amp, t in s["snap_peaks"]:
         print(f"  snap at {end}: t = {t:.3f} s, peak {peak:.1f} N ({amp:.2f} x static)")
+    if s["forecasts"]:
+        warned = sum(f.probability >= 0.5 for f in s["forecasts"])
+        print(f"  {len(s['forecasts'])} snap forecasts on /tether/snap_forecast ({warned} with probability >= 0.5, "
+              f"{sum(f.degraded for f in s['forecasts'])} degraded)")
     return 0
 
 

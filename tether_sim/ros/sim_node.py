@@ -31,6 +31,7 @@ from tether_sim.physics.snap import NumericalSnapWarning, SnapDetector
 from tether_sim.ros import convert, node_params
 from tether_sim.ros.driver import END_NAMES, SimulationDriver
 from tether_sim.ros.end_commands import SolverTimeMotion
+from tether_sim.ros.forecast_io import NodeForecast
 from tether_sim.ros.namespacing import retarget
 from tether_sim.ros.snap_markers import SnapMarkerPublisher
 from tether_sim.ros.tf import TfPublisher
@@ -95,6 +96,7 @@ class TetherSimNode(Node):
         self.tf = TfPublisher(self)  # /tf, /tf_static (tether_sim/ros/tf.py)
         self.snap_markers = SnapMarkerPublisher(self)  # tether/snap_markers, for RViz
         self.winch_io = NodeWinch(self)  # winch/command in, winch/state out (winch.enabled; ros/winch_io.py)
+        self.forecast_io = NodeForecast(self, solver_factory)  # tether/snap_forecast (forecast.enabled; ros/forecast_io.py)
         # periodic outputs: built (and published) only while someone subscribes to them
         self._tick_topics = [t for t in self.pubs if t in convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
         self._first_tick = None
@@ -104,6 +106,11 @@ class TetherSimNode(Node):
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.create_timer(1.0 / node.output_rate, self._on_tick)
         self.create_timer(1.0, self._publish_diagnostics)
+
+    def destroy_node(self):
+        if getattr(self, "forecast_io", None) is not None:
+            self.forecast_io.close()  # stops the look-ahead worker thread
+        return super().destroy_node()
 
     def _ship_from_sea(self, end) -> bool:
         """The ship end follows the RAO response to the configured sea (motion.kind rao), not a pose topic."""
@@ -250,6 +257,7 @@ class TetherSimNode(Node):
                 for topic, data in convert.tick_outputs(self.driver, self.arc_lengths, wanted):
                     self.pubs[topic].publish(data)
                 self.tf.publish(self.driver)
+                self.forecast_io.tick(now)  # hands a due forecast to its worker thread; publishes finished ones
         except Exception as exc:  # noqa: BLE001 - the node must stay up; the error is reported
             if not self.context.ok():
                 return  # shutting down (Ctrl-C): publishers are gone
@@ -342,7 +350,8 @@ class TetherSimNode(Node):
         for end, inp in self.inputs.items():
             inputs[end] = inp.health(now)
             inputs[end]["rejected_recent"] = p["rejected"][end]
-        self.pubs["/diagnostics"].publish(convert.diagnostics(now, self.get_fully_qualified_name(), sim, inputs))
+        self.pubs["/diagnostics"].publish(
+            self.forecast_io.add_status(convert.diagnostics(now, self.get_fully_qualified_name(), sim, inputs)))
         self._period = _new_period(self.inputs)
 
 

@@ -22,6 +22,7 @@ from tether_sim.solvers.dg import damping_ops as DO
 from tether_sim.solvers.dg import implicit_damping as ID
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.stepper import dg_evaluate
+from tether_sim.solvers.dg.workspace import views
 from tether_sim.solvers.dg.timestep import stable_dt
 
 
@@ -46,9 +47,7 @@ def curved_solver(k0, k1, zeta_b, law="linear", beta=0.0, seed=1):
 
 
 def evaluate(s, prm, iprm):
-    dg_evaluate(s.time, s.U, s.ra, prm, iprm, s.h, s.V, s.Pj, s.D, s.Lf, s.Tr, s.Iq, s.law.tab_eps, s.law.tab_T,
-                s.cz, s.cx, s.cy, s.bc, s._vbc, s._wq, s._wm, s._tr, s._fl, s._rs, s._tmp, s._dU, s._dra, s._endf,
-                s._bs, s._bp, s._dbs, s._no_fdamp, False)
+    dg_evaluate(s.time, views(s.ws), prm, iprm, s._no_fdamp, False)
     return s._dU[:, :, 3:6].copy(), s._endf[:, :4].copy()
 
 

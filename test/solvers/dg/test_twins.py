@@ -161,13 +161,12 @@ def test_clip_compression_removes_exactly_the_compressive_axial_part():
 def evaluate(s, fdamp, implicit):
     """dg_evaluate with the stepper's parameters of dg.damping = implicit (damping zeroed)."""
     from tether_sim.solvers.dg.stepper import dg_evaluate
+    from tether_sim.solvers.dg.workspace import views
 
     prm = s._prm_step
     prm[:] = s.prm
     prm[Y.P_ZETA] = prm[Y.P_ZETAB] = 0.0
-    dg_evaluate(s.time, s.U, s.ra, prm, s._iprm_step, s.h, s.V, s.Pj, s.D, s.Lf, s.Tr, s.Iq, s.law.tab_eps,
-                s.law.tab_T, s.cz, s.cx, s.cy, s.bc, s._vbc, s._wq, s._wm, s._tr, s._fl, s._rs, s._tmp, s._dU, s._dra,
-                s._endf, s._bs, s._bp, s._dbs, fdamp, implicit)
+    dg_evaluate(s.time, views(s.ws), prm, s._iprm_step, fdamp, implicit)
     return s._dU.copy(), s._endf.copy()
 
 

@@ -20,6 +20,10 @@ from tether_sim.solvers.dg.kernels import internal_forces
 from tether_sim.solvers.dg.layout import I_ANCHOR, I_BENDING, M_KAP, M_MS, M_NUS, M_TAU, M_TV
 from tether_sim.solvers.dg.stepper import fill_end_kinematics
 from tether_sim.solvers.dg.winch import winch_active, winch_end_velocity
+from tether_sim.solvers.dg.workspace import (
+    X_BC, X_BP, X_BS, X_D, X_DU, X_ENDF, X_FL, X_H, X_LF, X_PJ, X_TAB_EPS, X_TAB_T, X_TMP, X_TR, X_TRC, X_U, X_V, X_VBC,
+    X_WM, X_WQ,
+)
 
 S_POS = 0
 S_VEL = 3
@@ -50,14 +54,16 @@ class SamplingPlan:
 
 
 @jit
-def evaluate_outputs(t, U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf, bs, bp,
-                     tmp):
+def evaluate_outputs(t, A, prm, iprm):
     """The part of a right-hand-side evaluation at time t the outputs read (end loads endf, the
-    modal work channels of wm): end kinematics and kernels.internal_forces, no momentum rate."""
-    fill_end_kinematics(bc, iprm, t, vbc, bs, bp)
+    modal work channels of wm) on the workspace A (workspace.bind) with the parameters prm, iprm:
+    end kinematics and kernels.internal_forces, no momentum rate."""
+    U, bc, vbc, Tr = A[X_U], A[X_BC], A[X_VBC], A[X_TR]
+    fill_end_kinematics(bc, iprm, t, vbc, A[X_BS], A[X_BP])
     if winch_active(prm, iprm):
         winch_end_velocity(U, prm, iprm, Tr, vbc)
-    internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, wq, wm, tr, fl, dU, endf, tmp)
+    internal_forces(U, prm, iprm, A[X_H], A[X_V], A[X_PJ], A[X_D], A[X_LF], Tr, A[X_TAB_EPS], A[X_TAB_T], bc, vbc,
+                    A[X_WQ], A[X_WM], A[X_TRC], A[X_FL], A[X_DU], A[X_ENDF], A[X_TMP])
 
 
 @jit

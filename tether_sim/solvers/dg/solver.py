@@ -201,7 +201,7 @@ class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
         ends[0, 0:3], ends[1, 0:3] = config.ship_end.position, config.vehicle_end.position
         own = dict(U="U", ra="ra", prm_step="_prm_step", iprm_step="_iprm_step", h="h", V="V", Pj="Pj", D="D",
                    Lf="Lf", Tr="Tr", Iq="Iq", cz="cz", cx="cx", cy="cy", bc="bc", vbc="_vbc", wq="_wq", wm="_wm",
-                   tr="_tr", fl="_fl", rs="_rs", tmp="_tmp", dU="_dU", dra="_dra", endf="_endf", bs="_bs",
+                   trc="_tr", fl="_fl", rs="_rs", tmp="_tmp", dU="_dU", dra="_dra", endf="_endf", bs="_bs",
                    bp="_bp", dbs="_dbs", bs0="_bs0", U0="_U0", ra0="_ra0", buf="_buf", cnt="_cnt", out="_out",
                    prm="prm", iprm="iprm", no_fdamp="_no_fdamp", hw="_hw")
         damp = dict(idp="idp", dprm="dprm", blk="blk", bvec="bvec", wp="wp", wd="wd", band="band", vec="vec",

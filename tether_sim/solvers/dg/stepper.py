@@ -23,6 +23,11 @@ from tether_sim.solvers.dg.layout import (
     E_F, E_T, F_V, I_ANCHOR, I_CURRENT, I_KIND0, I_LAW, I_N, I_SURFACE, P_GAMMA0, P_LAMBDA_BC, P_MN,
     P_MT, P_RELAX, P_TIME, P_WL, T_LAM, T_Q, T_TV, T_V, W_I, W_WET,
 )
+from tether_sim.solvers.dg.workspace import (
+    X_BAND, X_BC, X_BLK, X_BP, X_BS, X_BS0, X_BUF, X_BVEC, X_CNT, X_CX, X_CY, X_CZ, X_D, X_DBS, X_DPRM, X_DRA, X_DTMP,
+    X_DU, X_ENDF, X_FDAMP, X_FL, X_H, X_HW, X_IDP, X_IPRM_STEP, X_IQ, X_LF, X_OUT, X_PJ, X_PRM_STEP, X_RA, X_RA0, X_RS,
+    X_TAB_EPS, X_TAB_T, X_TMP, X_TR, X_TRC, X_U, X_U0, X_V, X_VBC, X_VEC, X_WD, X_WM, X_WP, X_WQ,
+)
 from tether_sim.solvers.dg.winch import (
     winch_active, winch_end_velocity, winch_length, winch_moving, winch_stage, winch_transport, winch_update,
 )
@@ -43,22 +48,25 @@ def fill_end_kinematics(bc, iprm, t, vbc, bs, bp):
 
 
 @jit
-def dg_evaluate(t, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc,
-                wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs, fdamp, implicit, internal=True):
-    """One right-hand-side evaluation at time t (cable and bodies; also used for outputs).
+def dg_evaluate(t, A, prm, iprm, fdamp, implicit, internal=True):
+    """One right-hand-side evaluation at time t (cable and bodies; also used for outputs) on the
+    workspace A (workspace.bind) with the parameters prm, iprm (the stepper's or the full ones).
 
     implicit: the damping is integrated separately (dg.damping = implicit); fdamp (2, 4) holds its
     end forces (3) and tensions, added to endf, and the no-compression clip of velocity-end
     fluxes is applied to the sum (clip_end_fluxes).
     internal = False: the work arrays already hold kernels.internal_forces of exactly these inputs
     (the output evaluation reused as a tick's first stage, tick.py); only the momentum rate is done."""
+    U, ra, h, bc, vbc, bs, bp = A[X_U], A[X_RA], A[X_H], A[X_BC], A[X_VBC], A[X_BS], A[X_BP]
+    V, Pj, Lf, Tr, tmp, cz, cx, cy = A[X_V], A[X_PJ], A[X_LF], A[X_TR], A[X_TMP], A[X_CZ], A[X_CX], A[X_CY]
+    wq, tr, fl, dU, dra, endf, dbs = A[X_WQ], A[X_TRC], A[X_FL], A[X_DU], A[X_DRA], A[X_ENDF], A[X_DBS]
     fill_end_kinematics(bc, iprm, t, vbc, bs, bp)
     prm[P_TIME] = t  # the wave field is evaluated at the stage time (kernels.momentum_rate)
     winch = winch_active(prm, iprm)
     if winch:  # the material at the sheave moves along the tangent (winch.py)
         winch_end_velocity(U, prm, iprm, Tr, vbc)
-    dg_rhs(U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc,
-           wq, wm, tr, fl, rs, tmp, dU, dra, endf, internal)
+    dg_rhs(U, ra, prm, iprm, h, V, Pj, A[X_D], Lf, Tr, A[X_IQ], A[X_TAB_EPS], A[X_TAB_T], cz, cx, cy, bc, vbc,
+           wq, A[X_WM], tr, fl, A[X_RS], tmp, dU, dra, endf, internal)
     if winch:  # transport of the moving mapping onto the elements
         winch_transport(U, prm, iprm, h, Lf, tr, vbc, dU, dra)
     if implicit:
@@ -146,10 +154,9 @@ def clip_end_fluxes(prm, iprm, h, V, Pj, Lf, vbc, wq, tr, fl, dU, endf, fdamp):
 
 
 @jit
-def dg_advance(nsteps, t0, dt, reuse, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy,
-               bc, vbc, wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs, bs0, U0, ra0, buf, cnt, out,
-               idp, dprm, blk, bvec, wp, wd, band, vec, dtmp, fdamp, hw):
-    """Take nsteps SSP-RK3 substeps of size dt from t0. out[0] = steps done, out[1] = status.
+def dg_advance(nsteps, t0, dt, reuse, A):
+    """Take nsteps SSP-RK3 substeps of size dt from t0 on the workspace A (workspace.bind), with the
+    stepper's parameters (slots prm_step, iprm_step). out[0] = steps done, out[1] = status.
 
     reuse: the first stage's internal forces are already in the work arrays (the output evaluation
     at t0 on the same inputs, checked by tick.dg_tick); that stage does the momentum rate only.
@@ -159,13 +166,17 @@ def dg_advance(nsteps, t0, dt, reuse, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq,
     idp ... fdamp: arrays of implicit_damping.DampingWork; idp[0] = 0 (explicit) skips the splitting.
     hw: element sizes / length; while a winch moves, the stages take h = hw L and update on L u (winch.py).
     """
+    U, ra, prm, iprm, h, bc, vbc = A[X_U], A[X_RA], A[X_PRM_STEP], A[X_IPRM_STEP], A[X_H], A[X_BC], A[X_VBC]
+    dU, dra, endf, bs, bp, dbs = A[X_DU], A[X_DRA], A[X_ENDF], A[X_BS], A[X_BP], A[X_DBS]
+    bs0, U0, ra0, buf, cnt, out, idp, fdamp, hw = (A[X_BS0], A[X_U0], A[X_RA0], A[X_BUF], A[X_CNT], A[X_OUT],
+                                                   A[X_IDP], A[X_FDAMP], A[X_HW])
     implicit = idp[0] != MODE_EXPLICIT
     winch = winch_moving(prm, iprm)
     t1 = t0 + nsteps * dt
     L_tick = prm[P_WL]
     if implicit:
         fill_end_kinematics(bc, iprm, t0, vbc, bs, bp)
-        damping_step(0.5 * dt, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, dtmp, fdamp)
+        _damping(0.5 * dt, A)
     cap = buf.shape[0]
     # the RK update, copy and finiteness sum run over flat views (element-major order, as U's
     # own loops would: the same operations in the same order)
@@ -198,8 +209,7 @@ def dg_advance(nsteps, t0, dt, reuse, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq,
             if winch:
                 winch_stage(prm, hw, h, ts, t0, t1)
             internal = not reuse or n > 0 or stage > 0
-            dg_evaluate(ts, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc,
-                        vbc, wq, wm, tr, fl, rs, tmp, dU, dra, endf, bs, bp, dbs, fdamp, implicit, internal)
+            dg_evaluate(ts, A, prm, iprm, fdamp, implicit, internal)
             if stage == 0:
                 slot = cnt[0] % cap
                 buf[slot, 0] = t
@@ -225,8 +235,7 @@ def dg_advance(nsteps, t0, dt, reuse, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq,
                 ra[c] = vbc[anchor, c]
         if implicit:
             fill_end_kinematics(bc, iprm, t_new, vbc, bs, bp)
-            damping_step(dt if n < nsteps - 1 else 0.5 * dt, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd,
-                         band, vec, dtmp, fdamp)
+            _damping(dt if n < nsteps - 1 else 0.5 * dt, A)
         s = 0.0
         for i in range(nu):
             s += abs(Uf[i])
@@ -237,3 +246,10 @@ def dg_advance(nsteps, t0, dt, reuse, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq,
             out[1] = STATUS_DIVERGED
             return
         out[0] = n + 1
+
+
+@jit_inline
+def _damping(dt, A):
+    """implicit_damping.damping_step of dt on the workspace's arrays (D of the splitting)."""
+    damping_step(dt, A[X_U], A[X_VBC], A[X_IDP], A[X_DPRM], A[X_BLK], A[X_BVEC], A[X_V], A[X_PJ], A[X_TR],
+                 A[X_TAB_EPS], A[X_TAB_T], A[X_WP], A[X_WD], A[X_BAND], A[X_VEC], A[X_DTMP], A[X_FDAMP])

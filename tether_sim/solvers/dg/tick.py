@@ -40,16 +40,9 @@ from tether_sim.solvers.dg.sampling import evaluate_outputs
 from tether_sim.solvers.dg.stepper import STATUS_OK, dg_advance, dg_evaluate, fill_end_kinematics
 from tether_sim.solvers.dg.winch import winch_active, winch_finish, winch_moving
 from tether_sim.solvers.dg.workspace import (
-    SLOT, X_DRAIN, X_DRAINED, X_FRESH, X_SNAP, X_SNAP_I, X_TARGET, _f1, _f2, bind, bind_driver,
+    X_BC, X_BP, X_BS, X_BUF, X_CNT, X_DRAIN, X_DRAINED, X_ENDS, X_FRESH, X_H, X_HW, X_IDP, X_IPRM, X_IPRM_STEP,
+    X_NO_FDAMP, X_OUT, X_PRM, X_PRM_STEP, X_SNAP, X_SNAP_I, X_TARGET, X_U, X_VBC, _f1, _f2, bind,
 )
-
-# slot indices used below (compile-time constants)
-_U, _PRM_STEP, _H, _V, _PJ, _D, _LF, _TR = (SLOT[n] for n in ("U", "prm_step", "h", "V", "Pj", "D", "Lf", "Tr"))
-_TAB_EPS, _TAB_T, _BC, _VBC, _WQ, _WM, _TRC, _FL = (SLOT[n] for n in ("tab_eps", "tab_T", "bc", "vbc", "wq", "wm",
-                                                                       "tr", "fl"))
-_TMP, _DU, _ENDF, _BS, _BP, _OUT, _IDP = (SLOT[n] for n in ("tmp", "dU", "endf", "bs", "bp", "out", "idp"))
-_BUF, _CNT, _HW = SLOT["buf"], SLOT["cnt"], SLOT["hw"]
-_IPRM_STEP = SLOT["iprm_step"]
 
 # target[end, :]: 0 = a target was set (1.0) or not (0.0), 1:4 position (m), 4:7 velocity (m/s)
 TG_SET, TG_P, TG_V = 0, 1, 4
@@ -111,21 +104,19 @@ def finish_ends(bc, iprm, t, ends, target):
 @jit
 def outputs_now(F, I, S, t):
     """The evaluation the outputs read, at time t (sampling.evaluate_outputs, full parameters)."""
-    A = bind(F, I, S)
-    prm, iprm, ends = bind_driver(F, I, S)[0:3]
-    _outputs_bound(A, prm, iprm, ends, t, _f1(I, S, X_FRESH), _f1(F, S, X_SNAP), _f1(I, S, X_SNAP_I))
+    _outputs_bound(bind(F, I, S), t)
 
 
 @jit
-def _outputs_bound(A, prm, iprm, ends, t, fresh, snap, snap_i):
+def _outputs_bound(A, t):
     """outputs_now on views already bound (dg_tick: binding the ~50 views costs ~2 us a call); with the
     explicit scheme the inputs of the evaluation are kept for its reuse (module docstring)."""
-    hold_ends(A[_BC], iprm, t, ends)
-    evaluate_outputs(t, A[_U], prm, iprm, A[_H], A[_V], A[_PJ], A[_D], A[_LF], A[_TR], A[_TAB_EPS], A[_TAB_T],
-                     A[_BC], A[_VBC], A[_WQ], A[_WM], A[_TRC], A[_FL], A[_DU], A[_ENDF], A[_BS], A[_BP], A[_TMP])
-    if A[_IDP][0] == MODE_EXPLICIT:  # (implicit damping never reuses: its stages see other parameters)
-        keep_inputs(A[_U], prm, iprm, A[_H], A[_BC], A[_VBC], snap, snap_i)
-        fresh[0] = 1
+    prm, iprm = A[X_PRM], A[X_IPRM]
+    hold_ends(A[X_BC], iprm, t, A[X_ENDS])
+    evaluate_outputs(t, A, prm, iprm)
+    if A[X_IDP][0] == MODE_EXPLICIT:  # (implicit damping never reuses: its stages see other parameters)
+        keep_inputs(A[X_U], prm, iprm, A[X_H], A[X_BC], A[X_VBC], A[X_SNAP], A[X_SNAP_I])
+        A[X_FRESH][0] = 1
 
 
 @jit
@@ -194,36 +185,35 @@ def first_stage_reusable(prm, prm_step, iprm_step, nu, bc, vbc, bs, bp, t0, snap
 def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
     """nsteps substeps of dt from t0 to t1 (module docstring); returns the stepper's status."""
     A = bind(F, I, S)
-    prm, iprm, ends, target = bind_driver(F, I, S)[0:4]
-    fresh, snap, snap_i = _f1(I, S, X_FRESH), _f1(F, S, X_SNAP), _f1(I, S, X_SNAP_I)
-    bc = A[_BC]
-    prm_step = A[_PRM_STEP]
+    prm, iprm, ends, target = A[X_PRM], A[X_IPRM], A[X_ENDS], A[X_TARGET]
+    fresh, snap = A[X_FRESH], A[X_SNAP]
+    U, bc, vbc, prm_step, iprm_step = A[X_U], A[X_BC], A[X_VBC], A[X_PRM_STEP], A[X_IPRM_STEP]
     # the kept evaluation counts only while the winch is still and every input is unchanged (checked
     # before prepare_ends rewrites the segment columns of bc)
     if fresh[0] != 0 and (winch_moving(prm, iprm) or winch_active(prm, iprm)
-                          or not same_inputs(A[_U], prm, A[_IPRM_STEP], A[_H], bc, A[_VBC], snap, snap_i)):
+                          or not same_inputs(U, prm, iprm_step, A[X_H], bc, vbc, snap, A[X_SNAP_I])):
         fresh[0] = 0
     prepare_ends(bc, iprm, t0, t1, ends, target)
     for k in range(prm.shape[0]):
         prm_step[k] = prm[k]
-    if A[_IDP][0] != MODE_EXPLICIT:
+    if A[X_IDP][0] != MODE_EXPLICIT:
         prm_step[P_ZETA] = 0.0
         prm_step[P_ZETAB] = 0.0
     winch = winch_moving(prm, iprm)
-    reuse = fresh[0] != 0 and first_stage_reusable(prm, prm_step, A[_IPRM_STEP], A[_U].size, bc, A[_VBC], A[_BS],
-                                                   A[_BP], t0, snap)
+    reuse = fresh[0] != 0 and first_stage_reusable(prm, prm_step, iprm_step, U.size, bc, vbc, A[X_BS], A[X_BP], t0,
+                                                   snap)
     fresh[0] = 0
     if reuse:
         fresh[1] += 1  # first stages reused (a count for tests and benchmarks)
-    dg_advance(nsteps, t0, dt, reuse, *A)
-    status = int(A[_OUT][1])
+    dg_advance(nsteps, t0, dt, reuse, A)
+    status = int(A[X_OUT][1])
     if status != STATUS_OK:
         return status
     if winch:  # length, rate and element sizes at t1 back to the driver's parameters
-        winch_finish(prm, prm_step, A[_HW], A[_H])
+        winch_finish(prm, prm_step, A[X_HW], A[X_H])
     finish_ends(bc, iprm, t1, ends, target)
     if outputs:
-        _outputs_bound(A, prm, iprm, ends, t1, fresh, snap, snap_i)
+        _outputs_bound(A, t1)
     return status
 
 
@@ -231,19 +221,16 @@ def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
 def evaluate_now(F, I, S, t):
     """One full right-hand-side evaluation at time t with the full parameters (solver._evaluate)."""
     A = bind(F, I, S)
-    prm, iprm, ends, target, no_fdamp = bind_driver(F, I, S)[0:5]
-    _f1(I, S, X_FRESH)[0] = 0  # the work arrays now hold this evaluation, not the kept outputs'
-    hold_ends(A[_BC], iprm, t, ends)
-    (U, ra, _, _, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc, wq, wm, tr, fl, rs, tmp, dU, dra,
-     endf, bs, bp, dbs) = A[0:30]
-    dg_evaluate(t, U, ra, prm, iprm, h, V, Pj, D, Lf, Tr, Iq, tab_eps, tab_T, cz, cx, cy, bc, vbc, wq, wm, tr, fl, rs,
-                tmp, dU, dra, endf, bs, bp, dbs, no_fdamp, False, True)
+    iprm = A[X_IPRM]
+    A[X_FRESH][0] = 0  # the work arrays now hold this evaluation, not the kept outputs'
+    hold_ends(A[X_BC], iprm, t, A[X_ENDS])
+    dg_evaluate(t, A, A[X_PRM], iprm, A[X_NO_FDAMP], False, True)
 
 
 @jit
 def drain_now(F, I, S):
     """drain_ring on the workspace's ring (see there); binds only the four views it reads."""
-    return drain_ring(_f2(F, S, _BUF), _f1(I, S, _CNT), _f1(I, S, X_DRAINED), _f2(F, S, X_DRAIN))
+    return drain_ring(_f2(F, S, X_BUF), _f1(I, S, X_CNT), _f1(I, S, X_DRAINED), _f2(F, S, X_DRAIN))
 
 
 @jit

@@ -2,46 +2,108 @@
 
 Every array the compiled code reads or writes (state, work arrays, operators, parameters, end
 data, bodies, the end-tension ring, the implicit-damping arrays) is a view into one float64 arena
-``F`` or one int64 arena ``I``, described by the slot table ``SLOTS`` (name, arena, rank) and the
-int array ``spec`` (offset and shape of each slot). A compiled call then takes three arrays
+``F`` or one int64 arena ``I``, described by the slot table ``SLOTS`` (name, arena, rank, meaning)
+and the int array ``spec`` (offset and shape of each slot). A compiled call then takes three arrays
 instead of ~50: an njit call pays ~0.1-0.3 us per array argument to unbox it (measured
 2026-11-23: 49 array arguments 4.4 us a call, the same 49 arrays as one tuple 5.8 us, the two
-arenas and the spec 0.47 us), and ``bind`` rebuilds the views inside compiled code (inlined, without reference counting:
-numerics/jit.py ``jit_inline``).
+arenas and the spec 0.47 us).
 
-``SLOTS`` starts with the arguments of ``stepper.dg_advance`` after (nsteps, t0, dt), in order, so
-the compiled tick calls ``dg_advance(nsteps, t0, dt, *bind(F, I, spec))``; the slots after
-``N_STEP_SLOTS`` are the driver's own (full parameters, driven-end state and targets).
+``SLOTS`` is the only list of the slots. Each slot's index is a module constant ``X_<NAME>``
+(generated below, as ``columns.define`` does for the columns; numba reads them as compile-time
+constants), and ``bind(F, I, S)`` -- generated from ``SLOTS`` as well -- returns the views of all
+slots as one tuple ``A`` in ``SLOTS`` order, inside compiled code (inlined, without reference counting:
+numerics/jit.py ``jit_inline``). The kernels that take the workspace take ``A`` and read a slot by
+its name: ``A[X_U]`` (a constant index into a tuple: resolved at compile time, no cost).
 """
 
 import numpy as np
 
 from tether_sim.numerics.jit import jit_inline
 
-# (name, arena, rank). The first N_STEP_SLOTS are stepper.dg_advance's arguments, in its order.
+# (name, arena, rank, meaning)
 SLOTS = (
-    ("U", "f", 3), ("ra", "f", 1), ("prm_step", "f", 1), ("iprm_step", "i", 1), ("h", "f", 1),
-    ("V", "f", 2), ("Pj", "f", 2), ("D", "f", 2), ("Lf", "f", 2), ("Tr", "f", 2), ("Iq", "f", 2),
-    ("tab_eps", "f", 1), ("tab_T", "f", 1), ("cz", "f", 1), ("cx", "f", 1), ("cy", "f", 1),
-    ("bc", "f", 2), ("vbc", "f", 2), ("wq", "f", 3), ("wm", "f", 3), ("tr", "f", 3), ("fl", "f", 2),
-    ("rs", "f", 2), ("tmp", "f", 1), ("dU", "f", 3), ("dra", "f", 1), ("endf", "f", 2),
-    ("bs", "f", 2), ("bp", "f", 2), ("dbs", "f", 2), ("bs0", "f", 2), ("U0", "f", 3), ("ra0", "f", 1),
-    ("buf", "f", 2), ("cnt", "i", 1), ("out", "f", 1),
-    ("idp", "i", 1), ("dprm", "f", 1), ("blk", "f", 5), ("bvec", "f", 2), ("wp", "f", 3), ("wd", "f", 3),
-    ("band", "f", 2), ("vec", "f", 2), ("dtmp", "f", 5), ("fdamp", "f", 2),
-    ("hw", "f", 1),
-    # the driver's slots
-    ("prm", "f", 1), ("iprm", "i", 1), ("ends", "f", 2), ("target", "f", 2), ("no_fdamp", "f", 2),
-    ("drained", "i", 1), ("drain", "f", 2),
+    # state and the stepper's parameters (implicit damping: zeta = zeta_b = 0 in these)
+    ("U", "f", 3, "modal state [q, v] (N, P + 1, 6)"),
+    ("ra", "f", 1, "anchor position r_a (3)"),
+    ("prm_step", "f", 1, "float parameters the stages see (layout.py P_*)"),
+    ("iprm_step", "i", 1, "int parameters the stages see (layout.py I_*)"),
+    ("h", "f", 1, "element sizes (N)"),
+    # element operators (numerics/operators.py)
+    ("V", "f", 2, "Vandermonde: modes -> Gauss points"),
+    ("Pj", "f", 2, "projection: Gauss points -> modes"),
+    ("D", "f", 2, "modal derivative"),
+    ("Lf", "f", 2, "lift of the traces"),
+    ("Tr", "f", 2, "trace operator: modes -> element ends"),
+    ("Iq", "f", 2, "integral of the modes at the Gauss points"),
+    ("tab_eps", "f", 1, "strain column of a tabulated law"),
+    ("tab_T", "f", 1, "tension column of a tabulated law"),
+    ("cz", "f", 1, "current profile: depths"),
+    ("cx", "f", 1, "current profile: x velocities"),
+    ("cy", "f", 1, "current profile: y velocities"),
+    # ends
+    ("bc", "f", 2, "end data (2, layout.py B_*)"),
+    ("vbc", "f", 2, "end kinematics at the stage time (2, 6)"),
+    # work arrays of the right-hand side (layout.py W_*, M_*, T_*, F_*)
+    ("wq", "f", 3, "Gauss-point work (N, Q, W_*)"),
+    ("wm", "f", 3, "modal work (N, P + 1, M_*)"),
+    ("trc", "f", 3, "trace work (N, 2, T_*)"),
+    ("fl", "f", 2, "interface fluxes (N + 1, F_*)"),
+    ("rs", "f", 2, "element start positions (N, 3)"),
+    ("tmp", "f", 1, "scratch (soa.py)"),
+    ("dU", "f", 3, "du/dt"),
+    ("dra", "f", 1, "anchor velocity"),
+    ("endf", "f", 2, "end loads (2, layout.py E_*)"),
+    # bodies and the Runge-Kutta copies
+    ("bs", "f", 2, "body states (2, 13)"),
+    ("bp", "f", 2, "body parameters"),
+    ("dbs", "f", 2, "body state rates"),
+    ("bs0", "f", 2, "body states at the substep start"),
+    ("U0", "f", 3, "state at the substep start"),
+    ("ra0", "f", 1, "anchor at the substep start"),
+    # end-tension ring and the stepper's result
+    ("buf", "f", 2, "ring of (t, T_ship, T_vehicle) per substep"),
+    ("cnt", "i", 1, "ring entries ever written"),
+    ("out", "f", 1, "substeps done, status"),
+    # implicit damping (implicit_damping.DampingWork)
+    ("idp", "i", 1, "damping ints (mode first)"),
+    ("dprm", "f", 1, "damping parameters"),
+    ("blk", "f", 5, "block-tridiagonal blocks"),
+    ("bvec", "f", 2, "block right-hand side"),
+    ("wp", "f", 3, "damping point work"),
+    ("wd", "f", 3, "damping modal work"),
+    ("band", "f", 2, "banded matrix"),
+    ("vec", "f", 2, "banded right-hand side"),
+    ("dtmp", "f", 5, "damping scratch"),
+    ("fdamp", "f", 2, "damping end forces and tensions (2, 4)"),
+    ("hw", "f", 1, "element sizes / length (winch.py)"),
+    # the driver's slots: full parameters, driven-end state and targets
+    ("prm", "f", 1, "full float parameters (outputs)"),
+    ("iprm", "i", 1, "full int parameters (outputs)"),
+    ("ends", "f", 2, "driven ends' state at the solver time (2, tick.EN_*)"),
+    ("target", "f", 2, "driven ends' targets (2, tick.TG_*)"),
+    ("no_fdamp", "f", 2, "zero damping end forces (full evaluations)"),
+    ("drained", "i", 1, "ring entries drained"),
+    ("drain", "f", 2, "drained ring entries (3, cap)"),
     # the output evaluation's inputs, kept for its reuse as the next tick's first stage (tick.py)
-    ("fresh", "i", 1), ("snap", "f", 1), ("snap_i", "i", 1),
+    ("fresh", "i", 1, "kept evaluation valid, reuse count"),
+    ("snap", "f", 1, "kept inputs (U, prm, bc, vbc, h)"),
+    ("snap_i", "i", 1, "kept int parameters"),
 )
-N_STEP_SLOTS = 47
-SLOT = {name: k for k, (name, _, _) in enumerate(SLOTS)}
-# slot indices of the driver's slots (compile-time constants)
-X_PRM, X_IPRM, X_ENDS, X_TARGET, X_NO_FDAMP, X_DRAINED, X_DRAIN = (
-    SLOT[n] for n in ("prm", "iprm", "ends", "target", "no_fdamp", "drained", "drain"))
-X_FRESH, X_SNAP, X_SNAP_I = (SLOT[n] for n in ("fresh", "snap", "snap_i"))
+
+
+def _define(namespace):
+    """X_<NAME> = index of every slot (names unique also in upper case)."""
+    for k, (name, arena, rank, _) in enumerate(SLOTS):
+        const = "X_" + name.upper()
+        if const in namespace:
+            raise ValueError(f"slot {name}: {const} is defined twice")
+        if arena not in ("f", "i") or rank not in (1, 2, 3, 5):
+            raise ValueError(f"slot {name}: arena {arena!r}, rank {rank} not supported")
+        namespace[const] = k
+
+
+_define(globals())
+N_SLOTS = len(SLOTS)
 _ALIGN = 8  # every view starts on a 64-byte boundary of its arena
 
 
@@ -50,12 +112,12 @@ class Workspace:
 
     def __init__(self, arrays):
         """arrays: {slot name: initial array} for every slot of SLOTS (copied into the arenas)."""
-        missing = [n for n, _, _ in SLOTS if n not in arrays]
+        missing = [n for n, _, _, _ in SLOTS if n not in arrays]
         if missing:
             raise ValueError(f"Workspace: no array for the slots {missing}")
         self.spec = np.zeros((len(SLOTS), 7), dtype=np.int64)
         size = {"f": 0, "i": 0}
-        for k, (name, arena, rank) in enumerate(SLOTS):
+        for k, (name, arena, rank, _) in enumerate(SLOTS):
             a = np.asarray(arrays[name])
             if a.ndim != rank:
                 raise ValueError(f"Workspace: slot {name} needs rank {rank}, got shape {a.shape}")
@@ -65,7 +127,7 @@ class Workspace:
             size[arena] += -(-a.size // _ALIGN) * _ALIGN
         self.F = np.zeros(max(size["f"], 1))
         self.I = np.zeros(max(size["i"], 1), dtype=np.int64)
-        for k, (name, arena, rank) in enumerate(SLOTS):
+        for k, (name, arena, rank, _) in enumerate(SLOTS):
             base = self.F if arena == "f" else self.I
             shape = tuple(int(d) for d in self.spec[k, 2:2 + rank])
             o = int(self.spec[k, 0])
@@ -100,23 +162,18 @@ def _f5(F, S, k):
     return F[o:o + n].reshape((S[k, 2], S[k, 3], S[k, 4], S[k, 5], S[k, 6]))
 
 
-@jit_inline
-def bind(F, I, S):
-    """The views of the first N_STEP_SLOTS slots (dg_advance's arguments), in SLOTS order."""
-    return (_f3(F, S, 0), _f1(F, S, 1), _f1(F, S, 2), _f1(I, S, 3), _f1(F, S, 4),
-            _f2(F, S, 5), _f2(F, S, 6), _f2(F, S, 7), _f2(F, S, 8), _f2(F, S, 9), _f2(F, S, 10),
-            _f1(F, S, 11), _f1(F, S, 12), _f1(F, S, 13), _f1(F, S, 14), _f1(F, S, 15),
-            _f2(F, S, 16), _f2(F, S, 17), _f3(F, S, 18), _f3(F, S, 19), _f3(F, S, 20), _f2(F, S, 21),
-            _f2(F, S, 22), _f1(F, S, 23), _f3(F, S, 24), _f1(F, S, 25), _f2(F, S, 26),
-            _f2(F, S, 27), _f2(F, S, 28), _f2(F, S, 29), _f2(F, S, 30), _f3(F, S, 31), _f1(F, S, 32),
-            _f2(F, S, 33), _f1(I, S, 34), _f1(F, S, 35),
-            _f1(I, S, 36), _f1(F, S, 37), _f5(F, S, 38), _f2(F, S, 39), _f3(F, S, 40), _f3(F, S, 41),
-            _f2(F, S, 42), _f2(F, S, 43), _f5(F, S, 44), _f2(F, S, 45),
-            _f1(F, S, 46))
+def _bind_source(slots=SLOTS):
+    """Source of bind: the views of every slot, in the order of slots (each by its rank and arena)."""
+    views = ", ".join(f"_f{rank}({'F' if arena == 'f' else 'I'}, S, {k})" for k, (_, arena, rank, _) in enumerate(slots))
+    return f"def bind(F, I, S):\n    return ({views},)\n"
 
 
-@jit_inline
-def bind_driver(F, I, S):
-    """The views of the driver's slots: prm, iprm, ends, target, no_fdamp, drained, drain."""
-    return (_f1(F, S, X_PRM), _f1(I, S, X_IPRM), _f2(F, S, X_ENDS), _f2(F, S, X_TARGET),
-            _f2(F, S, X_NO_FDAMP), _f1(I, S, X_DRAINED), _f2(F, S, X_DRAIN))
+_ns = {"_f1": _f1, "_f2": _f2, "_f3": _f3, "_f5": _f5}
+exec(compile(_bind_source(), __file__, "exec"), _ns)  # this file's name: numba caches its callers
+bind = jit_inline(_ns["bind"])
+bind.__doc__ = "The views of all slots as one tuple A, in SLOTS order (A[X_<NAME>] is a slot's view)."
+
+
+def views(ws):
+    """The same tuple in Python (ws.<name> in SLOTS order): what bind returns, for calls from Python."""
+    return tuple(getattr(ws, name) for name, _, _, _ in SLOTS)

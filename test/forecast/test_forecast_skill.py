@@ -1,0 +1,44 @@
+"""Scoring of snap forecasts (tether_sim.forecast.skill): the definitions of docs/forecast.md."""
+
+from types import SimpleNamespace as F
+
+import pytest
+
+from tether_sim.forecast.skill import score
+
+
+def fc(stamp, p, pred, end="vehicle", horizon=20.0, members=4):
+    return F(stamp=stamp, end=end, horizon=horizon, probability=p, time_to_snap=pred - stamp, members=members)
+
+
+def test_warned_late_false_alarms_episodes_and_unscored():
+    forecasts = [
+        fc(-30.0, float("nan"), float("nan"), members=0),  # no ship-motion forecast yet: not scored
+        fc(0.0, 0.0, 0.0),
+        fc(10.0, 0.8, 20.5),   # warns the 20 s snap 10 s ahead, 0.5 s off: warned
+        fc(12.0, 0.6, 30.0),   # no snap near 30 s: false alarm ...
+        fc(13.0, 0.6, 30.2),   # ... the same instant again: same episode
+        fc(14.0, 0.4, 20.0),   # below the threshold: not a warning
+        fc(17.0, 0.9, 20.0),   # right but 3 s ahead only: neither warned-by nor a false alarm
+        fc(40.0, 0.7, 43.4),   # near 45 s but off by 1.6 s: false alarm (a new episode); 45 s not warned
+        fc(58.0, 0.9, 61.0),   # predicts after the run's end (60 s): not scored
+        fc(60.0, 0.0, 60.0),
+        fc(10.0, 0.9, 20.0, end="ship"),  # another end's warning: not a vehicle warning
+    ]
+    snaps = [("vehicle", 20.0), ("vehicle", 45.0), ("ship", 3.0), ("vehicle", 2.0)]
+    s = score(forecasts, snaps, "vehicle", until=60.0)
+    assert s.snaps == 2  # 2 s is less than 5 s after the first forecast: not scorable
+    assert s.warned == 1 and s.warned_fraction == 0.5
+    assert s.warnings == 5 and s.false_alarms == 3 and s.false_alarm_episodes == 2
+    assert s.minutes == pytest.approx(1.0)
+    assert s.false_alarms_per_10min == pytest.approx(30.0) and s.episodes_per_10min == pytest.approx(20.0)
+    ship = score(forecasts, snaps, "ship", until=60.0)
+    assert ship.snaps == 0 and ship.warnings == 1 and ship.false_alarms == 1
+
+
+def test_exact_tolerance_and_lead_are_inclusive():
+    """Stamped exactly 5 s before the snap, off by exactly 1.5 s: warned, and not a false alarm."""
+    s = score([fc(0.0, 0.0, 0.0), fc(10.0, 0.5, 16.5)], [("vehicle", 15.0)], "vehicle", until=40.0)
+    assert (s.snaps, s.warned, s.warnings, s.false_alarms) == (1, 1, 1, 0)
+    s = score([fc(0.0, 0.0, 0.0), fc(10.5, 0.5, 16.5)], [("vehicle", 15.0)], "vehicle", until=40.0)
+    assert (s.snaps, s.warned, s.false_alarms) == (1, 0, 0)  # 4.5 s ahead: too late, but right

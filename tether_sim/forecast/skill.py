@@ -1,0 +1,68 @@
+"""Skill of snap forecasts against the snaps that happened (docs/forecast.md, benchmarks/forecast_skill.py).
+
+A forecast *warns* when its probability is >= ``threshold``; its predicted snap time is its stamp plus
+``time_to_snap``. A snap (at one end) counts as **warned** when a warning for that end stamped
+``lead`` seconds or more before the snap predicted it within +-``tolerance`` s. A **false alarm** is
+a warning with no snap at its end within +-``tolerance`` s of its predicted time; consecutive false
+alarms predicting the same instant (within ``tolerance``) form one false-alarm *episode* (a forecast
+issued every second repeats its mistake until the predicted time has passed).
+
+Forecasts without members (no ship-motion forecast could be made) are not forecasts and are left out.
+Only snaps that could have been warned are scored: peaks at least ``lead`` s after the first forecast
+and at most one horizon after the last one (and within the run); warnings predicting an instant
+after the run (less than ``tolerance`` before its end) are not scored either.
+"""
+
+from dataclasses import dataclass
+
+
+@dataclass
+class Skill:
+    end: str
+    snaps: int  # snaps scored
+    warned: int  # of which warned (module doc)
+    warnings: int  # forecasts with probability >= threshold
+    false_alarms: int  # warnings with no snap within +-tolerance of their predicted time
+    false_alarm_episodes: int
+    minutes: float  # span of the forecasts, min
+    lead: float
+    tolerance: float
+    threshold: float
+
+    @property
+    def warned_fraction(self) -> float:
+        return self.warned / self.snaps if self.snaps else float("nan")
+
+    @property
+    def false_alarms_per_10min(self) -> float:
+        return 10.0 * self.false_alarms / self.minutes if self.minutes > 0 else float("nan")
+
+    @property
+    def episodes_per_10min(self) -> float:
+        return 10.0 * self.false_alarm_episodes / self.minutes if self.minutes > 0 else float("nan")
+
+
+def score(forecasts, snaps, end, *, lead=5.0, tolerance=1.5, threshold=0.5, until=None) -> Skill:
+    """Skill at ``end`` of ``forecasts`` (objects with stamp, end, horizon, probability, time_to_snap)
+    against ``snaps`` ((end, peak time) pairs, same clock) of a run that ended at ``until`` (default:
+    the last forecast's horizon): warnings predicting a time after the run, and snaps after it, are
+    not scored."""
+    fc = sorted((f for f in forecasts if f.end == end and f.members > 0), key=lambda f: f.stamp)
+    times = sorted(t for e, t in snaps if e == end)
+    if not fc:
+        return Skill(end, 0, 0, 0, 0, 0, 0.0, lead, tolerance, threshold)
+    first, last = fc[0].stamp, fc[-1].stamp + fc[-1].horizon
+    if until is not None:
+        last = min(last, until)
+    scored = [t for t in times if first + lead <= t <= last]
+    warnings = [(f.stamp, f.stamp + f.time_to_snap) for f in fc
+                if f.probability >= threshold and f.stamp + f.time_to_snap <= last - tolerance]
+    warned = sum(any(stamp <= t - lead and abs(pred - t) <= tolerance for stamp, pred in warnings) for t in scored)
+    false = [pred for _, pred in warnings if not any(abs(pred - t) <= tolerance for t in times)]
+    episodes, last_pred = 0, None
+    for pred in false:
+        if last_pred is None or abs(pred - last_pred) > tolerance:
+            episodes += 1
+        last_pred = pred
+    minutes = (fc[-1].stamp - first) / 60.0
+    return Skill(end, len(scored), warned, len(warnings), len(false), episodes, minutes, lead, tolerance, threshold)
