@@ -229,7 +229,8 @@ def node_health(run: RunData) -> dict | None:
                     return float("nan")
             return {"status": name, "real_time_factor": number("real_time_factor"),
                     "dropped_s": number("dropped_total"), "divergences": number("divergences"),
-                    "capped_ticks": number("capped_ticks")}
+                    "capped_ticks": number("capped_ticks"), "numerical_snaps": number("numerical_snaps"),
+                    "last_numerical_snap": values.get("last_numerical_snap", "")}
     return None
 
 
@@ -379,6 +380,11 @@ def summary_markdown(run: RunData, periods: dict, figures: dict, envelope: dict 
     if not run.snaps:
         lines.append("| (none) | | | | | | | | | | | |")
     health = node_health(run)
+    if health and health["numerical_snaps"] > 0:
+        lines += ["", f"**Numerical re-tensioning warnings: {health['numerical_snaps']:.0f}** (peaks the snap guard "
+                  "rejected as physically impossible: above the impedance/energy bound of the cable or rising faster "
+                  "than the axial wave crosses an element, docs/snap_guard.md; not snap loads, not in the table "
+                  f"above). Last: {health['last_numerical_snap']}."]
     if health:
         lines += ["", "## Node health (last /diagnostics)", "",
                   f"Real-time factor {health['real_time_factor']:.2f}; clock time skipped because the "

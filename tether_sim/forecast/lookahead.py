@@ -33,6 +33,7 @@ import numpy as np
 
 from tether_sim.errors import SolverDivergedError
 from tether_sim.physics.snap import SnapEvent
+from tether_sim.solvers.base import relative_end_speed
 
 ENDS = ("ship", "vehicle")
 VEHICLE_EASE_TIME = 1.0  # s, a prescribed vehicle end is eased to rest over this time constant
@@ -137,7 +138,8 @@ class LookAhead:
                 return None
             if out.count:
                 events = detector.update(out.times + request.anchor,
-                                         np.column_stack([out.ship_tension, out.vehicle_tension]))
+                                         np.column_stack([out.ship_tension, out.vehicle_tension]),
+                                         relative_end_speed(solver, self.config.cable.length))
                 for ev in events:
                     if (isinstance(ev, SnapEvent) and first[ev.location] is None
                             and request.issued - 1e-9 <= ev.time <= end_clock + 1e-9):

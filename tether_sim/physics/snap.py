@@ -15,13 +15,20 @@ tension samples [DNV-RP-H103 slack criterion; PE2020 Sec. 6]:
                            first re-tension) belong to the same slack period: no new warning, and
                            the slack period ends at the last upward crossing.
 
+A plausibility guard (:class:`SnapGuard`, docs/snap_guard.md) checks every snap event against
+what the cable's axial impedance, the system's kinetic energy and the relative end speed allow,
+and against the shortest rise the discretisation can carry (the axial wave crossing one element).
+An event that fails it is returned as a :class:`NumericalSnapWarning` instead of a
+:class:`SnapEvent`: reported, never published as a snap.
+
 Slack duration runs from the downward crossing of the slack threshold to the last upward crossing
 of it (linear interpolation between samples); the rise time runs from the upward crossing that
 started the re-tensioning holding the peak to the peak. The per-sample work is a compiled kernel
 over the whole chunk of samples.
 """
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -40,6 +47,7 @@ class SnapConfig:
     peak_window: float = param(1.0, unit="s", doc="after re-tensioning, the snap peak is the largest tension within this window (extended while the tension has not yet turned, up to 10 windows)", min=1e-6, max=1e4, live=True)
     snap_fraction: float = param(1.0, doc="a re-tensioning is a snap only if its peak reaches snap_fraction * static; weaker ones that fall back into slack are merged into the slack period", min=0.0, max=100.0, live=True)
     monitor_arc_lengths: tuple = param((), unit="m", doc="extra arc lengths (span points) monitored besides both ends")
+    guard_margin: float = param(1.5, doc="plausibility guard: a re-tensioning peak above guard_margin x the impedance/energy bound (docs/snap_guard.md), or rising faster than the axial wave crosses an element, is a numerical warning, never a snap; 0 turns the guard off", min=0.0, max=100.0, live=True)
 
 
 @dataclass(frozen=True)
@@ -68,6 +76,101 @@ class SnapEvent:
     static_tension: float
     amplification: float  # peak / static
     criterion: str
+
+
+@dataclass(frozen=True)
+class NumericalSnapWarning:
+    """A re-tensioning the plausibility guard rejected (:class:`SnapGuard`): numerical, not a snap.
+
+    ``tension_peak`` is the rejected peak (deliberately not called ``peak_tension``: nothing that
+    handles snap events takes this for one)."""
+
+    time: float
+    location: str
+    arc_length: float
+    tension_peak: float
+    bound: float  # guard_margin x the physical bound, N
+    rise_time: float
+    crossing_time: float  # axial wave crossing of the shortest element, s
+    relative_speed: float  # largest relative end speed over the slack period and the rise, m/s
+    static_tension: float
+    slack_start: float
+    reason: str
+
+
+@dataclass(frozen=True)
+class SnapGuard:
+    """Physical plausibility bound of a re-tensioning peak (derivation: docs/snap_guard.md).
+
+    For a cable of axial impedance Z = sqrt(EA gamma0), stiffness k = EA / L, between ends whose
+    relative speed stays below dv while it is slack and re-tensions (rise time t_r), and a moving
+    mass M (bodies with added mass and the cable; infinite between two kinematic ends):
+
+        T_peak <= B = margin * (2 |T_static| + dv * (2 Z + min(sqrt(k M), k t_r)))
+
+    2 Z dv: a front arresting the relative speed dv carries Z dv, doubled where it reflects at a
+    held or heavy end; sqrt(k M) dv: the kinetic energy of M relative to the other end stored as
+    stretch; k t_r dv: the stretch the ends can impose within the rise; 2 T_static: a weight taken up
+    from slack overshoots at most to twice its static value. A peak above B, or a rise shorter than
+    ``crossing_time`` (the axial wave crossing the shortest element: faster than the discretisation
+    can carry a physical front), is numerical."""
+
+    impedance: float  # N s/m
+    stiffness: float  # N/m
+    mass: float  # kg (inf: both ends kinematic)
+    crossing_time: float  # s
+    margin: float = 1.5
+
+    def bound(self, static_tension: float, speed: float, rise_time: float) -> float:
+        """The largest plausible peak (N) for a relative end speed ``speed`` and rise time ``rise_time``."""
+        energy = math.sqrt(self.stiffness * self.mass) if math.isfinite(self.mass) else math.inf
+        quasi = min(energy, self.stiffness * max(rise_time, 0.0))
+        return self.margin * (2.0 * abs(static_tension) + max(speed, 0.0) * (2.0 * self.impedance + quasi))
+
+    def check(self, event: "SnapEvent", speed: float):
+        """None when ``event`` is plausible, else the :class:`NumericalSnapWarning` replacing it."""
+        if self.margin <= 0.0:
+            return None
+        bound = self.bound(event.static_tension, speed, event.rise_time)
+        reasons = []
+        if event.peak_tension > bound:
+            reasons.append(f"peak {event.peak_tension / 1e3:.4g} kN above the impedance/energy bound "
+                           f"{bound / 1e3:.4g} kN (relative end speed {speed:.3g} m/s)")
+        if event.rise_time < self.crossing_time:
+            reasons.append(f"rise {event.rise_time * 1e3:.3g} ms shorter than the axial wave's crossing "
+                           f"of an element ({self.crossing_time * 1e3:.3g} ms)")
+        if not reasons:
+            return None
+        return NumericalSnapWarning(time=event.time, location=event.location, arc_length=event.arc_length,
+                                    tension_peak=event.peak_tension, bound=bound, rise_time=event.rise_time,
+                                    crossing_time=self.crossing_time, relative_speed=speed,
+                                    static_tension=event.static_tension, slack_start=event.slack_start,
+                                    reason="; ".join(reasons))
+
+
+KINEMATIC_END_KINDS = ("prescribed", "fixed", "clamped")
+
+
+def snap_guard(config, element_length: float) -> SnapGuard:
+    """The guard of a simulation ``config`` (cable, ends, body, ``snap.guard_margin``) whose shortest
+    element (DG) or segment (hybrid) is ``element_length`` m long."""
+    cab = config.cable
+    EA = float(cab.EA)
+    if cab.material == "table" and len(cab.table_strain) > 1:
+        eps = np.asarray(cab.table_strain, float)
+        ten = np.asarray(cab.table_tension, float)
+        EA = max(EA, float(np.max(np.diff(ten) / np.diff(eps))))
+    kinds = (config.ship_end.kind, config.vehicle_end.kind)
+    mass = float(cab.gamma0) * float(cab.length)
+    if all(k in KINEMATIC_END_KINDS for k in kinds):
+        mass = math.inf
+    for kind in kinds:
+        if kind == "body":
+            body = config.body
+            mass += float(body.mass) + float(np.max(body.added_mass))
+    c = math.sqrt(EA / float(cab.gamma0))
+    return SnapGuard(impedance=math.sqrt(EA * float(cab.gamma0)), stiffness=EA / float(cab.length), mass=mass,
+                     crossing_time=float(element_length) / c if c > 0 else 0.0, margin=float(config.snap.guard_margin))
 
 
 # Per-location machine state columns.
@@ -178,7 +281,9 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
 class SnapDetector:
     """Streaming slack/snap detector over several locations (see the module docstring)."""
 
-    def __init__(self, config: SnapConfig, locations: list, static_tensions: list, arc_lengths: list):
+    def __init__(self, config: SnapConfig, locations: list, static_tensions: list, arc_lengths: list,
+                 guard: SnapGuard | None = None):
+        self.guard = guard
         self.locations = [str(name) for name in locations]
         self.static_tensions = np.asarray(static_tensions, dtype=np.float64).reshape(-1)
         self.arc_lengths = np.asarray(arc_lengths, dtype=np.float64).reshape(-1)
@@ -192,11 +297,14 @@ class SnapDetector:
         self._state = np.zeros((n, _N_STATE))
         self._thresholds = np.zeros((n, 3))
         self._events = np.zeros((64, _N_EVENT))
+        self._speed = np.zeros(n)  # largest relative end speed since each location's slack began
         self.set_config(config)
 
     def set_config(self, config: SnapConfig) -> None:
         """Change thresholds live; the state (slack or not) of every location is kept."""
         self.config = config
+        if self.guard is not None and self.guard.margin != config.guard_margin:
+            self.guard = replace(self.guard, margin=float(config.guard_margin))
         if config.slack_threshold > 0.0:
             slack = np.full(len(self.locations), float(config.slack_threshold))
             self.criterion = f"T < {config.slack_threshold:g} N (absolute threshold)"
@@ -229,8 +337,12 @@ class SnapDetector:
         """(n_loc,) bool: a re-tensioning window is open at the location (its snap event is pending)."""
         return self._state[:, _MODE] == _RISING
 
-    def update(self, times, tensions) -> list:
-        """Feed samples ``times`` (k,) and ``tensions`` (k, n_loc) (time-ordered); return new events."""
+    def update(self, times, tensions, relative_speed=None) -> list:
+        """Feed samples ``times`` (k,) and ``tensions`` (k, n_loc) (time-ordered); return new events.
+
+        ``relative_speed``: the relative speed of the two cable ends over these samples (m/s, a number
+        or (k,) samples) for the guard's bound; without it the guard keeps the largest speed it was
+        given, so a guarded detector must be fed speeds from the start."""
         times = np.ascontiguousarray(times, dtype=np.float64).reshape(-1)
         tensions = np.ascontiguousarray(tensions, dtype=np.float64)
         if tensions.ndim == 1 and len(self.locations) == 1:
@@ -239,14 +351,34 @@ class SnapDetector:
             raise ValueError(f"snap detector: tensions must have shape ({times.size}, {len(self.locations)}), got {tensions.shape}")
         if not (np.all(np.isfinite(times)) and np.all(np.isfinite(tensions))):
             raise ValueError("snap detector: non-finite time or tension sample")
+        speed = None
+        if relative_speed is not None:
+            speed = float(np.max(np.abs(np.asarray(relative_speed, dtype=np.float64)), initial=0.0))
+            if not math.isfinite(speed):
+                raise ValueError("snap detector: non-finite relative end speed")
+        if speed is not None:
+            np.maximum(self._speed, speed, out=self._speed)
         out = []
         start = 0
         while start < times.size:
             start, n_ev = snap_detector_step(times, tensions, start, self._state, self._thresholds,
                                              float(self.config.peak_window), float(self.config.min_slack_duration),
                                              self._events)
-            out.extend(self._event(row) for row in self._events[:n_ev])
+            for row in self._events[:n_ev]:
+                out.append(self._guarded(self._event(row), speed))
         return out
+
+    def _guarded(self, event, speed):
+        """A snap event checked by the guard (a NumericalSnapWarning if it fails); a slack start resets
+        the location's speed record to this chunk's speed (kept when no speed was given)."""
+        j = self.locations.index(event.location)
+        if isinstance(event, SlackStarted):
+            if speed is not None:
+                self._speed[j] = speed
+            return event
+        if self.guard is None:
+            return event
+        return self.guard.check(event, float(self._speed[j])) or event
 
     def flush(self) -> list:
         """Close every open re-tensioning window now (end of a run) and return those snap events."""
@@ -254,8 +386,8 @@ class SnapDetector:
         for j in np.nonzero(self._state[:, _MODE] == _RISING)[0]:
             s = self._state[j]
             if s[_EXIT_T] - s[_SLACK_START] >= self.config.min_slack_duration and s[_PEAK] >= self._thresholds[j, 2]:
-                out.append(self._event(np.array([1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START], s[_EXIT_T],
-                                                 s[_PEAK_EXIT]])))
+                out.append(self._guarded(self._event(np.array([1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START],
+                                                               s[_EXIT_T], s[_PEAK_EXIT]])), None))
             s[_MODE] = _TAUT
         return out
 

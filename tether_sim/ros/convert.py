@@ -17,6 +17,7 @@ from std_msgs.msg import Header
 from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription
 
 from tether_sim.io.params import to_flat
+from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent
 from tether_sim.ros import cdr
 
 # Output topics, their message types and QoS kind (the MCAP writer's names). Remappable in the node.
@@ -119,7 +120,9 @@ def diagnostics(t: float, node_name: str, sim: dict, inputs: dict) -> Diagnostic
 
     ``sim`` has: real_time_factor, time_step, lag, degraded, dropped_total, resyncs(_recent),
     capped_ticks, behind, divergences, error_recent, last_error, tick_errors(_recent),
-    last_tick_error, slack (dict end -> bool), snaps (count in the period), running (bool).
+    last_tick_error, slack (dict end -> bool), snaps (count in the period), numerical_snaps(_recent)
+    and last_numerical_snap (the snap guard's rejections: total, in the period, the last one),
+    running (bool).
     ``inputs``: end -> EndPoseInput.health(now) dict plus ``rejected_recent`` (count in the period).
     The simulation status message lists every problem of the period (none hides another, e.g.
     "cannot keep up" stays visible next to snap loads); the level is the worst of them.
@@ -134,6 +137,9 @@ def diagnostics(t: float, node_name: str, sim: dict, inputs: dict) -> Diagnostic
         problems.append((LEVEL_ERROR, f"{sim['tick_errors_recent']} tick(s) failed: {sim.get('last_tick_error')}"))
     if sim.get("snaps"):
         problems.append((LEVEL_ERROR, f"{sim['snaps']} snap load(s) in the last period"))
+    if sim.get("numerical_snaps_recent"):
+        problems.append((LEVEL_WARN, f"{sim['numerical_snaps_recent']} re-tensioning peak(s) rejected by the snap guard "
+                                     f"as numerical, not published as snaps: {sim.get('last_numerical_snap', '')}"))
     if sim.get("resyncs_recent"):
         problems.append((LEVEL_WARN, "cannot keep up with the clock: re-synchronised (lag beyond node.max_lag)"))
     elif sim.get("behind") or sim.get("degraded"):
@@ -237,11 +243,15 @@ def tick_outputs(driver, arc_lengths, wanted=None) -> list:
 
 
 def event_outputs(events, driver) -> list:
-    """(topic, message) for the detector's SlackStarted / SnapEvent items."""
+    """(topic, message) for the detector's SlackStarted / SnapEvent items. The snap guard's
+    NumericalSnapWarning items have no topic: they are never published as snaps (the node logs them
+    and counts them in /diagnostics)."""
     frame = driver.config.node.world_frame
     out = []
     for ev in events:
-        if hasattr(ev, "peak_tension"):
+        if isinstance(ev, NumericalSnapWarning):
+            continue
+        if isinstance(ev, SnapEvent):
             out.append(("/tether/snap_events", snap_event(ev, frame, driver.degraded, driver.lag)))
         else:
             static = driver.static_by_location.get(ev.location, 0.0)

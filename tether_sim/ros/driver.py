@@ -45,10 +45,11 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from tether_sim.errors import SolverDivergedError
-from tether_sim.physics.snap import SnapDetector, SnapEvent, SlackStarted
+from tether_sim.physics.snap import NumericalSnapWarning, SnapDetector, SnapEvent, SlackStarted, snap_guard
 from tether_sim.ros import winch_link
 from tether_sim.ros.body_frame import BodyFrame
 from tether_sim.ros.end_commands import BLEND_ACCELERATION, BLEND_MIN_TIME, Blend, EndCommands, MotionSource, blend_time
+from tether_sim.solvers.base import relative_end_speed
 from tether_sim.solvers.factory import build_solver
 
 END_NAMES = ("ship", "vehicle")
@@ -116,6 +117,8 @@ class SimulationDriver(EndCommands, BodyFrame):
         self.slack = {"ship": False, "vehicle": False}
         self.static_by_location = {}
         self.span_arc = np.zeros(0)
+        self.numerical_snaps = 0  # re-tensionings the snap guard rejected (published as warnings, never as snaps)
+        self.last_numerical_snap = ""
 
     # ------------------------------------------------------------------ set-up
     def _start_config(self, now):
@@ -142,7 +145,8 @@ class SimulationDriver(EndCommands, BodyFrame):
         """Ends: every substep (drained end tensions). Span points (``snap.monitor_arc_lengths``):
         sampled once per tick from the state, so their peaks are resolved at the output rate only."""
         L = self.config.cable.length
-        self.detector = SnapDetector(self.config.snap, list(END_NAMES), list(self.static_tensions), [0.0, L])
+        guard = snap_guard(self.config, self._element_length())
+        self.detector = SnapDetector(self.config.snap, list(END_NAMES), list(self.static_tensions), [0.0, L], guard)
         self.slack = {end: False for end in END_NAMES}
         self.static_by_location = dict(zip(END_NAMES, self.static_tensions))
         self.span_arc = np.array([s for s in self.config.snap.monitor_arc_lengths if 0.0 < s < L], float)
@@ -151,9 +155,18 @@ class SimulationDriver(EndCommands, BodyFrame):
             names = [f"span s={s:g} m" for s in self.span_arc]
             if not hasattr(self, "_span_static") or len(self._span_static) != len(names):
                 self._span_static = [float(x) for x in self.solver.state(self.span_arc).tension]
-            self.span_detector = SnapDetector(self.config.snap, names, list(self._span_static), list(self.span_arc))
+            self.span_detector = SnapDetector(self.config.snap, names, list(self._span_static), list(self.span_arc), guard)
             self.static_by_location.update(zip(names, self._span_static))
             self.slack.update({name: False for name in names})
+
+    def _element_length(self) -> float:
+        """The shortest element (DG) or segment (hybrid) of the running solver, m (the snap guard's
+        crossing time)."""
+        h = getattr(self.solver, "h", None)
+        if h is not None and np.size(h):
+            return float(np.min(h))
+        n = getattr(self.solver, "n_seg", None) or getattr(self.config.hybrid, "n_segments", 1)
+        return float(self.config.cable.length) / max(int(n), 1)
 
     def set_snap_config(self, snap_config) -> None:
         """Live change of the snap thresholds (slack state kept)."""
@@ -287,14 +300,24 @@ class SimulationDriver(EndCommands, BodyFrame):
             refs = self._reference.tensions(self.solver.unstretched_length)
             self.detector.set_static_tensions(refs)
             self.static_by_location.update(zip(END_NAMES, refs))
+        speed = relative_end_speed(self.solver, self.config.cable.length)
         if len(times):
             report.events = self.detector.update(np.asarray(times) + self.anchor,
-                                                 np.column_stack([t_ship, t_vehicle]))
+                                                 np.column_stack([t_ship, t_vehicle]), speed)
         if self.span_detector is not None:
             tension = self.solver.state(self.span_arc).tension
-            report.events += self.span_detector.update(np.array([self.stamp]), np.asarray(tension, float).reshape(1, -1))
+            report.events += self.span_detector.update(np.array([self.stamp]), np.asarray(tension, float).reshape(1, -1),
+                                                       speed)
+        self.count_numerical(report.events)
         for ev in report.events:
             self.slack[ev.location] = isinstance(ev, SlackStarted)
+
+    def count_numerical(self, events) -> None:
+        """Count the snap guard's rejections among ``events`` (diagnostics, report)."""
+        for ev in events:
+            if isinstance(ev, NumericalSnapWarning):
+                self.numerical_snaps += 1
+                self.last_numerical_snap = f"{ev.location} t = {ev.time:.3f} s: {ev.reason}"
 
     def _update_rate(self, sim_advance, wall0):
         wall = wallclock.perf_counter()
@@ -356,5 +379,5 @@ class SimulationDriver(EndCommands, BodyFrame):
         return self.anchor + (self.solver.time if self.solver is not None else 0.0)
 
 
-__all__ = ["SimulationDriver", "TickReport", "MotionSource", "SnapEvent", "SlackStarted", "Blend", "blend_time",
+__all__ = ["SimulationDriver", "TickReport", "MotionSource", "SnapEvent", "SlackStarted", "NumericalSnapWarning", "Blend", "blend_time",
            "BLEND_ACCELERATION", "BLEND_MIN_TIME"]

@@ -157,7 +157,8 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
     wall = wallclock.perf_counter() - wall0
     return {"output": str(output) if output is not None else None, "duration": duration, "ticks": n_ticks, "wall_time": wall,
             "speed": duration / wall if wall > 0 else math.inf, "static_tensions": driver.static_tensions,
-            "snap_peaks": run.peaks, "events": run.events, "forecasts": run.forecasts, **run.counts}
+            "snap_peaks": run.peaks, "events": run.events, "forecasts": run.forecasts, **run.counts,
+            "numerical_snaps": driver.numerical_snaps}
 
 
 def _inputs(config, input_path, topics, duration):
@@ -191,7 +192,8 @@ class _OfflineOutputs:
     def __init__(self, writer, driver, config):
         self.writer, self.driver = writer, driver
         self.arc = np.linspace(0.0, config.cable.length, config.node.output_points)
-        self.counts = {"snap_events": 0, "slack_warnings": 0, "divergences": 0}
+        self.counts = {"snap_events": 0, "slack_warnings": 0, "divergences": 0, "numerical_snaps": 0}
+        self._numerical_written = 0
         self.peaks, self.events, self.forecasts = [], [], []
         self.frame = config.node.world_frame
         self.static_written = False
@@ -249,7 +251,10 @@ class _OfflineOutputs:
                "time_step": driver.solver.stable_time_step(), "lag": 0.0, "degraded": driver.degraded,
                "divergences": driver.divergences,
                "error_recent": report.error is not None, "last_error": driver.last_error or "",
-               "snaps": 0, "slack": dict(driver.slack)}
+               "snaps": 0, "slack": dict(driver.slack), "numerical_snaps": driver.numerical_snaps,
+               "numerical_snaps_recent": driver.numerical_snaps - self._numerical_written,
+               "last_numerical_snap": driver.last_numerical_snap}
+        self._numerical_written = driver.numerical_snaps
         health = {end: dict(src.health(now), rejected_recent=0) for end, src in sources.items()
                   if isinstance(src, EndPoseInput)}
         array = convert.diagnostics(now, "tether_sim_offline", sim, health)
@@ -262,6 +267,7 @@ class _OfflineOutputs:
         for detector in (self.driver.detector, self.driver.span_detector):
             if detector is not None:
                 flushed = detector.flush()
+                self.driver.count_numerical(flushed)
                 self.events.extend(flushed)
                 self.write(convert.event_outputs(flushed, self.driver))
 
@@ -316,7 +322,9 @@ def main(argv=None) -> int:
     print(f"wrote {s['output']}: {s['duration']:.3g} s simulated in {s['wall_time']:.3g} s "
           f"({s['speed']:.3g} x real time); static tensions ship {s['static_tensions'][0]:.1f} N, "
           f"vehicle {s['static_tensions'][1]:.1f} N; {s['slack_warnings']} slack warnings, "
-          f"{s['snap_events']} snap events, {s['divergences']} solver divergences (recovered)")
+          f"{s['snap_events']} snap events, {s['divergences']} solver divergences (recovered)"
+          + (f", {s['numerical_snaps']} re-tensioning peak(s) rejected by the snap guard as numerical (not snaps)"
+             if s['numerical_snaps'] else ""))
     for end, peak, amp, t in s["snap_peaks"]:
         print(f"  snap at {end}: t = {t:.3f} s, peak {peak:.1f} N ({amp:.2f} x static)")
     if s["forecasts"]:

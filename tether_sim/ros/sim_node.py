@@ -27,7 +27,7 @@ from visualization_msgs.msg import Marker
 from tether_sim.errors import ConfigError, TetherSimError
 from tether_sim.io.inputs import EndPoseInput
 from tether_sim.io.params import load_config
-from tether_sim.physics.snap import SnapDetector
+from tether_sim.physics.snap import NumericalSnapWarning, SnapDetector
 from tether_sim.ros import convert, node_params
 from tether_sim.ros.driver import END_NAMES, SimulationDriver
 from tether_sim.ros.end_commands import SolverTimeMotion
@@ -296,6 +296,11 @@ class TetherSimNode(Node):
                 if rejected:
                     text += f"; {rejected} rejected so far (see the rejection warnings)"
                 self._log_throttled(("stale", end), "warning", f"{text}: holding/extrapolating")
+        for ev in report.events:
+            if isinstance(ev, NumericalSnapWarning):
+                self._period["numerical"] += 1
+                log.warning(f"re-tensioning at {ev.location} rejected by the snap guard (numerical, not a snap): "
+                            f"{ev.reason}")
         for topic, msg in convert.event_outputs(report.events, self.driver):
             if topic == "/tether/snap_events":
                 self._period["snaps"] += 1
@@ -338,6 +343,8 @@ class TetherSimNode(Node):
                "divergences": d.divergences, "error_recent": p["errors"] > 0, "last_error": d.last_error or "",
                "tick_errors": self.tick_errors, "tick_errors_recent": p["tick_errors"],
                "last_tick_error": self.last_tick_error, "snaps": p["snaps"], "slack": dict(d.slack),
+               "numerical_snaps": d.numerical_snaps, "numerical_snaps_recent": p["numerical"],
+               "last_numerical_snap": d.last_numerical_snap,
                "tick_load": p["busy"] / max(time.perf_counter() - p["wall0"], 1e-9), "tick_max_ms": 1e3 * p["tick_max"]}
         inputs = {}
         for end, inp in self.inputs.items():
@@ -350,7 +357,7 @@ class TetherSimNode(Node):
 
 def _new_period(inputs) -> dict:
     """Counters of one diagnostics period."""
-    return {"snaps": 0, "errors": 0, "tick_errors": 0, "resyncs": 0, "rejected": {e: 0 for e in inputs},
+    return {"snaps": 0, "numerical": 0, "errors": 0, "tick_errors": 0, "resyncs": 0, "rejected": {e: 0 for e in inputs},
             "behind": False, "busy": 0.0, "tick_max": 0.0, "wall0": time.perf_counter()}
 
 

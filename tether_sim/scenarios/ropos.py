@@ -14,7 +14,8 @@ import numpy as np
 from tether_sim.io.params import load_config
 from tether_sim.physics.bodies import submerged_weight
 from tether_sim.physics.motion import build_motion
-from tether_sim.physics.snap import SnapDetector, SnapEvent
+from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapDetector, SnapEvent, snap_guard
+from tether_sim.solvers.base import relative_end_speed
 from tether_sim.solvers.factory import build_solver
 
 CONFIG_DIR = Path(__file__).resolve().parents[2] / "config"
@@ -94,7 +95,11 @@ class CaseResult:
         return [e for e in self.events if isinstance(e, SnapEvent) and location in (None, e.location)]
 
     def slacks(self, location=None):
-        return [e for e in self.events if not isinstance(e, SnapEvent) and location in (None, e.location)]
+        return [e for e in self.events if isinstance(e, SlackStarted) and location in (None, e.location)]
+
+    def numerical(self, location=None):
+        """Re-tensionings the snap guard rejected (NumericalSnapWarning; not snaps)."""
+        return [e for e in self.events if isinstance(e, NumericalSnapWarning) and location in (None, e.location)]
 
 
 def _bin_index(t, rate):
@@ -125,7 +130,10 @@ def run_case(config, output_rate=200.0, sample_rate=1000.0, keep_raw=False, t_en
                         config.dg.n_elements, config.dg.order, static)
     ship_origin = np.asarray(config.ship_end.position, dtype=float)
     motion = build_motion(config.motion, ship_origin)
-    detector = SnapDetector(config.snap, ["ship", "vehicle"], list(static), [0.0, config.cable.length])
+    h = getattr(solver, "h", None)
+    element = float(np.min(h)) if h is not None else config.cable.length / max(int(config.hybrid.n_segments), 1)
+    detector = SnapDetector(config.snap, ["ship", "vehicle"], list(static), [0.0, config.cable.length],
+                            snap_guard(config, element))
     solver.drain_end_tensions()
     t_end = config.duration if t_end is None else t_end
     n_out = int(round(t_end * output_rate))
@@ -142,12 +150,12 @@ def run_case(config, output_rate=200.0, sample_rate=1000.0, keep_raw=False, t_en
             ts, T0, T1 = solver.drain_end_tensions()
             ts = np.asarray(ts, dtype=float)
             tens = np.column_stack([T0, T1]).astype(float)
-            result.events += detector.update(ts, tens)
+            body = solver.body_state("vehicle")
+            result.events += detector.update(ts, tens, relative_end_speed(solver, config.cable.length))
             if keep_raw:
                 raw.append((ts, tens))
             chunks_t.append(ts)
             chunks_T.append(tens)
-            body = solver.body_state("vehicle")
             if body is not None:
                 acc[k] = body.acceleration
             ship_acc[k] = a_ship

@@ -164,3 +164,21 @@ def end_index(end: str) -> int:
         return END_INDEX[end]
     except KeyError:
         raise ValueError(f"unknown end {end!r}; expected 'ship' or 'vehicle'") from None
+
+
+def relative_end_speed(solver, length: float) -> float:
+    """|v(0) - v(L)|: the relative speed of the two cable ends now, m/s (the snap guard's speed;
+    ``length`` is the unstretched length, a winch's current one where there is a winch).
+
+    A body end moves with its body (v + omega x (P - CoG) at the attachment point P, the cable end),
+    not with the cable's end trace, which a collapsed end element can corrupt; other ends with the
+    cable's end velocity (at a prescribed or fixed end its boundary motion)."""
+    L = float(getattr(solver, "unstretched_length", length))
+    state = solver.state(np.array([0.0, L]))
+    v = np.array(state.velocity, float)
+    for j, end in enumerate(("ship", "vehicle")):
+        body = solver.body_state(end)
+        if body is not None:
+            arm = np.asarray(state.position[j], float) - np.asarray(body.position, float)
+            v[j] = np.asarray(body.velocity, float) + np.cross(np.asarray(body.angular_velocity, float), arm)
+    return float(np.linalg.norm(v[0] - v[1]))

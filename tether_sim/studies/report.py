@@ -211,16 +211,19 @@ def write_report(results, out=None) -> Path:
         cols = ["index"] + varied + [
             lambda r: r["ship_T_max_N"] / 1e3, lambda r: r["vehicle_T_max_N"] / 1e3, "vehicle_daf",
             "vehicle_n_slack", "vehicle_n_snap", lambda r: r["vehicle_snap_peak_N"] / 1e3, "vehicle_snap_daf",
-            "vehicle_slack_max_s", "vehicle_rise_time_s", "vehicle_dnv_slack_ok", "ship_dnv_slack_ok", "rtf"]
+            "vehicle_slack_max_s", "vehicle_rise_time_s", "vehicle_dnv_slack_ok", "ship_dnv_slack_ok",
+            lambda r: (r.get("ship_n_numerical") or 0) + (r.get("vehicle_n_numerical") or 0), "rtf"]
         names = ["case"] + [c[4:] for c in varied] + [
             "ship T_max kN", "cage T_max kN", "cage DAF", "cage slack", "cage snaps", "cage snap peak kN",
-            "snap DAF", "longest slack s", "rise time s", "DNV ok cage", "DNV ok ship", "RT factor"]
+            "snap DAF", "longest slack s", "rise time s", "DNV ok cage", "DNV ok ship", "numerical warnings", "RT factor"]
         cpu_h = sum(r["cpu_s"] for r in ok) / 3600.0
         text += ["![peak tension](peak_tension_heatmap.png)", "", "![DAF](daf_sea_state.png)", "",
                  "![exceedance](exceedance.png)", "", "## Cases", "",
                  f"DNV-RP-H103 slack criterion (Sec. 3.4.3, F_hydro <= 0.9 F_static): met when the tension at "
                  f"that end never fell below {DNV_SLACK_FRACTION:g} x its static value. DAF = largest tension / "
-                 "static tension; snap DAF = largest snap peak / static.", ""]
+                 "static tension; snap DAF = largest snap peak / static. Numerical warnings: re-tensioning peaks "
+                 "(both ends) the snap guard rejected as physically impossible (docs/snap_guard.md); they are not "
+                 "counted as snaps, but T_max and DAF of such a case are the raw solution's and include them.", ""]
         text += _table(ok, cols, names) + [""]
         text += ["## Gumbel fit of the per-case maxima of the cage tension", "",
                  "Per condition (cases differing only by their seed)." if per_seed else

@@ -11,6 +11,9 @@ tension at every solver substep:
                      amplification factor of the run, snap or not)
 ``slack_max_s``      longest slack period that ended in a snap; ``slack_total_s`` their sum
 ``rise_time_s``      rise time of the largest snap (upward threshold crossing -> peak)
+``n_numerical``      re-tensionings the snap guard rejected as numerical (docs/snap_guard.md): never
+                     counted as snaps; ``numerical_peak_N`` the largest of them (``T_max_N`` and
+                     ``daf`` are the raw solution's and include such peaks)
 ``dnv_slack_ok``     DNV-RP-H103 slack criterion met: T_min >= 0.1 x static tension (see below)
 
 DNV-RP-H103 (Modelling and Analysis of Marine Operations, April 2011), Sec. 3.4.3 "slack sling
@@ -23,7 +26,7 @@ which only drives the event detector).
 
 import math
 
-from tether_sim.physics.snap import SnapEvent, SlackStarted
+from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent, SlackStarted
 
 ENDS = ("ship", "vehicle")
 DNV_SLACK_FRACTION = 0.1  # T >= 0.1 T_static <=> F_hydro <= 0.9 F_static [DNV-RP-H103 Sec. 3.4.3]
@@ -90,6 +93,7 @@ def end_statistics(events, static_tensions, tap) -> dict:
         snaps = [e for e in events if isinstance(e, SnapEvent) and e.location == end]
         slacks = [e for e in events if isinstance(e, SlackStarted) and e.location == end]
         largest = max(snaps, key=lambda e: e.peak_tension, default=None)
+        numerical = [e for e in events if isinstance(e, NumericalSnapWarning) and e.location == end]
         t_max, t_min = tap.t_max[j], tap.t_min[j]
         finite = math.isfinite(t_max)
         row.update({
@@ -104,13 +108,20 @@ def end_statistics(events, static_tensions, tap) -> dict:
             f"{end}_rise_time_s": largest.rise_time if largest else math.nan,
             f"{end}_slack_max_s": max((e.slack_duration for e in snaps), default=0.0),
             f"{end}_slack_total_s": sum(e.slack_duration for e in snaps),
+            f"{end}_n_numerical": len(numerical),
+            f"{end}_numerical_peak_N": max((e.tension_peak for e in numerical), default=math.nan),
             f"{end}_dnv_slack_ok": bool(finite and static > 0 and t_min >= DNV_SLACK_FRACTION * static),
         })
     return row
 
 
 def event_rows(events) -> list:
-    """Every snap event of a run as a row (for the per-event table and exceedance of snap peaks)."""
-    return [{"location": e.location, "time_s": e.time, "peak_N": e.peak_tension, "static_N": e.static_tension,
-             "daf": e.amplification, "slack_s": e.slack_duration, "rise_time_s": e.rise_time,
-             "min_N": e.min_tension} for e in events if isinstance(e, SnapEvent)]
+    """Every snap event of a run as a row (for the per-event table and exceedance of snap peaks), then
+    every re-tensioning the snap guard rejected (``kind`` "numerical", with its ``bound_N`` and reason)."""
+    rows = [{"kind": "snap", "location": e.location, "time_s": e.time, "peak_N": e.peak_tension,
+             "static_N": e.static_tension, "daf": e.amplification, "slack_s": e.slack_duration,
+             "rise_time_s": e.rise_time, "min_N": e.min_tension} for e in events if isinstance(e, SnapEvent)]
+    rows += [{"kind": "numerical", "location": e.location, "time_s": e.time, "peak_N": e.tension_peak,
+              "static_N": e.static_tension, "bound_N": e.bound, "rise_time_s": e.rise_time, "reason": e.reason}
+             for e in events if isinstance(e, NumericalSnapWarning)]
+    return rows

@@ -1,0 +1,150 @@
+"""The snap plausibility guard (physics/snap.py SnapGuard, docs/snap_guard.md) against closed forms:
+the axial front (Rankine-Hugoniot, T = Z dv), the mass-spring snap with a weight
+(T = W + sqrt(W^2 + k M dv^2)), and a converged lumped axial chain (a rod pulled at constant speed
+from slack onto a mass) over five decades of mass ratio; and the detector's use of it."""
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from tether_sim.io.params import load_config
+from tether_sim.physics.snap import NumericalSnapWarning, SnapConfig, SnapDetector, SnapEvent, SnapGuard, snap_guard
+
+EA, GAMMA0, L = 45.5e6, 3.01, 200.0  # the ROPOS tether [PE2020 Sec. 6.2]
+Z = math.sqrt(EA * GAMMA0)
+K = EA / L
+
+
+def chain_peak(mass, dv, n=200, t_end=None):
+    """Largest tension at the far end of an elastic chain (n segments, EA, gamma0, length L, no
+    compression) initially unstressed at rest, whose near end moves away at the constant speed dv from
+    t = 0 and whose far end carries the point mass ``mass`` (kg; inf = held). Symplectic Euler (= the
+    leapfrog) at Courant number 1, where it is exact for the wave equation between the ends: a front
+    stays a sharp step (no dispersive overshoot), and the end mass converges with n (test below)."""
+    h = L / n
+    m = np.full(n + 1, GAMMA0 * h)
+    m[-1] = 0.5 * GAMMA0 * h + (mass if math.isfinite(mass) else 0.0)
+    x = np.arange(n + 1) * h
+    v = np.zeros(n + 1)
+    c = math.sqrt(EA / GAMMA0)
+    dt = h / c  # Courant 1: the leapfrog is exact for the wave equation in the interior
+    if t_end is None:  # a quarter mass-spring period after the front has crossed twice, at least
+        t_end = 2.5 * L / c + (math.pi * math.sqrt(mass / K) if math.isfinite(mass) else 4.0 * L / c)
+    peak = 0.0
+    for k in range(int(t_end / dt)):
+        strain = np.diff(x) / h - 1.0
+        T = EA * np.maximum(strain, 0.0)
+        f = np.zeros(n + 1)
+        f[:-1] += T
+        f[1:] -= T
+        v[1:] += dt * f[1:] / m[1:]
+        if not math.isfinite(mass):
+            v[-1] = 0.0
+        v[0] = -dv
+        x += dt * v
+        peak = max(peak, float(T[-1]))
+    return peak
+
+
+def guard(mass=math.inf, margin=1.0, crossing=0.0):
+    return SnapGuard(impedance=Z, stiffness=K, mass=mass, crossing_time=crossing, margin=margin)
+
+
+def test_front_alone_is_the_impedance_times_the_speed():
+    # a held far end sees the front Z dv (Rankine-Hugoniot) doubled by its reflection there; within
+    # the first 1.5 crossings nothing else arrives
+    dv = 2.0
+    c = math.sqrt(EA / GAMMA0)
+    peak = chain_peak(math.inf, dv, t_end=1.5 * L / c)
+    assert peak == pytest.approx(2.0 * Z * dv, rel=0.05)
+    assert peak <= guard(math.inf).bound(0.0, dv, L / c)
+
+
+def test_lumped_chain_reference_is_converged():
+    a, b = chain_peak(14195.0, 3.0, n=100), chain_peak(14195.0, 3.0, n=200)
+    assert a == pytest.approx(b, rel=0.02)
+
+
+@pytest.mark.parametrize("mass_ratio", [0.1, 1.0, 10.0, 100.0])
+def test_bound_holds_from_light_to_heavy_end_masses_and_is_not_loose(mass_ratio):
+    dv = 3.0
+    mass = mass_ratio * GAMMA0 * L
+    peak = chain_peak(mass, dv)
+    # the guard's system mass: the end mass plus the cable
+    bound = guard(mass + GAMMA0 * L).bound(0.0, dv, 1e9)
+    assert peak <= bound
+    # heavy end: the mass-spring value sqrt(k M) dv plus the front Z dv (Saint-Venant's impact of a
+    # mass on a held rod, sigma_max ~ (1 + sqrt(M / m_rod)) Z dv for M >> m_rod)
+    if mass_ratio >= 10.0:
+        assert peak == pytest.approx((math.sqrt(K * mass) + Z) * dv, rel=0.05)
+    assert peak >= 0.6 * bound  # the bound is not loose: at most 1.7x the physical peak
+
+
+@pytest.mark.parametrize("weight", [0.0, 43e3, 200e3])
+def test_weight_taken_up_from_slack_mass_spring_closed_form(weight):
+    # a mass hanging on a massless spring, caught from slack at speed dv: T_max = W + sqrt(W^2 + k M dv^2)
+    mass, dv = 14195.0, 3.5
+    t_max = weight + math.sqrt(weight ** 2 + K * mass * dv ** 2)
+    assert t_max <= guard(mass).bound(weight, dv, 1e9) <= 2.0 * t_max + 2.0 * Z * dv
+
+
+def test_rise_time_limits_the_quasi_static_stretch_between_held_ends():
+    # both ends kinematic (infinite mass): within t_r the ends stretch the cable by at most dv t_r
+    g = guard(math.inf)
+    assert g.bound(0.0, 2.0, 0.1) == pytest.approx(2.0 * (2.0 * Z + K * 0.1))
+    assert g.bound(1e4, 2.0, 0.0) == pytest.approx(2e4 + 4.0 * Z)
+
+
+def test_guard_of_the_ropos_configuration():
+    cfg = load_config("config/ropos_L200_paper.yaml")
+    g = snap_guard(cfg, 10.0)
+    assert g.impedance == pytest.approx(math.sqrt(45.5e6 * 3.01))
+    assert g.stiffness == pytest.approx(45.5e6 / 200.0)
+    assert g.mass == pytest.approx(4995.0 + 9200.0 + 3.01 * 200.0)  # cage, its added mass, the cable
+    assert g.crossing_time == pytest.approx(10.0 / math.sqrt(45.5e6 / 3.01))
+    assert g.margin == cfg.snap.guard_margin == 1.5
+    held = replace(cfg, vehicle_end=replace(cfg.vehicle_end, kind="fixed"))
+    assert math.isinf(snap_guard(held, 10.0).mass)
+
+
+def _run_detector(peak, rise, margin=1.5, speed=3.0, dt=1e-4):
+    """A slack period (2 s), then a re-tensioning to ``peak`` over ``rise`` seconds (half sine), then static."""
+    static = 43e3
+    cfg = SnapConfig(guard_margin=margin)
+    det = SnapDetector(cfg, ["vehicle"], [static], [200.0], replace(guard(14797.0, margin, 2.57e-3)))
+    t = np.arange(0.0, 6.0, dt)
+    T = np.full(t.size, static)
+    T[(t >= 1.0) & (t < 3.0)] = 0.0
+    up = (t >= 3.0) & (t < 3.0 + rise)
+    T[up] = peak * np.sin(0.5 * np.pi * (t[up] - 3.0) / rise) if rise > 0 else peak
+    down = (t >= 3.0 + rise) & (t < 3.5 + rise)
+    T[down] = peak + (static - peak) * (t[down] - 3.0 - rise) / 0.5
+    events = []
+    for i in range(0, t.size, 200):  # 20 ms chunks, like ticks
+        events += det.update(t[i:i + 200], T[i:i + 200].reshape(-1, 1), speed)
+    return events + det.flush()
+
+
+def test_detector_publishes_a_physical_snap():
+    events = _run_detector(226e3, 0.5)
+    snaps = [e for e in events if isinstance(e, SnapEvent)]
+    assert len(snaps) == 1 and snaps[0].peak_tension == pytest.approx(226e3, rel=1e-3)
+    assert not any(isinstance(e, NumericalSnapWarning) for e in events)
+
+
+@pytest.mark.parametrize("peak, rise, why", [(1.04e6, 0.3, "above the impedance/energy bound"),
+                                              (150e3, 0.001, "shorter than the axial wave's crossing")])
+def test_detector_turns_an_impossible_snap_into_a_numerical_warning(peak, rise, why):
+    events = _run_detector(peak, rise)
+    assert not any(isinstance(e, SnapEvent) for e in events)
+    (warning,) = [e for e in events if isinstance(e, NumericalSnapWarning)]
+    assert why in warning.reason and warning.tension_peak == pytest.approx(peak, rel=1e-3)
+    bound = 1.5 * (2 * 43e3 + 3.0 * (2 * Z + min(math.sqrt(K * 14797.0), K * warning.rise_time)))
+    assert warning.bound == pytest.approx(bound)
+
+
+def test_guard_margin_zero_turns_the_guard_off():
+    events = _run_detector(1.04e6, 0.0, margin=0.0)
+    assert [type(e) for e in events if not type(e).__name__ == "SlackStarted"] == [SnapEvent]
