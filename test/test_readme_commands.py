@@ -1,4 +1,4 @@
-"""Every command in README.md's ```bash blocks runs as written (issue 17), with short durations:
+"""Every command in README.md's ```bash blocks runs as written, with short durations:
 
 - ``tether-sim`` lines: all started together (as the README's two-tethers example starts them), the
   ``tether_sim.ros.watch`` line run against them until it prints the end tensions of the namespace
