@@ -118,6 +118,12 @@ def _check_value(key, value, where):
     return value
 
 
+def check_values(flat: dict, where: str) -> dict:
+    """Each value of ``flat`` checked on its own (name, type, range), without resolving the whole
+    configuration (a command-line override that only makes sense with the file's other keys)."""
+    return _checked(flat, where)
+
+
 def _checked(flat: dict, where: str) -> dict:
     keys = key_map()
     checked = {}
@@ -135,7 +141,26 @@ def _checked(flat: dict, where: str) -> dict:
 def from_flat(flat: dict, where: str = "parameters", base: SimConfig | None = None) -> SimConfig:
     """Validate a flat {dotted key: value} mapping and apply it over ``base`` (default values)."""
     checked = _checked(flat, where)
-    return resolve(_apply(base or SimConfig(), checked), given=checked)  # dg.resolution auto: N, P, cfl by the rule
+    config = resolve(_apply(base or SimConfig(), checked), given=checked)  # dg.resolution auto: N, P, cfl by the rule
+    return cross_check(config, where)
+
+
+def cross_check(config: SimConfig, where: str = "parameters") -> SimConfig:
+    """Checks of related keys, each inside its own documented range but not together (ConfigError)."""
+    snap = config.snap
+    # slack begins below slack_fraction x static and ends above retension_fraction x static: with the
+    # second at or below the first there is no hysteresis, and a tension that hovers about the threshold
+    # makes slack periods, and "snaps", of nothing
+    if snap.slack_threshold == 0.0 and snap.retension_fraction <= snap.slack_fraction:
+        raise ConfigError(f"{where}: snap.retension_fraction = {snap.retension_fraction:g} must be above "
+                          f"snap.slack_fraction = {snap.slack_fraction:g} (slack begins below slack_fraction x static "
+                          "tension and ends above retension_fraction x static)")
+    # EA = 0 is the hybrid solver's inextensible rod [GP]; the DG solver's time step and tension come from
+    # the axial wave speed sqrt(EA / gamma0) [PE2020 Eq. 22]
+    if config.solver == "dg" and config.cable.EA <= 0.0:
+        raise ConfigError(f"{where}: cable.EA = {config.cable.EA:g} N: the dg solver needs an axial stiffness > 0 "
+                          "(EA = 0, an inextensible cable, is for solver: hybrid)")
+    return config
 
 
 class ParamFileOverlay:
@@ -149,7 +174,7 @@ class ParamFileOverlay:
 
     def __call__(self, overrides: dict | None = None) -> SimConfig:
         extra = _checked(overrides or {}, str(self.path))
-        return resolve(_apply(self.unresolved, extra), given={**self.checked, **extra})
+        return cross_check(resolve(_apply(self.unresolved, extra), given={**self.checked, **extra}), str(self.path))
 
 
 def _apply(obj, checked: dict):
