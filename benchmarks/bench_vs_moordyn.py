@@ -49,8 +49,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from benchmarks import bench_moordyn  # noqa: E402
 from benchmarks import ropos_case as rc  # noqa: E402
 from benchmarks.bench_tick import load_baseline  # noqa: E402
-from benchmarks.resolution_ladder import WINDOW, _peaks  # noqa: E402
-from benchmarks.resolution_report import read_rows  # noqa: E402
+from benchmarks.studies.resolution_ladder import WINDOW, _peaks  # noqa: E402
+from benchmarks.studies.resolution_report import read_rows  # noqa: E402
 
 
 

@@ -7,11 +7,11 @@
 
 Arguments (``ros2 launch tether_sim tether_sim.launch.py --show-args`` lists them):
 
-- ``params_file``: parameter file of the node (default: the package's config/ropos_L200.yaml). Its
-  ``tether_sim:`` section applies in any namespace (tether-sim hands rcl a copy renamed to its full
-  name: tether_sim/ros/namespacing.py). The recorder's section in config/recorder.yaml applies
-  only in the root namespace (rcl matches sections against full node names), so its topics and
-  output are given here directly.
+- ``params_file``: parameter file of the node (default: the package's config/ropos_L200.yaml). The
+  shipped files name their section ``/**/tether_sim:``, which rcl applies in any namespace (a
+  plain ``tether_sim:`` section is renamed for rcl by tether-sim itself, which logs it:
+  tether_sim/ros/namespacing.py). config/recorder.yaml's ``/**/tether_sim_recorder:`` applies in
+  any namespace too; only ``output`` is given here.
 - ``namespace``: namespace of every node started here. The node's topics are relative
   (``tether/state`` -> ``/<namespace>/tether/state``); /tf, /tf_static, /diagnostics and /clock
   stay global. Frames are not namespaced: see ``frame_prefix``.
@@ -39,11 +39,6 @@ from launch_ros.actions import Node
 from launch_ros.substitutions import FindPackageShare
 
 PACKAGE = "tether_sim"
-# what the recorder records (as config/recorder.yaml): relative names resolve in the namespace
-RECORDED_TOPICS = ["tether/state", "tether/snap_events", "tether/slack_warnings", "tether/ship_wrench",
-                   "tether/vehicle_wrench", "tether/description", "tether/marker", "tether/path",
-                   "ship/pose", "vehicle/sim_pose", "winch/state", "winch/command", "/diagnostics", "/tf", "/tf_static"]
-
 # (name, default, description); a default of None is computed below
 ARGUMENTS = (
     ("params_file", None, "parameter file of tether-sim (default: config/ropos_L200.yaml of the package)"),
@@ -84,7 +79,7 @@ def generate_launch_description():
         package=PACKAGE, executable="tether-sim-record", name="tether_sim_recorder",
         namespace=arg("namespace"), condition=IfCondition(arg("record")),
         parameters=[PathJoinSubstitution([share, "config", "recorder.yaml"]),
-                    {"output": arg("output"), "topics": RECORDED_TOPICS, "use_sim_time": sim_time}],
+                    {"output": arg("output"), "use_sim_time": sim_time}],
         output="screen")
     replay = Node(
         package=PACKAGE, executable="tether-sim-replay", name="tether_sim_replay",

@@ -74,6 +74,8 @@ def classify(words):
         return "watch", None
     if exe == ".venv/bin/python" or exe == ".venv/bin/tether-sim-study":  # studies: hours of CPU
         return "help", None
+    if exe == ".venv/bin/tether-sim-poses":  # runs until stopped; test/ros/test_pose_source.py drives a node with it
+        return "help", None
     return "unknown", None
 
 

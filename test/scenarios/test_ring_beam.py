@@ -1,6 +1,6 @@
 """Ring-shaped beam [PE2020 Sec. 4.1, Eq. 34-36, Fig. 1] through the scenario driver.
 
-Cheap subset of the convergence table (full table: benchmarks/ring_beam_convergence.py, output in
+Cheap subset of the convergence table (full table: benchmarks/studies/ring_beam_convergence.py, output in
 docs/verification.md). The static ring is the discrete fixed point du/dt = 0 of the DG scheme
 (Newton), so the errors are spatial errors alone.
 

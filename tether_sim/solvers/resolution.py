@@ -1,6 +1,6 @@
 """``dg.resolution: auto``: the DG mesh (N, P) and safety factor dg.cfl chosen for a snap-peak tolerance.
 
-The rule is a table of MEASURED errors, not a model. ``benchmarks/resolution_ladder.py`` ran the
+The rule is a table of MEASURED errors, not a model. ``benchmarks/studies/resolution_ladder.py`` ran the
 ROPOS slack-snap case (circular fairlead orbit a = 2 m, f = 0.2 Hz) on ladders of N at P = 2, 3
 and 4 and dg.cfl 0.8 (full ladders N = 1 ... 32 below the reference), and at dg.cfl 0.5, 0.65
 and 1.0 (N = 2 ... 8), against a converged explicit reference (N = max(10, ceil(L / 20 m)),
@@ -43,10 +43,10 @@ from tether_sim.solvers.resolution_table import WORST_ERROR
 SAFETY = 0.5
 MAX_CFL = 0.8
 MIN_ELEMENTS = 2  # one element has no inner element boundary: never chosen (975 m free end measured it "good")
-LADDER_NS = (1, 2, 3, 4, 6, 8, 12, 16, 24, 32)  # the rungs of benchmarks/resolution_ladder.py
+LADDER_NS = (1, 2, 3, 4, 6, 8, 12, 16, 24, 32)  # the rungs of benchmarks/studies/resolution_ladder.py
 
 # Per-substep cost model (thread CPU): COST_FIXED + (COST_NODE + COST_NODE_BENDING [EI > 0]) x N (P + 1),
-# least squares over the stiff-cable rows of docs/data/resolution_ladder.csv (benchmarks/
+# least squares over the stiff-cable rows of docs/data/resolution_ladder.csv (benchmarks/studies/
 # resolution_report.cost_fit; test/solvers/test_resolution.py checks these are that fit, rounded).
 # At the coarse 1 % meshes the fixed part dominates, so the choice is mostly "fewest substeps".
 COST_FIXED = 18.4e-6  # s per substep

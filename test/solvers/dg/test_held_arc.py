@@ -1,6 +1,6 @@
 """A stiff, low-tension arc held at both ends stays still with the defaults.
 
-Case (the hybrid held arc, benchmarks/hybrid_held_arc.py): ROPOS tether with EA = 455 MN and
+Case (the hybrid held arc, benchmarks/studies/hybrid_held_arc.py): ROPOS tether with EA = 455 MN and
 EI = 2620 N m^2, L = 325 m from (0, 0, -50) to (300, 0, -150), end tensions 11.45 / 8.92 kN
 (EA/T ~ 4e4), no material damping. With PE2020 Eq. 24's penalty lambda/2 [q] in the q equation
 (dg.q_penalty_jump = strain, the default before 2026-11-23) it is linearly unstable and the end

@@ -1,4 +1,4 @@
-"""A fixed-fixed, low-tension, stiff arc with bending (benchmarks/hybrid_held_arc.py:
+"""A fixed-fixed, low-tension, stiff arc with bending (benchmarks/studies/hybrid_held_arc.py:
 L = 325 m, chord 316 m sloping 100 m, EA = 455 MN, EI = 2620 N m^2, end tensions ~11 and ~9 kN).
 
 Before 2026-11-23 the hybrid started this case several kN off (its initial arc sagged along a wrong
@@ -9,7 +9,7 @@ static relaxation (docs/hybrid_solver.md, "Held arcs").
 
 import numpy as np
 
-from benchmarks.hybrid_held_arc import held_arc_config, ship_motion
+from benchmarks.studies.hybrid_held_arc import held_arc_config, ship_motion
 from tether_sim.physics.statics import solve_static
 from tether_sim.solvers.hybrid.solver import HybridRodCatenarySolver
 

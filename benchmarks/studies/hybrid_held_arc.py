@@ -7,7 +7,7 @@ ramped in over one period). Prints the static end tensions of the hybrid solver 
 all-catenary zoning), of the elastic catenary (physics/statics.py) and of the DG solver (N = 20, P = 4,
 its static initial state through the public interface), then runs the hybrid for --duration s.
 
-    PYTHONPATH=. python benchmarks/hybrid_held_arc.py [--duration 600] [--no-dg] [--plot docs/figures/hybrid_held_arc.png]
+    PYTHONPATH=. python benchmarks/studies/hybrid_held_arc.py [--duration 600] [--no-dg] [--plot docs/figures/hybrid_held_arc.png]
 """
 
 import argparse

@@ -29,9 +29,9 @@ free cable end (kind free).
 Every run appends one row to the CSV at once (``--csv``), so an interrupted ladder loses nothing;
 rows already present are skipped, so the same command resumes. ``--summary`` prints the error
 tables from the CSV, ``--table`` writes the rule's table (tether_sim/solvers/resolution_table.py)
-and ``--markdown docs/resolution_ladder.md`` the generated page (no runs; benchmarks/resolution_report.py).
+and ``--markdown docs/resolution_ladder.md`` the generated page (no runs; benchmarks/studies/resolution_report.py).
 
-Usage: PYTHONPATH=. python benchmarks/resolution_ladder.py --cases 200:stiff:0:cage 200:stiff:1:cage
+Usage: PYTHONPATH=. python benchmarks/studies/resolution_ladder.py --cases 200:stiff:0:cage 200:stiff:1:cage
        [--duration 10.2] [--csv docs/data/resolution_ladder.csv] [--summary]
 """
 
@@ -47,12 +47,12 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 from benchmarks import drive  # noqa: E402
 from benchmarks import ropos_case as rc  # noqa: E402
-from benchmarks.resolution_report import FIELDS, TABLE_MODULE, markdown, read_rows, summary, table_module  # noqa: E402
+from benchmarks.studies.resolution_report import FIELDS, TABLE_MODULE, markdown, read_rows, summary, table_module  # noqa: E402
 from tether_sim.physics.boundary import EndCondition  # noqa: E402
 
 GRID_STEP = 0.005  # s, 200 Hz common sampling (bench_moordyn.COUPLING_STEP)
@@ -125,7 +125,7 @@ def run_rung(case, n_elements, order, cfl, duration, reference):
 def _commit():
     try:
         return subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-                              cwd=Path(__file__).resolve().parents[1]).stdout.strip()
+                              cwd=Path(__file__).resolve().parents[2]).stdout.strip()
     except OSError:
         return ""
 

@@ -10,7 +10,7 @@ in 5-10 s) and its relative error against the finest N of the same alpha. Also p
 bending effect on the peak at each N (alpha 1 against alpha 0) and the thread CPU inside
 moordyn.Step per simulated s of these 200 Hz runs (one run each: indicative only).
 
-Usage: PYTHONPATH=. python benchmarks/moordyn_bending_rungs.py [--lengths 1730 200]
+Usage: PYTHONPATH=. python benchmarks/studies/moordyn_bending_rungs.py [--lengths 1730 200]
        [--segments 20 40 80 160] [--duration 10.2]
 """
 
@@ -22,7 +22,7 @@ import time
 from importlib.metadata import version
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from benchmarks import bench_moordyn  # noqa: E402
 from benchmarks import ropos_case as rc  # noqa: E402
