@@ -4,6 +4,7 @@ The MCAP is written with RosMcapWriter from CDR made by rosbags (types parsed fr
 msg_defs/), so the report reads it through the same decoder path as a recording.
 """
 
+import io
 import json
 from pathlib import Path
 
@@ -14,7 +15,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 from tether_sim.io.mcap_log import RosMcapWriter
 from tether_sim.io.msg_definitions import export_rosbags_definitions
-from tether_sim.report import ReportError, below_intervals, main, make_report
+from tether_sim.report import ReportError, below_intervals, load_run, main, make_report
 
 REPO = Path(__file__).resolve().parents[1]
 MSG_DIR = REPO / "msg_defs" / "msg"
@@ -194,6 +195,41 @@ def test_report_of_a_truncated_file_says_so(tmp_path, prefix, store, capsys):
     empty.write_bytes(single.read_bytes()[: single.stat().st_size // 2])
     assert main([str(empty), "--out-dir", str(tmp_path / "fig2")]) == 2
     assert "truncated" in capsys.readouterr().err
+
+
+def test_report_of_a_file_with_a_corrupt_chunk_covers_the_intact_ones(tmp_path, prefix, store, capsys):
+    """64 corrupted bytes in the last chunk of a complete recording: the report covers every intact
+    chunk and says what was dropped (exit 0), instead of refusing the whole file."""
+    from mcap.reader import SeekingReader
+
+    path = write_output(tmp_path / "out.mcap", prefix, store, chunk_size=16384)
+    with open(path, "rb") as handle:
+        chunks = SeekingReader(handle).get_summary().chunk_indexes
+    assert len(chunks) >= 3
+    last = chunks[-1]
+    data = bytearray(path.read_bytes())
+    middle = last.chunk_start_offset + last.chunk_length - last.compressed_size // 2
+    data[middle:middle + 64] = bytes(b ^ 0x5A for b in data[middle:middle + 64])
+    bad = tmp_path / "bad.mcap"
+    bad.write_bytes(bytes(data))
+    assert main([str(bad), "--out-dir", str(tmp_path / "fig")]) == 0
+    text = capsys.readouterr().out
+    assert "**Damaged recording.**" in text and "dropped 1 corrupt record(s)" in text
+    run = load_run(bad)
+    # the states of the last chunk, read from the intact original
+    from mcap.data_stream import ReadDataStream
+    from mcap.records import Chunk, Message
+    from mcap.stream_reader import breakup_chunk
+
+    good = path.read_bytes()
+    record = good[last.chunk_start_offset + 9:last.chunk_start_offset + last.chunk_length]
+    inside = [r for r in breakup_chunk(Chunk.read(ReadDataStream(io.BytesIO(record)))) if isinstance(r, Message)]
+    state_channel = next(c.id for c in SeekingReader(io.BytesIO(good)).get_summary().channels.values()
+                         if c.topic == "/tether/state")
+    lost = {m.log_time for m in inside if m.channel_id == state_channel}
+    kept = [k for k in range(N_T) if T0_NS + k * 10**8 not in lost]
+    assert lost and 0 < len(run.t) == len(kept) < N_T
+    assert np.allclose(run.t, np.array(kept) * DT)
 
 
 def test_threshold_series_follows_the_warnings_in_time():

@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -30,6 +31,7 @@ import numpy as np
 
 from tether_sim.errors import TetherSimError
 from tether_sim.io.mcap_log import McapLogError, read_messages, read_summary
+from tether_sim.io.mcap_scan import CorruptMcapWarning
 from tether_sim.solvers.resolution import bending_mesh_warning, mesh_summary
 from tether_sim.report_winch import load_winch, winch_figures, winch_markdown
 from tether_sim.report_forecast import forecast_figures, forecast_markdown, load_forecasts
@@ -85,8 +87,19 @@ def _topics_of(summary, type_name):
 
 def load_run(path, t0_s: float | None = None) -> RunData:
     """Read states, events, warnings and wrenches from an output MCAP; times relative to t0_s
-    (clock time, s; default: the first state's stamp)."""
-    path = Path(path)
+    (clock time, s; default: the first state's stamp). A file with a corrupt chunk (CRC) is read
+    again chunk by chunk: the report covers every intact chunk and says what was dropped."""
+    try:
+        return _load_run(Path(path), t0_s, skip_corrupt=False)
+    except McapLogError as exc:
+        if "corrupt" not in str(exc):
+            raise
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CorruptMcapWarning)  # said in the report instead
+        return _load_run(Path(path), t0_s, skip_corrupt=True)
+
+
+def _load_run(path, t0_s, skip_corrupt) -> RunData:
     summary = read_summary(path)
     state_topics = _topics_of(summary, STATE_TYPE)
     lost = f" ({summary.damage.describe()})" if summary.damage is not None else ""
@@ -104,7 +117,9 @@ def load_run(path, t0_s: float | None = None) -> RunData:
     degraded = []
     wrench = {end: ([], []) for end in wrench_topics}
     arc, solver = None, ""
-    for topic, type_name, _, msg in read_messages(path, wanted):
+    damage, n_read = [], 0
+    for topic, type_name, _, msg in read_messages(path, wanted, skip_corrupt=skip_corrupt, damage=damage):
+        n_read += 1
         if topic == state_topic:
             s = np.asarray(msg.arc_length, dtype=float)
             if arc is None:
@@ -140,6 +155,12 @@ def load_run(path, t0_s: float | None = None) -> RunData:
             f = msg.wrench.force
             wrench[end][0].append(stamp_seconds(msg.header.stamp))
             wrench[end][1].append(float(np.sqrt(f.x * f.x + f.y * f.y + f.z * f.z)))
+    truncation = summary.damage.describe() if summary.damage is not None else None
+    if damage and damage[0].corrupt:
+        if summary.complete:
+            damage[0].messages_lost = max(0, sum(summary.topics[w].message_count for w in set(wanted)) - n_read)
+        truncation = damage[0].describe()
+        lost = f" ({truncation})"
     if not times:
         raise ReportError(f"{path}: topic {state_topic} holds no TetherState messages{lost}")
     t = np.asarray(times)
@@ -155,7 +176,7 @@ def load_run(path, t0_s: float | None = None) -> RunData:
                    {e: np.asarray(v, dtype=float)[order] for e, v in ends.items()}, snaps, warns,
                    {e: (np.asarray(tw) - t0, np.asarray(fw)) for e, (tw, fw) in wrench.items()},
                    diagnostics, parameters=parameters, degraded=np.asarray(degraded, bool)[order],
-                   truncation=summary.damage.describe() if summary.damage is not None else None,
+                   truncation=truncation,
                    arc_history=_moving(np.asarray(arcs)[order]))
 
 
@@ -344,7 +365,8 @@ def summary_markdown(run: RunData, periods: dict, figures: dict, envelope: dict 
              f"({rate:.1f} Hz), {len(run.arc_length)} output points, {_length_text(run)}. "
              f"Times below: {run.time_label}, s.{_mesh_line(run.parameters)}", ""]
     if run.truncation:
-        lines += [f"**Truncated recording.** {run.truncation}. This report covers what was kept; "
+        kind = "Damaged" if "corrupt" in run.truncation else "Truncated"
+        lines += [f"**{kind} recording.** {run.truncation}. This report covers what was kept; "
                   "`tether-sim-recover` rewrites the file into a complete MCAP.", ""]
     if run.degraded is not None and run.degraded.any():
         lines += [f"**Degraded states: {int(run.degraded.sum())} of {len(run.t)}** (the node was behind the clock, "

@@ -104,7 +104,7 @@ def compiled_count() -> int:
     from numba.core.dispatcher import Dispatcher
 
     total = 0
-    for name, module in list(sys.modules.items()):
+    for name, module in sys.modules.copy().items():  # copy(): atomic while other threads import
         if not name.startswith("tether_sim.") or module is None:
             continue
         for value in list(vars(module).values()):

@@ -30,6 +30,13 @@ Unknown keys, wrong types and out-of-range values are errors that name the key a
 Units are SI. *live*: the running node accepts a new value (`ros2 param set` or the
 parameter services); other keys are fixed at start-up.
 
+Some keys are checked together, at load and on every live change (`tether_sim.io.params.cross_check`):
+`snap.retension_fraction` must be above `snap.slack_fraction` (unless `snap.slack_threshold` > 0 sets
+an absolute threshold), so that slack has hysteresis (change both at once, atomically, when live); the
+`dg` solver needs `cable.EA` > 0 (EA = 0, an inextensible cable, is for the `hybrid` solver). A range
+below is what the loader accepts; `tools/audit_param_ranges.py` runs each numeric key at both ends of
+its range through the offline runner and prints what breaks.
+
 """
 
 

@@ -321,3 +321,51 @@ def test_corrupt_or_foreign_files_raise_clear_errors(tmp_path, prefix, typestore
         bad.write_bytes(bytes(data[: chunk.chunk_start_offset + chunk.chunk_length]))  # also no footer
         with pytest.raises(McapLogError, match="corrupt record"):
             list(read_messages(bad))
+
+
+def _flip_in_chunk(path, k, n_bytes=64):
+    """Flip ``n_bytes`` bytes in the compressed data of chunk ``k`` of a complete file; (chunks, bad copy)."""
+    with open(path, "rb") as handle:
+        chunks = SeekingReader(handle).get_summary().chunk_indexes
+    chunk = chunks[k]
+    data = bytearray(path.read_bytes())
+    middle = chunk.chunk_start_offset + chunk.chunk_length - chunk.compressed_size // 2
+    data[middle:middle + n_bytes] = bytes(b ^ 0xA5 for b in data[middle:middle + n_bytes])
+    bad = path.with_name("bad_" + path.name)
+    bad.write_bytes(bytes(data))
+    return chunks, bad
+
+
+@pytest.mark.parametrize("which", [-1, 1])
+def test_recover_keeps_every_intact_chunk_around_a_corrupt_one(tmp_path, prefix, typestore, capsys, which):
+    """64 corrupted bytes in one chunk (the last, or one in the middle) of a complete file: recovery keeps
+    the messages of every other chunk, names the dropped chunk and counts the messages it held."""
+    from tether_sim.io.mcap_recover import main as recover_main
+    from tether_sim.io.mcap_scan import CorruptMcapWarning
+
+    messages = make_messages(typestore, n=60)
+    path = write_file(tmp_path / "run.mcap", prefix, messages, chunk_size=2048)
+    chunks, bad = _flip_in_chunk(path, which)
+    assert len(chunks) >= 4
+    with pytest.raises(McapLogError, match="corrupt"):  # plain reading still refuses: nothing is lost silently
+        list(read_messages(bad))
+    out = tmp_path / "fixed.mcap"
+    assert recover_main([str(bad), str(out)]) == 0
+    said = capsys.readouterr().out
+    dead = chunks[which]
+    in_dead = [m for m in messages if dead.message_start_time <= m[2] <= dead.message_end_time]
+    kept = sorted((m for m in messages if m not in in_dead), key=lambda m: m[2])
+    assert f"dropped 1 corrupt record(s), {len(in_dead)} message(s) lost" in said
+    assert f"bytes {dead.chunk_start_offset}-{dead.chunk_start_offset + dead.chunk_length}" in said
+    assert "already complete" not in said
+    got = [(r.topic, r.log_time_ns, r.data) for r in iter_raw(out)]
+    assert got == [(m[0], m[2], m[4]) for m in kept] and len(kept) == len(messages) - len(in_dead)
+    from rosbags.highlevel import AnyReader
+
+    with AnyReader([out], default_typestore=get_typestore(Stores.EMPTY)) as bag_reader:  # rosbags opens the result
+        assert sum(1 for _ in bag_reader.messages()) == len(kept)
+    # reading with skip_corrupt gives the same intact messages, with a warning and the damage
+    damage = []
+    with pytest.warns(CorruptMcapWarning, match="dropped 1 corrupt"):
+        again = [(r.topic, r.log_time_ns, r.data) for r in iter_raw(bad, skip_corrupt=True, damage=damage)]
+    assert again == got and damage[0].complete and len(damage[0].corrupt) == 1

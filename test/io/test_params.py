@@ -1,6 +1,7 @@
 """Parameter files -> SimConfig (tether_sim.io.params): layouts, error messages, round trips."""
 
 from dataclasses import replace
+from pathlib import Path
 
 import pytest
 import yaml
@@ -180,3 +181,30 @@ def test_frame_names_prefix_and_attachment_frames():
         from_flat({"node.vehicle_frame": "ship/base_link"})
     with pytest.raises(ConfigError, match="node.ship_frame: frame name"):
         from_flat({"node.ship_frame": "ship base"})
+
+
+ROPOS = Path(__file__).resolve().parents[2] / "config" / "ropos_L200.yaml"
+
+
+@pytest.mark.parametrize("overrides, words", [
+    ({"snap.retension_fraction": 0.05}, ["snap.retension_fraction = 0.05", "snap.slack_fraction = 0.1"]),
+    ({"snap.retension_fraction": 0.1}, ["must be above"]),  # equal: no hysteresis either
+    ({"cable.EA": 0.0, "dg.resolution": "manual"}, ["cable.EA = 0", "solver: hybrid"]),
+])
+def test_related_keys_are_cross_checked_at_load(overrides, words):
+    """Each value inside its documented range, the pair not: refused at load, naming both keys and the file
+    (before: 6 'snaps' at 1.01-1.03 x static in a run that never went slack; numpy divisions by EA = 0)."""
+    with pytest.raises(ConfigError) as err:
+        load_config(ROPOS, overrides)
+    assert str(ROPOS) in str(err.value)
+    for w in words:
+        assert w in str(err.value)
+
+
+def test_cross_checks_leave_valid_combinations_alone():
+    # an absolute slack threshold replaces slack_fraction: the fractions are then not compared
+    cfg = load_config(ROPOS, {"snap.retension_fraction": 0.05, "snap.slack_threshold": 500.0})
+    assert cfg.snap.retension_fraction == 0.05
+    # EA = 0 is the hybrid solver's inextensible rod (the Goyal-Perkins file)
+    gp = load_config(ROPOS.parent / "goyal_perkins.yaml")
+    assert gp.solver == "hybrid" and gp.cable.EA == 0.0

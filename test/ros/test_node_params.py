@@ -85,8 +85,8 @@ def test_live_keys_change_and_other_keys_are_refused_with_a_reason(node_factory)
         return result
 
     node.add_on_set_parameters_callback(callback)
-    ok = node.set_parameters([Parameter("snap.slack_fraction", Parameter.Type.DOUBLE, 0.25)])[0]
-    assert ok.successful and seen["config"].snap.slack_fraction == 0.25
+    ok = node.set_parameters([Parameter("snap.slack_fraction", Parameter.Type.DOUBLE, 0.15)])[0]
+    assert ok.successful and seen["config"].snap.slack_fraction == 0.15
     refused = node.set_parameters([Parameter("cable.EA", Parameter.Type.DOUBLE, 1.0e6)])[0]
     assert not refused.successful and "read-only" in refused.reason
     # the callback itself refuses non-live keys with the reason (also when read_only is bypassed)
@@ -140,6 +140,37 @@ def test_a_bad_command_line_override_is_blamed_on_the_override_not_the_file(node
     with pytest.raises(ConfigError, match="command-line -p override") as err:
         node_params.declare_all(node, path, cli_keys=cli_param_keys(argv))
     assert path not in str(err.value)
+
+
+def test_command_line_manual_mesh_rescues_a_file_the_automatic_choice_refuses(node_factory, tmp_path):
+    """A file whose cable is outside the measured range of the automatic mesh choice: the node starts
+    with ``-p dg.resolution:=manual`` (and ``-p dg.n_elements:=4`` on top), the file needs no edit."""
+    from tether_sim.ros.sim_node import check_params_files, cli_param_values
+
+    text = AUTO.replace("EA: 45500000.0", "EA: 1000000.0")
+    path = tmp_path / "soft.yaml"
+    path.write_text(text)
+    with pytest.raises(ConfigError, match="outside the measured"):
+        check_params_files([str(path)])
+    argv = ["tether-sim", "--ros-args", "--params-file", str(path), "-p", "dg.resolution:=manual",
+            "-p", "dg.n_elements:=4"]
+    assert cli_param_values(argv) == {"dg.resolution": "manual", "dg.n_elements": 4}
+    check_params_files([str(path)], cli_param_values(argv))  # no error
+    node, node_path = node_factory(text, extra=["-p", "dg.resolution:=manual", "-p", "dg.n_elements:=4"])
+    config = node_params.declare_all(node, node_path, cli_keys={"dg.resolution", "dg.n_elements"})
+    assert (config.dg.resolution, config.dg.n_elements, config.cable.EA) == ("manual", 4, 1.0e6)
+    # a bad -p value is still blamed on the command line
+    with pytest.raises(ConfigError, match="command-line -p override"):
+        check_params_files([str(path)], {"dg.n_elements": 0})
+
+
+def test_a_live_change_that_breaks_a_cross_check_is_refused_with_the_reason(node_factory):
+    node, path = node_factory(GOOD)
+    config = node_params.declare_all(node, path)
+    result, new = node_params.check_live_change(
+        [Parameter("snap.retension_fraction", Parameter.Type.DOUBLE, 0.05)], config)
+    assert not result.successful and new is None
+    assert "snap.retension_fraction = 0.05 must be above snap.slack_fraction" in result.reason
 
 
 def _overrides(argv) -> dict:

@@ -145,7 +145,9 @@ def test_live_snap_thresholds_change_and_solver_keys_are_refused(harness):
     h = harness(base_params())
     h.run(0.1, ship=SHIP, vehicle=np.subtract(VEHICLE, ATTACH))
     static = h.node.driver.static_tensions
-    ok = h.node.set_parameters([Parameter("snap.slack_fraction", Parameter.Type.DOUBLE, 0.3)])[0]
+    # slack_fraction 0.3 needs retension_fraction above it (default 0.2): both in one atomic change
+    ok = h.node.set_parameters_atomically([Parameter("snap.slack_fraction", Parameter.Type.DOUBLE, 0.3),
+                                           Parameter("snap.retension_fraction", Parameter.Type.DOUBLE, 0.4)])
     assert ok.successful
     assert h.node.driver.detector.thresholds == pytest.approx([0.3 * static[0], 0.3 * static[1]])
     refused = h.node.set_parameters([Parameter("dg.order", Parameter.Type.INTEGER, 2)])[0]

@@ -216,16 +216,17 @@ class RosMcapWriter:
             raise ValueError(f"{self.path} is closed")
 
 
-def read_messages(path, topics=None):
+def read_messages(path, topics=None, *, skip_corrupt=False, damage=None):
     """Yield (topic, type_name, log_time_ns, decoded_msg) with the mcap_ros2 decoder.
 
     Log-time order for complete files; a file cut off by a crash yields its complete chunks (with a
-    warning). Unreadable or corrupt files raise :class:`McapLogError` naming the file."""
+    warning). Unreadable or corrupt files raise :class:`McapLogError` naming the file; with
+    ``skip_corrupt`` the intact chunks are read and ``damage`` receives what was dropped (:func:`iter_raw`)."""
     from mcap_ros2.decoder import DecoderFactory
 
     factory = DecoderFactory()
     decoders = {}
-    for raw in iter_raw(path, topics):
+    for raw in iter_raw(path, topics, skip_corrupt=skip_corrupt, damage=damage):
         key = raw.schema.id if raw.schema is not None else None
         if key not in decoders:
             try:

@@ -8,7 +8,9 @@ missing, so mcap's ``make_reader`` and rosbags refuse the file. This rewrites ev
 (schemas, channels, messages of every complete chunk with its CRC checked, metadata) into a new,
 complete MCAP: chunked (zstd), with summary, statistics, chunk and message indexes, footer and end
 magic, plus the ``rosbag2`` metadata record (BagMetadata v9) recomputed from the recovered
-messages when the original had none. Nothing of the input is changed; the output is written
+messages when the original had none. A chunk that fails its CRC (bit rot, a bad sector) is dropped and
+named, with its byte range, its time span and the number of messages lost; the intact chunks before
+and after it are kept. Nothing of the input is changed; the output is written
 beside it and renamed into place only when complete. No rclpy.
 """
 
@@ -24,7 +26,7 @@ import yaml
 from mcap.records import Channel, Header, Message, Metadata, Schema
 from mcap.writer import CompressionType, Writer
 
-from tether_sim.io.mcap_scan import Damage, McapLogError, _open_mcap, _qos_list, _scan_records
+from tether_sim.io.mcap_scan import Damage, McapLogError, _complete_summary, _open_mcap, _qos_list, _scan_records
 
 
 @dataclass
@@ -74,20 +76,28 @@ def _bag_metadata(name, topics, channels, schemas, start, end, count) -> str:
 def recover(path, output=None, *, chunk_size: int = 1 << 20) -> Recovery:
     """Rewrite the complete records of ``path`` into a complete MCAP ``output`` (see module doc).
 
-    Raises McapLogError when ``path`` is not an MCAP file or a complete record is corrupt."""
+    A corrupt record (a chunk failing its CRC) is dropped and listed in the returned damage (with the
+    number of messages it held when the input's summary counted them); every intact chunk is kept.
+    Raises McapLogError when ``path`` is not an MCAP file."""
     path = Path(path)
     output = Path(output) if output else default_output(path)
     if output.resolve() == path.resolve():
         raise McapLogError(f"{path}: the output must be a different file from the input")
-    _open_mcap(path).close()  # not MCAP -> McapLogError
+    handle = _open_mcap(path)  # not MCAP -> McapLogError
+    try:
+        summary = _complete_summary(handle)  # a complete file's own count, to say how many messages a corrupt chunk held
+    finally:
+        handle.close()
+    counted = summary.statistics.message_count if summary is not None and summary.statistics else None
     tmp = output.with_name(output.name + ".part")
     damage, schemas, channels, topics = [], {}, {}, {}
     schema_ids, channel_ids, metadata_names = {}, {}, set()
     count, start, end = 0, None, 0
     with open(tmp, "wb") as handle:
         writer = Writer(handle, chunk_size=chunk_size, compression=CompressionType.ZSTD, enable_crcs=True)
-        started = False
-        for record in _scan_records(path, damage, warn=False):
+        started = seeded = False
+        orphans = 0
+        for record in _scan_records(path, damage, warn=False, skip_corrupt=True):
             if isinstance(record, Header):
                 writer.start(profile=record.profile, library=record.library or "tether-sim-recover")
                 started = True
@@ -95,6 +105,16 @@ def recover(path, output=None, *, chunk_size: int = 1 << 20) -> Recovery:
             if not started:
                 writer.start(profile="ros2", library="tether-sim-recover")
                 started = True
+            if summary is not None and not seeded:  # a corrupt chunk may hold the only Schema/Channel record
+                seeded = True
+                for sid, schema in sorted(summary.schemas.items()):
+                    schemas[sid] = schema
+                    schema_ids[sid] = writer.register_schema(schema.name, schema.encoding, schema.data)
+                for cid, channel in sorted(summary.channels.items()):
+                    channels[cid] = channel
+                    channel_ids[cid] = writer.register_channel(channel.topic, channel.message_encoding,
+                                                               schema_ids.get(channel.schema_id, 0),
+                                                               dict(channel.metadata))
             if isinstance(record, Schema) and record.id not in schema_ids:
                 schemas[record.id] = record
                 schema_ids[record.id] = writer.register_schema(record.name, record.encoding, record.data)
@@ -103,8 +123,9 @@ def recover(path, output=None, *, chunk_size: int = 1 << 20) -> Recovery:
                 channel_ids[record.id] = writer.register_channel(
                     record.topic, record.message_encoding, schema_ids.get(record.schema_id, 0), dict(record.metadata))
             elif isinstance(record, Message):
-                if record.channel_id not in channel_ids:
-                    raise McapLogError(f"{path}: message on unknown channel {record.channel_id}")
+                if record.channel_id not in channel_ids:  # its channel was defined in a dropped chunk
+                    orphans += 1
+                    continue
                 writer.add_message(channel_ids[record.channel_id], record.log_time, record.data,
                                    record.publish_time, record.sequence)
                 topic = channels[record.channel_id].topic
@@ -122,6 +143,10 @@ def recover(path, output=None, *, chunk_size: int = 1 << 20) -> Recovery:
                 output.name, topics, channels, schemas, start or 0, end, count)})
         writer.finish()
     os.replace(tmp, output)
+    if damage[0].corrupt and counted is not None:
+        damage[0].messages_lost = max(0, counted - count)
+    elif orphans:
+        damage[0].messages_lost = orphans
     return Recovery(str(output), damage[0], count, topics, start or 0, end)
 
 
@@ -140,7 +165,7 @@ def main(argv=None) -> int:
               f"{exc.strerror or exc}", file=sys.stderr)
         return 2
     print(result.describe())
-    if result.damage.complete:
+    if result.damage.complete and not result.damage.corrupt:
         print("(the input was already complete; the output is a rewritten copy)")
     return 0
 

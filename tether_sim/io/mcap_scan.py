@@ -129,24 +129,47 @@ class Damage:
     good_end: int  # byte offset after the last complete record
     chunks: int  # complete chunks
     complete: bool  # footer reached
+    corrupt: list = field(default_factory=list)  # [(byte offset, length, start ns, end ns, reason)] dropped
+    messages_lost: int | None = None  # known when a summary counted the messages (recover, report)
 
     @property
     def lost_bytes(self) -> int:
         return self.size - self.good_end
 
+    def describe_corrupt(self) -> str:
+        """What was dropped as corrupt ('' when nothing)."""
+        if not self.corrupt:
+            return ""
+        parts = []
+        for offset, length, start, end, reason in self.corrupt:
+            span = f", log time {start * 1e-9:.3f}-{end * 1e-9:.3f} s" if start is not None else ""
+            parts.append(f"bytes {offset}-{offset + length} ({reason}{span})")
+        lost = (f"{self.messages_lost} message(s)" if self.messages_lost is not None
+                else "their messages")
+        return (f"dropped {len(self.corrupt)} corrupt record(s), {lost} lost: " + "; ".join(parts))
+
     def describe(self) -> str:
+        corrupt = self.describe_corrupt()
         if self.complete:
-            return f"{self.path}: complete"
+            return f"{self.path}: complete" + (f"; kept {self.chunks} intact chunk(s), {corrupt}" if corrupt else "")
         tail = (f"the last {self.lost_bytes} byte(s) (from byte {self.good_end} of {self.size}: the chunk being "
                 f"written, its messages are lost)" if self.lost_bytes else "no footer, summary or end magic")
         return (f"{self.path}: truncated (the writer stopped without closing it); kept {self.chunks} complete "
-                f"chunk(s), lost {tail}")
+                f"chunk(s), lost {tail}" + (f"; {corrupt}" if corrupt else ""))
 
 
-def _scan_records(path: Path, damage: list | None = None, warn: bool = True):
-    """Yield every complete top-level record (chunks broken up); warn at a truncated tail; append a :class:`Damage` to ``damage`` when given."""
+class CorruptMcapWarning(UserWarning):
+    """Corrupt records (a chunk failing its CRC) were skipped while reading with ``skip_corrupt``."""
+
+
+def _scan_records(path: Path, damage: list | None = None, warn: bool = True, skip_corrupt: bool = False):
+    """Yield every complete top-level record (chunks broken up); warn at a truncated tail; append a
+    :class:`Damage` to ``damage`` when given. A corrupt record (CRC, zstd or struct error) raises
+    :class:`McapLogError`, or with ``skip_corrupt`` is skipped (its bytes, its chunk's time span and the
+    reason are listed in the Damage and a :class:`CorruptMcapWarning` is given) and the scan goes on."""
     data = path.read_bytes()
-    pos, size, n_chunks = len(MCAP_MAGIC), len(data), 0
+    pos, size, n_chunks, corrupt = len(MCAP_MAGIC), len(data), 0, []
+    complete = False
     while pos < size:
         if pos + _RECORD_PREFIX > size:
             break
@@ -156,13 +179,14 @@ def _scan_records(path: Path, damage: list | None = None, warn: bool = True):
         if end > size:
             break
         body = ReadDataStream(io.BytesIO(data[pos + _RECORD_PREFIX:end]))
+        chunk = None
         try:
             if opcode == Opcode.FOOTER:
-                if damage is not None:
-                    damage.append(Damage(str(path), size, size, n_chunks, True))
-                return
+                complete = True
+                break
             if opcode == Opcode.CHUNK:
-                records = breakup_chunk(Chunk.read(body), validate_crc=True)
+                chunk = Chunk.read(body)
+                records = breakup_chunk(chunk, validate_crc=True)
                 n_chunks += 1
             elif opcode == Opcode.MESSAGE:
                 records = [Message.read(body, length)]
@@ -177,14 +201,23 @@ def _scan_records(path: Path, damage: list | None = None, warn: bool = True):
             else:
                 records = []
         except Exception as exc:  # noqa: BLE001 - CRC, zstd and struct errors all mean corrupt
-            raise McapLogError(f"{path}: corrupt record (opcode {opcode:#04x}) at byte {pos}: "
-                               f"{exc}") from exc
+            if not skip_corrupt:
+                raise McapLogError(f"{path}: corrupt record (opcode {opcode:#04x}) at byte {pos}: "
+                                   f"{exc}") from exc
+            reason = " ".join(str(exc).split())[:120] or type(exc).__name__
+            corrupt.append((pos, end - pos, chunk.message_start_time if chunk else None,
+                            chunk.message_end_time if chunk else None,
+                            f"{'chunk' if opcode == Opcode.CHUNK else f'opcode {opcode:#04x}'}: {reason}"))
+            pos = end
+            continue
         yield from records
         pos = end
-    found = Damage(str(path), size, pos, n_chunks, False)
+    found = Damage(str(path), size, size if complete else pos, n_chunks, complete, corrupt)
     if damage is not None:
         damage.append(found)
-    if warn:
+    if warn and corrupt:
+        warnings.warn(f"{path}: {found.describe_corrupt()}", CorruptMcapWarning, stacklevel=3)
+    if warn and not complete:
         warnings.warn(found.describe(), TruncatedMcapWarning, stacklevel=3)
 
 
@@ -204,22 +237,30 @@ def inspect(path) -> Damage:
     return damage[0]
 
 
-def iter_raw(path, topics=None):
-    """Yield :class:`RawMessage` (log-time order), reading a crash-truncated file up to its tail."""
+def iter_raw(path, topics=None, *, skip_corrupt=False, damage=None):
+    """Yield :class:`RawMessage` (log-time order), reading a crash-truncated file up to its tail.
+
+    A corrupt record raises :class:`McapLogError`; with ``skip_corrupt`` the file is scanned record by
+    record, every intact chunk is read, the corrupt ones are skipped with a :class:`CorruptMcapWarning`,
+    and ``damage`` (a list, when given) receives the :class:`Damage` saying what was dropped."""
     path = Path(path)
     wanted = None if topics is None else {topics} if isinstance(topics, str) else set(topics)
     handle = _open_mcap(path)
     try:
         summary = _complete_summary(handle)
-        if summary is None:
+        if summary is None or skip_corrupt:
             schemas, channels, found = {}, {}, []
-            for record in _scan_records(path):
+            if summary is not None:  # a corrupt chunk may hold the only Schema/Channel record
+                schemas, channels = dict(summary.schemas), dict(summary.channels)
+            for record in _scan_records(path, damage, skip_corrupt=skip_corrupt):
                 if isinstance(record, Schema):
                     schemas[record.id] = record
                 elif isinstance(record, Channel):
                     channels[record.id] = record
                 elif isinstance(record, Message):
                     channel = channels.get(record.channel_id)
+                    if channel is None and skip_corrupt:
+                        continue  # its channel was defined in a dropped chunk (counted as lost by the caller)
                     if channel is None:
                         raise McapLogError(f"{path}: message on unknown channel {record.channel_id}")
                     if wanted is None or channel.topic in wanted:

@@ -118,32 +118,79 @@ def _check_value(key, value, where):
     return value
 
 
-def from_flat(flat: dict, where: str = "parameters", base: SimConfig | None = None) -> SimConfig:
-    """Validate a flat {dotted key: value} mapping and apply it over ``base`` (default values)."""
+def check_values(flat: dict, where: str) -> dict:
+    """Each value of ``flat`` checked on its own (name, type, range), without resolving the whole
+    configuration (a command-line override that only makes sense with the file's other keys)."""
+    return _checked(flat, where)
+
+
+def _checked(flat: dict, where: str) -> dict:
     keys = key_map()
     checked = {}
     for name, value in flat.items():
         if name in ("use_sim_time",):
             continue  # standard ROS parameter, handled by the node
         if name not in keys:
-            close = difflib.get_close_matches(name, keys, n=1, cutoff=0.7)
+            close = difflib.get_close_matches(str(name), keys, n=1, cutoff=0.7)
             hint = f" (did you mean {close[0]!r}?)" if close else ""
             raise ConfigError(f"{where}: unknown parameter {name!r}{hint}")
         checked[name] = _check_value(keys[name], value, where)
-    return resolve(_apply(base or SimConfig(), checked), given=checked)  # dg.resolution auto: N, P, cfl by the rule
+    return checked
 
 
-def _apply(obj, checked: dict, prefix: str = ""):
-    changes = {}
-    for f in fields(obj):
-        value = getattr(obj, f.name)
-        name = prefix + f.name
-        if is_dataclass(value):
-            sub = {k: v for k, v in checked.items() if k.startswith(name + ".")}
-            if sub:
-                changes[f.name] = _apply(value, sub, name + ".")
-        elif name in checked:
-            changes[f.name] = checked[name]
+def from_flat(flat: dict, where: str = "parameters", base: SimConfig | None = None) -> SimConfig:
+    """Validate a flat {dotted key: value} mapping and apply it over ``base`` (default values)."""
+    checked = _checked(flat, where)
+    config = resolve(_apply(base or SimConfig(), checked), given=checked)  # dg.resolution auto: N, P, cfl by the rule
+    return cross_check(config, where)
+
+
+def cross_check(config: SimConfig, where: str = "parameters") -> SimConfig:
+    """Checks of related keys, each inside its own documented range but not together (ConfigError)."""
+    snap = config.snap
+    # slack begins below slack_fraction x static and ends above retension_fraction x static: with the
+    # second at or below the first there is no hysteresis, and a tension that hovers about the threshold
+    # makes slack periods, and "snaps", of nothing
+    if snap.slack_threshold == 0.0 and snap.retension_fraction <= snap.slack_fraction:
+        raise ConfigError(f"{where}: snap.retension_fraction = {snap.retension_fraction:g} must be above "
+                          f"snap.slack_fraction = {snap.slack_fraction:g} (slack begins below slack_fraction x static "
+                          "tension and ends above retension_fraction x static)")
+    # EA = 0 is the hybrid solver's inextensible rod [GP]; the DG solver's time step and tension come from
+    # the axial wave speed sqrt(EA / gamma0) [PE2020 Eq. 22]
+    if config.solver == "dg" and config.cable.EA <= 0.0:
+        raise ConfigError(f"{where}: cable.EA = {config.cable.EA:g} N: the dg solver needs an axial stiffness > 0 "
+                          "(EA = 0, an inextensible cable, is for solver: hybrid)")
+    return config
+
+
+class ParamFileOverlay:
+    """A parameter file read and checked once, then many sets of overrides over it (the cases of a study):
+    ``overlay(overrides)`` is ``load_config(path, overrides)`` without reading the file again."""
+
+    def __init__(self, path):
+        self.path = Path(path)
+        self.checked = _checked(read_param_file(self.path), str(self.path))
+        self.unresolved = _apply(SimConfig(), self.checked)
+
+    def __call__(self, overrides: dict | None = None) -> SimConfig:
+        extra = _checked(overrides or {}, str(self.path))
+        return cross_check(resolve(_apply(self.unresolved, extra), given={**self.checked, **extra}), str(self.path))
+
+
+def _apply(obj, checked: dict):
+    """``obj`` with the dotted keys of ``checked`` (relative to ``obj``) replaced; one pass over the keys."""
+    nested, changes = {}, {}
+    for name, value in checked.items():
+        head, dot, rest = name.partition(".")
+        if dot:
+            nested.setdefault(head, {})[rest] = value
+        else:
+            changes[head] = value
+    names = {f.name for f in fields(obj)}
+    changes = {k: v for k, v in changes.items() if k in names and not is_dataclass(getattr(obj, k))}
+    for head, sub in nested.items():
+        if head in names and is_dataclass(getattr(obj, head)):
+            changes[head] = _apply(getattr(obj, head), sub)
     return replace(obj, **changes) if changes else obj
 
 
@@ -155,17 +202,25 @@ def load_config(path, overrides: dict | None = None) -> SimConfig:
     return from_flat(flat, where=str(path))
 
 
+def _flat_paths(obj, prefix=()):
+    out = []
+    for f in fields(obj):
+        value = getattr(obj, f.name)
+        out.extend(_flat_paths(value, prefix + (f.name,)) if is_dataclass(value) else [prefix + (f.name,)])
+    return out
+
+
+_FLAT_PATHS = []  # [(dotted name, (attribute, ...)), ...] of SimConfig (a fixed tree of dataclasses)
+
+
 def to_flat(config: SimConfig) -> dict:
     """SimConfig -> flat {dotted key: value} (the inverse of :func:`from_flat`)."""
+    if not _FLAT_PATHS:
+        _FLAT_PATHS.extend((".".join(p), p) for p in _flat_paths(SimConfig()))
     out = {}
-
-    def walk(obj, prefix):
-        for f in fields(obj):
-            value = getattr(obj, f.name)
-            if is_dataclass(value):
-                walk(value, prefix + f.name + ".")
-            else:
-                out[prefix + f.name] = value
-
-    walk(config, "")
+    for name, path in _FLAT_PATHS:
+        value = config
+        for attr in path:
+            value = getattr(value, attr)
+        out[name] = value
     return out

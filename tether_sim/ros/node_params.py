@@ -15,7 +15,7 @@ from rclpy.exceptions import ParameterUninitializedException
 from rclpy.parameter import Parameter
 
 from tether_sim.errors import ConfigError
-from tether_sim.io.params import from_flat, to_flat
+from tether_sim.io.params import check_values, from_flat, to_flat
 from tether_sim.io.schema import all_keys, key_map
 
 STANDARD_PARAMETERS = ("use_sim_time",)
@@ -65,7 +65,9 @@ def declare_all(node, where: str = "parameters", cli_keys=()):
     for name, value in raw.items():
         if value is None and name in keys and keys[name].kind.endswith("array"):
             raw[name] = ()  # an empty YAML list arrives untyped
-    from_flat({k: v for k, v in raw.items() if k in set(cli_keys)}, where="command-line -p override")
+    # each -p value on its own (type, range): it may only make sense with the file's keys
+    # (-p dg.n_elements:=4 over a file with dg.resolution: manual)
+    check_values({k: v for k, v in raw.items() if k in set(cli_keys)}, where="command-line -p override")
     config = from_flat(raw, where=where)  # names unknown / out-of-range keys and the file
     validated = to_flat(config)
     derived = [k for k, v in validated.items() if k not in raw and v != keys[k].default]  # dg.resolution auto

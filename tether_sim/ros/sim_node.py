@@ -12,6 +12,7 @@ import sys
 import time
 
 import numpy as np
+import yaml
 import rclpy
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
@@ -26,7 +27,8 @@ from visualization_msgs.msg import Marker
 
 from tether_sim.errors import ConfigError, TetherSimError
 from tether_sim.io.inputs import EndPoseInput
-from tether_sim.io.params import load_config
+from tether_sim.io.params import check_values, load_config
+from tether_sim.io.schema import key_map
 from tether_sim.physics.snap import NumericalSnapWarning, SnapDetector
 from tether_sim.ros import convert, node_params
 from tether_sim.ros.driver import END_NAMES, SimulationDriver
@@ -415,11 +417,35 @@ def params_files(argv) -> list:
     return files
 
 
-def check_params_files(files) -> None:
-    """Validate the tether_sim sections of parameter files (ConfigError names key and file)."""
+def cli_param_values(argv) -> dict:
+    """{name: value} of the ``-p NAME:=VALUE`` of ``argv`` that are tether_sim keys (values read as YAML,
+    as ROS reads them)."""
+    keys, out, in_ros = key_map(), {}, False
+    for i, a in enumerate(argv):
+        if a == "--ros-args":
+            in_ros = True
+        elif a == "--":
+            in_ros = False
+        elif in_ros and a in ("-p", "--param") and i + 1 < len(argv) and ":=" in argv[i + 1]:
+            name, _, text = argv[i + 1].partition(":=")
+            name = name.rsplit(":", 1)[-1]
+            if name in keys:
+                try:
+                    out[name] = yaml.safe_load(text) if text else ""
+                except yaml.YAMLError:
+                    out[name] = text
+    return out
+
+
+def check_params_files(files, overrides=None) -> None:
+    """Validate the tether_sim sections of parameter files with the command line's ``-p`` values over
+    them (``-p dg.resolution:=manual`` rescues a file the automatic mesh choice refuses); a ConfigError
+    names key and file."""
+    if overrides:
+        check_values(overrides, where="command-line -p override")
     for f in files:
         try:
-            load_config(f)
+            load_config(f, overrides)
         except ConfigError as exc:
             if "no 'tether_sim'" not in str(exc):  # a file for other nodes only is fine
                 raise
@@ -432,7 +458,7 @@ def main(args=None):
         return 0
     files = params_files(argv)
     try:
-        check_params_files(files)
+        check_params_files(files, cli_param_values(argv))
     except ConfigError as exc:
         print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
         return 2

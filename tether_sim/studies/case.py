@@ -22,7 +22,7 @@ from functools import lru_cache
 from pathlib import Path
 
 import tether_sim
-from tether_sim.io.params import load_config, to_flat
+from tether_sim.io.params import ParamFileOverlay, load_config, to_flat
 from tether_sim.studies.stats import TensionTap, end_statistics, event_rows
 
 # Columns that depend on the machine and the moment, not on the physics (left out of comparisons).
@@ -61,9 +61,15 @@ def case_key(config, code: dict) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:20]
 
 
-def make_task(case, study, code, out_dir) -> dict:
-    """Everything a worker needs for one case (plain data: it travels to other machines)."""
-    config = load_config(case.base, case.overrides)
+def make_task(case, study, code, out_dir, base_files=None) -> dict:
+    """Everything a worker needs for one case (plain data: it travels to other machines).
+    ``base_files`` ({path: ParamFileOverlay}) keeps each base file read once over the cases of a study."""
+    if base_files is None:
+        config = load_config(case.base, case.overrides)
+    else:
+        if case.base not in base_files:
+            base_files[case.base] = ParamFileOverlay(case.base)
+        config = base_files[case.base](case.overrides)
     key = case_key(config, code)
     mcap = str(Path(out_dir) / "mcap" / f"case{case.index:05d}_{key}.mcap") if study.keep.get("mcap") else None
     return {"key": key, "index": case.index, "study": study.name, "variables": dict(case.variables),

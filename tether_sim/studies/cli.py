@@ -45,11 +45,11 @@ def _list(args):
 
     study = load_study(args.study)
     out = args.out or default_out(study)
-    tasks, invalid, skipped, duplicates = plan(study, out, args.retry_failed)
+    tasks, invalid, skipped, duplicates = plan(study, out, args.retry_failed, stream=sys.stderr)
     pending = {t["index"] for t in tasks}
+    bad = {r["row"]["index"] for r in invalid}
     for case in study.cases():
-        state = "to run" if case.index in pending else "invalid" if any(
-            r["row"]["index"] == case.index for r in invalid) else "done/duplicate"
+        state = "to run" if case.index in pending else "invalid" if case.index in bad else "done/duplicate"
         values = ", ".join(f"{k}={v}" for k, v in case.variables.items())
         print(f"{case.index:5d}  {state:14s}  {case.base.name}  {values}")
     print(f"{len(tasks)} to run, {skipped} already in {out}, {len(invalid)} invalid, {len(duplicates)} duplicate")

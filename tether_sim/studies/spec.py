@@ -36,8 +36,12 @@ BLOCK_KINDS = ("grid", "zip", "random", "lhs")
 KEEP_DEFAULTS = {"mcap": False, "events": True}
 
 
+MAX_CASES = 100_000  # cases in one study file (the product of its blocks), checked before they are expanded
+MAX_FILE_BYTES = 1_000_000
+
+
 class StudyError(ConfigError):
-    """A study file is malformed; the message names the file and the entry."""
+    """A study file is malformed; the message (one line) names the file and the entry."""
 
 
 @dataclass(frozen=True)
@@ -59,17 +63,26 @@ class Study:
     set: dict = field(default_factory=dict)
     keep: dict = field(default_factory=lambda: dict(KEEP_DEFAULTS))
     description: str = ""
+    _cases: list = field(default=None, repr=False, compare=False)
 
     @property
     def variables(self) -> list:
         return [name for _, block in self.blocks for name in block]
 
+    def n_cases(self) -> int:
+        return math.prod(_length(block) for _, block in self.blocks)
+
     def cases(self) -> list:
-        """Every case: the cross product of the blocks (the first block varies slowest)."""
+        """Every case: the cross product of the blocks (the first block varies slowest); computed once."""
+        if self._cases is None:
+            self._cases = self._expand()
+        return self._cases
+
+    def _expand(self) -> list:
         keys = key_map()
         rows = [[{name: values[i] for name, values in block.items()} for i in range(_length(block))]
                 for _, block in self.blocks]
-        out = []
+        out, paths = [], {}
         for index, combo in enumerate(itertools.product(*rows)):
             variables = {k: v for part in combo for k, v in part.items()}
             overrides = {k: _coerce(keys[k], v, self, k) for k, v in variables.items() if k in keys}
@@ -78,14 +91,15 @@ class Study:
                     try:
                         value = evaluate(value.lstrip()[1:], variables)
                     except ExpressionError as exc:
-                        raise StudyError(f"{self.path}: set.{key}: {exc}") from None
+                        raise _err(self.path, f"set.{key}: {exc}") from None
                 overrides[key] = _coerce(keys[key], value, self, key)
             try:
                 base = self.base.format(**variables)
-            except (ValueError, TypeError) as exc:
-                raise StudyError(f"{self.path}: base {self.base!r}: {exc}") from None
-            path = Path(base) if Path(base).is_absolute() else self.path.parent / base
-            out.append(Case(index, variables, path.resolve(), overrides))
+            except (ValueError, TypeError, KeyError, IndexError, AttributeError) as exc:
+                raise _err(self.path, f"base {self.base!r}: {type(exc).__name__}: {exc}") from None
+            if base not in paths:
+                paths[base] = (Path(base) if Path(base).is_absolute() else self.path.parent / base).resolve()
+            out.append(Case(index, variables, paths[base], overrides))
         return out
 
 
@@ -99,7 +113,7 @@ def _coerce(key, value, study, name):
         value = value.item()
     if key.kind == "int" and isinstance(value, float):
         if not value.is_integer():
-            raise StudyError(f"{study.path}: {name}: expected an integer, got {value!r}")
+            raise _err(study.path, f"{name}: expected an integer, got {value!r}")
         value = int(value)
     if isinstance(value, tuple):
         value = list(value)
@@ -107,7 +121,11 @@ def _coerce(key, value, study, name):
 
 
 def _err(path, msg):
-    return StudyError(f"{path}: {msg}")
+    """One line: the file, the entry, the problem (long values shortened)."""
+    text = " ".join(str(msg).split())
+    if len(text) > 400:
+        text = text[:400] + "..."
+    return StudyError(f"{path}: {text}")
 
 
 def _values(path, where, values):
@@ -124,6 +142,8 @@ def _samples(path, kind, spec):
     n, seed, ranges = spec.get("n"), spec.get("seed", 0), spec["ranges"]
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise _err(path, f"{where}.n: expected a positive integer, got {n!r}")
+    if n > MAX_CASES:
+        raise _err(path, f"{where}.n: {n} samples is above the limit of {MAX_CASES} cases per study")
     if isinstance(seed, bool) or not isinstance(seed, int):
         raise _err(path, f"{where}.seed: expected an integer, got {seed!r}")
     if not isinstance(ranges, dict) or not ranges:
@@ -165,28 +185,47 @@ def _blocks(path, vary, seeds):
                 raise _err(path, "vary.zip: the lists must have equal lengths, got "
                            + ", ".join(f"{k}: {len(v)}" for k, v in block.items()))
             if kind == "grid":  # full factorial within the block
+                _check_count(path, f"vary.{kind}", math.prod(len(v) for v in block.values()))
                 names = list(block)
                 combos = list(itertools.product(*block.values()))
                 block = {name: [c[j] for c in combos] for j, name in enumerate(names)}
             blocks.append((kind, block))
     if seeds is not None:
         if isinstance(seeds, int) and not isinstance(seeds, bool) and seeds > 0:
+            _check_count(path, "seeds", seeds)
             seeds = list(range(seeds))
         if not isinstance(seeds, list) or not seeds or not all(isinstance(s, int) and not isinstance(s, bool) for s in seeds):
             raise _err(path, f"seeds: expected a list of integers or a positive count, got {seeds!r}")
         blocks.append(("seeds", {"seed": seeds}))
+    _check_count(path, "vary", math.prod(_length(b) for _, b in blocks))
     return blocks
+
+
+def _check_count(path, where, n):
+    if n > MAX_CASES:
+        raise _err(path, f"{where}: {n} cases is above the limit of {MAX_CASES} cases per study file "
+                   "(split the study into several files)")
 
 
 def load_study(path) -> Study:
     """Read and check a study file (every case is expanded once here, so errors show up front)."""
     path = Path(path).resolve()
     try:
-        doc = yaml.safe_load(path.read_text())
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise _err(path, f"{size} bytes is above the limit of {MAX_FILE_BYTES} bytes for a study file")
+        doc = yaml.safe_load(path.read_bytes().decode("utf-8"))
     except OSError as exc:
         raise _err(path, f"cannot read study file ({exc})") from None
+    except UnicodeDecodeError as exc:
+        raise _err(path, f"not a text file (UTF-8): byte {exc.start} cannot be decoded") from None
     except yaml.YAMLError as exc:
-        raise _err(path, f"malformed YAML ({exc})") from None
+        mark = getattr(exc, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+        problem = getattr(exc, "problem", None) or exc
+        raise _err(path, f"malformed YAML{where}: {problem}") from None
+    except RecursionError:
+        raise _err(path, "malformed YAML: nested too deeply") from None
     if not isinstance(doc, dict):
         raise _err(path, "expected a mapping at the top level")
     unknown = set(doc) - set(TOP_KEYS)
@@ -201,14 +240,14 @@ def load_study(path) -> Study:
     if dupes:
         raise _err(path, f"variables varied twice: {sorted(dupes)}")
     for n in names:
-        if n not in keys and not n.isidentifier():
+        if not isinstance(n, str) or (n not in keys and not n.isidentifier()):
             raise _err(path, f"vary: {n!r} is neither a parameter key nor a plain name")
     settings = doc.get("set") or {}
     if not isinstance(settings, dict):
         raise _err(path, "set: expected a mapping parameter key -> value")
     used = set()
     for key, value in settings.items():
-        if key not in keys:
+        if not isinstance(key, str) or key not in keys:
             raise _err(path, f"set: unknown parameter {key!r}")
         if key in names:
             raise _err(path, f"set: {key!r} is also varied")
@@ -217,7 +256,10 @@ def load_study(path) -> Study:
                 used |= names_in(value.lstrip()[1:])
             except ExpressionError as exc:
                 raise _err(path, f"set.{key}: {exc}") from None
-    fields_ = {f for _, f, _, _ in string.Formatter().parse(doc["base"]) if f is not None}
+    try:
+        fields_ = {f for _, f, _, _ in string.Formatter().parse(doc["base"]) if f is not None}
+    except ValueError as exc:
+        raise _err(path, f"base {doc['base']!r}: {exc}") from None
     if not fields_ <= set(names):
         raise _err(path, f"base: fields {sorted(fields_ - set(names))} are not study variables")
     used |= fields_
@@ -225,6 +267,8 @@ def load_study(path) -> Study:
     if unused:
         raise _err(path, f"variables {unused} are neither parameters nor used in base or set")
     keep = dict(KEEP_DEFAULTS)
+    if not isinstance(doc.get("keep") or {}, dict) or not all(isinstance(v, bool) for v in (doc.get("keep") or {}).values()):
+        raise _err(path, f"keep: expected a mapping of {', '.join(KEEP_DEFAULTS)} to true or false")
     extra = set(doc.get("keep") or {}) - set(KEEP_DEFAULTS)
     if extra:
         raise _err(path, f"keep: unknown entries {sorted(extra)} (allowed: {', '.join(KEEP_DEFAULTS)})")
