@@ -261,10 +261,3 @@ def test_no_waves_is_empty_and_still():
     assert comp.n == 0 and no_waves().n == 0
     eta, u, acc = _kin(comp, 1.0, 2.0, -3.0, 4.0)
     assert eta == 0.0 and not u.any() and not acc.any()
-
-
-def test_the_hybrid_solver_refuses_waves_instead_of_ignoring_them():
-    from tether_sim.solvers.factory import build_solver
-
-    with pytest.raises(ValueError, match="DG solver only"):
-        build_solver(replace(_config(kind="regular"), solver="hybrid"))
