@@ -1,6 +1,6 @@
 """Bending effect on the first snap peak at L = 200 m: DG mesh refinement against MoorDyn.
 
-Question (session 7): at L = 200 m MoorDyn's bending effect on the first snap peak,
+Question (2026-11-25): at L = 200 m MoorDyn's bending effect on the first snap peak,
 (peak(EI*) - peak(0)) / peak(0), is +0.05 % at N = 40 segments but +0.58 / +0.64 % at N = 80 / 160
 (benchmarks/moordyn_bending_rungs.py), whereas the DG ladder's reference (N = 10, P = 4, dg.cfl 0.5)
 gives +0.03 %. Does the DG effect grow with refinement towards MoorDyn's?

@@ -1,4 +1,4 @@
-"""Issue 15 item 4: linear modes of a held arc about its discrete equilibrium, by q penalty.
+"""Linear modes of a held arc about its discrete equilibrium, by q penalty.
 
 The held arc of benchmarks/hybrid_held_arc.py (L = 325 m, ends fixed at (0, 0, -50) and
 (300, 0, -150), EI = 2620 N m^2, no material damping) with a stiff (EA = 455 MN) and a soft

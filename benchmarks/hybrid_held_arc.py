@@ -1,4 +1,4 @@
-"""Issue 15 item 5: the hybrid solver on a fixed-fixed, low-tension, stiff arc with bending.
+"""The hybrid solver on a fixed-fixed, low-tension, stiff arc with bending.
 
 Case: ROPOS tether properties with EA = 455 MN (10x ROPOS) and EI = 2620 N m^2, L = 325 m between a
 ship end at (0, 0, -50) and a fixed end at (300, 0, -150) (chord 316.2 m): end tensions ~11 and ~9 kN,

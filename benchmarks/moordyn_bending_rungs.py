@@ -1,7 +1,7 @@
 """MoorDyn's first-snap-peak segment ladder with and without bending stiffness.
 
 bench_vs_moordyn takes MoorDyn N = 40 as MoorDyn's 1 % rung (BENCHMARKS.md "Accuracy against
-cost", measured with EI = 0). Since session 7 it times MoorDyn with the DG row's bending stiffness
+cost", measured with EI = 0). Since 2026-11-25 it times MoorDyn with the DG row's bending stiffness
 EI = alpha * EI_STAR, so this script checks that N = 40 is still within 1 % with alpha = 1: for
 each length, one run per segment count N and alpha (0 and 1) of ``bench_moordyn.run_moordyn``
 (``--duration`` s, 200 Hz coupling, RK2 at ``ropos_case.moordyn_time_step``, as bench_moordyn.ladder

@@ -1,5 +1,5 @@
-"""Issue 15 item 4: the q-equation penalty form on the ROPOS snap (tension jump, the default since
-session 4, against PE2020 Eq. 24's lambda/2 [q]).
+"""The q-equation penalty form on the ROPOS snap (tension jump, the default since
+2026-11-23, against PE2020 Eq. 24's lambda/2 [q]).
 
 Runs the ROPOS case (cage body, circular fairlead a = 2 m, f = 0.2 Hz; benchmarks/ropos_case.py)
 with dg.q_penalty_jump = strain and = tension for alpha = 0 and 1 and prints the first snap peak

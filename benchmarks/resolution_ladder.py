@@ -6,16 +6,16 @@ factor alpha, vehicle end) the ROPOS slack-snap run of ``ropos_case`` (circular 
 a = 2 m, f = 0.2 Hz, ramped over the first period) is run for ``--duration`` simulated seconds on
 
 * the reference: N_ref = max(10, ceil(L / 20 m)) elements, P = 4, dg.cfl 0.5 (the converged
-  explicit run, h <= 20 m; session 2 found N = 3 within 0.1 % of N = 20 at L = 200 m);
+  explicit run, h <= 20 m; on 2026-11-21 N = 3 was found within 0.1 % of N = 20 at L = 200 m);
 * the candidate rungs: N = 1, 2, 3, 4, 6, 8, 12, 16, 24, 32 (below N_ref) at P = 4 and dg.cfl 0.8;
   with ``--variants`` also N = 2 and 3 at dg.cfl 0.5 (the time-step part of the error) and
-  N = 2, 3, 4 at P = 3; with ``--orders`` (session 4) the P = 3 (N = 1-32) and P = 2 (N = 2-32)
+  N = 2, 3, 4 at P = 3; with ``--orders`` (2026-11-23) the P = 3 (N = 1-32) and P = 2 (N = 2-32)
   ladders at dg.cfl 0.8 and N = 2-8 at dg.cfl 0.65 and 1.0 (P = 3, 4) and N = 4-8 at dg.cfl 0.5;
   ``--extra N:P:cfl`` adds single rungs (975 m: N = 40, 48 at P = 3, 4).
 
 Metric (both ends): the largest end tension in the first full-amplitude period (5-10 s, the first
-slack-snap event), interpolated onto a common 200 Hz grid (``grid``: like-for-like with session 2's
-tables); the error of a rung is the relative difference to the reference, the worse of the two
+slack-snap event), interpolated onto a common 200 Hz grid (``grid``: like-for-like with the tables
+of 2026-11-21); the error of a rung is the relative difference to the reference, the worse of the two
 ends. The substep record's maximum (``raw``) is stored too but not used: the finest references
 (h ~ 20 m) show one-substep spikes where a slack end re-tensions (171 kN for one 7e-5 s substep
 at the L = 1730 m cage, absent at N = 20 and 40, whose peaks agree to 0.05 %). Cost: thread CPU per

@@ -159,7 +159,7 @@ RULE_TEXT = """\
    dg.cfl 0.5 / 0.65 / 1.0 ladders (N = 2-8) count at 100 and 200 m only.
 2. **Between measured lengths**: the same (P, cfl, N) must satisfy 1 at both bracketing lengths.
 3. **dg.cfl at most 0.8**: 1.0 is the calibrated stability limit itself (straight taut cable) and
-   session 2 measured +68 % at cfl 1.1. The measured dg.cfl rungs below show that at the coarse
+   a run of 2026-11-21 measured +68 % at cfl 1.1. The measured dg.cfl rungs below show that at the coarse
    meshes the error is spatial: cfl 0.5 and 0.65 are not more accurate than 0.8 (e.g. 975 m,
    P = 4, N = 3: 2.07 / 1.85 / 1.65 % at cfl 0.5 / 0.65 / 0.8), so a smaller factor only costs.
 4. **The cheapest** of the rungs that pass, by the cost model: substeps per simulated second from

@@ -14,8 +14,10 @@ Arguments (``ros2 launch tether_sim tether_sim.launch.py --show-args`` lists the
   output are given here directly.
 - ``namespace``: namespace of every node started here. The node's topics are relative
   (``tether/state`` -> ``/<namespace>/tether/state``); /tf, /tf_static, /diagnostics and /clock
-  stay global. Give each tether distinct frames too (``node.vehicle_frame`` ...): frames are not
-  namespaced.
+  stay global. Frames are not namespaced: see ``frame_prefix``.
+- ``frame_prefix``: prefix of the node's frames (``node.frame_prefix``: body, attachment and tether
+  frames, not the world frame); default ``<namespace>/`` in a namespace (``rov1/ship/base_link``...),
+  none in the root namespace, so that two tethers launched in two namespaces never share a frame.
 - ``use_sim_time``: run on /clock (default: true when ``replay`` is true, else false).
 - ``record``, ``output``: also start tether-sim-record (config/recorder.yaml topics) writing ``output``.
 - ``replay``, ``input``, ``rate``: also start tether-sim-replay of ``input`` (an MCAP file with
@@ -23,8 +25,10 @@ Arguments (``ros2 launch tether_sim tether_sim.launch.py --show-args`` lists the
   remapped into ``namespace``.
 
 Checked without ROS 2's launch packages (none exists as a wheel on the package registry):
-test/ros/test_launch_files.py parses this file and checks the arguments, executables and
-parameters against setup.py and config/; with a ROS 2 install, ``--show-args`` checks it for real.
+test/test_launch_and_layouts.py runs this file through a model of what ``ros2 launch`` does with
+it (declarations evaluated in order, every substitution resolved, conditions parsed, executables
+looked up in ``<prefix>/lib/tether_sim/`` through the ament index, parameter files opened); with a
+ROS 2 install, ``--show-args`` checks it for real.
 """
 
 from launch import LaunchDescription
@@ -44,10 +48,13 @@ RECORDED_TOPICS = ["tether/state", "tether/snap_events", "tether/slack_warnings"
 ARGUMENTS = (
     ("params_file", None, "parameter file of tether-sim (default: config/ropos_L200.yaml of the package)"),
     ("namespace", "", "namespace of the nodes; topics are relative, /tf /tf_static /diagnostics /clock global"),
+    ("frame_prefix", None, "prefix of the node's frames (node.frame_prefix; default '<namespace>/', none in the root namespace)"),
+    # launch evaluates a default when its declaration runs: 'replay' is declared before
+    # 'use_sim_time', whose default reads it
+    ("replay", "false", "also start tether-sim-replay of 'input', publishing /clock"),
     ("use_sim_time", None, "run on /clock (default: true with replay:=true, else false)"),
     ("record", "false", "also start tether-sim-record (topics of config/recorder.yaml)"),
     ("output", "recording.mcap", "MCAP file the recorder writes"),
-    ("replay", "false", "also start tether-sim-replay of 'input', publishing /clock"),
     ("input", "", "MCAP file to replay (PoseStamped on /ship/pose and/or /vehicle/pose)"),
     ("rate", "1.0", "replay speed factor"),
 )
@@ -56,8 +63,11 @@ ARGUMENTS = (
 def generate_launch_description():
     share = FindPackageShare(PACKAGE)
     arg = LaunchConfiguration
+    # the namespace without slashes, then '<namespace>/' (or '' in the root namespace)
+    bare_ns = ["'", arg("namespace"), "'.strip('/')"]
     defaults = {
         "params_file": PathJoinSubstitution([share, "config", "ropos_L200.yaml"]),
+        "frame_prefix": PythonExpression(bare_ns + [" + '/' if "] + bare_ns + [" else ''"]),
         "use_sim_time": arg("replay"),
     }
     declared = [DeclareLaunchArgument(name, default_value=defaults[name] if default is None else default,
@@ -68,7 +78,8 @@ def generate_launch_description():
                                   "'.strip('/') else ''"])
     simulation = Node(
         package=PACKAGE, executable="tether-sim", name="tether_sim", namespace=arg("namespace"),
-        parameters=[arg("params_file"), {"use_sim_time": sim_time}], output="screen", emulate_tty=True)
+        parameters=[arg("params_file"), {"use_sim_time": sim_time, "node.frame_prefix": arg("frame_prefix")}],
+        output="screen", emulate_tty=True)
     recorder = Node(
         package=PACKAGE, executable="tether-sim-record", name="tether_sim_recorder",
         namespace=arg("namespace"), condition=IfCondition(arg("record")),

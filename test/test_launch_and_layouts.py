@@ -1,10 +1,12 @@
 """launch/tether_sim.launch.py, rviz/tether_sim.rviz and foxglove/tether_sim.json, checked without
 ROS 2's launch, RViz or Foxglove (none runs here):
 
-- the launch file is executed against stand-ins of the launch / launch_ros classes that record
-  what they are given: every argument it uses is declared, the executables are console scripts of
-  setup.py, the config files exist, its recorder topics equal config/recorder.yaml's, and its
-  namespace / sim-time expressions evaluate as intended;
+- the launch file runs through a model of what `ros2 launch` (launch 3.4 / launch_ros 0.26) does
+  with it: the declarations in order, each default evaluated when its declaration runs (a default
+  that reads an argument declared later fails, as launch fails), every substitution resolved,
+  conditions parsed as launch parses them, parameter files opened, and each executable looked up
+  in <prefix>/lib/tether_sim/ through the ament index (where launch_ros looks, not the venv's bin/);
+  with no arguments, the README's arguments and a replay;
 - the RViz config parses as YAML, uses RViz 2's default display classes, shows the tether marker,
   both wrenches and the snap markers on topics the node publishes, in the node's world frame;
 - the Foxglove layout parses, its layout tree and panel configs agree, and every plotted path is a
@@ -13,6 +15,8 @@ ROS 2's launch, RViz or Foxglove (none runs here):
 
 import ast
 import json
+import math
+import os
 import sys
 import types
 from pathlib import Path
@@ -35,63 +39,164 @@ NODE_TOPICS = {  # what the node publishes (root namespace) -> message type (pac
     "/tf": "tf2_msgs/msg/TFMessage", "/diagnostics": "diagnostic_msgs/msg/DiagnosticArray"}
 
 
-# ------------------------------------------------------------------ launch file, with stand-ins
-class Sub:
-    """A substitution stand-in: ``render(values)`` gives the string launch would produce."""
-
-    def __init__(self, kind, value):
-        self.kind, self.value = kind, value
-
-    def render(self, values):
-        if self.kind == "arg":
-            return values[self.value]
-        parts = "".join(render(v, values) for v in self.value)
-        if self.kind == "join":
-            return "/".join(render(v, values) for v in self.value)
-        if self.kind == "python":
-            return str(eval(parts))  # noqa: S307 - the launch file's own expression, as launch does
-        return parts
+# ------------------------------------------------------------------ launch file, through a model of launch
+class LaunchError(Exception):
+    """What launch raises; the messages follow launch 3.4 / launch_ros 0.26 (Jazzy)."""
 
 
-def render(item, values):
-    if isinstance(item, Sub):
-        return item.render(values)
+class Context:
+    def __init__(self, arguments):
+        self.configs = dict(arguments)  # `ros2 launch ... name:=value` are set before the file runs
+        self.started = []
+
+
+def perform(item, context) -> str:
+    """A launch 'SomeSubstitutionsType' (text, substitution or a list of both) as launch renders it."""
     if isinstance(item, (list, tuple)):
-        return "".join(render(v, values) for v in item)
-    return str(item)
+        return "".join(perform(v, context) for v in item)
+    if isinstance(item, str):
+        return item
+    return item.perform(context)
 
 
-@pytest.fixture
-def launch_description(monkeypatch):
-    made = {"args": [], "nodes": [], "used": set()}
+class LaunchConfiguration:
+    def __init__(self, name):
+        self.name = name
 
-    def configuration(name):
-        made["used"].add(name)
-        return Sub("arg", name)
+    def perform(self, context):
+        if self.name not in context.configs:
+            raise LaunchError(f"launch configuration '{self.name}' does not exist")
+        return context.configs[self.name]
 
-    class Node:
-        def __init__(self, **kwargs):
-            made["nodes"].append(kwargs)
 
+class PathJoinSubstitution:
+    def __init__(self, parts):
+        self.parts = parts
+
+    def perform(self, context):
+        return os.path.join(*[perform(p, context) for p in self.parts])
+
+
+class PythonExpression:
+    def __init__(self, parts):
+        self.parts = parts
+
+    def perform(self, context):
+        text = perform(self.parts, context)
+        try:
+            return str(eval(text, {"math": math}))  # noqa: S307 - what launch's PythonExpression does
+        except Exception as error:  # noqa: BLE001 - launch reports every failure of the expression
+            raise LaunchError(f"PythonExpression {text!r} failed: {error}") from error
+
+
+class FindPackageShare:
+    def __init__(self, package):
+        self.package = package
+
+    def perform(self, context):
+        from ament_index_python.packages import PackageNotFoundError, get_package_share_directory
+        try:
+            return get_package_share_directory(self.package)
+        except PackageNotFoundError as error:
+            raise LaunchError(f"package '{self.package}' not found") from error
+
+
+class IfCondition:
+    def __init__(self, predicate):
+        self.predicate = predicate
+
+    def evaluate(self, context):
+        text = perform(self.predicate, context).strip().lower()
+        if text not in ("true", "false", "1", "0"):
+            raise LaunchError(f"Unknown condition '{text}': expected true, false, 1 or 0")
+        return text in ("true", "1")
+
+
+class DeclareLaunchArgument:
+    def __init__(self, name, default_value=None, description=None):
+        self.name, self.default_value, self.description = name, default_value, description
+
+    def execute(self, context):  # the default is evaluated here, in declaration order
+        if self.name not in context.configs:
+            if self.default_value is None:
+                raise LaunchError(f"Required launch argument '{self.name}' was not provided")
+            context.configs[self.name] = perform(self.default_value, context)
+
+
+class Node:
+    def __init__(self, *, package, executable, name=None, namespace=None, parameters=(), remappings=(),
+                 condition=None, output=None, emulate_tty=False):
+        self.package, self.executable, self.name, self.namespace = package, executable, name, namespace
+        self.parameters, self.remappings, self.condition = list(parameters), list(remappings), condition
+
+    def execute(self, context):
+        if self.condition is not None and not self.condition.evaluate(context):
+            return
+        # launch_ros' ExecutableInPackage: <prefix of the package>/lib/<package>/<executable>
+        from ament_index_python.packages import PackageNotFoundError, get_package_prefix
+        try:
+            prefix = get_package_prefix(self.package)
+        except PackageNotFoundError as error:
+            raise LaunchError(f"package '{self.package}' not found") from error
+        libexec = os.path.join(prefix, "lib", self.package)
+        path = os.path.join(libexec, self.executable)
+        if not (os.path.isfile(path) and os.access(path, os.X_OK)):
+            raise LaunchError(f"executable '{self.executable}' not found on the libexec directory '{libexec}'")
+        parameters = []
+        for item in self.parameters:
+            if isinstance(item, dict):  # substitutions are evaluated, then read as YAML; plain values kept
+                parameters.append({k: v if isinstance(v, (bool, int, float)) or
+                                   (isinstance(v, list) and all(isinstance(x, str) for x in v))
+                                   else yaml.safe_load(perform(v, context) or "''") for k, v in item.items()})
+            else:
+                file = perform(item, context)
+                if not os.path.isfile(file):
+                    raise LaunchError(f"Unable to find parameter file '{file}'")
+                parameters.append(file)
+        context.started.append({
+            "executable": self.executable, "path": path, "name": self.name,
+            "namespace": perform(self.namespace, context) if self.namespace is not None else "",
+            "parameters": parameters,
+            "remappings": {perform(a, context): perform(b, context) for a, b in self.remappings}})
+
+
+def launch_module(monkeypatch):
+    """The launch file's module, its `launch` / `launch_ros` imports bound to the model above."""
     modules = {
-        "launch": {"LaunchDescription": lambda entities: entities},
-        "launch.actions": {"DeclareLaunchArgument": lambda name, **kw: made["args"].append((name, kw))},
-        "launch.conditions": {"IfCondition": lambda predicate: ("if", predicate)},
-        "launch.substitutions": {"LaunchConfiguration": configuration,
-                                 "PathJoinSubstitution": lambda parts: Sub("join", parts),
-                                 "PythonExpression": lambda parts: Sub("python", parts)},
-        "launch_ros.actions": {"Node": Node},
-        "launch_ros.substitutions": {"FindPackageShare": lambda pkg: Sub("text", [f"<share:{pkg}>"])},
+        "launch": {"LaunchDescription": lambda entities: list(entities)},
+        "launch.actions": {"DeclareLaunchArgument": DeclareLaunchArgument},
+        "launch.conditions": {"IfCondition": IfCondition},
+        "launch.substitutions": {"LaunchConfiguration": LaunchConfiguration,
+                                 "PathJoinSubstitution": PathJoinSubstitution, "PythonExpression": PythonExpression},
+        "launch_ros": {}, "launch_ros.actions": {"Node": Node},
+        "launch_ros.substitutions": {"FindPackageShare": FindPackageShare},
     }
     for name, attrs in modules.items():
         module = types.ModuleType(name)
         module.__dict__.update(attrs)
         monkeypatch.setitem(sys.modules, name, module)
-    monkeypatch.setitem(sys.modules, "launch_ros", types.ModuleType("launch_ros"))
     namespace = {}
     exec(compile(LAUNCH.read_text(), str(LAUNCH), "exec"), namespace)  # noqa: S102
-    entities = namespace["generate_launch_description"]()
-    return made, entities, namespace
+    return namespace
+
+
+def ros2_launch(entities, arguments=()) -> Context:
+    """What `ros2 launch tether_sim tether_sim.launch.py a:=b ...` does: the entities in order."""
+    context = Context(a.split(":=", 1) for a in arguments)
+    for entity in entities:
+        entity.execute(context)
+    return context
+
+
+@pytest.fixture
+def launch(monkeypatch):
+    pytest.importorskip("ament_index_python", reason="the executable lookup needs the ament index of the venv")
+    from ament_index_python.packages import PackageNotFoundError, get_package_prefix
+    try:
+        get_package_prefix("tether_sim")
+    except PackageNotFoundError:
+        pytest.skip("tether_sim is not in the ament index here (set up by `make setup`)")
+    return launch_module(monkeypatch)
 
 
 def console_scripts():
@@ -104,36 +209,86 @@ def console_scripts():
     raise AssertionError("no console_scripts in setup.py")
 
 
-def test_launch_file_arguments_executables_and_files(launch_description):
-    made, entities, namespace = launch_description
-    declared = {name for name, _ in made["args"]}
-    assert declared == {"params_file", "namespace", "use_sim_time", "record", "output", "replay", "input", "rate"}
-    assert made["used"] <= declared, made["used"] - declared
-    assert all(kw.get("description") for _, kw in made["args"])
-    nodes = {n["executable"]: n for n in made["nodes"]}
-    assert set(nodes) == {"tether-sim", "tether-sim-record", "tether-sim-replay"}
-    assert set(nodes) <= console_scripts()
-    assert all(n["package"] == "tether_sim" for n in made["nodes"])
-    values = {"params_file": "p.yaml", "namespace": "rov1", "use_sim_time": "true", "record": "true",
-              "output": "o.mcap", "replay": "true", "input": "i.mcap", "rate": "0.5"}
-    for n in made["nodes"]:  # every config file the launch file names exists in config/
-        for p in n.get("parameters", []):
-            if isinstance(p, Sub) and p.kind == "join":
-                path = render(p, values).split("<share:tether_sim>/", 1)[-1]
-                assert (ROOT / path).is_file(), path
-    default = dict(made["args"])["params_file"]["default_value"]
-    assert (ROOT / render(default, values).split("<share:tether_sim>/", 1)[-1]).is_file()
-    recorder_yaml = yaml.safe_load((ROOT / "config/recorder.yaml").read_text())
-    assert namespace["RECORDED_TOPICS"] == recorder_yaml["tether_sim_recorder"]["ros__parameters"]["topics"]
-    # the sim-time switch and the replay's remap into the namespace
-    sim = nodes["tether-sim"]["parameters"][1]["use_sim_time"]
-    assert render(sim, values) == "True" and render(sim, dict(values, use_sim_time="false")) == "False"
-    remaps = dict((render(a, values), render(b, values)) for a, b in nodes["tether-sim-replay"]["remappings"])
-    assert remaps == {"/ship/pose": "/rov1/ship/pose", "/vehicle/pose": "/rov1/vehicle/pose"}
-    remaps = dict((render(a, values), render(b, dict(values, namespace=""))) for a, b in
-                  nodes["tether-sim-replay"]["remappings"])
-    assert remaps == {"/ship/pose": "/ship/pose", "/vehicle/pose": "/vehicle/pose"}
-    assert render(nodes["tether-sim"]["namespace"], values) == "rov1"
+def readme_launch_arguments():
+    """The arguments of the README's `ros2 launch tether_sim tether_sim.launch.py ...` line."""
+    for line in (ROOT / "README.md").read_text().splitlines():
+        words = line.split("#", 1)[0].split()
+        if words[:4] == ["ros2", "launch", "tether_sim", "tether_sim.launch.py"]:
+            return words[4:]
+    raise AssertionError("no ros2 launch line in README.md")
+
+
+def test_launch_file_runs_with_its_defaults_and_the_readme_arguments(launch):
+    entities = launch["generate_launch_description"]()
+    declarations = [e for e in entities if isinstance(e, DeclareLaunchArgument)]
+    assert {d.name for d in declarations} == {"params_file", "namespace", "frame_prefix", "use_sim_time", "record",
+                                              "output", "replay", "input", "rate"}
+    assert all(d.description for d in declarations)
+    nodes = [e for e in entities if isinstance(e, Node)]
+    assert {n.executable for n in nodes} == {"tether-sim", "tether-sim-record", "tether-sim-replay"} <= console_scripts()
+
+    # no argument at all: the node alone, on wall time, with the package's default parameter file
+    context = ros2_launch(entities)
+    (sim,) = context.started
+    assert sim["executable"] == "tether-sim" and sim["namespace"] == ""
+    assert Path(sim["parameters"][0]).resolve() == (ROOT / "config" / "ropos_L200.yaml").resolve()
+    assert sim["parameters"][1] == {"use_sim_time": False, "node.frame_prefix": ""}
+    # the README's line: node and recorder in /rov1, recording the config/recorder.yaml topics
+    arguments = readme_launch_arguments()
+    assert "namespace:=rov1" in arguments and "record:=true" in arguments
+    context = ros2_launch(launch["generate_launch_description"](), arguments)
+    started = {n["executable"]: n for n in context.started}
+    assert set(started) == {"tether-sim", "tether-sim-record"}
+    assert {n["namespace"] for n in started.values()} == {"rov1"}
+    assert started["tether-sim"]["parameters"][1]["node.frame_prefix"] == "rov1/"  # frames apart per tether
+    recorder = started["tether-sim-record"]["parameters"]
+    recorder_yaml = yaml.safe_load(Path(recorder[0]).read_text())
+    assert recorder[1]["topics"] == recorder_yaml["tether_sim_recorder"]["ros__parameters"]["topics"]
+    assert recorder[1]["output"] == dict(a.split(":=") for a in arguments)["output"]
+    # a replay: sim time for node and recorder, the replay's pose topics moved into the namespace
+    context = ros2_launch(launch["generate_launch_description"](),
+                          ["namespace:=/rov2/", "replay:=true", "record:=true", "input:=i.mcap", "rate:=0.5"])
+    started = {n["executable"]: n for n in context.started}
+    assert started["tether-sim"]["parameters"][1] == {"use_sim_time": True, "node.frame_prefix": "rov2/"}
+    assert started["tether-sim-record"]["parameters"][1]["use_sim_time"] is True
+    assert started["tether-sim-replay"]["remappings"] == {"/ship/pose": "/rov2/ship/pose",
+                                                          "/vehicle/pose": "/rov2/vehicle/pose"}
+    assert started["tether-sim-replay"]["parameters"][1] == {"input": "i.mcap", "rate": 0.5, "use_sim_time": False}
+    context = ros2_launch(launch["generate_launch_description"](),
+                          ["replay:=true", "use_sim_time:=false", "namespace:=rov3", "frame_prefix:=a/"])
+    started = {n["executable"]: n for n in context.started}
+    assert started["tether-sim"]["parameters"][1] == {"use_sim_time": False, "node.frame_prefix": "a/"}
+    context = ros2_launch(launch["generate_launch_description"](), ["replay:=true"])
+    started = {n["executable"]: n for n in context.started}
+    assert started["tether-sim-replay"]["remappings"] == {"/ship/pose": "/ship/pose", "/vehicle/pose": "/vehicle/pose"}
+
+
+def test_launch_model_catches_order_lookup_and_condition_errors(launch, tmp_path, monkeypatch):
+    """The model fails where ros2 launch fails: the checks above can fail."""
+    entities = launch["generate_launch_description"]()
+    declarations = [e for e in entities if isinstance(e, DeclareLaunchArgument)]
+    # a default reading an argument declared after it (this file's use_sim_time before replay)
+    reordered = sorted(declarations, key=lambda d: d.name != "use_sim_time") + \
+        [e for e in entities if not isinstance(e, DeclareLaunchArgument)]
+    with pytest.raises(LaunchError, match="launch configuration 'replay' does not exist"):
+        ros2_launch(reordered)
+    ros2_launch(reordered, ["replay:=false"])  # given on the command line, the order does not matter
+    with pytest.raises(LaunchError, match="Unknown condition 'yes'"):
+        ros2_launch(launch["generate_launch_description"](), ["record:=yes"])
+    with pytest.raises(LaunchError, match="Unable to find parameter file"):
+        ros2_launch(launch["generate_launch_description"](), [f"params_file:={tmp_path / 'missing.yaml'}"])
+    # an executable where pip puts it (<prefix>/bin) but not in <prefix>/lib/<package>
+    prefix = tmp_path / "prefix"
+    (prefix / "share" / "ament_index" / "resource_index" / "packages").mkdir(parents=True)
+    (prefix / "share" / "ament_index" / "resource_index" / "packages" / "tether_sim").write_text("")
+    (prefix / "share" / "tether_sim" / "config").mkdir(parents=True)
+    (prefix / "share" / "tether_sim" / "config" / "ropos_L200.yaml").write_text("{}\n")
+    (prefix / "bin").mkdir()
+    (prefix / "bin" / "tether-sim").write_text("#!/bin/sh\n")
+    (prefix / "bin" / "tether-sim").chmod(0o755)
+    monkeypatch.setenv("AMENT_PREFIX_PATH", str(prefix))
+    with pytest.raises(LaunchError, match="executable 'tether-sim' not found on the libexec directory"):
+        ros2_launch(launch["generate_launch_description"]())
 
 
 # ------------------------------------------------------------------ RViz

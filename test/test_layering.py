@@ -1,6 +1,7 @@
 """The layering of tether_sim, checked on the source (ast; nothing is imported).
 
-``physics``, ``numerics`` (leaves) <- ``solvers`` <- ``config`` <- ``io``, ``scenarios`` <- ``ros``.
+``physics``, ``numerics`` (leaves) <- ``solvers`` <- ``config`` <- ``io``, ``scenarios`` <- ``ros``;
+``network`` (line networks over the solver interface) sits on ``io`` and below ``scenarios``, ``ros``.
 Nothing outside ``tether_sim/ros/`` imports rclpy or a ROS message package, so the solvers,
 the offline runner and the tests run without ROS. Imports inside functions and
 ``importlib.import_module("...")`` with a literal name count too.
@@ -18,11 +19,13 @@ PACKAGE = ROOT / "tether_sim"
 ROS_MODULE = re.compile(r"^(rclpy|rosidl_\w+|\w+_interfaces|\w+_msgs)(\.|$)")
 # subpackage -> tether_sim subpackages it must not import
 FORBIDDEN = {
-    "physics": ("solvers", "io", "ros", "scenarios", "config"),
-    "numerics": ("solvers", "io", "ros", "scenarios", "config"),
-    "solvers": ("io", "ros", "scenarios"),
-    "config": ("io", "ros", "scenarios"),
-    "io": ("ros",),
+    "physics": ("solvers", "io", "ros", "scenarios", "config", "network"),
+    "numerics": ("solvers", "io", "ros", "scenarios", "config", "network"),
+    "solvers": ("io", "ros", "scenarios", "network"),
+    "config": ("io", "ros", "scenarios", "network"),
+    "io": ("ros", "network"),
+    "network": ("ros", "scenarios"),
+    "forecast": ("io", "ros", "scenarios", "network"),
     "scenarios": ("ros",),
     "spec": ("solvers", "io", "ros", "scenarios", "config", "physics", "numerics"),
     "errors": ("solvers", "io", "ros", "scenarios", "config", "physics", "numerics"),

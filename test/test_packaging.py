@@ -19,6 +19,7 @@ ROOT = Path(__file__).resolve().parent.parent
 PACKAGE = "tether_sim"
 
 # Python distribution (setup.py install_requires) -> rosdep key in package.xml
+# (mcap has no key of its own: mcap-ros2-support's key installs it as a pip dependency)
 ROSDEP_KEY = {
     "numpy": "python3-numpy",
     "scipy": "python3-scipy",
@@ -26,10 +27,14 @@ ROSDEP_KEY = {
     "PyYAML": "python3-yaml",
     "tqdm": "python3-tqdm",
     "numba": "python3-numba",
-    "mcap": "python3-mcap-pip",
-    "mcap-ros2-support": "python3-mcap-ros2-support-pip",
+    "mcap": "mcap-ros2-support",
+    "mcap-ros2-support": "mcap-ros2-support",
     "rosbags": "python3-rosbags-pip",
 }
+# keys that rosdistro's rosdep database defines (rosdep/python.yaml of ros/rosdistro at commit
+# 8468e88c, 2026-08-22, read 2026-11-26): `rosdep install` fails on a key not in it
+ROSDISTRO_KEYS = {"python3-numpy", "python3-scipy", "python3-matplotlib", "python3-yaml", "python3-tqdm",
+                  "python3-numba", "mcap-ros2-support", "python3-rosbags-pip", "python3-pytest"}
 # import name -> distribution, where they differ
 DISTRIBUTION_OF_IMPORT = {"yaml": "PyYAML", "mcap_ros2": "mcap-ros2-support"}
 # modules provided by ROS packages (declared as exec_depend in package.xml instead)
@@ -42,7 +47,7 @@ CONSOLE_SCRIPTS = {  # CONTRACTS.md
     "tether-sim-replay": "tether_sim.ros.replay_node:main",
     "tether-sim-report": "tether_sim.report:main",
     "tether-sim-study": "tether_sim.studies.cli:main",
-    "tether-sim-recover": "tether_sim.io.mcap_recover:main",  # issue 13
+    "tether-sim-recover": "tether_sim.io.mcap_recover:main",
 }
 
 
@@ -107,8 +112,16 @@ def test_manifests_pass_catkin_pkg_validation():
 def test_python_dependencies_agree(setup_py, package_xml):
     required = {_requirement_name(r) for r in setup_py["install_requires"]} - {"setuptools"}
     assert required == set(ROSDEP_KEY), "setup.py install_requires and ROSDEP_KEY differ"
-    python_keys = {d for d in deps(package_xml, "exec_depend", "depend") if d.startswith("python3-")}
+    python_keys = {d for d in deps(package_xml, "exec_depend", "depend")
+                   if d.startswith("python3-") or d in ROSDEP_KEY.values()}
     assert python_keys == {ROSDEP_KEY[r] for r in required}
+
+
+def test_rosdep_keys_exist_in_rosdistro(package_xml):
+    """Every non-ROS-package key of package.xml is a key of rosdistro's database (a checked list)."""
+    keys = {d for d in deps(package_xml, "exec_depend", "depend", "test_depend", "build_depend")
+            if d.startswith("python3-") or d in ROSDEP_KEY.values()}
+    assert keys <= ROSDISTRO_KEYS, keys - ROSDISTRO_KEYS
 
 
 def _imports_of(path: Path) -> set:
@@ -143,7 +156,7 @@ def test_ros_dependencies_are_in_the_make_environment(package_xml):
     lines = (ROOT / "tools" / "requirements.txt").read_text().splitlines()
     wheels = {_requirement_name(x) for x in lines if x.strip() and not x.startswith("#")}
     for dep in deps(package_xml, "exec_depend", "depend"):
-        if dep.startswith("python3-") or dep in ("tether_sim_msgs", "tf2_msgs"):
+        if dep.startswith("python3-") or dep in ROSDEP_KEY.values() or dep in ("tether_sim_msgs", "tf2_msgs"):
             continue  # the two interface packages are built from msg_defs/ by tools/setup_env.sh
         assert f"ros-jazzy-{dep.replace('_', '-')}" in wheels, f"{dep} is not in tools/requirements.txt"
     for name in ROSDEP_KEY:

@@ -1,4 +1,4 @@
-"""Every command in README.md's ```bash blocks runs as written (issue 17), with short durations:
+"""Every command in README.md's ```bash blocks runs as written, with short durations:
 
 - ``tether-sim`` lines: all started together (as the README's two-tethers example starts them), the
   ``tether_sim.ros.watch`` line run against them until it prints the end tensions of the namespace
@@ -38,7 +38,7 @@ SKIPPED = {  # first word(s) of a command -> why the test does not run it
     "make run": "the main job, ~10 min; CI runs `make run` itself",
     "make test": "the test suite this test belongs to",
     "source": "colcon block: needs a ROS 2 Jazzy install (/opt/ros/jazzy)",
-    "mkdir": "colcon block", "cd": "colcon block", "git clone": "colcon block",
+    "mkdir": "colcon block", "cd": "colcon block", "git clone": "colcon block", "ln": "colcon block",
     "rosdep": "colcon block", "pip install": "colcon block", "colcon": "colcon block",
     "ros2": "colcon block: no ros2 CLI here", "rviz2": "colcon block: no RViz here",
 }

@@ -9,7 +9,11 @@
 #         into it (build folder .venv/.build/).
 #   tf2   msg_defs/tf2_msgs (TFMessage only) the same way, unless a tf2_msgs is importable already.
 #   pkg   tether_sim itself, `pip install -e .` (development mode, no build isolation), and its
-#         data files (package.xml, config/*.yaml, data/*, ament index marker) linked into .venv/share.
+#         data files (package.xml, config/*.yaml, data/*, ament index marker) linked into .venv/share,
+#         its console scripts into .venv/lib/tether_sim/ (where ros2 run and launch_ros look).
+#   colcon  colcon (tools/colcon-requirements.txt) in a venv of its own, .venv/colcon/, for the test
+#         that lists and builds this repository as a colcon workspace (test/test_colcon.py); a failed
+#         install is a warning (that test then skips, saying so). TETHER_SIM_SKIP_COLCON=1 skips it.
 #   warm  the numba kernels compiled into their on-disk cache (python -m tether_sim.warm, progress
 #         per kernel group; minutes when cold, seconds when warm). numba keys its cache on each
 #         source file's modification time and size, so this stage reruns whenever those of any
@@ -88,16 +92,18 @@ PKG_INPUTS=("$ROOT/setup.py" "$ROOT/setup.cfg" "$ROOT/package.xml" "$ROOT"/resou
 DATA_LIST="$(cd "$ROOT" && for f in config/*.yaml data/* launch/*.launch.py rviz/*.rviz foxglove/*.json; do [[ -f "$f" ]] && printf '%s\n' "$f"; done; true)"
 shopt -u nullglob
 PKG_HASH="$(hash_of "$MSGS_HASH" "${PKG_INPUTS[@]}")"
-LINKS_HASH="$(hash_of "$PKG_HASH" "$DATA_LIST")"
+LINKS_HASH="$(hash_of "$PKG_HASH" "$DATA_LIST" "$ROOT/tools/link_data_files.py")"
 # numba's cache key of every source file (name, mtime, size), plus the configurations warmed
 WARM_HASH="$(hash_of "$LINKS_HASH" "$(cd "$ROOT" && find tether_sim -name '*.py' -printf '%p %T@ %s\n' | sort)" \
     "$ROOT"/config/*.yaml)"
 warm_ok() { [[ "${TETHER_SIM_SKIP_WARM:-0}" == 1 ]] || stamp_ok warm "$WARM_HASH"; }
+COLCON_HASH="$(hash_of "rev=$SETUP_REVISION" "$ROOT/tools/colcon-requirements.txt")"
+colcon_ok() { [[ "${TETHER_SIM_SKIP_COLCON:-0}" == 1 ]] || stamp_ok colcon "$COLCON_HASH"; }
 SITE="$VENV/lib/python3.11/site-packages"
 
 if venv_works && stamp_ok deps "$DEPS_HASH" && stamp_ok msgs "$MSGS_HASH" && stamp_ok pkg "$PKG_HASH" &&
     stamp_ok links "$LINKS_HASH" && stamp_ok tf2 "$TF2_HASH" && [[ -d "$SITE/tether_sim_msgs" ]] && links_ok &&
-    warm_ok; then
+    warm_ok && colcon_ok; then
     say "environment up to date ($VENV)"
     exit 0
 fi
@@ -192,6 +198,22 @@ fi
 if ! stamp_ok links "$LINKS_HASH" || ! links_ok; then
     "$VENV/bin/python" "$ROOT/tools/link_data_files.py" "$ROOT" "$VENV"
     stamp_set links "$LINKS_HASH"
+fi
+
+# ---------------------------------------------------------------- stage colcon
+if ! colcon_ok; then
+    say "installing colcon into $VENV/colcon (a venv of its own, for test/test_colcon.py)"
+    rm -rf "$VENV/colcon"
+    BASE_PY="$(find_base_python)" || die "Python 3.11 is required"
+    if "$BASE_PY" -m venv "$VENV/colcon" &&
+        "$VENV/colcon/bin/python" -m pip install --quiet --disable-pip-version-check \
+            -r "$ROOT/tools/colcon-requirements.txt" 2>&1 |
+            { grep -v "is ignored: it is neither a file nor a directory" || true; }; then
+        stamp_set colcon "$COLCON_HASH"
+    else
+        rm -rf "$VENV/colcon"
+        say "WARNING: colcon could not be installed; test/test_colcon.py will skip (rerun make setup to retry)"
+    fi
 fi
 
 # ---------------------------------------------------------------- stage warm

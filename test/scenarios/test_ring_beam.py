@@ -10,7 +10,7 @@ the paper's Eq. 34 rates, at P + 2 (P = 1, N = 16 ... 128: 3.39, 3.19, 3.06 -> 3
 r = r(0) + int q ds is one degree higher per element than q. Tolerance +-0.3 (the issue's): in the asymptotic range the rate
 drifts by < 0.15 between doublings, while a one-order loss (P instead of P + 1, the paper's odd-P
 penalty) changes it by 1. P = 1 uses N = 32, 64, 128: with 2 or 3 Gauss points per element
-(automatic quadrature rule before / after session 2) the last pair gives 3.06 / 3.08 (positions)
+(automatic quadrature rule before / after 2026-11-21) the last pair gives 3.06 / 3.08 (positions)
 and 2.00 / 1.99 (curvature); the pair 32 -> 64 still depends on it (3.19 / 3.61).
 """
 

@@ -175,7 +175,7 @@ def test_a_winch_range_outside_the_measured_lengths_is_refused():
 
 
 def test_bending_mesh_warning_at_the_measured_spacings():
-    """The caution of session 7 (docs/performance.md "Bending effect at 200 m"): ROPOS 200 m, P = 4,
+    """The bending caution (docs/performance.md "Bending effect at 200 m"): ROPOS 200 m, P = 4,
     EI* -- N = 20 (2.5 m between nodes) ran clean, N = 40 (1.25 m) spiked, N = 80 diverged."""
     assert res.bending_mesh_warning(200.0, 20, 4, 2620.0) == ""
     text = res.bending_mesh_warning(200.0, 40, 4, 2620.0)

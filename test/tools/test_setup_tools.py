@@ -57,17 +57,23 @@ def test_data_files_are_linked_and_stale_links_removed(tmp_path):
     (repo / "setup.py").write_text(
         "from glob import glob\nfrom setuptools import setup\n"
         "setup(name='demo', data_files=[('share/ament_index/resource_index/packages', ['resource/demo']),\n"
-        "                               ('share/demo/config', sorted(glob('config/*.yaml')))])\n")
+        "                               ('share/demo/config', sorted(glob('config/*.yaml')))],\n"
+        "      entry_points={'console_scripts': ['demo-run = demo.main:main']})\n")
+    (prefix / "bin").mkdir(parents=True)
+    (prefix / "bin" / "demo-run").write_text("#!/bin/sh\n")
 
     made = link(repo, prefix)
-    assert len(made) == 3
+    assert len(made) == 4
+    # the console script where ros2 run / launch_ros look for it: <prefix>/lib/<package>/<name>
+    script = prefix / "lib" / "demo" / "demo-run"
+    assert script.is_symlink() and script.resolve() == (prefix / "bin" / "demo-run").resolve()
     a = prefix / "share" / "demo" / "config" / "a.yaml"
     assert a.is_symlink() and a.read_text() == "a: 1\n"
     assert (prefix / "share" / "ament_index" / "resource_index" / "packages" / "demo").exists()
 
     (repo / "config" / "b.yaml").unlink()  # a removed config file loses its link on the next run
     made = link(repo, prefix)
-    assert len(made) == 2
+    assert len(made) == 3
     assert not (prefix / "share" / "demo" / "config" / "b.yaml").is_symlink()
     assert a.is_symlink()
 

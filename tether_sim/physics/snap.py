@@ -225,6 +225,10 @@ class SnapDetector:
         """(n_loc,) bool: the location is slack now."""
         return self._state[:, _MODE] == _SLACK
 
+    def is_rising(self) -> np.ndarray:
+        """(n_loc,) bool: a re-tensioning window is open at the location (its snap event is pending)."""
+        return self._state[:, _MODE] == _RISING
+
     def update(self, times, tensions) -> list:
         """Feed samples ``times`` (k,) and ``tensions`` (k, n_loc) (time-ordered); return new events."""
         times = np.ascontiguousarray(times, dtype=np.float64).reshape(-1)

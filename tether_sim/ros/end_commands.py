@@ -56,6 +56,8 @@ def blend_time(distance, speed_change, max_end_speed):
 class MotionSource:
     """A prescribed end driven by an analytic motion ``motion.at(t) -> (position, velocity, ...)``."""
 
+    time_base = "clock"  # the motion is a function of the clock (solver time + the driver's anchor)
+
     def __init__(self, motion):
         self.motion = motion
 
@@ -71,6 +73,8 @@ class SolverTimeMotion(MotionSource):
     """An analytic motion evaluated at solver time (clock time minus the driver's anchor; 0 before the
     solver starts): the node's RAO ship (motion.kind rao), so the ship and the waves on the cable, which
     the solver evaluates at its own time, follow the same sea across re-synchronisations."""
+
+    time_base = "solver"
 
     def __init__(self, motion, driver):
         super().__init__(motion)

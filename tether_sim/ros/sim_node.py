@@ -313,7 +313,7 @@ class TetherSimNode(Node):
         for end, inp in self.inputs.items():
             inputs[end] = inp.health(now)
             inputs[end]["rejected_recent"] = p["rejected"][end]
-        self.pubs["/diagnostics"].publish(convert.diagnostics(now, self.get_name(), sim, inputs))
+        self.pubs["/diagnostics"].publish(convert.diagnostics(now, self.get_fully_qualified_name(), sim, inputs))
         self._period = _new_period(self.inputs)
 
 

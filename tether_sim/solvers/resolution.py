@@ -24,7 +24,7 @@ effect on it (peak(EI*) - peak(EI = 0), relative to the peak) where both were me
 2. between two measured lengths, both bracketing lengths must satisfy 1 for the same (P, cfl, N)
    (the range is that of the measured lengths: 100-2000 m with the cage, 200-1730 m free);
 3. dg.cfl at most MAX_CFL = 0.8: cfl 1.0 is the stability limit itself (calibrated on a straight
-   taut cable, docs/dg_solver.md) and cfl 1.1 gave +68 % at L = 200 m in session 2;
+   taut cable, docs/dg_solver.md) and cfl 1.1 gave +68 % at L = 200 m (2026-11-21);
 4. of the rungs that pass 1-3, the cheapest by the cost model :func:`cost` (substeps per
    simulated second from the solver's own stability rule x a per-substep cost fitted to the
    ladders' thread CPU).
@@ -222,7 +222,7 @@ def resolve(config, given=()):
     return replace(config, dg=replace(dg, **values))
 
 
-# Nested LDG bending in slack parts on fine meshes (session 7; docs/performance.md "Bending effect at
+# Nested LDG bending in slack parts on fine meshes (2026-11-25; docs/performance.md "Bending effect at
 # 200 m" and "Bending in slack parts: the cause"): on the ROPOS 200 m slack-snap case, P = 4,
 # EI = 2620 N m^2, the ship tension in the slack phase was clean at a node spacing h / P of 2.5 m and
 # above. At 1.25 m it carried +-10 kN spikes that are absent without bending. At 0.625 m the run

@@ -1,0 +1,144 @@
+"""Ship-motion forecasts of the snap forecast (tether_sim.forecast.ship_forecast, service.ExternalForecast)."""
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from tether_sim.forecast.service import ExternalForecast
+from tether_sim.forecast.ship_forecast import (
+    ARShipPredictor, MotionMember, component_spread, external_members, perturb_motion,
+)
+from tether_sim.physics.motion import SinesMotion
+
+
+@pytest.mark.parametrize("error", [0.05, 0.1, 0.2])
+def test_component_spread_gives_the_stated_elevation_error(error):
+    """Members of a many-component sea: the rms of (member - truth) is error x Hs (Hs = 4 sqrt(m0))."""
+    rng = np.random.default_rng(3)
+    n = 200
+    amp = rng.rayleigh(0.1, n)
+    omega = rng.uniform(0.3, 1.5, n)
+    phase = rng.uniform(0, 2 * np.pi, n)
+    motion = SinesMotion((0.0, 0.0, 0.0), amp, omega / (2 * np.pi), phase)
+    hs = 4.0 * math.sqrt(np.sum(amp ** 2) / 2.0)
+    t = np.linspace(0.0, 600.0, 1501)
+    heave = lambda m: (m.a * np.sin(np.outer(t, m.w) + m.phi)).sum(axis=1)  # noqa: E731 (SinesMotion's sum)
+    truth = heave(motion)
+    assert truth[17] == pytest.approx(motion.offset(t[17])[0][2])
+    s = component_spread(error)
+    errs = []
+    for _ in range(20):
+        m = perturb_motion(motion, s, rng)
+        errs.append(heave(m) - truth)
+    rms = math.sqrt(np.mean(np.square(errs)))
+    assert rms == pytest.approx(error * hs, rel=0.08)
+    assert component_spread(0.0) == 0.0
+    assert component_spread(0.1) == pytest.approx(0.283, abs=0.003)  # 28 % in amplitude, 16 deg in phase
+
+
+def test_motion_member_evaluates_at_solver_time_plus_offset():
+    motion = SinesMotion((0.0, 0.0, 0.0), [1.0], [0.1], [0.0])
+    p, v = MotionMember(motion, offset=2.5).at(1.0)
+    assert p[2] == pytest.approx(math.sin(2 * math.pi * 0.1 * 3.5))
+    assert v[2] == pytest.approx(2 * math.pi * 0.1 * math.cos(2 * math.pi * 0.1 * 3.5))
+
+
+def two_sines(t):
+    return 1.5 * np.sin(2 * np.pi * t / 9.0) + 0.6 * np.sin(2 * np.pi * t / 6.3 + 1.0)
+
+
+def test_autoregressive_predictor_follows_a_narrow_band_motion_and_its_ensemble_spreads():
+    """A sum of two sines is an AR process of order 4 exactly: the mean prediction holds over the
+    horizon; with measurement-like noise the members spread and the spread grows with the lead."""
+    rate = 50.0
+    t = np.arange(0.0, 300.0, 1.0 / rate)
+    pos = np.zeros((t.size, 3))
+    pos[:, 2] = two_sines(t)
+    pos[:, 0] = 3.0  # an axis at rest stays at rest
+    ar = ARShipPredictor(order=12, sample_period=0.5, window=240.0)
+    t0 = t[-1]
+    members = ar.members(t, pos, t0, 20.0, 1, np.random.default_rng(0))
+    lead = np.linspace(0.5, 20.0, 40)
+    pred = np.array([members[0].at(t0 + x)[0] for x in lead])
+    assert np.abs(pred[:, 2] - two_sines(t0 + lead)).max() < 0.02  # m, of a 2.1 m motion
+    assert np.allclose(pred[:, 0], 3.0)
+    # velocity is the derivative of the predicted trajectory
+    p1, v1 = members[0].at(t0 + 3.0)
+    p2, _ = members[0].at(t0 + 3.0 + 1e-4)
+    assert v1[2] == pytest.approx((p2[2] - p1[2]) / 1e-4, rel=1e-3)
+    # noisy history: members differ, and more at 15 s than at 1 s
+    rng = np.random.default_rng(1)
+    noisy = pos + np.column_stack([np.zeros(t.size), np.zeros(t.size), 0.05 * rng.standard_normal(t.size)])
+    ens = ar.members(t, noisy, t0, 20.0, 12, np.random.default_rng(2))
+    spread = lambda x: np.std([m.at(t0 + x)[0][2] for m in ens])  # noqa: E731
+    assert 0.0 < spread(1.0) < spread(15.0)
+
+
+def test_autoregressive_predictor_refuses_a_short_history():
+    ar = ARShipPredictor(order=24, sample_period=0.5, window=300.0)
+    t = np.arange(0.0, 20.0, 0.02)
+    with pytest.raises(ValueError, match="pose history 20.0 s < 48.0 s needed"):
+        ar.members(t, np.zeros((t.size, 3)), t[-1], 20.0, 1, np.random.default_rng(0))
+
+
+def external():
+    return ExternalForecast("map", attachment=(-35.0, 0.0, 5.0), max_age=2.0)
+
+
+def poses(n=40, dt=0.5, t0=100.0):
+    times = t0 + dt * np.arange(n)
+    pos = np.zeros((n, 3))
+    pos[:, 2] = np.sin(times)
+    quat = np.tile([0.0, 0.0, 0.0, 1.0], (n, 1))
+    return times, pos, quat
+
+
+@pytest.mark.parametrize("change, reason", [
+    (dict(frame="ship/base_link"), "wrong frame 'ship/base_link'"),
+    (dict(nan=True), "non-finite"),
+    (dict(now=103.5), "stale: stamped 3.50 s ago"),
+    (dict(now=99.0), "in the future"),
+    (dict(reverse=True), "pose stamps do not increase"),
+    (dict(quat=(0.0, 0.0, 0.0, 2.0)), "quaternion not of unit norm"),
+    (dict(n=3), "at least 4 poses"),
+])
+def test_external_forecast_rejections_name_the_reason(change, reason):
+    ext = external()
+    times, pos, quat = poses(n=change.get("n", 40))
+    if change.get("nan"):
+        pos[5, 1] = math.nan
+    if change.get("reverse"):
+        times = times[::-1].copy()
+    if "quat" in change:
+        quat[3] = change["quat"]
+    got = ext.offer(100.0, change.get("frame", "map"), times, pos, quat, now=change.get("now", 100.2))
+    assert got is not None and reason in got
+    assert ext.rejected == 1 and ext.accepted == 0 and reason in ext.last_reason
+    held, why = ext.current(100.2)
+    assert held is None and reason in why
+
+
+def test_external_forecast_accepted_gives_the_fairlead_and_goes_stale():
+    ext = external()
+    times, pos, quat = poses()
+    # a 90 deg yaw: the lever arm (-35, 0, 5) of the ship frame points to (0, -35, 5) in the world
+    quat[:] = (0.0, 0.0, math.sin(math.pi / 4), math.cos(math.pi / 4))
+    assert ext.offer(100.0, "/map", times, pos, quat, now=100.5) is None
+    (stamp, t, fair), why = ext.current(101.0)
+    assert why == "" and stamp == 100.0
+    assert np.allclose(fair[:, :2], [0.0, -35.0]) and np.allclose(fair[:, 2], pos[:, 2] + 5.0)
+    held, why = ext.current(102.5)
+    assert held is None and "stale" in why
+
+
+def test_external_members_start_at_the_forecast_and_scale_the_displacement():
+    times = np.linspace(0.0, 20.0, 41)
+    pos = np.column_stack([np.zeros(41), np.zeros(41), np.sin(times)])
+    current = np.zeros(3)
+    members = external_members(times, pos, current, 5, 0.1, np.random.default_rng(0))
+    assert np.allclose(members[0].at(3.0)[0][2], math.sin(3.0), atol=2e-3)
+    scales = [m.at(np.pi / 2)[0][2] / members[0].at(np.pi / 2)[0][2] for m in members[1:]]
+    assert np.std(scales) > 0.05 and all(abs(s - 1.0) < 1.5 for s in scales)
+    assert np.allclose(members[0].at(25.0)[1], 0.0)  # held at rest after the forecast ends

@@ -1,0 +1,154 @@
+"""Look-ahead runs: copies of the solver restarted from the current state, stepped over the horizon
+like the driver steps the live one, with the snap detector of the run (docs/forecast.md).
+
+A :class:`ForecastRequest` is what the live run hands over (cheap to build in the tick: a solver
+snapshot, a copy of the snap detector, the commanded end states and the members' ship motions); a
+:class:`LookAhead` owns one solver of its own (built once from the run's configuration, then only
+restored) and turns a request into one :class:`EndForecast` per end:
+
+- every member restarts from the snapshot and is stepped at the node's output rate, the ship end
+  commanded with the member's motion at each tick time exactly as the driver commands the live end
+  (``set_end_motion`` at the tick's target, Hermite interpolation by the solver in between), a
+  prescribed vehicle end eased to rest from its current velocity (``p0 + v0 tau_e (1 - exp(-tau / tau_e))``,
+  tau_e = 1 s; its future is not forecast);
+- the end tensions of every substep go through a copy of the run's detector (same thresholds, same
+  state: a slack period already under way is continued), so a forecast snap is what the node would
+  report; after the horizon a member is stepped on (at most 10 peak windows) only to close a
+  re-tensioning window already open, and a snap counts when its peak lies within the horizon;
+- per end: ``probability`` = members with a snap / members that finished; ``time_to_snap`` and
+  ``predicted_peak`` = means over the members that snap (NaN when none does), with the spread of
+  the time; members whose solver diverges are left out and make the forecast degraded.
+
+Times: members' motions are functions of solver time; the detector and the results use the clock
+(``clock = anchor + solver time``), as the driver does.
+"""
+
+import copy
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from tether_sim.errors import SolverDivergedError
+from tether_sim.physics.snap import SnapEvent
+
+ENDS = ("ship", "vehicle")
+VEHICLE_EASE_TIME = 1.0  # s, a prescribed vehicle end is eased to rest over this time constant
+
+
+@dataclass
+class ForecastRequest:
+    """Everything a look-ahead needs, copied from the live run at one instant."""
+
+    issued: float  # clock time of the state (the forecast's stamp), s
+    solver_time: float  # the snapshot's solver time, s
+    anchor: float  # clock = anchor + solver time
+    snapshot: object  # solver.snapshot()
+    detector: object  # a copy of the run's SnapDetector (ends)
+    end_state: dict  # prescribed end -> (position, velocity) commanded at solver_time
+    members: list  # ship motions: objects with at(solver_time) -> (position, velocity)
+    horizon: float  # s
+    tick: float  # output period, s (the driver's tick)
+    source: str  # which forecast drives the ship
+    degraded: str = ""  # why the ship-motion forecast is degraded ("" when it is not)
+    clock_origin: float | None = None  # tick k of the look-ahead ends at clock origin + (tick_index + k) x tick
+    tick_index: int = 0  # (the driver's own clock grid, so an exact forecast repeats the run; None: issued)
+
+
+@dataclass
+class EndForecast:
+    """The forecast for one end (what tether_sim_msgs/SnapForecast carries)."""
+
+    stamp: float  # clock time of the state the forecast starts from, s
+    end: str
+    horizon: float  # s
+    probability: float  # of a snap at this end within the horizon
+    time_to_snap: float  # s after the stamp, mean over the members that snap (NaN: none)
+    time_to_snap_std: float  # s, spread of the members' snap times (0 with one; NaN: none)
+    predicted_peak: float  # N, mean peak over the members that snap (NaN: none)
+    members: int  # members that finished
+    source: str
+    degraded: bool = False
+    reason: str = ""
+    member_snaps: list = field(default_factory=list)  # (time s clock, peak N) of each member that snaps
+
+
+class LookAhead:
+    """One solver of its own, restored from each request's snapshot (module doc)."""
+
+    def __init__(self, config, solver_factory):
+        self.config = config
+        self.solver = solver_factory(config)
+        self.prescribed = {end: getattr(config, f"{end}_end").kind == "prescribed" for end in ENDS}
+
+    def run(self, request: ForecastRequest) -> list:
+        """One :class:`EndForecast` per end."""
+        results = [self._member(request, motion) for motion in request.members]
+        finished = [r for r in results if r is not None]
+        reasons = [request.degraded] if request.degraded else []
+        if len(finished) < len(results):
+            reasons.append(f"{len(results) - len(finished)} of {len(results)} members diverged")
+        out = []
+        for end in ENDS:
+            snaps = [r[end] for r in finished if r[end] is not None]
+            n = len(finished)
+            times = np.array([t for t, _ in snaps]) - request.issued
+            peaks = np.array([p for _, p in snaps])
+            out.append(EndForecast(
+                stamp=request.issued, end=end, horizon=request.horizon,
+                probability=len(snaps) / n if n else math.nan,
+                time_to_snap=float(times.mean()) if snaps else math.nan,
+                time_to_snap_std=float(times.std()) if snaps else math.nan,
+                predicted_peak=float(peaks.mean()) if snaps else math.nan,
+                members=n, source=request.source, degraded=bool(reasons) or n == 0,
+                reason="; ".join(reasons) if reasons else ("" if n else "no member finished"),
+                member_snaps=[(float(t), float(p)) for t, p in snaps]))
+        return out
+
+    def _member(self, request, motion):
+        """{end: (clock time, peak) of the first snap within the horizon, or None}; None on divergence."""
+        solver = self.solver
+        solver.restore(request.snapshot)
+        solver.drain_end_tensions()
+        detector = copy.deepcopy(request.detector)
+        first = {end: None for end in ENDS}
+        end_clock = request.issued + request.horizon
+        t0 = request.solver_time
+        n_ticks = max(1, int(math.ceil(request.horizon / request.tick - 1e-9)))
+        extra = int(math.ceil(10.0 * detector.config.peak_window / request.tick))
+        vehicle = request.end_state.get("vehicle") if self.prescribed["vehicle"] else None
+        origin = request.issued if request.clock_origin is None else request.clock_origin
+        index = 0 if request.clock_origin is None else request.tick_index
+        rate = 1.0 / request.tick
+        for k in range(1, n_ticks + extra + 1):
+            if k > n_ticks and not _window_open(detector, first):
+                break
+            # the driver's expression for its tick targets (now = origin + k / rate; target = now - anchor)
+            t = (origin + (index + k) / rate) - request.anchor
+            if t <= solver.time:
+                continue
+            ship = motion.at(t) if self.prescribed["ship"] else None
+            veh = _eased(vehicle, t - t0) if vehicle is not None else None
+            try:
+                out = solver.tick(t, ship=ship, vehicle=veh)
+            except SolverDivergedError:
+                return None
+            if out.count:
+                events = detector.update(out.times + request.anchor,
+                                         np.column_stack([out.ship_tension, out.vehicle_tension]))
+                for ev in events:
+                    if (isinstance(ev, SnapEvent) and first[ev.location] is None
+                            and request.issued - 1e-9 <= ev.time <= end_clock + 1e-9):
+                        first[ev.location] = (ev.time, ev.peak_tension)
+        return first
+
+
+def _window_open(detector, first):
+    """A re-tensioning window is open at an end whose snap is not yet found."""
+    return any(first[end] is None and bool(detector.is_rising()[j]) for j, end in enumerate(detector.locations))
+
+
+def _eased(state, tau):
+    p0, v0 = state
+    e = math.exp(-max(tau, 0.0) / VEHICLE_EASE_TIME)
+    return p0 + v0 * VEHICLE_EASE_TIME * (1.0 - e), v0 * e

@@ -1,0 +1,294 @@
+"""The snap forecast beside a running simulation (node or offline runner; no ROS here).
+
+:class:`ForecastService` watches the driver after each tick (``observe``: constant, small work in
+the tick) and, every 1 / ``forecast.rate`` seconds of clock, hands a :class:`ForecastRequest` (a
+solver snapshot, a copy of the snap detector, the ship-motion plan) to a :class:`LookAhead` of its
+own. ``threaded=True`` (the node) runs the look-aheads in a worker thread: the tick never waits for
+them (the solver kernels release the GIL), and a forecast falling due while the previous one still
+runs is skipped (counted). ``threaded=False`` (the offline runner, tests) runs each one at once,
+so an offline run gives the same forecasts on every machine.
+
+Which ship-motion forecast drives the members (``forecast.source``; ship_forecast.py):
+
+- ``known_sea``: the run's own analytic ship motion (``motion.kind`` rao, sines, heave, circle), the
+  members perturbed by ``forecast.sea_error``;
+- ``external``: the last accepted external forecast (:class:`ExternalForecast`, fed by the node from
+  ``tether/ship_motion_forecast``); rejected or stale, the pose predictor takes over and the
+  forecast says so (degraded, with the reason);
+- ``poses``: the autoregressive predictor on the commanded fairlead history the service keeps;
+- ``auto``: known_sea for an analytic motion, else external while a valid one is held, else poses.
+
+No forecast is started while the driver has snap detection suspended (a blend, re-synchronisation,
+recovery: the detector the members would copy is about to be rebuilt) or before it has started.
+"""
+
+import copy
+import math
+import threading
+from collections import deque
+from dataclasses import replace
+
+import numpy as np
+
+from tether_sim.forecast.lookahead import ENDS, EndForecast, ForecastRequest, LookAhead
+from tether_sim.forecast.ship_forecast import (
+    ARShipPredictor, MotionMember, can_perturb, external_members, perturbed_members,
+)
+from tether_sim.solvers.factory import build_solver
+
+
+def _rotation(q):
+    x, y, z, w = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+class ExternalForecast:
+    """Validated external forecasts of the ship pose (a wave radar, a sea-wave prediction system).
+
+    ``offer`` takes one forecast: a header stamp and frame, and predicted ship poses (stamps, positions,
+    quaternions x, y, z, w of the ship body in the world frame, like ``ship/pose``). It is rejected,
+    with the reason returned and kept, when the frame is not the world frame, any value is non-finite,
+    a quaternion is degenerate, the pose stamps do not increase, fewer than 4 poses are given, or the
+    stamp is older than ``max_age`` (stale) or in the future beyond ``future_tolerance``. ``current``
+    returns the last accepted one while it is not stale.
+    """
+
+    def __init__(self, world_frame, attachment, max_age, future_tolerance=0.25):
+        self.world_frame = str(world_frame).lstrip("/")
+        self.attachment = np.asarray(attachment, float).reshape(3)
+        self.max_age, self.future_tolerance = float(max_age), float(future_tolerance)
+        self.accepted = self.rejected = 0
+        self.last_reason = ""
+        self._held = None  # (stamp, times (k,), fairlead positions (k, 3))
+
+    def _reject(self, reason):
+        self.rejected += 1
+        self.last_reason = reason
+        return reason
+
+    def offer(self, stamp, frame, times, positions, orientations, now):
+        """Accept or reject one forecast; the rejection reason, or None when accepted."""
+        times = np.asarray(times, float).reshape(-1)
+        positions = np.asarray(positions, float).reshape(-1, 3)
+        orientations = np.asarray(orientations, float).reshape(-1, 4)
+        if str(frame).lstrip("/") != self.world_frame:
+            return self._reject(f"wrong frame {frame!r} (expected {self.world_frame!r})")
+        if not (math.isfinite(stamp) and np.all(np.isfinite(times)) and np.all(np.isfinite(positions))
+                and np.all(np.isfinite(orientations))):
+            return self._reject("non-finite stamp, position or orientation")
+        if times.size < 4 or positions.shape[0] != times.size or orientations.shape[0] != times.size:
+            return self._reject(f"needs at least 4 poses with stamps (got {times.size})")
+        if np.any(np.diff(times) <= 0.0):
+            return self._reject("pose stamps do not increase")
+        norms = np.linalg.norm(orientations, axis=1)
+        if np.any(np.abs(norms - 1.0) > 0.01):
+            return self._reject("quaternion not of unit norm")
+        if now - stamp > self.max_age:
+            return self._reject(f"stale: stamped {now - stamp:.2f} s ago (forecast.external_max_age "
+                                f"{self.max_age:g} s)")
+        if stamp - now > self.future_tolerance:
+            return self._reject(f"stamp {stamp - now:.2f} s in the future")
+        q = orientations / norms[:, None]
+        fair = positions + np.stack([_rotation(qi) @ self.attachment for qi in q])
+        self._held = (float(stamp), times, fair)
+        self.accepted += 1
+        return None
+
+    def current(self, now):
+        """(stamp, times, fairlead positions) of the last accepted forecast, or (None, reason)."""
+        if self._held is None:
+            return None, ("no external forecast received" if not self.last_reason
+                          else f"external forecast rejected: {self.last_reason}")
+        if now - self._held[0] > self.max_age:
+            return None, f"external forecast stale ({now - self._held[0]:.1f} s old)"
+        return self._held, ""
+
+
+class ForecastService:
+    """Forecasts beside a :class:`~tether_sim.ros.driver.SimulationDriver` (module doc)."""
+
+    def __init__(self, config, *, solver_factory=build_solver, threaded=False):
+        fc = config.forecast
+        if config.winch.enabled:
+            raise ValueError("forecast.enabled: the snap forecast does not run with winch.enabled (the winch's "
+                             "future commands are not forecast)")
+        self.config, self.fc = config, fc
+        self.solver_factory = solver_factory
+        self.threaded = threaded
+        self.predictor = ARShipPredictor(fc.ar_order, fc.ar_sample_period, fc.ar_window)
+        node = config.node
+        self.external = ExternalForecast(node.world_frame, node.ship_attachment, fc.external_max_age,
+                                         node.future_stamp_tolerance)
+        n_hist = int(math.ceil(fc.ar_window * node.output_rate)) + 2
+        self._hist_t = deque(maxlen=n_hist)
+        self._hist_p = deque(maxlen=n_hist)
+        self.period = 1.0 / fc.rate
+        self.next_due = None
+        self.issued = self.skipped = self.completed = 0
+        self.last_wall = 0.0  # wall time of the last look-ahead, s
+        self.last_status = "waiting for the first forecast"
+        self.last = []  # the newest EndForecasts
+        self._engine = None
+        self._results = []
+        self._lock = threading.Lock()
+        self._busy = False
+        self._work = None
+        self._wake = threading.Condition(self._lock)
+        self._closed = False
+        self._thread = None
+        if threaded:
+            self._thread = threading.Thread(target=self._worker, name="snap-forecast", daemon=True)
+            self._thread.start()
+
+    # ------------------------------------------------------------------ tick side
+    def observe(self, driver, now=None, clock_origin=None, tick_index=0):
+        """After a tick: record the ship's commanded position; start a forecast when one is due.
+        ``clock_origin``, ``tick_index``: the runner's tick clock is ``clock_origin + k / output_rate``
+        and this was tick ``tick_index`` (the offline runner; the look-ahead then steps on the same grid)."""
+        if driver.solver is None:
+            return
+        ship = driver._end_state.get("ship")
+        if ship is not None and (not self._hist_t or driver.solver.time > self._hist_t[-1]):
+            self._hist_t.append(driver.solver.time)
+            self._hist_p.append(np.array(ship[0], float))
+        stamp = driver.stamp
+        if self.next_due is None:
+            self.next_due = stamp
+        if stamp + 1e-9 < self.next_due:
+            return
+        self.next_due += self.period * max(1, math.floor((stamp - self.next_due) / self.period) + 1)
+        if driver._suspended_until is not None or driver.detector is None:
+            self.last_status = "waiting: snap detection suspended (blend, re-synchronisation or recovery)"
+            return
+        if self.threaded and self._busy:
+            self.skipped += 1
+            return
+        request = self._request(driver, stamp if now is None else now)
+        if not self.fc.command_rate or self.fc.command_rate == self.config.node.output_rate:
+            request.clock_origin, request.tick_index = clock_origin, tick_index
+        self.issued += 1
+        if self.threaded:
+            with self._lock:
+                self._work = request
+                self._busy = True
+                self._wake.notify()
+        else:
+            self._run(request)
+
+    def _request(self, driver, now):
+        fc = self.fc
+        rng = np.random.default_rng(fc.seed + self.issued)
+        src = driver.sources.get("ship")
+        motion = getattr(src, "motion", None)
+        source, degraded = fc.source, ""
+        anchor, t_solver = driver.anchor, driver.solver.time
+        if source == "auto":
+            source = "known_sea" if motion is not None else ("external" if self.external.current(now)[0] else "poses")
+        if source == "known_sea" and motion is None:
+            source, degraded = "poses", "no analytic ship motion to take as the known sea"
+        if source == "external":
+            held, reason = self.external.current(now)
+            if held is None:
+                source, degraded = "poses", reason
+        members = fc.members
+        if source == "known_sea":
+            offset = 0.0 if getattr(src, "time_base", "clock") == "solver" else anchor
+            if not can_perturb(motion) and members > 1:
+                degraded = "the ship motion has no perturbation model: one member"
+                members = 1
+            plan = _Plan(perturbed_members, motion, offset, members, fc.sea_error, rng)
+        elif source == "external":
+            stamp, times, fair = held
+            current = driver._end_state.get("ship", (fair[0],))[0]
+            plan = _Plan(external_members, times - anchor, fair, np.asarray(current, float), members, fc.sea_error, rng)
+        else:
+            plan = _Plan(self.predictor.members, np.array(self._hist_t), np.array(self._hist_p), t_solver,
+                         fc.horizon, members, rng)
+            source = "poses"
+        if self._engine is None:
+            self._solver_config = driver._solver_config
+        return ForecastRequest(
+            issued=driver.stamp, solver_time=t_solver, anchor=anchor, snapshot=driver.solver.snapshot(),
+            detector=copy.deepcopy(driver.detector),
+            end_state={e: (np.array(p, float), np.array(v, float)) for e, (p, v) in driver._end_state.items()},
+            members=plan, horizon=fc.horizon, tick=1.0 / (fc.command_rate or self.config.node.output_rate), source=source,
+            degraded=degraded)
+
+    def poll(self) -> list:
+        """The EndForecasts finished since the last call (oldest first)."""
+        with self._lock:
+            out, self._results = self._results, []
+        return out
+
+    # ------------------------------------------------------------------ look-ahead side
+    def _run(self, request):
+        import time as wallclock
+
+        wall0 = wallclock.perf_counter()
+        if self._engine is None:
+            self._engine = LookAhead(replace(self._solver_config, forecast=self.fc), self.solver_factory)
+        try:
+            request.members = request.members()
+        except ValueError as exc:  # the ship-motion forecast cannot be made (e.g. too little history)
+            results = [EndForecast(request.issued, end, request.horizon, math.nan, math.nan, math.nan, math.nan, 0,
+                                   request.source, True, f"no ship-motion forecast: {exc}") for end in ENDS]
+        else:
+            results = self._engine.run(request)
+        self.last_wall = wallclock.perf_counter() - wall0
+        self.last_status = results[0].reason or "ok"
+        with self._lock:
+            self._results.extend(results)
+            self.last = results
+            self.completed += 1
+
+    def _worker(self):
+        while True:
+            with self._lock:
+                while self._work is None and not self._closed:
+                    self._wake.wait()
+                if self._closed:
+                    return
+                request, self._work = self._work, None
+            try:
+                self._run(request)
+            except Exception as exc:  # noqa: BLE001 -- never let the worker die silently
+                self.last_status = f"forecast failed: {type(exc).__name__}: {exc}"
+            finally:
+                with self._lock:
+                    self._busy = False
+
+    def close(self):
+        with self._lock:
+            self._closed = True
+            self._wake.notify()
+        if self._thread is not None:
+            self._thread.join(timeout=30.0)
+
+    def diagnostics(self) -> dict:
+        """Key values for /diagnostics."""
+        last = {f.end: f for f in self.last}
+        out = {"forecast issued": self.issued, "forecast completed": self.completed,
+               "forecast skipped (previous still running)": self.skipped,
+               "forecast wall time s": round(self.last_wall, 4), "forecast status": self.last_status,
+               "external forecasts accepted": self.external.accepted,
+               "external forecasts rejected": self.external.rejected,
+               "external last rejection": self.external.last_reason}
+        for end, f in last.items():
+            out[f"forecast {end} probability"] = f.probability
+            out[f"forecast {end} time_to_snap s"] = f.time_to_snap
+        return out
+
+
+class _Plan:
+    """A deferred ship-motion forecast: built in the look-ahead (worker) side, not in the tick."""
+
+    def __init__(self, fn, *args):
+        self.fn, self.args = fn, args
+
+    def __call__(self):
+        return self.fn(*self.args)
+
+
+__all__ = ["ForecastService", "ExternalForecast", "MotionMember"]

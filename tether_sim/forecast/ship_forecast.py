@@ -1,0 +1,184 @@
+"""Forecasts of the ship (fairlead) motion over the horizon, as ensembles of trajectories.
+
+Each member is an object with ``at(t) -> (position (3,), velocity (3,))``, t in solver time.
+
+Known sea (:func:`perturbed_members`): the run's own analytic motion (``motion.kind`` rao, sines,
+heave) is its future; the ensemble represents the error a real wave forecast would have. Each wave
+component n of a member gets its amplitude scaled by (1 + alpha_n) and its phase shifted by phi_n,
+alpha_n and phi_n independent N(0, s^2). The elevation error of a member is then a zero-mean
+process with variance sum a_n^2 / 2 (2 + s^2 - 2 exp(-s^2 / 2)) = m0 (2 + s^2 - 2 exp(-s^2 / 2)),
+so its rms is ``error`` x Hs (Hs = 4 sqrt(m0)) when s solves 2 + s^2 - 2 exp(-s^2/2) = 16 error^2
+(:func:`component_spread`; 10 % of Hs: s = 0.28, i.e. 28 % in amplitude and 16 deg in phase). For a
+sum of sines the same relative spread applies to its terms (error as a fraction of 4 x rms motion).
+A circle orbit is deterministic (no perturbation model; members are all the nominal).
+
+Poses only (:class:`ARShipPredictor`): an autoregressive model per axis, fitted by least squares on
+the fairlead history resampled to ``sample_period`` (the ship's motion lies well below the Nyquist
+frequency of 1 Hz at 0.5 s, so no anti-alias filter), predicting recursively; members add
+innovations drawn from the fit's residuals, so the ensemble spreads as the predictive distribution of
+the model grows with the lead time. AR models fitted this way are the usual short-term wave and
+vessel-motion predictors of wave-energy and heave-compensation control (Fusco & Ringwood 2010,
+"Short-term wave forecasting for real-time control of wave energy converters", IEEE Trans.
+Sustainable Energy 1(2); Yumori 1981, "Real time prediction of ship response to ocean waves using
+time series analysis", OCEANS 81); their skill decays within one to two wave periods.
+
+External (:func:`external_members`): predicted ship poses from another system (a wave radar or
+deterministic sea-wave prediction), validated by the caller, turned into the fairlead trajectory
+``p + R(q) r`` by a cubic spline; its members scale the predicted displacement about the current
+position by (1 + alpha), alpha ~ N(0, s^2) with s from ``error`` as above.
+"""
+
+import copy
+import math
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+from scipy.optimize import brentq
+
+
+def component_spread(error: float) -> float:
+    """s such that per-component N(0, s^2) amplitude and phase errors give an elevation error of rms
+    ``error`` x Hs (module doc)."""
+    if error <= 0.0:
+        return 0.0
+    target = 16.0 * error * error
+    f = lambda s: 2.0 + s * s - 2.0 * math.exp(-0.5 * s * s) - target  # noqa: E731
+    return brentq(f, 0.0, 10.0 + 4.0 * error)
+
+
+class MotionMember:
+    """A member from an analytic motion generator (``at(t) -> (p, v, a)``) evaluated at solver time
+    plus ``offset`` (the generator's clock minus solver time)."""
+
+    def __init__(self, motion, offset=0.0):
+        self.motion, self.offset = motion, float(offset)
+
+    def at(self, t):
+        p, v = self.motion.at(t + self.offset)[:2]
+        return np.asarray(p, float), np.asarray(v, float)
+
+
+def perturb_motion(motion, spread: float, rng):
+    """A copy of an analytic motion with its wave components' (or sines') amplitudes and phases
+    perturbed by N(0, spread^2) (module doc); the motion itself when it has no such model."""
+    if spread <= 0.0:
+        return motion
+    response = getattr(motion, "response", None)
+    if response is not None:  # RaoMotion: the components of the ship response
+        n = response.omega.size
+        alpha, phi = rng.normal(0.0, spread, n), rng.normal(0.0, spread, n)
+        out = copy.copy(motion)
+        out.response = copy.copy(response)
+        out.response.coef = response.coef * (1.0 + alpha)[:, None]
+        out.response.theta0 = response.theta0 + phi[:, None]
+        return out
+    if hasattr(motion, "a") and hasattr(motion, "phi"):  # SinesMotion
+        n = motion.a.size
+        alpha, phi = rng.normal(0.0, spread, n), rng.normal(0.0, spread, n)
+        out = copy.copy(motion)
+        out.a, out.phi = motion.a * (1.0 + alpha), motion.phi + phi
+        return out
+    return motion
+
+
+def can_perturb(motion) -> bool:
+    return getattr(motion, "response", None) is not None or (hasattr(motion, "a") and hasattr(motion, "phi"))
+
+
+def perturbed_members(motion, offset, members, error, rng, nominal_first=True):
+    """``members`` MotionMembers of ``motion``: the first the nominal (unless ``nominal_first`` is
+    false), the others perturbed with the spread of ``error`` (fraction of Hs)."""
+    spread = component_spread(error)
+    out = []
+    for m in range(members):
+        nominal = (m == 0 and nominal_first) or spread == 0.0
+        out.append(MotionMember(motion if nominal else perturb_motion(motion, spread, rng), offset))
+    return out
+
+
+class SplineMember:
+    """A member from samples of the fairlead position: a cubic spline, velocity its derivative; held
+    at its last position (at rest) after the last sample."""
+
+    def __init__(self, times, positions):
+        self.t_end = float(times[-1])
+        self.spline = CubicSpline(np.asarray(times, float), np.asarray(positions, float), axis=0, bc_type="natural")
+        self.p_end = self.spline(self.t_end)
+
+    def at(self, t):
+        if t >= self.t_end:
+            return self.p_end.copy(), np.zeros(3)
+        return self.spline(t), self.spline(t, 1)
+
+
+class ARShipPredictor:
+    """Autoregressive predictor of the fairlead position per axis (module doc)."""
+
+    def __init__(self, order: int, sample_period: float, window: float):
+        self.order, self.dt, self.window = int(order), float(sample_period), float(window)
+
+    def min_history(self) -> float:
+        """Seconds of history the fit needs (4 x order samples)."""
+        return 4.0 * self.order * self.dt
+
+    def fit(self, times, positions, t0):
+        """(coefficients (3, p), residual std (3,), mean (3,), resampled history (n, 3)) from the history
+        ``times`` (k,), ``positions`` (k, 3) up to ``t0``; ValueError when it is too short or bad."""
+        times = np.asarray(times, float)
+        positions = np.asarray(positions, float)
+        span = min(self.window, t0 - times[0]) if times.size else 0.0
+        if span < self.min_history() - 1e-9:
+            raise ValueError(f"pose history {max(span, 0.0):.1f} s < {self.min_history():.1f} s needed "
+                             f"(4 x forecast.ar_order x forecast.ar_sample_period)")
+        n = int(span / self.dt) + 1
+        grid = t0 - self.dt * np.arange(n - 1, -1, -1)
+        x = np.column_stack([np.interp(grid, times, positions[:, i]) for i in range(3)])
+        if not np.all(np.isfinite(x)):
+            raise ValueError("pose history has non-finite samples")
+        mean = x.mean(axis=0)
+        p = self.order
+        coef, sigma = np.zeros((3, p)), np.zeros(3)
+        for i in range(3):
+            y = x[:, i] - mean[i]
+            if np.ptp(y) < 1e-9:  # an axis that does not move: predicted to stay
+                continue
+            # rows k = p..n-1: y_k = sum_j c_j y_{k-1-j}
+            A = np.column_stack([y[p - 1 - j:n - 1 - j] for j in range(p)])
+            b = y[p:]
+            c, *_ = np.linalg.lstsq(A, b, rcond=None)
+            coef[i] = c
+            sigma[i] = float(np.sqrt(np.mean((b - A @ c) ** 2)))
+        return coef, sigma, mean, x
+
+    def members(self, times, positions, t0, horizon, members, rng):
+        """``members`` SplineMembers over [t0, t0 + horizon]: the first the mean prediction, the
+        others simulated with innovations (module doc)."""
+        coef, sigma, mean, x = self.fit(times, positions, t0)
+        p = self.order
+        steps = int(math.ceil(horizon / self.dt)) + 2
+        head = x[-max(p, 4):] - mean  # the last samples (spline continuity at t0, AR seeds)
+        t_head = t0 - self.dt * np.arange(head.shape[0] - 1, -1, -1)
+        t_pred = t0 + self.dt * np.arange(1, steps + 1)
+        out = []
+        for m in range(members):
+            noise = sigma * rng.standard_normal((steps, 3)) if m > 0 else np.zeros((steps, 3))
+            y = np.vstack([head, np.zeros((steps, 3))])
+            h = head.shape[0]
+            for k in range(steps):
+                past = y[h + k - 1::-1][:p] if h + k - 1 >= 0 else y[:0]
+                y[h + k] = np.einsum("ij,ji->i", coef[:, :past.shape[0]], past) + noise[k]
+            out.append(SplineMember(np.concatenate([t_head, t_pred]), y + mean))
+        return out
+
+
+def external_members(times, positions, current, members, error, rng):
+    """Members from a validated external forecast of the fairlead (``times`` (k,) solver time,
+    ``positions`` (k, 3)): the nominal first, then the displacement about ``current`` scaled by
+    (1 + alpha) (module doc)."""
+    spread = component_spread(error)
+    positions = np.asarray(positions, float)
+    out = []
+    for m in range(members):
+        scale = 1.0 if m == 0 or spread == 0.0 else 1.0 + rng.normal(0.0, spread)
+        out.append(SplineMember(times, current + scale * (positions - current)))
+    return out

@@ -1,0 +1,236 @@
+"""NetworkSolver: several lines, each its own solver of the one interface (dg or hybrid), joined at
+points and rigid bodies; the coupling of docs/network.md.
+
+Coupling (one coupling step dt from t_n to t_n+1, every body at once):
+
+1. half kick: each body's velocities by dt/2 with its loads at t_n (line end loads F_n, wet
+   weight, drag);
+2. drift: positions by dt with the half-step velocities, orientations by the exact rotation;
+3. each line advanced to t_n+1 by its own ``tick``: an end on a body is a ``prescribed`` end whose
+   target is the attachment point's position at t_n+1 and its velocity predicted with F_n (the
+   line's cubic Hermite end motion moves it there); an end on a driven point follows the point's
+   targets, Hermite-interpolated over the tick;
+4. half kick: each body's velocities by dt/2 with the new line end loads F_n+1.
+
+The body thus receives the impulse dt (F_n + F_n+1) / 2 from each line, the trapezoidal rule of
+the line's end force: velocity Verlet, second order, symplectic for the elastic part; the body's
+momentum balance holds to round-off by construction and is checked (test/network). The explicit
+kicks are stable while dt * Z / M < 2 for the stiffest line (Z = sqrt(max dT/deps * gamma0), the
+axial impedance with which a kinematic end's force answers its velocity) and the spring part
+dt * sqrt(k / M) < 2 (k = max dT/deps / L); :func:`max_coupling_step` takes half of the smaller
+bound over every body and axis (rotations with I and Z r^2, k r^2).
+"""
+
+import math
+
+import numpy as np
+
+from tether_sim.errors import ConfigError
+from tether_sim.network.body import NetworkBody
+from tether_sim.network.spec import line_end_condition
+from tether_sim.network.statics import solve_network_statics
+from tether_sim.physics.constitutive import TensionLaw
+from tether_sim.solvers.base import LOAD_F, LOAD_M, LOAD_T
+from tether_sim.solvers.factory import build_solver
+
+
+def _hermite(p0, v0, p1, v1, T, tau):
+    """Cubic Hermite position and velocity at tau in [0, T] from (p0, v0) to (p1, v1)."""
+    if T <= 0.0:
+        return p1.copy(), v1.copy()
+    x = tau / T
+    h00, h10, h01, h11 = 2 * x**3 - 3 * x**2 + 1, x**3 - 2 * x**2 + x, -2 * x**3 + 3 * x**2, x**3 - x**2
+    d00, d10, d01, d11 = (6 * x**2 - 6 * x) / T, 3 * x**2 - 4 * x + 1, (-6 * x**2 + 6 * x) / T, 3 * x**2 - 2 * x
+    return h00 * p0 + h10 * T * v0 + h01 * p1 + h11 * T * v1, d00 * p0 + d10 * v0 + d01 * p1 + d11 * v1
+
+
+class _Point:
+    """A fixed or driven point: its state and, for a driven one, the target of the next tick."""
+
+    def __init__(self, spec):
+        self.spec = spec
+        self.pos = np.asarray(spec.position, float).copy()
+        self.vel = np.zeros(3)
+        self.p0, self.v0 = self.pos.copy(), self.vel.copy()
+        self.p1, self.v1 = self.pos.copy(), self.vel.copy()
+        self.t0 = self.t1 = 0.0
+
+
+def max_coupling_step(spec, bodies, safety=0.5):
+    """The stability bound of the explicit kicks (module docstring), s."""
+    best = math.inf
+    for name, b in bodies.items():
+        m_min = float(np.min(b.mass + b.added_mass))
+        i_min = float(np.min(b.inertia))
+        Z = K = Zr = Kr = 0.0
+        for e, att in zip(spec.ends_on(name), b.attachments):
+            cab = spec.lines[e.line].config.cable
+            slope = TensionLaw(cab).max_slope()
+            z, k = math.sqrt(slope * cab.gamma0), slope / cab.length
+            r2 = float(att @ att)
+            Z, K, Zr, Kr = Z + z, K + k, Zr + z * r2, Kr + k * r2
+        bounds = [2.0 * m_min / Z if Z > 0 else math.inf, 2.0 * math.sqrt(m_min / K) if K > 0 else math.inf,
+                  2.0 * i_min / Zr if Zr > 0 else math.inf, 2.0 * math.sqrt(i_min / Kr) if Kr > 0 else math.inf]
+        best = min(best, *bounds)
+    return safety * best
+
+
+class NetworkSolver:
+    """Lines, points and bodies of a :class:`tether_sim.network.spec.NetworkSpec`, stepped together.
+
+    ``set_point_motion(point, position, velocity)`` gives a driven point's target at the next
+    ``tick(t)``; ``tick`` advances everything to t in coupling steps and returns per line the
+    drained end-tension samples and the end loads. ``line(name)`` is a line's own solver.
+    """
+
+    name = "network"
+
+    def __init__(self, spec, statics=True):
+        self.spec = spec
+        self.env = spec.environment
+        self.points = {n: _Point(p) for n, p in spec.points.items()}
+        self.bodies = {n: NetworkBody(n, b.props, self.env, [e.attachment for e in spec.ends_on(n)])
+                       for n, b in spec.bodies.items()}
+        self._where = {}  # (line, end) -> (body, index of its attachment)
+        for n in self.bodies:
+            for k, e in enumerate(spec.ends_on(n)):
+                self._where[(e.line, e.end)] = (n, k)
+        self.statics_residual = None
+        if statics and self.bodies:
+            self._statics, self.statics_residual = solve_network_statics(spec, self.bodies)
+        else:
+            from tether_sim.network.statics import NetworkStatics
+            self._statics = NetworkStatics(spec, self.bodies)
+        states = {n: b.state.copy() for n, b in self.bodies.items()}
+        self.lines = {}
+        for name, line in spec.lines.items():
+            cfg = self._statics.line_config(line, states)
+            try:
+                self.lines[name] = build_solver(cfg)
+            except (ValueError, RuntimeError) as exc:
+                raise ConfigError(f"network.lines.{name}: {exc}") from exc
+        self.time = 0.0
+        self.coupling_limit = max_coupling_step(spec, self.bodies) if self.bodies else math.inf
+        self._loads = {n: np.zeros((2, 7)) for n in self.lines}
+        for n, s in self.lines.items():
+            out = s.tick(0.0, drain=True)
+            self._loads[n][:] = out.loads[:, :7]
+        self.samples = {n: [] for n in self.lines}
+        self.coupling_steps = 0
+
+    # ------------------------------------------------------------------ inputs
+    def set_point_motion(self, point, position, velocity):
+        """Target of a driven point at the next tick's time (position, velocity, world)."""
+        try:
+            p = self.points[point]
+        except KeyError:
+            raise ValueError(f"unknown point {point!r}; points: {', '.join(self.points)}") from None
+        if p.spec.kind != "prescribed":
+            raise ValueError(f"point {point!r} is {p.spec.kind}, not prescribed")
+        p.p1, p.v1 = np.asarray(position, float).copy(), np.asarray(velocity, float).copy()
+        p._set = True
+
+    def line(self, name):
+        return self.lines[name]
+
+    # ------------------------------------------------------------------ loads
+    def _body_loads(self, name):
+        b = self.bodies[name]
+        ends = self.spec.ends_on(name)
+        F = np.array([self._loads[e.line][0 if e.end == "ship" else 1, LOAD_F:LOAD_F + 3] for e in ends])
+        M = np.array([self._loads[e.line][0 if e.end == "ship" else 1, LOAD_M:LOAD_M + 3] for e in ends])
+        return F, M
+
+    def _fluid_velocity(self, body):
+        from tether_sim.physics.hydrodynamics import current_at, current_table
+        cz, cx, cy = current_table(self.env)
+        out = np.zeros(3)
+        if cz.size:
+            current_at(body.state[2], cz, cx, cy, out)
+        return out
+
+    # ------------------------------------------------------------------ stepping
+    def tick(self, t, drain=True):
+        """Advance to t (coupling steps of at most min(coupling_step, stability bound)); returns
+        {line: TickOutput-like dict with 'samples' (3, k) and 'loads' (2, 7)}."""
+        T = t - self.time
+        if T < 0:
+            raise ValueError(f"tick: time {t} is before the network time {self.time}")
+        for p in self.points.values():
+            if p.spec.kind == "prescribed":
+                p.p0, p.v0, p.t0, p.t1 = p.pos.copy(), p.vel.copy(), self.time, t
+                if not getattr(p, "_set", False):  # no new target: constant-velocity extrapolation
+                    p.p1, p.v1 = p.pos + T * p.vel, p.vel.copy()
+                p._set = False
+        h = min(self.spec.coupling_step, self.coupling_limit)
+        n = max(1, math.ceil(T / h - 1e-9)) if T > 0 else 0
+        chunks = {k: [] for k in self.lines}
+        t0 = self.time
+        for i in range(n):
+            tn = t0 + T * (i + 1) / n if i < n - 1 else t
+            self._coupling_step(tn - self.time, tn, chunks)
+        self.time = t
+        out = {}
+        for k in self.lines:
+            s = np.concatenate(chunks[k], axis=1) if chunks[k] else np.zeros((3, 0))
+            if drain:
+                out[k] = {"samples": s, "loads": self._loads[k].copy()}
+            else:
+                self.samples[k].append(s)
+                out[k] = {"samples": np.zeros((3, 0)), "loads": self._loads[k].copy()}
+        return out
+
+    def _coupling_step(self, dt, t_new, chunks):
+        fluid = {n: self._fluid_velocity(b) for n, b in self.bodies.items()}
+        targets = {}
+        for n, b in self.bodies.items():
+            F, M = self._body_loads(n)
+            b.kick(0.5 * dt, F, M, fluid[n])
+            b.drift(dt)
+            pred = b.predicted_end_state(0.5 * dt, F, M, fluid[n])
+            targets[n] = b.attachment_points(pred)
+        for p in self.points.values():
+            if p.spec.kind == "prescribed":
+                p.pos, p.vel = _hermite(p.p0, p.v0, p.p1, p.v1, p.t1 - p.t0, t_new - p.t0)
+        for name, solver in self.lines.items():
+            motion = {}
+            for e in self.spec.lines[name].ends:
+                if e.kind == "body":
+                    bn, k = self._where[(name, e.end)]
+                    motion[e.end] = (targets[bn][0][k], targets[bn][1][k])
+                elif e.kind == "point" and self.points[e.target].spec.kind == "prescribed":
+                    p = self.points[e.target]
+                    motion[e.end] = (p.pos, p.vel)
+            out = solver.tick(t_new, ship=motion.get("ship"), vehicle=motion.get("vehicle"), drain=True)
+            self._loads[name][:] = out.loads[:, :7]
+            if out.count:
+                chunks[name].append(np.array(out.samples[:, :out.count]))
+        for n, b in self.bodies.items():
+            F, M = self._body_loads(n)
+            b.kick(0.5 * dt, F, M, fluid[n])
+        self.time = t_new
+        self.coupling_steps += 1
+
+    # ------------------------------------------------------------------ outputs
+    def end_load(self, line, end):
+        """(force (3,), axial tension, moment (3,)) by the line on its end 'ship' or 'vehicle'."""
+        row = self._loads[line][0 if end == "ship" else 1]
+        return row[LOAD_F:LOAD_F + 3].copy(), float(row[LOAD_T]), row[LOAD_M:LOAD_M + 3].copy()
+
+    def snapshot(self):
+        return dict(time=self.time, lines={n: s.snapshot() for n, s in self.lines.items()},
+                    bodies={n: (b.state.copy(), {k: v.copy() for k, v in b.impulse.items()}) for n, b in self.bodies.items()},
+                    points={n: (p.pos.copy(), p.vel.copy()) for n, p in self.points.items()},
+                    loads={n: v.copy() for n, v in self._loads.items()})
+
+    def restore(self, snap):
+        self.time = snap["time"]
+        for n, s in snap["lines"].items():
+            self.lines[n].restore(s)
+        for n, (st, imp) in snap["bodies"].items():
+            self.bodies[n].state[:] = st
+            self.bodies[n].impulse = {k: v.copy() for k, v in imp.items()}
+        for n, (pp, pv) in snap["points"].items():
+            self.points[n].pos[:], self.points[n].vel[:] = pp, pv
+        for n, v in snap["loads"].items():
+            self._loads[n][:] = v
