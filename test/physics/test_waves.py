@@ -1,4 +1,4 @@
-"""Linear waves (physics/waves.py) against closed forms: dispersion, Airy kinematics, Wheeler stretching,
+"""Linear waves (physics/waves.py) against closed forms: dispersion, Airy kinematics, the stretchings,
 the JONSWAP discretisation (m0 = Hs^2/16, peak), seeding, and a plain numpy twin of the compiled sums."""
 
 import math
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from tether_sim.config import SimConfig
-from tether_sim.physics.waves import (WaveConfig, jonswap_spectrum, no_waves, spreading_weights,
+from tether_sim.physics.waves import (STRETCHINGS, WaveConfig, jonswap_spectrum, no_waves, spreading_weights,
                                       wave_components, wave_elevation, wave_kinematics, wave_number)
 
 G = 9.81
@@ -21,24 +21,29 @@ def _config(**waves):
 def _kin(comp, x, y, z, t):
     u = np.zeros(3)
     a = np.zeros(3)
-    eta = wave_kinematics(x, y, z, t, *comp.arrays(), comp.depth, u, a)
+    eta = wave_kinematics(x, y, z, t, *comp.arrays(), comp.depth, comp.stretch, u, a)
     return eta, u, a
 
 
 def _plain_kinematics(comp, x, y, z, t):
-    """Numpy twin: Wheeler-stretched Airy sums written with cosh/sinh directly."""
+    """Numpy twin: the stretched Airy sums written with cosh/sinh directly (docs/waves.md)."""
     th = comp.k * (x * comp.cos_dir + y * comp.sin_dir) - comp.omega * t + comp.phase
     eta = float(np.sum(comp.amp * np.cos(th)))
-    if z > eta:
+    name = STRETCHINGS[comp.stretch]
+    if z > eta or (name == "none" and z > 0.0):
         return eta, np.zeros(3), np.zeros(3)
     d = comp.depth
+    if name == "wheeler":
+        zs = z - eta if math.isinf(d) else max((z - eta) * d / (d + eta), -d)
+    else:
+        zs = min(z, 0.0) if math.isinf(d) else max(min(z, 0.0), -d)
     if math.isinf(d):
-        zs = z - eta
         ch = sh = np.exp(comp.k * zs)
     else:
-        zs = max((z - eta) * d / (d + eta), -d)
         ch = np.cosh(comp.k * (zs + d)) / np.sinh(comp.k * d)
         sh = np.sinh(comp.k * (zs + d)) / np.sinh(comp.k * d)
+    if name == "extrapolation" and z > 0.0:  # first-order Taylor from z = 0
+        ch, sh = ch + comp.k * z * sh, sh + comp.k * z * ch
     aw = comp.amp * comp.omega
     uh = aw * ch * np.cos(th)
     ah = aw * comp.omega * ch * np.sin(th)
@@ -183,7 +188,8 @@ def test_jonswap_is_seeded_and_its_time_record_has_the_spectral_variance():
 def test_compiled_sums_equal_the_numpy_twin():
     cfg = _config(kind="jonswap", Hs=3.0, Tp=9.0, n_frequencies=24, n_directions=5, seed=11, depth=80.0)
     rng = np.random.default_rng(0)
-    for comp in (wave_components(cfg), wave_components(replace(cfg, waves=replace(cfg.waves, depth=0.0)))):
+    for depth, name in [(d, n) for d in (80.0, 0.0) for n in STRETCHINGS]:
+        comp = wave_components(replace(cfg, waves=replace(cfg.waves, depth=depth, stretching=name)))
         for _ in range(20):
             x, y, t = rng.uniform(-100, 100), rng.uniform(-100, 100), rng.uniform(0, 100)
             z = rng.uniform(-60.0, 2.0)
@@ -194,15 +200,64 @@ def test_compiled_sums_equal_the_numpy_twin():
             np.testing.assert_allclose(acc, a2, rtol=1e-10, atol=1e-12)
 
 
+@pytest.mark.parametrize("depth", [0.0, 40.0])
+def test_stretchings_closed_forms_in_the_crest_and_below_the_mean_level(depth):
+    """One regular component under its crest (eta = a = 2 m at x = t = 0). Below z = 0 the three
+    unstretched choices are Airy at z itself; above it (0 < z <= eta): none = still water, vertical =
+    the values at z = 0, extrapolation = values + z * slopes at z = 0 (d cosh/dz = k sinh, d sinh/dz =
+    k cosh); wheeler = Airy at z' = (z - eta) d / (d + eta). Above eta all are still."""
+    a = 2.0
+    comps = {n: wave_components(_config(kind="regular", height=2 * a, period=9.0, depth=depth, stretching=n))
+             for n in STRETCHINGS}
+    c0 = comps["none"]
+    k, om, d = c0.k[0], c0.omega[0], depth if depth > 0.0 else math.inf
+
+    def factors(z):  # cosh k(z + d)/sinh kd, sinh k(z + d)/sinh kd (deep: e^{kz})
+        if math.isinf(d):
+            return math.exp(k * z), math.exp(k * z)
+        return math.cosh(k * (z + d)) / math.sinh(k * d), math.sinh(k * (z + d)) / math.sinh(k * d)
+
+    def airy(ch, sh):  # theta = 0 under the crest: u = (a w ch, 0, 0), a = (0, 0, -a w^2 sh)
+        return np.array([a * om * ch, 0.0, 0.0]), np.array([0.0, 0.0, -a * om * om * sh])
+
+    for z in (-5.0, -0.3):
+        for n in ("none", "vertical", "extrapolation"):
+            eta, u, acc = _kin(comps[n], 0.0, 0.0, z, 0.0)
+            assert eta == pytest.approx(a, rel=1e-14)
+            ue, ae = airy(*factors(z))
+            np.testing.assert_allclose(u, ue, rtol=1e-13, atol=1e-14)
+            np.testing.assert_allclose(acc, ae, rtol=1e-13, atol=1e-14)
+    ch0, sh0 = factors(0.0)
+    for z in (0.5, 1.9):
+        _, u, acc = _kin(comps["none"], 0.0, 0.0, z, 0.0)
+        assert not u.any() and not acc.any()
+        _, u, acc = _kin(comps["vertical"], 0.0, 0.0, z, 0.0)
+        ue, ae = airy(ch0, sh0)
+        np.testing.assert_allclose(u, ue, rtol=1e-13)
+        np.testing.assert_allclose(acc, ae, rtol=1e-13)
+        _, u, acc = _kin(comps["extrapolation"], 0.0, 0.0, z, 0.0)
+        ue, ae = airy(ch0 + k * z * sh0, sh0 + k * z * ch0)
+        np.testing.assert_allclose(u, ue, rtol=1e-13)
+        np.testing.assert_allclose(acc, ae, rtol=1e-13)
+        assert u[0] > a * om * ch0  # extrapolation grows above the mean level, vertical holds it
+    for z in (-5.0, 0.5, 1.9):
+        zs = (z - a) if math.isinf(d) else (z - a) * d / (d + a)
+        _, u, acc = _kin(comps["wheeler"], 0.0, 0.0, z, 0.0)
+        ue, ae = airy(*factors(zs))
+        np.testing.assert_allclose(u, ue, rtol=1e-13)
+        np.testing.assert_allclose(acc, ae, rtol=1e-13)
+    for n in STRETCHINGS:
+        _, u, acc = _kin(comps[n], 0.0, 0.0, a + 0.01, 0.0)
+        assert not u.any() and not acc.any()
+
+
+def test_unknown_stretching_is_rejected_naming_the_key():
+    with pytest.raises(ValueError, match="waves.stretching"):
+        wave_components(_config(kind="regular", stretching="delta"))
+
+
 def test_no_waves_is_empty_and_still():
     comp = wave_components(SimConfig())
     assert comp.n == 0 and no_waves().n == 0
     eta, u, acc = _kin(comp, 1.0, 2.0, -3.0, 4.0)
     assert eta == 0.0 and not u.any() and not acc.any()
-
-
-def test_the_hybrid_solver_refuses_waves_instead_of_ignoring_them():
-    from tether_sim.solvers.factory import build_solver
-
-    with pytest.raises(ValueError, match="DG solver only"):
-        build_solver(replace(_config(kind="regular"), solver="hybrid"))

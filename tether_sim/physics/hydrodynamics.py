@@ -61,6 +61,25 @@ def add_morison_drag(i, l, nu, uc, half_rho_d, Cdt, Cdn, out):
 
 
 @jit
+def wave_inertia(i0, i1, i2, a0, a1, a2, rho_a, m_t, m_n):
+    """Load per metre of the fluid acceleration a_w = (a0, a1, a2) on a wetted point with tangent i:
+
+        f_w = rho_f A a_w + m_n a_w,perp + m_t a_w,par        [DNV-RP-C205 Eq. 6.1-6.2, slender member]
+
+    rho_a = rho_f A: Froude-Krylov, the undisturbed pressure gradient on the displaced volume, in every
+    direction (also along the axis); m_n = rho_f A_h C_mn, m_t = rho_f A_h C_mt: the fluid side of the
+    added mass (its structure side, -m a, is solved with the cable's inertia: added_mass_rate).
+    PE2020 Eq. 13 keeps only the normal part rho_f A a_w,perp of the first term (docs/waves.md).
+    Returns (fx, fy, fz)."""
+    at = a0 * i0 + a1 * i1 + a2 * i2
+    p0 = at * i0
+    p1 = at * i1
+    p2 = at * i2
+    return (rho_a * a0 + m_n * (a0 - p0) + m_t * p0, rho_a * a1 + m_n * (a1 - p1) + m_t * p1,
+            rho_a * a2 + m_n * (a2 - p2) + m_t * p2)
+
+
+@jit
 def solve_added_mass(i, force, gamma0, m_t, m_n, out):
     """Momentum rate dv/dt = gamma0 * a from (gamma0 + m_t) a_par = F_par, (gamma0 + m_n) a_perp = F_perp.
 

@@ -1,4 +1,4 @@
-"""Linear (Airy) waves: regular waves and seeded JONSWAP sea states, Wheeler stretching, compiled evaluation.
+"""Linear (Airy) waves: regular waves and seeded JONSWAP sea states, surface stretching, compiled evaluation.
 
 A sea state is a sum of n linear components (docs/waves.md)
 
@@ -6,9 +6,11 @@ A sea state is a sum of n linear components (docs/waves.md)
 
 with b_n the direction the component travels toward (from +x counter-clockwise, world ENU, z up) and
 omega_n^2 = g k_n tanh(k_n d) (d = water depth; deep water k = omega^2 / g). The particle velocity and
-local acceleration du/dt of each component are the Airy ones evaluated at the Wheeler-stretched height
+local acceleration du/dt of each component are the Airy ones; near the surface ``waves.stretching``
+places them (STRETCHINGS, docs/waves.md): by default at the Wheeler-stretched height
 z' = (z - eta) d / (d + eta) (deep water: z' = z - eta), so the kinematics at the instantaneous surface
-z = eta are those linear theory gives at the mean level z = 0; above the surface they are zero. The
+z = eta are those linear theory gives at the mean level z = 0; or unstretched up to z = 0 (none), held
+(vertical) or linearly extrapolated (extrapolation) above it. Above the surface they are zero. The
 time derivative of the stretching itself is not included in du/dt (common practice; second order).
 
 The spectrum is discretised once (``wave_components``) into the arrays of :class:`WaveComponents`; the
@@ -24,6 +26,9 @@ from tether_sim.numerics.jit import jit
 from tether_sim.spec import param
 
 WAVE_KINDS = ("none", "regular", "jonswap")
+# kinematics near the free surface (docs/waves.md "Stretching"); the code is the index into this tuple
+STRETCHINGS = ("none", "wheeler", "vertical", "extrapolation")
+STRETCH_NONE, STRETCH_WHEELER, STRETCH_VERTICAL, STRETCH_EXTRAPOLATION = range(4)
 
 
 @dataclass(frozen=True)
@@ -45,6 +50,7 @@ class WaveConfig:
     spreading: float = param(10.0, doc="cos-2s spreading exponent s: D(b) ~ cos^(2s)((b - b0)/2) (n_directions > 1)", min=0.5, max=200.0)
     seed: int = param(1, doc="random seed of the JONSWAP phases and in-bin frequencies (same seed, same sea)", min=0, max=2**31 - 1)
     depth: float = param(0.0, unit="m", doc="water depth d for the dispersion relation and the kinematics (0 = deep water)", min=0.0, max=1e5)
+    stretching: str = param("wheeler", doc="kinematics near the surface: wheeler (Airy at the height stretched to the instantaneous surface), none (Airy up to the mean level z = 0, still water above it), vertical (above z = 0 the values at z = 0, up to eta), extrapolation (above z = 0 linear in z from the values and slopes at z = 0, up to eta); docs/waves.md", choices=STRETCHINGS)
 
 
 @dataclass(frozen=True)
@@ -58,6 +64,7 @@ class WaveComponents:
     sin_dir: np.ndarray  # sin b_n
     phase: np.ndarray  # phi_n [rad]
     depth: float = math.inf  # d [m] (math.inf: deep water)
+    stretch: int = STRETCH_WHEELER  # index into STRETCHINGS
 
     @property
     def n(self) -> int:
@@ -70,7 +77,7 @@ class WaveComponents:
 
 def no_waves() -> WaveComponents:
     z = np.zeros(0)
-    return WaveComponents(z, z.copy(), z.copy(), z.copy(), z.copy(), z.copy(), math.inf)
+    return WaveComponents(z, z.copy(), z.copy(), z.copy(), z.copy(), z.copy(), math.inf, STRETCH_WHEELER)
 
 
 def wave_number(omega, g, depth=math.inf):
@@ -119,12 +126,12 @@ def spreading_weights(n_directions, s, mean_direction):
     return mean_direction + rel, w / w.sum()
 
 
-def _regular(w: WaveConfig, g, depth):
+def _regular(w: WaveConfig, g, depth, stretch):
     omega = np.array([2.0 * math.pi / w.period])
     b = math.radians(w.direction)
     return WaveComponents(np.array([w.height / 2.0]), omega, wave_number(omega, g, depth),
                           np.array([math.cos(b)]), np.array([math.sin(b)]),
-                          np.array([math.radians(w.phase)]), depth)
+                          np.array([math.radians(w.phase)]), depth, stretch)
 
 
 def _bin_energy(edges, Hs, Tp, gamma):
@@ -135,7 +142,7 @@ def _bin_energy(edges, Hs, Tp, gamma):
     return 0.5 * np.diff(edges) * (jonswap_spectrum(nodes, Hs, Tp, gamma) @ wq)
 
 
-def _jonswap(w: WaveConfig, g, depth):
+def _jonswap(w: WaveConfig, g, depth, stretch):
     """Equal frequency bins with one seeded frequency per bin (no repetition period), a random phase per
     component, amplitude a = sqrt(2 E_bin D(b)) with E_bin the integral of S over the bin, so that
     m0 = sum a^2 / 2 is the spectrum's integral over the discretised band whatever the bin count."""
@@ -150,7 +157,7 @@ def _jonswap(w: WaveConfig, g, depth):
     om = np.repeat(omega, dirs.size)
     b = np.tile(dirs, omega.size)
     phase = rng.uniform(0.0, 2.0 * math.pi, amp.size)
-    return WaveComponents(amp, om, wave_number(om, g, depth), np.cos(b), np.sin(b), phase, depth)
+    return WaveComponents(amp, om, wave_number(om, g, depth), np.cos(b), np.sin(b), phase, depth, stretch)
 
 
 def wave_components(config) -> WaveComponents:
@@ -162,10 +169,13 @@ def wave_components(config) -> WaveComponents:
     if g <= 0.0:
         raise ValueError("waves: environment.g must be > 0 for waves")
     depth = w.depth if w.depth > 0.0 else math.inf
+    if w.stretching not in STRETCHINGS:
+        raise ValueError(f"waves.stretching must be one of {STRETCHINGS}, got {w.stretching!r}")
+    stretch = STRETCHINGS.index(w.stretching)
     if w.kind == "regular":
-        return _regular(w, g, depth)
+        return _regular(w, g, depth, stretch)
     if w.kind == "jonswap":
-        return _jonswap(w, g, depth)
+        return _jonswap(w, g, depth, stretch)
     raise ValueError(f"waves.kind must be one of {WAVE_KINDS}, got {w.kind!r}")
 
 
@@ -191,22 +201,35 @@ def _depth_factors(kn, zs, depth):
 
 
 @jit
-def wave_kinematics(x, y, z, t, amp, omega, k, cdir, sdir, phase, depth, u_out, a_out):
+def wave_kinematics(x, y, z, t, amp, omega, k, cdir, sdir, phase, depth, stretch, u_out, a_out):
     """Particle velocity u_out (3,) [m/s] and local acceleration a_out (3,) [m/s^2] at (x, y, z) and t,
-    Wheeler-stretched Airy kinematics; zeros above the surface. Returns eta(x, y, t) [m]."""
+    Airy kinematics with the stretching ``stretch`` (STRETCH_*, docs/waves.md); zeros above the surface
+    (and, with STRETCH_NONE, above the mean level). Returns eta(x, y, t) [m]."""
     for c in range(3):
         u_out[c] = 0.0
         a_out[c] = 0.0
     eta = wave_elevation(x, y, t, amp, omega, k, cdir, sdir, phase)
     if z > eta:
         return eta
-    if depth == math.inf:
-        zs = z - eta
+    lin = 0.0  # height above z = 0 of a linear extrapolation
+    if stretch == STRETCH_WHEELER:
+        if depth == math.inf:
+            zs = z - eta
+        else:
+            zs = max((z - eta) * depth / (depth + eta), -depth)
+    elif z <= 0.0:
+        zs = max(z, -depth)
+    elif stretch == STRETCH_NONE:
+        return eta
     else:
-        zs = max((z - eta) * depth / (depth + eta), -depth)
+        zs = 0.0
+        if stretch == STRETCH_EXTRAPOLATION:
+            lin = z
     for n in range(amp.shape[0]):
         th = k[n] * (x * cdir[n] + y * sdir[n]) - omega[n] * t + phase[n]
         ch, sh = _depth_factors(k[n], zs, depth)
+        if lin > 0.0:  # d(ch)/dz = k sh, d(sh)/dz = k ch at z = 0
+            ch, sh = ch + k[n] * lin * sh, sh + k[n] * lin * ch
         c = math.cos(th)
         s = math.sin(th)
         aw = amp[n] * omega[n]

@@ -32,7 +32,7 @@ import math
 from tether_sim.numerics.jit import jit, jit_inline
 from tether_sim.physics.constitutive import LAW_BILINEAR, LAW_LINEAR, LAW_TABLE, axial_tension, tension_slope
 from tether_sim.physics.end_conditions import is_kinematic
-from tether_sim.physics.hydrodynamics import current_at, morison_drag, surface_drag, wetted_fraction
+from tether_sim.physics.hydrodynamics import current_at, morison_drag, surface_drag, wave_inertia, wetted_fraction
 from tether_sim.physics.seabed import seabed_force
 from tether_sim.physics.waves import wave_kinematics
 from tether_sim.solvers.dg.elementops import strong_derivative
@@ -40,7 +40,7 @@ from tether_sim.solvers.dg.layout import (
     B_F, B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, F_NU, F_Q, F_V,
     I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_NWAVE, I_SEABED, I_SURFACE,
     M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDN_AIR, P_CDT, P_CDT_AIR, P_EA, P_FBZ, P_FBZ_AIR, P_GAMMA0,
-    P_HALF_RHO_D, P_HALF_RHO_D_AIR, P_RHO_AH, P_SURF_B, P_TIME, P_WAVE_DEPTH, P_WAVE_ZCUT, N_PRM,
+    P_HALF_RHO_D, P_HALF_RHO_D_AIR, P_RHO_AH, P_SURF_B, P_TIME, P_WAVE_DEPTH, P_WAVE_STRETCH, P_WAVE_ZCUT, N_PRM,
     P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_QPENT, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
     T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TE, W_TV, W_V, W_WET,
 )
@@ -395,7 +395,7 @@ def momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr,
             wave = nw > 0 and wq[e, j, W_R + 2] > prm[P_WAVE_ZCUT]
             if wave:  # wave particle velocity (drag) and acceleration (inertia below), elevation (surface)
                 eta = wave_kinematics(wq[e, j, W_R], wq[e, j, W_R + 1], wq[e, j, W_R + 2], prm[P_TIME], wamp, wom, wk,
-                                      wc, ws, wph, prm[P_WAVE_DEPTH], uw, aw)
+                                      wc, ws, wph, prm[P_WAVE_DEPTH], int(prm[P_WAVE_STRETCH]), uw, aw)
                 u0 += uw[0]
                 u1 += uw[1]
                 u2 += uw[2]
@@ -412,7 +412,7 @@ def momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr,
                 cn = g0 / (g0 + phi * prm[P_MN])
             else:
                 fx, fy, fz = morison_drag(i0, i1, i2, l, u0 - n0, u1 - n1, u2 - n2, hrd, cdt, cdn)
-            if wave:  # Froude-Krylov + added mass of the wave acceleration [Eq. 13 with a_w != 0]
+            if wave:  # Froude-Krylov + fluid-side added mass of the wave acceleration (docs/waves.md)
                 wx, wy, wz = wave_inertia(i0, i1, i2, aw[0], aw[1], aw[2], prm[P_RHO_AH], prm[P_MT], prm[P_MN])
                 fx += phi * wx
                 fy += phi * wy
@@ -449,18 +449,6 @@ def momentum_rate(U, ra, prm, iprm, h, V, Pj, D, Lf, Iq, cz, cx, cy, wq, wm, tr,
             dU[e, l, 3] = s0
             dU[e, l, 4] = s1
             dU[e, l, 5] = s2
-
-
-@jit
-def wave_inertia(i0, i1, i2, a0, a1, a2, rho_ah, m_t, m_n):
-    """rho_f A (a_w,perp + C_m,par a_w,par + C_m,perp a_w,perp) [PE2020 Eq. 13, the fluid part of a*]
-    = (rho_f A + m_n) a_w,perp + m_t a_w,par with A = pi d^2 / 4 (A of the added masses)."""
-    at = a0 * i0 + a1 * i1 + a2 * i2
-    p0 = at * i0
-    p1 = at * i1
-    p2 = at * i2
-    cn = rho_ah + m_n
-    return cn * (a0 - p0) + m_t * p0, cn * (a1 - p1) + m_t * p1, cn * (a2 - p2) + m_t * p2
 
 
 @jit_inline

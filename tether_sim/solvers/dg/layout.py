@@ -55,9 +55,10 @@ define(globals(), "prm", [
     ("P_WR0", 1, "dL/dt_0", "m/s", "winch: pay-out rate at the start of the tick"),
     ("P_WR1", 1, "dL/dt_1", "m/s", "winch: pay-out rate at the end of the tick (linear ramp between)"),
     ("P_TIME", 1, "t", "s", "time of the right-hand-side evaluation (waves; written by stepper.dg_evaluate)"),
-    ("P_RHO_AH", 1, "rho_f pi d^2 / 4", "kg/m", "Froude-Krylov mass per metre (waves) [Eq. 13]"),
+    ("P_RHO_AH", 1, "rho_f A", "kg/m", "Froude-Krylov mass per metre (waves; A = gamma0 / rho_c, the buoyancy's displaced area)"),
     ("P_WAVE_DEPTH", 1, "h", "m", "water depth of the wave kinematics (inf: deep water)"),
     ("P_WAVE_ZCUT", 1, "z_cut", "m", "below this height the wave kinematics are < 1e-4 of their surface value and skipped"),
+    ("P_WAVE_STRETCH", 1, "-", "-", "stretching code of the wave kinematics (physics/waves.py STRETCHINGS index)"),
 ], "N_PRM")
 
 define(globals(), "iprm", [

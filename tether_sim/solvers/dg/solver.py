@@ -162,8 +162,9 @@ class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
         comps = wave_components(config)
         n = int(np.asarray(comps.amp).size)
         ip[Y.I_NWAVE] = n
-        prm[Y.P_RHO_AH] = env.fluid_density * math.pi * cab.diameter**2 / 4.0
+        prm[Y.P_RHO_AH] = env.fluid_density * cab.area  # Froude-Krylov on the displaced volume (docs/waves.md)
         prm[Y.P_WAVE_DEPTH] = float(comps.depth)
+        prm[Y.P_WAVE_STRETCH] = float(comps.stretch)
         prm[Y.P_WAVE_ZCUT] = math.inf
         if n == 0:
             return prm

@@ -1,7 +1,12 @@
 """Analytic derivatives of the distributed environment force of kernels.external_force [PE2020 Eq. 13-17]:
 buoyant weight (constant), Morison drag with sqrt(1+eps), added mass, depth-varying current (through the
 alpha_f-level height z(v), kernels.height_at_alpha_f), seabed contact [PE2020 Eq. 15-16] and the free
-surface (wetted fraction phi(z(v)) blending water and air).
+surface (wetted fraction phi(z(v) - eta) blending water and air) and waves (kernels.wave_state).
+
+The wave kinematics (u_w, a_w, eta) are taken at the alpha_f-level position, which moves with v; their
+spatial gradient times that motion (k u_w alpha_f dt gamma / alpha_m: ~1e-4 of the drag's own slope at
+k = 0.1 1/m, dt = 0.01 s) is left out of dF/dv. Newton then solves the same residual with a Jacobian
+that is off by that much (docs/hybrid_solver.md "Waves").
 
 external_force_jac gives F and dF/dv, dF/dt, dF/da (3x3) and dF/deps (3) at one point. At the kinks of
 |x|, max(.,0) and of the piecewise-linear current table it takes the derivative of the branch that the
@@ -16,9 +21,10 @@ import numpy as np
 from tether_sim.numerics.jit import jit_alloc
 from tether_sim.physics.hydrodynamics import current_at
 from tether_sim.physics.hydrodynamics import wetted_fraction
+from tether_sim.physics.hydrodynamics import wave_inertia
 from tether_sim.solvers.hybrid.kernels import (P_AF, P_AM, P_AREA, P_CCRIT, P_CDN, P_CDN_A, P_CDT, P_CDT_A, P_CMN, P_CMT,
                                               P_D, P_DT, P_FBZ, P_FS, P_FSB, P_G, P_GAM, P_KD, P_M, P_MU, P_RHOA, P_RHOF,
-                                              P_SBZETA, P_SEABED, P_VMU, P_ZG, height_at_alpha_f)
+                                              P_SBZETA, P_SEABED, P_VMU, P_ZG, height_at_alpha_f, wave_state)
 
 
 @jit_alloc
@@ -149,10 +155,10 @@ def _fluid_jac(rho, cdt, cdn, cmn, cmt, vr, dvr_dv, tu, Pt, a, le, P, F, Jv, Jt,
 
 
 @jit_alloc
-def _blend_air(z, dz_dv2, v, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je):
-    """Free surface: F = phi F_water + (1 - phi) F_air with the wetted fraction phi(z) and its z
+def _blend_air(z, eta, dz_dv2, v, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je):
+    """Free surface: F = phi F_water + (1 - phi) F_air with the wetted fraction phi(z - eta) and its z
     derivative through z(v_z) (kernels.external_force); the air part is allocated only here."""
-    phi, dphi = wetted_fraction(z, 0.0, P[P_FSB])
+    phi, dphi = wetted_fraction(z, eta, P[P_FSB])
     if phi >= 1.0:
         return
     Fa = np.zeros(3)
@@ -182,7 +188,7 @@ def _blend_air(z, dz_dv2, v, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je):
 def external_force_jac(v, t, a, rn, eps, P, cz, cx, cy, F, Jv, Jt, Ja, Je, W):
     """F of kernels.external_force at (v, t, a, eps) and its derivatives: Jv, Jt, Ja (3x3), Je (3,).
     The height z(v) is the alpha_f-level height (dz/dv_z = alpha_f dt gamma / alpha_m). W: scratch
-    (>= 70 floats)."""
+    (>= 128 floats; 70:119 untouched)."""
     dz_dv2 = P[P_AF] * P[P_DT] * P[P_GAM] / P[P_AM]
     z = height_at_alpha_f(v, rn, P)
     nt = math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
@@ -207,9 +213,21 @@ def external_force_jac(v, t, a, rn, eps, P, cz, cx, cy, F, Jv, Jt, Ja, Je, W):
     le = 1.0 + eps
     if le < 0.0:
         le = 0.0
-    _fluid_jac(P[P_RHOF], P[P_CDT], P[P_CDN], P[P_CMN], P[P_CMT], vr, dvr_dv, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je, W)
+    uw = W[119:122]  # 66:119 are the caller's (jacobian.catenary_node_jac)
+    aw = W[122:125]
+    ar = W[125:128]
+    eta = wave_state(v, rn, z, P, uw, aw)
+    for k in range(3):
+        vr[k] += uw[k]
+        ar[k] = a[k] - aw[k]
+    _fluid_jac(P[P_RHOF], P[P_CDT], P[P_CDN], P[P_CMN], P[P_CMT], vr, dvr_dv, tu, Pt, ar, le, P, F, Jv, Jt, Ja, Je, W)
+    if aw[0] != 0.0 or aw[1] != 0.0 or aw[2] != 0.0:  # Froude-Krylov: no dependence on v, t, a, eps
+        fx, fy, fz = wave_inertia(tu[0], tu[1], tu[2], aw[0], aw[1], aw[2], P[P_RHOF] * P[P_AREA], 0.0, 0.0)
+        F[0] += fx
+        F[1] += fy
+        F[2] += fz
     if P[P_FS] > 0.0:
-        _blend_air(z, dz_dv2, v, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je)
+        _blend_air(z, eta, dz_dv2, v, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je)
     F[2] -= P[P_M] * P[P_G]
     if P[P_SEABED] > 0.0:
         _seabed_jac(z, dz_dv2, v, le, P, F, Jv, Je)

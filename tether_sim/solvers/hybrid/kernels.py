@@ -3,10 +3,13 @@
 Environment forces are those of the DG solver [PE2020 Eq. 12-17] so that both solvers see the same
 water and seabed (physics/seabed.py, PE2020 Eq. 15-16): buoyant weight A g (rho_f - rho_c) z with A = gamma0/rho_c [PE2020 Eq. 14, GP Eq. 21],
 Morison drag with sqrt(1+eps) [PE2020 Eq. 17; GP Eq. 19 with C_t -> C_dt/pi], added mass
-rho_f A (C_mn a_perp + C_mt a_par) [PE2020 Eq. 13; GP Eq. 20], depth-varying current.
+rho_f A (C_mn a_perp + C_mt a_par) [PE2020 Eq. 13; GP Eq. 20], depth-varying current, and waves:
+the wave particle velocity in the drag, the wave acceleration in the Froude-Krylov and fluid-side
+added-mass load of physics/hydrodynamics.wave_inertia (docs/waves.md), the wetted part following eta.
 All per unit unstretched length, world (ENU) components.
 
-Parameter vector P (float64): see the P_* indices below.
+Parameter vector P (float64): see the P_* indices below; with waves the component arrays amp, omega,
+k, cos_dir, sin_dir, phase (P[P_NW] each) follow P_SIZE.
 """
 
 import math
@@ -14,8 +17,9 @@ import math
 import numpy as np
 
 from tether_sim.numerics.jit import jit_alloc
-from tether_sim.physics.hydrodynamics import current_at, wetted_fraction
+from tether_sim.physics.hydrodynamics import current_at, wave_inertia, wetted_fraction
 from tether_sim.physics.seabed import seabed_force
+from tether_sim.physics.waves import wave_kinematics
 
 P_M, P_CK, P_G, P_RHOF, P_AREA, P_D, P_CDN, P_CDT, P_CMN, P_CMT = range(10)
 P_B0, P_I0 = 10, 13  # B (torsion, bend, bend) and rotary inertia I (same order), body axis 0 = tangent
@@ -26,7 +30,9 @@ P_EA = 22  # axial stiffness EA (0: inextensible, eps = 0)
 P_ZETA = 23  # axial material damping zeta (N s) [PE2020 Eq. 22]
 P_SEABED, P_ZG, P_KD, P_CCRIT, P_SBZETA, P_MU, P_VMU, P_FBZ = range(24, 32)  # seabed [PE2020 Eq. 15-16]
 P_FS, P_RHOA, P_CDN_A, P_CDT_A, P_FSB = range(32, 37)  # free surface: on, air density, air drag, ramp half-width
-P_SIZE = 37
+P_TIME = 37  # t_n of the step being solved (the loads are at t_n + alpha_f dt)
+P_NW, P_WDEPTH, P_WSTRETCH, P_WZCUT = 38, 39, 40, 41  # waves: components, depth, stretching code, z_cut
+P_SIZE = 42
 
 # chain-node slot layout: catenary v(0:3) T(3) t(4:7) eps(7); rod v(0:3) omega(3:6) kappa(6:9) f(9:12) eps(12)
 N_SLOTS = 13  # node arrays are 13 wide so that a rigid-body node (13 states) fits
@@ -37,10 +43,11 @@ ROD_EPS = 12
 
 
 def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia_b, inertia_t, compression_factor=1.0,
-                    compression_width=1.0, segment=0.0):
+                    compression_width=1.0, segment=0.0, waves=None):
     """P vector of the kernels from CableProperties/Environment and the step coefficients; segment: the
     node spacing (the free-surface ramp is at least one segment wide, so that the wetted length of the
-    node sum does not jump as a node crosses the surface)."""
+    node sum does not jump as a node crosses the surface); waves: physics/waves.WaveComponents or None
+    (their arrays are appended)."""
     P = np.zeros(P_SIZE)
     P[P_M] = cable.gamma0
     P[P_CK] = 1.0 / cable.EA if cable.EA > 0 else 0.0
@@ -68,7 +75,24 @@ def pack_parameters(cable, env, dt, alpha_m, alpha_f, gamma, bend, tors, inertia
     P[P_FS] = 1.0 if env.free_surface else 0.0
     P[P_RHOA], P[P_CDN_A], P[P_CDT_A] = env.air_density, env.air_Cdn, env.air_Cdt
     P[P_FSB] = 0.5 * max(env.surface_smoothing, segment)
-    return P
+    P[P_WZCUT] = math.inf
+    if waves is None or waves.n == 0:
+        return P
+    P[P_NW] = waves.n
+    P[P_WDEPTH] = waves.depth
+    P[P_WSTRETCH] = waves.stretch
+    P[P_WZCUT] = wave_cut_height(waves)
+    return np.ascontiguousarray(np.concatenate([P] + [np.asarray(x, float) for x in waves.arrays()]))
+
+
+def wave_cut_height(comps):
+    """Height below which the wave kinematics are < 1e-4 of their surface value (skipped); -inf when the
+    longest component reaches the bottom (finite depth, k d < ln 1e4)."""
+    amp = np.abs(np.asarray(comps.amp, float))
+    kmin = float(np.min(np.asarray(comps.k, float)))
+    if kmin <= 0.0 or (math.isfinite(comps.depth) and kmin * comps.depth < math.log(1e4)):
+        return -math.inf
+    return -float(amp.sum()) - math.log(1e4) / kmin
 
 
 @jit_alloc
@@ -127,20 +151,60 @@ def elastic_strain(T, P):
 
 
 @jit_alloc
-def height_at_alpha_f(v, rn, P):
-    """z at t_{n+alpha_f} of a point with alpha_f-level velocity v: the position is a generalized-alpha
-    variable of dr/dt = v (rate r' with r'_{n+alpha_m} = v_{n+alpha_f}); rn = (r_n, r'_n)."""
+def coordinate_at_alpha_f(v, rn, P, c):
+    """Coordinate c of the position at t_{n+alpha_f} of a point with alpha_f-level velocity v: the
+    position is a generalized-alpha variable of dr/dt = v (rate r' with r'_{n+alpha_m} = v_{n+alpha_f});
+    rn = (r_n, r'_n). Its derivative by v[c] is alpha_f dt gamma / alpha_m."""
     am = P[P_AM]
     g = P[P_GAM]
-    rdot = (v[2] - (1.0 - am) * rn[5]) / am
-    z1 = rn[2] + P[P_DT] * ((1.0 - g) * rn[5] + g * rdot)
-    return (1.0 - P[P_AF]) * rn[2] + P[P_AF] * z1
+    rdot = (v[c] - (1.0 - am) * rn[3 + c]) / am
+    x1 = rn[c] + P[P_DT] * ((1.0 - g) * rn[3 + c] + g * rdot)
+    return (1.0 - P[P_AF]) * rn[c] + P[P_AF] * x1
+
+
+@jit_alloc
+def height_at_alpha_f(v, rn, P):
+    """z at t_{n+alpha_f} (coordinate_at_alpha_f, c = 2)."""
+    return coordinate_at_alpha_f(v, rn, P, 2)
+
+
+@jit_alloc
+def wave_state(v, rn, z, P, uw, aw):
+    """Wave particle velocity uw and local acceleration aw (3,) at the alpha_f-level position and time
+    t_n + alpha_f dt (physics/waves.wave_kinematics, P's components); returns eta there (0 without waves)."""
+    for k in range(3):
+        uw[k] = 0.0
+        aw[k] = 0.0
+    nw = int(P[P_NW])
+    if nw == 0 or z <= P[P_WZCUT]:
+        return 0.0 if nw == 0 else wave_elevation_at(v, rn, P)
+    o = P_SIZE
+    return wave_kinematics(coordinate_at_alpha_f(v, rn, P, 0), coordinate_at_alpha_f(v, rn, P, 1), z,
+                           P[P_TIME] + P[P_AF] * P[P_DT], P[o:o + nw], P[o + nw:o + 2 * nw], P[o + 2 * nw:o + 3 * nw],
+                           P[o + 3 * nw:o + 4 * nw], P[o + 4 * nw:o + 5 * nw], P[o + 5 * nw:o + 6 * nw],
+                           P[P_WDEPTH], int(P[P_WSTRETCH]), uw, aw)
+
+
+@jit_alloc
+def wave_elevation_at(v, rn, P):
+    """eta at the alpha_f-level horizontal position and time (deep points: the surface for phi only)."""
+    nw = int(P[P_NW])
+    o = P_SIZE
+    x = coordinate_at_alpha_f(v, rn, P, 0)
+    y = coordinate_at_alpha_f(v, rn, P, 1)
+    t = P[P_TIME] + P[P_AF] * P[P_DT]
+    eta = 0.0
+    for n in range(nw):
+        eta += P[o + n] * math.cos(P[o + 2 * nw + n] * (x * P[o + 3 * nw + n] + y * P[o + 4 * nw + n])
+                                   - P[o + nw + n] * t + P[o + 5 * nw + n])
+    return eta
 
 
 @jit_alloc
 def fluid_force(v, tu, a, uc, le, rho, cdt, cdn, cmn, cmt, P, out):
-    """out = Morison drag (relative velocity uc - v) + added-mass reaction + buoyancy rho A g z_hat of a
-    fluid of density rho, per unstretched metre [PE2020 Eq. 13, 14, 17]; tu: unit tangent."""
+    """out = Morison drag (relative velocity uc - v) + added-mass reaction to the acceleration a
+    (relative to the fluid's) + buoyancy rho A g z_hat of a fluid of density rho, per unstretched metre
+    [PE2020 Eq. 13, 14, 17]; tu: unit tangent."""
     vr0 = uc[0] - v[0]
     vr1 = uc[1] - v[1]
     vr2 = uc[2] - v[2]
@@ -164,9 +228,11 @@ def external_force(v, t, a, rn, eps, P, cz, cx, cy, out):
 
     v: velocity, t: tangent (normalised here), a: inertial acceleration (all at the alpha levels),
     rn: position and its rate at t_n (the height at t_{n+alpha_f} follows from v, so that the seabed
-    spring is implicit), eps: strain. Free surface (P_FS): the water part is weighted by the wetted
-    fraction phi(z) (physics/hydrodynamics.wetted_fraction, half-width P_FSB), the air part (air
-    density and drag coefficients, no added mass, still air) by 1 - phi.
+    spring is implicit), eps: strain. Waves: the particle velocity joins the current, the added mass acts
+    on the acceleration relative to the wave's, and rho_f A a_w (Froude-Krylov) is added: together the
+    load of hydrodynamics.wave_inertia with m = rho_f A C_m. Free surface (P_FS): the water part is
+    weighted by the wetted fraction phi(z - eta) (physics/hydrodynamics.wetted_fraction, half-width
+    P_FSB), the air part (air density and drag coefficients, no added mass, still air) by 1 - phi.
     """
     z = height_at_alpha_f(v, rn, P)
     nt = math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
@@ -178,9 +244,22 @@ def external_force(v, t, a, rn, eps, P, cz, cx, cy, out):
     le = 1.0 + eps
     if le < 0.0:
         le = 0.0
-    fluid_force(v, tu, a, uc, le, P[P_RHOF], P[P_CDT], P[P_CDN], P[P_CMN], P[P_CMT], P, out)
+    uw = np.empty(3)
+    aw = np.empty(3)
+    eta = wave_state(v, rn, z, P, uw, aw)
+    ar = np.empty(3)
+    for k in range(3):
+        uc[k] += uw[k]
+        ar[k] = a[k] - aw[k]
+    fluid_force(v, tu, ar, uc, le, P[P_RHOF], P[P_CDT], P[P_CDN], P[P_CMN], P[P_CMT], P, out)
+    if aw[0] != 0.0 or aw[1] != 0.0 or aw[2] != 0.0:  # Froude-Krylov (the added mass is in ar)
+        ma = P[P_RHOF] * P[P_AREA]
+        fx, fy, fz = wave_inertia(tu[0], tu[1], tu[2], aw[0], aw[1], aw[2], ma, 0.0, 0.0)
+        out[0] += fx
+        out[1] += fy
+        out[2] += fz
     if P[P_FS] > 0.0:
-        phi, _ = wetted_fraction(z, 0.0, P[P_FSB])
+        phi, _ = wetted_fraction(z, eta, P[P_FSB])
         if phi < 1.0:
             air = np.empty(3)
             uc[0] = 0.0

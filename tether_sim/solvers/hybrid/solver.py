@@ -15,6 +15,7 @@ from tether_sim.numerics.gen_alpha import gen_alpha_coefficients
 from tether_sim.numerics.rotations import rotate_frame
 from tether_sim.physics.bodies import body_acceleration, pack_body_params, submerged_weight
 from tether_sim.physics.end_conditions import end_kind
+from tether_sim.physics.waves import wave_components
 from tether_sim.solvers.base import BodyState, EndForces, SolverState, compose_tick, end_index
 from tether_sim.solvers.hybrid import zoning
 from tether_sim.solvers.hybrid.chain import build_chain, rod_blocks
@@ -22,7 +23,8 @@ from tether_sim.solvers.hybrid.initial import InitialStateMixin
 from tether_sim.solvers.hybrid.newton import MAX_TURN, NewtonMixin, _NewtonFailure
 from tether_sim.solvers.hybrid.newton_band import (FAIL_ITERATIONS, FAIL_RESIDUAL, FAIL_SINGULAR, FAIL_UPDATE,
                                                    newton_band)
-from tether_sim.solvers.hybrid.kernels import CAT_EPS, P_AF, P_AM, P_GAM, ROD_EPS, elastic_strain, pack_parameters
+from tether_sim.solvers.hybrid.kernels import (CAT_EPS, P_AF, P_AM, P_GAM, P_TIME, ROD_EPS, elastic_strain,
+                                              pack_parameters)
 from tether_sim.solvers.hybrid.rod import frame_at
 from tether_sim.solvers.hybrid.state_io import EndMotion, convert_state, node_profile
 from tether_sim.solvers.hybrid.winch import HybridWinchMixin
@@ -63,6 +65,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         self.cx = np.asarray(env.current_x, dtype=float)
         self.cy = np.asarray(env.current_y, dtype=float)
         self.net_weight = abs(cab.gamma0 - env.fluid_density * cab.area) * env.g
+        self.waves = wave_components(config)  # on from t = 0 (the initial relaxation is in still water)
         self.ends = (config.ship_end, config.vehicle_end)
         self.end_kinds = tuple(end_kind(e.kind, f"{n}.kind") for n, e in zip(("ship_end", "vehicle_end"), self.ends))
         body = [k.position == "body" for k in self.end_kinds]
@@ -207,16 +210,18 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
 
     def _parameters(self, dt):
         rho = self.opt.rho_inf if self._rho is None else self._rho
-        key = (dt, rho)
-        if self._pcache[0] != key:  # packed once per (step, rho_inf); the kernels only read it
-            self._pcache = (key, self._pack_parameters(dt, rho))
-        return self._pcache[1]
+        key = (dt, rho, self._rho is None)
+        if self._pcache[0] != key:  # packed once per (step, rho_inf, relaxing); the kernels only read it
+            self._pcache = (key, self._pack_parameters(dt, rho, waves=self._rho is None))
+        P = self._pcache[1]
+        P[P_TIME] = self.time  # the wave field's clock (t_n of the step; kernels.wave_state)
+        return P
 
-    def _pack_parameters(self, dt, rho):
+    def _pack_parameters(self, dt, rho, waves=True):
         am, af, g = gen_alpha_coefficients(rho)
         return pack_parameters(self.config.cable, self.config.environment, dt, am, af, g, self.EI, self.GJ,
                                self.inertia_b, self.inertia_t, self.opt.compression_softening, self.compression_width,
-                               segment=self.ds)
+                               segment=self.ds, waves=self.waves if waves else None)
 
     def _step_with_retry(self, dt):
         pieces = [dt]
