@@ -390,50 +390,47 @@ def wants_help(argv) -> bool:
     return False
 
 
-def cli_param_keys(argv) -> set:
-    """Parameter names set with ``-p``/``--param NAME:=VALUE`` inside ``--ros-args`` (a
-    ``node:`` prefix is dropped)."""
-    keys, in_ros = set(), False
+def _ros_arg_values(argv, flags):
+    """The values that follow any of ``flags`` inside the ``--ros-args`` sections of ``argv``."""
+    in_ros = False
     for i, a in enumerate(argv):
         if a == "--ros-args":
             in_ros = True
         elif a == "--":
             in_ros = False
-        elif in_ros and a in ("-p", "--param") and i + 1 < len(argv) and ":=" in argv[i + 1]:
-            keys.add(argv[i + 1].split(":=", 1)[0].rsplit(":", 1)[-1])
-    return keys
+        elif in_ros and a in flags and i + 1 < len(argv):
+            yield argv[i + 1]
+
+
+def _cli_params(argv):
+    """(name, text) of each ``-p``/``--param NAME:=VALUE`` inside ``--ros-args`` (a ``node:`` prefix
+    dropped from the name)."""
+    for item in _ros_arg_values(argv, ("-p", "--param")):
+        if ":=" in item:
+            name, _, text = item.partition(":=")
+            yield name.rsplit(":", 1)[-1], text
+
+
+def cli_param_keys(argv) -> set:
+    """Parameter names set with ``-p``/``--param NAME:=VALUE`` inside ``--ros-args``."""
+    return {name for name, _ in _cli_params(argv)}
 
 
 def params_files(argv) -> list:
     """The files given with ``--params-file`` inside ``--ros-args`` sections of ``argv``."""
-    files, in_ros = [], False
-    for i, a in enumerate(argv):
-        if a == "--ros-args":
-            in_ros = True
-        elif a == "--":
-            in_ros = False
-        elif in_ros and a == "--params-file" and i + 1 < len(argv):
-            files.append(argv[i + 1])
-    return files
+    return list(_ros_arg_values(argv, ("--params-file",)))
 
 
 def cli_param_values(argv) -> dict:
     """{name: value} of the ``-p NAME:=VALUE`` of ``argv`` that are tether_sim keys (values read as YAML,
     as ROS reads them)."""
-    keys, out, in_ros = key_map(), {}, False
-    for i, a in enumerate(argv):
-        if a == "--ros-args":
-            in_ros = True
-        elif a == "--":
-            in_ros = False
-        elif in_ros and a in ("-p", "--param") and i + 1 < len(argv) and ":=" in argv[i + 1]:
-            name, _, text = argv[i + 1].partition(":=")
-            name = name.rsplit(":", 1)[-1]
-            if name in keys:
-                try:
-                    out[name] = yaml.safe_load(text) if text else ""
-                except yaml.YAMLError:
-                    out[name] = text
+    keys, out = key_map(), {}
+    for name, text in _cli_params(argv):
+        if name in keys:
+            try:
+                out[name] = yaml.safe_load(text) if text else ""
+            except yaml.YAMLError:
+                out[name] = text
     return out
 
 
