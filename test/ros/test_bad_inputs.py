@@ -183,3 +183,17 @@ def test_one_node_through_future_and_zero_stamps_a_failing_tick_and_an_undeclare
 
     with pytest.raises(ParameterNotDeclaredException, match=r"'cable\.EAA' \(did you mean 'cable\.EA'\?\)"):
         h.node.set_parameters([Parameter("cable.EAA", value=1.0)])
+
+
+def test_use_sim_time_cannot_change_while_running_and_the_node_goes_on(h):
+    # (switching it on a running node used to be accepted: then no state, no /diagnostics, no log)
+    from rclpy.parameter import Parameter
+
+    n = len(h.received["/tether/state"])
+    result = h.node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, False)])[0]
+    assert not result.successful
+    assert "use_sim_time cannot change while the node runs" in result.reason and "restart" in result.reason
+    assert h.node.get_parameter("use_sim_time").value is True and h.node.get_clock().ros_time_is_active
+    h.run(h.time + 0.6, ship=SHIP)
+    still_running(h, n)
+    assert h.node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, True)])[0].successful  # unchanged

@@ -17,6 +17,7 @@ import rclpy
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
 from nav_msgs.msg import Path
+from rcl_interfaces.msg import SetParametersResult
 from rclpy.exceptions import ParameterNotDeclaredException
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
@@ -287,7 +288,7 @@ class TetherSimNode(Node):
                         "inputs, cable state kept, ends blended, snap detection suspended across the gap")
         for end, duration, reason in report.blends:
             self._log_throttled(("blend", end), "warning", f"{end} end blended onto its pose input over {duration:.2f} s ({reason})")
-        if report.capped or report.degraded and report.lag > 0.0:
+        if report.degraded and report.lag > 0.0:  # (a capped tick within 1.5 periods is on time: not degraded, not logged)
             self._period["behind"] = True
             self._log_throttled("behind", "warning", f"cannot keep up with the clock: outputs {report.lag:.3f} s late "
                                 "(stamped with the simulated instant, marked degraded)")
@@ -315,6 +316,12 @@ class TetherSimNode(Node):
 
     # ------------------------------------------------------------------ parameters, description, diagnostics
     def _on_set_parameters(self, parameters):
+        for p in parameters:  # (runs before rclpy's own time-source callback, which never sees a refused change)
+            if p.name == "use_sim_time" and bool(p.value) != bool(self.get_parameter("use_sim_time").value):
+                return SetParametersResult(successful=False, reason=(
+                    "use_sim_time cannot change while the node runs (the solver's clock would switch between "
+                    "wall time and /clock mid-run); restart the node with -p use_sim_time:="
+                    f"{'true' if p.value else 'false'}"))
         result, config = node_params.check_live_change(parameters, self.config)
         if config is not None:
             self.config = config
