@@ -118,8 +118,9 @@ def test_tms_node_publishes_both_lines_the_vehicle_wrench_and_the_cage(tms):
         assert "cage/base_link" in frames
     # the excursion tether's force on the vehicle: its end tension along the line, back toward the cage
     # (at -x; the slack line sags below the vehicle, so it also pulls down there), none sideways
-    stamp = exc.header.stamp
-    w = [m for m in r["/tether/vehicle_wrench"] if m.header.stamp == stamp][-1]  # the same instant
+    wrenches = {(m.header.stamp.sec, m.header.stamp.nanosec): m for m in r["/tether/vehicle_wrench"]}
+    exc = [m for m in r["/tether/excursion/state"] if (m.header.stamp.sec, m.header.stamp.nanosec) in wrenches][-1]
+    w = wrenches[(exc.header.stamp.sec, exc.header.stamp.nanosec)]  # the same instant
     assert w.header.frame_id == "rov/base_link"
     f = np.array([w.wrench.force.x, w.wrench.force.y, w.wrench.force.z])
     assert np.linalg.norm(f) == pytest.approx(exc.vehicle_end_tension, rel=1e-4)  # |F| vs axial T: strain-scale

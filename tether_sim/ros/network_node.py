@@ -36,7 +36,7 @@ from visualization_msgs.msg import Marker
 
 from tether_sim.io.inputs import EndPoseInput
 from tether_sim.network.body import quat_matrix
-from tether_sim.network.driver import ENDS, NetworkDriver
+from tether_sim.ros.network_driver import ENDS, NetworkDriver
 from tether_sim.network.params import load_network, load_network_files
 from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent
 from tether_sim.ros import cdr, convert

@@ -1,10 +1,13 @@
-"""The network node's clock and detection around a :class:`NetworkSolver` (no rclpy).
+"""The network node's clock and detection around a :class:`NetworkSolver` (no rclpy; the
+single-line node's counterpart is tether_sim/ros/driver.py).
 
 - Clock: the network's time 0 is the clock time ``anchor``; each tick advances it to the clock
   minus ``node.input_delay`` so that the driven points' pose inputs are interpolated (as the
   single-line node does). A tick further behind than ``node.max_lag`` re-synchronises: the skipped
-  span is not simulated (the anchor moves), the run is marked degraded and snap detection is
-  restarted past the gap (no snap is built from samples on both sides of it).
+  span is not simulated (the anchor moves), each driven point is blended from its held trajectory
+  onto its input (the single-line node's C2 blend, ``end_commands.Blend``), and snap detection
+  restarts with fresh detectors once the blends end (no snap is built from the gap or the bridge);
+  the outputs are marked degraded meanwhile.
 - Start: the network statics at the driven points' current positions; a DG line whose discrete
   equilibrium polish failed settles for ``SETTLE_TIME`` with the points held before the clock
   starts (the snap detectors' static tensions are taken after it).
@@ -29,6 +32,7 @@ from tether_sim.network.solver import NetworkSolver
 from tether_sim.network.spec import NetworkSpec, PointSpec
 from tether_sim.physics.boundary import EndCondition
 from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapDetector, SnapEvent, snap_guard
+from tether_sim.ros.end_commands import Blend, blend_time
 from tether_sim.solvers.base import relative_end_speed
 
 ENDS = ("ship", "vehicle")
@@ -89,7 +93,7 @@ class NetworkDriver:
         self.net = None
         self.anchor = 0.0
         self.detectors = {}
-        self.static_tensions = {}
+        self.static_tensions = {}  # line -> [s = 0 end, s = L end] reference tensions, N
         self.degraded = False
         self.dropped_total = 0.0
         self.resyncs = 0
@@ -101,6 +105,7 @@ class NetworkDriver:
         self.real_time_factor = 0.0
         self.lag = 0.0
         self._suspend_before = -math.inf
+        self.blends = {}  # point -> Blend after a re-synchronisation
 
     @property
     def stamp(self) -> float:
@@ -140,17 +145,34 @@ class NetworkDriver:
         self.anchor = t0 - self.net.time
         self._build_detectors()
 
-    def _build_detectors(self):
-        self.detectors, self.static_tensions = {}, {}
+    def _build_detectors(self, static=True):
+        """Fresh detectors; ``static``: take the reference (static) end tensions from the current
+        state (at the start, at rest), else keep the start's."""
+        self.detectors = {}
         for name, solver in self.net.lines.items():
-            tension = [abs(self.net.end_load(name, e)[1]) for e in ENDS]
-            self.static_tensions[name] = [max(t, 1.0) for t in tension]
+            if static or name not in self.static_tensions:
+                tension = [abs(self.net.end_load(name, e)[1]) for e in ENDS]
+                self.static_tensions[name] = [max(t, 1.0) for t in tension]
             L = float(self.spec.lines[name].config.cable.length)
             self.detectors[name] = SnapDetector(self.spec.lines[name].config.snap, [f"{name}/{e}" for e in ENDS],
                                                 self.static_tensions[name], [0.0, L],
                                                 line_snap_guard(self.spec, name, solver))
             for e in ENDS:
                 self.slack[f"{name}/{e}"] = False
+
+    def _start_blends(self, target):
+        """After a skip: each driven point goes from its held trajectory onto its input at ``target``."""
+        end = target
+        for name in self.driven_points():
+            src = self.sources.get(name)
+            if src is None or not src.has_data:
+                continue
+            p = self.net.points[name]
+            p_s, v_s = src.attachment_at(target)
+            T = blend_time(np.linalg.norm(p_s - p.pos), np.linalg.norm(v_s - p.vel), self.node.max_end_speed)
+            self.blends[name] = Blend(self.stamp, T, p.pos.copy(), p.vel.copy(), "re-synchronisation")
+            end = max(end, self.stamp + T)
+        self._suspend_before = end
 
     def tick(self, now: float) -> NetworkTickReport:
         report = NetworkTickReport()
@@ -166,14 +188,21 @@ class NetworkDriver:
             report.dropped = skip
             self.dropped_total += skip
             self.resyncs += 1
-            self.degraded = True
-            self._suspend_before = self.stamp
-            self._build_detectors()  # nothing carries across the gap
+            self._start_blends(target)
         for name in self.driven_points():
             src = self.sources.get(name)
             if src is not None and src.has_data:
                 pos, vel = src.attachment_at(target)
+                blend = self.blends.get(name)
+                if blend is not None:
+                    pos, vel, done = blend.command(target, pos, vel)
+                    if done:
+                        del self.blends[name]
                 self.net.set_point_motion(name, pos, vel)
+        if self._suspend_before > -math.inf and not self.blends and self.stamp >= self._suspend_before:
+            self._build_detectors(static=False)  # fresh past the gap and the bridge
+            self._suspend_before = -math.inf
+        self.degraded = bool(self.blends) or self._suspend_before > -math.inf
         wall0 = time.perf_counter()
         sim0 = self.net.time
         try:
@@ -191,12 +220,11 @@ class NetworkDriver:
             s = o["samples"]
             if s.shape[1] == 0:
                 continue
+            if self._suspend_before > -math.inf:
+                continue  # re-synchronising: no detection across the gap and the blend
             times = s[0] + self.anchor
-            keep = times >= self._suspend_before
-            if not np.any(keep):
-                continue
             speed = relative_end_speed(self.net.lines[name], self.spec.lines[name].config.cable.length)
-            events = self.detectors[name].update(times[keep], np.column_stack([s[1][keep], s[2][keep]]), speed)
+            events = self.detectors[name].update(times, np.column_stack([s[1], s[2]]), speed)
             for ev in events:
                 if isinstance(ev, NumericalSnapWarning):
                     self.numerical_snaps += 1
