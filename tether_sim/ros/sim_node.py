@@ -103,6 +103,7 @@ class TetherSimNode(Node):
         self._tick_topics = [t for t in self.pubs if t in convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
         self._first_tick = None
         self.tick_errors, self.last_tick_error = 0, ""
+        self.snaps_published = 0
         self._last_output = -float("inf")
         self._period = _new_period(self.inputs)
         self.add_on_set_parameters_callback(self._on_set_parameters)
@@ -306,6 +307,7 @@ class TetherSimNode(Node):
         for topic, msg in convert.event_outputs(report.events, self.driver):
             if topic == "/tether/snap_events":
                 self._period["snaps"] += 1
+                self.snaps_published += 1
                 log.warning(f"snap load at {msg.end}: peak {msg.peak_tension:.1f} N ({msg.amplification:.2f} x static)")
             self.pubs[topic].publish(msg)
             if topic == "/tether/snap_events":
@@ -330,6 +332,17 @@ class TetherSimNode(Node):
             text = ", ".join(f"{n!r}" + (f" (did you mean {h[0]!r}?)" if h else "") for n, h in zip(unknown, hints))
             raise ParameterNotDeclaredException(f"{text}; tether_sim declares every key of docs/parameters.md")
         super()._check_undeclared_parameters(parameter_list)
+
+    def account(self) -> str:
+        """One line on what the node did, for its exit: clock time simulated, re-synchronisations,
+        snap events published, failed ticks."""
+        d = self.driver
+        if d is None or d.solver is None:
+            return "the solver had not started"
+        ran = d.last_now - (self._first_tick or d.last_now)
+        return (f"ran {ran:.1f} s of clock time, outputs up to stamp {d.stamp:.3f} s; "
+                f"{d.resyncs} re-synchronisation(s), {self.snaps_published} snap event(s) published, "
+                f"{self.tick_errors} failed tick(s)")
 
     def _publish_description(self):
         self.pubs["/tether/description"].publish(convert.description(self.config, self.arc_lengths, self._now()))
@@ -477,8 +490,11 @@ def main(args=None):
         else:
             node = TetherSimNode(where=", ".join(files) or "command-line parameters", cli_keys=cli_param_keys(argv))
         rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
+    except (KeyboardInterrupt, ExternalShutdownException) as exc:
         exit_if_compiling(0)  # SIGINT during the start-up compile: leave without waiting for it
+        if node is not None:  # (the node writes no file: nothing to close; exit code 0 as for ROS launch)
+            print(f"tether-sim: stopped by {'SIGINT' if isinstance(exc, KeyboardInterrupt) else 'SIGTERM (or an rclpy shutdown)'}: "
+                  f"{node.account()}", file=sys.stderr)
     except Interrupted as exc:  # SIGTERM during the start-up compile
         print(f"tether-sim: {exc}", file=sys.stderr)
         exit_if_compiling(0)
