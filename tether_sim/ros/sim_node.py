@@ -517,8 +517,14 @@ def main(args=None):
         print(USAGE)
         return 0
     files = params_files(argv)
+    from tether_sim.network.params import file_is_network, load_network_files
+
+    network = any(file_is_network(f) for f in files)  # a line network (docs/network.md): its own node
     try:
-        check_params_files(files, cli_param_values(argv))
+        if network:
+            load_network_files(files, cli_param_values(argv))
+        else:
+            check_params_files(files, cli_param_values(argv))
     except ConfigError as exc:
         print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
         return 2
@@ -527,7 +533,12 @@ def main(args=None):
     rclpy.init(args=argv)
     node = None
     try:
-        node = TetherSimNode(where=", ".join(files) or "command-line parameters", cli_keys=cli_param_keys(argv))
+        if network:
+            from tether_sim.ros.network_node import NetworkSimNode
+
+            node = NetworkSimNode(files=files, overrides=cli_param_values(argv))
+        else:
+            node = TetherSimNode(where=", ".join(files) or "command-line parameters", cli_keys=cli_param_keys(argv))
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException) as exc:
         exit_if_compiling(0)  # SIGINT during the start-up compile: leave without waiting for it
