@@ -542,7 +542,7 @@ def main(args=None):
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException) as exc:
         exit_if_compiling(0)  # SIGINT during the start-up compile: leave without waiting for it
-        if node is not None:  # (the node writes no file: nothing to close; exit code 0 as for ROS launch)
+        if hasattr(node, "account"):  # (the node writes no file: nothing to close; exit code 0 as for ROS launch)
             print(f"tether-sim: stopped by {'SIGINT' if isinstance(exc, KeyboardInterrupt) else 'SIGTERM (or an rclpy shutdown)'}: "
                   f"{node.account()}", file=sys.stderr)
     except Interrupted as exc:  # SIGTERM during the start-up compile
