@@ -97,19 +97,23 @@ def _key(r):
     return (float(r["L"]), float(r["f"]), float(r["alpha"]), int(r["N"]))
 
 
-def compare(out, coarse=40, fine=80, peak_tol=0.02, time_tol=0.010):
-    """Per case: every snap on ``coarse`` matched on ``fine`` (same end, nearest time); returns the table rows."""
-    runs = {_key(r): r for r in _read(out / "runs.csv")}
-    events = {}
-    for e in _read(out / "events.csv"):
-        events.setdefault(_key(e), []).append(e)
+def compare(outs, coarse=40, fine=80, peak_tol=0.02, time_tol=0.010):
+    """Per case: every snap on ``coarse`` matched on ``fine`` (same end, nearest time); returns the table rows.
+    ``outs``: one or more output folders (runs of different lengths may sit in different folders)."""
+    runs, events = {}, {}
+    for out in ([outs] if isinstance(outs, Path) else outs):
+        runs.update({_key(r): r for r in _read(out / "runs.csv")})
+        for e in _read(out / "events.csv"):
+            events.setdefault(_key(e), []).append(e)
     table = []
     for (L, f, alpha, N), run in sorted(runs.items()):
         if N != coarse or (L, f, alpha, fine) not in runs:
             continue
         fine_run = runs[(L, f, alpha, fine)]
-        a = [e for e in events.get((L, f, alpha, coarse), []) if e["kind"] == "snap"]
-        b = [e for e in events.get((L, f, alpha, fine), []) if e["kind"] == "snap"]
+        # events in the span both runs cover (a shorter fine run is compared on its span; 1 s of peak window)
+        span = min(float(run["sim_s"] or 0.0), float(fine_run["sim_s"] or 0.0)) - 1.0
+        a = [e for e in events.get((L, f, alpha, coarse), []) if e["kind"] == "snap" and float(e["time_s"]) <= span]
+        b = [e for e in events.get((L, f, alpha, fine), []) if e["kind"] == "snap" and float(e["time_s"]) <= span]
         worst_dp, worst_dt, missing = 0.0, 0.0, 0
         for e in a:
             same = [x for x in b if x["location"] == e["location"]]
@@ -140,9 +144,10 @@ def main(argv=None):
     ap.add_argument("--meshes", type=int, nargs="+", default=[20, 40, 80])
     ap.add_argument("--periods", type=float, default=12.0)
     ap.add_argument("--out", type=Path, default=Path("out/slack_ladder"))
-    ap.add_argument("--set", nargs="*", default=["dg.damping=implicit"], metavar="KEY=VALUE",
-                    help="further parameter overrides for every run (default: dg.damping=implicit, the L-stable "
-                         "damping step: the explicit damping limit would make N = 80 14x dearer)")
+    ap.add_argument("--also", type=Path, nargs="*", default=[], help="further output folders for --compare")
+    ap.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE",
+                    help="further parameter overrides for every run, e.g. dg.damping=implicit (cheaper, but not clean "
+                         "in slack phases at N = 40: docs/dg_solver.md \"Slack with bending\")")
     ap.add_argument("--compare", action="store_true", help="only print the N = 40 / 80 comparison table")
     ap.add_argument("--peak-tol", type=float, default=0.02)
     ap.add_argument("--time-tol", type=float, default=0.010)
@@ -167,7 +172,7 @@ def main(argv=None):
                         _append(args.out / "events.csv", EVENT_FIELDS, events)
                         print(" ".join(f"{k}={row.get(k, '')}" for k in RUN_FIELDS[:16]), flush=True)
     print("L f alpha | snaps N40 N80 | unmatched extra | worst peak rel | worst dt s | numerical | ok")
-    for r in compare(args.out, peak_tol=args.peak_tol, time_tol=args.time_tol):
+    for r in compare([args.out, *args.also], peak_tol=args.peak_tol, time_tol=args.time_tol):
         print(f"{r['L']:g} {r['f']:g} {r['alpha']:g} | {r['snaps_coarse']} {r['snaps_fine']} | {r['unmatched']} "
               f"{r['extra_fine']} | {r['worst_peak_rel']:.4f} | {r['worst_dt_s']:.4f} | {r['numerical']} | {r['ok']}")
 

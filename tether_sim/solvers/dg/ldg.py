@@ -24,7 +24,9 @@ not shorten its material; a chord shorter than the material means the cable is w
 scale, and its arc length per unstretched metre is still 1. So there b = q and l_b = 1: the bending
 of the resolved (mean) line, measured on the material arc length. The two forms meet at l = 1 (b and
 l_b continuous, b Lipschitz in q). With the linear law (cable.material: linear) compression is real
-material strain and PE2020's form holds at every l (l_f = 0). Why the stretched form must not be used there: as a chord collapses
+material strain and PE2020's form holds at every l (l_f = 0).
+
+Why the stretched form must not be used where the chord is short: as a chord collapses
 (l -> 0, the cable folded inside an element) q/l is undefined and flips sign when q passes through
 zero, so kappa = d(q/l)/ds becomes a jump of size 2 across the fold, and M* ~ 1/l^2, T_s ~ 1/l^3 turn
 it into a force that grows without bound as the fold sharpens (measured on ROPOS 200 m, alpha = 100:

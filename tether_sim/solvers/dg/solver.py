@@ -15,7 +15,7 @@ import numpy as np
 from tether_sim.errors import UnstableTimeStepError
 from tether_sim.numerics.operators import element_operators, project_function
 from tether_sim.physics.bodies import BODY_STATE_SIZE, initial_body_state, pack_body_params, submerged_weight
-from tether_sim.physics.constitutive import TensionLaw, chord_floor
+from tether_sim.physics.constitutive import TensionLaw
 from tether_sim.physics.end_conditions import KIND_CODES, anchor_end, end_kind, held_in_place
 from tether_sim.physics.hydrodynamics import (
     added_mass_per_length, air_weight_per_length, current_table, net_weight_per_length,
@@ -94,8 +94,6 @@ class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
         self._build_workspace(config)
         self.time = 0.0
         self.q_penalty_form = "tension" if opt.q_penalty_jump == "tension" else "strain"
-        if opt.q_penalty_jump == "auto" and cab.EI > 0.0 and chord_floor(self.law.code) > 0.0:
-            self._use_tension_penalty()  # bending that can go slack (docs/dg_solver.md, "Slack with bending")
         self.equilibrium_iterations = 0  # Newton iterations of the discrete static equilibrium (-1: failed)
         self._dt_rule = self.stable_time_step()
         self.fixed_dt = float(opt.fixed_time_step)
@@ -284,20 +282,13 @@ class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
 
     def _choose_q_penalty(self, shape):
         """dg.q_penalty_jump auto: the tension-jump penalty when max dT/deps / min T of the static
-        state exceeds dg.q_penalty_auto_ratio (docs/dg_solver.md, "q-equation penalty"); a cable with
-        bending under a law without compression has it already (set in __init__)."""
-        if self.q_penalty_form == "tension":
-            return
+        state exceeds dg.q_penalty_auto_ratio (docs/dg_solver.md, "q-equation penalty")."""
         t_min = float(np.min(shape.tension(np.linspace(0.0, self.L, 201))))
         ratio = self.law.max_slope() / max(t_min, 1e-300)
-        if ratio > self.config.dg.q_penalty_auto_ratio:
-            self._use_tension_penalty()
-
-    def _use_tension_penalty(self):
-        """Switch the q-equation penalty to the tension-jump form (dg.q_penalty_jump = tension)."""
-        self.q_penalty_form = "tension"
-        for p in (self.prm, self._prm_step):
-            p[Y.P_QPENT], p[Y.P_QPEN] = self.config.dg.q_penalty, 0.0
+        self.q_penalty_form = "tension" if ratio > self.config.dg.q_penalty_auto_ratio else "strain"
+        if self.q_penalty_form == "tension":
+            for p in (self.prm, self._prm_step):
+                p[Y.P_QPENT], p[Y.P_QPEN] = self.config.dg.q_penalty, 0.0
 
     def set_shape(self, tangent, velocity=None, origin=None):
         """Replace the state: q = tangent(s) (n, 3) = dr/ds and cable velocity velocity(s) (n, 3) (m/s),
