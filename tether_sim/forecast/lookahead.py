@@ -30,9 +30,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tether_sim.errors import SolverDivergedError
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.snap import SnapEvent
 
-ENDS = ("ship", "vehicle")
+ENDS = END_NAMES
 VEHICLE_EASE_TIME = 1.0  # s, a prescribed vehicle end is eased to rest over this time constant
 
 
