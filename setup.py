@@ -54,6 +54,7 @@ setup(
             "tether-sim-report = tether_sim.report:main",
             "tether-sim-study = tether_sim.studies.cli:main",
             "tether-sim-recover = tether_sim.io.mcap_recover:main",
+            "tether-sim-poses = tether_sim.ros.pose_source:main",
         ],
     },
 )

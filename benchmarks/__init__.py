@@ -1,0 +1,20 @@
+"""Benchmark scripts: each prints the figures of one BENCHMARKS.md section (the section names it).
+
+Run from the repository root, e.g. ``PYTHONPATH=. .venv/bin/python benchmarks/bench_vs_moordyn.py``
+(``make bench`` runs the quick ones). Timing is thread CPU, compared as ratios within one run.
+
+Shared by every script: ``ropos_case`` (the ROPOS tether + cage case, PE2020 Sec. 6) and ``drive``
+(drives a solver the way the node does). Cost and speed: ``bench_dg`` / ``bench_dg_kernel`` /
+``bench_dg_scaling`` / ``bench_tick`` (DG substep and tick), ``bench_vs_moordyn`` (DG against MoorDyn
+at 1 %, 50 Hz), ``bench_moordyn`` (MoorDyn's ladder), ``bench_accuracy`` + ``summarize_accuracy``
+(accuracy against cost), ``bench_solvers`` / ``bench_live_configs`` (real-time factors),
+``bench_implicit_damping``, ``bench_free_surface``, ``bench_winch`` / ``bench_hybrid_winch`` /
+``bench_ropos_descent`` (winch), ``bench_hybrid`` / ``bench_hybrid_jacobian`` (hybrid solver),
+``bench_node`` / ``bench_tf`` / ``soak_node`` (the ROS node), ``bench_study_throughput`` (snap-load
+studies), ``network_vs_single_line`` / ``network_vs_moordyn`` (line networks; figures in docs/network.md).
+Bit identity: ``regression_vs_baseline`` (all shipped configurations against another checkout)
+and ``dg_regression`` (DG end tensions on the ROPOS case, ``--save`` then ``--compare``).
+
+``studies/``: accuracy and physics studies whose results are in docs/ (not timings).
+``probes/``: one-off investigations kept for their commands (cited in docs/performance.md).
+"""

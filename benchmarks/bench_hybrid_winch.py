@@ -1,4 +1,4 @@
-"""Cost of the hybrid solver's winch (issue 16): segments added and removed at the winch end.
+"""Cost of the hybrid solver's winch: segments added and removed at the winch end.
 
 A cable hanging in water from a fixed sheave with a 500 N load at its lower end (the default cable
 of tether_sim.physics.cable, L = 200 m, hybrid defaults: 100 segments, h0 = 2 m, dt = 0.01 s), fed

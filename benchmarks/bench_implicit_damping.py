@@ -1,4 +1,4 @@
-"""Implicit vs explicit damping of the DG solver on the ROPOS case (issue 8, BENCHMARKS.md).
+"""Implicit vs explicit damping of the DG solver on the ROPOS case (BENCHMARKS.md).
 
 ROPOS tether + cage body, N = 20, P = 4, circular fairlead a = 2 m, f = 0.2 Hz through slack and
 snap (ropos_case). For each length both damping treatments run in the same process, alternately,

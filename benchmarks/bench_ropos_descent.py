@@ -1,4 +1,4 @@
-"""The ROPOS descent (config/ropos_descent.yaml, issue 16) offline: MCAP, report, real-time factor.
+"""The ROPOS descent (config/ropos_descent.yaml) offline: MCAP, report, real-time factor.
 
     .venv/bin/python benchmarks/bench_ropos_descent.py [--duration S] [--out out/ropos_descent]
 

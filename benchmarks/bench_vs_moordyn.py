@@ -3,31 +3,31 @@
 The DG rungs are what ``dg.resolution: auto`` chooses for a 1 % first-snap-peak tolerance
 (resolution.choose, with its safety factor 1/2 on the measured ladders; docs/performance.md):
 N = 2, P = 4 at L = 200 m and N = 6, P = 2 at L = 1730 m, both at dg.cfl 0.8 (--rungs, --order and
---cfl change them; sessions 4-5 timed the ladder rung N = 3, P = 4 at 1730 m). Each timed DG run also measures its own first snap peak (resolution_ladder's metric: largest
+--cfl change them; until 2026-11-24 it timed the ladder rung N = 3, P = 4 at 1730 m). Each timed DG run also measures its own first snap peak (resolution_ladder's metric: largest
 end tension in 5-10 s, 200 Hz resampling, both ends) against the reference rows of
 docs/data/resolution_ladder.csv (N = max(10, L / 20 m), P = 4, cfl 0.5) and prints the error, so a
 change of the kernels that moved the peak would show (needs --duration >= 10). MoorDyn N = 40 is
 its 1 % rung of BENCHMARKS.md "Accuracy against cost" (0.71 % at 1730 m; 0.6 % at 200 m against its
 own finest rung), with bending too (EI = EI_STAR, 10.2 s runs against N = 160: 0.89 % at 1730 m,
-0.12 % at 200 m; BENCHMARKS.md "MoorDyn with bending stiffness (session 7)",
+0.12 % at 200 m; BENCHMARKS.md "MoorDyn with bending stiffness (2026-11-25)",
 moordyn_bending_rungs.py). Cost: thread CPU per simulated second, best of --repeat runs of --duration s, DG
 and MoorDyn interleaved:
 
 - DG: a node tick = solver.tick(t + 0.02, ship=(position, velocity)): the targets, the substeps,
-  the drain of the end tensions and the end loads in one compiled call (session 5; ``--compose``
-  also times the four calls set_end_motion + advance_to + drain_end_tensions + end_forces of
-  sessions 1-4, in the same run);
+  the drain of the end tensions and the end loads in one compiled call (since 2026-11-24; ``--compose``
+  also times the four calls set_end_motion + advance_to + drain_end_tensions + end_forces used
+  before, in the same run);
 - MoorDyn: moordyn.Step over 0.02 s with its largest stable internal step dividing 0.02 s
   (bench_moordyn.best_wall with NODE_STEP), the fairlead fed the same orbit, and the same bending
   stiffness as the DG row: EI = alpha * EI_STAR in the line type's EI column (MoorDyn v2 lines
   carry bending stiffness: curvature at the internal nodes, bending forces from EI; pinned ends).
 
 The fairlead orbit itself (ropos_case.fairlead_motion, ~20 us of Python a call) is computed outside
-both timers, as bench_moordyn does for MoorDyn (sessions 2-3 timed it inside the DG tick only).
+both timers, as bench_moordyn does for MoorDyn (until 2026-11-23 it was timed inside the DG tick only).
 
 Each repeat runs MoorDyn once per alpha (EI = 0 and EI = EI_STAR), interleaved with the DG runs.
 The alpha = 1 row gives DG/MoorDyn against MoorDyn with bending (like for like) and, labelled
-"vs MoorDyn EI=0", against MoorDyn without bending (the figure printed before session 7, when
+"vs MoorDyn EI=0", against MoorDyn without bending (the figure printed before 2026-11-25, when
 the alpha = 1 rows were wrongly compared with MoorDyn at EI = 0). ``--baseline DIR`` adds
 another checkout's DG (bench_tick.load_baseline).
 
@@ -49,8 +49,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from benchmarks import bench_moordyn  # noqa: E402
 from benchmarks import ropos_case as rc  # noqa: E402
 from benchmarks.bench_tick import load_baseline  # noqa: E402
-from benchmarks.resolution_ladder import WINDOW, _peaks  # noqa: E402
-from benchmarks.resolution_report import read_rows  # noqa: E402
+from benchmarks.studies.resolution_ladder import WINDOW, _peaks  # noqa: E402
+from benchmarks.studies.resolution_report import read_rows  # noqa: E402
 
 
 
@@ -77,7 +77,7 @@ def dg_cost(factory, mod, length, n, alpha, duration, cfl=0.8, quad_points=0, or
     construction and static solve excluded, the record of end tensions kept outside the timer.
     quad_points > 0 sets dg.quad_points (0: the automatic (3P+1)//2 + 1 = 7 at P = 4).
     path "tick": one solver.tick per node tick (one compiled call); "compose": set_end_motion +
-    advance_to + drain_end_tensions + end_forces (sessions 1-4; a tree without tick() uses it)."""
+    advance_to + drain_end_tensions + end_forces (the calls before 2026-11-24; a tree without tick() uses it)."""
     cfg = mod.ropos_config(length, alpha=alpha, n_elements=n, order=order, cfl=cfl)
     if quad_points:
         cfg = replace(cfg, dg=replace(cfg.dg, quad_points=int(quad_points)))

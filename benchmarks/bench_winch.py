@@ -1,4 +1,4 @@
-"""Cost of the DG winch (issue 16): ROPOS with the cage, fairlead orbit a = 2 m, f = 0.2 Hz, fed at 50 Hz.
+"""Cost of the DG winch: ROPOS with the cage, fairlead orbit a = 2 m, f = 0.2 Hz, fed at 50 Hz.
 
 A micro-benchmark of one right-hand side with and without the winch terms, then three runs per
 length in one process, thread CPU time of the ticks only (drive.run), interleaved, best of

@@ -214,13 +214,18 @@ def snap_metrics(t, tension, window=PEAK_WINDOW, period=1.0 / ORBIT_FREQUENCY):
 
 # ---------------------------------------------------------------- MoorDyn input
 
-def moordyn_line_type():
-    """MoorDyn line coefficients giving the same forces per metre as our model (module doc)."""
-    d_v = math.sqrt(4.0 * material_area() / math.pi)
-    ratio = DIAMETER / d_v
+def moordyn_line_type(cable=None):
+    """MoorDyn line coefficients giving the same forces per metre as our model (module doc);
+    ``cable`` (CableProperties): another line's (default: the ROPOS tether)."""
+    if cable is None:
+        cable = cable_properties(1.0)
+    area = cable.gamma0 / cable.density
+    d_v = math.sqrt(4.0 * area / math.pi)
+    ratio = cable.diameter / d_v
     return {
-        "diam": d_v, "mass": GAMMA0, "EA": EA, "BA": ZETA,
-        "Cd": CDN * ratio, "Ca": CMN * ratio**2, "CdAx": CDT * ratio / math.pi, "CaAx": CMT * ratio**2,
+        "diam": d_v, "mass": cable.gamma0, "EA": cable.EA, "BA": cable.damping,
+        "Cd": cable.Cdn * ratio, "Ca": cable.Cmn * ratio**2, "CdAx": cable.Cdt * ratio / math.pi,
+        "CaAx": cable.Cmt * ratio**2,
     }
 
 
@@ -285,7 +290,7 @@ def _rk2_stable(z):
     return abs(1.0 + z + 0.5 * z * z) <= 1.0
 
 
-def moordyn_stable_dt(length, n_segments, safety=0.9):
+def moordyn_stable_dt(length, n_segments, safety=0.9, EA=EA, zeta=ZETA, gamma0=GAMMA0):
     """Largest stable RK2 step (s) of MoorDyn's highest axial mode, times a safety factor.
 
     Neighbouring nodes moving in opposition: node mass gamma0 l, stiffness 4 EA / l, damping
@@ -293,12 +298,13 @@ def moordyn_stable_dt(length, n_segments, safety=0.9):
     damped (long segments) the limit is set by RK2's weak growth on the imaginary axis
     (y^3 < 8 zeta), heavily damped (short segments) by the real axis (|z| <= 2, dt ~ l^2).
     A slack segment keeps its damping but loses EA (bilinear law): lambda = -4 BA / (gamma0 l^2),
-    the most negative real eigenvalue, so it is checked too.
+    the most negative real eigenvalue, so it is checked too. EA, zeta, gamma0: another line's
+    (default: the ROPOS tether).
     """
     seg = length / n_segments
-    m, c, k = GAMMA0 * seg, 4.0 * ZETA / seg, 4.0 * EA / seg
+    m, c, k = gamma0 * seg, 4.0 * zeta / seg, 4.0 * EA / seg
     lam = list(np.roots([m, c, k])) + [-c / m]
-    lo, hi = 0.0, 10.0 * seg / math.sqrt(EA / GAMMA0)
+    lo, hi = 0.0, 10.0 * seg / math.sqrt(EA / gamma0)
     for _ in range(60):  # bisection on the step; stability region is an interval along these rays
         mid = 0.5 * (lo + hi)
         if all(_rk2_stable(mid * v) for v in lam):

@@ -7,15 +7,17 @@
 
 Arguments (``ros2 launch tether_sim tether_sim.launch.py --show-args`` lists them):
 
-- ``params_file``: parameter file of the node (default: the package's config/ropos_L200.yaml). Its
-  ``tether_sim:`` section applies in any namespace (tether-sim hands rcl a copy renamed to its full
-  name: tether_sim/ros/namespacing.py). The recorder's section in config/recorder.yaml applies
-  only in the root namespace (rcl matches sections against full node names), so its topics and
-  output are given here directly.
+- ``params_file``: parameter file of the node (default: the package's config/ropos_L200.yaml). The
+  shipped files name their section ``/**/tether_sim:``, which rcl applies in any namespace (a
+  plain ``tether_sim:`` section is renamed for rcl by tether-sim itself, which logs it:
+  tether_sim/ros/namespacing.py). config/recorder.yaml's ``/**/tether_sim_recorder:`` applies in
+  any namespace too; only ``output`` is given here.
 - ``namespace``: namespace of every node started here. The node's topics are relative
   (``tether/state`` -> ``/<namespace>/tether/state``); /tf, /tf_static, /diagnostics and /clock
-  stay global. Give each tether distinct frames too (``node.vehicle_frame`` ...): frames are not
-  namespaced.
+  stay global. Frames are not namespaced: see ``frame_prefix``.
+- ``frame_prefix``: prefix of the node's frames (``node.frame_prefix``: body, attachment and tether
+  frames, not the world frame); default ``<namespace>/`` in a namespace (``rov1/ship/base_link``...),
+  none in the root namespace, so that two tethers launched in two namespaces never share a frame.
 - ``use_sim_time``: run on /clock (default: true when ``replay`` is true, else false).
 - ``record``, ``output``: also start tether-sim-record (config/recorder.yaml topics) writing ``output``.
 - ``replay``, ``input``, ``rate``: also start tether-sim-replay of ``input`` (an MCAP file with
@@ -37,15 +39,11 @@ from launch_ros.actions import Node
 from launch_ros.substitutions import FindPackageShare
 
 PACKAGE = "tether_sim"
-# what the recorder records (as config/recorder.yaml): relative names resolve in the namespace
-RECORDED_TOPICS = ["tether/state", "tether/snap_events", "tether/slack_warnings", "tether/ship_wrench",
-                   "tether/vehicle_wrench", "tether/description", "tether/marker", "tether/path",
-                   "ship/pose", "vehicle/sim_pose", "winch/state", "winch/command", "/diagnostics", "/tf", "/tf_static"]
-
 # (name, default, description); a default of None is computed below
 ARGUMENTS = (
     ("params_file", None, "parameter file of tether-sim (default: config/ropos_L200.yaml of the package)"),
     ("namespace", "", "namespace of the nodes; topics are relative, /tf /tf_static /diagnostics /clock global"),
+    ("frame_prefix", None, "prefix of the node's frames (node.frame_prefix; default '<namespace>/', none in the root namespace)"),
     # launch evaluates a default when its declaration runs: 'replay' is declared before
     # 'use_sim_time', whose default reads it
     ("replay", "false", "also start tether-sim-replay of 'input', publishing /clock"),
@@ -60,8 +58,11 @@ ARGUMENTS = (
 def generate_launch_description():
     share = FindPackageShare(PACKAGE)
     arg = LaunchConfiguration
+    # the namespace without slashes, then '<namespace>/' (or '' in the root namespace)
+    bare_ns = ["'", arg("namespace"), "'.strip('/')"]
     defaults = {
         "params_file": PathJoinSubstitution([share, "config", "ropos_L200.yaml"]),
+        "frame_prefix": PythonExpression(bare_ns + [" + '/' if "] + bare_ns + [" else ''"]),
         "use_sim_time": arg("replay"),
     }
     declared = [DeclareLaunchArgument(name, default_value=defaults[name] if default is None else default,
@@ -72,12 +73,13 @@ def generate_launch_description():
                                   "'.strip('/') else ''"])
     simulation = Node(
         package=PACKAGE, executable="tether-sim", name="tether_sim", namespace=arg("namespace"),
-        parameters=[arg("params_file"), {"use_sim_time": sim_time}], output="screen", emulate_tty=True)
+        parameters=[arg("params_file"), {"use_sim_time": sim_time, "node.frame_prefix": arg("frame_prefix")}],
+        output="screen", emulate_tty=True)
     recorder = Node(
         package=PACKAGE, executable="tether-sim-record", name="tether_sim_recorder",
         namespace=arg("namespace"), condition=IfCondition(arg("record")),
         parameters=[PathJoinSubstitution([share, "config", "recorder.yaml"]),
-                    {"output": arg("output"), "topics": RECORDED_TOPICS, "use_sim_time": sim_time}],
+                    {"output": arg("output"), "use_sim_time": sim_time}],
         output="screen")
     replay = Node(
         package=PACKAGE, executable="tether-sim-replay", name="tether_sim_replay",

@@ -8,9 +8,13 @@ process, including each pytest-xdist worker, does it for itself):
   the lock even when the process is killed), so concurrent test runs on one machine, and the
   workers of one run, never share a domain.
 - ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``: discovery never leaves the machine (Jazzy).
-- ``FASTRTPS_DEFAULT_PROFILES_FILE``: tools/fastdds_localhost.xml (UDP on 127.0.0.1 + shared
-  memory, unicast discovery to 127.0.0.1), so no socket is opened on an external interface.
-  Set ``TETHER_SIM_TEST_FASTDDS_PROFILE=none`` to run with Fast DDS defaults instead.
+- ``FASTRTPS_DEFAULT_PROFILES_FILE``: tools/fastdds_test.xml (UDP on 127.0.0.1 + shared
+  memory, unicast discovery to 127.0.0.1, so no socket is opened on an external interface; and
+  Fast DDS's well-known ports moved by half a domain, so ROS 2 processes outside the tests, which
+  use the usual ports and know nothing of the lock files, are never discovered whatever their
+  domain: a user's node in the test's domain cannot feed it poses or a clock).
+  Set ``TETHER_SIM_TEST_FASTDDS_PROFILE=none`` to run with Fast DDS defaults instead (then only
+  the domain id keeps the tests apart from other ROS 2 traffic).
 
 Child processes started by tests inherit all of it through ``os.environ``; the fixture
 ``isolated_ros_env`` gives a copy of the environment with another reserved domain id, for a
@@ -30,9 +34,9 @@ from pathlib import Path
 import pytest
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
-FASTDDS_PROFILE = REPO_ROOT / "tools" / "fastdds_localhost.xml"
-# Fast DDS unicast ports are 7400 + 250 * domain + ..., which stays below 32768 for domain <= 101
-DOMAIN_IDS = range(1, 102)
+FASTDDS_PROFILE = REPO_ROOT / "tools" / "fastdds_test.xml"
+# the profile's ports are 7525 + 250 * domain + up to ~250, which stays below 32768 for domain <= 99
+DOMAIN_IDS = range(1, 100)
 
 _domain_locks = {}  # domain id -> open lock file: the domain ids this process holds
 
@@ -53,7 +57,7 @@ def claim_ros_domain_id() -> int:
             raise
         _domain_locks[domain] = handle
         return domain
-    raise RuntimeError("no free ROS domain id: more than 101 are held by running test processes")
+    raise RuntimeError(f"no free ROS domain id: all {len(DOMAIN_IDS)} are held by running test processes")
 
 
 def release_ros_domain_id(domain: int) -> None:

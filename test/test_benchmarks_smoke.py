@@ -123,7 +123,7 @@ def test_best_wall_passes_alpha_to_moordyn(monkeypatch, tmp_path):
 
 def test_moordyn_bending_rungs_table():
     """Errors against the finest N of the same alpha; the bending effect per N."""
-    from benchmarks import moordyn_bending_rungs as mbr
+    from benchmarks.studies import moordyn_bending_rungs as mbr
 
     peaks = {(0.0, 20): (102.0, 1e-3), (0.0, 40): (100.0, 2e-3),
              (1.0, 20): (101.0, 1e-3), (1.0, 40): (101.0, 2e-3)}

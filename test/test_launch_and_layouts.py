@@ -147,7 +147,7 @@ class Node:
             if isinstance(item, dict):  # substitutions are evaluated, then read as YAML; plain values kept
                 parameters.append({k: v if isinstance(v, (bool, int, float)) or
                                    (isinstance(v, list) and all(isinstance(x, str) for x in v))
-                                   else yaml.safe_load(perform(v, context)) for k, v in item.items()})
+                                   else yaml.safe_load(perform(v, context) or "''") for k, v in item.items()})
             else:
                 file = perform(item, context)
                 if not os.path.isfile(file):
@@ -221,8 +221,8 @@ def readme_launch_arguments():
 def test_launch_file_runs_with_its_defaults_and_the_readme_arguments(launch):
     entities = launch["generate_launch_description"]()
     declarations = [e for e in entities if isinstance(e, DeclareLaunchArgument)]
-    assert {d.name for d in declarations} == {"params_file", "namespace", "use_sim_time", "record", "output",
-                                              "replay", "input", "rate"}
+    assert {d.name for d in declarations} == {"params_file", "namespace", "frame_prefix", "use_sim_time", "record",
+                                              "output", "replay", "input", "rate"}
     assert all(d.description for d in declarations)
     nodes = [e for e in entities if isinstance(e, Node)]
     assert {n.executable for n in nodes} == {"tether-sim", "tether-sim-record", "tether-sim-replay"} <= console_scripts()
@@ -232,7 +232,7 @@ def test_launch_file_runs_with_its_defaults_and_the_readme_arguments(launch):
     (sim,) = context.started
     assert sim["executable"] == "tether-sim" and sim["namespace"] == ""
     assert Path(sim["parameters"][0]).resolve() == (ROOT / "config" / "ropos_L200.yaml").resolve()
-    assert sim["parameters"][1] == {"use_sim_time": False}
+    assert sim["parameters"][1] == {"use_sim_time": False, "node.frame_prefix": ""}
     # the README's line: node and recorder in /rov1, recording the config/recorder.yaml topics
     arguments = readme_launch_arguments()
     assert "namespace:=rov1" in arguments and "record:=true" in arguments
@@ -240,22 +240,26 @@ def test_launch_file_runs_with_its_defaults_and_the_readme_arguments(launch):
     started = {n["executable"]: n for n in context.started}
     assert set(started) == {"tether-sim", "tether-sim-record"}
     assert {n["namespace"] for n in started.values()} == {"rov1"}
+    assert started["tether-sim"]["parameters"][1]["node.frame_prefix"] == "rov1/"  # frames apart per tether
     recorder = started["tether-sim-record"]["parameters"]
-    recorder_yaml = yaml.safe_load(Path(recorder[0]).read_text())
-    assert recorder[1]["topics"] == recorder_yaml["tether_sim_recorder"]["ros__parameters"]["topics"]
+    # config/recorder.yaml's section must reach a recorder in /rov1: rcl matches /**/tether_sim_recorder
+    assert "/**/tether_sim_recorder" in yaml.safe_load(Path(recorder[0]).read_text())
     assert recorder[1]["output"] == dict(a.split(":=") for a in arguments)["output"]
     # a replay: sim time for node and recorder, the replay's pose topics moved into the namespace
     context = ros2_launch(launch["generate_launch_description"](),
                           ["namespace:=/rov2/", "replay:=true", "record:=true", "input:=i.mcap", "rate:=0.5"])
     started = {n["executable"]: n for n in context.started}
-    assert started["tether-sim"]["parameters"][1] == {"use_sim_time": True}
+    assert started["tether-sim"]["parameters"][1] == {"use_sim_time": True, "node.frame_prefix": "rov2/"}
     assert started["tether-sim-record"]["parameters"][1]["use_sim_time"] is True
     assert started["tether-sim-replay"]["remappings"] == {"/ship/pose": "/rov2/ship/pose",
                                                           "/vehicle/pose": "/rov2/vehicle/pose"}
     assert started["tether-sim-replay"]["parameters"][1] == {"input": "i.mcap", "rate": 0.5, "use_sim_time": False}
-    context = ros2_launch(launch["generate_launch_description"](), ["replay:=true", "use_sim_time:=false"])
+    context = ros2_launch(launch["generate_launch_description"](),
+                          ["replay:=true", "use_sim_time:=false", "namespace:=rov3", "frame_prefix:=a/"])
     started = {n["executable"]: n for n in context.started}
-    assert started["tether-sim"]["parameters"][1] == {"use_sim_time": False}
+    assert started["tether-sim"]["parameters"][1] == {"use_sim_time": False, "node.frame_prefix": "a/"}
+    context = ros2_launch(launch["generate_launch_description"](), ["replay:=true"])
+    started = {n["executable"]: n for n in context.started}
     assert started["tether-sim-replay"]["remappings"] == {"/ship/pose": "/ship/pose", "/vehicle/pose": "/vehicle/pose"}
 
 

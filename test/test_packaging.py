@@ -47,7 +47,8 @@ CONSOLE_SCRIPTS = {  # CONTRACTS.md
     "tether-sim-replay": "tether_sim.ros.replay_node:main",
     "tether-sim-report": "tether_sim.report:main",
     "tether-sim-study": "tether_sim.studies.cli:main",
-    "tether-sim-recover": "tether_sim.io.mcap_recover:main",  # issue 13
+    "tether-sim-recover": "tether_sim.io.mcap_recover:main",
+    "tether-sim-poses": "tether_sim.ros.pose_source:main",
 }
 
 

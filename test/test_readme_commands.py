@@ -1,4 +1,4 @@
-"""Every command in README.md's ```bash blocks runs as written (issue 17), with short durations:
+"""Every command in README.md's ```bash blocks runs as written, with short durations:
 
 - ``tether-sim`` lines: all started together (as the README's two-tethers example starts them), the
   ``tether_sim.ros.watch`` line run against them until it prints the end tensions of the namespace
@@ -73,6 +73,8 @@ def classify(words):
     if exe == ".venv/bin/python" and words[1:3] == ["-m", "tether_sim.ros.watch"]:
         return "watch", None
     if exe == ".venv/bin/python" or exe == ".venv/bin/tether-sim-study":  # studies: hours of CPU
+        return "help", None
+    if exe == ".venv/bin/tether-sim-poses":  # runs until stopped; test/ros/test_pose_source.py drives a node with it
         return "help", None
     return "unknown", None
 

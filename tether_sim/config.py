@@ -7,6 +7,7 @@ Sections (YAML keys under ``tether_sim: ros__parameters:``): ``solver``, ``durat
 
 from dataclasses import dataclass, field
 
+from tether_sim.errors import ConfigError
 from tether_sim.forecast.config import ForecastConfig
 from tether_sim.physics.bodies import RigidBodyProperties
 from tether_sim.physics.boundary import EndCondition
@@ -29,6 +30,9 @@ class NodeOptions:
     world_frame: str = param("map", doc="world frame id (ENU)")
     ship_frame: str = param("ship/base_link", doc="ship body frame id (FLU)")
     vehicle_frame: str = param("rov/base_link", doc="vehicle body frame id (FLU)")
+    ship_attachment_frame: str = param("", doc="frame of the fairlead (child of ship_frame on /tf_static); empty: ship_frame with its last element replaced, ship/base_link -> ship/tether_sheave")
+    vehicle_attachment_frame: str = param("", doc="frame of the tether attachment on the vehicle (child of vehicle_frame on /tf_static); empty: rov/base_link -> rov/tether_attach")
+    frame_prefix: str = param("", doc="prepended to every frame the node names except world_frame (body, attachment and tether frames), e.g. 'rov1/' for each of several tethers (as robot_state_publisher's frame_prefix)")
     ship_attachment: tuple = param((0.0, 0.0, 0.0), unit="m", doc="fairlead position in the ship body frame")
     vehicle_attachment: tuple = param((0.0, 0.0, 0.0), unit="m", doc="tether attachment in the vehicle body frame")
     max_end_speed: float = param(20.0, unit="m/s", doc="a pose implying a faster end motion is rejected as a jump", min=0.0, max=1e4)
@@ -45,6 +49,44 @@ class NodeOptions:
     tf_prescribed_ends: bool = param(True, doc="/tf also carries world -> body frame of pose-driven (prescribed) ends; false when the vehicle stack publishes those itself")
     tf_tether_frames: int = param(0, doc="frames <tf_tether_frame_prefix>/<k> on /tf at this many equally spaced points along the cable (x along the tangent)", min=0, max=1000)
     tf_tether_frame_prefix: str = param("tether", doc="name prefix of the frames along the cable")
+
+    def __post_init__(self):
+        names = {"node.world_frame": self.world_frame, "node.ship_frame": self.body_frame("ship"),
+                 "node.vehicle_frame": self.body_frame("vehicle"),
+                 "node.ship_attachment_frame": self.attachment_frame("ship"),
+                 "node.vehicle_attachment_frame": self.attachment_frame("vehicle")}
+        for key, name in names.items():
+            if not name.strip("/") or any(c.isspace() for c in name):
+                raise ConfigError(f"{key}: frame name {name!r} is empty or contains white space")
+        seen = {}
+        for key, name in names.items():  # a TF tree needs one frame per name
+            if name.lstrip("/") in seen:
+                raise ConfigError(f"{key} and {seen[name.lstrip('/')]} name the same frame {name!r}: "
+                                  "body, attachment and world frames must differ")
+            seen[name.lstrip("/")] = key
+
+    def body_frame(self, end: str) -> str:
+        """The body frame of ``end`` ('ship' or 'vehicle') as published: ``frame_prefix`` + ``<end>_frame``."""
+        return self.frame_prefix + getattr(self, f"{end}_frame")
+
+    def attachment_frame(self, end: str) -> str:
+        """The attachment frame of ``end`` as published (``frame_prefix`` + ``<end>_attachment_frame``,
+        or derived from the body frame: ``ship/base_link`` -> ``ship/tether_sheave``, ``rov/base_link``
+        -> ``rov/tether_attach``, a name without ``/`` gets a suffix: ``boat`` -> ``boat_tether_sheave``)."""
+        name = getattr(self, f"{end}_attachment_frame")
+        if not name:
+            body = getattr(self, f"{end}_frame")
+            leaf = ATTACHMENT_LEAF[end]
+            head, sep, _ = body.rpartition("/")
+            name = f"{head}/{leaf}" if sep else f"{body}_{leaf}"
+        return self.frame_prefix + name
+
+    def tether_frame(self, k: int) -> str:
+        """The k-th frame along the cable as published."""
+        return f"{self.frame_prefix}{self.tf_tether_frame_prefix}/{k}"
+
+
+ATTACHMENT_LEAF = {"ship": "tether_sheave", "vehicle": "tether_attach"}  # ros2-conventions note, 1.1
 
 
 @dataclass(frozen=True)

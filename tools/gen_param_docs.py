@@ -18,7 +18,7 @@ and the classes it holds); do not edit by hand: run `make docs`.
 Parameter files use the ROS 2 layout, so `--ros-args --params-file FILE` takes them unchanged:
 
 ```yaml
-tether_sim:            # the node name, or /** for every node
+/**/tether_sim:        # the node tether_sim in any namespace (rcl's wildcard); /** for every node
   ros__parameters:
     solver: dg
     cable:

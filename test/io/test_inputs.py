@@ -175,7 +175,7 @@ def test_stale_when_nothing_valid_arrives_whatever_the_stamps_say():
 # ---------------------------------------------------------------- history sized by time
 def test_history_is_sized_by_time_and_correct_at_1_khz():
     # 1 kHz samples of a 2 m, 0.2 Hz orbit for 4 s; the node looks back input_delay + lag, here up
-    # to 1.2 s. Session 2 kept 64 samples (0.064 s at 1 kHz): a query 0.2 s back returned the oldest
+    # to 1.2 s. The buffer of 2026-11-21 kept 64 samples (0.064 s at 1 kHz): a query 0.2 s back returned the oldest
     # sample with zero velocity. Tolerances: h = 1 ms central differences err by a w^3 h^2 / 6 ~ 4e-7
     # m/s; Hermite position error ~ h * that ~ 1e-9 m -> 1e-6 m and 1e-4 m/s
     inp = EndPoseInput("ship", history_span=1.5)

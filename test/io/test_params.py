@@ -160,3 +160,23 @@ def test_round_trip_through_a_written_file(tmp_path):
     document = {"tether_sim": {"ros__parameters": unflatten(to_flat(changed))}}
     path = write(tmp_path, yaml.safe_dump(document))
     assert load_config(path) == changed
+
+
+def test_frame_names_prefix_and_attachment_frames():
+    """node.frame_prefix moves every frame but the world's; attachment frames are named apart from
+    the body frames; two parameters naming one frame are an error naming both keys."""
+    node = from_flat({"node.frame_prefix": "rov1/"}).node
+    assert (node.body_frame("ship"), node.body_frame("vehicle")) == ("rov1/ship/base_link", "rov1/rov/base_link")
+    assert (node.attachment_frame("ship"), node.attachment_frame("vehicle")) == \
+        ("rov1/ship/tether_sheave", "rov1/rov/tether_attach")
+    assert node.tether_frame(3) == "rov1/tether/3" and node.world_frame == "map"
+    node = from_flat({"node.vehicle_frame": "cage", "node.vehicle_attachment_frame": "cage/bail",
+                      "node.ship_attachment_frame": "a_frame/sheave"}).node
+    assert (node.attachment_frame("vehicle"), node.attachment_frame("ship")) == ("cage/bail", "a_frame/sheave")
+    assert from_flat({"node.ship_frame": "boat"}).node.attachment_frame("ship") == "boat_tether_sheave"
+    with pytest.raises(ConfigError, match="node.vehicle_attachment_frame and node.vehicle_frame"):
+        from_flat({"node.vehicle_attachment_frame": "rov/base_link"})
+    with pytest.raises(ConfigError, match="node.vehicle_frame and node.ship_frame"):
+        from_flat({"node.vehicle_frame": "ship/base_link"})
+    with pytest.raises(ConfigError, match="node.ship_frame: frame name"):
+        from_flat({"node.ship_frame": "ship base"})

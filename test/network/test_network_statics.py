@@ -92,3 +92,18 @@ def test_offset_attachments_tilt_the_body_to_moment_balance():
     assert np.linalg.norm(moment) < 1e-9 * 2.1 * np.linalg.norm(f_top)
     tilt = np.degrees(np.arccos(R[2, 2]))
     assert 0.05 < tilt < 5.0  # the excursion tether's horizontal pull tilts it, a little
+
+
+def test_statics_stay_on_the_hanging_branch():
+    """A slack excursion tether pulling sideways from below the cage: Newton from upright must end
+    at the hanging equilibrium (the upside-down one balances forces and moments too)."""
+    tree = network_tree(body_attach=(0.0, 0.0, 2.1))
+    tree["points"]["ship"]["position"] = [0.0, 0.0, -3.0]
+    tree["points"]["anchor"]["position"] = [20.0, 0.0, -222.4]
+    tree["bodies"]["cage"] = dict(BODY, initial_position=[0.0, 0.0, -205.1])
+    tree["lines"]["excursion"]["cable"] = dict(EXC, density=1100.0)
+    spec = parse_network(tree)
+    b = NetworkBody("cage", spec.bodies["cage"].props, spec.environment, [[0, 0, 2.1], [0, 0, -2.1]])
+    solve_network_statics(spec, {"cage": b})
+    assert b.rotation[2, 2] > 0.999
+    assert -206.3 < b.state[2] < -204.3

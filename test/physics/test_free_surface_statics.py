@@ -1,4 +1,4 @@
-"""Static shape of a cable hanging from a point above the free surface [issue 15 item 1].
+"""Static shape of a cable hanging from a point above the free surface.
 
 Above z = 0 the cable weighs w_air = g (gamma0 - rho_air A) per metre, below it w = g (gamma0 - rho_w A).
 Closed forms: along the cable d|T|/ds = w_local (dz/ds) / (1 + eps) (tangential equilibrium of the

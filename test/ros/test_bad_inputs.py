@@ -1,4 +1,4 @@
-"""Every bad input of issue 7 against the running node: rejected, reported, and the node goes on."""
+"""Every kind of bad input against the running node: rejected, reported, and the node goes on."""
 
 import math
 
@@ -141,8 +141,8 @@ def test_clock_jumping_back_like_a_looping_replay(h):
 
 
 def test_one_node_through_future_and_zero_stamps_a_failing_tick_and_an_undeclared_parameter(h):
-    # issue 13, defect 2: one pose stamped an hour ahead is rejected for what it is and does not
-    # disable the input (session 2 then rejected every later pose and never reported it stale)
+    # one pose stamped an hour ahead is rejected for what it is and does not
+    # disable the input (the node of 2026-11-21 then rejected every later pose and never reported it stale)
     n = len(h.received["/tether/state"])
     send_bad(h, h.pose_msg(h.time + 3600.0, (1.0, 0.0, 0.0)), "stamp in the future")
     accepted = h.node.inputs["ship"].accepted

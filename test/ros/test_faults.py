@@ -1,4 +1,4 @@
-"""Fault injection (issue 13): bad inputs and faults against the stepping driver with the real DG
+"""Fault injection: bad inputs and faults against the stepping driver with the real DG
 solver, and a few against one running node. Each checks: alive (keeps advancing), finite outputs,
 the right diagnostics, no invented snap event.
 

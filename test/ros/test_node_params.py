@@ -140,3 +140,43 @@ def test_a_bad_command_line_override_is_blamed_on_the_override_not_the_file(node
     with pytest.raises(ConfigError, match="command-line -p override") as err:
         node_params.declare_all(node, path, cli_keys=cli_param_keys(argv))
     assert path not in str(err.value)
+
+
+def _overrides(argv) -> dict:
+    """The parameter overrides rcl gives a node named tether_sim started with ``argv``."""
+    ctx = rclpy.Context()
+    rclpy.init(args=argv, context=ctx)
+    try:
+        node = Node("tether_sim", context=ctx, automatically_declare_parameters_from_overrides=True)
+        try:
+            return {name: p.value for name, p in node._parameters.items()}
+        finally:
+            node.destroy_node()
+    finally:
+        rclpy.shutdown(context=ctx)
+
+
+def test_shipped_sections_apply_in_any_namespace_and_a_plain_section_is_renamed(tmp_path):
+    """The shipped files use rcl's own `/**/tether_sim:` (applied in /rov1 by rcl itself); a file
+    with a plain `tether_sim:` section is not applied there by rcl, and retarget() fixes that."""
+    from pathlib import Path
+
+    import yaml
+
+    from tether_sim.ros.namespacing import retarget
+
+    config = Path(__file__).resolve().parents[2] / "config"
+    for path in sorted(config.glob("*.yaml")):
+        assert all(str(k).startswith("/**/") for k in yaml.safe_load(path.read_text())), path
+    ns = ["--ros-args", "-r", "__ns:=/rov1"]
+    shipped = _overrides(ns + ["--params-file", str(config / "ropos_L200.yaml")])
+    assert shipped["cable.length"] == 200.0 and shipped["dg.resolution"] == "auto"
+    plain = tmp_path / "mine.yaml"
+    plain.write_text("tether_sim:\n  ros__parameters:\n    cable:\n      length: 123.0\n")
+    argv = ns + ["--params-file", str(plain)]
+    assert "cable.length" not in _overrides(argv)  # rcl alone: /tether_sim only
+    logged = []
+    assert _overrides(retarget(argv, log=logged.append, tmpdir=tmp_path))["cable.length"] == 123.0
+    assert logged == [f"{plain}: section 'tether_sim' applied to this node, /rov1/tether_sim"]
+    assert retarget(ns + ["--params-file", str(config / "ropos_L200.yaml")]) == \
+        ns + ["--params-file", str(config / "ropos_L200.yaml")]  # nothing to rename in a shipped file

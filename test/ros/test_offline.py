@@ -48,7 +48,7 @@ def test_motion_generator_run_writes_every_topic_with_sim_time_log_times(tmp_pat
     assert main(["--params", params, "--output", str(out), "--no-progress"]) == 0
     assert "static tensions" in capsys.readouterr().out
     msgs = by_topic(out)
-    expected = {t for t in TOPICS if not t.endswith("sim_pose")}
+    expected = {t for t in TOPICS if not t.endswith("sim_pose")} | {"/tf", "/tf_static"}
     assert set(msgs) == expected
     states = msgs["/tether/state"]
     assert len(states) == 2.0 * 20 + 1  # the initial state and one per tick
@@ -78,6 +78,25 @@ def test_motion_generator_run_writes_every_topic_with_sim_time_log_times(tmp_pat
     assert len(decoded) == sum(len(v) for v in msgs.values())
     last = [m for topic, m in decoded if topic == "/tether/state"][-1]
     assert last.ship_end_tension == states[-1][1].ship_end_tension and len(last.position) == 11
+    # /tf_static once, /tf with every state (same stamps), as the node publishes them: composing
+    # map -> body -> attachment gives the cable's end points of the TetherState of that stamp
+    tf_static = [m for topic, m in decoded if topic == "/tf_static"]
+    tf = [m for topic, m in decoded if topic == "/tf"]
+    assert len(tf_static) == 1 and len(tf) == len(states)
+    attach = {t.header.frame_id: (t.child_frame_id, t.transform.translation) for t in tf_static[0].transforms}
+    assert {k: v[0] for k, v in attach.items()} == {"ship/base_link": "ship/tether_sheave",
+                                                   "rov/base_link": "rov/tether_attach"}
+    for msg, (_, state) in zip(tf, states):
+        assert (msg.transforms[0].header.stamp.sec, msg.transforms[0].header.stamp.nanosec) == \
+            (state.header.stamp.sec, state.header.stamp.nanosec)
+        bodies = {t.child_frame_id: t for t in msg.transforms}
+        assert {t.header.frame_id for t in msg.transforms} == {"map"} and set(bodies) == set(attach)
+        for body, point in (("ship/base_link", state.position[0]), ("rov/base_link", state.position[-1])):
+            tr, q = bodies[body].transform.translation, bodies[body].transform.rotation
+            assert (q.x, q.y, q.z, q.w) == (0.0, 0.0, 0.0, 1.0)  # these ends carry no rotation here
+            offset = attach[body][1]
+            assert (tr.x + offset.x, tr.y + offset.y, tr.z + offset.z) == \
+                pytest.approx((point.x, point.y, point.z), abs=1e-9)
 
 
 def test_input_mcap_poses_drive_the_ship_and_bad_samples_are_skipped(tmp_path):

@@ -1,4 +1,4 @@
-"""Overload policy of the driver with the real DG solver made artificially slow (issue 13, defect 1).
+"""Overload policy of the driver with the real DG solver made artificially slow.
 
 A node whose solver is slower than its clock must not squeeze the motion in time or invent snap
 loads. The solver is the real DG solver (ROPOS tether + cage, coarse so the test is cheap) behind
@@ -96,7 +96,7 @@ def run_overloaded(monkeypatch, slowdown, clock_end, max_lag):
 
 def test_a_solver_at_0_4_x_real_time_invents_no_snap(monkeypatch):
     # the defect: with the default max_lag = 1 s and a solver at 0.4 x real time (2 x the clock's
-    # cost, 0.8 tick budget) the session-2 driver dropped lag in small jumps and published snap loads
+    # cost, 0.8 tick budget) the driver of 2026-11-21 dropped lag in small jumps and published snap loads
     # of 62.6 kN (slowdown 2) and 145-171 kN (slowdown 4) on a 48 kN static tension (same script)
     driver, ticks = run_overloaded(monkeypatch, slowdown=2.0, clock_end=12.0, max_lag=1.0)
     assert not [e for r, *_ in ticks for e in r.events if isinstance(e, SnapEvent)]
@@ -158,7 +158,7 @@ def heave_driver(max_lag=1.0):
 
 def test_a_pose_stream_back_after_a_gap_is_blended_in_without_a_spike_restart_or_snap():
     # defect 3: poses stop for 3 s (the end is held after max_extrapolation) and come back 0.3 m
-    # away; session 2 applied such a jump as a velocity spike (snaps of 3.7 x static) or restarted
+    # away; the driver of 2026-11-21 applied such a jump as a velocity spike (snaps of 3.7 x static) or restarted
     driver, inp, built = heave_driver()
     for k in range(0, 21):
         inp.add_pose(k * 0.05, heave(k * 0.05)[0], (0, 0, 0, 1))
@@ -178,7 +178,7 @@ def test_a_pose_stream_back_after_a_gap_is_blended_in_without_a_spike_restart_or
     v = np.array([c[2][2] for c in cmds])
     accel = np.abs(np.diff(v)) / np.maximum(np.diff(np.r_[0.0, t]), 1e-9)
     # commanded end acceleration (finite differences of the commanded velocity): heave <= 0.2 m/s^2
-    # plus blends <= BLEND_ACCELERATION = 0.5 m/s^2 (measured 0.535); session 2: a step in one tick
+    # plus blends <= BLEND_ACCELERATION = 0.5 m/s^2 (measured 0.535); the driver of 2026-11-21: a step in one tick
     assert accel.max() < 0.7
     assert all(r.degraded for r in reports if r.blending)
 

@@ -89,7 +89,7 @@ def test_a_slack_spell_at_a_long_length_is_judged_against_that_length():
     4.85 kN lies between 10 % of it (4.895 kN: slack) and 10 % of the starting 200 m static tension
     (4.8 kN). With the reference following L the warning comes, at the threshold of that length;
     the tension then returns to the static one, which is not a snap (no event). With the reference
-    frozen at the start (sessions 1-4) the slack spell went unreported."""
+    frozen at the start (until 2026-11-24) the slack spell went unreported."""
     cfg = fake_weight_config(schedule_times=(1.0,), schedule_modes=("speed",), schedule_setpoints=(1.0,),
                              max_length=2000.0)
     DippingCable.dip = 4850.0

@@ -1,5 +1,5 @@
 """Start-up with a cold numba cache: the node says it is compiling and SIGTERM / SIGINT stop it
-promptly (issue 12, item 4); the set-up warm-up's group table names real configurations."""
+promptly; the set-up warm-up's group table names real configurations."""
 
 import os
 import signal

@@ -1,6 +1,6 @@
 """Ring-shaped beam [PE2020 Sec. 4.1, Eq. 34-36, Fig. 1] through the scenario driver.
 
-Cheap subset of the convergence table (full table: benchmarks/ring_beam_convergence.py, output in
+Cheap subset of the convergence table (full table: benchmarks/studies/ring_beam_convergence.py, output in
 docs/verification.md). The static ring is the discrete fixed point du/dt = 0 of the DG scheme
 (Newton), so the errors are spatial errors alone.
 
@@ -10,7 +10,7 @@ the paper's Eq. 34 rates, at P + 2 (P = 1, N = 16 ... 128: 3.39, 3.19, 3.06 -> 3
 r = r(0) + int q ds is one degree higher per element than q. Tolerance +-0.3 (the issue's): in the asymptotic range the rate
 drifts by < 0.15 between doublings, while a one-order loss (P instead of P + 1, the paper's odd-P
 penalty) changes it by 1. P = 1 uses N = 32, 64, 128: with 2 or 3 Gauss points per element
-(automatic quadrature rule before / after session 2) the last pair gives 3.06 / 3.08 (positions)
+(automatic quadrature rule before / after 2026-11-21) the last pair gives 3.06 / 3.08 (positions)
 and 2.00 / 1.99 (curvature); the pair 32 -> 64 still depends on it (3.19 / 3.61).
 """
 

@@ -79,7 +79,7 @@ def test_static_L1730_end_tensions(point_load):
     ship, cage = static_end_tensions(cfg)
     solver = build_solver(cfg)
     forces = solver.end_forces()
-    # Acceptance [issue 5]: both within 0.5% of the closed form.
+    # Acceptance: both within 0.5% of the closed form.
     assert forces.vehicle_tension == pytest.approx(cage, rel=5e-3)
     assert forces.ship_tension - forces.vehicle_tension == pytest.approx(ship - cage, rel=5e-3)
     # ... and the dynamic equations keep that state (body weight, buoyancy, end coupling consistent).

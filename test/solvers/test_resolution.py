@@ -1,7 +1,7 @@
 """dg.resolution auto: the rule is the measured ladder table, applied with its stated margin and limits.
 
 The table in tether_sim/solvers/resolution.py must be what docs/data/resolution_ladder.csv
-(benchmarks/resolution_ladder.py) measured, rounded up to 1e-4: a test of provenance, so the rule
+(benchmarks/studies/resolution_ladder.py) measured, rounded up to 1e-4: a test of provenance, so the rule
 cannot drift from its data. No solver runs here (the ladders are a benchmark: minutes of CPU).
 """
 
@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from benchmarks.resolution_report import read_rows, worst_errors
+from benchmarks.studies.resolution_report import read_rows, worst_errors
 from tether_sim.errors import ConfigError
 from tether_sim.io.params import from_flat, load_config, to_flat
 from tether_sim.solvers import resolution as res
@@ -68,7 +68,7 @@ def test_between_measured_lengths_both_neighbours_hold():
 
 
 def test_cost_constants_are_the_fit_to_the_ladders_thread_cpu():
-    from benchmarks.resolution_report import cost_fit
+    from benchmarks.studies.resolution_report import cost_fit
 
     (fixed, node, bending), n_rows = cost_fit(read_rows(CSV))
     assert n_rows > 500
@@ -175,7 +175,7 @@ def test_a_winch_range_outside_the_measured_lengths_is_refused():
 
 
 def test_bending_mesh_warning_at_the_measured_spacings():
-    """The caution of session 7 (docs/performance.md "Bending effect at 200 m"): ROPOS 200 m, P = 4,
+    """The bending caution (docs/performance.md "Bending effect at 200 m"): ROPOS 200 m, P = 4,
     EI* -- N = 20 (2.5 m between nodes) ran clean, N = 40 (1.25 m) spiked, N = 80 diverged."""
     assert res.bending_mesh_warning(200.0, 20, 4, 2620.0) == ""
     text = res.bending_mesh_warning(200.0, 40, 4, 2620.0)

@@ -102,10 +102,19 @@ class NetworkBody:
         return a, R @ dwb
 
     # ------------------------------------------------------------------ kick-drift-kick
-    def kick(self, dt, forces, moments, fluid_velocity=(0.0, 0.0, 0.0)):
-        """Velocity update over dt with the loads at the current state; impulses recorded."""
+    def kick(self, dt, forces, moments, fluid_velocity=(0.0, 0.0, 0.0), closing=False):
+        """Velocity update over dt with the line loads given; impulses recorded. The velocity-dependent
+        loads (drag, gyroscopic and damping moments) are taken at the current velocities, or with
+        ``closing`` (the second half kick, which ends at t_n+1) at the end velocities of a trial kick,
+        so that they too are second order in the coupling step."""
         F, M, fl, fw, fd = self.loads(forces, moments, fluid_velocity)
         a, alpha = self.accelerations(F, M)
+        if closing:
+            trial = self.state.copy()
+            trial[7:10] += dt * a
+            trial[10:13] += dt * alpha
+            F, M, fl, fw, fd = self.loads(forces, moments, fluid_velocity, state=trial)
+            a, alpha = self.accelerations(F, M, state=trial)
         self.state[7:10] += dt * a
         self.state[10:13] += dt * alpha
         self.impulse["lines"] += dt * fl

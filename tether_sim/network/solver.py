@@ -10,7 +10,9 @@ Coupling (one coupling step dt from t_n to t_n+1, every body at once):
    target is the attachment point's position at t_n+1 and its velocity predicted with F_n (the
    line's cubic Hermite end motion moves it there); an end on a driven point follows the point's
    targets, Hermite-interpolated over the tick;
-4. half kick: each body's velocities by dt/2 with the new line end loads F_n+1.
+4. half kick: each body's velocities by dt/2 with the new line end loads F_n+1 (drag and the
+   gyroscopic moment at the end velocities of a trial kick: with the half-step velocities they
+   would make the scheme first order).
 
 The body thus receives the impulse dt (F_n + F_n+1) / 2 from each line, the trapezoidal rule of
 the line's end force: velocity Verlet, second order, symplectic for the elastic part; the body's
@@ -32,6 +34,7 @@ from tether_sim.network.statics import solve_network_statics
 from tether_sim.physics.constitutive import TensionLaw
 from tether_sim.solvers.base import LOAD_F, LOAD_M, LOAD_T
 from tether_sim.solvers.factory import build_solver
+from tether_sim.solvers.winch_link import WinchLink
 
 
 def _hermite(p0, v0, p1, v1, T, tau):
@@ -103,10 +106,16 @@ class NetworkSolver:
             self._statics = NetworkStatics(spec, self.bodies)
         states = {n: b.state.copy() for n, b in self.bodies.items()}
         self.lines = {}
+        self.winches = {}  # line -> WinchLink (winch.enabled in the line's keys)
         for name, line in spec.lines.items():
             cfg = self._statics.line_config(line, states)
             try:
-                self.lines[name] = build_solver(cfg)
+                if cfg.winch.enabled:
+                    link = WinchLink(cfg)
+                    self.lines[name] = link.build(build_solver, cfg)
+                    self.winches[name] = link
+                else:
+                    self.lines[name] = build_solver(cfg)
             except (ValueError, RuntimeError) as exc:
                 raise ConfigError(f"network.lines.{name}: {exc}") from exc
         self.time = 0.0
@@ -132,6 +141,17 @@ class NetworkSolver:
 
     def line(self, name):
         return self.lines[name]
+
+    def command_winch(self, line, mode, setpoint, source="topic"):
+        """Queue a winch command (physics/winch.py modes) for the next tick of ``line``'s winch;
+        returns the reason it is refused, or None."""
+        if line not in self.winches:
+            raise ValueError(f"line {line!r} has no winch; winches: {', '.join(self.winches) or 'none'}")
+        return self.winches[line].request(mode, setpoint, source)
+
+    def winch_state(self, line):
+        """The :class:`tether_sim.physics.winch.WinchState` of ``line``'s winch."""
+        return self.winches[line].winch.state()
 
     # ------------------------------------------------------------------ loads
     def _body_loads(self, name):
@@ -207,7 +227,7 @@ class NetworkSolver:
                 chunks[name].append(np.array(out.samples[:, :out.count]))
         for n, b in self.bodies.items():
             F, M = self._body_loads(n)
-            b.kick(0.5 * dt, F, M, fluid[n])
+            b.kick(0.5 * dt, F, M, fluid[n], closing=True)
         self.time = t_new
         self.coupling_steps += 1
 

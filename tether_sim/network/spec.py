@@ -16,10 +16,13 @@ Layout (every name is free except ``free``, which marks a free line end)::
           to: cage                          # s = L end
           to_attachment: [0, 0, 2.1]        # body frame, for an end on a body
           solver: dg                        # and the single-line keys cable.*, dg.*, hybrid.*, initial.*, snap.*
+          winch: {enabled: true, end: ship} # a winch at this line's from (ship) or to (vehicle) end
 
 A bad network raises :class:`ConfigError` naming the key: a line end naming nothing (dangling) or
 an unknown point or body, a body without lines, a point without lines, an attachment on an end
-that is not on a body, single-line keys that the network owns (ship_end, vehicle_end, body).
+that is not on a body, single-line keys that the network owns (ship_end, vehicle_end, body), a
+winch on a free end. A line has at most one winch (its ``winch`` keys), so two winches on one line
+end cannot be written; two lines ending on one point or body may each have one (two drums).
 """
 
 import difflib
@@ -186,6 +189,12 @@ def parse_network(tree: dict, where: str = "network") -> NetworkSpec:
                                   f"{where}.environment; bodies: {where}.bodies)")
         flat.update(env_flat)
         config = from_flat(flat, where=key)
+        if config.winch.enabled:
+            on = ends[0 if config.winch.end == "ship" else 1]
+            if on.kind == "free":
+                raise ConfigError(f"{key}.winch.end: {config.winch.end} is the line's "
+                                  f"{'from' if on.end == 'ship' else 'to'} end, which is free; a winch sits on "
+                                  "a point or a body (its sheave)")
         lines[name] = LineSpec(name, config, tuple(ends))
 
     spec = NetworkSpec(points, bodies, lines, float(step), env)

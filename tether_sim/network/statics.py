@@ -3,15 +3,20 @@ ends (each line an elastic catenary of ``physics/statics.py`` between its end po
 weight and nothing else balance in force and moment about its centre of gravity.
 
 Unknowns per body: the CoG position and a rotation vector from upright (6). Newton with a
-forward-difference Jacobian and least-squares steps (a body whose line ends all lie on one
+central-difference Jacobian and least-squares steps (a body whose line ends all lie on one
 vertical through its CoG has no moment about that axis: the rank-deficient direction is left at
-its start value), until the residual is below ``tol`` of the body's load scale.
+its start value), with a trust region (a bounded rotation and shift per iteration: Newton stays
+on the branch of the start, never jumps to the upside-down equilibrium), until the residual is
+below ``tol`` of the body's load scale; a body that ends more than 90 degrees from upright is an
+error. A body that no line holds yet (every line slack, e.g. started with its tether exactly at
+its unstretched length: the Jacobian is zero there) creeps along its net force until one does.
 """
 
 from dataclasses import replace
 
 import numpy as np
 
+from tether_sim.network.body import quat_matrix
 from tether_sim.network.spec import line_end_condition
 from tether_sim.physics.statics import solve_static
 
@@ -89,7 +94,12 @@ def _state_of(body, x):
     return s
 
 
-def solve_network_statics(spec, bodies, tol=1e-12, max_iter=60):
+MAX_TURN = 0.1  # rad, largest rotation of a body in one Newton iteration
+MAX_SHIFT = 5.0  # m, largest move of a body in one Newton iteration
+SLACK_CREEP = 0.5  # m, move of a body along its net force while no line holds it (zero Jacobian)
+
+
+def solve_network_statics(spec, bodies, tol=1e-12, max_iter=200):
     """Place every body at its static equilibrium (bodies at rest); returns the :class:`NetworkStatics`
     and the final relative residual. Raises RuntimeError when Newton does not converge."""
     st = NetworkStatics(spec, bodies)
@@ -110,14 +120,29 @@ def solve_network_statics(spec, bodies, tol=1e-12, max_iter=60):
         if np.max(np.abs(f)) < tol:
             break
         J = np.empty((f.size, x.size))
-        for k in range(x.size):  # forward differences (the Jacobian sets the speed, not the accuracy)
-            d = 1e-7 if k % 6 < 3 else 1e-8
+        for k in range(x.size):  # central differences: a one-sided one is 0 at a slack/taut kink
+            d = 1e-6 if k % 6 < 3 else 1e-7
             e = np.zeros_like(x)
             e[k] = d
-            J[:, k] = (F(x + e) - f) / d
+            J[:, k] = (F(x + e) - F(x - e)) / (2.0 * d)
         step = np.linalg.lstsq(J, f, rcond=1e-10)[0]
+        creep = False
+        for i in range(len(names)):  # no stiffness along the net force (lines slack): move along it
+            fi = f[6 * i:6 * i + 3]
+            nf = np.linalg.norm(fi)
+            if nf > tol and np.linalg.norm(J[6 * i:6 * i + 3, 6 * i:6 * i + 3] @ (fi / nf)) < 1e-6:
+                step[6 * i:6 * i + 3] = -SLACK_CREEP * fi / np.linalg.norm(fi)
+                creep = True
+        # trust region: at most MAX_TURN of rotation and MAX_SHIFT of translation per body and
+        # iteration, so Newton walks to the hanging equilibrium nearest the start, never jumps to
+        # an upside-down one (also an equilibrium of forces and moments, an unstable one)
+        for i in range(len(names)):
+            turn = np.linalg.norm(step[6 * i + 3:6 * i + 6]) / MAX_TURN
+            shift = np.linalg.norm(step[6 * i:6 * i + 3]) / MAX_SHIFT
+            if max(turn, shift) > 1.0:
+                step = step / max(turn, shift)
         alpha, fn = 1.0, f
-        while alpha > 1e-4:
+        while alpha > 1e-4 and not creep:
             try:
                 xn = x - alpha * step
                 fn = F(xn)
@@ -126,10 +151,16 @@ def solve_network_statics(spec, bodies, tol=1e-12, max_iter=60):
             except RuntimeError:
                 pass
             alpha *= 0.5
+        if creep:
+            xn = x - step
+            fn = F(xn)
         x, f = xn, fn
     err = float(np.max(np.abs(f)))
     if not err < max(tol, 1e-9):
         raise RuntimeError(f"network statics: Newton did not converge (relative residual {err:.3g})")
     for n, s in states_of(x).items():
         bodies[n].state[:] = s
+        if quat_matrix(s[3:7])[2, 2] < 0.0:
+            raise RuntimeError(f"network statics: body {n} ends upside down (an unstable equilibrium); "
+                               "check its attachments and initial_position")
     return st, err

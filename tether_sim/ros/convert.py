@@ -96,8 +96,8 @@ def description(config, output_arc_length, t: float) -> TetherDescription:
                             axial_stiffness=float(cable.EA), bending_stiffness=float(cable.EI),
                             mass_per_length=float(cable.gamma0), diameter=float(cable.diameter),
                             wave_speed=float(cable.wave_speed), ship_end_kind=config.ship_end.kind,
-                            vehicle_end_kind=config.vehicle_end.kind, ship_frame=node.ship_frame,
-                            vehicle_frame=node.vehicle_frame, ship_attachment=_point(node.ship_attachment),
+                            vehicle_end_kind=config.vehicle_end.kind, ship_frame=node.body_frame("ship"),
+                            vehicle_frame=node.body_frame("vehicle"), ship_attachment=_point(node.ship_attachment),
                             vehicle_attachment=_point(node.vehicle_attachment))
     msg.output_arc_length = np.asarray(output_arc_length, float).tolist()
     msg.parameters = [KeyValue(key=k, value=str(list(v) if isinstance(v, tuple) else v))
@@ -105,13 +105,17 @@ def description(config, output_arc_length, t: float) -> TetherDescription:
     return msg
 
 
-def _status(name, level, message, values) -> DiagnosticStatus:
-    return DiagnosticStatus(level=level, name=name, message=message, hardware_id="tether_sim",
+def _status(name, level, message, values, hardware_id) -> DiagnosticStatus:
+    return DiagnosticStatus(level=level, name=name, message=message, hardware_id=hardware_id,
                             values=[KeyValue(key=k, value=str(v)) for k, v in values.items()])
 
 
 def diagnostics(t: float, node_name: str, sim: dict, inputs: dict) -> DiagnosticArray:
     """DiagnosticArray: one status for the simulation, one per pose input.
+
+    ``node_name``: the node's fully qualified name (``/rov1/tether_sim``). The statuses are named
+    ``rov1/tether_sim: simulation``, ``rov1/tether_sim: ship input``... and carry it as their
+    hardware_id, so the statuses of several tethers on the one /diagnostics stay apart.
 
     ``sim`` has: real_time_factor, time_step, lag, degraded, dropped_total, resyncs(_recent),
     capped_ticks, behind, divergences, error_recent, last_error, tick_errors(_recent),
@@ -142,7 +146,8 @@ def diagnostics(t: float, node_name: str, sim: dict, inputs: dict) -> Diagnostic
     values = {k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in sim.items()
               if k not in ("slack",)}
     values.update({f"slack_{k}": v for k, v in sim.get("slack", {}).items()})
-    msg.status.append(_status(f"{node_name}: simulation", level, text, values))
+    prefix = node_name.lstrip("/")
+    msg.status.append(_status(f"{prefix}: simulation", level, text, values, node_name))
     for end, h in inputs.items():
         if h["stale"]:
             level, text = LEVEL_STALE, (f"no valid {end} pose for {h.get('since_accepted', h['age']):.3g} s "
@@ -153,7 +158,7 @@ def diagnostics(t: float, node_name: str, sim: dict, inputs: dict) -> Diagnostic
             level, text = LEVEL_OK, "ok"
         values = {"accepted": h["accepted"], "age_s": f"{h['age']:.6g}", "rejected_recent": h.get("rejected_recent", 0)}
         values.update({f"rejected_{reason}": n for reason, n in h["rejected"].items()})
-        msg.status.append(_status(f"{node_name}: {end} input", level, text, values))
+        msg.status.append(_status(f"{prefix}: {end} input", level, text, values, node_name))
     return msg
 
 
@@ -225,7 +230,7 @@ def tick_outputs(driver, arc_lengths, wanted=None) -> list:
         body = solver.body_state(end) if is_body else None
         if want(wrench_topic):
             force, torque = driver.body_wrench(end, forces, body)
-            out.append((wrench_topic, cdr.wrench_stamped(stamp, getattr(node, f"{end}_frame"), force, torque)))
+            out.append((wrench_topic, cdr.wrench_stamped(stamp, node.body_frame(end), force, torque)))
         if body is not None and want(pose_topic):
             out.append((pose_topic, cdr.pose_stamped(stamp, world, body.position, body.orientation)))
     return out

@@ -3,9 +3,11 @@
 rcl applies a parameter-file section only to the node whose fully qualified name it matches:
 ``tether_sim:`` means ``/tether_sim``, so ``tether-sim --ros-args -r __ns:=/rov1 --params-file
 config/ropos_L200.yaml`` would silently run ``/rov1/tether_sim`` on default parameters (checked with
-rclpy 7.1.6). The shipped files name their section after the node, so :func:`retarget` hands rcl a
-copy of each such file whose ``tether_sim:`` / ``/tether_sim:`` section is renamed to the node's
-full name; ``-p`` overrides and the other sections keep their meaning.
+rclpy 7.1.6). rcl's own way to address a node in any namespace is a ``/**/tether_sim:`` section,
+which the shipped files use (rcl applies it as it is; nothing here touches it). For a file of the
+user's with a plain ``tether_sim:`` / ``/tether_sim:`` section, :func:`retarget` hands rcl a copy
+with that section renamed to the node's full name (and the node logs it); ``-p`` overrides and the
+other sections keep their meaning.
 """
 
 from __future__ import annotations

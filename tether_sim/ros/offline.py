@@ -9,6 +9,8 @@ with log time = publish time = the state's clock time, as fast as the machine al
 Clock: with ``--input`` the clock is the pose stamps (the run starts at the first pose); otherwise
 the clock starts at 0 and the ship end (if ``prescribed``) follows ``motion`` of the parameter file.
 Unlike the node, the offline run never drops lag: every tick is simulated to its target time.
+The file also holds /tf_static (once, at the first output) and /tf (every output) as the node
+publishes them (``node.publish_tf``; :mod:`tether_sim.ros.tf`).
 """
 
 import argparse
@@ -26,6 +28,7 @@ from tether_sim.errors import ConfigError, TetherSimError
 from tether_sim.io.inputs import EndPoseInput
 from tether_sim.io.params import load_config
 from tether_sim.ros import cdr, convert, winch_io
+from tether_sim.ros import tf as tf_out
 from tether_sim.ros.driver import END_NAMES, MotionSource, SimulationDriver
 from tether_sim.solvers.factory import build_solver
 
@@ -182,12 +185,19 @@ class _OfflineOutputs:
         self.arc = np.linspace(0.0, config.cable.length, config.node.output_points)
         self.counts = {"snap_events": 0, "slack_warnings": 0, "divergences": 0}
         self.peaks, self.events = [], []
+        self.static_written = False
         for topic, (type_name, qos) in convert.TOPICS.items():
             if topic.endswith("sim_pose") and getattr(config, f"{topic.split('/')[1]}_end").kind != "body":
                 continue
             writer.add_topic(topic, type_name, qos)
         for topic, (type_name, qos) in (winch_io.TOPICS.items() if config.winch.enabled else ()):
             writer.add_topic(topic, type_name, qos)
+        # /tf and /tf_static as the node publishes them (tf.py), so that RViz and Foxglove place the
+        # body-frame wrenches and the frames of a file written here as in a recording of the node
+        self.tf = config.node.publish_tf and tf_out.TFMessage is not None
+        if self.tf:
+            writer.add_topic("/tf", "tf2_msgs/msg/TFMessage", "reliable")
+            writer.add_topic("/tf_static", "tf2_msgs/msg/TFMessage", "latched")
 
     def write(self, items):
         for topic, msg in items:
@@ -209,6 +219,13 @@ class _OfflineOutputs:
         ns = sec * 1_000_000_000 + nanosec
         for topic, data in convert.tick_outputs(driver, self.arc):
             self.writer.write(topic, data, ns, ns)
+        if self.tf:
+            if not self.static_written:  # once, at the first output, as the node's latched /tf_static
+                static = tf_out.TFMessage(transforms=tf_out.static_transforms(driver.config, driver.stamp))
+                self.writer.write("/tf_static", serialize_message(static), ns, ns)
+                self.static_written = True
+            self.writer.write("/tf", tf_out.tf_message_cdr(driver.stamp, driver.config.node.world_frame,
+                                                           tf_out.dynamic_transforms(driver)), ns, ns)
 
     def write_diagnostics(self, now, report, sources):
         driver = self.driver

@@ -1,4 +1,4 @@
-"""The ROPOS descent live (issue 16): config/ropos_descent.yaml through the node, driven by a replay.
+"""The ROPOS descent live: config/ropos_descent.yaml through the node, driven by a replay.
 
     .venv/bin/python -m tether_sim.ros.ropos_descent_live [--rate 4] [--duration S] [--out DIR]
 

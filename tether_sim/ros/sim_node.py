@@ -46,6 +46,7 @@ _TYPES = {"TetherState": TetherState, "Marker": Marker, "Path": Path, "WrenchSta
           "SnapLoadEvent": SnapLoadEvent, "SlackWarning": SlackWarning, "TetherDescription": TetherDescription,
           "DiagnosticArray": DiagnosticArray, "PoseStamped": PoseStamped}
 WARN_PERIOD = 2.0  # s between repeated warnings of one kind
+REJECT_SUMMARY_PERIOD = 10.0  # s between the counts of repeatedly rejected inputs of one kind
 
 
 class TetherSimNode(Node):
@@ -65,6 +66,7 @@ class TetherSimNode(Node):
                 self.get_logger().warning("DG mesh: " + caution)
         self.inputs = {}
         self._last_log = {}  # key -> time.monotonic() of the last throttled log line
+        self._rejected_unlogged = {}  # ("rejected", end, what) -> rejections since its last log line
         for end in END_NAMES:
             if getattr(self.config, f"{end}_end").kind == "prescribed" and not self._ship_from_sea(end):
                 inp = EndPoseInput(end, getattr(node, f"{end}_attachment"), max_end_speed=node.max_end_speed,
@@ -166,14 +168,29 @@ class TetherSimNode(Node):
             self.get_logger().warning(text)
 
     def _reject(self, end, what, reason):
+        """Count a rejected input; the first of a kind is logged at once with its reason, repeats
+        once per REJECT_SUMMARY_PERIOD as a count (a stream of wrong poses is one line, not 50 a second)."""
         self._period["rejected"][end] += 1
-        self._log_throttled(("rejected", end, what), "warning", f"{end} {what} rejected: {reason}")
+        key = ("rejected", end, what)
+        self._rejected_unlogged[key] = self._rejected_unlogged.get(key, 0) + 1
+        t, last = time.monotonic(), self._last_log.get(key)
+        if last is not None and t - last < REJECT_SUMMARY_PERIOD:
+            return
+        count = self._rejected_unlogged.pop(key)
+        self._last_log[key] = t
+        if last is None:
+            self.get_logger().warning(f"{end} {what} rejected: {reason}")
+        else:
+            self.get_logger().warning(f"{end} {what}: {count} rejected in the last {t - last:.0f} s, the latest: {reason}")
 
     def _on_pose(self, end, msg: PoseStamped):
         frame = msg.header.frame_id
         if frame and frame.lstrip("/") != self.config.node.world_frame.lstrip("/"):
             self.inputs[end].rejected["wrong frame"] += 1
-            return self._reject(end, "pose", f"frame {frame!r} is not the world frame {self.config.node.world_frame!r}")
+            world = self.config.node.world_frame
+            return self._reject(end, "pose", f"frame {frame!r} is not the world frame {world!r}: poses must be expressed in "
+                                f"node.world_frame (publish them in {world!r}, or start the node with "
+                                f"-p node.world_frame:={frame.lstrip('/')})")
         now = self._now()
         stamp = convert.to_seconds(msg.header.stamp) or now
         p, q = msg.pose.position, msg.pose.orientation
@@ -265,7 +282,12 @@ class TetherSimNode(Node):
                                 "(stamped with the simulated instant, marked degraded)")
         for end, inp in self.inputs.items():
             if inp.is_stale(now):
-                self._log_throttled(("stale", end), "warning", f"{end} pose input stale (age {inp.age(now):.3g} s): holding/extrapolating")
+                age, rejected = inp.age(now), sum(inp.rejected.values())
+                text = f"{end} pose input stale (newest accepted pose {age:.3g} s old)" if math.isfinite(age) \
+                    else f"no {end} pose accepted yet"
+                if rejected:
+                    text += f"; {rejected} rejected so far (see the rejection warnings)"
+                self._log_throttled(("stale", end), "warning", f"{text}: holding/extrapolating")
         for topic, msg in convert.event_outputs(report.events, self.driver):
             if topic == "/tether/snap_events":
                 self._period["snaps"] += 1
@@ -313,7 +335,7 @@ class TetherSimNode(Node):
         for end, inp in self.inputs.items():
             inputs[end] = inp.health(now)
             inputs[end]["rejected_recent"] = p["rejected"][end]
-        self.pubs["/diagnostics"].publish(convert.diagnostics(now, self.get_name(), sim, inputs))
+        self.pubs["/diagnostics"].publish(convert.diagnostics(now, self.get_fully_qualified_name(), sim, inputs))
         self._period = _new_period(self.inputs)
 
 

@@ -3,7 +3,8 @@
 - ``/tf_static`` (latched: reliable, transient local, depth 1; sent once, at the first output):
   each end's body frame -> its tether attachment frame, ``ship/base_link -> ship/tether_sheave``
   and ``rov/base_link -> rov/tether_attach`` (names from ``node.ship_frame`` /
-  ``node.vehicle_frame``: the last path element replaced), translated by the attachment offset
+  ``node.vehicle_frame`` with the last path element replaced, or ``node.*_attachment_frame``; all
+  of them, and the tether frames, behind ``node.frame_prefix``), translated by the attachment offset
   (``node.*_attachment``, or ``body.attachment`` from the centre of gravity for a simulated body),
   no rotation.
 - ``/tf`` (each output, only while something subscribes): world (``node.world_frame``) -> each end's
@@ -28,6 +29,7 @@ import numpy as np
 from geometry_msgs.msg import TransformStamped
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
+from tether_sim.config import NodeOptions
 from tether_sim.physics.boundary import END_NAMES
 from tether_sim.ros import cdr, convert
 
@@ -41,14 +43,12 @@ TF_STATIC_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                            durability=DurabilityPolicy.TRANSIENT_LOCAL)
 ENDS = END_NAMES
 _7D = struct.Struct("<7d")
-LEAF = {"ship": "tether_sheave", "vehicle": "tether_attach"}  # ros2-conventions note, 1.1
 
 
 def attachment_frame(body_frame: str, end: str) -> str:
     """``ship/base_link`` -> ``ship/tether_sheave``, ``rov/base_link`` -> ``rov/tether_attach``;
     a frame without a ``/`` gets a suffix (``boat`` -> ``boat_tether_sheave``)."""
-    prefix, sep, _ = body_frame.rpartition("/")
-    return f"{prefix}/{LEAF[end]}" if sep else f"{body_frame}_{LEAF[end]}"
+    return NodeOptions(**{f"{end}_frame": body_frame}).attachment_frame(end)
 
 
 def end_offset(config, end) -> tuple:
@@ -94,11 +94,9 @@ def transform(stamp: float, parent: str, child: str, position, quaternion=(0.0, 
 
 def static_transforms(config, stamp: float) -> list:
     """Body frame -> attachment frame of both ends."""
-    out = []
-    for end in ENDS:
-        frame = getattr(config.node, f"{end}_frame")
-        out.append(transform(stamp, frame, attachment_frame(frame, end), end_offset(config, end)))
-    return out
+    node = config.node
+    return [transform(stamp, node.body_frame(end), node.attachment_frame(end), end_offset(config, end))
+            for end in ENDS]
 
 
 def body_poses(driver, include_prescribed: bool = True) -> list:
@@ -138,9 +136,9 @@ def tether_frames(solver, length: float, count: int) -> list:
 def dynamic_transforms(driver) -> list:
     """(child frame, position, quaternion) of every /tf transform, all with the world frame as parent."""
     node = driver.config.node
-    out = [(getattr(node, f"{end}_frame"), p, q) for end, p, q in body_poses(driver, node.tf_prescribed_ends)]
+    out = [(node.body_frame(end), p, q) for end, p, q in body_poses(driver, node.tf_prescribed_ends)]
     for k, (p, q) in enumerate(tether_frames(driver.solver, driver.config.cable.length, node.tf_tether_frames)):
-        out.append((f"{node.tf_tether_frame_prefix}/{k}", p, q))
+        out.append((node.tether_frame(k), p, q))
     return out
 
 

@@ -39,8 +39,9 @@ class Watcher(Node):
         self.state = msg
 
     def _on_diagnostics(self, msg):
-        for status in msg.status:
-            if status.name.endswith(": simulation"):
+        mine = f"{self.get_namespace().rstrip('/')}/tether_sim".lstrip("/") + ": simulation"
+        for status in msg.status:  # /diagnostics is global: only the tether of this namespace
+            if status.name == mine:
                 self.rtf = next((kv.value for kv in status.values if kv.key == "real_time_factor"), self.rtf)
 
     def _on_snap(self, msg):

@@ -1,4 +1,4 @@
-"""A fairlead lifted out of the water: both solvers against the closed-form two-part catenary [issue 15].
+"""A fairlead lifted out of the water: both solvers against the closed-form two-part catenary.
 
 Cable L = 100 m, gamma0 = 2 kg/m, rho_c = 2000 kg/m^3 (weight in air twice the submerged weight), hanging
 vertically with a free lower end from a fairlead that rises from 5 m below to 5 m above the still water

@@ -1,6 +1,6 @@
 """``dg.resolution: auto``: the DG mesh (N, P) and safety factor dg.cfl chosen for a snap-peak tolerance.
 
-The rule is a table of MEASURED errors, not a model. ``benchmarks/resolution_ladder.py`` ran the
+The rule is a table of MEASURED errors, not a model. ``benchmarks/studies/resolution_ladder.py`` ran the
 ROPOS slack-snap case (circular fairlead orbit a = 2 m, f = 0.2 Hz) on ladders of N at P = 2, 3
 and 4 and dg.cfl 0.8 (full ladders N = 1 ... 32 below the reference), and at dg.cfl 0.5, 0.65
 and 1.0 (N = 2 ... 8), against a converged explicit reference (N = max(10, ceil(L / 20 m)),
@@ -24,7 +24,7 @@ effect on it (peak(EI*) - peak(EI = 0), relative to the peak) where both were me
 2. between two measured lengths, both bracketing lengths must satisfy 1 for the same (P, cfl, N)
    (the range is that of the measured lengths: 100-2000 m with the cage, 200-1730 m free);
 3. dg.cfl at most MAX_CFL = 0.8: cfl 1.0 is the stability limit itself (calibrated on a straight
-   taut cable, docs/dg_solver.md) and cfl 1.1 gave +68 % at L = 200 m in session 2;
+   taut cable, docs/dg_solver.md) and cfl 1.1 gave +68 % at L = 200 m (2026-11-21);
 4. of the rungs that pass 1-3, the cheapest by the cost model :func:`cost` (substeps per
    simulated second from the solver's own stability rule x a per-substep cost fitted to the
    ladders' thread CPU).
@@ -43,10 +43,10 @@ from tether_sim.solvers.resolution_table import WORST_ERROR
 SAFETY = 0.5
 MAX_CFL = 0.8
 MIN_ELEMENTS = 2  # one element has no inner element boundary: never chosen (975 m free end measured it "good")
-LADDER_NS = (1, 2, 3, 4, 6, 8, 12, 16, 24, 32)  # the rungs of benchmarks/resolution_ladder.py
+LADDER_NS = (1, 2, 3, 4, 6, 8, 12, 16, 24, 32)  # the rungs of benchmarks/studies/resolution_ladder.py
 
 # Per-substep cost model (thread CPU): COST_FIXED + (COST_NODE + COST_NODE_BENDING [EI > 0]) x N (P + 1),
-# least squares over the stiff-cable rows of docs/data/resolution_ladder.csv (benchmarks/
+# least squares over the stiff-cable rows of docs/data/resolution_ladder.csv (benchmarks/studies/
 # resolution_report.cost_fit; test/solvers/test_resolution.py checks these are that fit, rounded).
 # At the coarse 1 % meshes the fixed part dominates, so the choice is mostly "fewest substeps".
 COST_FIXED = 18.4e-6  # s per substep
@@ -222,7 +222,7 @@ def resolve(config, given=()):
     return replace(config, dg=replace(dg, **values))
 
 
-# Nested LDG bending in slack parts on fine meshes (session 7; docs/performance.md "Bending effect at
+# Nested LDG bending in slack parts on fine meshes (2026-11-25; docs/performance.md "Bending effect at
 # 200 m" and "Bending in slack parts: the cause"): on the ROPOS 200 m slack-snap case, P = 4,
 # EI = 2620 N m^2, the ship tension in the slack phase was clean at a node spacing h / P of 2.5 m and
 # above. At 1.25 m it carried +-10 kN spikes that are absent without bending. At 0.625 m the run

@@ -1,4 +1,4 @@
-"""Static equilibrium of the DG solver vs the closed-form elastic catenary [PE2020 Sec. 2; issue 3].
+"""Static equilibrium of the DG solver vs the closed-form elastic catenary [PE2020 Sec. 2].
 
 Tolerances: the issue asks for 0.1% at N = 10, P = 4. The catenary shape is smooth (analytic), so
 an order-4 DG representation on 10 elements is accurate to far better than 1e-3; 0.1% therefore

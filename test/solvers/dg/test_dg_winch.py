@@ -1,4 +1,4 @@
-"""Winch at a cable end of the DG solver: material enters and leaves the domain (issue 16).
+"""Winch at a cable end of the DG solver: material enters and leaves the domain.
 
 The formulation (docs/dg_solver.md "Winch", solvers/dg/winch.py): the wet material coordinate is
 mapped onto fixed elements of size w_e L(t); a transport term -a(sc) du/dsc with

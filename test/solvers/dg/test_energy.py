@@ -1,4 +1,4 @@
-"""Energy of an undamped free vibration never grows and is nearly conserved [issue 3].
+"""Energy of an undamped free vibration never grows and is nearly conserved.
 
 Taut string (linear law, no gravity, no fluid, no damping). The ship end makes one smooth
 transverse Gaussian excursion and then stays fixed, after which the cable vibrates freely between

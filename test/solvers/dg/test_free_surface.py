@@ -1,4 +1,4 @@
-"""DG cable through the free surface [issue 15 item 1]: a fairlead above the water and one that is
+"""DG cable through the free surface: a fairlead above the water and one that is
 lifted out of it.
 
 Cable: L = 100 m, gamma0 = 2 kg/m, rho_c = 2000 kg/m^3, so the weight in air (w_air = 19.6 N/m) is twice

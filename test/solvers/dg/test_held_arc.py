@@ -1,9 +1,9 @@
-"""Issue 15 item 4: a stiff, low-tension arc held at both ends stays still with the defaults.
+"""A stiff, low-tension arc held at both ends stays still with the defaults.
 
-Case (the hybrid held arc, benchmarks/hybrid_held_arc.py): ROPOS tether with EA = 455 MN and
+Case (the hybrid held arc, benchmarks/studies/hybrid_held_arc.py): ROPOS tether with EA = 455 MN and
 EI = 2620 N m^2, L = 325 m from (0, 0, -50) to (300, 0, -150), end tensions 11.45 / 8.92 kN
 (EA/T ~ 4e4), no material damping. With PE2020 Eq. 24's penalty lambda/2 [q] in the q equation
-(dg.q_penalty_jump = strain, the default before session 4) it is linearly unstable and the end
+(dg.q_penalty_jump = strain, the default before 2026-11-23) it is linearly unstable and the end
 tensions leave their static values by > 100 % within 2 s; the default penalty on the jump of
 the elastic tension is energy-dissipative (docs/dg_solver.md, "q-equation penalty").
 A coarse mesh (N = 6, P = 4) shows both and keeps the test cheap.
@@ -50,12 +50,12 @@ def test_default_holds_the_stiff_arc_still_for_60_s():
     for t in np.arange(5.0, 60.0 + 1e-9, 5.0):
         s.advance_to(t)
         worst = max(worst, np.max(np.abs(tensions(s) / T0 - 1.0)))
-    # issue 15: stationary to 0.1 % (measured ~3e-9: only round-off moves an exact equilibrium)
+    # required: stationary to 0.1 % (measured ~3e-9: only round-off moves an exact equilibrium)
     assert worst < 1e-3, worst
 
 
 def test_eq24_penalty_makes_the_same_arc_drift():
-    """The old default on the same start: the test above can fail (it did before session 4)."""
+    """The old default on the same start: the test above can fail (it did before 2026-11-23)."""
     s = DGCableSolver(held_arc(q_penalty_jump="strain"))
     T0 = tensions(s)
     worst = 0.0

@@ -1,4 +1,4 @@
-"""Slack and snap with the bilinear law T = EA max(eps, 0) [PE2020 Eq. 22; issue 3].
+"""Slack and snap with the bilinear law T = EA max(eps, 0) [PE2020 Eq. 22].
 
 1. Cycles: a taut cable whose ship end oscillates axially with three times the pre-stretch goes
    slack and is jerked taut every cycle. It must run without NaN, the tension (sampled along the

@@ -1,4 +1,4 @@
-"""Waves on the DG cable [issue 15 item 2]: wave particle velocity in the drag, wave acceleration in the
+"""Waves on the DG cable: wave particle velocity in the drag, wave acceleration in the
 Froude-Krylov + added-mass term [PE2020 Eq. 13 with a_w != 0], current and waves together, and the
 wetted part following eta(x, y, t).
 

@@ -41,7 +41,8 @@ def ws():
 
 def _plain_bind(slots):
     """bind made of the source generated for ``slots``, with the plain-Python view functions."""
-    ns = {f"_f{r}": getattr(W, f"_f{r}").py_func for r in (1, 2, 3, 5)}
+    fs = (getattr(W, f"_f{r}") for r in (1, 2, 3, 5))
+    ns = {f.__name__: getattr(f, "py_func", f) for f in fs}  # (plain functions already with the JIT off)
     exec(W._bind_source(slots), ns)
     return ns["bind"]
 

@@ -1,4 +1,4 @@
-"""Hybrid solver through the free surface [issue 15 item 1].
+"""Hybrid solver through the free surface.
 
 1. dF/dv, dF/dt, dF/da, dF/deps of the environment force in the splash zone (wetted fraction phi(z(v))
    blending water and air) against central differences, as test_jacobian.py does for the seabed.

@@ -1,7 +1,7 @@
-"""Issue 15 item 5: a fixed-fixed, low-tension, stiff arc with bending (benchmarks/hybrid_held_arc.py:
+"""A fixed-fixed, low-tension, stiff arc with bending (benchmarks/studies/hybrid_held_arc.py:
 L = 325 m, chord 316 m sloping 100 m, EA = 455 MN, EI = 2620 N m^2, end tensions ~11 and ~9 kN).
 
-Before session 3 the hybrid started this case several kN off (its initial arc sagged along a wrong
+Before 2026-11-23 the hybrid started this case several kN off (its initial arc sagged along a wrong
 direction for a sloping chord and missed the far end by 8 m; the relaxation could not absorb that on
 an EA/T ~ 4e4 cable) and Newton then diverged within 1.5 s; all-catenary zoning failed already in the
 static relaxation (docs/hybrid_solver.md, "Held arcs").
@@ -9,7 +9,7 @@ static relaxation (docs/hybrid_solver.md, "Held arcs").
 
 import numpy as np
 
-from benchmarks.hybrid_held_arc import held_arc_config, ship_motion
+from benchmarks.studies.hybrid_held_arc import held_arc_config, ship_motion
 from tether_sim.physics.statics import solve_static
 from tether_sim.solvers.hybrid.solver import HybridRodCatenarySolver
 

@@ -2,7 +2,7 @@
 the cage simulated (the shared case of benchmarks/ropos_case.py), up to the first snap at t ~ 8.2 s.
 
 Reference: the DG explicit solver, N = 20, P = 4 (dt 1.8e-5 s), same case and forcing: first snap
-231.35 kN at t = 8.15 s (benchmarks/ropos_hybrid.py --slack; docs/hybrid_solver.md, step study).
+231.35 kN at t = 8.15 s (benchmarks/studies/ropos_hybrid.py --slack; docs/hybrid_solver.md, step study).
 Tolerance 5 %: an implicit step of 0.02 s cannot resolve the axial snap front (ds / c = 1 ms), and
 the step study measured -2.4 % at dt = 0.02 s (-1.3 to -3.3 % for dt = 0.01-0.05 s, -0.9 % at
 0.005 s); 5 % leaves room for platform round-off in the chaotic slack phase while a wrong snap
@@ -14,7 +14,7 @@ the cage end during slack and is gone once the tether is taut again.
 import numpy as np
 
 from benchmarks import ropos_case as rc
-from benchmarks.ropos_hybrid import slack_config
+from benchmarks.studies.ropos_hybrid import slack_config
 from tether_sim.solvers.hybrid.solver import HybridRodCatenarySolver
 
 DG_FIRST_SNAP = 231.35e3  # N

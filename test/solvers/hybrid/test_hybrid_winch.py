@@ -1,5 +1,5 @@
 """Winch of the hybrid solver: the winch element grows and shrinks, nodes are added and removed at the
-winch end (tether_sim/solvers/hybrid/winch.py, docs/winch.md "The hybrid winch"; issue 16).
+winch end (tether_sim/solvers/hybrid/winch.py, docs/winch.md "The hybrid winch").
 
 Checks, each against a closed form or a conservation law:
 1. L read back is the trapezoid integral of the commanded rates and the mass in the domain is

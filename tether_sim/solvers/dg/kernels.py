@@ -161,8 +161,8 @@ def tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, w
 
     Longer than the project's ~80 lines on purpose: split into three compiled steps (point values,
     dq/dt per element, tension per element; plain or IR-inlined calls) it measured 8-18 % slower
-    per 50 Hz tick at L = 1730 m, N = 6, P = 2 and 2-6 % at 200 m (session 5, bench_vs_moordyn
-    --baseline, bit-identical results), on the path the MoorDyn comparison of issue 12 times; session 6,
+    per 50 Hz tick at L = 1730 m, N = 6, P = 2 and 2-6 % at 200 m (2026-11-24, bench_vs_moordyn
+    --baseline, bit-identical results), on the path the MoorDyn comparison times; 2026-11-25,
     without reference counts: inlined whole into its caller it measured the same as a call)."""
     N = iprm[I_N]
     nq = V.shape[0]

@@ -26,7 +26,7 @@ from tether_sim.solvers.dg.layout import (
 TMP_HEAD = 16  # tmp[0:16] belongs to the scalar kernels and the stepper
 # Fewer elements than this: the element-wise path is cheaper (each SoA row loop is only N long; ROPOS
 # P = 4, thread CPU per right-hand side, 2026-11-23: N = 2 / 3 / 5 element-wise 0.8 / 1.6 / 1.7 us,
-# SoA 2.4 / 3.1 / 2.7 us; N = 8 / 12: element-wise 3.9 / 4.2 us, SoA 2.2 / 3.2 us). Session 6, after
+# SoA 2.4 / 3.1 / 2.7 us; N = 8 / 12: element-wise 3.9 / 4.2 us, SoA 2.2 / 3.2 us). On 2026-11-25, after
 # the kernels lost their reference counts and their small helpers were inlined (numerics/jit.py),
 # the element-wise path won up to N = 20 (us per 50 Hz tick, ROPOS, bending off / on, 2026-11-25,
 # load ~1, SoA from 7 elements vs never: N = 8 P = 2 59.6 / 86.1 vs 51.2 / 82.6; N = 12 P = 2

@@ -17,7 +17,7 @@ import numpy as np
 
 from tether_sim.numerics.integrators import SSPRK3_IMAG_LIMIT
 
-# Coefficients per order P = 1..12, measured by benchmarks/calibrate_timestep.py (see docs).
+# Coefficients per order P = 1..12, measured by benchmarks/studies/calibrate_timestep.py (see docs).
 _A = {1: 2.4398, 2: 4.775, 3: 7.9559, 4: 11.9302, 5: 16.6979, 6: 22.2589, 7: 28.6133, 8: 35.761, 9: 43.702, 10: 52.4363, 11: 61.9639, 12: 72.2848}
 _B = {1: 6.319, 2: 25.7774, 3: 68.3371, 4: 151.323, 5: 294.064, 6: 519.196, 7: 853.848, 8: 1329.01, 9: 1979.52, 10: 2844.1, 11: 3965.34, 12: 5389.69}
 _C = {1: 8.9859, 2: 36.6578, 3: 97.1828, 4: 215.201, 5: 418.198, 6: 738.367, 7: 1214.29, 8: 1890.03, 9: 2815.16, 10: 4044.72, 11: 5639.28, 12: 7664.91}

@@ -2,7 +2,7 @@
 
 numba's on-disk cache of a function is invalidated only when *its own* source file changes; the
 compiled node terms in catenary.py, rod.py, assembly.py and jacobian.py call kernels of kernels.py,
-jac_env.py and physics/*.py, so an edit there (the free surface, session 4) would silently keep
+jac_env.py and physics/*.py, so an edit there (as the free surface made) would silently keep
 running the old machine code. Before anything is compiled, cache files of this package older than
 the newest source they may depend on are removed.
 """

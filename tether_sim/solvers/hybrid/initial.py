@@ -86,7 +86,7 @@ class InitialStateMixin:
         arc of length L through both ends sagging along gravity (tension w R)."""
         if dist >= self.length or self.end_modes[1] not in ("velocity", "clamped"):
             return np.repeat(d[None], self.n_seg + 1, axis=0), self._straight_tension(d, dist)
-        # sag direction: gravity minus its component along the chord, g - (g.d) d with g = -e_z (session 3: the
+        # sag direction: gravity minus its component along the chord, g - (g.d) d with g = -e_z (until 2026-11-23 the
         # sign was wrong, so a sloping chord got an arc that missed its far end by metres)
         sag = np.array([0.0, 0.0, -1.0]) + d[2] * d
         sag = sag / np.linalg.norm(sag) if np.linalg.norm(sag) > 1e-9 else np.array([1.0, 0.0, 0.0])

@@ -1,4 +1,4 @@
-"""Winch of the hybrid solver: segments added and removed at the winch end (issue 16).
+"""Winch of the hybrid solver: segments added and removed at the winch end.
 
 API (the one the DG solver agreed with physics/winch.py and ros/winch_link.py):
 

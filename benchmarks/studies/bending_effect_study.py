@@ -1,13 +1,13 @@
 """Bending effect on the first snap peak at L = 200 m: DG mesh refinement against MoorDyn.
 
-Question (session 7): at L = 200 m MoorDyn's bending effect on the first snap peak,
+Question (2026-11-25): at L = 200 m MoorDyn's bending effect on the first snap peak,
 (peak(EI*) - peak(0)) / peak(0), is +0.05 % at N = 40 segments but +0.58 / +0.64 % at N = 80 / 160
-(benchmarks/moordyn_bending_rungs.py), whereas the DG ladder's reference (N = 10, P = 4, dg.cfl 0.5)
+(benchmarks/studies/moordyn_bending_rungs.py), whereas the DG ladder's reference (N = 10, P = 4, dg.cfl 0.5)
 gives +0.03 %. Does the DG effect grow with refinement towards MoorDyn's?
 
 For each DG rung 'N:P:cfl' (default 10, 20, 40 elements at P = 4, dg.cfl 0.5) and alpha = 0, 1
 (EI = alpha * EI_STAR) the ROPOS slack-snap case ``200:stiff:alpha:cage`` is run exactly as a rung of
-benchmarks/resolution_ladder.py (``resolution_ladder.run_rung``: untimed 0.1 s warm-up, then
+benchmarks/studies/resolution_ladder.py (``resolution_ladder.run_rung``: untimed 0.1 s warm-up, then
 ``--duration`` s of 50 Hz ticks through ``advance_to``; first snap peak = largest end tension in
 5-10 s on the 200 Hz grid, both ends; thread CPU of the ticks). MoorDyn runs at ``--moordyn``
 segment counts (``bench_moordyn.run_moordyn``, 200 Hz coupling, RK2; ship end only, first peak of
@@ -17,7 +17,7 @@ the end-tension records (npz, 5 s on) go to ``--records``. ``--figure`` plots th
 difference alpha 1 - alpha 0, and the slack phase 5-7.8 s of every MoorDyn N against the finest DG
 rung.
 
-Usage: PYTHONPATH=. python benchmarks/bending_effect_study.py [--dg 10:4:0.5 20:4:0.5 40:4:0.5]
+Usage: PYTHONPATH=. python benchmarks/studies/bending_effect_study.py [--dg 10:4:0.5 20:4:0.5 40:4:0.5]
        [--moordyn 40 80 160] [--duration 10.2] [--figure docs/figures/bending_effect_L200.png]
 """
 
@@ -31,11 +31,11 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 from benchmarks import bench_moordyn  # noqa: E402
-from benchmarks import resolution_ladder as rl  # noqa: E402
+from benchmarks.studies import resolution_ladder as rl  # noqa: E402
 from benchmarks import ropos_case as rc  # noqa: E402
 
 LENGTH = 200.0

@@ -1,13 +1,13 @@
-"""Issue 15 item 4: the q-equation penalty form on the ROPOS snap (tension jump, the default since
-session 4, against PE2020 Eq. 24's lambda/2 [q]).
+"""The q-equation penalty form on the ROPOS snap (tension jump, the default since
+2026-11-23, against PE2020 Eq. 24's lambda/2 [q]).
 
 Runs the ROPOS case (cage body, circular fairlead a = 2 m, f = 0.2 Hz; benchmarks/ropos_case.py)
 with dg.q_penalty_jump = strain and = tension for alpha = 0 and 1 and prints the first snap peak
 (largest end tension in the window) at both ends, its time, the static tension, the largest
 difference of the per-substep end tensions and the substep. The ship-end snap window is the one of
-benchmarks/resolution_ladder.py for L = 1730 m, 5-10 s for L = 200 m (docs/dg_solver.md).
+benchmarks/studies/resolution_ladder.py for L = 1730 m, 5-10 s for L = 200 m (docs/dg_solver.md).
 
-    PYTHONPATH=. python benchmarks/q_penalty_ropos.py [--length 1730] [--duration 20] [--alphas 0 1] [--n 20] [--cfl 0.5]
+    PYTHONPATH=. python benchmarks/studies/q_penalty_ropos.py [--length 1730] [--duration 20] [--alphas 0 1] [--n 20] [--cfl 0.5]
 """
 
 import argparse
@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from benchmarks import drive  # noqa: E402
 from benchmarks import ropos_case as rc  # noqa: E402

@@ -1,13 +1,13 @@
-"""Issue 15 item 4: the stiff held arc with the DG solver, old and new q-equation penalty.
+"""The stiff held arc with the DG solver, old and new q-equation penalty.
 
-The arc of benchmarks/hybrid_held_arc.py (EA = 455 MN, EI = 2620 N m^2, L = 325 m, ends fixed at
+The arc of benchmarks/studies/hybrid_held_arc.py (EA = 455 MN, EI = 2620 N m^2, L = 325 m, ends fixed at
 (0, 0, -50) and (300, 0, -150), no material damping) held still for --duration s with
-dg.q_penalty_jump = strain (PE2020 Eq. 24, the default before session 4) and = tension (the
+dg.q_penalty_jump = strain (PE2020 Eq. 24, the default before 2026-11-23) and = tension (the
 default since), each from the discrete static equilibrium (dg/equilibrium.py), plus the new
-default from the bare projected catenary (the start before session 4). Prints the largest
+default from the bare projected catenary (the start before 2026-11-23). Prints the largest
 relative excursion of the end tensions and, with --plot, draws end tension against time.
 
-    PYTHONPATH=. python benchmarks/held_arc_q_penalty.py [--n 6 --order 4] [--duration 60] [--plot docs/figures/held_arc_q_penalty.png]
+    PYTHONPATH=. python benchmarks/studies/held_arc_q_penalty.py [--n 6 --order 4] [--duration 60] [--plot docs/figures/held_arc_q_penalty.png]
 """
 
 import argparse
@@ -18,9 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
-from benchmarks.hybrid_held_arc import held_arc_config  # noqa: E402
+from benchmarks.studies.hybrid_held_arc import held_arc_config  # noqa: E402
 from tether_sim.solvers.dg import equilibrium  # noqa: E402
 from tether_sim.solvers.dg.solver import DGCableSolver  # noqa: E402
 

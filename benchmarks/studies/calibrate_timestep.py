@@ -5,7 +5,7 @@ cable between two pins (no gravity, no fluid) is linearised by finite difference
 right-hand side; the largest dt with |R(dt lambda)| <= 1 for every eigenvalue lambda of the Jacobian
 gives the coefficient of the corresponding term of solvers/dg/timestep.py. Run:
 
-    PYTHONPATH=. python benchmarks/calibrate_timestep.py
+    PYTHONPATH=. python benchmarks/studies/calibrate_timestep.py
 """
 
 import sys

@@ -4,10 +4,10 @@ zone appears near the cage while the tether is slack and disappears when it is t
 The shared slack-snap case of benchmarks/ropos_case.py (orbit centre 3 m deep, one-period ramp, the
 cage simulated as a rigid body), hybrid solver, fairlead commanded once per implicit step:
 
-    PYTHONPATH=. python benchmarks/ropos_slack_zones.py --dt 0.01 --duration 30
+    PYTHONPATH=. python benchmarks/studies/ropos_slack_zones.py --dt 0.01 --duration 30
 
 Writes docs/figures/ropos_L200_zones.png: end tensions (with the DG N = 20, P = 4 ship tension if its
-record is cached by benchmarks/ropos_hybrid.py --slack), and tension over (t, s) with the rod zone outlined.
+record is cached by benchmarks/studies/ropos_hybrid.py --slack), and tension over (t, s) with the rod zone outlined.
 """
 
 import argparse
@@ -21,7 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from benchmarks import ropos_case as rc  # noqa: E402
-from benchmarks.ropos_hybrid import DG_CACHE, slack_config  # noqa: E402
+from benchmarks.studies.ropos_hybrid import DG_CACHE, slack_config  # noqa: E402
 from tether_sim.solvers.hybrid.solver import HybridRodCatenarySolver  # noqa: E402
 from tether_sim.solvers.hybrid.state_io import node_profile  # noqa: E402
 

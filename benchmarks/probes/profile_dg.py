@@ -14,7 +14,7 @@ timed in thread-CPU time so the shared machine's load does not enter, all in one
 The split between compiled code and Python is measured separately with py-spy
 (docs/performance.md).
 
-Usage: PYTHONPATH=. python benchmarks/profile_dg.py [--length 200] [--duration 2] [--cage force]
+Usage: PYTHONPATH=. python benchmarks/probes/profile_dg.py [--length 200] [--duration 2] [--cage force]
 """
 
 import argparse
@@ -24,7 +24,7 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from benchmarks import drive  # noqa: E402
 from benchmarks import ropos_case as rc  # noqa: E402

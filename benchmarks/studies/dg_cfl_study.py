@@ -5,7 +5,7 @@ cfl is compared on the snap figures of ``ropos_case.snap_metrics`` (first full-a
 per-period peaks) of the ship tension, the largest vehicle tension, and the largest difference of
 the ship-tension records resampled on a common 1 ms grid (relative to the largest tension).
 
-Usage: PYTHONPATH=. python benchmarks/dg_cfl_study.py [--lengths 1730 200] [--alphas 0 1]
+Usage: PYTHONPATH=. python benchmarks/studies/dg_cfl_study.py [--lengths 1730 200] [--alphas 0 1]
        [--cfls 0.5 0.9 1.0 1.1] [--duration 20]
 """
 
@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from benchmarks import drive  # noqa: E402
 from benchmarks import ropos_case as rc  # noqa: E402

@@ -1,4 +1,4 @@
-"""Issue 15 item 5: the hybrid solver on a fixed-fixed, low-tension, stiff arc with bending.
+"""The hybrid solver on a fixed-fixed, low-tension, stiff arc with bending.
 
 Case: ROPOS tether properties with EA = 455 MN (10x ROPOS) and EI = 2620 N m^2, L = 325 m between a
 ship end at (0, 0, -50) and a fixed end at (300, 0, -150) (chord 316.2 m): end tensions ~11 and ~9 kN,
@@ -7,7 +7,7 @@ ramped in over one period). Prints the static end tensions of the hybrid solver 
 all-catenary zoning), of the elastic catenary (physics/statics.py) and of the DG solver (N = 20, P = 4,
 its static initial state through the public interface), then runs the hybrid for --duration s.
 
-    PYTHONPATH=. python benchmarks/hybrid_held_arc.py [--duration 600] [--no-dg] [--plot docs/figures/hybrid_held_arc.png]
+    PYTHONPATH=. python benchmarks/studies/hybrid_held_arc.py [--duration 600] [--no-dg] [--plot docs/figures/hybrid_held_arc.png]
 """
 
 import argparse

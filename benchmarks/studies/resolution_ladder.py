@@ -6,16 +6,16 @@ factor alpha, vehicle end) the ROPOS slack-snap run of ``ropos_case`` (circular 
 a = 2 m, f = 0.2 Hz, ramped over the first period) is run for ``--duration`` simulated seconds on
 
 * the reference: N_ref = max(10, ceil(L / 20 m)) elements, P = 4, dg.cfl 0.5 (the converged
-  explicit run, h <= 20 m; session 2 found N = 3 within 0.1 % of N = 20 at L = 200 m);
+  explicit run, h <= 20 m; on 2026-11-21 N = 3 was found within 0.1 % of N = 20 at L = 200 m);
 * the candidate rungs: N = 1, 2, 3, 4, 6, 8, 12, 16, 24, 32 (below N_ref) at P = 4 and dg.cfl 0.8;
   with ``--variants`` also N = 2 and 3 at dg.cfl 0.5 (the time-step part of the error) and
-  N = 2, 3, 4 at P = 3; with ``--orders`` (session 4) the P = 3 (N = 1-32) and P = 2 (N = 2-32)
+  N = 2, 3, 4 at P = 3; with ``--orders`` (2026-11-23) the P = 3 (N = 1-32) and P = 2 (N = 2-32)
   ladders at dg.cfl 0.8 and N = 2-8 at dg.cfl 0.65 and 1.0 (P = 3, 4) and N = 4-8 at dg.cfl 0.5;
   ``--extra N:P:cfl`` adds single rungs (975 m: N = 40, 48 at P = 3, 4).
 
 Metric (both ends): the largest end tension in the first full-amplitude period (5-10 s, the first
-slack-snap event), interpolated onto a common 200 Hz grid (``grid``: like-for-like with session 2's
-tables); the error of a rung is the relative difference to the reference, the worse of the two
+slack-snap event), interpolated onto a common 200 Hz grid (``grid``: like-for-like with the tables
+of 2026-11-21); the error of a rung is the relative difference to the reference, the worse of the two
 ends. The substep record's maximum (``raw``) is stored too but not used: the finest references
 (h ~ 20 m) show one-substep spikes where a slack end re-tensions (171 kN for one 7e-5 s substep
 at the L = 1730 m cage, absent at N = 20 and 40, whose peaks agree to 0.05 %). Cost: thread CPU per
@@ -29,9 +29,9 @@ free cable end (kind free).
 Every run appends one row to the CSV at once (``--csv``), so an interrupted ladder loses nothing;
 rows already present are skipped, so the same command resumes. ``--summary`` prints the error
 tables from the CSV, ``--table`` writes the rule's table (tether_sim/solvers/resolution_table.py)
-and ``--markdown docs/resolution_ladder.md`` the generated page (no runs; benchmarks/resolution_report.py).
+and ``--markdown docs/resolution_ladder.md`` the generated page (no runs; benchmarks/studies/resolution_report.py).
 
-Usage: PYTHONPATH=. python benchmarks/resolution_ladder.py --cases 200:stiff:0:cage 200:stiff:1:cage
+Usage: PYTHONPATH=. python benchmarks/studies/resolution_ladder.py --cases 200:stiff:0:cage 200:stiff:1:cage
        [--duration 10.2] [--csv docs/data/resolution_ladder.csv] [--summary]
 """
 
@@ -47,12 +47,12 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 from benchmarks import drive  # noqa: E402
 from benchmarks import ropos_case as rc  # noqa: E402
-from benchmarks.resolution_report import FIELDS, TABLE_MODULE, markdown, read_rows, summary, table_module  # noqa: E402
+from benchmarks.studies.resolution_report import FIELDS, TABLE_MODULE, markdown, read_rows, summary, table_module  # noqa: E402
 from tether_sim.physics.boundary import EndCondition  # noqa: E402
 
 GRID_STEP = 0.005  # s, 200 Hz common sampling (bench_moordyn.COUPLING_STEP)
@@ -125,7 +125,7 @@ def run_rung(case, n_elements, order, cfl, duration, reference):
 def _commit():
     try:
         return subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-                              cwd=Path(__file__).resolve().parents[1]).stdout.strip()
+                              cwd=Path(__file__).resolve().parents[2]).stdout.strip()
     except OSError:
         return ""
 

@@ -1,7 +1,7 @@
 """MoorDyn's first-snap-peak segment ladder with and without bending stiffness.
 
 bench_vs_moordyn takes MoorDyn N = 40 as MoorDyn's 1 % rung (BENCHMARKS.md "Accuracy against
-cost", measured with EI = 0). Since session 7 it times MoorDyn with the DG row's bending stiffness
+cost", measured with EI = 0). Since 2026-11-25 it times MoorDyn with the DG row's bending stiffness
 EI = alpha * EI_STAR, so this script checks that N = 40 is still within 1 % with alpha = 1: for
 each length, one run per segment count N and alpha (0 and 1) of ``bench_moordyn.run_moordyn``
 (``--duration`` s, 200 Hz coupling, RK2 at ``ropos_case.moordyn_time_step``, as bench_moordyn.ladder
@@ -10,7 +10,7 @@ in 5-10 s) and its relative error against the finest N of the same alpha. Also p
 bending effect on the peak at each N (alpha 1 against alpha 0) and the thread CPU inside
 moordyn.Step per simulated s of these 200 Hz runs (one run each: indicative only).
 
-Usage: PYTHONPATH=. python benchmarks/moordyn_bending_rungs.py [--lengths 1730 200]
+Usage: PYTHONPATH=. python benchmarks/studies/moordyn_bending_rungs.py [--lengths 1730 200]
        [--segments 20 40 80 160] [--duration 10.2]
 """
 
@@ -22,7 +22,7 @@ import time
 from importlib.metadata import version
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from benchmarks import bench_moordyn  # noqa: E402
 from benchmarks import ropos_case as rc  # noqa: E402

@@ -2,14 +2,14 @@
 
 Taut case (L = 1730 m, f = 0.1 Hz, no slack), ship-tension amplitude per step size:
 
-    PYTHONPATH=. python benchmarks/ropos_hybrid.py config/ropos_L1730.yaml --frequency 0.1 --steps 0.05 0.1 0.2
+    PYTHONPATH=. python benchmarks/studies/ropos_hybrid.py config/ropos_L1730.yaml --frequency 0.1 --steps 0.05 0.1 0.2
 
 Slack-snap case (L = 200 m, f = 0.2 Hz, EI = 2620 N m^2, the shared case of benchmarks/ropos_case.py:
 orbit centre 3 m deep, one-period ramp), snap peaks per step size against the DG explicit solver
 (N = 20, P = 4; its record is cached in out/, computed once with --dg-reference, ~5 min CPU):
 
-    PYTHONPATH=. python benchmarks/ropos_hybrid.py --slack --steps 0.05 0.02 0.01 0.005 --duration 30 --save out
-    PYTHONPATH=. python benchmarks/ropos_hybrid.py --plot-only --steps 0.05 0.02 0.01 0.005 --save out
+    PYTHONPATH=. python benchmarks/studies/ropos_hybrid.py --slack --steps 0.05 0.02 0.01 0.005 --duration 30 --save out
+    PYTHONPATH=. python benchmarks/studies/ropos_hybrid.py --plot-only --steps 0.05 0.02 0.01 0.005 --save out
 
 Fairlead commanded once per implicit step through set_end_motion (as the node does when it ticks at 1/dt).
 """

@@ -9,7 +9,7 @@ in-plane flutter of the linearised operator per mesh, with and without the relax
 With --relax-check, dynamic relaxation (axial damping RELAX_ZETA) on meshes that did not settle
 without it, against the Newton fixed point. Minutes of CPU: not part of pytest.
 
-    PYTHONPATH=. python benchmarks/ring_beam_convergence.py [--flutter] [--relax-check] [--no-figure]
+    PYTHONPATH=. python benchmarks/studies/ring_beam_convergence.py [--flutter] [--relax-check] [--no-figure]
 """
 
 import argparse

@@ -1,6 +1,6 @@
-"""Issue 15 item 4: linear modes of a held arc about its discrete equilibrium, by q penalty.
+"""Linear modes of a held arc about its discrete equilibrium, by q penalty.
 
-The held arc of benchmarks/hybrid_held_arc.py (L = 325 m, ends fixed at (0, 0, -50) and
+The held arc of benchmarks/studies/hybrid_held_arc.py (L = 325 m, ends fixed at (0, 0, -50) and
 (300, 0, -150), EI = 2620 N m^2, no material damping) with a stiff (EA = 455 MN) and a soft
 (EA = 1 MN) cable. For each q-penalty variant (tension jump = default, Eq. 24 = strain, 0 = central
 q flux) the Jacobian of the compiled DG right-hand side about the discrete static equilibrium
@@ -9,7 +9,7 @@ does not enter the linearisation about rest, so the real parts are the scheme's 
 (Re < 0) or growth (Re > 0). Prints the largest Re, and the frequency and damping ratio
 -Re/|lambda| of the lowest modes and of the mode nearest the first axial one (c / 2L).
 
-    PYTHONPATH=. python benchmarks/held_arc_modes.py [--n 10 --order 4] [--modes 6]
+    PYTHONPATH=. python benchmarks/studies/held_arc_modes.py [--n 10 --order 4] [--modes 6]
 """
 
 import argparse
@@ -19,9 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
-from benchmarks.hybrid_held_arc import held_arc_config  # noqa: E402
+from benchmarks.studies.hybrid_held_arc import held_arc_config  # noqa: E402
 from tether_sim.solvers.dg.equilibrium import _jacobian, _residual  # noqa: E402
 from tether_sim.solvers.dg.solver import DGCableSolver  # noqa: E402
 

@@ -1,7 +1,7 @@
-"""ROPOS cross-check hybrid vs DG [issue 6 acceptance]: ship-tension amplitude, L = 1730 m, circular
+"""ROPOS cross-check hybrid vs DG (acceptance): ship-tension amplitude, L = 1730 m, circular
 fairlead a = 2 m, f = 0.1 Hz (no slack). Both solvers through the TetherSolver interface only.
 
-    PYTHONPATH=. python benchmarks/ropos_cross_check.py config/ropos_L1730_paper.yaml --frequency 0.1
+    PYTHONPATH=. python benchmarks/studies/ropos_cross_check.py config/ropos_L1730_paper.yaml --frequency 0.1
 """
 
 import argparse

@@ -1,8 +1,8 @@
-"""Bending in slack parts (session 7): one ROPOS 200 m slack-snap run with DG options from the
+"""Bending in slack parts (2026-11-25): one ROPOS 200 m slack-snap run with DG options from the
 environment; prints min chord stretch, ship-tension difference against the EI = 0 record, and
 the number of curvature maxima along the cable at a snapshot time.
 
-    PYTHONPATH=. python benchmarks/bend_slack_probe.py N [alpha] [t_end]
+    PYTHONPATH=. python benchmarks/probes/bend_slack_probe.py N [alpha] [t_end]
     env: QBEND (dg.q_penalty_bending), BETA, ZETAB (N m^2 s), QPEN (strain|tension|auto), QPENV (q_penalty), LFLOOR, END (cage|free), CFL, SNAP (s)
 """
 import os
@@ -13,7 +13,8 @@ from dataclasses import replace
 import numpy as np
 
 sys.path.insert(0, '.')
-from benchmarks import resolution_ladder as rl, ropos_case as rc  # noqa: E402
+from benchmarks import ropos_case as rc  # noqa: E402
+from benchmarks.studies import resolution_ladder as rl  # noqa: E402
 from tether_sim.solvers import factory  # noqa: E402
 from tether_sim.solvers.dg import layout as Y  # noqa: E402
 
@@ -70,7 +71,8 @@ t = np.concatenate(ts)
 T = np.concatenate(ship)
 L = np.array([x[1] for x in lmins])
 print(f"min l {L.min():.4f}; max ship T 5-{T_END} s {T[t >= 5].max():.0f} N; steps {s.steps if hasattr(s, 'steps') else '?'}; wall {time.time() - c0:.0f} s")
-ref_path = f"/work/wt-bend/out/bending_effect/200_stiff_0_{END}_N{N}P4c0.5.npz"
+# the EI = 0 record of benchmarks/studies/bending_effect_study.py (its default --records directory)
+ref_path = f"out/bending_effect/200_stiff_0_{END}_N{N}P4c0.5.npz"
 if os.path.exists(ref_path):
     ref = np.load(ref_path)
     m = (t >= 5.0) & (t <= min(7.7, t.max()))

@@ -1,6 +1,6 @@
 """Shape of the slack lower tether before the first snap at L = 200 m: DG against MoorDyn, EI = 0 and EI*.
 
-Companion of benchmarks/bending_effect_study.py (docs/performance.md "Bending effect at 200 m").
+Companion of benchmarks/studies/bending_effect_study.py (docs/performance.md "Bending effect at 200 m").
 Runs the ROPOS slack-snap case to the snapshot times ``--times`` and prints, per model / rung /
 alpha, the slack length (unstretched length with T < 1 kN), the largest geometric curvature
 (|d tangent / ds| of the sampled positions, the same estimate for both models) and where, the
@@ -13,7 +13,7 @@ driven at 50 Hz like ``drive.run`` (set_end_motion + advance_to), sampled with `
 the element nodes refined 8x; MoorDyn: ``ropos_case.moordyn_input`` at 200 Hz coupling as
 ``bench_moordyn.run_moordyn``, node positions / curvatures / tensions from the moordyn API.
 
-Usage: PYTHONPATH=. python benchmarks/bending_shapes.py [--dg 20:4:0.5] [--moordyn 160]
+Usage: PYTHONPATH=. python benchmarks/studies/bending_shapes.py [--dg 20:4:0.5] [--moordyn 160]
        [--times 7.0 7.4 7.6] [--npz out/bending_effect/shapes.npz]
 """
 
@@ -24,10 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from benchmarks import bench_moordyn  # noqa: E402
-from benchmarks import resolution_ladder as rl  # noqa: E402
+from benchmarks.studies import resolution_ladder as rl  # noqa: E402
 from benchmarks import ropos_case as rc  # noqa: E402
 from tether_sim.solvers.factory import build_solver  # noqa: E402
 

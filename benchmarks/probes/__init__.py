@@ -1,0 +1,3 @@
+"""One-off investigations, kept for the commands the docs cite: ``profile_dg`` (where the first DG
+version's time went, docs/performance.md "First-version figures") and ``bend_slack_probe`` (bending in
+slack parts, docs/performance.md "Bending in slack parts: the cause")."""
