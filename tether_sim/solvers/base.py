@@ -27,6 +27,8 @@ from typing import NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
+from tether_sim.physics.boundary import END_NAMES
+
 
 @dataclass
 class SolverState:
@@ -155,7 +157,7 @@ class TetherSolver(Protocol):
     def restore(self, snap: object) -> None: ...
 
 
-END_INDEX = {"ship": 0, "vehicle": 1}
+END_INDEX = {name: k for k, name in enumerate(END_NAMES)}
 
 
 def end_index(end: str) -> int:

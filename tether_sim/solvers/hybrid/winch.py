@@ -27,10 +27,10 @@ import numpy as np
 
 from tether_sim.errors import ConfigError
 from tether_sim.numerics.rotations import rotate_frame
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.solvers.hybrid import zoning
 from tether_sim.solvers.hybrid.state_io import convert_state
 
-WINCH_ENDS = ("ship", "vehicle")
 DEFECT_TIME = 1.0  # s over which the geometric defect of a split or merge is phased out (_winch_defect)
 SPLIT = 1.5  # split the winch element when it would exceed SPLIT h0
 MERGE = 0.5  # merge it with its neighbour when it would fall below MERGE h0
@@ -48,9 +48,9 @@ class HybridWinchMixin:
         if not getattr(w, "enabled", False):
             return
         end = getattr(w, "end", "ship")
-        if end not in WINCH_ENDS:
-            raise ConfigError(f"winch.end: {end!r} is not one of {', '.join(WINCH_ENDS)}")
-        e = WINCH_ENDS.index(end)
+        if end not in END_NAMES:
+            raise ConfigError(f"winch.end: {end!r} is not one of {', '.join(END_NAMES)}")
+        e = END_NAMES.index(end)
         if e == 1:
             raise ConfigError(
                 "winch.end = vehicle: not supported by the hybrid solver. The winch element is shorter than its "
