@@ -178,7 +178,7 @@ def relative_end_speed(solver, length: float) -> float:
     L = float(getattr(solver, "unstretched_length", length))
     state = solver.state(np.array([0.0, L]))
     v = np.array(state.velocity, float)
-    for j, end in enumerate(("ship", "vehicle")):
+    for j, end in enumerate(END_NAMES):
         body = solver.body_state(end)
         if body is not None:
             arm = np.asarray(state.position[j], float) - np.asarray(body.position, float)
