@@ -18,7 +18,8 @@ from tether_sim.solvers.hybrid.body import body_dynamics_residual, body_end_resi
 from tether_sim.solvers.hybrid.catenary import (catenary_cell_residual, catenary_force_bc, catenary_free_bc,
                                                 catenary_node_terms, catenary_velocity_bc, unit_tangent_residual)
 from tether_sim.solvers.hybrid.joint import joint_residual
-from tether_sim.solvers.hybrid.kernels import CAT_EPS, P_DT, P_GAM, ROD_EPS, law_residual
+from tether_sim.solvers.hybrid.kernels import law_residual
+from tether_sim.solvers.hybrid.layout import CAT_EPS, HP_DT, HP_GAM, ROD_EPS
 from tether_sim.solvers.hybrid.rod import rod_cell_from_terms, rod_cell_residual, rod_end_residual, rod_node_terms
 
 CAT_CELL, ROD_CELL, JOINT_CR, JOINT_RC, UNIT, CAT_VEL, CAT_FORCE, CAT_FREE, ROD_END, BODY_DYN, CAT_BODY, ROD_BODY, LAW = range(13)
@@ -30,8 +31,8 @@ def node_law_residual(Y, Yn, Ytn, is_rod, P, out):
     """Constitutive equation of one node at t_{n+1} [PE2020 Eq. 22]; deps/dt from the gamma relation."""
     iT = 9 if is_rod else 3
     ie = ROD_EPS if is_rod else CAT_EPS
-    g = P[P_GAM]
-    rate = ((Y[ie] - Yn[ie]) / P[P_DT] - (1.0 - g) * Ytn[ie]) / g
+    g = P[HP_GAM]
+    rate = ((Y[ie] - Yn[ie]) / P[HP_DT] - (1.0 - g) * Ytn[ie]) / g
     out[0] = law_residual(Y[iT], Y[ie], rate, P)
 
 

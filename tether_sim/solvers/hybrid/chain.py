@@ -12,7 +12,7 @@ import numpy as np
 from tether_sim.solvers.hybrid.assembly import (BODY_DYN, CAT_BODY, CAT_CELL, CAT_FORCE, CAT_FREE, CAT_VEL, GROUP_ROWS,
                                                 JOINT_CR, JOINT_RC, LAW, ROD_BODY, ROD_CELL, ROD_END, UNIT)
 from tether_sim.solvers.hybrid.body import BODY_PAR0, GPAR_SIZE
-from tether_sim.solvers.hybrid.kernels import CAT_SLOTS, ROD_SLOTS
+from tether_sim.solvers.hybrid.layout import CAT_SLOTS, ROD_SLOTS
 from tether_sim.solvers.hybrid.zoning import ROD, chain_nodes
 
 ROD_END_KIND = {"velocity": 0, "clamped": 1, "force": 2, "force_hold": 3}

@@ -10,6 +10,7 @@ import numpy as np
 from tether_sim.numerics.rotations import frame_with_tangent
 from tether_sim.physics.bodies import initial_body_state, submerged_weight
 from tether_sim.solvers.hybrid import zoning
+from tether_sim.solvers.hybrid.layout import CAT_EPS, CAT_T, CAT_TAN, CAT_V, N_SLOTS, ROD_OMEGA
 from tether_sim.solvers.hybrid.state_io import convert_state, reconstruct_positions
 
 
@@ -53,11 +54,11 @@ class InitialStateMixin:
         self.zones = np.full(self.n_seg, zoning.CATENARY)  # built as catenary, then converted
         self._set_chain()
         K = self.chain.grid.size
-        self.Y = np.zeros((K, 13))
-        self.Yt = np.zeros((K, 13))
-        self.Y[:, 3] = T_grid
-        self.Y[:, 4:7] = tangents
-        self.Y[:, 7] = [self._strain(T) for T in T_grid]
+        self.Y = np.zeros((K, N_SLOTS))
+        self.Yt = np.zeros((K, N_SLOTS))
+        self.Y[:, CAT_T] = T_grid
+        self.Y[:, CAT_TAN:CAT_TAN + 3] = tangents
+        self.Y[:, CAT_EPS] = [self._strain(T) for T in T_grid]
         self.Lf = np.stack([frame_with_tangent(t) for t in tangents])
         self.r0 = p0.copy()
         self.positions = reconstruct_positions(self)
@@ -158,8 +159,8 @@ class InitialStateMixin:
             self._step_with_retry(min(step, t_end - self.time))
         self._rho = None
         self.stats["relax_final_speed"] = float(np.abs(self._world_velocities()).max())
-        self.Y[:, 0:3] = 0.0
-        self.Y[self.chain.kind == zoning.ROD, 3:6] = 0.0
+        self.Y[:, CAT_V:CAT_V + 3] = 0.0  # = ROD_V
+        self.Y[self.chain.kind == zoning.ROD, ROD_OMEGA:ROD_OMEGA + 3] = 0.0
         self.Yt[:] = 0.0
         self.rdot[:] = 0.0
         for e in range(2):
