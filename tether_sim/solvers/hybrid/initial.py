@@ -1,6 +1,6 @@
 """Initial state of the hybrid solver: zones, straight/arc shape, tensions, damped relaxation.
 
-Mixed into HybridRodCatenarySolver (uses its attributes: config, opt, s_grid, end_modes, ...).
+Mixed into HybridRodCatenarySolver (uses its attributes: config, opt, s_grid, end_kinds, end_held, ...).
 """
 
 import math
@@ -31,8 +31,7 @@ class InitialStateMixin:
 
     def _end_rod_elements(self):
         out = []
-        for mode in self.end_modes:
-            held = mode in ("clamped", "force_hold")
+        for held in self.end_held:
             out.append(max(1, int(math.ceil(self.opt.end_rod_length / self.ds))) if held else 0)
         return tuple(out)
 
@@ -75,7 +74,7 @@ class InitialStateMixin:
                 self.body_x[e] = initial_body_state(self.config.body, attachment_world=self.positions[node])
                 self.body_xd[e] = np.zeros(13)
         for e, node in ((0, 0), (1, K - 1)):  # a held end starts with its prescribed tangent
-            if self.end_modes[e] in ("clamped", "force_hold") and self.chain.kind[node] == zoning.ROD:
+            if self.end_held[e] and self.chain.kind[node] == zoning.ROD:
                 self.Lf[node] = frame_with_tangent(self.ends[e].direction, self.Lf[node])
         kind = cfg.initial.kind
         relax = cfg.initial.relax_time if kind == "relax" else (self.opt.static_relax_time if kind == "static" else 0.0)
@@ -85,7 +84,7 @@ class InitialStateMixin:
     def _initial_shape(self, d, dist):
         """Tangents and tensions on the grid: straight (stretched) if the chord is >= L, else a circular
         arc of length L through both ends sagging along gravity (tension w R)."""
-        if dist >= self.length or self.end_modes[1] not in ("velocity", "clamped"):
+        if dist >= self.length or not self._velocity_end(1):
             return np.repeat(d[None], self.n_seg + 1, axis=0), self._straight_tension(d, dist)
         # sag direction: gravity minus its component along the chord, g - (g.d) d with g = -e_z (until 2026-11-23 the
         # sign was wrong, so a sloping chord got an arc that missed its far end by metres)
@@ -137,8 +136,8 @@ class InitialStateMixin:
         w = self.net_weight if self.config.cable.gamma0 > self.config.environment.fluid_density * \
             self.config.cable.area else -self.net_weight
         Tlin = w * d[2] * self.s_grid  # T(s) - T(0) for F = -w z
-        force_end = [m in ("force", "force_hold") for m in self.end_modes]
-        if self.end_modes[1] == "body":
+        force_end = [not k.kinematic for k in self.end_kinds]
+        if self.end_kinds[1].position == "body":
             weight = submerged_weight(self.config.body, self.config.environment)
             T = weight * max(-d[2], 0.0) + Tlin - Tlin[-1]
         elif force_end[1]:

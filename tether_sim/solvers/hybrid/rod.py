@@ -1,7 +1,7 @@
 """Kirchhoff rod elements [GP Sec. 2.2, Eq. 6-11, Appendix 2 Eq. 27-29].
 
-Field variables per node, body-frame components: v (0:3), omega (3:6), kappa (6:9), f (9:12), and
-the axial strain eps (12), tied to the tension f_1 by the node's constitutive equation
+Field variables per node, body-frame components (layout.py): v, omega, kappa, f, and
+the axial strain eps, tied to the tension f_1 by the node's constitutive equation
 (kernels.law_residual, PE2020 Eq. 22), so Eq. 7 below is linear in deps/dt.
 Body axis 0 is the tangent (torsion axis), axes 1-2 the bending axes; B = diag(GJ, EI, EI),
 I = diag(I_t, I_b, I_b). The frame L (world -> body) of each node is advanced in time by the
@@ -127,14 +127,25 @@ def rod_cell_from_terms(Yfa, Yma, Fa, Yfb, Ymb, Fb, ds, P, out):
         out[9 + k] = (Yfb[ROD_F + k] - Yfa[ROD_F + k]) / ds + c[k] - m * (Yd[ROD_V + k] + w[k]) + 0.5 * (Fa[k] + Fb[k])
 
 
+# rod end conditions (rod_end_residual's kind), from the end's PE2020 Table 1 row
+ROD_END_PINNED, ROD_END_CLAMPED, ROD_END_FORCE, ROD_END_FORCE_HELD = range(4)
+
+
+def rod_end_code(row, held):
+    """The rod end condition of an end with Table 1 row ``row`` (physics/end_conditions.EndKind; not a
+    body's) whose frame is ``held`` (a clamped row, or a force end with hybrid.hold_direction_*)."""
+    return (ROD_END_CLAMPED if held else ROD_END_PINNED) if row.kinematic else \
+        (ROD_END_FORCE_HELD if held else ROD_END_FORCE)
+
+
 @jit_alloc
 def rod_end_residual(kind, Y, Yn, Ln, P, vec_a, vec_b, out):
     """Six end conditions of a rod end at t_{n+1}; vectors in world components.
 
-    kind 0: v = vec_a, kappa = 0 (pinned: prescribed/fixed/body)
-    kind 1: v = vec_a, omega = 0 (clamped: frame held)
-    kind 2: f = vec_a, B kappa = vec_b (point force and moment; free: both 0)
-    kind 3: f = vec_a, omega = 0 (point force with the end frame held, GP benchmark right end)
+    ROD_END_PINNED (0): v = vec_a, kappa = 0 (prescribed, fixed)
+    ROD_END_CLAMPED (1): v = vec_a, omega = 0 (clamped: frame held)
+    ROD_END_FORCE (2): f = vec_a, B kappa = vec_b (force: point force and moment; free: both 0)
+    ROD_END_FORCE_HELD (3): f = vec_a, omega = 0 (point force with the end frame held, GP benchmark right end)
     """
     L1 = np.empty((3, 3))
     frame_at(Y, Yn, Ln, P[HP_DT], L1)

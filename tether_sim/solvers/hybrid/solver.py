@@ -74,16 +74,10 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         self.compression_width = 1e-3 * max(self.net_weight * cab.length + body_weight, 1e-9)
         self.body_params = tuple(pack_body_params(config.body, env) if b else None for b in body)
         holds = (opt.hold_direction_ship, opt.hold_direction_vehicle)
-        self.end_modes = []
-        for k, hold in zip(self.end_kinds, holds):  # the chain's end modes from the Table 1 row
-            if k.position == "body":
-                self.end_modes.append("body")
-            elif k.direction == "held":
-                self.end_modes.append("clamped")
-            elif k.kinematic:
-                self.end_modes.append("velocity")
-            else:
-                self.end_modes.append("force_hold" if hold else "force")
+        # an end's frame is held at a clamped row, and at a force end with hybrid.hold_direction_* (the GP
+        # benchmark's right end); a body's end, prescribed and fixed ends are moment free
+        self.end_held = tuple(k.direction == "held" or (not k.kinematic and hold)
+                              for k, hold in zip(self.end_kinds, holds))
         self.free_ends = [k.load == "zero" or (k.load == "applied" and not np.any(e.force))
                           for k, e in zip(self.end_kinds, self.ends)]
         self.end_motion = [EndMotion(np.asarray(e.position, dtype=float)) for e in self.ends]
@@ -97,7 +91,8 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
 
     # ------------------------------------------------------------------ set-up
     def _set_chain(self):
-        self.chain = build_chain(self.zones, self.s_grid, self.end_modes, self.free_ends, self.body_params)
+        self.chain = build_chain(self.zones, self.s_grid, self.end_kinds, self.end_held, self.free_ends,
+                                 self.body_params)
         n = self.chain.nnz_max
         self._coo = (np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n))
 
@@ -256,15 +251,18 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
                                               f"even with dt = {h:.3g} s ({exc})") from None
                 pieces = [0.5 * h, 0.5 * h] + pieces
 
+    def _velocity_end(self, e):
+        """A kinematic end that is not a body's: its velocity is v_BC (prescribed motion, or 0)."""
+        return self.end_kinds[e].kinematic and self.end_kinds[e].position != "body"
+
     def _update_end_groups(self, t_new):
         ch = self.chain
         K = ch.grid.size
         for e, node in ((0, 0), (1, K - 1)):
             g = ch.end_group[e]
             sign = -1.0 if e == 0 else 1.0  # internal force f(0) = -F_applied, f(L) = +F_applied
-            mode = self.end_modes[e]
             rod = ch.kind[node] == zoning.ROD
-            if mode in ("velocity", "clamped"):
+            if self._velocity_end(e):
                 v = self.end_motion[e].velocity_at(t_new) if self.end_kinds[e].position == "motion" else np.zeros(3)
                 ch.gpar[g, 1:4] = v if rod else 0.0
                 if not rod:
@@ -394,7 +392,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         block's first node. Keeps frames and curvature consistent (no drift of the incremental update)."""
         ch = self.chain
         K = ch.grid.size
-        held = [m in ("clamped", "force_hold") for m in self.end_modes]
+        held = self.end_held
         out = np.empty((3, 3))
         for first, last in rod_blocks(ch):
             if last == K - 1 and held[1] and not (first == 0 and held[0]):

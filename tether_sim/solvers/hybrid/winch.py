@@ -60,12 +60,11 @@ class HybridWinchMixin:
                 "(measured on a 686 N sagging span, also at rate 0; docs/winch.md 'The hybrid winch'); use "
                 "solver: dg for a winch at the vehicle end")
         name = ("ship_end", "vehicle_end")[e]
-        mode = self.end_modes[e]
-        if mode == "body":
+        if self.end_kinds[e].position == "body":
             raise ConfigError(f"winch.end = {end}: {name}.kind is body; the hybrid solver's winch keeps the sheave on "
                               "a prescribed, fixed or clamped end (a rigid body at the winch end is not implemented "
                               "in the hybrid solver; use solver: dg for a winch on a body)")
-        if mode not in ("velocity", "clamped"):
+        if not self._velocity_end(e):
             raise ConfigError(f"winch.end = {end}: {name}.kind is {self.ends[e].kind!r}, a force end; the winch "
                               "needs a kinematic end (prescribed, fixed or clamped) whose point is the sheave")
         self.winch_end = e
@@ -252,7 +251,7 @@ class HybridWinchMixin:
         n = self.n_seg
         w, nb = (0, 1) if self.winch_end == 0 else (n - 1, n - 2)  # winch element and its neighbour
         if self.zones[w] != self.zones[nb]:  # one model for the merged element (a held end keeps its rod)
-            keep = self.zones[w] if self.end_modes[self.winch_end] == "clamped" else self.zones[nb]
+            keep = self.zones[w] if self.end_kinds[self.winch_end].direction == "held" else self.zones[nb]
             new = self.zones.copy()
             new[[w, nb]] = keep
             self.Y, self.Yt, self.Lf, self.positions, self.rdot = convert_state(self, new)
