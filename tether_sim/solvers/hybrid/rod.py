@@ -154,16 +154,16 @@ def rod_end_residual(kind, Y, Yn, Ln, P, vec_a, vec_b, out):
     for i in range(3):
         a[i] = L1[i, 0] * vec_a[0] + L1[i, 1] * vec_a[1] + L1[i, 2] * vec_a[2]
         b[i] = L1[i, 0] * vec_b[0] + L1[i, 1] * vec_b[1] + L1[i, 2] * vec_b[2]
-    if kind <= 1:
+    if kind == ROD_END_PINNED or kind == ROD_END_CLAMPED:
         for k in range(3):
             out[k] = Y[ROD_V + k] - a[k]
     else:
         for k in range(3):
             out[k] = Y[ROD_F + k] - a[k]
     for k in range(3):
-        if kind == 0:
+        if kind == ROD_END_PINNED:
             out[3 + k] = Y[ROD_KAPPA + k]
-        elif kind == 2:
+        elif kind == ROD_END_FORCE:
             out[3 + k] = P[HP_B0 + k] * Y[ROD_KAPPA + k] - b[k]
         else:
             out[3 + k] = Y[ROD_OMEGA + k]
