@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tether_sim.physics.bodies import BODY_STATE_SIZE
 from tether_sim.solvers.hybrid.assembly import (BODY_DYN, CAT_BODY, CAT_CELL, CAT_FORCE, CAT_FREE, CAT_VEL, GROUP_ROWS,
                                                 JOINT_CR, JOINT_RC, LAW, ROD_BODY, ROD_CELL, ROD_END, UNIT)
 from tether_sim.solvers.hybrid.body import BODY_PAR0, GPAR_SIZE
@@ -57,7 +58,7 @@ def build_chain(zones, s_grid, end_rows, end_held, free_ends, body_params=(None,
     for e in range(2):
         if body_params[e] is not None:
             body_node[e] = K + sum(1 for x in body_node if x >= 0)
-    nslot = np.concatenate([nslot, np.full(sum(1 for x in body_node if x >= 0), 13)]).astype(np.int64)
+    nslot = np.concatenate([nslot, np.full(sum(1 for x in body_node if x >= 0), BODY_STATE_SIZE)]).astype(np.int64)
     # unknowns in chain order, a ship-end body first and a vehicle-end body last, so that the Jacobian
     # is banded (the rows of each body group sit next to its end's rows)
     order = ([body_node[0]] if body_node[0] >= 0 else []) + list(range(K)) + ([body_node[1]] if body_node[1] >= 0 else [])
