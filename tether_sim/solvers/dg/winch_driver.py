@@ -25,7 +25,6 @@ from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.timestep import _A, _coef
 
 
-
 class WinchMixin:
     """set_pay_out_rate, unstretched_length and the bookkeeping of a moving winch."""
 
