@@ -51,7 +51,7 @@ class Soak:
 
         self.node, self.PoseStamped = node, PoseStamped
         self.pub = node.create_publisher(PoseStamped, "/ship/pose", qos_profile_sensor_data)
-        self.states, self.snaps, self.nonfinite, self.diag = [], [], 0, None
+        self.states, self.snaps, self.nonfinite, self.diag, self.health = [], [], 0, None, []
         node.create_subscription(TetherState, "/tether/state", self.on_state, 100)
         node.create_subscription(SnapLoadEvent, "/tether/snap_events", self.snaps.append, 100)
         node.create_subscription(DiagnosticArray, "/diagnostics", self.on_diag, 10)
@@ -66,6 +66,11 @@ class Soak:
 
     def on_diag(self, msg):
         self.diag = {s.name: {kv.key: kv.value for kv in s.values} for s in msg.status}
+        sim = next((v for k, v in self.diag.items() if k.endswith(": simulation")), {})
+        try:  # one row per diagnostics period: real-time factor, tick load, longest tick (ms)
+            self.health.append(tuple(float(sim[k]) for k in ("real_time_factor", "tick_load", "tick_max_ms")))
+        except (KeyError, ValueError):
+            pass
 
     def pose(self, t, z, q=(0.0, 0.0, 0.0, 1.0), frame="map"):
         from tether_sim.ros.convert import time_msg
@@ -165,6 +170,7 @@ def report(args, out, soak, memory, fault_log, died) -> int:
              f"{100.0 * arr[:, 3].mean() if len(arr) else math.nan:.1f} %",
              f"node RSS (MB): at 1 min {steady[0, 1] if len(steady) else math.nan:.0f}, end "
              f"{mem[-1, 1] if len(mem) else math.nan:.0f}, slope after 1 min {slope:.2f} MB/h",
+             health_line(soak.health),
              f"faults injected: {len(fault_log)} ({', '.join(sorted(set(k for _, k in fault_log)))})",
              "last diagnostics: " + repr(soak.diag)]
     text = "\n".join(lines)
@@ -194,6 +200,18 @@ def report(args, out, soak, memory, fault_log, died) -> int:
     axes[0].set_title(f"node soak ({args.minutes:g} min, {Path(args.params).name}; red lines: injected faults)")
     fig.savefig(out / "soak.png", dpi=100)
     return 1 if (died or soak.nonfinite or soak.snaps) else 0
+
+
+def health_line(rows) -> str:
+    """The node's own figures, one row per /diagnostics period (1 s): real-time factor of the
+    period, tick load (busy share of the wall clock) and the longest tick of the period."""
+    if not rows:
+        return "node diagnostics: none received"
+    h = np.array(rows, float)
+    q = lambda col, p: np.percentile(h[:, col], p)  # noqa: E731
+    return (f"node diagnostics ({len(h)} periods): real-time factor median {q(0, 50):.3f}, p1 {q(0, 1):.3f}; "
+            f"tick load median {q(1, 50):.3f}, p99 {q(1, 99):.3f}; longest tick per period (ms) median "
+            f"{q(2, 50):.1f}, p99 {q(2, 99):.1f}, max {h[:, 2].max():.1f}")
 
 
 def main(argv=None) -> int:

@@ -51,44 +51,55 @@ def vehicle_tension(t):
     return PEAK if abs(t - T_PEAK) < 1e-9 else 2000.0
 
 
-def write_output(path, prefix, ts, chunk_size=1 << 20):
+def write_output(path, prefix, ts, chunk_size=1 << 20, lines=("",)):
+    """The known run; ``lines``: one copy per line of a network recording (``/tether/<line>/...``,
+    line k's snap peak PEAK + k N), "" = the single-line topics."""
+    with RosMcapWriter(path, msg_search_path=[prefix], chunk_size=chunk_size) as w:
+        for k, line in enumerate(lines):
+            _write_line(w, ts, f"/tether/{line}/" if line else "/tether/", k)
+    return path
+
+
+def _write_line(w, ts, top, k_line):
     T = ts.types
     s = np.linspace(0.0, L, N_S)
-    with RosMcapWriter(path, msg_search_path=[prefix], chunk_size=chunk_size) as w:
-        w.add_topic("/tether/state", "tether_sim_msgs/msg/TetherState")
-        w.add_topic("/tether/snap_events", "tether_sim_msgs/msg/SnapLoadEvent")
-        w.add_topic("/tether/slack_warnings", "tether_sim_msgs/msg/SlackWarning")
+    w.add_topic(f"{top}state", "tether_sim_msgs/msg/TetherState")
+    w.add_topic(f"{top}snap_events", "tether_sim_msgs/msg/SnapLoadEvent")
+    w.add_topic(f"{top}slack_warnings", "tether_sim_msgs/msg/SlackWarning")
+    if top == "/tether/":
         w.add_topic("/tether/ship_wrench", "geometry_msgs/msg/WrenchStamped")
-        for k in range(N_T):
-            t = k * DT
-            tv = vehicle_tension(t)
-            ship = tv + 9.81 * 5.0 * L  # weight of 100 m of 5 kg/m cable in air, as a simple offset
-            state = T["tether_sim_msgs/msg/TetherState"](
-                header=_header(ts, t), solver="dg", arc_length=s,
-                position=[T["geometry_msgs/msg/Point"](x=0.1 * t, y=0.0, z=-si) for si in s],
-                velocity=[T["geometry_msgs/msg/Vector3"](x=0.1, y=0.0, z=0.0) for _ in s],
-                tension=np.linspace(ship, tv, N_S), curvature=np.zeros(N_S),
-                bending_moment=np.zeros(N_S), ship_end_tension=ship, vehicle_end_tension=tv,
-                time_step=1e-3, real_time_factor=1.0, lag=0.0, degraded=False)
-            log = T0_NS + k * 10**8
-            w.write("/tether/state", ts.serialize_cdr(state, "tether_sim_msgs/msg/TetherState"), log)
+    for k in range(N_T):
+        t = k * DT
+        tv = vehicle_tension(t)
+        ship = tv + 9.81 * 5.0 * L  # weight of 100 m of 5 kg/m cable in air, as a simple offset
+        state = T["tether_sim_msgs/msg/TetherState"](
+            header=_header(ts, t), solver="dg", arc_length=s,
+            position=[T["geometry_msgs/msg/Point"](x=0.1 * t, y=0.0, z=-si) for si in s],
+            velocity=[T["geometry_msgs/msg/Vector3"](x=0.1, y=0.0, z=0.0) for _ in s],
+            tension=np.linspace(ship, tv, N_S), curvature=np.zeros(N_S),
+            bending_moment=np.zeros(N_S), ship_end_tension=ship, vehicle_end_tension=tv,
+            time_step=1e-3, real_time_factor=1.0, lag=0.0, degraded=False)
+        log = T0_NS + k * 10**8
+        w.write(f"{top}state", ts.serialize_cdr(state, "tether_sim_msgs/msg/TetherState"), log)
+        if top != "/tether/":
+            pass
+        else:
             wrench = T["geometry_msgs/msg/WrenchStamped"](header=_header(ts, t), wrench=T["geometry_msgs/msg/Wrench"](
                 force=T["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=-ship),
                 torque=T["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0)))
             w.write("/tether/ship_wrench", ts.serialize_cdr(wrench, "geometry_msgs/msg/WrenchStamped"), log)
-            if abs(t - SLACK[0]) < 1e-9:
-                warn = T["tether_sim_msgs/msg/SlackWarning"](header=_header(ts, t), end="vehicle",
-                                                             arc_length=L, tension=50.0,
-                                                             threshold=THRESHOLD, static_tension=2000.0)
-                w.write("/tether/slack_warnings", ts.serialize_cdr(warn, "tether_sim_msgs/msg/SlackWarning"), log)
-            if abs(t - T_PEAK) < 1e-9:
-                snap = T["tether_sim_msgs/msg/SnapLoadEvent"](
-                    header=_header(ts, t), end="vehicle", arc_length=L, peak_tension=PEAK,
-                    min_tension=50.0, slack_start=_stamp(ts, SLACK[0]), slack_duration=1.0,
-                    rise_time=0.3, static_tension=2000.0, amplification=PEAK / 2000.0,
-                    criterion="slack_threshold", lag=0.0, degraded=False)
-                w.write("/tether/snap_events", ts.serialize_cdr(snap, "tether_sim_msgs/msg/SnapLoadEvent"), log)
-    return path
+        if abs(t - SLACK[0]) < 1e-9:
+            warn = T["tether_sim_msgs/msg/SlackWarning"](header=_header(ts, t), end="vehicle",
+                                                         arc_length=L, tension=50.0,
+                                                         threshold=THRESHOLD, static_tension=2000.0)
+            w.write(f"{top}slack_warnings", ts.serialize_cdr(warn, "tether_sim_msgs/msg/SlackWarning"), log)
+        if abs(t - T_PEAK) < 1e-9:
+            snap = T["tether_sim_msgs/msg/SnapLoadEvent"](
+                header=_header(ts, t), end="vehicle", arc_length=L, peak_tension=PEAK + k_line,
+                min_tension=50.0, slack_start=_stamp(ts, SLACK[0]), slack_duration=1.0,
+                rise_time=0.3, static_tension=2000.0, amplification=PEAK / 2000.0,
+                criterion="slack_threshold", lag=0.0, degraded=False)
+            w.write(f"{top}snap_events", ts.serialize_cdr(snap, "tether_sim_msgs/msg/SnapLoadEvent"), log)
 
 
 @pytest.fixture(scope="module")
@@ -157,6 +168,27 @@ def test_utilisation_against_the_breaking_load_of_the_description(tmp_path, pref
     env = tension_envelope(run)
     assert env["utilisation"] == pytest.approx((PEAK + 9.81 * 5.0 * L) / 50000.0)
     assert "Utilisation: 33.8 % of the breaking load (`cable.breaking_load` 50000 N)." in envelope_markdown(env)
+
+
+def test_network_recording_gets_one_report_per_line(tmp_path, prefix, store, capsys):
+    """/tether/<line>/... topics: each line's report holds its own snap (peaks PEAK, PEAK + 1) and slack
+    period, not the other line's; an index links them; --line picks one."""
+    from tether_sim.report import make_network_report, network_lines
+
+    path = write_output(tmp_path / "net.mcap", prefix, store, lines=("tether", "excursion"))
+    assert network_lines(path) == ["excursion", "tether"]
+    result = make_network_report(path, tmp_path / "fig")
+    for k, line in enumerate(("tether", "excursion")):
+        r = result["lines"][line]
+        assert [e["peak"] for e in r["run"].snaps] == [PEAK + k]
+        assert r["periods"]["vehicle"][0]["start"] == pytest.approx(SLACK[0])
+        assert (tmp_path / "fig" / line / "end_tensions.png").is_file()
+        assert f"line {line}" in r["markdown"]
+    assert "`tether/report.md`" in result["markdown"] and "`excursion/report.md`" in result["markdown"]
+    assert main([str(path), "--out-dir", str(tmp_path / "one"), "--line", "excursion"]) == 0
+    assert (tmp_path / "one" / "excursion" / "report.md").is_file() and not (tmp_path / "one" / "tether").exists()
+    assert main([str(path), "--out-dir", str(tmp_path / "bad"), "--line", "umbilical"]) == 2
+    assert "no line 'umbilical'" in capsys.readouterr().err
 
 
 def test_report_without_states_is_a_clear_error(tmp_path, prefix, store, capsys):

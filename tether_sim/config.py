@@ -39,6 +39,7 @@ class NodeOptions:
     input_timeout: float = param(1.0, unit="s", doc="an input silent this long is reported stale", min=0.0, max=1e4)
     max_substeps_per_tick: int = param(200000, doc="cap on substeps in one tick; beyond it the node falls behind (reported)", min=1, max=100000000)
     tick_budget: float = param(0.8, doc="fraction of the output period one tick may spend stepping (wall time); the rest carries over as lag", min=0.01, max=1e6)
+    require_real_time: bool = param(True, doc="at start-up (wall clock only) the node times its solver in CPU time and refuses to start when it cannot keep up with the clock within tick_budget (the error names the measured real-time factor and a mesh that would); false: start anyway, late and marked degraded, re-synchronising")
     input_delay: float = param(0.2, unit="s", doc="the simulation runs this far behind the clock so pose inputs are interpolated, not extrapolated (>= 2 sample periods)", min=0.0, max=60.0)
     max_extrapolation: float = param(0.2, unit="s", doc="a pose input is extrapolated with its last velocity at most this long, then held", min=0.0, max=1e4)
     max_lag: float = param(1.0, unit="s", doc="simulation lag behind the node clock beyond this makes the node re-synchronise (cable state kept, ends blended onto their inputs, reported)", min=0.0, max=1e6)

@@ -16,6 +16,11 @@ the slack interval of each SnapLoadEvent (slack_start .. slack_start + slack_dur
 threshold is that of the latest warning at each instant (the first one before it): with a winch
 the node's threshold follows the length (docs/winch.md), so one value for the whole run would
 misjudge every length but one.
+
+A line network's recording (docs/network.md: ``/tether/<line>/state`` ... per line) gets one report
+per line, in ``<out-dir>/<line>/``, each from that line's own state, snap, slack, description and
+winch topics (``--line`` picks one), all on the time axis of the first line's first state, and a
+``report.md`` in ``<out-dir>`` linking them.
 """
 
 from __future__ import annotations
@@ -86,31 +91,50 @@ def _topics_of(summary, type_name):
     return sorted(t for t, info in summary.topics.items() if info.type_name == type_name)
 
 
-def load_run(path, t0_s: float | None = None) -> RunData:
+def network_lines(path) -> list:
+    """The lines of a line-network recording (``/tether/<line>/state`` topics, no ``/tether/state``);
+    [] for a single-line recording."""
+    topics = _topics_of(read_summary(Path(path)), STATE_TYPE)
+    if "/tether/state" in topics:
+        return []
+    return [t.split("/")[2] for t in topics if t.count("/") == 3 and t.startswith("/tether/") and t.endswith("/state")]
+
+
+def load_run(path, t0_s: float | None = None, line: str | None = None) -> RunData:
     """Read states, events, warnings and wrenches from an output MCAP; times relative to t0_s
-    (clock time, s; default: the first state's stamp). A file with a corrupt chunk (CRC) is read
-    again chunk by chunk: the report covers every intact chunk and says what was dropped."""
+    (clock time, s; default: the first state's stamp). ``line``: that line of a network recording
+    (its own topics only). A file with a corrupt chunk (CRC) is read again chunk by chunk: the
+    report covers every intact chunk and says what was dropped."""
     try:
-        return _load_run(Path(path), t0_s, skip_corrupt=False)
+        return _load_run(Path(path), t0_s, skip_corrupt=False, line=line)
     except McapLogError as exc:
         if "corrupt" not in str(exc):
             raise
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", CorruptMcapWarning)  # said in the report instead
-        return _load_run(Path(path), t0_s, skip_corrupt=True)
+        return _load_run(Path(path), t0_s, skip_corrupt=True, line=line)
 
 
-def _load_run(path, t0_s, skip_corrupt) -> RunData:
+def _load_run(path, t0_s, skip_corrupt, line=None) -> RunData:
     summary = read_summary(path)
     state_topics = _topics_of(summary, STATE_TYPE)
     lost = f" ({summary.damage.describe()})" if summary.damage is not None else ""
     if not state_topics:
         found = ", ".join(f"{t} ({i.type_name})" for t, i in sorted(summary.topics.items())) or "none"
         raise ReportError(f"{path}: no {STATE_TYPE} topic to report on (topics: {found}){lost}")
-    state_topic = "/tether/state" if "/tether/state" in state_topics else state_topics[0]
-    wrench_topics = {end: t for t in _topics_of(summary, WRENCH_TYPE) for end in ENDS if end in t}
-    wanted = [state_topic, *_topics_of(summary, SNAP_TYPE), *_topics_of(summary, SLACK_TYPE),
-              *wrench_topics.values(), *_topics_of(summary, DIAGNOSTICS_TYPE), *_topics_of(summary, DESCRIPTION_TYPE)]
+    if line is not None:
+        state_topic = f"/tether/{line}/state"
+        if state_topic not in state_topics:
+            raise ReportError(f"{path}: no line {line!r} (no {state_topic}); state topics: {', '.join(state_topics)}")
+        mine = lambda t: t.startswith(f"/tether/{line}/")  # noqa: E731
+        wrench_topics = {}  # the wrenches belong to points and bodies, not to one line
+    else:
+        state_topic = "/tether/state" if "/tether/state" in state_topics else state_topics[0]
+        mine = lambda t: True  # noqa: E731
+        wrench_topics = {end: t for t in _topics_of(summary, WRENCH_TYPE) for end in ENDS if end in t}
+    wanted = [state_topic, *filter(mine, _topics_of(summary, SNAP_TYPE)), *filter(mine, _topics_of(summary, SLACK_TYPE)),
+              *wrench_topics.values(), *_topics_of(summary, DIAGNOSTICS_TYPE),
+              *filter(mine, _topics_of(summary, DESCRIPTION_TYPE))]
     parameters = {}
     diagnostics = {}
     times, positions, tensions, ends, snaps, warns = [], [], [], {e: [] for e in ENDS}, [], []
@@ -435,14 +459,43 @@ def render(run: RunData, periods: dict, out_dir: Path, n_snapshots: int = 8, env
             **forecast_figures(run, out_dir)}  # snap forecast runs: probability against the snaps
 
 
-def make_report(mcap_path, out_dir=None, n_snapshots: int = 8, t0_s: float | None = None,
-                time_label: str = "time since the first state") -> dict:
-    """Load, plot and summarise; returns {run, periods, static, figures, markdown, report_path}."""
+def make_network_report(mcap_path, out_dir=None, n_snapshots: int = 8, t0_s: float | None = None,
+                        time_label: str = "time since the first state", lines=None) -> dict:
+    """One report per line of a network recording in ``<out_dir>/<line>/`` (module doc) and an
+    index ``<out_dir>/report.md``; returns {lines: {line: make_report result}, markdown, report_path}."""
     mcap_path = Path(mcap_path)
     out_dir = Path(out_dir) if out_dir is not None else mcap_path.parent / "figures"
-    run = load_run(mcap_path, t0_s)
+    lines = list(lines or network_lines(mcap_path))
+    if not lines:
+        raise ReportError(f"{mcap_path}: not a line-network recording (no /tether/<line>/state topics)")
+    results = {}
+    for line in lines:
+        results[line] = make_report(mcap_path, out_dir / line, n_snapshots, t0_s, time_label, line=line)
+        t0_s = results[line]["run"].t0  # one time axis for every line
+    md = [f"# Line network report: `{mcap_path.name}`", "", f"Lines: {', '.join(lines)}; times: {time_label}, s.", "",
+          "| line | solver | states | snap events | max end tension [N] | report |", "|---|---|---|---|---|---|"]
+    for line, r in results.items():
+        run = r["run"]
+        top = max(float(np.max(v)) for v in run.end_tension.values())
+        md.append(f"| {line} | {run.solver} | {len(run.t)} | {len(run.snaps)} | {top:.1f} | `{line}/report.md` |")
+    markdown = "\n".join(md) + "\n"
+    out_dir.mkdir(parents=True, exist_ok=True)
+    report_path = out_dir / "report.md"
+    report_path.write_text(markdown)
+    return {"lines": results, "markdown": markdown, "report_path": report_path}
+
+
+def make_report(mcap_path, out_dir=None, n_snapshots: int = 8, t0_s: float | None = None,
+                time_label: str = "time since the first state", line: str | None = None) -> dict:
+    """Load, plot and summarise; returns {run, periods, static, figures, markdown, report_path}.
+    ``line``: one line of a network recording (make_network_report reports them all)."""
+    mcap_path = Path(mcap_path)
+    out_dir = Path(out_dir) if out_dir is not None else mcap_path.parent / "figures"
+    run = load_run(mcap_path, t0_s, line=line)
+    if line is not None:
+        run.path = Path(f"{mcap_path.name}: line {line}")
     run.time_label = time_label
-    run.winch = load_winch(mcap_path, run.t0)  # None without a winch/state topic
+    run.winch = load_winch(mcap_path, run.t0, line=line)  # None without a winch/state topic
     run.forecast = load_forecasts(mcap_path, run.t0)  # None without a SnapForecast topic
     periods = slack_periods(run)
     envelope = tension_envelope(run)
@@ -471,10 +524,14 @@ def main(argv=None) -> int:
     parser.add_argument("--out-dir", help="where figures and report.md go (default: <mcap dir>/figures)")
     parser.add_argument("--snapshots", type=int, default=8, help="number of shape snapshots (default: %(default)s)")
     parser.add_argument("--t0", type=float, help="clock time (s) taken as t = 0 (default: first state)")
+    parser.add_argument("--line", action="append", help="a line of a network recording (repeatable; default: every line)")
     args = parser.parse_args(argv)
+    label = "time since the first state" if args.t0 is None else f"time since {args.t0:.3f} s"
     try:
-        result = make_report(args.mcap, args.out_dir, args.snapshots, args.t0,
-                             "time since the first state" if args.t0 is None else f"time since {args.t0:.3f} s")
+        if args.line or network_lines(args.mcap):
+            result = make_network_report(args.mcap, args.out_dir, args.snapshots, args.t0, label, args.line)
+        else:
+            result = make_report(args.mcap, args.out_dir, args.snapshots, args.t0, label)
     except (McapLogError, ReportError) as exc:
         print(f"tether-sim-report: {exc}", file=sys.stderr)
         return 2

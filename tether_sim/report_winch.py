@@ -44,13 +44,15 @@ def _seconds(stamp) -> float:
     return float(stamp.sec) + 1e-9 * float(stamp.nanosec)
 
 
-def load_winch(path, t0: float) -> WinchSeries | None:
-    """The winch series of an MCAP (None when it has no WinchState topic)."""
+def load_winch(path, t0: float, line: str | None = None) -> WinchSeries | None:
+    """The winch series of an MCAP (None when it has no WinchState topic); ``line``: the winch of
+    that line of a network recording (``/winch/<line>/state``, ``/winch/<line>/command``)."""
     summary = read_summary(Path(path))
-    states = sorted(t for t, info in summary.topics.items() if info.type_name == WINCH_TYPE)
+    mine = (lambda t: t.startswith(f"/winch/{line}/")) if line else (lambda t: True)
+    states = sorted(t for t, info in summary.topics.items() if info.type_name == WINCH_TYPE and mine(t))
     if not states:
         return None
-    commands = [t for t, info in summary.topics.items() if info.type_name == COMMAND_TYPE]
+    commands = [t for t, info in summary.topics.items() if info.type_name == COMMAND_TYPE and mine(t)]
     rows, cmds, end = [], [], "ship"
     for topic, _, _, msg in read_messages(Path(path), [states[0], *commands]):
         if topic == states[0]:

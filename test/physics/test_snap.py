@@ -81,6 +81,28 @@ def test_locations_are_independent_and_thresholds_absolute():
     assert "absolute" in det.criterion
 
 
+def test_absolute_retension_and_snap_thresholds_for_a_line_slack_by_design():
+    """A slack excursion tether: 3 N at rest (static tension no scale), ringing to 60 N, then jerked to 1.5 kN.
+    With slack / re-tension / snap thresholds of 10 N / 100 N / 1 kN: one slack warning at the start, the
+    ringing stays inside the slack period, the jerk is the one snap (then slack again); with the re-tension
+    and snap fractions of a 3 N static tension the ringing itself would be a 'snap'."""
+    t = np.arange(0.0, 6.0, DT)
+    knots = [(0, 3.0), (1.0, 3.0), (1.1, 60.0), (1.2, 3.0), (2.0, 3.0), (2.05, 60.0), (2.1, 3.0), (4.0, 3.0),
+             (4.05, 1500.0), (4.3, 3.0), (6.0, 3.0)]
+    y = piecewise(t, knots)[:, None]
+    cfg = SnapConfig(slack_threshold=10.0, retension_threshold=100.0, snap_threshold=1000.0)
+    events = run(SnapDetector(cfg, ["vehicle"], [3.0], [30.0]), t, y)
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent, SlackStarted]
+    assert events[1].peak_tension == pytest.approx(1500.0) and events[1].slack_start == pytest.approx(0.0)
+    relative = run(SnapDetector(SnapConfig(slack_threshold=10.0), ["vehicle"], [3.0], [30.0]), t, y)
+    assert [round(e.peak_tension) for e in relative if isinstance(e, SnapEvent)] == [60, 1500]
+    # the re-tension threshold is never below the slack threshold; 1.4 kN does not reach a 2 kN snap threshold
+    det = SnapDetector(SnapConfig(slack_threshold=10.0, retension_threshold=5.0, snap_threshold=2000.0),
+                       ["vehicle"], [3.0], [30.0])
+    assert det._thresholds[0, 1] == 10.0
+    assert not [e for e in run(det, t, y) if isinstance(e, SnapEvent)]
+
+
 def test_short_slack_ignored_and_dips_inside_the_window_merge():
     t = np.arange(0.0, 4.0, DT)
     # A 20 ms dip below 100 N, then a re-tension to 1500 N: no snap with min_slack_duration = 0.1 s.

@@ -183,3 +183,48 @@ def test_one_node_through_future_and_zero_stamps_a_failing_tick_and_an_undeclare
 
     with pytest.raises(ParameterNotDeclaredException, match=r"'cable\.EAA' \(did you mean 'cable\.EA'\?\)"):
         h.node.set_parameters([Parameter("cable.EAA", value=1.0)])
+
+
+def test_use_sim_time_cannot_change_while_running_and_the_node_goes_on(h):
+    # (switching it on a running node used to be accepted: then no state, no /diagnostics, no log)
+    from rclpy.parameter import Parameter
+
+    n = len(h.received["/tether/state"])
+    result = h.node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, False)])[0]
+    assert not result.successful
+    assert "use_sim_time cannot change while the node runs" in result.reason and "restart" in result.reason
+    assert h.node.get_parameter("use_sim_time").value is True and h.node.get_clock().ros_time_is_active
+    h.run(h.time + 0.6, ship=SHIP)
+    still_running(h, n)
+    assert h.node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, True)])[0].successful  # unchanged
+
+
+def test_a_solver_that_cannot_keep_up_with_the_wall_clock_is_refused_at_start_up():
+    """The node times its warmed-up solver in CPU time; on the wall clock a solver slower than
+    1 / node.tick_budget is refused with the measured speed and a coarser mesh (it would only ever
+    re-synchronise), unless node.require_real_time is false. node.tick_budget 0.05 asks for 20 x
+    real time, which a 12-element P = 4 mesh of this 55 m tether does not reach (3.7 x per CPU
+    second, 2026-11-26; N = 6, P = 3: 54 x)."""
+    import rclpy
+    from rclpy.parameter import Parameter
+
+    from tether_sim.errors import ConfigError
+    from tether_sim.ros.sim_node import TetherSimNode
+
+    flat = {**PARAMS, "dg.n_elements": 12, "dg.order": 4, "node.tick_budget": 0.05}
+    params = [Parameter(k, value=list(v) if isinstance(v, tuple) else v) for k, v in flat.items()]
+    for require, refused in ((True, True), (False, False)):
+        context = rclpy.Context()
+        rclpy.init(context=context)
+        try:
+            overrides = params + [Parameter("node.require_real_time", value=require)]
+            if refused:
+                with pytest.raises(ConfigError) as err:
+                    TetherSimNode(context=context, parameter_overrides=overrides)
+                text = str(err.value)
+                assert "x real time per CPU second" in text and "needs 20 x" in text
+                assert "-p dg.resolution:=manual -p dg.n_elements:=" in text and "node.require_real_time:=false" in text
+            else:
+                TetherSimNode(context=context, parameter_overrides=overrides).destroy_node()
+        finally:
+            rclpy.shutdown(context=context)

@@ -11,6 +11,8 @@ tension samples [DNV-RP-H103 slack criterion; PE2020 Sec. 6]:
                            is followed until it turns, at most 10 windows): the largest tension since leaving slack
                            is the snap peak; a :class:`SnapEvent` is emitted if it reaches
                            ``snap_fraction`` x static and the slack lasted ``min_slack_duration``.
+                           (``slack_threshold``, ``retension_threshold``, ``snap_threshold``: the
+                           three thresholds in N instead, for a line slack by design.)
                            Dips back below the slack threshold inside the window (chatter, a weak
                            first re-tension) belong to the same slack period: no new warning, and
                            the slack period ends at the last upward crossing.
@@ -46,6 +48,8 @@ class SnapConfig:
     min_slack_duration: float = param(0.1, unit="s", doc="no snap event after a slack period shorter than this", min=0.0, max=1e4, live=True)
     peak_window: float = param(1.0, unit="s", doc="after re-tensioning, the snap peak is the largest tension within this window (extended while the tension has not yet turned, up to 10 windows)", min=1e-6, max=1e4, live=True)
     snap_fraction: float = param(1.0, doc="a re-tensioning is a snap only if its peak reaches snap_fraction * static; weaker ones that fall back into slack are merged into the slack period", min=0.0, max=100.0, live=True)
+    retension_threshold: float = param(0.0, unit="N", doc="absolute re-tension threshold: slack ends when the tension rises above it; > 0 overrides retension_fraction (never below the slack threshold)", min=0.0, max=1e9, live=True)
+    snap_threshold: float = param(0.0, unit="N", doc="absolute snap threshold: a re-tensioning is a snap only if its peak reaches it; > 0 overrides snap_fraction (for a line that hangs slack by design, e.g. an excursion tether, whose static tension is no scale)", min=0.0, max=1e9, live=True)
     monitor_arc_lengths: tuple = param((), unit="m", doc="extra arc lengths (span points) monitored besides both ends")
     guard_margin: float = param(1.5, doc="plausibility guard: a re-tensioning peak above guard_margin x the impedance/energy bound (docs/snap_guard.md), or rising faster than the axial wave crosses an element, is a numerical warning, never a snap; 0 turns the guard off", min=0.0, max=100.0, live=True)
 
@@ -312,8 +316,13 @@ class SnapDetector:
             slack = config.slack_fraction * np.abs(self.static_tensions)
             self.criterion = f"T < {config.slack_fraction:g} x static tension (DNV-RP-H103)"
         self._thresholds[:, 0] = slack
-        self._thresholds[:, 1] = np.maximum(config.retension_fraction * np.abs(self.static_tensions), slack)
-        self._thresholds[:, 2] = config.snap_fraction * np.abs(self.static_tensions)
+        retension = (np.full(len(self.locations), float(config.retension_threshold)) if config.retension_threshold > 0.0
+                     else config.retension_fraction * np.abs(self.static_tensions))
+        self._thresholds[:, 1] = np.maximum(retension, slack)
+        if config.snap_threshold > 0.0:
+            self._thresholds[:, 2] = float(config.snap_threshold)
+        else:
+            self._thresholds[:, 2] = config.snap_fraction * np.abs(self.static_tensions)
 
     def set_static_tensions(self, static_tensions) -> None:
         """New reference (static) tensions, e.g. as a winch changes the length; thresholds follow, the

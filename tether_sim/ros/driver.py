@@ -92,6 +92,7 @@ class SimulationDriver(EndCommands, BodyFrame):
         self._held = {}  # end -> the last command came from a held (silent) input
         self._had_input = {}  # end -> the end ever followed an input
         self._blends = {}  # end -> Blend
+        self._hold_at = {}  # end -> rest point of an end held after a clock jump, until its input resumes
         self._suspended_until = None  # clock time until which snap detection is suspended
         self._pending = TickReport(stamp=0.0)  # what a (re)start did, reported by the next tick
         self.anchor = 0.0
@@ -191,10 +192,11 @@ class SimulationDriver(EndCommands, BodyFrame):
         self._pending = TickReport(stamp=now)
         if self.last_now is not None and now < self.last_now:
             report.clock_jump = True
-            for src in self.sources.values():
+            self.anchor = now - self.solver.time
+            for end, src in self.sources.items():
                 if hasattr(src, "reset"):
                     src.reset()
-            self.anchor = now - self.solver.time
+                    self._hold_after_jump(end, now, report)
             self._suspend_detection(now)
         self.last_now = now
         node = self.config.node
@@ -212,13 +214,30 @@ class SimulationDriver(EndCommands, BodyFrame):
                 self._take_snapshot()
         return self._finish(now, report)
 
+    def _hold_after_jump(self, end, now, report):
+        """The clock jumped back and the end's pose history is gone (its stamps are of the old
+        clock): bring the end to rest smoothly (a blend from its current motion onto a fixed point
+        ahead of it, at most BLEND_ACCELERATION) instead of stopping it dead, and suspend snap
+        detection until the input resumes and its blend back onto the stream ends (module doc, 1)."""
+        if end not in self._end_state:
+            return
+        p0, v0 = self._end_state[end]
+        speed, limit = float(np.linalg.norm(v0)), self.config.node.max_end_speed
+        duration = blend_time(0.5 * speed * blend_time(0.0, speed, limit), speed, limit)
+        self._hold_at[end] = p0 + 0.5 * duration * v0  # where the decelerating end comes to rest
+        reason = "clock jumped back: held until the input resumes"
+        self._blends[end] = Blend(now, duration, p0.copy(), v0.copy(), reason)
+        report.blends.append((end, duration, reason))
+        self._suspend_detection(np.inf)  # released when the input resumes (EndCommands._command)
+
     def _finish(self, now, report):
         report.stamp = self.stamp
         self.lag = report.lag = max(0.0, now - report.stamp)
         report.blending = bool(self._blends)
         period = 1.0 / max(self.config.node.output_rate, 1e-9)
         report.degraded = (report.lag > 1.5 * period or bool(self._blends) or self._suspended_until is not None
-                           or report.dropped > 0.0 or report.error is not None or report.restart is not None)
+                           or report.dropped > 0.0 or report.error is not None or report.restart is not None
+                           or report.clock_jump or bool(self._hold_at))
         self.degraded = report.degraded
         return report
 
@@ -357,7 +376,11 @@ class SimulationDriver(EndCommands, BodyFrame):
         self._suspended_until = None
         self._end_state = {end: (np.asarray(getattr(self._solver_config, f"{end}_end").position, float), np.zeros(3))
                            for end in END_NAMES if self._prescribed(end)}
-        self._held = {end: False for end in self._end_state}
+        # an end without input yet is held: its first pose starts a blend ("input resumed") from the
+        # configured position, never a step onto the stream (a pose arriving between the start and
+        # the first tick)
+        self._held = {end: not self._has_data(end) for end in self._end_state}
+        self._hold_at.clear()
         forces = self.solver.end_forces()
         self.static_tensions = (float(forces.ship_tension), float(forces.vehicle_tension))
         self._reference = winch_link.length_reference(self.solver, self.config)  # None without a winch

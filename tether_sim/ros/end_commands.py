@@ -9,7 +9,7 @@ first pose lies beyond what ``node.max_end_speed`` allows restarts the solver th
 (:meth:`EndCommands._first_pose_far`).
 
 :class:`EndCommands` is a mixin of the driver: it reads and writes the driver's end state
-(``sources``, ``_end_state``, ``_held``, ``_had_input``, ``_blends``, ``_suspended_until``,
+(``sources``, ``_end_state``, ``_held``, ``_had_input``, ``_blends``, ``_hold_at``, ``_suspended_until``,
 ``anchor``, ``solver``, ``config``, ``_solver_config``) and holds none of its own. No rclpy here.
 """
 
@@ -101,7 +101,7 @@ class EndCommands:
         rest at its last commanded (else configured) position without input."""
         src = self.sources.get(end)
         if src is None or not getattr(src, "has_data", True):
-            held = self._end_state.get(end, (None,))[0]
+            held = self._hold_at.get(end, self._end_state.get(end, (None,))[0])
             if held is None:
                 held = np.asarray(getattr(self._solver_config, f"{end}_end").position, float)
             return np.asarray(held, float), np.zeros(3)
@@ -132,6 +132,8 @@ class EndCommands:
             (hasattr(src, "is_held") and src.is_held(t))
         was_held = self._held.get(end, False)
         if was_held != held and (not held or self._has_data(end)):  # (replaces a running blend)
+            if not held and self._hold_at.pop(end, None) is not None and not self._hold_at:
+                self._suspended_until = None  # resumed after a clock jump: suspended until this blend ends
             # resumed: blend onto the stream; lost: blend from the motion to rest at the held point
             self._start_blend(end, self.anchor + self.solver.time, "input lost" if held else "input resumed", report, t)
         self._held[end] = held

@@ -31,6 +31,7 @@ from tether_sim.ros import cdr, convert, forecast_io, winch_io
 from tether_sim.ros import tf as tf_out
 from tether_sim.ros.driver import END_NAMES, MotionSource, SimulationDriver
 from tether_sim.solvers.factory import build_solver
+from tether_sim.stopping import SignalStop, interrupted_code
 
 
 class RecordedPoses:
@@ -105,9 +106,12 @@ class _NoMcap:
 
 
 def run_offline(config, output, *, duration=None, input_path=None, topics=None, progress=True,
-                solver_factory=build_solver) -> dict:
+                solver_factory=build_solver, stop=None) -> dict:
     """Simulate and write every output topic to ``output`` (MCAP; ``None``: serialize, write no file).
 
+    ``stop``: a :class:`tether_sim.stopping.SignalStop`; it is made graceful once the solver has
+    started (the file opens then), and a stop request ends the run after the current tick with the
+    file closed as at a normal end (``interrupted`` in the summary: the signal's name).
     Returns a summary dict; ``events`` holds the detector's SlackStarted / SnapEvent objects."""
     from tether_sim.io.mcap_log import RosMcapWriter
 
@@ -126,14 +130,19 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
     rate = config.node.output_rate
     n_ticks = max(1, int(round(duration * rate)))
     wall0 = wallclock.perf_counter()
+    driver.start(t0)  # (the numba compile and the static solve: before the file exists, so a signal stops at once)
+    if stop is not None:
+        stop.graceful = True  # from here on a signal only asks the loop below to end and close the file
+    done = 0
     with RosMcapWriter(str(output)) if output is not None else _NoMcap() as writer:
         run = _OfflineOutputs(writer, driver, config)
-        driver.start(t0)
         run.write([("/tether/description", convert.description(config, run.arc, t0))])
         run.write_tick()
         next_diag = t0 + 1.0
         bar = tqdm(total=n_ticks, unit="tick", disable=not progress, desc="tether-sim-offline")
         for k in range(1, n_ticks + 1):
+            if stop is not None and stop.requested:
+                break
             now = t0 + k / rate
             for r in recorded.values():
                 r.feed_until(now)
@@ -152,11 +161,16 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
                 next_diag += 1.0
                 run.write_diagnostics(now, report, sources, forecaster)
             bar.update(1)
+            done = k
         bar.close()
         run.flush()
     wall = wallclock.perf_counter() - wall0
-    return {"output": str(output) if output is not None else None, "duration": duration, "ticks": n_ticks, "wall_time": wall,
-            "speed": duration / wall if wall > 0 else math.inf, "static_tensions": driver.static_tensions,
+    interrupted = stop.name if stop is not None and stop.requested and done < n_ticks else ""
+    simulated = done / rate if interrupted else duration
+    return {"output": str(output) if output is not None else None, "duration": simulated, "ticks": done,
+            "planned_duration": duration, "interrupted": interrupted, "wall_time": wall,
+            "speed": simulated / wall if wall > 0 else math.inf,
+            "messages": getattr(writer, "message_count", None), "static_tensions": driver.static_tensions,
             "snap_peaks": run.peaks, "events": run.events, "forecasts": run.forecasts, **run.counts,
             "numerical_snaps": driver.numerical_snaps}
 
@@ -299,16 +313,15 @@ def main(argv=None) -> int:
                     help="PoseStamped topic of --input that drives the vehicle end (default: %(default)s)")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
     args = ap.parse_args(argv)
+    stop = SignalStop("tether-sim-offline")
     try:
-        config = load_config(args.params)
-        if args.duration is not None and not (math.isfinite(args.duration) and args.duration > 0):
-            raise ConfigError(f"--duration must be a positive number of seconds, got {args.duration}")
-        if args.input and not Path(args.input).is_file():
-            raise ConfigError(f"--input {args.input}: no such file")
-        check_output_path(args.output)
-        summary = run_offline(config, args.output, duration=args.duration, input_path=args.input,
-                              topics={"ship": args.ship_topic, "vehicle": args.vehicle_topic},
-                              progress=not args.no_progress)
+        with stop:
+            summary = _run_main(args, stop)
+    except KeyboardInterrupt as exc:  # a signal before the output file was opened: nothing written
+        name, code = interrupted_code(exc)
+        print(f"tether-sim-offline: stopped by {name} while starting (before the solver ran); "
+              f"{args.output} not written", file=sys.stderr)
+        return code
     except ConfigError as exc:
         print(f"tether-sim-offline: {exc}", file=sys.stderr)
         return 2
@@ -319,6 +332,10 @@ def main(argv=None) -> int:
         print(f"tether-sim-offline: cannot write --output {args.output}: {exc.strerror or exc}", file=sys.stderr)
         return 2
     s = summary
+    if s["interrupted"]:
+        print(f"tether-sim-offline: stopped by {s['interrupted']} at {s['duration']:.6g} s of "
+              f"{s['planned_duration']:.6g} s simulated ({s['ticks']} ticks); the file is complete up to there "
+              "and closed", file=sys.stderr)
     print(f"wrote {s['output']}: {s['duration']:.3g} s simulated in {s['wall_time']:.3g} s "
           f"({s['speed']:.3g} x real time); static tensions ship {s['static_tensions'][0]:.1f} N, "
           f"vehicle {s['static_tensions'][1]:.1f} N; {s['slack_warnings']} slack warnings, "
@@ -331,7 +348,19 @@ def main(argv=None) -> int:
         warned = sum(f.probability >= 0.5 for f in s["forecasts"])
         print(f"  {len(s['forecasts'])} snap forecasts on /tether/snap_forecast ({warned} with probability >= 0.5, "
               f"{sum(f.degraded for f in s['forecasts'])} degraded)")
-    return 0
+    return stop.exit_code if s["interrupted"] else 0
+
+
+def _run_main(args, stop) -> dict:
+    config = load_config(args.params)
+    if args.duration is not None and not (math.isfinite(args.duration) and args.duration > 0):
+        raise ConfigError(f"--duration must be a positive number of seconds, got {args.duration}")
+    if args.input and not Path(args.input).is_file():
+        raise ConfigError(f"--input {args.input}: no such file")
+    check_output_path(args.output)
+    return run_offline(config, args.output, duration=args.duration, input_path=args.input,
+                       topics={"ship": args.ship_topic, "vehicle": args.vehicle_topic},
+                       progress=not args.no_progress, stop=stop)
 
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@ import rclpy
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
 from nav_msgs.msg import Path
+from rcl_interfaces.msg import SetParametersResult
 from rclpy.exceptions import ParameterNotDeclaredException
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
@@ -103,6 +104,7 @@ class TetherSimNode(Node):
         self._tick_topics = [t for t in self.pubs if t in convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
         self._first_tick = None
         self.tick_errors, self.last_tick_error = 0, ""
+        self.snaps_published = 0
         self._last_output = -float("inf")
         self._period = _new_period(self.inputs)
         self.add_on_set_parameters_callback(self._on_set_parameters)
@@ -156,6 +158,24 @@ class TetherSimNode(Node):
         detector = SnapDetector(self.config.snap, list(END_NAMES), static, [0.0, self.config.cable.length])
         detector.update(np.asarray(times, float), np.column_stack([t_ship, t_vehicle]))
         self.get_logger().info(f"{self.config.solver} solver warmed up in {time.perf_counter() - t0:.1f} s")
+        self._check_speed(solver)
+
+    def _check_speed(self, solver):
+        """Time the warmed-up solver in this thread's CPU time (the machine's load does not enter)
+        and, on the wall clock, refuse to start a solver that cannot keep up with it within
+        ``node.tick_budget`` (docs/node.md): such a node never follows its input, it only
+        re-synchronises. ``node.require_real_time: false`` starts it anyway."""
+        rtf = solver_speed(solver)
+        node = self.config.node
+        needed = 1.0 / node.tick_budget
+        self.get_logger().info(f"solver speed: {rtf:.3g} x real time per CPU second (the node needs {needed:.3g} x "
+                               "on the wall clock: node.tick_budget)")
+        if rtf >= needed or self.get_parameter("use_sim_time").value or not node.require_real_time:
+            return
+        raise ConfigError(f"the solver runs at {rtf:.3g} x real time per CPU second on this machine, the node needs "
+                          f"{needed:.3g} x (1 / node.tick_budget) to follow the clock: it would only fall behind and "
+                          f"re-synchronise. {coarser_mesh_hint(self.config, rtf / needed)}; or start it anyway with "
+                          "-p node.require_real_time:=false (late outputs, marked degraded)")
 
     # ------------------------------------------------------------------ inputs
     def _now(self) -> float:
@@ -286,7 +306,7 @@ class TetherSimNode(Node):
                         "inputs, cable state kept, ends blended, snap detection suspended across the gap")
         for end, duration, reason in report.blends:
             self._log_throttled(("blend", end), "warning", f"{end} end blended onto its pose input over {duration:.2f} s ({reason})")
-        if report.capped or report.degraded and report.lag > 0.0:
+        if report.degraded and report.lag > 0.0:  # (a capped tick within 1.5 periods is on time: not degraded, not logged)
             self._period["behind"] = True
             self._log_throttled("behind", "warning", f"cannot keep up with the clock: outputs {report.lag:.3f} s late "
                                 "(stamped with the simulated instant, marked degraded)")
@@ -306,6 +326,7 @@ class TetherSimNode(Node):
         for topic, msg in convert.event_outputs(report.events, self.driver):
             if topic == "/tether/snap_events":
                 self._period["snaps"] += 1
+                self.snaps_published += 1
                 log.warning(f"snap load at {msg.end}: peak {msg.peak_tension:.1f} N ({msg.amplification:.2f} x static)")
             self.pubs[topic].publish(msg)
             if topic == "/tether/snap_events":
@@ -313,6 +334,12 @@ class TetherSimNode(Node):
 
     # ------------------------------------------------------------------ parameters, description, diagnostics
     def _on_set_parameters(self, parameters):
+        for p in parameters:  # (runs before rclpy's own time-source callback, which never sees a refused change)
+            if p.name == "use_sim_time" and bool(p.value) != bool(self.get_parameter("use_sim_time").value):
+                return SetParametersResult(successful=False, reason=(
+                    "use_sim_time cannot change while the node runs (the solver's clock would switch between "
+                    "wall time and /clock mid-run); restart the node with -p use_sim_time:="
+                    f"{'true' if p.value else 'false'}"))
         result, config = node_params.check_live_change(parameters, self.config)
         if config is not None:
             self.config = config
@@ -330,6 +357,17 @@ class TetherSimNode(Node):
             text = ", ".join(f"{n!r}" + (f" (did you mean {h[0]!r}?)" if h else "") for n, h in zip(unknown, hints))
             raise ParameterNotDeclaredException(f"{text}; tether_sim declares every key of docs/parameters.md")
         super()._check_undeclared_parameters(parameter_list)
+
+    def account(self) -> str:
+        """One line on what the node did, for its exit: clock time simulated, re-synchronisations,
+        snap events published, failed ticks."""
+        d = self.driver
+        if d is None or d.solver is None:
+            return "the solver had not started"
+        ran = d.last_now - (self._first_tick or d.last_now)
+        return (f"ran {ran:.1f} s of clock time, outputs up to stamp {d.stamp:.3f} s; "
+                f"{d.resyncs} re-synchronisation(s), {self.snaps_published} snap event(s) published, "
+                f"{self.tick_errors} failed tick(s)")
 
     def _publish_description(self):
         self.pubs["/tether/description"].publish(convert.description(self.config, self.arc_lengths, self._now()))
@@ -355,6 +393,31 @@ class TetherSimNode(Node):
         self.pubs["/diagnostics"].publish(
             self.forecast_io.add_status(convert.diagnostics(now, self.get_fully_qualified_name(), sim, inputs)))
         self._period = _new_period(self.inputs)
+
+
+def solver_speed(solver, cpu_s: float = 0.25, max_sim_s: float = 2.0) -> float:
+    """Simulated seconds per CPU second of ``solver`` (this thread's CPU time), from batches of
+    substeps until ``cpu_s`` of CPU or ``max_sim_s`` of simulated time have passed."""
+    dt = solver.stable_time_step()
+    t_sim0, cpu0 = solver.time, time.thread_time()
+    while True:
+        solver.advance_to(solver.time + 10.0 * dt)
+        cpu, sim = time.thread_time() - cpu0, solver.time - t_sim0
+        if cpu >= cpu_s or sim >= max_sim_s:
+            return sim / max(cpu, 1e-9)
+
+
+def coarser_mesh_hint(config, speed_ratio: float) -> str:
+    """The mesh that would keep up, from the measured speed over the needed one (< 1). DG: a
+    substep's work grows with N and the stable substep shrinks as 1/N, so the speed goes as 1/N^2;
+    hybrid: fixed time step, work about linear in the segments."""
+    if config.solver == "dg":
+        n = config.dg.n_elements
+        keep = max(1, int(n * math.sqrt(speed_ratio)))
+        return (f"A coarser mesh keeps up: about -p dg.resolution:=manual -p dg.n_elements:={keep} (now {n}, "
+                f"order {config.dg.order})")
+    n = config.hybrid.n_segments
+    return f"A coarser mesh keeps up: about -p hybrid.n_segments:={max(1, int(n * speed_ratio))} (now {n})"
 
 
 def _new_period(inputs) -> dict:
@@ -454,8 +517,14 @@ def main(args=None):
         print(USAGE)
         return 0
     files = params_files(argv)
+    from tether_sim.network.params import file_is_network, load_network_files
+
+    network = any(file_is_network(f) for f in files)  # a line network (docs/network.md): its own node
     try:
-        check_params_files(files, cli_param_values(argv))
+        if network:
+            load_network_files(files, cli_param_values(argv))
+        else:
+            check_params_files(files, cli_param_values(argv))
     except ConfigError as exc:
         print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
         return 2
@@ -464,10 +533,18 @@ def main(args=None):
     rclpy.init(args=argv)
     node = None
     try:
-        node = TetherSimNode(where=", ".join(files) or "command-line parameters", cli_keys=cli_param_keys(argv))
+        if network:
+            from tether_sim.ros.network_node import NetworkSimNode
+
+            node = NetworkSimNode(files=files, overrides=cli_param_values(argv))
+        else:
+            node = TetherSimNode(where=", ".join(files) or "command-line parameters", cli_keys=cli_param_keys(argv))
         rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
+    except (KeyboardInterrupt, ExternalShutdownException) as exc:
         exit_if_compiling(0)  # SIGINT during the start-up compile: leave without waiting for it
+        if hasattr(node, "account"):  # (the node writes no file: nothing to close; exit code 0 as for ROS launch)
+            print(f"tether-sim: stopped by {'SIGINT' if isinstance(exc, KeyboardInterrupt) else 'SIGTERM (or an rclpy shutdown)'}: "
+                  f"{node.account()}", file=sys.stderr)
     except Interrupted as exc:  # SIGTERM during the start-up compile
         print(f"tether-sim: {exc}", file=sys.stderr)
         exit_if_compiling(0)

@@ -11,6 +11,7 @@ import argparse
 import sys
 
 from tether_sim.errors import ConfigError
+from tether_sim.stopping import SignalStop, interrupted_code
 
 
 def _run_parser():
@@ -71,14 +72,25 @@ def main(argv=None) -> int:
             return _list(args)
         from tether_sim.studies.runner import parse_indices, run_study
 
-        s = run_study(args.study, args.out, scheduler=args.scheduler, workers=args.workers,
-                      retry_failed=args.retry_failed, limit=args.limit,
-                      cases=parse_indices(args.cases) if args.cases is not None else None)
+        with SignalStop("tether-sim-study") as stop:
+            s = run_study(args.study, args.out, scheduler=args.scheduler, workers=args.workers,
+                          retry_failed=args.retry_failed, limit=args.limit,
+                          cases=parse_indices(args.cases) if args.cases is not None else None, stop=stop)
+    except KeyboardInterrupt as exc:  # a signal while the cases were resolved: no case ran
+        name, code = interrupted_code(exc)
+        print(f"tether-sim-study: stopped by {name} before any case ran", file=sys.stderr)
+        return code
     except (ConfigError, FileNotFoundError) as exc:
         print(f"tether-sim-study: {exc}", file=sys.stderr)
         return 2
+    if s["interrupted"]:
+        print(f"tether-sim-study: stopped by {s['interrupted']}: {s['ran']} case(s) finished and kept in the results, "
+              f"{s['in_flight']} in flight dropped and {s['not_started']} not started (both run when the study "
+              "is started again)", file=sys.stderr)
     print(f"{s['ran']} case(s) run ({s['ok']} ok, {s['failed']} failed), {s['skipped']} already in the results; "
           f"table {s['table']} (and results.csv)")
+    if s["interrupted"]:
+        return stop.exit_code
     return 1 if s["failed"] else 0
 
 

@@ -16,6 +16,7 @@ progress line.
 import math
 import multiprocessing
 import os
+import signal
 import sys
 import time
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -89,22 +90,52 @@ def failed_result(task, error) -> dict:
                     "error": error, **{f"var.{k}": v for k, v in task["variables"].items()}}, "events": []}
 
 
-def run_local(tasks, on_result, workers=None, tick=None):
+def _worker_ignores_sigint():
+    """Worker initializer: a terminal's Ctrl-C goes to the whole process group; the parent alone
+    decides (it stops the workers itself), so a worker prints no KeyboardInterrupt traceback."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def stopped_tasks(futures: dict, stop) -> dict:
+    """After a stop request: cancel the cases not started, and return {"in_flight": [tasks],
+    "not_started": [tasks], "signal": name}; the caller ends the workers of the in-flight ones."""
+    in_flight, not_started = [], []
+    for fut, task in futures.items():
+        if fut.cancel():
+            not_started.append(task)
+        elif not fut.done():
+            in_flight.append(task)
+    return {"in_flight": in_flight, "not_started": not_started, "signal": stop.name}
+
+
+def run_local(tasks, on_result, workers=None, tick=None, stop=None):
     """Run ``tasks`` on ``workers`` local processes (default: every core); ``tick()`` is called
-    every few seconds while they run (progress heartbeat)."""
+    every few seconds while they run (progress heartbeat). ``stop``: a
+    :class:`tether_sim.stopping.SignalStop`; on a stop request the cases not started are cancelled,
+    the workers are ended (their cases in flight are not in the results and run again on the next
+    start) and the function returns :func:`stopped_tasks`' account (None when every case ran)."""
     workers = max(1, min(workers or os.cpu_count() or 1, len(tasks) or 1))
     pending = list(tasks)
     breakages = {}
     context = multiprocessing.get_context("spawn")  # a clean interpreter per worker (numba, DDS libraries)
     while pending:
-        with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        with ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=_worker_ignores_sigint) as pool:
             futures = {pool.submit(run_task, t): t for t in pending}
             pending = []
             broken = False
             while futures:
-                finished, _ = wait(futures, timeout=5.0, return_when=FIRST_COMPLETED)
+                finished, _ = wait(futures, timeout=0.5 if stop is not None else 5.0, return_when=FIRST_COMPLETED)
                 if tick is not None:
                     tick()
+                if stop is not None and stop.requested:
+                    for fut in finished:  # finished before the stop was seen: keep them
+                        if not fut.cancelled() and fut.exception() is None:
+                            on_result(fut.result())
+                            futures.pop(fut)
+                    account = stopped_tasks(futures, stop)
+                    for proc in list(getattr(pool, "_processes", {}).values()):
+                        proc.terminate()
+                    return account
                 for fut in finished:
                     task = futures.pop(fut)
                     try:
@@ -121,8 +152,9 @@ def run_local(tasks, on_result, workers=None, tick=None):
                 print(f"[study] a worker process died; {len(pending)} case(s) run again on a new pool", file=sys.stderr)
 
 
-def run_dask(tasks, on_result, scheduler, tick=None):
-    """Run ``tasks`` on the Dask cluster at ``scheduler`` (an address or a cluster object)."""
+def run_dask(tasks, on_result, scheduler, tick=None, stop=None):
+    """Run ``tasks`` on the Dask cluster at ``scheduler`` (an address or a cluster object).
+    ``stop``: as for :func:`run_local` (the cases in flight are cancelled on the cluster)."""
     from dask.distributed import Client
     from dask.distributed import wait as dask_wait
 
@@ -132,8 +164,15 @@ def run_dask(tasks, on_result, scheduler, tick=None):
               f"worker(s); dashboard: {link}", file=sys.stderr)
         futures = {client.submit(run_task, t, key=f"case-{t['index']:05d}-{t['key']}", pure=False): t for t in tasks}
         while futures:
+            if stop is not None and stop.requested:
+                in_flight = _dask_in_flight(client, futures)
+                account = {"in_flight": in_flight, "signal": stop.name,
+                           "not_started": [t for t in futures.values() if t not in in_flight]}
+                client.cancel(list(futures))
+                return account
             try:
-                finished, _ = dask_wait(list(futures), timeout=5.0, return_when="FIRST_COMPLETED")
+                finished, _ = dask_wait(list(futures), timeout=0.5 if stop is not None else 5.0,
+                                        return_when="FIRST_COMPLETED")
             except TimeoutError:
                 finished = ()
             except Exception:  # noqa: BLE001 - FuturesCancelledError: the cancelled ones become failed cases
@@ -148,3 +187,20 @@ def run_dask(tasks, on_result, scheduler, tick=None):
                     result = failed_result(task, f"{type(exc).__name__}: {exc}")
                 on_result(result)
                 fut.release()
+    return None
+
+
+
+def _dask_in_flight(client, futures: dict) -> list:
+    """The tasks of ``futures`` the scheduler has on a worker (state ``processing``); all of them
+    when the scheduler cannot be asked (an account only)."""
+    keys = [f.key for f in futures]
+
+    def states(dask_scheduler):
+        return {k: getattr(dask_scheduler.tasks.get(k), "state", None) for k in keys}
+
+    try:
+        known = client.run_on_scheduler(states)
+    except Exception:  # noqa: BLE001
+        known = {}
+    return [t for f, t in futures.items() if known.get(f.key, "processing") == "processing"]

@@ -73,8 +73,13 @@ def parse_indices(text) -> set:
 
 
 def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=False, limit=None,
-              cases=None, stream=None) -> dict:
-    """Run the study file ``path`` (only the case indices ``cases``, if given); returns a summary."""
+              cases=None, stream=None, stop=None) -> dict:
+    """Run the study file ``path`` (only the case indices ``cases``, if given); returns a summary.
+
+    ``stop``: a :class:`tether_sim.stopping.SignalStop`, made graceful when the cases start: a stop
+    request then keeps every finished case (journaled as it finished), cancels the rest, removes the
+    incomplete MCAP files of the cases in flight, writes the tables and returns with ``interrupted``
+    (the signal's name), ``in_flight`` and ``not_started`` (counts) in the summary."""
     stream = stream or sys.stderr
     study = load_study(path)
     out_dir = Path(out_dir) if out_dir else default_out(study)
@@ -99,31 +104,53 @@ def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=
             store.write_tables()
             last_table[0] = time.monotonic()
 
+    if stop is not None:
+        stop.graceful = True  # from here on results are written: a signal asks for a clean stop
     for result in invalid:
         on_result(result)
     progress.instant = len(invalid)
     progress.update(None, force=True)
+    account = None
     if tasks:
         if scheduler is None:
-            run_local(tasks, on_result, workers, tick=progress.tick)
+            account = run_local(tasks, on_result, workers, tick=progress.tick, stop=stop)
         else:
             cluster = _cluster(scheduler, workers)
             try:
-                run_dask(tasks, on_result, cluster, tick=progress.tick)
+                account = run_dask(tasks, on_result, cluster, tick=progress.tick, stop=stop)
             finally:
                 if cluster is not scheduler:
                     cluster.close()
     progress.close()
     table = store.write_tables()
-    return {"out": str(out_dir), "table": str(table), "ran": progress.done + progress.failed,
-            "ok": progress.done, "failed": progress.failed, "skipped": skipped}
+    summary = {"out": str(out_dir), "table": str(table), "ran": progress.done + progress.failed,
+               "ok": progress.done, "failed": progress.failed, "skipped": skipped, "interrupted": "",
+               "in_flight": 0, "not_started": 0}
+    if account is not None:
+        for task in account["in_flight"] + account["not_started"]:  # not in the results: no file of theirs
+            if task.get("mcap"):  # either (a case cut short leaves an MCAP without its summary)
+                Path(task["mcap"]).unlink(missing_ok=True)
+        summary.update(interrupted=account["signal"], in_flight=len(account["in_flight"]),
+                       not_started=len(account["not_started"]))
+    return summary
 
 
 def _cluster(scheduler, workers):
     """An address as given, or ``local``: a LocalCluster on loopback (one thread per worker process)."""
     if scheduler != "local":
         return scheduler
+    import signal
+    import threading
+
     from dask.distributed import LocalCluster
 
-    return LocalCluster(n_workers=workers or None, threads_per_worker=1, processes=True, host="127.0.0.1",
-                        dashboard_address="127.0.0.1:8787")
+    # a terminal's Ctrl-C goes to the whole process group: the cluster's processes inherit SIGINT
+    # ignored, and this process alone stops the study (cancels the cases, closes the cluster)
+    main = threading.current_thread() is threading.main_thread()
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        return LocalCluster(n_workers=workers or None, threads_per_worker=1, processes=True, host="127.0.0.1",
+                            dashboard_address="127.0.0.1:8787")
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, old)

@@ -1,0 +1,155 @@
+"""The simulation node on the TMS network file (config/ropos_tms.yaml): ship and vehicle poses in,
+per-line states, the wrenches on the vehicle and the cage, the cage on /tf, the winches' topics.
+In-process with sim time (/clock from the probe), like sim_harness.py."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("rclpy")
+pytest.importorskip("tether_sim_msgs")
+import rclpy  # noqa: E402
+from geometry_msgs.msg import PoseStamped, WrenchStamped  # noqa: E402
+from rclpy.executors import SingleThreadedExecutor  # noqa: E402
+from rclpy.parameter import Parameter  # noqa: E402
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
+from rosgraph_msgs.msg import Clock  # noqa: E402
+from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription, TetherState, WinchCommand, WinchState  # noqa: E402
+
+from tether_sim.ros.convert import time_msg  # noqa: E402
+from tether_sim.ros.network_node import NetworkSimNode  # noqa: E402
+from tether_sim.ros.sim_node import main  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
+TMS = ROOT / "config" / "ropos_tms.yaml"
+VEHICLE = (20.0, 0.0, -1751.0)
+G = 9.81
+
+
+class NetHarness:
+    def __init__(self):
+        self.context = rclpy.Context()
+        rclpy.init(context=self.context)
+        self.node = NetworkSimNode(files=[str(TMS)], context=self.context,
+                                   parameter_overrides=[Parameter("use_sim_time", Parameter.Type.BOOL, True)])
+        self.probe = rclpy.create_node("probe", context=self.context)
+        self.clock = self.probe.create_publisher(Clock, "/clock", QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT))
+        self.poses = {e: self.probe.create_publisher(PoseStamped, f"/{e}/pose", 10) for e in ("ship", "vehicle")}
+        self.winch_cmd = self.probe.create_publisher(WinchCommand, "/winch/excursion/command", 10)
+        types = {"/tether/tether/state": TetherState, "/tether/excursion/state": TetherState,
+                 "/tether/vehicle_wrench": WrenchStamped, "/tether/ship_wrench": WrenchStamped,
+                 "/tether/cage_wrench": WrenchStamped, "/cage/sim_pose": PoseStamped,
+                 "/winch/excursion/state": WinchState, "/winch/tether/state": WinchState,
+                 "/tether/excursion/slack_warnings": SlackWarning, "/tether/tether/snap_events": SnapLoadEvent,
+                 "/tether/excursion/snap_events": SnapLoadEvent}
+        self.received = {t: [] for t in types}
+        for t, ty in types.items():
+            self.probe.create_subscription(ty, t, self.received[t].append, 1000)
+        latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.received["/tether/excursion/description"] = []
+        self.probe.create_subscription(TetherDescription, "/tether/excursion/description",
+                                       self.received["/tether/excursion/description"].append, latched)
+        try:
+            from tf2_msgs.msg import TFMessage
+            self.received["/tf"] = []
+            self.probe.create_subscription(TFMessage, "/tf", self.received["/tf"].append, 1000)
+        except ImportError:
+            pass
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+        self.executor.add_node(self.probe)
+
+    def pose(self, t, p):
+        msg = PoseStamped()
+        msg.header.stamp = time_msg(t)
+        msg.header.frame_id = "map"
+        msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = (float(x) for x in p)
+        msg.pose.orientation.w = 1.0
+        return msg
+
+    def run(self, t0, t1, vehicle=lambda t: VEHICLE):
+        t = t0
+        while t < t1 - 1e-9:
+            t = round(t + 0.02, 6)
+            self.poses["ship"].publish(self.pose(t, (0.0, 0.0, 0.0)))
+            self.poses["vehicle"].publish(self.pose(t, vehicle(t)))
+            self.clock.publish(Clock(clock=time_msg(t)))
+            for _ in range(4):
+                self.executor.spin_once(timeout_sec=0.002)
+        for _ in range(10):
+            self.executor.spin_once(timeout_sec=0.002)
+        return t
+
+    def close(self):
+        self.executor.shutdown()
+        self.node.destroy_node()
+        self.probe.destroy_node()
+        rclpy.shutdown(context=self.context)
+
+
+@pytest.fixture(scope="module")
+def tms():
+    h = NetHarness()
+    yield h
+    h.close()
+
+
+def test_tms_node_publishes_both_lines_the_vehicle_wrench_and_the_cage(tms):
+    h = tms
+    t = h.run(10.0, 11.5)
+    r = h.received
+    for line in ("tether", "excursion"):
+        assert len(r[f"/tether/{line}/state"]) >= 20, f"{line}: {len(r[f'/tether/{line}/state'])} states"
+    tether = r["/tether/tether/state"][-1]
+    exc = r["/tether/excursion/state"][-1]
+    assert tether.header.frame_id == "map" and len(tether.position) == 41
+    # the main tether holds the cage and its own weight: ship tension = cage wet weight + tether wet
+    # weight (vertical line, end tensions from the static solve), to the DG mesh's accuracy
+    cage_wet = 4995.0 * G * (1.0 - 1025.0 / 8448.0)
+    tether_wet = 1730.0 * 3.01 * G * (1.0 - 1025.0 / 7153.0)
+    assert tether.ship_end_tension == pytest.approx(cage_wet + tether_wet + exc.ship_end_tension, rel=2e-3)
+    assert tether.vehicle_end_tension == pytest.approx(cage_wet + exc.ship_end_tension, rel=2e-3)
+    # the cage hangs below the fairlead at the end of the stretched tether; its pose on sim_pose and /tf
+    pose = r["/cage/sim_pose"][-1].pose.position
+    assert abs(pose.x) < 0.2 and pose.z == pytest.approx(-1730.0 - 2.1, abs=5.0)
+    if "/tf" in r:
+        frames = {tr.child_frame_id for m in r["/tf"] for tr in m.transforms}
+        assert "cage/base_link" in frames
+    # the excursion tether's force on the vehicle: its end tension along the line, back toward the cage
+    # (at -x; the slack line sags below the vehicle, so it also pulls down there), none sideways
+    wrenches = {(m.header.stamp.sec, m.header.stamp.nanosec): m for m in r["/tether/vehicle_wrench"]}
+    exc = [m for m in r["/tether/excursion/state"] if (m.header.stamp.sec, m.header.stamp.nanosec) in wrenches][-1]
+    w = wrenches[(exc.header.stamp.sec, exc.header.stamp.nanosec)]  # the same instant
+    assert w.header.frame_id == "rov/base_link"
+    f = np.array([w.wrench.force.x, w.wrench.force.y, w.wrench.force.z])
+    assert np.linalg.norm(f) == pytest.approx(exc.vehicle_end_tension, rel=1e-4)  # |F| vs axial T: strain-scale
+    assert f[0] < 0.0 and f[2] < 0.0 and abs(f[1]) < 1e-6 * np.linalg.norm(f)
+    # the cage's wrench: both lines on it balance its wet weight (at rest, within 1 %)
+    cw = r["/tether/cage_wrench"][-1].wrench.force
+    assert cw.z == pytest.approx(cage_wet, rel=1e-2)
+    # winches: the ship winch and the TMS drum report their lengths
+    assert r["/winch/excursion/state"][-1].length == pytest.approx(30.0)
+    assert r["/winch/tether/state"][-1].length == pytest.approx(1730.0)
+    assert r["/tether/excursion/description"] and r["/tether/excursion/description"][-1].length == 30.0
+    assert not r["/tether/tether/snap_events"] and not r["/tether/excursion/snap_events"]
+    assert t > 11.0
+
+
+def test_tms_drum_pays_out_the_excursion_tether_on_command(tms):
+    h = tms
+    h.winch_cmd.publish(WinchCommand(mode="speed", setpoint=0.5))
+    h.run(11.5, 13.0)
+    states = h.received["/winch/excursion/state"]
+    assert states[-1].speed > 0.2
+    assert states[-1].length > 30.1
+    exc = h.received["/tether/excursion/state"][-1]
+    assert exc.arc_length[-1] == pytest.approx(states[-1].length, abs=0.05)
+
+
+def test_console_script_names_the_key_of_a_bad_network(tmp_path, capsys):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(TMS.read_text().replace("to: vehicle", "to: vehicel"))
+    assert main(["tether-sim", "--ros-args", "--params-file", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert "network.lines.excursion.to" in err and "vehicle" in err

@@ -1,0 +1,45 @@
+"""The running node stopped by SIGINT (Ctrl-C, ROS launch) or SIGTERM (a process manager): it ends
+within seconds with exit code 0 (what ROS launch expects of a node told to stop; the node writes no
+file, so nothing can be lost), no traceback, and one line on what it did."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("rclpy")
+pytest.importorskip("tether_sim_msgs")
+
+pytestmark = pytest.mark.ros
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_running_node_stops_cleanly_with_an_account(sig):
+    proc = subprocess.Popen([str(Path(sys.executable).with_name("tether-sim")), "--ros-args", "--params-file",
+                             str(ROOT / "config/ropos_L200.yaml")], cwd=ROOT, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    lines = []
+    try:
+        deadline = time.monotonic() + 180.0
+        for line in proc.stdout:
+            lines.append(line)
+            if "solver started" in line or time.monotonic() > deadline:
+                break
+        assert any("solver started" in x for x in lines), "".join(lines)
+        time.sleep(1.0)  # ticking
+        proc.send_signal(sig)
+        rest = proc.communicate(timeout=20)[0]
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 0, rest
+    assert "Traceback" not in rest, rest
+    account = [x for x in rest.splitlines() if x.startswith("tether-sim: stopped by")]
+    assert len(account) == 1 and f"stopped by {sig.name}" in account[0], rest
+    assert "0 snap event(s) published, 0 failed tick(s)" in account[0], rest  # at rest: the tether hangs still

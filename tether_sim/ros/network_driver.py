@@ -1,0 +1,239 @@
+"""The network node's clock and detection around a :class:`NetworkSolver` (no rclpy; the
+single-line node's counterpart is tether_sim/ros/driver.py).
+
+- Clock: the network's time 0 is the clock time ``anchor``; each tick advances it to the clock
+  minus ``node.input_delay`` so that the driven points' pose inputs are interpolated (as the
+  single-line node does). A tick further behind than ``node.max_lag`` re-synchronises: the skipped
+  span is not simulated (the anchor moves), each driven point is blended from its held trajectory
+  onto its input (the single-line node's C2 blend, ``end_commands.Blend``), and snap detection
+  restarts with fresh detectors once the blends end (no snap is built from the gap or the bridge);
+  the outputs are marked degraded meanwhile.
+- Start: the network statics at the driven points' current positions; a DG line whose discrete
+  equilibrium polish failed settles for ``SETTLE_TIME`` with the points held before the clock
+  starts (the snap detectors' static tensions are taken after it).
+- Inputs: each driven (``prescribed``) point follows its source (an ``EndPoseInput``, or anything
+  with ``has_data`` and ``attachment_at(t)``); without data it holds its configured position.
+- Snap detection: one :class:`SnapDetector` per line over its two ends, fed with every substep's
+  end tensions, guarded by :func:`line_snap_guard` (the snap plausibility bound with the mass of
+  the bodies the line ends on). Event locations are ``<line>/ship`` and ``<line>/vehicle`` (the
+  line's s = 0 and s = L ends).
+- A failing tick (a line solver diverging, e.g. a hybrid Newton failure) stops the simulation:
+  :attr:`failed` holds the reason and nothing more is published (never physics that did not
+  happen); there is no silent recovery of a network yet.
+"""
+
+import math
+import time
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from tether_sim.network.solver import NetworkSolver
+from tether_sim.network.spec import NetworkSpec, PointSpec
+from tether_sim.physics.boundary import EndCondition
+from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapDetector, SnapEvent, snap_guard
+from tether_sim.ros.end_commands import Blend, blend_time
+from tether_sim.solvers.base import relative_end_speed
+
+ENDS = ("ship", "vehicle")
+SETTLE_TIME = 3.0  # s of simulated time a network with an unpolished DG line settles before its clock starts
+
+
+def element_length(solver, config) -> float:
+    """Shortest element (DG) or segment (hybrid) of a line solver, m (the guard's crossing time)."""
+    h = getattr(solver, "h", None)
+    if h is not None and np.size(h):
+        return float(np.min(h))
+    n = getattr(solver, "n_seg", None) or getattr(config.hybrid, "n_segments", 1)
+    return float(config.cable.length) / max(int(n), 1)
+
+
+def line_snap_guard(spec: NetworkSpec, line: str, solver):
+    """The snap guard of one network line: its ends on bodies count as body ends with that body's
+    mass and added mass (with two bodies, the lighter one: the smaller moving mass gives the smaller,
+    stricter energy bound), ends on points as kinematic."""
+    ln = spec.lines[line]
+    kinds, body = [], None
+    for e in ln.ends:
+        if e.kind == "body":
+            kinds.append("body")
+            props = spec.bodies[e.target].props
+            if body is None or props.mass + max(props.added_mass) < body.mass + max(body.added_mass):
+                body = props
+        elif e.kind == "point":
+            kinds.append(spec.points[e.target].kind)
+        else:
+            kinds.append("free")
+    conds = [EndCondition(kind=k, position=(0.0, 0.0, 0.0)) for k in kinds]
+    gcfg = replace(ln.config, ship_end=conds[0], vehicle_end=conds[1])
+    if body is not None:
+        gcfg = replace(gcfg, body=body)
+    return snap_guard(gcfg, element_length(solver, ln.config))
+
+
+@dataclass
+class NetworkTickReport:
+    events: dict = field(default_factory=dict)  # line -> [SnapEvent | SlackStarted | NumericalSnapWarning]
+    dropped: float = 0.0  # s skipped by a re-synchronisation
+    error: str = ""  # the tick failed: the simulation stopped
+    advanced: bool = False
+
+
+class NetworkDriver:
+    """Owns the NetworkSolver, the clock mapping and one snap detector per line (module doc)."""
+
+    def __init__(self, spec: NetworkSpec, node_options, sources: dict | None = None, statics: bool = True,
+                 settle: float = SETTLE_TIME):
+        self.spec0 = spec
+        self.settle = float(settle)
+        self.settled = []  # lines whose discrete equilibrium was reached by settling (start)
+        self.node = node_options
+        self.sources = dict(sources or {})
+        self.statics = statics
+        self.net = None
+        self.anchor = 0.0
+        self.detectors = {}
+        self.static_tensions = {}  # line -> [s = 0 end, s = L end] reference tensions, N
+        self.degraded = False
+        self.dropped_total = 0.0
+        self.resyncs = 0
+        self.failed = ""
+        self.snaps = 0
+        self.numerical_snaps = 0
+        self.last_numerical_snap = ""
+        self.slack = {}
+        self.real_time_factor = 0.0
+        self.lag = 0.0
+        self._suspend_before = -math.inf
+        self.blends = {}  # point -> Blend after a re-synchronisation
+
+    @property
+    def stamp(self) -> float:
+        """Clock time of the current state."""
+        return self.anchor + (self.net.time if self.net is not None else 0.0)
+
+    def driven_points(self):
+        return [n for n, p in self.spec0.points.items() if p.kind == "prescribed"]
+
+    def _start_spec(self, t):
+        """The spec with every driven point where its input is at clock time t (if it has data)."""
+        points = dict(self.spec0.points)
+        for name in self.driven_points():
+            src = self.sources.get(name)
+            if src is not None and src.has_data:
+                pos, _ = src.attachment_at(t)
+                points[name] = PointSpec(name, "prescribed", tuple(float(x) for x in pos))
+        return replace(self.spec0, points=points)
+
+    def start(self, now: float) -> None:
+        """Solve the network statics at the inputs' current positions and start the clock at ``now``."""
+        t0 = now - self.node.input_delay
+        spec = self._start_spec(t0)
+        if self.net is not None and not self.failed and all(
+                np.allclose(p.position, self.spec.points[n].position, rtol=0.0, atol=1e-9) for n, p in spec.points.items()):
+            self.anchor = t0 - self.net.time  # built at these positions and at rest (warm-up): keep it
+            self._build_detectors()
+            return
+        self.spec = spec
+        self.net = NetworkSolver(self.spec, statics=self.statics)
+        # a DG line whose static polish failed (a near-neutral slack line: equilibrium_iterations -1)
+        # starts off its discrete equilibrium and rings; let the network settle with the points held
+        # before the clock starts, so that start-up ringing is neither published nor detected
+        self.settled = [n for n, s in self.net.lines.items() if getattr(s, "equilibrium_iterations", 0) == -1]
+        if self.settled and self.settle > 0.0:
+            self.net.tick(self.settle)
+        self.anchor = t0 - self.net.time
+        self._build_detectors()
+
+    def _build_detectors(self, static=True):
+        """Fresh detectors; ``static``: take the reference (static) end tensions from the current
+        state (at the start, at rest), else keep the start's."""
+        self.detectors = {}
+        for name, solver in self.net.lines.items():
+            if static or name not in self.static_tensions:
+                tension = [abs(self.net.end_load(name, e)[1]) for e in ENDS]
+                self.static_tensions[name] = [max(t, 1.0) for t in tension]
+            L = float(self.spec.lines[name].config.cable.length)
+            self.detectors[name] = SnapDetector(self.spec.lines[name].config.snap, [f"{name}/{e}" for e in ENDS],
+                                                self.static_tensions[name], [0.0, L],
+                                                line_snap_guard(self.spec, name, solver))
+            for e in ENDS:
+                self.slack[f"{name}/{e}"] = False
+
+    def _start_blends(self, target):
+        """After a skip: each driven point goes from its held trajectory onto its input at ``target``."""
+        end = target
+        for name in self.driven_points():
+            src = self.sources.get(name)
+            if src is None or not src.has_data:
+                continue
+            p = self.net.points[name]
+            p_s, v_s = src.attachment_at(target)
+            T = blend_time(np.linalg.norm(p_s - p.pos), np.linalg.norm(v_s - p.vel), self.node.max_end_speed)
+            self.blends[name] = Blend(self.stamp, T, p.pos.copy(), p.vel.copy(), "re-synchronisation")
+            end = max(end, self.stamp + T)
+        self._suspend_before = end
+
+    def tick(self, now: float) -> NetworkTickReport:
+        report = NetworkTickReport()
+        if self.net is None or self.failed:
+            return report
+        target = now - self.node.input_delay
+        behind = target - self.stamp
+        if behind <= 0.0:
+            return report
+        if behind > self.node.max_lag:  # re-synchronise: skip to the inputs' present
+            skip = behind - 1.0 / self.node.output_rate
+            self.anchor += skip
+            report.dropped = skip
+            self.dropped_total += skip
+            self.resyncs += 1
+            self._start_blends(target)
+        for name in self.driven_points():
+            src = self.sources.get(name)
+            if src is not None and src.has_data:
+                pos, vel = src.attachment_at(target)
+                blend = self.blends.get(name)
+                if blend is not None:
+                    pos, vel, done = blend.command(target, pos, vel)
+                    if done:
+                        del self.blends[name]
+                self.net.set_point_motion(name, pos, vel)
+        if self._suspend_before > -math.inf and not self.blends and self.stamp >= self._suspend_before:
+            self._build_detectors(static=False)  # fresh past the gap and the bridge
+            self._suspend_before = -math.inf
+        self.degraded = bool(self.blends) or self._suspend_before > -math.inf
+        wall0 = time.perf_counter()
+        sim0 = self.net.time
+        try:
+            out = self.net.tick(target - self.anchor)
+        except Exception as exc:  # noqa: BLE001 - a line solver failing stops the network, reported
+            self.failed = f"{type(exc).__name__}: {exc}"
+            report.error = self.failed
+            return report
+        wall = time.perf_counter() - wall0
+        if wall > 0:
+            self.real_time_factor = (self.net.time - sim0) / wall
+        self.lag = max(0.0, now - self.node.input_delay - self.stamp)
+        report.advanced = True
+        for name, o in out.items():
+            s = o["samples"]
+            if s.shape[1] == 0:
+                continue
+            if self._suspend_before > -math.inf:
+                continue  # re-synchronising: no detection across the gap and the blend
+            times = s[0] + self.anchor
+            speed = relative_end_speed(self.net.lines[name], self.spec.lines[name].config.cable.length)
+            events = self.detectors[name].update(times, np.column_stack([s[1], s[2]]), speed)
+            for ev in events:
+                if isinstance(ev, NumericalSnapWarning):
+                    self.numerical_snaps += 1
+                    self.last_numerical_snap = f"{ev.location} t = {ev.time:.3f} s: {ev.reason}"
+                elif isinstance(ev, SnapEvent):
+                    self.snaps += 1
+                    self.slack[ev.location] = False
+                elif isinstance(ev, SlackStarted):
+                    self.slack[ev.location] = True
+            if events:
+                report.events[name] = events
+        return report
