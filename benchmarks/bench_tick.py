@@ -14,7 +14,9 @@ t = 2 s at 50 Hz, then from that state:
 ``tether_sim_base`` (a copy in a temporary directory with the imports renamed) and times it in the
 same process, interleaved, so that the ratio does not depend on the machine's load.
 
-Usage: PYTHONPATH=. python benchmarks/bench_tick.py [--baseline /path/to/main] [--steps 2000]
+``--hybrid``: the hybrid solver's node tick instead (ROPOS L = 200 m, hybrid_ticks).
+
+Usage: PYTHONPATH=. python benchmarks/bench_tick.py [--baseline /path/to/main] [--steps 2000] [--hybrid]
 """
 
 import argparse
@@ -154,6 +156,37 @@ def split(sol, rc, repeat, n=200):
     return out
 
 
+def hybrid_ticks(trees, repeat, ticks=25, t_warm=1.0):
+    """us per node tick of the hybrid solver (config/ropos_L200_hybrid.yaml, its ship end on a 0.5 m
+    circle, solver.tick + state() at 50 Hz as a node calls them), per tree: blocks of ``ticks`` ticks
+    taken in turn from each tree, best of ``repeat`` (the trees' states stay the same when their
+    results are bit-identical, so each block does the same work in both)."""
+    root = Path(__file__).resolve().parents[1]
+    sols = {}
+    for name, fac, mod in trees:
+        params = importlib.import_module(fac.__name__.rsplit(".", 2)[0] + ".io.params")
+        sol = fac.build_solver(params.load_config(root / "config" / "ropos_L200_hybrid.yaml"))
+        sols[name] = [sol, np.asarray(sol.config.ship_end.position, float)]
+
+    def block(name, n):
+        sol, p0 = sols[name]
+        for _ in range(n):
+            t = sol.time + 0.02
+            pos = p0 + 0.5 * np.array((np.cos(t) - 1.0, np.sin(t), 0.0))
+            sol.tick(t, ship=(pos, 0.5 * np.array((-np.sin(t), np.cos(t), 0.0))), drain=True)
+            sol.state()
+
+    best = {name: np.inf for name in sols}
+    for name in sols:
+        block(name, int(t_warm * 50))
+    for _ in range(repeat):
+        for name in sols:
+            c = time.thread_time()
+            block(name, ticks)
+            best[name] = min(best[name], (time.thread_time() - c) / ticks)
+    return {name: 1e6 * v for name, v in best.items()}
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--baseline", help="root of another checkout to time in the same process")
@@ -161,12 +194,20 @@ def main(argv=None):
     ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--cases", default="all", help="comma-separated indices into CASES, or all")
     ap.add_argument("--split", action="store_true", help="also time each call of a tick (this tree)")
+    ap.add_argument("--hybrid", action="store_true", help="time the hybrid solver's node tick instead (hybrid_ticks)")
     args = ap.parse_args(argv)
     from benchmarks import ropos_case as rc
     from tether_sim.solvers import factory
     trees = [("new", factory, rc)]
     if args.baseline:
         trees.insert(0, ("base",) + load_baseline(args.baseline))
+    if args.hybrid:
+        us = hybrid_ticks(trees, args.repeat)
+        print(f"bench_tick --hybrid {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load "
+              f"{os.getloadavg()[0]:.1f}; thread CPU, best of {args.repeat} blocks of 25 ticks; ropos_L200_hybrid: "
+              + ", ".join(f"{name} {v:.0f} us/tick" for name, v in us.items())
+              + (f"; new/base {us['new'] / us['base']:.3f}" if "base" in us else ""), flush=True)
+        return
     cases = CASES if args.cases == "all" else [CASES[int(k)] for k in args.cases.split(",")]
     print(f"bench_tick {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}; "
           f"thread CPU, best of {args.repeat}; P = 4, cage body, 50 Hz ticks", flush=True)

@@ -29,6 +29,7 @@ FORBIDDEN = {
     "scenarios": ("ros",),
     "spec": ("solvers", "io", "ros", "scenarios", "config", "physics", "numerics"),
     "errors": ("solvers", "io", "ros", "scenarios", "config", "physics", "numerics"),
+    "paths": ("solvers", "io", "ros", "scenarios", "config", "physics", "numerics"),
 }
 
 

@@ -37,6 +37,7 @@ import numpy as np
 from tether_sim.errors import TetherSimError
 from tether_sim.io.mcap_log import McapLogError, read_messages, read_summary
 from tether_sim.io.mcap_scan import CorruptMcapWarning
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.solvers.resolution import bending_mesh_warning, mesh_summary
 from tether_sim.report_winch import load_winch, winch_figures, winch_markdown
 from tether_sim.report_forecast import forecast_figures, forecast_markdown, load_forecasts
@@ -47,7 +48,7 @@ SLACK_TYPE = "tether_sim_msgs/msg/SlackWarning"
 WRENCH_TYPE = "geometry_msgs/msg/WrenchStamped"
 DIAGNOSTICS_TYPE = "diagnostic_msgs/msg/DiagnosticArray"
 DESCRIPTION_TYPE = "tether_sim_msgs/msg/TetherDescription"
-ENDS = ("ship", "vehicle")
+ENDS = END_NAMES
 
 
 class ReportError(TetherSimError, ValueError):

@@ -12,9 +12,9 @@ import numpy as np
 
 from tether_sim.forecast.skill import score
 from tether_sim.io.mcap_log import read_messages, read_summary
+from tether_sim.physics.boundary import END_NAMES
 
 FORECAST_TYPE = "tether_sim_msgs/msg/SnapForecast"
-ENDS = ("ship", "vehicle")
 
 
 def load_forecasts(path, t0: float) -> list | None:
@@ -40,7 +40,7 @@ def plot_forecast(run, path: Path) -> Path:
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(2, 1, figsize=(11, 5.5), sharex=True)
-    for ax, end in zip(axes, ENDS):
+    for ax, end in zip(axes, END_NAMES):
         fc = [f for f in run.forecast if f.end == end]
         t = np.array([f.stamp for f in fc])
         p = np.array([f.probability for f in fc])
@@ -90,7 +90,7 @@ def forecast_markdown(run) -> list:
              "same instant).", "",
              "| end | snaps scored | warned >= 5 s ahead | warnings | false alarms | per 10 min | episodes per 10 min |",
              "|---|---|---|---|---|---|---|"]
-    for end in ENDS:
+    for end in END_NAMES:
         s = score(fc, snaps, end, until=float(run.t[-1]))
         frac = f"{s.warned} ({100 * s.warned_fraction:.0f} %)" if s.snaps else "-"
         lines.append(f"| {end} | {s.snaps} | {frac} | {s.warnings} | {s.false_alarms} | "

@@ -64,11 +64,12 @@ def exit_if_compiling(code: int = 0) -> None:
 
 def exercise(config, solver_factory=None) -> None:
     """Build the solver of ``config``, take two substeps and call every output a tick uses."""
+    from tether_sim.physics.boundary import END_NAMES
     from tether_sim.physics.snap import SnapDetector
     from tether_sim.solvers.factory import build_solver
 
     solver = (solver_factory or build_solver)(config)
-    ends = ("ship", "vehicle")
+    ends = END_NAMES
     for end in ends:
         cond = getattr(config, f"{end}_end")
         if cond.kind == "prescribed":

@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from tether_sim.io.inputs import EndPoseInput, rotation_matrix, slerp
+from tether_sim.io.inputs import EndPoseInput, slerp
+from tether_sim.numerics.rotations import quaternion_matrix
 
 IDENTITY = (0.0, 0.0, 0.0, 1.0)
 
@@ -138,10 +139,10 @@ def test_reset_accepts_earlier_stamps_again():
     assert inp.add_pose(1.0, (0.0, 0.0, 0.0), IDENTITY) is None
 
 
-def test_slerp_and_rotation_matrix():
+def test_slerp_and_quaternion_matrix():
     q = slerp(IDENTITY, yaw_quaternion(math.pi / 2), 0.5)
     np.testing.assert_allclose(q, yaw_quaternion(math.pi / 4), atol=1e-12)
-    R = rotation_matrix(yaw_quaternion(math.pi / 2))
+    R = quaternion_matrix(yaw_quaternion(math.pi / 2))
     np.testing.assert_allclose(R @ np.array([1.0, 0.0, 0.0]), (0.0, 1.0, 0.0), atol=1e-12)
     np.testing.assert_allclose(R.T @ R, np.eye(3), atol=1e-12)
 

@@ -41,21 +41,40 @@ def test_anchor_and_unknown_kind():
         ec.end_kind("pinned", "ship_end.kind")
 
 
-@pytest.mark.parametrize("kinds, modes", [(("prescribed", "body"), ["velocity", "body"]),
-                                          (("fixed", "clamped"), ["velocity", "clamped"]),
-                                          (("fixed", "free"), ["velocity", "force"])])
-def test_hybrid_end_modes_come_from_the_table(kinds, modes):
+@pytest.mark.parametrize("kinds, hold, held, ends", [
+    (("prescribed", "body"), False, (False, False), ("CAT_VEL", "CAT_BODY")),
+    (("fixed", "clamped"), False, (False, True), ("CAT_VEL", "ROD_END_CLAMPED")),
+    (("fixed", "free"), False, (False, False), ("CAT_VEL", "CAT_FREE")),
+    (("fixed", "free"), True, (False, True), ("CAT_VEL", "ROD_END_FORCE_HELD")),
+    (("fixed", "prescribed"), True, (False, False), ("CAT_VEL", "CAT_VEL")),  # hold_direction: force ends only
+])
+def test_hybrid_end_conditions_come_from_the_table(kinds, hold, held, ends):
+    """The hybrid solver's end equations follow each end's Table 1 row: a body's end is tied to the body
+    node, a kinematic end is a velocity end, a free end a tension-free one; a held frame (clamped row, or
+    a force end with hybrid.hold_direction_*) puts a rod at the end with omega = 0."""
     from tether_sim.config import SimConfig
     from tether_sim.physics.boundary import EndCondition
     from tether_sim.physics.cable import CableProperties
     from tether_sim.solvers.config import HybridOptions, InitialState
+    from tether_sim.solvers.hybrid import assembly, rod
     from tether_sim.solvers.hybrid.solver import HybridRodCatenarySolver
 
     cfg = SimConfig(solver="hybrid", cable=CableProperties(length=20.0, EI=1.0),
                     ship_end=EndCondition(kind=kinds[0], position=(0, 0, 0)),
                     vehicle_end=EndCondition(kind=kinds[1], position=(0, 0, -19.9), direction=(0, 0, -1)),
-                    hybrid=HybridOptions(n_segments=10), initial=InitialState(kind="straight"))
+                    hybrid=HybridOptions(n_segments=10, hold_direction_vehicle=hold),
+                    initial=InitialState(kind="straight"))
     s = HybridRodCatenarySolver(cfg)
-    assert s.end_modes == modes
+    assert s.end_held == held
+    ch = s.chain
+    for e in range(2):
+        g = ch.end_group[e]
+        k = int(ch.gkind[g])
+        name = next(n for n in ("CAT_VEL", "CAT_FREE", "CAT_FORCE", "CAT_BODY", "ROD_BODY", "ROD_END")
+                    if getattr(assembly, n) == k)
+        if name == "ROD_END":
+            name = next(n for n in ("ROD_END_PINNED", "ROD_END_CLAMPED", "ROD_END_FORCE", "ROD_END_FORCE_HELD")
+                        if getattr(rod, n) == ch.gpar[g, 0])
+        assert name == ends[e]
     assert s.free_ends == [False, kinds[1] == "free"]
     assert np.all(np.isfinite(s.positions))

@@ -32,10 +32,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tether_sim.errors import SolverDivergedError
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.snap import SnapEvent
 from tether_sim.solvers.base import relative_end_speed
 
-ENDS = ("ship", "vehicle")
+ENDS = END_NAMES
 VEHICLE_EASE_TIME = 1.0  # s, a prescribed vehicle end is eased to rest over this time constant
 
 

@@ -34,14 +34,8 @@ from tether_sim.forecast.lookahead import ENDS, EndForecast, ForecastRequest, Lo
 from tether_sim.forecast.ship_forecast import (
     ARShipPredictor, MotionMember, can_perturb, component_spread, external_members, perturb_motion, perturbed_members,
 )
+from tether_sim.numerics.rotations import quaternion_matrix
 from tether_sim.solvers.factory import build_solver
-
-
-def _rotation(q):
-    x, y, z, w = q
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
 
 
 class ExternalForecast:
@@ -91,7 +85,7 @@ class ExternalForecast:
         if stamp - now > self.future_tolerance:
             return self._reject(f"stamp {stamp - now:.2f} s in the future")
         q = orientations / norms[:, None]
-        fair = positions + np.stack([_rotation(qi) @ self.attachment for qi in q])
+        fair = positions + np.stack([quaternion_matrix(qi) @ self.attachment for qi in q])
         self._held = (float(stamp), times, fair)
         self.accepted += 1
         return None

@@ -34,20 +34,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tether_sim.numerics.rotations import quaternion_matrix
+
 QUATERNION_NORM_TOLERANCE = 0.1  # |norm - 1| beyond this is not a rotation with rounding errors
 FUTURE_TOLERANCE = 0.25  # s a stamp may lie ahead of the node's clock (clock skew, replay timing)
 MAX_AGE = 2.0  # s a stamp may lie behind the node's clock (transport latency)
 MAX_SAMPLES = 20000  # hard cap of the pose history (1 kHz for 20 s)
-
-
-def rotation_matrix(q) -> np.ndarray:
-    """Rotation matrix (3, 3) of a unit quaternion (x, y, z, w), body -> world."""
-    x, y, z, w = q
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ])
 
 
 def slerp(q0, q1, u: float) -> np.ndarray:
@@ -128,7 +120,7 @@ class EndPoseInput:
         if reason is not None:
             return self._reject(reason)
         q = q / np.linalg.norm(q)
-        att = p + rotation_matrix(q) @ self.offset
+        att = p + quaternion_matrix(q) @ self.offset
         if self._samples:
             last = self._samples[-1]
             dt = stamp - last.stamp
@@ -172,7 +164,7 @@ class EndPoseInput:
         if body_frame:
             if not self._samples:
                 return self._reject("twist before any pose")
-            R = rotation_matrix(self.orientation_at(stamp))
+            R = quaternion_matrix(self.orientation_at(stamp))
             v, w = R @ v, R @ w
         if np.linalg.norm(v) > self.max_end_speed:
             return self._reject("twist too fast")
@@ -205,7 +197,7 @@ class EndPoseInput:
         return None
 
     def _attachment_velocity(self, v, w, q) -> np.ndarray:
-        return v + np.cross(w, rotation_matrix(q) @ self.offset)
+        return v + np.cross(w, quaternion_matrix(q) @ self.offset)
 
     def _twist_velocity_at(self, stamp, q):
         for t, v, w in reversed(self._twists):

@@ -13,15 +13,8 @@ import math
 
 import numpy as np
 
+from tether_sim.numerics.rotations import quaternion_matrix
 from tether_sim.physics.bodies import BODY_STATE_SIZE, initial_body_state, submerged_weight
-
-
-def quat_matrix(q):
-    """R (body -> world) of the quaternion x, y, z, w (normalised here)."""
-    x, y, z, w = np.asarray(q, float) / np.linalg.norm(q)
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
 
 
 def quat_rotate_world(q, phi):
@@ -67,12 +60,12 @@ class NetworkBody:
     # ------------------------------------------------------------------ kinematics
     @property
     def rotation(self):
-        return quat_matrix(self.state[3:7])
+        return quaternion_matrix(self.state[3:7])
 
     def attachment_points(self, state=None):
         """World positions (k, 3) and velocities (k, 3) of the attachment points."""
         s = self.state if state is None else state
-        R = quat_matrix(s[3:7])
+        R = quaternion_matrix(s[3:7])
         lever = self.attachments @ R.T
         return s[0:3] + lever, s[7:10] + _cross(s[10:13], lever)
 
@@ -88,7 +81,7 @@ class NetworkBody:
         """Net force and moment about the CoG (world) and their parts: forces/moments (k, 3) are the
         line ends' loads on the body at the attachments. Returns (F, M, F_lines, F_weight, F_drag)."""
         s = self.state if state is None else state
-        R = quat_matrix(s[3:7])
+        R = quaternion_matrix(s[3:7])
         lever = self.attachments @ R.T
         f_lines = np.sum(forces, axis=0)
         m = np.sum(_cross(lever, forces), axis=0) + np.sum(moments, axis=0)
@@ -101,7 +94,7 @@ class NetworkBody:
         """CoG acceleration and angular acceleration (world) [the Newton-Euler equations of
         physics/bodies.body_derivatives, with the moment of several attachments]."""
         s = self.state if state is None else state
-        R = quat_matrix(s[3:7])
+        R = quaternion_matrix(s[3:7])
         a = R @ ((R.T @ force) / (self.mass + self.added_mass))
         wb = R.T @ s[10:13]
         tb = R.T @ moment

@@ -16,8 +16,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from tether_sim.network.body import quat_matrix
 from tether_sim.network.spec import line_end_condition
+from tether_sim.numerics.rotations import quaternion_matrix
 from tether_sim.physics.statics import solve_static
 
 
@@ -160,7 +160,7 @@ def solve_network_statics(spec, bodies, tol=1e-12, max_iter=200):
         raise RuntimeError(f"network statics: Newton did not converge (relative residual {err:.3g})")
     for n, s in states_of(x).items():
         bodies[n].state[:] = s
-        if quat_matrix(s[3:7])[2, 2] < 0.0:
+        if quaternion_matrix(s[3:7])[2, 2] < 0.0:
             raise RuntimeError(f"network statics: body {n} ends upside down (an unstable equilibrium); "
                                "check its attachments and initial_position")
     return st, err

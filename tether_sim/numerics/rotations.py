@@ -1,4 +1,5 @@
-"""Incremental rotations of body-fixed frames [GP Eq. 15-18] (Bottasso & Borri 1998).
+"""Rotations: the matrix of a unit quaternion, and the incremental rotations of body-fixed frames
+[GP Eq. 15-18] (Bottasso & Borri 1998).
 
 ``L`` is the 3x3 tensor taking inertial components to body components (v_body = L @ v_world).
 A frame turning with angular velocity omega (body components) over a step changes as
@@ -11,6 +12,24 @@ import math
 import numpy as np
 
 from tether_sim.numerics.jit import jit, jit_alloc
+
+
+@jit
+def quaternion_rotation(x, y, z, w):
+    """R (body -> world) of the quaternion (x, y, z, w), normalised here, as 9 scalars, row major
+    (scalars, not an array: the per-stage body kernels allocate nothing)."""
+    n = math.sqrt(x * x + y * y + z * z + w * w)
+    x, y, z, w = x / n, y / n, z / n, w / n
+    return (1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - z * w), 2.0 * (x * z + y * w),
+            2.0 * (x * y + z * w), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - x * w),
+            2.0 * (x * z - y * w), 2.0 * (y * z + x * w), 1.0 - 2.0 * (x * x + y * y))
+
+
+def quaternion_matrix(q) -> np.ndarray:
+    """R (3, 3), body -> world, of the quaternion q = (x, y, z, w), normalised (quaternion_rotation)."""
+    x, y, z, w = (float(c) for c in q)
+    plain = getattr(quaternion_rotation, "py_func", quaternion_rotation)  # no compiled call from Python
+    return np.array(plain(x, y, z, w)).reshape(3, 3)
 
 
 @jit

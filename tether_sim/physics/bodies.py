@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tether_sim.numerics.jit import jit
+from tether_sim.numerics.rotations import quaternion_rotation
 from tether_sim.spec import param
 
 BODY_STATE_SIZE = 13
@@ -98,12 +99,7 @@ def initial_body_state(props: RigidBodyProperties, attachment_world=None) -> np.
 def _rotation(state):
     """R (body -> world) as 9 scalars (row major) from the normalised quaternion x, y, z, w at
     state[3:7]; scalars instead of an array so the per-stage body kernels allocate nothing."""
-    qx, qy, qz, qw = state[3], state[4], state[5], state[6]
-    n = np.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
-    qx, qy, qz, qw = qx / n, qy / n, qz / n, qw / n
-    return (1.0 - 2.0 * (qy * qy + qz * qz), 2.0 * (qx * qy - qz * qw), 2.0 * (qx * qz + qy * qw),
-            2.0 * (qx * qy + qz * qw), 1.0 - 2.0 * (qx * qx + qz * qz), 2.0 * (qy * qz - qx * qw),
-            2.0 * (qx * qz - qy * qw), 2.0 * (qy * qz + qx * qw), 1.0 - 2.0 * (qx * qx + qy * qy))
+    return quaternion_rotation(state[3], state[4], state[5], state[6])
 
 
 @jit

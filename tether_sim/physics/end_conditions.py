@@ -65,8 +65,6 @@ END_KINDS = tuple(k.name for k in TABLE)
 KIND_CODES = {k.name: k.code for k in TABLE}
 assert [k.code for k in TABLE] == list(range(len(TABLE)))
 
-# codes (the kernels' iprm[I_KIND0 + end]); named once here, from the table
-K_PRESCRIBED, K_FIXED, K_FREE, K_FORCE, K_CLAMPED, K_BODY = (KIND_CODES[n] for n in END_KINDS)
 # M*_hat rules
 M_ZERO, M_APPLIED, M_INTERIOR = 0, 1, 2
 _MOMENT_CODES = {"zero": M_ZERO, "applied": M_APPLIED, "interior": M_INTERIOR}

@@ -19,12 +19,12 @@ run starting from a static shape at ``origin`` sees no jump in position, velocit
 """
 
 import math
-import os
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
+from tether_sim.paths import resolve_data_path
+from tether_sim.physics.ship_motion import ShipResponse, fairlead_offset, read_rao_table
 from tether_sim.spec import param
 
 MOTION_KINDS = ("none", "circle", "heave", "sines", "record", "rao")
@@ -159,8 +159,6 @@ class RaoMotion(_Offset):
     """The fairlead of a ship responding to the sea through its RAOs (kind ``rao``)."""
 
     def __init__(self, origin, table, waves, lever_arm, heading_deg, ramp_time=0.0):
-        from tether_sim.physics.ship_motion import ShipResponse
-
         super().__init__(origin, ramp_time)
         self.lever = np.asarray(lever_arm, dtype=np.float64).reshape(3)
         c, s = math.cos(math.radians(heading_deg)), math.sin(math.radians(heading_deg))
@@ -168,23 +166,7 @@ class RaoMotion(_Offset):
         self.response = ShipResponse(table, waves, reference, heading_deg)
 
     def offset(self, t):
-        from tether_sim.physics.ship_motion import fairlead_offset
-
         return fairlead_offset(self.response, self.lever, t)
-
-
-def resolve_record_path(path: str) -> Path:
-    """Absolute path, else relative to the working directory, the repository or a package share."""
-    p = Path(path)
-    candidates = [p] if p.is_absolute() else [Path.cwd() / p, Path(__file__).resolve().parents[2] / p]
-    if not p.is_absolute():
-        for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
-            if prefix:
-                candidates.append(Path(prefix) / "share" / "tether_sim" / p)
-    for c in candidates:
-        if c.is_file():
-            return c
-    raise FileNotFoundError(f"motion.record_path: {path!r} not found (looked in {', '.join(map(str, candidates))})")
 
 
 def read_pose_record(path, topic="/ship/pose"):
@@ -196,7 +178,7 @@ def read_pose_record(path, topic="/ship/pose"):
     from mcap_ros2.decoder import DecoderFactory
 
     times, positions = [], []
-    with open(resolve_record_path(str(path)), "rb") as f:
+    with open(resolve_data_path(path, "motion.record_path"), "rb") as f:
         reader = make_reader(f, decoder_factories=[DecoderFactory()])
         for _, _, message, msg in reader.iter_decoded_messages(topics=[topic]):
             stamp = msg.header.stamp
@@ -227,8 +209,6 @@ def build_motion(config: MotionConfig, origin, waves=None):
         times, positions = read_pose_record(config.record_path, config.record_topic)
         return RecordedMotion(origin, times, positions, config.record_scale, ramp_time)
     if config.kind == "rao":
-        from tether_sim.physics.ship_motion import read_rao_table
-
         if not config.rao_path:
             raise ValueError("motion.rao_path: required for motion.kind = rao")
         if waves is None:

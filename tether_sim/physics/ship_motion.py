@@ -26,11 +26,10 @@ A wave component outside the table's frequency range is refused (the table must 
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
-DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
+from tether_sim.paths import resolve_data_path
 
 
 @dataclass(frozen=True)
@@ -83,10 +82,7 @@ def parse_rao_table(text: str, source: str = "RAO table") -> RaoTable:
 
 def read_rao_table(path) -> RaoTable:
     """The RAO table in ``path`` (absolute, or relative to the working directory, repository or share)."""
-    from tether_sim.physics.motion import resolve_record_path
-
-    resolved = resolve_record_path(str(path))
-    return parse_rao_table(Path(resolved).read_text(), f"RAO table {path}")
+    return parse_rao_table(resolve_data_path(path, "motion.rao_path").read_text(), f"RAO table {path}")
 
 
 def _wrap(angle):

@@ -44,7 +44,6 @@ from tether_sim.spec import param
 
 MODES = ("speed", "length", "tension")
 UNITS = {"speed": "m/s", "length": "m", "tension": "N"}
-MONOTONE_GAIN_DT = 0.34  # k_L dt below this: real positive eigenvalues of the linear length loop
 
 
 @dataclass(frozen=True)

@@ -45,14 +45,13 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from tether_sim.errors import SolverDivergedError
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.snap import NumericalSnapWarning, SnapDetector, SnapEvent, SlackStarted, snap_guard
 from tether_sim.ros import winch_link
 from tether_sim.ros.body_frame import BodyFrame
 from tether_sim.ros.end_commands import BLEND_ACCELERATION, BLEND_MIN_TIME, Blend, EndCommands, MotionSource, blend_time
 from tether_sim.solvers.base import relative_end_speed
 from tether_sim.solvers.factory import build_solver
-
-END_NAMES = ("ship", "vehicle")
 
 
 @dataclass

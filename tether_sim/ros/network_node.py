@@ -35,7 +35,7 @@ from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription, 
 from visualization_msgs.msg import Marker
 
 from tether_sim.io.inputs import EndPoseInput
-from tether_sim.network.body import quat_matrix
+from tether_sim.numerics.rotations import quaternion_matrix
 from tether_sim.ros.network_driver import ENDS, NetworkDriver
 from tether_sim.network.params import load_network, load_network_files
 from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent
@@ -283,7 +283,7 @@ class NetworkSimNode(Node):
             M += m
         inp = self.inputs.get(name)
         q = inp.orientation_at(self.driver.stamp) if inp is not None and inp.has_data else np.array([0.0, 0.0, 0.0, 1.0])
-        R = quat_matrix(np.asarray(q, float))
+        R = quaternion_matrix(np.asarray(q, float))
         f, m = _to_body(R, F), _to_body(R, M)
         r = np.asarray(self._attachment(name), float)
         return f, np.cross(r, f) + m
@@ -292,7 +292,7 @@ class NetworkSimNode(Node):
         """Force and moment about the CoG by the lines on body ``name``, in its body frame."""
         b = self.driver.net.bodies[name]
         F, M = self.driver.net._body_loads(name)
-        R = quat_matrix(b.state[3:7])
+        R = quaternion_matrix(b.state[3:7])
         lever = b.attachments @ R.T
         force = F.sum(axis=0)
         moment = np.cross(lever, F).sum(axis=0) + M.sum(axis=0)

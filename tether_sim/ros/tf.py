@@ -30,6 +30,7 @@ from geometry_msgs.msg import TransformStamped
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from tether_sim.config import NodeOptions
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.ros import cdr, convert
 
 try:
@@ -40,7 +41,7 @@ except ImportError:  # no tf2_msgs: neither a ROS 2 install nor msg_defs/tf2_msg
 TF_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)  # as tf2_ros' broadcaster
 TF_STATIC_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                            durability=DurabilityPolicy.TRANSIENT_LOCAL)
-ENDS = ("ship", "vehicle")
+ENDS = END_NAMES
 _7D = struct.Struct("<7d")
 
 

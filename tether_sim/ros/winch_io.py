@@ -18,6 +18,7 @@ import numpy as np
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from tether_sim_msgs.msg import WinchCommand, WinchState
 
+from tether_sim.physics.winch import UNITS
 from tether_sim.ros import convert
 from tether_sim.ros.winch_link import END_TENSION, link_of
 
@@ -77,7 +78,7 @@ class NodeWinch:
         self.pub = node.create_publisher(WinchState, convert.ros_name("/winch/state"), reliable)
         node.create_subscription(WinchCommand, convert.ros_name("/winch/command"), self._on_command, reliable)
         w = self.link.config.winch
-        node.get_logger().info(f"winch at the {w.end} end: {w.mode} {w.setpoint:g} {_unit(w.mode)}, "
+        node.get_logger().info(f"winch at the {w.end} end: {w.mode} {w.setpoint:g} {UNITS.get(w.mode, '')}, "
                                f"{len(w.schedule_times)} scheduled command(s); commands on winch/command")
 
     def _on_command(self, msg: WinchCommand):
@@ -86,7 +87,7 @@ class NodeWinch:
         if problem is not None:
             log.warning(f"winch command rejected: {problem}")
         else:
-            log.info(f"winch command accepted: {msg.mode} {msg.setpoint:g} {_unit(msg.mode)} (schedule, if any, ended)")
+            log.info(f"winch command accepted: {msg.mode} {msg.setpoint:g} {UNITS.get(msg.mode, '')} (schedule, if any, ended)")
 
     def tick(self, arc_lengths):
         """After a tick with a new state: publish the winch state; returns the output points."""
@@ -94,13 +95,9 @@ class NodeWinch:
             return arc_lengths
         for _, mode, setpoint, source in applied_commands(self.node.driver, self.link):
             if source == "schedule":
-                self.node.get_logger().info(f"winch schedule: {mode} {setpoint:g} {_unit(mode)}")
+                self.node.get_logger().info(f"winch schedule: {mode} {setpoint:g} {UNITS.get(mode, '')}")
         self.pub.publish(state_message(self.node.driver, self.link))
         return follow_length(self.node.driver, self.link, arc_lengths)
-
-
-def _unit(mode) -> str:
-    return {"speed": "m/s", "length": "m", "tension": "N"}.get(mode, "")
 
 
 __all__ = ["TOPICS", "NodeWinch", "offline_outputs", "state_message", "command_message"]

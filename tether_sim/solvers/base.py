@@ -27,6 +27,8 @@ from typing import NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
+from tether_sim.physics.boundary import END_NAMES
+
 
 @dataclass
 class SolverState:
@@ -155,7 +157,7 @@ class TetherSolver(Protocol):
     def restore(self, snap: object) -> None: ...
 
 
-END_INDEX = {"ship": 0, "vehicle": 1}
+END_INDEX = {name: k for k, name in enumerate(END_NAMES)}
 
 
 def end_index(end: str) -> int:
@@ -176,7 +178,7 @@ def relative_end_speed(solver, length: float) -> float:
     L = float(getattr(solver, "unstretched_length", length))
     state = solver.state(np.array([0.0, L]))
     v = np.array(state.velocity, float)
-    for j, end in enumerate(("ship", "vehicle")):
+    for j, end in enumerate(END_NAMES):
         body = solver.body_state(end)
         if body is not None:
             arm = np.asarray(state.position[j], float) - np.asarray(body.position, float)

@@ -26,9 +26,10 @@ which only drives the event detector).
 
 import math
 
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent, SlackStarted
 
-ENDS = ("ship", "vehicle")
+ENDS = END_NAMES
 DNV_SLACK_FRACTION = 0.1  # T >= 0.1 T_static <=> F_hydro <= 0.9 F_static [DNV-RP-H103 Sec. 3.4.3]
 
 

@@ -21,7 +21,7 @@ from tether_sim.physics.boundary import EndCondition
 from tether_sim.physics.cable import CableProperties
 from tether_sim.physics.environment import Environment
 from tether_sim.solvers.config import HybridOptions, InitialState
-from tether_sim.solvers.hybrid.kernels import CAT_EPS
+from tether_sim.solvers.hybrid.layout import CAT_EPS
 from tether_sim.solvers.hybrid.solver import HybridRodCatenarySolver
 from tether_sim.solvers.hybrid.state_io import reconstruct_positions
 

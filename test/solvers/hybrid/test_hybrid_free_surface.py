@@ -19,6 +19,7 @@ import pytest
 from tether_sim.physics.statics import solve_static
 from tether_sim.scenarios import harness
 from tether_sim.solvers.hybrid import kernels as k
+from tether_sim.solvers.hybrid import layout
 from tether_sim.solvers.hybrid.jac_env import external_force_jac
 from tether_sim.solvers.hybrid.kernels import external_force
 
@@ -41,8 +42,8 @@ def test_splash_zone_force_derivatives(wave):
     extra = {"waves.kind": "regular", "waves.height": 20.0, "waves.period": 60.0} if wave else {}
     cfg, s = harness.make_solver({**FLAT, "initial.relax_time": 1.0, **extra})
     P = s._parameters(1e-5 if wave else 0.01).copy()
-    P[k.P_TIME] = 17.0  # eta = 20 cos(-2 pi 17/60 + k x) / 2 ~ -2.1 m at x = 0: the band is near the trough
-    P[k.P_CMT], P[k.P_CDT_A], P[k.P_RHOA] = 0.2, 0.3, 50.0  # exaggerated air so its terms are tested
+    P[layout.HP_TIME] = 17.0  # eta = 20 cos(-2 pi 17/60 + k x) / 2 ~ -2.1 m at x = 0: the band is near the trough
+    P[layout.HP_CMT], P[layout.HP_CDT_A], P[layout.HP_RHOA] = 0.2, 0.3, 50.0  # exaggerated air so its terms are tested
     cz, cx, cy = np.array([-50.0, 0.0]), np.array([0.1, 0.6]), np.array([0.0, -0.2])
     rng = np.random.default_rng(5)
     W = np.empty(130)
@@ -57,7 +58,7 @@ def test_splash_zone_force_derivatives(wave):
             uw, aw = np.empty(3), np.empty(3)
             eta = k.wave_state(v, rn, z, P, uw, aw)
             assert abs(eta - zc) < 0.01 and (z > eta or np.abs(uw).max() > 0.3)
-        inside += abs(z - zc) < P[k.P_FSB]
+        inside += abs(z - zc) < P[layout.HP_FSB]
         F, Jv, Jt, Ja, Je = np.empty(3), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3)), np.empty(3)
         external_force_jac(v, t, a, rn, eps, P, cz, cx, cy, F, Jv, Jt, Ja, Je, W)
         F0 = np.empty(3)

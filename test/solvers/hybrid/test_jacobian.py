@@ -21,6 +21,7 @@ from tether_sim.solvers.hybrid.assembly import assemble_jacobian
 from tether_sim.solvers.hybrid.jac_env import external_force_jac
 from tether_sim.solvers.hybrid.jacobian import assemble_band_jacobian
 from tether_sim.solvers.hybrid.kernels import external_force
+from tether_sim.solvers.hybrid.layout import HP_CCRIT, HP_CMT, HP_KD, HP_M, HP_MU, HP_SBZETA, HP_SEABED, HP_VMU, HP_ZG
 from tether_sim.solvers.hybrid.newton_band import band_lu, band_solve
 from tether_sim.solvers.hybrid.solver import HybridRodCatenarySolver
 
@@ -125,11 +126,9 @@ def test_environment_force_derivatives_with_seabed_contact():
     kept below 2 cm so that the contact force (K_g d delta) stays comparable to the other terms."""
     s = HybridRodCatenarySolver(_case("all_catenary"))
     P = s._parameters(0.01).copy()
-    from tether_sim.solvers.hybrid import kernels as k
-
-    P[k.P_SEABED], P[k.P_ZG], P[k.P_KD], P[k.P_SBZETA], P[k.P_MU], P[k.P_VMU] = 1.0, -100.0, 9e3, 0.5, 0.3, 0.05
-    P[k.P_CCRIT] = 2.0 * np.sqrt(P[k.P_KD] * P[k.P_M])
-    P[k.P_CMT] = 0.2
+    P[HP_SEABED], P[HP_ZG], P[HP_KD], P[HP_SBZETA], P[HP_MU], P[HP_VMU] = 1.0, -100.0, 9e3, 0.5, 0.3, 0.05
+    P[HP_CCRIT] = 2.0 * np.sqrt(P[HP_KD] * P[HP_M])
+    P[HP_CMT] = 0.2
     cz, cx, cy = np.array([-300.0, -50.0, 0.0]), np.array([0.1, 0.5, 1.0]), np.array([0.0, 0.2, -0.3])
     rng = np.random.default_rng(11)
     W = np.empty(130)

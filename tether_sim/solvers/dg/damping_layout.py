@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from tether_sim.physics.end_conditions import end_kind
-from tether_sim.solvers.dg.columns import define
+from tether_sim.solvers.columns import define
 
 MODE_EXPLICIT = 0
 MODE_AXIAL = 1
@@ -23,7 +23,7 @@ OP_TAU = 4  # M* at points -> tau at points (flux bias -beta)
 OP_H = 5  # GP Div (reach 2)
 N_OP = 6
 
-# The columns of the implicit damping step's arrays, named once (columns.py; layout.py has the rest)
+# The columns of the implicit damping step's arrays, named once (solvers/columns.py; layout.py has the rest)
 define(globals(), "dprm", [
     ("DP_ZETA", 1, "zeta", "N s", "axial material damping"),
     ("DP_ZETAB", 1, "zeta_b", "N m^2 s", "bending damping"),

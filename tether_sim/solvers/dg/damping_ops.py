@@ -68,7 +68,7 @@ def clip_set(idp, dprm, wp, tab_eps, tab_T):
 @jit
 def release_ends(U, vbc, idp, dprm, bvec, Tr, wp, tab_eps, tab_T):
     """Velocity ends whose total flux T_el+ + T_d+ + n lambda (gamma0 v_BC - v+) would be compressive
-    at the start of the step (kernels.clip_compression clips it to zero in the explicit scheme) are
+    at the start of the step (fluxes.clip_compression clips it to zero in the explicit scheme) are
     released for the step: their damping flux is the constant -max(a_el, 0) i+ (DP_TC), so that
     elastic (clipped by dg_rhs) + damping flux has no axial part, instead of the trace of the
     damping tension (whose stiff impulse would otherwise enforce v_BC on a slack end).

@@ -44,7 +44,7 @@ from tether_sim.solvers.dg.layout import (
     P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_QPENT, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
     T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TE, W_TV, W_V, W_WET,
 )
-from tether_sim.solvers.dg.fluxes import (  # noqa: F401 (re-exported)
+from tether_sim.solvers.dg.fluxes import (
     clip_compression, end_outputs, interface_fluxes, tension_jump_penalty, velocity_fluxes,
 )
 from tether_sim.solvers.dg.ldg import ldg_shear_force

@@ -1,4 +1,4 @@
-"""Every column of the DG arrays, named once with its width, symbol and unit (columns.py).
+"""Every column of the DG arrays, named once with its width, symbol and unit (solvers/columns.py).
 
 State ``U`` (N, P+1, 6): modal coefficients of u = [q, v] per element [PE2020 Eq. 10-11].
 Work arrays: ``wq`` (N, Q, NWQ) values at the Gauss points, ``wm`` (N, P+1, NWM) modal
@@ -13,7 +13,7 @@ meaning; a vector column of width 3 holds x, y, z (world frame, ENU). Symbols: l
 ``python -m tether_sim.solvers.dg.layout`` prints the tables (docs/dg_solver.md).
 """
 
-from tether_sim.solvers.dg.columns import define
+from tether_sim.solvers.columns import define
 
 define(globals(), "U", [
     ("U_Q", 3, "q = dr/ds", "-", "tangent stretch vector, modal coefficients"),
@@ -158,6 +158,6 @@ define(globals(), "endf", [
 
 if __name__ == "__main__":
     from tether_sim.solvers.dg import damping_layout  # noqa: F401 (defines its tables)
-    from tether_sim.solvers.dg.columns import describe
+    from tether_sim.solvers.columns import describe
 
     print(describe())

@@ -11,6 +11,7 @@ of every E stage (bodies feel them; the recorded end tension includes them).
 
 import math
 
+from tether_sim.numerics.integrators import SSPRK3_STAGES
 from tether_sim.numerics.jit import jit, jit_inline
 from tether_sim.physics.bodies import body_attachment_kinematics, body_derivatives
 from tether_sim.physics.constitutive import LAW_LINEAR
@@ -94,7 +95,7 @@ def dg_evaluate(t, A, prm, iprm, fdamp, implicit, internal=True):
 
 @jit
 def clip_end_fluxes(prm, iprm, h, V, Pj, Lf, vbc, wq, tr, fl, dU, endf, fdamp):
-    """Velocity-end flux of a law without compression with implicit damping (kernels.clip_compression).
+    """Velocity-end flux of a law without compression with implicit damping (fluxes.clip_compression).
 
     The explicit scheme clips the axial part of T_hat = T+ + T_d+ + n lambda (gamma0 v_BC - v+) at 0.
     With the damping split off, dg_rhs clipped only the elastic part and the damping step applied
@@ -200,12 +201,8 @@ def dg_advance(nsteps, t0, dt, reuse, A):
                 bs0[end, c] = bs[end, c]
         Ls = prm[P_WL]
         for stage in range(3):
-            if stage == 0:
-                a, b, ts = 0.0, 1.0, t
-            elif stage == 1:
-                a, b, ts = 0.75, 0.25, t + dt
-            else:
-                a, b, ts = 1.0 / 3.0, 2.0 / 3.0, t + 0.5 * dt
+            a, b, cs = SSPRK3_STAGES[stage]
+            ts = t + cs * dt
             if winch:
                 winch_stage(prm, hw, h, ts, t0, t1)
             internal = not reuse or n > 0 or stage > 0

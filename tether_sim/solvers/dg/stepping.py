@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from tether_sim.errors import SolverDivergedError, UnstableTimeStepError
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.solvers.base import LOAD_F, LOAD_M, LOAD_T, TickOutput, end_index
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.damping_layout import MODE_EXPLICIT
@@ -20,8 +21,6 @@ from tether_sim.solvers.dg.timestep import stable_dt
 
 # the end-load columns are those of TickOutput.loads, so that tick() returns a view of endf
 assert (Y.E_F, Y.E_T, Y.E_M) == (LOAD_F, LOAD_T, LOAD_M)
-
-_END_NAMES = ("ship", "vehicle")
 
 
 class SteppingMixin:
@@ -114,17 +113,17 @@ class SteppingMixin:
         for e, motion in ((0, ship), (1, vehicle)):
             if motion is not None:
                 if self.ends[e].position != "motion":
-                    raise ValueError(f"tick: the {('ship', 'vehicle')[e]} end is {self.kinds[e]!r}, not 'prescribed'")
+                    raise ValueError(f"tick: the {END_NAMES[e]} end is {self.kinds[e]!r}, not 'prescribed'")
                 try:
                     tin[e, 0:3] = motion[0]
                     tin[e, 3:6] = motion[1]
                 except (ValueError, TypeError, IndexError) as exc:
-                    raise ValueError(f"tick: the {('ship', 'vehicle')[e]} end's motion must be (position, velocity), "
+                    raise ValueError(f"tick: the {END_NAMES[e]} end's motion must be (position, velocity), "
                                      f"3 numbers each: {exc}") from None
                 mask |= 1 << e
         n, dt = self._substeps_to(t, "tick")
         if n == 0:  # nothing to step: the composition (targets kept for the next interval)
-            for e, name in ((0, "ship"), (1, "vehicle")):
+            for e, name in enumerate(END_NAMES):
                 if mask >> e & 1:
                     self.set_end_motion(name, tin[e, 0:3], tin[e, 3:6])
             count = self._drain_count() if drain else 0
@@ -135,7 +134,7 @@ class SteppingMixin:
         winch = self._winch_moving()
         r = node_tick(ws.F, ws.I, ws.spec, tin, mask, self.time, t, n, dt, drain)
         if r <= BAD_INPUT:
-            raise ValueError(f"tick: non-finite position or velocity for the {('ship', 'vehicle')[BAD_INPUT - r]} end")
+            raise ValueError(f"tick: non-finite position or velocity for the {END_NAMES[BAD_INPUT - r]} end")
         if r < 0:
             self._raise_diverged(dt)
         self.time = t

@@ -20,10 +20,9 @@ import math
 import numpy as np
 
 from tether_sim.errors import UnstableTimeStepError
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.timestep import _A, _coef
-
-WINCH_ENDS = ("ship", "vehicle")
 
 
 class WinchMixin:
@@ -39,9 +38,9 @@ class WinchMixin:
         if not self.winch_enabled:
             return
         end = getattr(w, "end", "ship")
-        if end not in WINCH_ENDS:
-            raise ValueError(f"winch.end: {end!r} is not one of {', '.join(WINCH_ENDS)}")
-        e = WINCH_ENDS.index(end)
+        if end not in END_NAMES:
+            raise ValueError(f"winch.end: {end!r} is not one of {', '.join(END_NAMES)}")
+        e = END_NAMES.index(end)
         if not self.ends[e].kinematic:
             raise ValueError(
                 f"winch.end = {end}: {('ship_end', 'vehicle_end')[e]}.kind is {self.kinds[e]!r}, a force end; "

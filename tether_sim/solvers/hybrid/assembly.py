@@ -5,10 +5,9 @@ is two chain nodes at the same s, one per zone). Equations come in groups, each 
 neighbouring nodes, so the Jacobian is block-banded; it is built group by group with forward
 differences (exact structure, ~1e-8 relative entries) and factorised with a sparse LU.
 
-Group kinds (rows): CAT_CELL (6), ROD_CELL (12), JOINT_CR / JOINT_RC (9), UNIT (1), CAT_VEL (3),
-CAT_FORCE (3), CAT_FREE (3), ROD_END (6), BODY_DYN (13), CAT_BODY (3), ROD_BODY (6), LAW (1, the
-node's tension-strain law). Group parameters gpar (G, GPAR_SIZE) hold boundary vectors.
-Node arrays: Y, Yn, Ytn (K, 13) (cable nodes, then body nodes); Ln (K, 3, 3) rod frames at t_n; rn (K, 6) positions and their generalized-alpha rates at t_n; s (K,).
+Group kinds: the table GROUPS (a kind's code is its row). Group parameters gpar (G, GPAR_SIZE) hold
+boundary vectors. Node arrays: Y, Yn, Ytn (K, N_SLOTS) (cable nodes, then body nodes; layout.py);
+Ln (K, 3, 3) rod frames at t_n; rn (K, 6) positions and their generalized-alpha rates at t_n; s (K,).
 """
 
 import numpy as np
@@ -18,11 +17,29 @@ from tether_sim.solvers.hybrid.body import body_dynamics_residual, body_end_resi
 from tether_sim.solvers.hybrid.catenary import (catenary_cell_residual, catenary_force_bc, catenary_free_bc,
                                                 catenary_node_terms, catenary_velocity_bc, unit_tangent_residual)
 from tether_sim.solvers.hybrid.joint import joint_residual
-from tether_sim.solvers.hybrid.kernels import CAT_EPS, P_DT, P_GAM, ROD_EPS, law_residual
+from tether_sim.solvers.hybrid.kernels import law_residual
+from tether_sim.solvers.hybrid.layout import CAT_EPS, HP_DT, HP_GAM, ROD_EPS
 from tether_sim.solvers.hybrid.rod import rod_cell_from_terms, rod_cell_residual, rod_end_residual, rod_node_terms
 
-CAT_CELL, ROD_CELL, JOINT_CR, JOINT_RC, UNIT, CAT_VEL, CAT_FORCE, CAT_FREE, ROD_END, BODY_DYN, CAT_BODY, ROD_BODY, LAW = range(13)
-GROUP_ROWS = np.array([6, 12, 9, 9, 1, 3, 3, 3, 6, 13, 3, 6, 1], dtype=np.int64)
+# (kind, rows, equations): each kind's code (a module constant, compiled as a constant) is its row
+GROUPS = (
+    ("CAT_CELL", 6, "catenary cell: position and momentum box equations [GP Eq. 2-3]"),
+    ("ROD_CELL", 12, "rod cell box equations [GP Eq. 7-10]"),
+    ("JOINT_CR", 9, "spherical joint, catenary node then rod node [GP Eq. 12-14]"),
+    ("JOINT_RC", 9, "spherical joint, rod node then catenary node [GP Eq. 12-14]"),
+    ("UNIT", 1, "|t|^2 = 1 at a catenary node"),
+    ("CAT_VEL", 3, "kinematic catenary end: v = v_BC"),
+    ("CAT_FORCE", 3, "force catenary end: T t = F"),
+    ("CAT_FREE", 3, "free catenary end: T = 0, tangent follows its neighbour"),
+    ("ROD_END", 6, "rod end (rod.rod_end_code)"),
+    ("BODY_DYN", 13, "rigid body at an end (physics/bodies.py)"),
+    ("CAT_BODY", 3, "catenary end moving with the body's attachment point"),
+    ("ROD_BODY", 6, "rod end moving with the body's attachment point, moment free"),
+    ("LAW", 1, "the node's tension-strain law"),
+)
+for _code, (_kind, _rows, _equations) in enumerate(GROUPS):
+    globals()[_kind] = _code
+GROUP_ROWS = np.array([rows for _, rows, _ in GROUPS], dtype=np.int64)
 
 
 @jit_alloc
@@ -30,8 +47,8 @@ def node_law_residual(Y, Yn, Ytn, is_rod, P, out):
     """Constitutive equation of one node at t_{n+1} [PE2020 Eq. 22]; deps/dt from the gamma relation."""
     iT = 9 if is_rod else 3
     ie = ROD_EPS if is_rod else CAT_EPS
-    g = P[P_GAM]
-    rate = ((Y[ie] - Yn[ie]) / P[P_DT] - (1.0 - g) * Ytn[ie]) / g
+    g = P[HP_GAM]
+    rate = ((Y[ie] - Yn[ie]) / P[HP_DT] - (1.0 - g) * Ytn[ie]) / g
     out[0] = law_residual(Y[iT], Y[ie], rate, P)
 
 

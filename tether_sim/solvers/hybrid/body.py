@@ -11,7 +11,8 @@ import numpy as np
 
 from tether_sim.numerics.jit import jit_alloc
 from tether_sim.physics.bodies import BODY_PARAMS_SIZE, BODY_STATE_SIZE, body_attachment_kinematics, body_derivatives
-from tether_sim.solvers.hybrid.kernels import P_AF, P_DT, alpha_levels, current_at
+from tether_sim.solvers.hybrid.kernels import alpha_levels, current_at
+from tether_sim.solvers.hybrid.layout import CAT_T, CAT_TAN, CAT_V, HP_AF, HP_DT, ROD_F, ROD_KAPPA, ROD_V
 from tether_sim.solvers.hybrid.rod import frame_at
 
 BODY_PAR0 = 8
@@ -24,18 +25,18 @@ def _end_force_world(Yc, Ync, Lnc, is_rod, level_new, P, out):
     if is_rod:
         L = np.empty((3, 3))
         if level_new:
-            frame_at(Yc, Ync, Lnc, P[P_DT], L)
-            f = Yc[9:12]
+            frame_at(Yc, Ync, Lnc, P[HP_DT], L)
+            f = Yc[ROD_F:ROD_F + 3]
         else:
             L[:, :] = Lnc
-            f = Ync[9:12]
+            f = Ync[ROD_F:ROD_F + 3]
         for i in range(3):
             out[i] = L[0, i] * f[0] + L[1, i] * f[1] + L[2, i] * f[2]
     else:
         Y = Yc if level_new else Ync
-        nt = np.sqrt(Y[4] * Y[4] + Y[5] * Y[5] + Y[6] * Y[6])
+        nt = np.sqrt(Y[CAT_TAN] * Y[CAT_TAN] + Y[CAT_TAN + 1] * Y[CAT_TAN + 1] + Y[CAT_TAN + 2] * Y[CAT_TAN + 2])
         for i in range(3):
-            out[i] = Y[3] * Y[4 + i] / nt
+            out[i] = Y[CAT_T] * Y[CAT_TAN + i] / nt
 
 
 @jit_alloc
@@ -49,7 +50,7 @@ def body_dynamics_residual(Yb, Ynb, Ytnb, Yc, Ync, Lnc, is_rod, gp, P, cz, cx, c
     _end_force_world(Yc, Ync, Lnc, is_rod, True, P, f1)
     _end_force_world(Yc, Ync, Lnc, is_rod, False, P, f0)
     sign = 1.0 if gp[0] < 0.5 else -1.0  # ship end: the cable pulls with +f(0); vehicle: -f(L)
-    af = P[P_AF]
+    af = P[HP_AF]
     F = np.empty(3)
     for i in range(3):
         F[i] = sign * ((1.0 - af) * f0[i] + af * f1[i])
@@ -69,10 +70,10 @@ def body_end_residual(Yc, Ync, Lnc, is_rod, Yb, gp, P, out):
     body_attachment_kinematics(Yb, gp[BODY_PAR0:GPAR_SIZE], pos, vel)
     if is_rod:
         L = np.empty((3, 3))
-        frame_at(Yc, Ync, Lnc, P[P_DT], L)
+        frame_at(Yc, Ync, Lnc, P[HP_DT], L)
         for i in range(3):
-            out[i] = Yc[i] - (L[i, 0] * vel[0] + L[i, 1] * vel[1] + L[i, 2] * vel[2])
-            out[3 + i] = Yc[6 + i]
+            out[i] = Yc[ROD_V + i] - (L[i, 0] * vel[0] + L[i, 1] * vel[1] + L[i, 2] * vel[2])
+            out[3 + i] = Yc[ROD_KAPPA + i]
     else:
         for i in range(3):
-            out[i] = Yc[i] - vel[i]
+            out[i] = Yc[CAT_V + i] - vel[i]

@@ -25,7 +25,9 @@ import math
 import numpy as np
 
 from tether_sim.numerics.jit import jit_alloc
-from tether_sim.solvers.hybrid.kernels import CAT_EPS, CAT_SLOTS, P_AF, P_AM, P_DT, P_GAM, P_M, alpha_levels, external_force
+from tether_sim.solvers.hybrid.kernels import alpha_levels, external_force
+from tether_sim.solvers.hybrid.layout import (CAT_EPS, CAT_SLOTS, CAT_T, CAT_TAN, CAT_V, HP_AF, HP_AM, HP_DT, HP_GAM,
+                                              HP_M)
 
 
 @jit_alloc
@@ -34,21 +36,22 @@ def catenary_node_terms(Y, Yn, Ytn, rn, P, cz, cx, cy, out_pos, out_q, out_load,
     Yf = np.empty(CAT_SLOTS)
     Ym = np.empty(CAT_SLOTS)
     alpha_levels(Y, Yn, Ytn, CAT_SLOTS, P, Yf, Ym)
-    dt = P[P_DT]
-    g = P[P_GAM]
-    am = P[P_AM]
-    af = P[P_AF]
+    dt = P[HP_DT]
+    g = P[HP_GAM]
+    am = P[HP_AM]
+    af = P[HP_AF]
     e1 = Y[CAT_EPS]
     for k in range(3):
         # r is a generalized-alpha variable with dr/dt = v collocated at the alpha levels
-        rdot = ((1.0 - af) * Yn[k] + af * Y[k] - (1.0 - am) * rn[3 + k]) / am
+        rdot = ((1.0 - af) * Yn[CAT_V + k] + af * Y[CAT_V + k] - (1.0 - am) * rn[3 + k]) / am
         out_pos[k] = rn[k] + dt * ((1.0 - g) * rn[3 + k] + g * rdot)
-        out_q[k] = (1.0 + e1) * Y[4 + k]
-        out_tension_vec[k] = Yf[3] * Yf[4 + k]
+        out_q[k] = (1.0 + e1) * Y[CAT_TAN + k]
+        out_tension_vec[k] = Yf[CAT_T] * Yf[CAT_TAN + k]
     F = np.empty(3)
-    external_force(Yf[0:3], Yf[4:7], Ym[0:3], rn, Yf[CAT_EPS], P, cz, cx, cy, F)
+    external_force(Yf[CAT_V:CAT_V + 3], Yf[CAT_TAN:CAT_TAN + 3], Ym[CAT_V:CAT_V + 3], rn, Yf[CAT_EPS], P, cz, cx, cy,
+                   F)
     for k in range(3):
-        out_load[k] = F[k] - P[P_M] * Ym[k]
+        out_load[k] = F[k] - P[HP_M] * Ym[CAT_V + k]
 
 
 @jit_alloc
@@ -72,30 +75,30 @@ def catenary_cell_residual(Ya, Yna, Ytna, rna, Yb, Ynb, Ytnb, rnb, ds, P, cz, cx
 @jit_alloc
 def unit_tangent_residual(Y, out):
     """|t|^2 - 1 = 0 at a catenary node (replaces the angle chart of GP Eq. 4)."""
-    out[0] = Y[4] * Y[4] + Y[5] * Y[5] + Y[6] * Y[6] - 1.0
+    out[0] = Y[CAT_TAN] * Y[CAT_TAN] + Y[CAT_TAN + 1] * Y[CAT_TAN + 1] + Y[CAT_TAN + 2] * Y[CAT_TAN + 2] - 1.0
 
 
 @jit_alloc
 def catenary_velocity_bc(Y, vbc, out):
     """Prescribed/fixed/body end: v = v_BC (3 equations)."""
     for k in range(3):
-        out[k] = Y[k] - vbc[k]
+        out[k] = Y[CAT_V + k] - vbc[k]
 
 
 @jit_alloc
 def catenary_force_bc(Y, force, out):
     """Point-force end: T t = force on the internal-force convention (sign set by the caller)."""
     for k in range(3):
-        out[k] = Y[3] * Y[4 + k] - force[k]
+        out[k] = Y[CAT_T] * Y[CAT_TAN + k] - force[k]
 
 
 @jit_alloc
 def catenary_free_bc(Y, Ynb, p1, p2, tscale, out):
     """Tension-free end: T = 0; the end tangent follows its neighbour across the plane (p1, p2) normal to it."""
-    out[0] = Y[3] / tscale
-    d0 = Y[4] - Ynb[4]
-    d1 = Y[5] - Ynb[5]
-    d2 = Y[6] - Ynb[6]
+    out[0] = Y[CAT_T] / tscale
+    d0 = Y[CAT_TAN] - Ynb[CAT_TAN]
+    d1 = Y[CAT_TAN + 1] - Ynb[CAT_TAN + 1]
+    d2 = Y[CAT_TAN + 2] - Ynb[CAT_TAN + 2]
     out[1] = d0 * p1[0] + d1 * p1[1] + d2 * p1[2]
     out[2] = d0 * p2[0] + d1 * p2[1] + d2 * p2[2]
 

@@ -1,21 +1,22 @@
 """The chain of nodes of one zoning and its equation groups (see assembly.py for the kinds).
 
-End modes (per end, chosen by the solver from the EndCondition): "velocity" (prescribed, fixed,
-body: v = v_BC, moment free), "clamped" (v = 0 and frame held), "force" (point force and moment),
-"force_hold" (point force, frame held: GP benchmark right end). A free end is "force" with zero load.
+Each end is given by its PE2020 Table 1 row (physics/end_conditions.EndKind) and whether its frame
+is held (a clamped row, or a force end with hybrid.hold_direction_*: the GP benchmark's right end):
+a body's end is tied to the body's node, a kinematic end has v = v_BC, a force end a point force
+(a free end: zero load, ``free_ends``); at a rod end rod.rod_end_code picks the condition.
 """
 
 from dataclasses import dataclass
 
 import numpy as np
 
+from tether_sim.physics.bodies import BODY_STATE_SIZE
 from tether_sim.solvers.hybrid.assembly import (BODY_DYN, CAT_BODY, CAT_CELL, CAT_FORCE, CAT_FREE, CAT_VEL, GROUP_ROWS,
                                                 JOINT_CR, JOINT_RC, LAW, ROD_BODY, ROD_CELL, ROD_END, UNIT)
 from tether_sim.solvers.hybrid.body import BODY_PAR0, GPAR_SIZE
-from tether_sim.solvers.hybrid.kernels import CAT_SLOTS, ROD_SLOTS
+from tether_sim.solvers.hybrid.layout import CAT_SLOTS, ROD_SLOTS
+from tether_sim.solvers.hybrid.rod import rod_end_code
 from tether_sim.solvers.hybrid.zoning import ROD, chain_nodes
-
-ROD_END_KIND = {"velocity": 0, "clamped": 1, "force": 2, "force_hold": 3}
 
 
 @dataclass
@@ -44,9 +45,10 @@ class Chain:
     last: np.ndarray = None  # (n,) last nonzero column of each row
 
 
-def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
-    """Chain and groups for element zones; ``free_ends[e]`` marks a tension-free catenary end;
-    ``body_params[e]`` (packed rigid-body parameters) adds a body node at that end."""
+def build_chain(zones, s_grid, end_rows, end_held, free_ends, body_params=(None, None)):
+    """Chain and groups for element zones; ``end_rows[e]``: the end's Table 1 row, ``end_held[e]``: its
+    frame held; ``free_ends[e]`` marks a tension-free catenary end; ``body_params[e]`` (packed rigid-body
+    parameters) adds a body node at that end."""
     nodes = chain_nodes(zones)
     K = len(nodes)
     grid = np.array([j for j, _ in nodes], dtype=np.int64)
@@ -56,14 +58,14 @@ def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
     for e in range(2):
         if body_params[e] is not None:
             body_node[e] = K + sum(1 for x in body_node if x >= 0)
-    nslot = np.concatenate([nslot, np.full(sum(1 for x in body_node if x >= 0), 13)]).astype(np.int64)
+    nslot = np.concatenate([nslot, np.full(sum(1 for x in body_node if x >= 0), BODY_STATE_SIZE)]).astype(np.int64)
     # unknowns in chain order, a ship-end body first and a vehicle-end body last, so that the Jacobian
     # is banded (the rows of each body group sit next to its end's rows)
     order = ([body_node[0]] if body_node[0] >= 0 else []) + list(range(K)) + ([body_node[1]] if body_node[1] >= 0 else [])
     order = np.array(order, dtype=np.int64)
     noff = np.zeros(nslot.size, dtype=np.int64)
     noff[order] = np.concatenate([[0], np.cumsum(nslot[order])[:-1]])
-    groups, end_group = _groups(grid, kind, body_node, end_modes, free_ends)
+    groups, end_group = _groups(grid, kind, body_node, end_rows, free_ends)
     gkind = np.array([g[0] for g in groups], dtype=np.int64)
     rows = GROUP_ROWS[gkind]
     grow = np.concatenate([[0], np.cumsum(rows)[:-1]]).astype(np.int64)
@@ -75,7 +77,7 @@ def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
     nnz = 0
     for g, (k, a, b) in enumerate(groups):
         nnz += GROUP_ROWS[k] * (nslot[a] + (nslot[b] if b >= 0 else 0))
-    gpar = _group_parameters(groups, gkind, end_group, kind, body_node, end_modes, body_params)
+    gpar = _group_parameters(groups, gkind, end_group, kind, body_node, end_rows, end_held, body_params)
     idx_node = np.repeat(order, nslot[order])
     idx_slot = np.concatenate([np.arange(nslot[n]) for n in order]).astype(np.int64)
     kl, ku, low, last = _band(groups, grow, noff, nslot, n_unknowns)
@@ -83,7 +85,7 @@ def build_chain(zones, s_grid, end_modes, free_ends, body_params=(None, None)):
                  tuple(body_node), n_unknowns, int(nnz), idx_node, idx_slot, kl, ku, low, last)
 
 
-def _groups(grid, kind, body_node, end_modes, free_ends):
+def _groups(grid, kind, body_node, end_rows, free_ends):
     """Equation groups (kind, node a, node b or -1) in node order -- ship end, then per node its
     unit-tangent row, its law and the link to the next node, then the vehicle end -- so that the
     Jacobian is banded in this row order; and the indices of the two end groups."""
@@ -96,12 +98,11 @@ def _groups(grid, kind, body_node, end_modes, free_ends):
             links.append((ROD_CELL if kind[c] == ROD else CAT_CELL, c, c + 1))
     ends = []
     for e, (node, neighbour) in enumerate(((0, 1), (K - 1, K - 2))):
-        mode = end_modes[e]
         if body_node[e] >= 0:
             ends.append((ROD_BODY if kind[node] == ROD else CAT_BODY, node, body_node[e]))
         elif kind[node] == ROD:
             ends.append((ROD_END, node, -1))
-        elif mode in ("velocity", "clamped"):
+        elif end_rows[e].kinematic:
             ends.append((CAT_VEL, node, -1))
         elif free_ends[e]:
             ends.append((CAT_FREE, node, neighbour))
@@ -123,13 +124,13 @@ def _groups(grid, kind, body_node, end_modes, free_ends):
     return groups, end_group
 
 
-def _group_parameters(groups, gkind, end_group, kind, body_node, end_modes, body_params):
+def _group_parameters(groups, gkind, end_group, kind, body_node, end_rows, end_held, body_params):
     """Per group parameters: the rod end kind, the law's rod flag, the body's end and parameters."""
     gpar = np.zeros((len(groups), GPAR_SIZE))
     for e in range(2):
         g = end_group[e]
         if gkind[g] == ROD_END:
-            gpar[g, 0] = ROD_END_KIND[end_modes[e]]
+            gpar[g, 0] = rod_end_code(end_rows[e], end_held[e])
     for g, (k, a, b) in enumerate(groups):
         if k == LAW:
             gpar[g, 0] = float(kind[a] == ROD)

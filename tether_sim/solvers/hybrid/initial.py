@@ -1,6 +1,6 @@
 """Initial state of the hybrid solver: zones, straight/arc shape, tensions, damped relaxation.
 
-Mixed into HybridRodCatenarySolver (uses its attributes: config, opt, s_grid, end_modes, ...).
+Mixed into HybridRodCatenarySolver (uses its attributes: config, opt, s_grid, end_kinds, end_held, ...).
 """
 
 import math
@@ -10,6 +10,7 @@ import numpy as np
 from tether_sim.numerics.rotations import frame_with_tangent
 from tether_sim.physics.bodies import initial_body_state, submerged_weight
 from tether_sim.solvers.hybrid import zoning
+from tether_sim.solvers.hybrid.layout import CAT_EPS, CAT_T, CAT_TAN, CAT_V, N_SLOTS, ROD_OMEGA
 from tether_sim.solvers.hybrid.state_io import convert_state, reconstruct_positions
 
 
@@ -30,8 +31,7 @@ class InitialStateMixin:
 
     def _end_rod_elements(self):
         out = []
-        for mode in self.end_modes:
-            held = mode in ("clamped", "force_hold")
+        for held in self.end_held:
             out.append(max(1, int(math.ceil(self.opt.end_rod_length / self.ds))) if held else 0)
         return tuple(out)
 
@@ -53,11 +53,11 @@ class InitialStateMixin:
         self.zones = np.full(self.n_seg, zoning.CATENARY)  # built as catenary, then converted
         self._set_chain()
         K = self.chain.grid.size
-        self.Y = np.zeros((K, 13))
-        self.Yt = np.zeros((K, 13))
-        self.Y[:, 3] = T_grid
-        self.Y[:, 4:7] = tangents
-        self.Y[:, 7] = [self._strain(T) for T in T_grid]
+        self.Y = np.zeros((K, N_SLOTS))
+        self.Yt = np.zeros((K, N_SLOTS))
+        self.Y[:, CAT_T] = T_grid
+        self.Y[:, CAT_TAN:CAT_TAN + 3] = tangents
+        self.Y[:, CAT_EPS] = [self._strain(T) for T in T_grid]
         self.Lf = np.stack([frame_with_tangent(t) for t in tangents])
         self.r0 = p0.copy()
         self.positions = reconstruct_positions(self)
@@ -74,7 +74,7 @@ class InitialStateMixin:
                 self.body_x[e] = initial_body_state(self.config.body, attachment_world=self.positions[node])
                 self.body_xd[e] = np.zeros(13)
         for e, node in ((0, 0), (1, K - 1)):  # a held end starts with its prescribed tangent
-            if self.end_modes[e] in ("clamped", "force_hold") and self.chain.kind[node] == zoning.ROD:
+            if self.end_held[e] and self.chain.kind[node] == zoning.ROD:
                 self.Lf[node] = frame_with_tangent(self.ends[e].direction, self.Lf[node])
         kind = cfg.initial.kind
         relax = cfg.initial.relax_time if kind == "relax" else (self.opt.static_relax_time if kind == "static" else 0.0)
@@ -84,7 +84,7 @@ class InitialStateMixin:
     def _initial_shape(self, d, dist):
         """Tangents and tensions on the grid: straight (stretched) if the chord is >= L, else a circular
         arc of length L through both ends sagging along gravity (tension w R)."""
-        if dist >= self.length or self.end_modes[1] not in ("velocity", "clamped"):
+        if dist >= self.length or not self._velocity_end(1):
             return np.repeat(d[None], self.n_seg + 1, axis=0), self._straight_tension(d, dist)
         # sag direction: gravity minus its component along the chord, g - (g.d) d with g = -e_z (until 2026-11-23 the
         # sign was wrong, so a sloping chord got an arc that missed its far end by metres)
@@ -136,8 +136,8 @@ class InitialStateMixin:
         w = self.net_weight if self.config.cable.gamma0 > self.config.environment.fluid_density * \
             self.config.cable.area else -self.net_weight
         Tlin = w * d[2] * self.s_grid  # T(s) - T(0) for F = -w z
-        force_end = [m in ("force", "force_hold") for m in self.end_modes]
-        if self.end_modes[1] == "body":
+        force_end = [not k.kinematic for k in self.end_kinds]
+        if self.end_kinds[1].position == "body":
             weight = submerged_weight(self.config.body, self.config.environment)
             T = weight * max(-d[2], 0.0) + Tlin - Tlin[-1]
         elif force_end[1]:
@@ -158,8 +158,8 @@ class InitialStateMixin:
             self._step_with_retry(min(step, t_end - self.time))
         self._rho = None
         self.stats["relax_final_speed"] = float(np.abs(self._world_velocities()).max())
-        self.Y[:, 0:3] = 0.0
-        self.Y[self.chain.kind == zoning.ROD, 3:6] = 0.0
+        self.Y[:, CAT_V:CAT_V + 3] = 0.0  # = ROD_V
+        self.Y[self.chain.kind == zoning.ROD, ROD_OMEGA:ROD_OMEGA + 3] = 0.0
         self.Yt[:] = 0.0
         self.rdot[:] = 0.0
         for e in range(2):

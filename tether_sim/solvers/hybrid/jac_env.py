@@ -22,9 +22,10 @@ from tether_sim.numerics.jit import jit_alloc
 from tether_sim.physics.hydrodynamics import current_at
 from tether_sim.physics.hydrodynamics import wetted_fraction
 from tether_sim.physics.hydrodynamics import wave_inertia
-from tether_sim.solvers.hybrid.kernels import (P_AF, P_AM, P_AREA, P_CCRIT, P_CDN, P_CDN_A, P_CDT, P_CDT_A, P_CMN, P_CMT,
-                                              P_D, P_DT, P_FBZ, P_FS, P_FSB, P_G, P_GAM, P_KD, P_M, P_MU, P_RHOA, P_RHOF,
-                                              P_SBZETA, P_SEABED, P_VMU, P_ZG, height_at_alpha_f, wave_state)
+from tether_sim.solvers.hybrid.kernels import height_at_alpha_f, wave_state
+from tether_sim.solvers.hybrid.layout import (HP_AF, HP_AM, HP_AREA, HP_CCRIT, HP_CDN, HP_CDN_A, HP_CDT, HP_CDT_A,
+                                              HP_CMN, HP_CMT, HP_D, HP_DT, HP_FBZ, HP_FS, HP_FSB, HP_G, HP_GAM, HP_KD,
+                                              HP_M, HP_MU, HP_RHOA, HP_RHOF, HP_SBZETA, HP_SEABED, HP_VMU, HP_ZG)
 
 
 @jit_alloc
@@ -91,12 +92,12 @@ def _drag_jac(vr, dvr_dv, tu, Pt, cd, dcd, cdt, cdn, F, Jv, Jt, Je, W):
 @jit_alloc
 def _seabed_jac(z, dz_dv2, v, le, P, F, Jv, Je):
     """Seabed force [PE2020 Eq. 15-16, damping ramped in over the static penetration] and derivatives."""
-    delta = P[P_ZG] - z
+    delta = P[HP_ZG] - z
     if delta <= 0.0:
         return
     sl = math.sqrt(le) if le > 0.0 else 0.0
     dsl = 0.5 / sl if sl > 0.0 else 0.0
-    d_static = -P[P_FBZ] / P[P_KD] if P[P_KD] > 0.0 else 0.0
+    d_static = -P[HP_FBZ] / P[HP_KD] if P[HP_KD] > 0.0 else 0.0
     ramp = 1.0
     dramp_dz = 0.0
     if d_static > 0.0:
@@ -104,23 +105,23 @@ def _seabed_jac(z, dz_dv2, v, le, P, F, Jv, Je):
         if x < 1.0:
             ramp = x
             dramp_dz = -1.0 / d_static
-    zc = P[P_SBZETA] * P[P_CCRIT]
-    Kd_term = P[P_KD] * delta - ramp * zc * v[2]
+    zc = P[HP_SBZETA] * P[HP_CCRIT]
+    Kd_term = P[HP_KD] * delta - ramp * zc * v[2]
     if sl * Kd_term > 0.0:
         F[2] += sl * Kd_term
-        Jv[2, 2] += sl * (-P[P_KD] * dz_dv2 - dramp_dz * dz_dv2 * zc * v[2] - ramp * zc)
+        Jv[2, 2] += sl * (-P[HP_KD] * dz_dv2 - dramp_dz * dz_dv2 * zc * v[2] - ramp * zc)
         Je[2] += dsl * Kd_term
     vh = math.sqrt(v[0] * v[0] + v[1] * v[1])
-    mu = P[P_MU]
-    if mu > 0.0 and vh > 0.0 and P[P_FBZ] < 0.0:
-        c = math.pi / P[P_VMU]
+    mu = P[HP_MU]
+    if mu > 0.0 and vh > 0.0 and P[HP_FBZ] < 0.0:
+        c = math.pi / P[HP_VMU]
         th = math.tanh(c * vh)
         gfun = th / vh
         dg = (c * (1.0 - th * th) - gfun) / vh
-        k0 = sl * mu * P[P_FBZ]
+        k0 = sl * mu * P[HP_FBZ]
         for i in range(2):
             F[i] += k0 * gfun * v[i]
-            Je[i] += dsl * mu * P[P_FBZ] * gfun * v[i]
+            Je[i] += dsl * mu * P[HP_FBZ] * gfun * v[i]
             for j in range(2):
                 Jv[i, j] += k0 * ((gfun if i == j else 0.0) + v[i] * dg * v[j] / vh)
 
@@ -135,10 +136,10 @@ def _fluid_jac(rho, cdt, cdn, cmn, cmt, vr, dvr_dv, tu, Pt, a, le, P, F, Jv, Jt,
         for j in range(3):
             Jv[i, j] = 0.0
             Jt[i, j] = 0.0
-    half = 0.5 * P[P_D] * rho
+    half = 0.5 * P[HP_D] * rho
     sl = math.sqrt(le)
     _drag_jac(vr, dvr_dv, tu, Pt, half * sl, half * 0.5 / sl if sl > 0.0 else 0.0, cdt, cdn, F, Jv, Jt, Je, W)
-    ma = rho * P[P_AREA]
+    ma = rho * P[HP_AREA]
     dcm = cmt - cmn
     at = a[0] * tu[0] + a[1] * tu[1] + a[2] * tu[2]
     dat_dt = W[63:66]
@@ -151,14 +152,14 @@ def _fluid_jac(rho, cdt, cdn, cmn, cmt, vr, dvr_dv, tu, Pt, a, le, P, F, Jv, Jt,
         for j in range(3):
             Ja[i, j] = -ma * ((cmn if i == j else 0.0) + dcm * tu[i] * tu[j])
             Jt[i, j] -= ma * dcm * (tu[i] * dat_dt[j] + at * Pt[i, j])
-    F[2] += ma * P[P_G]
+    F[2] += ma * P[HP_G]
 
 
 @jit_alloc
 def _blend_air(z, eta, dz_dv2, v, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je):
     """Free surface: F = phi F_water + (1 - phi) F_air with the wetted fraction phi(z - eta) and its z
     derivative through z(v_z) (kernels.external_force); the air part is allocated only here."""
-    phi, dphi = wetted_fraction(z, eta, P[P_FSB])
+    phi, dphi = wetted_fraction(z, eta, P[HP_FSB])
     if phi >= 1.0:
         return
     Fa = np.zeros(3)
@@ -172,7 +173,7 @@ def _blend_air(z, eta, dz_dv2, v, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je):
     for k in range(3):
         vra[k] = -v[k]
         dvra[k, k] = -1.0
-    _fluid_jac(P[P_RHOA], P[P_CDT_A], P[P_CDN_A], 0.0, 0.0, vra, dvra, tu, Pt, a, le, P, Fa, Jva, Jta, Jaa, Jea, Wa)
+    _fluid_jac(P[HP_RHOA], P[HP_CDT_A], P[HP_CDN_A], 0.0, 0.0, vra, dvra, tu, Pt, a, le, P, Fa, Jva, Jta, Jaa, Jea, Wa)
     for i in range(3):
         d = dphi * dz_dv2 * (F[i] - Fa[i])
         F[i] = phi * F[i] + (1.0 - phi) * Fa[i]
@@ -189,7 +190,7 @@ def external_force_jac(v, t, a, rn, eps, P, cz, cx, cy, F, Jv, Jt, Ja, Je, W):
     """F of kernels.external_force at (v, t, a, eps) and its derivatives: Jv, Jt, Ja (3x3), Je (3,).
     The height z(v) is the alpha_f-level height (dz/dv_z = alpha_f dt gamma / alpha_m). W: scratch
     (>= 128 floats; 70:119 untouched)."""
-    dz_dv2 = P[P_AF] * P[P_DT] * P[P_GAM] / P[P_AM]
+    dz_dv2 = P[HP_AF] * P[HP_DT] * P[HP_GAM] / P[HP_AM]
     z = height_at_alpha_f(v, rn, P)
     nt = math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
     tu = W[33:36]
@@ -220,14 +221,15 @@ def external_force_jac(v, t, a, rn, eps, P, cz, cx, cy, F, Jv, Jt, Ja, Je, W):
     for k in range(3):
         vr[k] += uw[k]
         ar[k] = a[k] - aw[k]
-    _fluid_jac(P[P_RHOF], P[P_CDT], P[P_CDN], P[P_CMN], P[P_CMT], vr, dvr_dv, tu, Pt, ar, le, P, F, Jv, Jt, Ja, Je, W)
+    _fluid_jac(P[HP_RHOF], P[HP_CDT], P[HP_CDN], P[HP_CMN], P[HP_CMT], vr, dvr_dv, tu, Pt, ar, le, P, F, Jv, Jt, Ja,
+               Je, W)
     if aw[0] != 0.0 or aw[1] != 0.0 or aw[2] != 0.0:  # Froude-Krylov: no dependence on v, t, a, eps
-        fx, fy, fz = wave_inertia(tu[0], tu[1], tu[2], aw[0], aw[1], aw[2], P[P_RHOF] * P[P_AREA], 0.0, 0.0)
+        fx, fy, fz = wave_inertia(tu[0], tu[1], tu[2], aw[0], aw[1], aw[2], P[HP_RHOF] * P[HP_AREA], 0.0, 0.0)
         F[0] += fx
         F[1] += fy
         F[2] += fz
-    if P[P_FS] > 0.0:
+    if P[HP_FS] > 0.0:
         _blend_air(z, eta, dz_dv2, v, tu, Pt, a, le, P, F, Jv, Jt, Ja, Je)
-    F[2] -= P[P_M] * P[P_G]
-    if P[P_SEABED] > 0.0:
+    F[2] -= P[HP_M] * P[HP_G]
+    if P[HP_SEABED] > 0.0:
         _seabed_jac(z, dz_dv2, v, le, P, F, Jv, Je)

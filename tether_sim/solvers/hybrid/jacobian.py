@@ -19,8 +19,10 @@ from tether_sim.numerics.jit import jit_alloc
 from tether_sim.solvers.hybrid.assembly import (CAT_CELL, CAT_FORCE, CAT_FREE, CAT_VEL, GROUP_ROWS, LAW, ROD_CELL, UNIT,
                                                 group_residual)
 from tether_sim.solvers.hybrid.jac_env import external_force_jac
-from tether_sim.solvers.hybrid.kernels import (CAT_EPS, CAT_SLOTS, P_AF, P_AM, P_B0, P_DT, P_EA, P_GAM, P_I0, P_M, P_ZETA,
-                                              ROD_EPS, ROD_SLOTS, alpha_levels, tension_only_slope)
+from tether_sim.solvers.hybrid.kernels import alpha_levels, tension_only_slope
+from tether_sim.solvers.hybrid.layout import (CAT_EPS, CAT_SLOTS, CAT_T, CAT_TAN, CAT_V, HP_AF, HP_AM, HP_B0, HP_DT,
+                                              HP_EA, HP_GAM, HP_I0, HP_M, HP_ZETA, ROD_EPS, ROD_F, ROD_KAPPA, ROD_OMEGA,
+                                              ROD_SLOTS, ROD_V)
 from tether_sim.solvers.hybrid.rod import rod_node_terms
 
 FD_STEP = 1e-7  # relative forward-difference step of the FD parts (same as assembly.assemble_jacobian)
@@ -38,27 +40,28 @@ def catenary_node_jac(Y, Yn, Ytn, rn, P, cz, cx, cy, D, W):
     Yf = W[70:78]
     Ym = W[78:86]
     alpha_levels(Y, Yn, Ytn, CAT_SLOTS, P, Yf, Ym)
-    af = P[P_AF]
-    cm = P[P_AM] / (P[P_GAM] * P[P_DT])  # d(rate at alpha_m)/dY
+    af = P[HP_AF]
+    cm = P[HP_AM] / (P[HP_GAM] * P[HP_DT])  # d(rate at alpha_m)/dY
     D[:, :] = 0.0
     F = W[86:89]
     Jv = W[89:98].reshape(3, 3)
     Jt = W[98:107].reshape(3, 3)
     Ja = W[107:116].reshape(3, 3)
     Je = W[116:119]
-    external_force_jac(Yf[0:3], Yf[4:7], Ym[0:3], rn, Yf[CAT_EPS], P, cz, cx, cy, F, Jv, Jt, Ja, Je, W)
-    dpos = P[P_DT] * P[P_GAM] * af / P[P_AM]
+    external_force_jac(Yf[CAT_V:CAT_V + 3], Yf[CAT_TAN:CAT_TAN + 3], Ym[CAT_V:CAT_V + 3], rn, Yf[CAT_EPS], P, cz, cx,
+                       cy, F, Jv, Jt, Ja, Je, W)
+    dpos = P[HP_DT] * P[HP_GAM] * af / P[HP_AM]
     e1 = Y[CAT_EPS]
     for k in range(3):
-        D[k, k] = dpos
-        D[3 + k, 4 + k] = 1.0 + e1
-        D[3 + k, CAT_EPS] = Y[4 + k]
-        D[9 + k, 3] = af * Yf[4 + k]
-        D[9 + k, 4 + k] = af * Yf[3]
+        D[k, CAT_V + k] = dpos
+        D[3 + k, CAT_TAN + k] = 1.0 + e1
+        D[3 + k, CAT_EPS] = Y[CAT_TAN + k]
+        D[9 + k, CAT_T] = af * Yf[CAT_TAN + k]
+        D[9 + k, CAT_TAN + k] = af * Yf[CAT_T]
         for j in range(3):
-            D[6 + k, j] = af * Jv[k, j] + cm * Ja[k, j]
-            D[6 + k, 4 + j] = af * Jt[k, j]
-        D[6 + k, k] -= P[P_M] * cm
+            D[6 + k, CAT_V + j] = af * Jv[k, j] + cm * Ja[k, j]
+            D[6 + k, CAT_TAN + j] = af * Jt[k, j]
+        D[6 + k, CAT_V + k] -= P[HP_M] * cm
         D[6 + k, CAT_EPS] = af * Je[k]
 
 
@@ -91,7 +94,7 @@ def rod_load_jac(Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, DF):
     rod_node_terms(Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, Yf, Ym, F0)
     DF[:, :] = 0.0
     Yp = Y.copy()
-    for slot in (0, 1, 2, 3, 4, 5, ROD_EPS):
+    for slot in (ROD_V, ROD_V + 1, ROD_V + 2, ROD_OMEGA, ROD_OMEGA + 1, ROD_OMEGA + 2, ROD_EPS):
         y0 = Y[slot]
         yp = y0 + FD_STEP * (1.0 + abs(y0))
         Yp[slot] = yp
@@ -118,49 +121,52 @@ def rod_mean_jac(M, P, JM):
     """JM (12, 13): derivative of the rod cell rows [GP Eq. 7-10] with respect to the cell-mean alpha_f
     values M (v, omega, kappa, f, eps), excluding the s-differences, the rates and the load."""
     JM[:, :] = 0.0
-    v = M[0:3]
-    om = M[3:6]
-    ka = M[6:9]
-    f = M[9:12]
+    v = M[ROD_V:ROD_V + 3]
+    om = M[ROD_OMEGA:ROD_OMEGA + 3]
+    ka = M[ROD_KAPPA:ROD_KAPPA + 3]
+    f = M[ROD_F:ROD_F + 3]
     le = 1.0 + M[ROD_EPS]
-    B = P[P_B0:P_B0 + 3]
-    II = P[P_I0:P_I0 + 3]
+    B = P[HP_B0:HP_B0 + 3]
+    II = P[HP_I0:HP_I0 + 3]
     Bk = np.empty(3)
     Iw = np.empty(3)
     for k in range(3):
         Bk[k] = B[k] * ka[k]
         Iw[k] = II[k] * om[k]
-    _skew_into(JM, 0, 6, v, -1.0)  # kappa x v
-    _skew_into(JM, 0, 0, ka, 1.0)
-    JM[1, 5] -= le  # -(1+eps) omega x e1
+    # rows: the equations [GP Eq. 7, 8, 9, 10] at 0, 3, 6, 9; columns: the slots
+    _skew_into(JM, 0, ROD_KAPPA, v, -1.0)  # kappa x v
+    _skew_into(JM, 0, ROD_V, ka, 1.0)
+    JM[1, ROD_OMEGA + 2] -= le  # -(1+eps) omega x e1
     JM[1, ROD_EPS] -= om[2]
-    JM[2, 4] += le
+    JM[2, ROD_OMEGA + 1] += le
     JM[2, ROD_EPS] += om[1]
-    _skew_into(JM, 3, 6, om, -1.0)  # kappa x omega
-    _skew_into(JM, 3, 3, ka, 1.0)
-    _skew_into(JM, 6, 6, Bk, -1.0)  # kappa x B kappa
-    _skew_into(JM, 6, 3, Iw, 1.0)  # -omega x I omega
+    _skew_into(JM, 3, ROD_KAPPA, om, -1.0)  # kappa x omega
+    _skew_into(JM, 3, ROD_OMEGA, ka, 1.0)
+    _skew_into(JM, 6, ROD_KAPPA, Bk, -1.0)  # kappa x B kappa
+    _skew_into(JM, 6, ROD_OMEGA, Iw, 1.0)  # -omega x I omega
     for i in range(3):
         for j in range(3):
-            JM[6 + i, 6 + j] += (ka[(i + 1) % 3] * (j == (i + 2) % 3) - ka[(i + 2) % 3] * (j == (i + 1) % 3)) * B[j]
-            JM[6 + i, 3 + j] -= (om[(i + 1) % 3] * (j == (i + 2) % 3) - om[(i + 2) % 3] * (j == (i + 1) % 3)) * II[j]
-    JM[7, 11] -= le  # -(1+eps) f x e1 = -(0, le f2, -le f1)
+            JM[6 + i, ROD_KAPPA + j] += ((ka[(i + 1) % 3] * (j == (i + 2) % 3) - ka[(i + 2) % 3] * (j == (i + 1) % 3))
+                                         * B[j])
+            JM[6 + i, ROD_OMEGA + j] -= ((om[(i + 1) % 3] * (j == (i + 2) % 3) - om[(i + 2) % 3] * (j == (i + 1) % 3))
+                                         * II[j])
+    JM[7, ROD_F + 2] -= le  # -(1+eps) f x e1 = -(0, le f2, -le f1)
     JM[7, ROD_EPS] -= f[2]
-    JM[8, 10] += le
+    JM[8, ROD_F + 1] += le
     JM[8, ROD_EPS] += f[1]
-    _skew_into(JM, 9, 6, f, -1.0)  # kappa x f
-    _skew_into(JM, 9, 9, ka, 1.0)
-    m = P[P_M]
-    _skew_into(JM, 9, 3, v, m)  # -m omega x v
-    _skew_into(JM, 9, 0, om, -m)
+    _skew_into(JM, 9, ROD_KAPPA, f, -1.0)  # kappa x f
+    _skew_into(JM, 9, ROD_F, ka, 1.0)
+    m = P[HP_M]
+    _skew_into(JM, 9, ROD_OMEGA, v, m)  # -m omega x v
+    _skew_into(JM, 9, ROD_V, om, -m)
 
 
 @jit_alloc
 def rod_cell_jac(r0, ca, cb, Ya, Yna, Ytna, Yb, Ynb, Ytnb, DFa, DFb, ds, P, ab, kl, ku):
     """The 12 rows of rod.rod_cell_residual into the band (columns ca, cb: node offsets; DFa, DFb: the
     load derivatives of rod_load_jac)."""
-    af = P[P_AF]
-    cm = P[P_AM] / (P[P_GAM] * P[P_DT])
+    af = P[HP_AF]
+    cm = P[HP_AM] / (P[HP_GAM] * P[HP_DT])
     Yfa = np.empty(ROD_SLOTS)
     Yma = np.empty(ROD_SLOTS)
     Yfb = np.empty(ROD_SLOTS)
@@ -170,8 +176,8 @@ def rod_cell_jac(r0, ca, cb, Ya, Yna, Ytna, Yb, Ynb, Ytnb, DFa, DFb, ds, P, ab, 
     M = 0.5 * (Yfa + Yfb)
     JM = np.empty((12, ROD_SLOTS))
     rod_mean_jac(M, P, JM)
-    II = P[P_I0:P_I0 + 3]
-    m = P[P_M]
+    II = P[HP_I0:HP_I0 + 3]
+    m = P[HP_M]
     Jn = np.empty((12, ROD_SLOTS))
     for side in range(2):
         DF = DFa if side == 0 else DFb
@@ -181,12 +187,12 @@ def rod_cell_jac(r0, ca, cb, Ya, Yna, Ytna, Yb, Ynb, Ytnb, DFa, DFb, ds, P, ab, 
             for j in range(ROD_SLOTS):
                 Jn[i, j] = 0.5 * af * JM[i, j]
         for i in range(12):  # s-differences
-            Jn[i, i] += sd * (P[P_B0 + i - 6] if 6 <= i < 9 else 1.0)
+            Jn[i, i] += sd * (P[HP_B0 + i - 6] if 6 <= i < 9 else 1.0)
         Jn[0, ROD_EPS] -= 0.5 * cm  # rates at alpha_m
         for k in range(3):
-            Jn[3 + k, 6 + k] -= 0.5 * cm
-            Jn[6 + k, 3 + k] -= 0.5 * cm * II[k]
-            Jn[9 + k, k] -= 0.5 * cm * m
+            Jn[3 + k, ROD_KAPPA + k] -= 0.5 * cm
+            Jn[6 + k, ROD_OMEGA + k] -= 0.5 * cm * II[k]
+            Jn[9 + k, ROD_V + k] -= 0.5 * cm * m
             for j in range(ROD_SLOTS):
                 Jn[9 + k, j] += 0.5 * DF[k, j]
         for i in range(12):
@@ -223,8 +229,8 @@ def _group_fd(k, a, b, gp, noff, nslot, r0, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy
 def assemble_band_jacobian(gkind, ga, gb, grow, gpar, noff, nslot, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, kl, ku, ab):
     """Jacobian of assembly.assemble_residual into ab (2 kl + ku + 1, n) (zeroed here)."""
     ab[:, :] = 0.0
-    g_ = P[P_GAM]
-    dt = P[P_DT]
+    g_ = P[HP_GAM]
+    dt = P[HP_DT]
     K = Y.shape[0]
     D = np.empty((K, 12, ROD_SLOTS))  # per-node derivatives, each computed once (shared by two cells)
     have = np.zeros(K, dtype=np.bool_)
@@ -250,31 +256,31 @@ def assemble_band_jacobian(gkind, ga, gb, grow, gpar, noff, nslot, Y, Yn, Ytn, L
                              D[b, 0:3, :], s[b] - s[a], P, ab, kl, ku)
         elif k == UNIT:
             for j in range(3):
-                _put(ab, kl, ku, r0, noff[a] + 4 + j, 2.0 * Y[a, 4 + j])
+                _put(ab, kl, ku, r0, noff[a] + CAT_TAN + j, 2.0 * Y[a, CAT_TAN + j])
         elif k == LAW:
             is_rod = gpar[g, 0] > 0.5
             ie = ROD_EPS if is_rod else CAT_EPS
-            if P[P_EA] <= 0.0:
+            if P[HP_EA] <= 0.0:
                 _put(ab, kl, ku, r0, noff[a] + ie, 1.0)
             else:
                 rate = ((Y[a, ie] - Yn[a, ie]) / dt - (1.0 - g_) * Ytn[a, ie]) / g_
-                x = P[P_EA] * Y[a, ie] + P[P_ZETA] * rate
-                _put(ab, kl, ku, r0, noff[a] + (9 if is_rod else 3), 1.0)
-                _put(ab, kl, ku, r0, noff[a] + ie, -tension_only_slope(x, P) * (P[P_EA] + P[P_ZETA] / (g_ * dt)))
+                x = P[HP_EA] * Y[a, ie] + P[HP_ZETA] * rate
+                _put(ab, kl, ku, r0, noff[a] + (ROD_F if is_rod else CAT_T), 1.0)
+                _put(ab, kl, ku, r0, noff[a] + ie, -tension_only_slope(x, P) * (P[HP_EA] + P[HP_ZETA] / (g_ * dt)))
         elif k == CAT_VEL:
             for j in range(3):
-                _put(ab, kl, ku, r0 + j, noff[a] + j, 1.0)
+                _put(ab, kl, ku, r0 + j, noff[a] + CAT_V + j, 1.0)
         elif k == CAT_FORCE:
             for j in range(3):
-                _put(ab, kl, ku, r0 + j, noff[a] + 3, Y[a, 4 + j])
-                _put(ab, kl, ku, r0 + j, noff[a] + 4 + j, Y[a, 3])
+                _put(ab, kl, ku, r0 + j, noff[a] + CAT_T, Y[a, CAT_TAN + j])
+                _put(ab, kl, ku, r0 + j, noff[a] + CAT_TAN + j, Y[a, CAT_T])
         elif k == CAT_FREE:
-            _put(ab, kl, ku, r0, noff[a] + 3, 1.0 / gpar[g, 6])
+            _put(ab, kl, ku, r0, noff[a] + CAT_T, 1.0 / gpar[g, 6])
             for j in range(3):
-                _put(ab, kl, ku, r0 + 1, noff[a] + 4 + j, gpar[g, j])
-                _put(ab, kl, ku, r0 + 1, noff[b] + 4 + j, -gpar[g, j])
-                _put(ab, kl, ku, r0 + 2, noff[a] + 4 + j, gpar[g, 3 + j])
-                _put(ab, kl, ku, r0 + 2, noff[b] + 4 + j, -gpar[g, 3 + j])
+                _put(ab, kl, ku, r0 + 1, noff[a] + CAT_TAN + j, gpar[g, j])
+                _put(ab, kl, ku, r0 + 1, noff[b] + CAT_TAN + j, -gpar[g, j])
+                _put(ab, kl, ku, r0 + 2, noff[a] + CAT_TAN + j, gpar[g, 3 + j])
+                _put(ab, kl, ku, r0 + 2, noff[b] + CAT_TAN + j, -gpar[g, 3 + j])
         else:  # joints, rod ends, rigid-body groups
             _group_fd(k, a, b, gpar[g], noff, nslot, r0, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, ab, kl, ku)
 

@@ -9,6 +9,7 @@ from scipy.sparse.linalg import splu
 
 from tether_sim.solvers.hybrid import zoning
 from tether_sim.solvers.hybrid.assembly import assemble_jacobian, assemble_residual
+from tether_sim.solvers.hybrid.layout import CAT_T, CAT_V, ROD_F
 
 LINE_SEARCH_HALVINGS = 6
 MAX_TURN = 0.3  # rad, largest tangent change per Newton iteration
@@ -100,9 +101,11 @@ class NewtonMixin:
         K = cat.size
         Yc = np.asarray(Y)[:K]
         loads = max(float(np.linalg.norm(f)) for f, _ in self.end_load)
-        tension = max(float(np.abs(np.where(cat, Yc[:, 3], 0.0)).max()),
-                      float(np.abs(Yc[~cat, 9:12]).max(initial=0.0)), self.net_weight * self.length, loads, 1e-12)
-        speed = max(float(np.abs(Yc[:, 0:3]).max()), 1e-3 * math.sqrt(self.config.environment.g * self.length),
+        tension = max(float(np.abs(np.where(cat, Yc[:, CAT_T], 0.0)).max()),
+                      float(np.abs(Yc[~cat, ROD_F:ROD_F + 3]).max(initial=0.0)), self.net_weight * self.length, loads,
+                      1e-12)
+        speed = max(float(np.abs(Yc[:, CAT_V:CAT_V + 3]).max()),  # = ROD_V
+                    1e-3 * math.sqrt(self.config.environment.g * self.length),
                     1e-3 * self.length / self.opt.time_step)
         eps = tension * self.ck if self.ck > 0.0 else 1.0
         L = self.length

@@ -1,7 +1,7 @@
 """Kirchhoff rod elements [GP Sec. 2.2, Eq. 6-11, Appendix 2 Eq. 27-29].
 
-Field variables per node, body-frame components: v (0:3), omega (3:6), kappa (6:9), f (9:12), and
-the axial strain eps (12), tied to the tension f_1 by the node's constitutive equation
+Field variables per node, body-frame components (layout.py): v, omega, kappa, f, and
+the axial strain eps, tied to the tension f_1 by the node's constitutive equation
 (kernels.law_residual, PE2020 Eq. 22), so Eq. 7 below is linear in deps/dt.
 Body axis 0 is the tangent (torsion axis), axes 1-2 the bending axes; B = diag(GJ, EI, EI),
 I = diag(I_t, I_b, I_b). The frame L (world -> body) of each node is advanced in time by the
@@ -25,8 +25,9 @@ import numpy as np
 
 from tether_sim.numerics.jit import jit_alloc
 from tether_sim.numerics.rotations import rotate_frame
-from tether_sim.solvers.hybrid.kernels import (P_AF, P_B0, P_DT, P_I0, P_M, ROD_EPS, ROD_SLOTS, alpha_levels, cross,
-                                              external_force)
+from tether_sim.solvers.hybrid.kernels import alpha_levels, cross, external_force
+from tether_sim.solvers.hybrid.layout import (HP_AF, HP_B0, HP_DT, HP_I0, HP_M, ROD_EPS, ROD_F, ROD_KAPPA, ROD_OMEGA,
+                                              ROD_SLOTS, ROD_V)
 
 
 @jit_alloc
@@ -34,7 +35,7 @@ def frame_at(Y, Yn, Ln, frac, out):
     """Frame at t_n + frac*dt: exp(-frac*theta~) L_n, theta = dt (omega_n + omega_{n+1})/2 [GP Eq. 15-16]."""
     th = np.empty(3)
     for k in range(3):
-        th[k] = frac * 0.5 * (Yn[3 + k] + Y[3 + k])
+        th[k] = frac * 0.5 * (Yn[ROD_OMEGA + k] + Y[ROD_OMEGA + k])
     rotate_frame(Ln, th, out)
 
 
@@ -43,18 +44,18 @@ def rod_node_terms(Y, Yn, Ytn, Ln, rn, P, cz, cx, cy, Yf, Ym, Fb):
     """Alpha-level values (Yf, Ym) and the body-frame external load Fb (N/m) of one rod node."""
     alpha_levels(Y, Yn, Ytn, ROD_SLOTS, P, Yf, Ym)
     La = np.empty((3, 3))
-    frame_at(Y, Yn, Ln, P[P_AF] * P[P_DT], La)
+    frame_at(Y, Yn, Ln, P[HP_AF] * P[HP_DT], La)
     acc_b = np.empty(3)
-    cross(Yf[3:6], Yf[0:3], acc_b)
+    cross(Yf[ROD_OMEGA:ROD_OMEGA + 3], Yf[ROD_V:ROD_V + 3], acc_b)
     for k in range(3):
-        acc_b[k] += Ym[k]
+        acc_b[k] += Ym[ROD_V + k]
     vw = np.zeros(3)
     tw = np.zeros(3)
     aw = np.zeros(3)
     for i in range(3):
         tw[i] = La[0, i]
         for k in range(3):
-            vw[i] += La[k, i] * Yf[k]
+            vw[i] += La[k, i] * Yf[ROD_V + k]
             aw[i] += La[k, i] * acc_b[k]
     Fw = np.empty(3)
     external_force(vw, tw, aw, rn, Yf[ROD_EPS], P, cz, cx, cy, Fw)
@@ -84,12 +85,12 @@ def rod_cell_from_terms(Yfa, Yma, Fa, Yfb, Ymb, Fb, ds, P, out):
     for k in range(ROD_SLOTS):
         Y[k] = 0.5 * (Yfa[k] + Yfb[k])
         Yd[k] = 0.5 * (Yma[k] + Ymb[k])
-    v = Y[0:3]
-    om = Y[3:6]
-    ka = Y[6:9]
-    f = Y[9:12]
-    B = P[P_B0:P_B0 + 3]
-    II = P[P_I0:P_I0 + 3]
+    v = Y[ROD_V:ROD_V + 3]
+    om = Y[ROD_OMEGA:ROD_OMEGA + 3]
+    ka = Y[ROD_KAPPA:ROD_KAPPA + 3]
+    f = Y[ROD_F:ROD_F + 3]
+    B = P[HP_B0:HP_B0 + 3]
+    II = P[HP_I0:HP_I0 + 3]
     c = np.empty(3)
     Bk = np.empty(3)
     Iw = np.empty(3)
@@ -100,13 +101,13 @@ def rod_cell_from_terms(Yfa, Yma, Fa, Yfb, Ymb, Fb, ds, P, out):
     le = 1.0 + Y[ROD_EPS]
     edot = Yd[ROD_EPS]
     cross(ka, v, c)
-    out[0] = (Yfb[0] - Yfa[0]) / ds + c[0] - edot
-    out[1] = (Yfb[1] - Yfa[1]) / ds + c[1] - le * om[2]
-    out[2] = (Yfb[2] - Yfa[2]) / ds + c[2] + le * om[1]
+    out[0] = (Yfb[ROD_V] - Yfa[ROD_V]) / ds + c[0] - edot
+    out[1] = (Yfb[ROD_V + 1] - Yfa[ROD_V + 1]) / ds + c[1] - le * om[2]
+    out[2] = (Yfb[ROD_V + 2] - Yfa[ROD_V + 2]) / ds + c[2] + le * om[1]
     # Eq. 8: domega/ds + kappa x omega - dkappa/dt
     cross(ka, om, c)
     for k in range(3):
-        out[3 + k] = (Yfb[3 + k] - Yfa[3 + k]) / ds + c[k] - Yd[6 + k]
+        out[3 + k] = (Yfb[ROD_OMEGA + k] - Yfa[ROD_OMEGA + k]) / ds + c[k] - Yd[ROD_KAPPA + k]
     # Eq. 9: B dkappa/ds + kappa x B kappa - I domega/dt - omega x I omega - f x e1 (+ Q = 0)
     cross(ka, Bk, c)
     w = np.empty(3)
@@ -116,41 +117,53 @@ def rod_cell_from_terms(Yfa, Yma, Fa, Yfb, Ymb, Fb, ds, P, out):
     fxt[1] = le * f[2]
     fxt[2] = -le * f[1]
     for k in range(3):
-        out[6 + k] = B[k] * (Yfb[6 + k] - Yfa[6 + k]) / ds + c[k] - II[k] * Yd[3 + k] - w[k] - fxt[k]
+        out[6 + k] = (B[k] * (Yfb[ROD_KAPPA + k] - Yfa[ROD_KAPPA + k]) / ds + c[k] - II[k] * Yd[ROD_OMEGA + k] - w[k]
+                      - fxt[k])
     # Eq. 10: df/ds + kappa x f - m (dv/dt + omega x v) + F
     cross(ka, f, c)
     cross(om, v, w)
-    m = P[P_M]
+    m = P[HP_M]
     for k in range(3):
-        out[9 + k] = (Yfb[9 + k] - Yfa[9 + k]) / ds + c[k] - m * (Yd[k] + w[k]) + 0.5 * (Fa[k] + Fb[k])
+        out[9 + k] = (Yfb[ROD_F + k] - Yfa[ROD_F + k]) / ds + c[k] - m * (Yd[ROD_V + k] + w[k]) + 0.5 * (Fa[k] + Fb[k])
+
+
+# rod end conditions (rod_end_residual's kind), from the end's PE2020 Table 1 row
+ROD_END_PINNED, ROD_END_CLAMPED, ROD_END_FORCE, ROD_END_FORCE_HELD = range(4)
+
+
+def rod_end_code(row, held):
+    """The rod end condition of an end with Table 1 row ``row`` (physics/end_conditions.EndKind; not a
+    body's) whose frame is ``held`` (a clamped row, or a force end with hybrid.hold_direction_*)."""
+    return (ROD_END_CLAMPED if held else ROD_END_PINNED) if row.kinematic else \
+        (ROD_END_FORCE_HELD if held else ROD_END_FORCE)
 
 
 @jit_alloc
 def rod_end_residual(kind, Y, Yn, Ln, P, vec_a, vec_b, out):
     """Six end conditions of a rod end at t_{n+1}; vectors in world components.
 
-    kind 0: v = vec_a, kappa = 0 (pinned: prescribed/fixed/body)
-    kind 1: v = vec_a, omega = 0 (clamped: frame held)
-    kind 2: f = vec_a, B kappa = vec_b (point force and moment; free: both 0)
-    kind 3: f = vec_a, omega = 0 (point force with the end frame held, GP benchmark right end)
+    ROD_END_PINNED (0): v = vec_a, kappa = 0 (prescribed, fixed)
+    ROD_END_CLAMPED (1): v = vec_a, omega = 0 (clamped: frame held)
+    ROD_END_FORCE (2): f = vec_a, B kappa = vec_b (force: point force and moment; free: both 0)
+    ROD_END_FORCE_HELD (3): f = vec_a, omega = 0 (point force with the end frame held, GP benchmark right end)
     """
     L1 = np.empty((3, 3))
-    frame_at(Y, Yn, Ln, P[P_DT], L1)
+    frame_at(Y, Yn, Ln, P[HP_DT], L1)
     a = np.empty(3)
     b = np.empty(3)
     for i in range(3):
         a[i] = L1[i, 0] * vec_a[0] + L1[i, 1] * vec_a[1] + L1[i, 2] * vec_a[2]
         b[i] = L1[i, 0] * vec_b[0] + L1[i, 1] * vec_b[1] + L1[i, 2] * vec_b[2]
-    if kind <= 1:
+    if kind == ROD_END_PINNED or kind == ROD_END_CLAMPED:
         for k in range(3):
-            out[k] = Y[k] - a[k]
+            out[k] = Y[ROD_V + k] - a[k]
     else:
         for k in range(3):
-            out[k] = Y[9 + k] - a[k]
+            out[k] = Y[ROD_F + k] - a[k]
     for k in range(3):
-        if kind == 0:
-            out[3 + k] = Y[6 + k]
-        elif kind == 2:
-            out[3 + k] = P[P_B0 + k] * Y[6 + k] - b[k]
+        if kind == ROD_END_PINNED:
+            out[3 + k] = Y[ROD_KAPPA + k]
+        elif kind == ROD_END_FORCE:
+            out[3 + k] = P[HP_B0 + k] * Y[ROD_KAPPA + k] - b[k]
         else:
-            out[3 + k] = Y[3 + k]
+            out[3 + k] = Y[ROD_OMEGA + k]

@@ -23,8 +23,9 @@ from tether_sim.solvers.hybrid.initial import InitialStateMixin
 from tether_sim.solvers.hybrid.newton import MAX_TURN, NewtonMixin, _NewtonFailure
 from tether_sim.solvers.hybrid.newton_band import (FAIL_ITERATIONS, FAIL_RESIDUAL, FAIL_SINGULAR, FAIL_UPDATE,
                                                    newton_band)
-from tether_sim.solvers.hybrid.kernels import (CAT_EPS, P_AF, P_AM, P_GAM, P_TIME, ROD_EPS, elastic_strain,
-                                              pack_parameters)
+from tether_sim.solvers.hybrid.kernels import elastic_strain, pack_parameters
+from tether_sim.solvers.hybrid.layout import (CAT_EPS, CAT_T, CAT_TAN, CAT_V, HP_AF, HP_AM, HP_GAM, HP_TIME, ROD_EPS,
+                                              ROD_F, ROD_KAPPA, ROD_V)
 from tether_sim.solvers.hybrid.rod import frame_at
 from tether_sim.solvers.hybrid.state_io import EndMotion, convert_state, node_profile
 from tether_sim.solvers.hybrid.winch import HybridWinchMixin
@@ -73,16 +74,10 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         self.compression_width = 1e-3 * max(self.net_weight * cab.length + body_weight, 1e-9)
         self.body_params = tuple(pack_body_params(config.body, env) if b else None for b in body)
         holds = (opt.hold_direction_ship, opt.hold_direction_vehicle)
-        self.end_modes = []
-        for k, hold in zip(self.end_kinds, holds):  # the chain's end modes from the Table 1 row
-            if k.position == "body":
-                self.end_modes.append("body")
-            elif k.direction == "held":
-                self.end_modes.append("clamped")
-            elif k.kinematic:
-                self.end_modes.append("velocity")
-            else:
-                self.end_modes.append("force_hold" if hold else "force")
+        # an end's frame is held at a clamped row, and at a force end with hybrid.hold_direction_* (the GP
+        # benchmark's right end); a body's end, prescribed and fixed ends are moment free
+        self.end_held = tuple(k.direction == "held" or (not k.kinematic and hold)
+                              for k, hold in zip(self.end_kinds, holds))
         self.free_ends = [k.load == "zero" or (k.load == "applied" and not np.any(e.force))
                           for k, e in zip(self.end_kinds, self.ends)]
         self.end_motion = [EndMotion(np.asarray(e.position, dtype=float)) for e in self.ends]
@@ -96,7 +91,8 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
 
     # ------------------------------------------------------------------ set-up
     def _set_chain(self):
-        self.chain = build_chain(self.zones, self.s_grid, self.end_modes, self.free_ends, self.body_params)
+        self.chain = build_chain(self.zones, self.s_grid, self.end_kinds, self.end_held, self.free_ends,
+                                 self.body_params)
         n = self.chain.nnz_max
         self._coo = (np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n))
 
@@ -214,7 +210,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         if self._pcache[0] != key:  # packed once per (step, rho_inf, relaxing); the kernels only read it
             self._pcache = (key, self._pack_parameters(dt, rho, waves=self._rho is None))
         P = self._pcache[1]
-        P[P_TIME] = self.time  # the wave field's clock (t_n of the step; kernels.wave_state)
+        P[HP_TIME] = self.time  # the wave field's clock (t_n of the step; kernels.wave_state)
         return P
 
     def _pack_parameters(self, dt, rho, waves=True):
@@ -255,15 +251,18 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
                                               f"even with dt = {h:.3g} s ({exc})") from None
                 pieces = [0.5 * h, 0.5 * h] + pieces
 
+    def _velocity_end(self, e):
+        """A kinematic end that is not a body's: its velocity is v_BC (prescribed motion, or 0)."""
+        return self.end_kinds[e].kinematic and self.end_kinds[e].position != "body"
+
     def _update_end_groups(self, t_new):
         ch = self.chain
         K = ch.grid.size
         for e, node in ((0, 0), (1, K - 1)):
             g = ch.end_group[e]
             sign = -1.0 if e == 0 else 1.0  # internal force f(0) = -F_applied, f(L) = +F_applied
-            mode = self.end_modes[e]
             rod = ch.kind[node] == zoning.ROD
-            if mode in ("velocity", "clamped"):
+            if self._velocity_end(e):
                 v = self.end_motion[e].velocity_at(t_new) if self.end_kinds[e].position == "motion" else np.zeros(3)
                 ch.gpar[g, 1:4] = v if rod else 0.0
                 if not rod:
@@ -274,7 +273,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
                     ch.gpar[g, 1:4] = sign * F
                     ch.gpar[g, 4:7] = sign * M
                 elif self.free_ends[e]:
-                    t = self.Y[node, 4:7]
+                    t = self.Y[node, CAT_TAN:CAT_TAN + 3]
                     from tether_sim.solvers.hybrid.catenary import tangent_normals
                     p1, p2 = tangent_normals(t)
                     ch.gpar[g, 0:3], ch.gpar[g, 3:6] = p1, p2
@@ -314,7 +313,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
             it = self._newton_python(Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns, n, bodies)
         for e in bodies:
             x = Y[ch.body_node[e]].copy()
-            self.body_xd[e] = ((x - self.body_x[e]) / dt - (1.0 - P[P_GAM]) * self.body_xd[e]) / P[P_GAM]
+            self.body_xd[e] = ((x - self.body_x[e]) / dt - (1.0 - P[HP_GAM]) * self.body_xd[e]) / P[HP_GAM]
             x[3:7] /= np.linalg.norm(x[3:7])
             self.body_x[e] = x
         self._commit(np.ascontiguousarray(Y[:K]), dt, P, it)
@@ -341,7 +340,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
 
     def _commit(self, Y, dt, P, iterations):
         ch = self.chain
-        g = P[P_GAM]
+        g = P[HP_GAM]
         v_old = self._world_velocities()
         self.Yt = ((Y - self.Y) / dt - (1.0 - g) * self.Yt) / g
         for c in np.nonzero(ch.kind == zoning.ROD)[0]:
@@ -353,7 +352,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
             self._integrate_frames()
         self.time += dt
         # node positions: generalized-alpha variables of dr/dt = v (their rate r' collocated: r'_am = v_af)
-        am, af = P[P_AM], P[P_AF]
+        am, af = P[HP_AM], P[HP_AF]
         v_af = (1.0 - af) * v_old + af * self._world_velocities()
         rdot = (v_af - (1.0 - am) * self.rdot) / am
         self.positions = self.positions + dt * ((1.0 - g) * self.rdot + g * rdot)
@@ -393,7 +392,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         block's first node. Keeps frames and curvature consistent (no drift of the incremental update)."""
         ch = self.chain
         K = ch.grid.size
-        held = [m in ("clamped", "force_hold") for m in self.end_modes]
+        held = self.end_held
         out = np.empty((3, 3))
         for first, last in rod_blocks(ch):
             if last == K - 1 and held[1] and not (first == 0 and held[0]):
@@ -404,7 +403,8 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
                 sign = -1.0
             for c in order:
                 nb = c + 1 if sign > 0 else c - 1
-                kap = 0.5 * (self.Y[c, 6:9] + self.Y[nb, 6:9]) * (sign * abs(ch.s[c] - ch.s[nb]))
+                kap = (0.5 * (self.Y[c, ROD_KAPPA:ROD_KAPPA + 3] + self.Y[nb, ROD_KAPPA:ROD_KAPPA + 3])
+                       * (sign * abs(ch.s[c] - ch.s[nb])))
                 rotate_frame(self.Lf[nb], -kap, out)
                 self.Lf[c] = out
 
@@ -416,20 +416,20 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         return float(self.Y[c, ROD_EPS if self.chain.kind[c] == zoning.ROD else CAT_EPS])
 
     def _world_velocities(self):
-        v = self.Y[:, 0:3].copy()
+        v = self.Y[:, CAT_V:CAT_V + 3].copy()
         rod = self.chain.kind == zoning.ROD
         if rod.any():
-            v[rod] = np.einsum("kji,kj->ki", self.Lf[rod], self.Y[rod, 0:3])
+            v[rod] = np.einsum("kji,kj->ki", self.Lf[rod], self.Y[rod, ROD_V:ROD_V + 3])
         return v
 
     def _node_tension(self, c):
-        return float(self.Y[c, 9] if self.chain.kind[c] == zoning.ROD else self.Y[c, 3])
+        return float(self.Y[c, ROD_F] if self.chain.kind[c] == zoning.ROD else self.Y[c, CAT_T])
 
     def _rezone(self, boost=1.0):
         """Re-evaluate the zones (after each step; with boost > 1 after a failed step); True if changed."""
         # the lower tension of each element's two nodes (at a joint: the lower of both sides), so that
         # no catenary node is left slack
-        T_node = np.where(self.chain.kind == zoning.ROD, self.Y[:, 9], self.Y[:, 3])
+        T_node = np.where(self.chain.kind == zoning.ROD, self.Y[:, ROD_F], self.Y[:, CAT_T])
         T_grid = np.full(self.s_grid.size, np.inf)
         np.minimum.at(T_grid, self.chain.grid, T_node)
         T_elem = np.minimum(T_grid[1:], T_grid[:-1])

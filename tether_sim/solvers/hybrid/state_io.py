@@ -3,6 +3,7 @@
 import numpy as np
 
 from tether_sim.solvers.hybrid import zoning
+from tether_sim.solvers.hybrid.layout import CAT_T, CAT_TAN, CAT_V, ROD_F, ROD_KAPPA, ROD_V
 
 
 class EndMotion:
@@ -57,7 +58,7 @@ class EndMotion:
 def _node_tangent_strain(solver, c):
     if solver.chain.kind[c] == zoning.ROD:
         return solver.Lf[c][0], solver._node_strain(c)
-    t = solver.Y[c, 4:7]
+    t = solver.Y[c, CAT_TAN:CAT_TAN + 3]
     return t / np.linalg.norm(t), solver._node_strain(c)
 
 
@@ -92,29 +93,29 @@ def node_profile(solver):
     for c in range(K):
         if rod[c]:
             L = Lf[c]
-            out["velocity"][c] = L.T @ Y[c, 0:3]
-            out["force"][c] = L.T @ Y[c, 9:12]
-            out["tension"][c] = Y[c, 9]
+            out["velocity"][c] = L.T @ Y[c, ROD_V:ROD_V + 3]
+            out["force"][c] = L.T @ Y[c, ROD_F:ROD_F + 3]
+            out["tension"][c] = Y[c, ROD_F]
             out["strain"][c] = solver._node_strain(c)
-            out["shear"][c] = np.hypot(Y[c, 10], Y[c, 11])
-            q = B * Y[c, 6:9]
+            out["shear"][c] = np.hypot(Y[c, ROD_F + 1], Y[c, ROD_F + 2])
+            q = B * Y[c, ROD_KAPPA:ROD_KAPPA + 3]
             out["moment_vec"][c] = L.T @ q
             out["moment"][c] = np.hypot(q[1], q[2])
             out["torsion"][c] = q[0]
-            out["curvature"][c] = np.hypot(Y[c, 7], Y[c, 8])
+            out["curvature"][c] = np.hypot(Y[c, ROD_KAPPA + 1], Y[c, ROD_KAPPA + 2])
         else:
-            t = Y[c, 4:7] / np.linalg.norm(Y[c, 4:7])
-            out["velocity"][c] = Y[c, 0:3]
-            out["force"][c] = Y[c, 3] * t
-            out["tension"][c] = Y[c, 3]
+            t = Y[c, CAT_TAN:CAT_TAN + 3] / np.linalg.norm(Y[c, CAT_TAN:CAT_TAN + 3])
+            out["velocity"][c] = Y[c, CAT_V:CAT_V + 3]
+            out["force"][c] = Y[c, CAT_T] * t
+            out["tension"][c] = Y[c, CAT_T]
             out["strain"][c] = solver._node_strain(c)
     cat_idx = np.nonzero(~rod)[0]
     for c in cat_idx:  # geometric curvature of the catenary (no moment carried)
         a = c - 1 if c > 0 and not rod[c - 1] and ch.grid[c - 1] != ch.grid[c] else c
         b = c + 1 if c < K - 1 and not rod[c + 1] and ch.grid[c + 1] != ch.grid[c] else c
         if b != a:
-            ta = Y[a, 4:7] / np.linalg.norm(Y[a, 4:7])
-            tb = Y[b, 4:7] / np.linalg.norm(Y[b, 4:7])
+            ta = Y[a, CAT_TAN:CAT_TAN + 3] / np.linalg.norm(Y[a, CAT_TAN:CAT_TAN + 3])
+            tb = Y[b, CAT_TAN:CAT_TAN + 3] / np.linalg.norm(Y[b, CAT_TAN:CAT_TAN + 3])
             out["curvature"][c] = np.linalg.norm(tb - ta) / (ch.s[b] - ch.s[a])
     out["s"] = ch.s
     out["position"] = solver.positions
@@ -171,6 +172,6 @@ def convert_state(solver, new_zones):
             if k < len(frames) - 1:
                 kap.append(zoning.curvature_between(frames[k], frames[k + 1], ds[k]))
             if kap:
-                Y[i, 6:9] = np.mean(kap, axis=0)
+                Y[i, ROD_KAPPA:ROD_KAPPA + 3] = np.mean(kap, axis=0)
         n = m + 1
     return Y, Yt, Lf, pos, rdot

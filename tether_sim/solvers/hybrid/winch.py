@@ -27,14 +27,15 @@ import numpy as np
 
 from tether_sim.errors import ConfigError
 from tether_sim.numerics.rotations import rotate_frame
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.solvers.hybrid import zoning
+from tether_sim.solvers.hybrid.layout import CAT_EPS, CAT_TAN, CAT_V, ROD_EPS, ROD_F, ROD_KAPPA, ROD_OMEGA, ROD_V
 from tether_sim.solvers.hybrid.state_io import convert_state
 
-WINCH_ENDS = ("ship", "vehicle")
 DEFECT_TIME = 1.0  # s over which the geometric defect of a split or merge is phased out (_winch_defect)
 SPLIT = 1.5  # split the winch element when it would exceed SPLIT h0
 MERGE = 0.5  # merge it with its neighbour when it would fall below MERGE h0
-_ROD_VECTORS = (slice(0, 3), slice(3, 6), slice(6, 9), slice(9, 12))  # body-frame v, omega, kappa, f
+_ROD_VECTORS = tuple(slice(c, c + 3) for c in (ROD_V, ROD_OMEGA, ROD_KAPPA, ROD_F))  # body-frame vectors
 
 
 class HybridWinchMixin:
@@ -48,9 +49,9 @@ class HybridWinchMixin:
         if not getattr(w, "enabled", False):
             return
         end = getattr(w, "end", "ship")
-        if end not in WINCH_ENDS:
-            raise ConfigError(f"winch.end: {end!r} is not one of {', '.join(WINCH_ENDS)}")
-        e = WINCH_ENDS.index(end)
+        if end not in END_NAMES:
+            raise ConfigError(f"winch.end: {end!r} is not one of {', '.join(END_NAMES)}")
+        e = END_NAMES.index(end)
         if e == 1:
             raise ConfigError(
                 "winch.end = vehicle: not supported by the hybrid solver. The winch element is shorter than its "
@@ -59,12 +60,11 @@ class HybridWinchMixin:
                 "(measured on a 686 N sagging span, also at rate 0; docs/winch.md 'The hybrid winch'); use "
                 "solver: dg for a winch at the vehicle end")
         name = ("ship_end", "vehicle_end")[e]
-        mode = self.end_modes[e]
-        if mode == "body":
+        if self.end_kinds[e].position == "body":
             raise ConfigError(f"winch.end = {end}: {name}.kind is body; the hybrid solver's winch keeps the sheave on "
                               "a prescribed, fixed or clamped end (a rigid body at the winch end is not implemented "
                               "in the hybrid solver; use solver: dg for a winch on a body)")
-        if mode not in ("velocity", "clamped"):
+        if not self._velocity_end(e):
             raise ConfigError(f"winch.end = {end}: {name}.kind is {self.ends[e].kind!r}, a force end; the winch "
                               "needs a kinematic end (prescribed, fixed or clamped) whose point is the sheave")
         self.winch_end = e
@@ -198,7 +198,7 @@ class HybridWinchMixin:
         a = 0 if self.winch_end == 0 else self.chain.grid.size - 1
         if self.chain.kind[a] == zoning.ROD:
             return self.Lf[a][0].copy()
-        return self.Y[a, 4:7] / np.linalg.norm(self.Y[a, 4:7])
+        return self.Y[a, CAT_TAN:CAT_TAN + 3] / np.linalg.norm(self.Y[a, CAT_TAN:CAT_TAN + 3])
 
     def _sheave_material_motion(self):
         """World velocity and acceleration of the material at the sheave: the sheave's plus the pay-out
@@ -208,7 +208,7 @@ class HybridWinchMixin:
         t = self._sheave_tangent()
         t0, t1, _, r0, r1 = self._win
         slope = (r1 - r0) / (t1 - t0) if t0 <= self.time < t1 else 0.0
-        acc = self.Yt[a, 0:3].copy()
+        acc = self.Yt[a, CAT_V:CAT_V + 3].copy()  # = ROD_V
         if self.chain.kind[a] == zoning.ROD:  # body-frame rate of the body-frame velocity: world, to first order
             acc = self.Lf[a].T @ acc
         u = self._world_velocities()[a] + sign * self._winch_rate_at(self.time) * t
@@ -227,19 +227,19 @@ class HybridWinchMixin:
         if self.chain.kind[a] == zoning.ROD:
             La, Lb = self.Lf[a], self.Lf[b]
             L = np.empty((3, 3))
-            rotate_frame(Lb, (0.5 * (Yb[6:9] + Y[6:9])) * hb, L)
+            rotate_frame(Lb, (0.5 * (Yb[ROD_KAPPA:ROD_KAPPA + 3] + Y[ROD_KAPPA:ROD_KAPPA + 3])) * hb, L)
             for sl in _ROD_VECTORS:  # body-frame vectors: interpolate in world components
-                wa, wta = (ua, uda) if sl.start == 0 else (La.T @ Ya[sl], La.T @ self.Yt[a, sl])
+                wa, wta = (ua, uda) if sl.start == ROD_V else (La.T @ Ya[sl], La.T @ self.Yt[a, sl])
                 Y[sl] = L @ ((1.0 - f) * wa + f * (Lb.T @ Yb[sl]))
                 Yt[sl] = L @ ((1.0 - f) * wta + f * (Lb.T @ self.Yt[b, sl]))
-            qb, q = (1.0 + Yb[12]) * Lb[0], (1.0 + Y[12]) * L[0]
+            qb, q = (1.0 + Yb[ROD_EPS]) * Lb[0], (1.0 + Y[ROD_EPS]) * L[0]
         else:
             L = self.Lf[a].copy()  # a catenary node's frame is only the reference of a later conversion
-            Y[0:3] = (1.0 - f) * ua + f * Yb[0:3]
-            Yt[0:3] = (1.0 - f) * uda + f * self.Yt[b, 0:3]
-            Y[4:7] /= np.linalg.norm(Y[4:7])
-            qb = (1.0 + Yb[7]) * Yb[4:7] / np.linalg.norm(Yb[4:7])
-            q = (1.0 + Y[7]) * Y[4:7]
+            Y[CAT_V:CAT_V + 3] = (1.0 - f) * ua + f * Yb[CAT_V:CAT_V + 3]
+            Yt[CAT_V:CAT_V + 3] = (1.0 - f) * uda + f * self.Yt[b, CAT_V:CAT_V + 3]
+            Y[CAT_TAN:CAT_TAN + 3] /= np.linalg.norm(Y[CAT_TAN:CAT_TAN + 3])
+            qb = (1.0 + Yb[CAT_EPS]) * Yb[CAT_TAN:CAT_TAN + 3] / np.linalg.norm(Yb[CAT_TAN:CAT_TAN + 3])
+            q = (1.0 + Y[CAT_EPS]) * Y[CAT_TAN:CAT_TAN + 3]
         pos = self.positions[b] + 0.5 * hb * (qb + q)
         rdot = (1.0 - f) * (self.rdot[a] + ua - self._world_velocities()[a]) + f * self.rdot[b]  # material rate at a
         return Y, Yt, L, pos, rdot
@@ -251,7 +251,7 @@ class HybridWinchMixin:
         n = self.n_seg
         w, nb = (0, 1) if self.winch_end == 0 else (n - 1, n - 2)  # winch element and its neighbour
         if self.zones[w] != self.zones[nb]:  # one model for the merged element (a held end keeps its rod)
-            keep = self.zones[w] if self.end_modes[self.winch_end] == "clamped" else self.zones[nb]
+            keep = self.zones[w] if self.end_kinds[self.winch_end].direction == "held" else self.zones[nb]
             new = self.zones.copy()
             new[[w, nb]] = keep
             self.Y, self.Yt, self.Lf, self.positions, self.rdot = convert_state(self, new)
@@ -270,7 +270,7 @@ class HybridWinchMixin:
         if b != K - 1 - a:  # b is not the far end node (whose velocity is the far end's condition)
             vb = ((hw + hn) * v[m] + (hn + hx) * v[b] - hn * v[a]) / (hw + hn + hx)
             for c in np.nonzero(self.chain.grid == self.chain.grid[b])[0]:  # both nodes of a joint
-                self.Y[c, 0:3] = self.Lf[c] @ vb if self.chain.kind[c] == zoning.ROD else vb
+                self.Y[c, CAT_V:CAT_V + 3] = self.Lf[c] @ vb if self.chain.kind[c] == zoning.ROD else vb
         self.zones = np.delete(self.zones, w)
         self.s_grid = np.delete(self.s_grid, jm)
         self.Y, self.Yt, self.Lf = (np.delete(x, m, axis=0) for x in (self.Y, self.Yt, self.Lf))
@@ -301,8 +301,9 @@ class HybridWinchMixin:
     def _node_q(self, c):
         """(1 + eps) t at chain node c."""
         if self.chain.kind[c] == zoning.ROD:
-            return (1.0 + self.Y[c, 12]) * self.Lf[c][0]
-        return (1.0 + self.Y[c, 7]) * self.Y[c, 4:7] / np.linalg.norm(self.Y[c, 4:7])
+            return (1.0 + self.Y[c, ROD_EPS]) * self.Lf[c][0]
+        t = self.Y[c, CAT_TAN:CAT_TAN + 3]
+        return (1.0 + self.Y[c, CAT_EPS]) * t / np.linalg.norm(t)
 
     def _winch_snapshot(self):
         if self.winch_end is None:

@@ -19,6 +19,7 @@ carries a moment or holds the tangent (clamped, held direction) keep a rod zone 
 import numpy as np
 
 from tether_sim.numerics.rotations import frame_with_tangent, minimal_rotation, rotation_vector
+from tether_sim.solvers.hybrid.layout import CAT_EPS, CAT_T, CAT_TAN, CAT_V, N_SLOTS, ROD_EPS, ROD_F, ROD_OMEGA, ROD_V
 
 CATENARY, ROD = 0, 1
 
@@ -88,32 +89,34 @@ def chain_nodes(zones):
 
 def cat_to_rod(Yc, Ytc, L):
     """Rod variables (v, omega, kappa=0, f, eps; and rates) of a catenary node in the frame L (axis 0 = t)."""
-    t = Yc[4:7] / np.linalg.norm(Yc[4:7])
-    tdot = Ytc[4:7]
-    Y = np.zeros(13)
-    Yt = np.zeros(13)
-    Y[12], Yt[12] = Yc[7], Ytc[7]  # strain
-    Y[0:3] = L @ Yc[0:3]
+    tan, v, f, om_ = (slice(c, c + 3) for c in (CAT_TAN, ROD_V, ROD_F, ROD_OMEGA))
+    t = Yc[tan] / np.linalg.norm(Yc[tan])
+    tdot = Ytc[tan]
+    Y = np.zeros(N_SLOTS)
+    Yt = np.zeros(N_SLOTS)
+    Y[ROD_EPS], Yt[ROD_EPS] = Yc[CAT_EPS], Ytc[CAT_EPS]  # strain
+    Y[v] = L @ Yc[CAT_V:CAT_V + 3]
     om = L @ np.cross(t, tdot)
-    Y[3:6] = om
-    Y[9:12] = L @ (Yc[3] * t)
-    Yt[0:3] = L @ Ytc[0:3] - np.cross(om, Y[0:3])
-    Yt[9:12] = L @ (Ytc[3] * t + Yc[3] * tdot) - np.cross(om, Y[9:12])
+    Y[om_] = om
+    Y[f] = L @ (Yc[CAT_T] * t)
+    Yt[v] = L @ Ytc[CAT_V:CAT_V + 3] - np.cross(om, Y[v])
+    Yt[f] = L @ (Ytc[CAT_T] * t + Yc[CAT_T] * tdot) - np.cross(om, Y[f])
     return Y, Yt
 
 
 def rod_to_cat(Yr, Ytr, L):
     """Catenary variables (v, T, t, eps; and rates) of a rod node with frame L."""
-    Y = np.zeros(13)
-    Yt = np.zeros(13)
-    Y[7], Yt[7] = Yr[12], Ytr[12]  # strain
-    om = Yr[3:6]
-    Y[0:3] = L.T @ Yr[0:3]
-    Y[3] = Yr[9]
-    Y[4:7] = L[0]
-    Yt[0:3] = L.T @ (Ytr[0:3] + np.cross(om, Yr[0:3]))
-    Yt[3] = Ytr[9] + np.cross(om, Yr[9:12])[0]
-    Yt[4:7] = L.T @ np.cross(om, [1.0, 0.0, 0.0])
+    v, tan, f = (slice(c, c + 3) for c in (CAT_V, CAT_TAN, ROD_F))
+    Y = np.zeros(N_SLOTS)
+    Yt = np.zeros(N_SLOTS)
+    Y[CAT_EPS], Yt[CAT_EPS] = Yr[ROD_EPS], Ytr[ROD_EPS]  # strain
+    om = Yr[ROD_OMEGA:ROD_OMEGA + 3]
+    Y[v] = L.T @ Yr[ROD_V:ROD_V + 3]
+    Y[CAT_T] = Yr[ROD_F]
+    Y[tan] = L[0]
+    Yt[v] = L.T @ (Ytr[ROD_V:ROD_V + 3] + np.cross(om, Yr[ROD_V:ROD_V + 3]))
+    Yt[CAT_T] = Ytr[ROD_F] + np.cross(om, Yr[f])[0]
+    Yt[tan] = L.T @ np.cross(om, [1.0, 0.0, 0.0])
     return Y, Yt
 
 

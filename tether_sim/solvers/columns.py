@@ -1,10 +1,12 @@
-"""Column tables: each column of a DG array named once, with its width, symbol, unit and meaning.
+"""Column tables: each column of a solver array named once, with its width, symbol, unit and meaning
+(DG: dg/layout.py, dg/damping_layout.py; hybrid: hybrid/layout.py).
 
 ``define(namespace, array, rows, size_name)`` gives every row's name its offset (the running sum
 of the widths before it) as a module constant in ``namespace`` (numba reads module-level ints as
 compile-time constants), and the total width as ``size_name``. Adding a column is adding a row;
 the offsets of the ones after it follow. ``TABLES`` keeps every table for the documentation
-(``describe()`` prints them; docs/dg_solver.md "State and work columns").
+(``describe()`` prints them; docs/dg_solver.md "State and work columns", docs/hybrid_solver.md
+"State and parameter columns").
 """
 
 from dataclasses import dataclass
