@@ -296,7 +296,7 @@ def _mesh_line(parameters: dict) -> str:
         lengths = p.get("dg.element_lengths")
         lengths = tuple(float(x) for x in lengths) if isinstance(lengths, (list, tuple)) else ()
         caution = bending_mesh_warning(p["cable.length"], p["dg.n_elements"], p["dg.order"], float(p["cable.EI"]),
-                                       lengths)
+                                       lengths, damping=str(p.get("dg.damping", "explicit")))
         if caution:
             line += " Caution: " + caution + "."
     return line

@@ -174,13 +174,16 @@ def test_a_winch_range_outside_the_measured_lengths_is_refused():
         resolve(replace(cfg, winch=replace(cfg.winch, min_length=50.0)))
 
 
-def test_bending_mesh_warning_at_the_measured_spacings():
-    """The bending caution (docs/performance.md "Bending effect at 200 m"): ROPOS 200 m, P = 4,
-    EI* -- N = 20 (2.5 m between nodes) ran clean, N = 40 (1.25 m) spiked, N = 80 diverged."""
+def test_fine_mesh_warning_at_the_measured_spacings():
+    """The fine-mesh caution (docs/dg_solver.md "Slack with bending"): ROPOS 200 m, P = 4 -- N = 20 (2.5 m
+    between nodes) clean, N = 40 (1.25 m) not clean with bending (before 2026-11-26) or implicit damping."""
     assert res.bending_mesh_warning(200.0, 20, 4, 2620.0) == ""
     text = res.bending_mesh_warning(200.0, 40, 4, 2620.0)
-    assert "1.25 m" in text and "slack" in text
-    assert res.bending_mesh_warning(200.0, 80, 4, 0.0) == ""  # no bending: nothing to warn about
+    assert "1.25 m" in text and "slack" in text and "bending" in text
+    assert res.bending_mesh_warning(200.0, 80, 4, 0.0) == ""  # no bending, explicit: nothing to warn about
+    text = res.bending_mesh_warning(200.0, 40, 4, 0.0, damping="implicit")
+    assert "dg.damping implicit" in text and "EI" not in text
+    assert res.bending_mesh_warning(200.0, 20, 4, 0.0, damping="implicit") == ""
     # non-uniform meshes: the smallest element decides
     assert res.bending_mesh_warning(200.0, 3, 4, 2620.0, element_lengths=(190.0, 5.0, 5.0)) != ""
     # the live files' meshes (the rule's) are far coarser than the caution

@@ -18,6 +18,14 @@ LAW_CODES = {"bilinear": LAW_BILINEAR, "linear": LAW_LINEAR, "table": LAW_TABLE}
 
 
 @jit
+def chord_floor(law):
+    """Stretch below which a chord is not compressed material but a cable wavy below the mesh scale: 1 for
+    the laws without compression (bilinear, table), 0 for the linear law, whose compression is real
+    (the bending tangent of solvers/dg/ldg.py)."""
+    return 0.0 if law == LAW_LINEAR else 1.0
+
+
+@jit
 def elastic_tension(law, eps, EA, tab_eps, tab_T):
     """Elastic part of the tension at strain eps (N)."""
     if law == LAW_LINEAR:

@@ -65,7 +65,7 @@ class TetherSimNode(Node):
             dg = self.config.dg
             self.get_logger().info("DG mesh: " + mesh_summary(dg.n_elements, dg.order, dg.cfl, dg.resolution, dg.snap_tolerance))
             caution = bending_mesh_warning(self.config.cable.length, dg.n_elements, dg.order, self.config.cable.EI,
-                                           dg.element_lengths)
+                                           dg.element_lengths, damping=dg.damping)
             if caution:
                 self.get_logger().warning("DG mesh: " + caution)
         self.inputs = {}

@@ -222,28 +222,31 @@ def resolve(config, given=()):
     return replace(config, dg=replace(dg, **values))
 
 
-# Nested LDG bending in slack parts on fine meshes (2026-11-25; docs/performance.md "Bending effect at
-# 200 m" and "Bending in slack parts: the cause"): on the ROPOS 200 m slack-snap case, P = 4,
-# EI = 2620 N m^2, the ship tension in the slack phase was clean at a node spacing h / P of 2.5 m and
-# above. At 1.25 m it carried +-10 kN spikes that are absent without bending. At 0.625 m the run
-# diverged. The cause: the cage element's chord collapses, and the bending terms (~ l^-3) kick it
-# open, which sends axial pulses to the ship. Finer meshes collapse it further.
-BENDING_MIN_SPACING = 2.5  # m
+# Slack phases on fine meshes (docs/dg_solver.md "Slack with bending", docs/performance.md): on the ROPOS 200 m
+# slack-snap case, P = 4, node spacings h / P of 2.5 m (N = 20) give clean slack phases and snaps with or without
+# bending, explicit or implicit damping. At 1.25 m (N = 40) they were not clean: with bending before 2026-11-26
+# (a collapsing chord under the stretched-domain bending terms; removed since), and with dg.damping implicit
+# even without bending (2026-11-26: numerical events of 8-11 MN, all rejected by the snap guard). Below
+# 2.5 m the convergence of slack phases with bending, or with implicit damping, is not established.
+FINE_MESH_SPACING = 2.5  # m
 
 
-def bending_mesh_warning(length, n_elements, order, EI, element_lengths=()) -> str:
-    """A warning (one line) when bending is on and the DG node spacing min(h) / P is below
-    BENDING_MIN_SPACING, else "". It is a caution drawn from one measured case, not a proven bound."""
-    if not EI > 0.0:
+def bending_mesh_warning(length, n_elements, order, EI, element_lengths=(), damping="explicit") -> str:
+    """A warning (one line) when bending is on or dg.damping is implicit and the DG node spacing min(h) / P
+    is below FINE_MESH_SPACING, else "". A caution drawn from measured cases, not a proven bound."""
+    implicit = damping == "implicit"
+    if not (EI > 0.0 or implicit):
         return ""
     h = min(element_lengths) if len(element_lengths) else float(length) / int(n_elements)
     spacing = h / max(int(order), 1)
-    if spacing >= BENDING_MIN_SPACING:
+    if spacing >= FINE_MESH_SPACING:
         return ""
-    return (f"bending (EI {EI:g} N m^2) on a DG node spacing of {spacing:.3g} m (h / P): below {BENDING_MIN_SPACING:g} m "
-            f"a slack end element collapsing and rebounding under the bending terms produced tension spikes in slack "
-            f"phases (+-10 kN at 1.25 m, divergence at 0.625 m on the ROPOS 200 m slack-snap case; docs/performance.md "
-            f"\"Bending in slack parts: the cause\"): treat tensions during slack as suspect, or use a coarser mesh")
+    what = " and ".join(x for x in (f"bending (EI {EI:g} N m^2)" if EI > 0.0 else "",
+                                    "dg.damping implicit" if implicit else "") if x)
+    return (f"{what} on a DG node spacing of {spacing:.3g} m (h / P): below {FINE_MESH_SPACING:g} m the convergence "
+            f"of slack phases is not established (ROPOS 200 m slack-snap case: clean at 2.5 m, numerical tension "
+            f"spikes at 1.25 m; docs/dg_solver.md \"Slack with bending\"): treat tensions during slack as suspect, "
+            f"or use a coarser mesh")
 
 
 def mesh_summary(n_elements, order, cfl, resolution, snap_tolerance) -> str:

@@ -6,7 +6,7 @@ divergence through the added mass, end forces, the no-compression clip and relea
 import math
 
 from tether_sim.numerics.jit import jit
-from tether_sim.physics.constitutive import LAW_LINEAR, elastic_tension
+from tether_sim.physics.constitutive import LAW_LINEAR, chord_floor, elastic_tension
 from tether_sim.physics.end_conditions import is_kinematic
 from tether_sim.solvers.dg.damping_layout import (
     DP_AN, DP_AT, DP_EA, DP_G0, DP_IP0, DP_LAMBDA, DP_TC0, DP_ZETA, DP_ZETAB, ID_KIND0, ID_LAW, ID_REL0, OP_DIV,
@@ -180,22 +180,31 @@ def axial_tension_points(wp, c_e, with_const):
 
 
 @jit
-def bending_shear_points(blk, dprm, wp, c_e):
-    """Add the bending-damping shear (1/l) i x tau, tau = d/ds(zeta_b i x kdot / l^2), to WP_TV."""
+def bending_shear_points(blk, idp, dprm, wp, c_e):
+    """Add the bending-damping shear (1/l_b) b x tau, tau = d/ds(zeta_b b x kdot / l_b^2), to WP_TV, with
+    the bending tangent b = q / l_b, l_b = max(l, l_f) of ldg.py (b = i where taut, q where the chord is short)."""
     N, nq = wp.shape[0], wp.shape[1]
     zb = dprm[DP_ZETAB]
+    floor = chord_floor(idp[ID_LAW])
     for e in range(N):
         for j in range(nq):
-            il = 1.0 / wp[e, j, WP_L]
+            l = wp[e, j, WP_L]
+            il = 1.0 / l if l >= floor else 0.0
             for c in range(3):
-                wp[e, j, WP_IDOT + c] = (wp[e, j, WP_NUS + c] - wp[e, j, WP_I + c] * wp[e, j, c_e]) * il
+                if l >= floor:
+                    wp[e, j, WP_IDOT + c] = (wp[e, j, WP_NUS + c] - wp[e, j, WP_I + c] * wp[e, j, c_e]) * il
+                else:
+                    wp[e, j, WP_IDOT + c] = wp[e, j, WP_NUS + c]
     apply_block_op(blk, OP_KDOT, 1, nq, wp, WP_IDOT, 1.0, wp, WP_KDOT)
     for e in range(N):
         for j in range(nq):
-            i0 = wp[e, j, WP_I]
-            i1 = wp[e, j, WP_I + 1]
-            i2 = wp[e, j, WP_I + 2]
-            s = zb / (wp[e, j, WP_L] * wp[e, j, WP_L])
+            l = wp[e, j, WP_L]
+            f = 1.0 if l >= floor else l  # b = i f
+            i0 = wp[e, j, WP_I] * f
+            i1 = wp[e, j, WP_I + 1] * f
+            i2 = wp[e, j, WP_I + 2] * f
+            lb = max(l, floor)
+            s = zb / (lb * lb)
             k0 = wp[e, j, WP_KDOT]
             k1 = wp[e, j, WP_KDOT + 1]
             k2 = wp[e, j, WP_KDOT + 2]
@@ -205,10 +214,12 @@ def bending_shear_points(blk, dprm, wp, c_e):
     apply_block_op(blk, OP_TAU, 1, nq, wp, WP_MB, 1.0, wp, WP_TAU)
     for e in range(N):
         for j in range(nq):
-            il = 1.0 / wp[e, j, WP_L]
-            i0 = wp[e, j, WP_I]
-            i1 = wp[e, j, WP_I + 1]
-            i2 = wp[e, j, WP_I + 2]
+            l = wp[e, j, WP_L]
+            f = 1.0 if l >= floor else l
+            il = 1.0 / max(l, floor)
+            i0 = wp[e, j, WP_I] * f
+            i1 = wp[e, j, WP_I + 1] * f
+            i2 = wp[e, j, WP_I + 2] * f
             t0 = wp[e, j, WP_TAU]
             t1 = wp[e, j, WP_TAU + 1]
             t2 = wp[e, j, WP_TAU + 2]
@@ -306,5 +317,5 @@ def damping_force(src, c_src, with_bc, vbc, idp, dprm, blk, bvec, Pj, wp, dst, c
     strain_rates(src, c_src, with_bc, vbc, blk, bvec, wp, WP_X)
     axial_tension_points(wp, WP_X, with_bc)
     if dprm[DP_ZETAB] > 0.0:
-        bending_shear_points(blk, dprm, wp, WP_X)
+        bending_shear_points(blk, idp, dprm, wp, WP_X)
     tension_divergence(blk, Pj, bvec, idp, dprm, wp, dst, c_dst, with_bc)
