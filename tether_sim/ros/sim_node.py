@@ -543,7 +543,9 @@ def main(args=None):
     except (KeyboardInterrupt, ExternalShutdownException) as exc:
         exit_if_compiling(0)  # SIGINT during the start-up compile: leave without waiting for it
         if hasattr(node, "account"):  # (the node writes no file: nothing to close; exit code 0 as for ROS launch)
-            print(f"tether-sim: stopped by {'SIGINT' if isinstance(exc, KeyboardInterrupt) else 'SIGTERM (or an rclpy shutdown)'}: "
+            # rclpy's own handlers turn SIGINT as well as SIGTERM into a shutdown (ExternalShutdownException),
+            # whichever reaches spin first: only a KeyboardInterrupt names its signal for sure
+            print(f"tether-sim: stopped by {'SIGINT' if isinstance(exc, KeyboardInterrupt) else 'SIGINT/SIGTERM (an rclpy shutdown)'}: "
                   f"{node.account()}", file=sys.stderr)
     except Interrupted as exc:  # SIGTERM during the start-up compile
         print(f"tether-sim: {exc}", file=sys.stderr)
