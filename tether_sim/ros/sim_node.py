@@ -511,6 +511,13 @@ def check_params_files(files, overrides=None) -> None:
                 raise
 
 
+def _say_stopped(node, how):
+    """The one line on what a node stopped by a signal did (it writes no file: nothing to close; exit code 0,
+    as ROS launch expects of a node told to stop)."""
+    if hasattr(node, "account"):
+        print(f"tether-sim: stopped by {how}: {node.account()}", file=sys.stderr)
+
+
 def main(args=None):
     argv = list(sys.argv if args is None else args)
     if wants_help(argv):
@@ -540,19 +547,19 @@ def main(args=None):
         else:
             node = TetherSimNode(where=", ".join(files) or "command-line parameters", cli_keys=cli_param_keys(argv))
         rclpy.spin(node)
+        if not rclpy.ok():  # spin may also simply return when the context is shut down by a signal
+            _say_stopped(node, "SIGINT/SIGTERM (an rclpy shutdown)")
     except (KeyboardInterrupt, ExternalShutdownException) as exc:
         exit_if_compiling(0)  # SIGINT during the start-up compile: leave without waiting for it
-        if hasattr(node, "account"):  # (the node writes no file: nothing to close; exit code 0 as for ROS launch)
-            # rclpy's own handlers turn SIGINT as well as SIGTERM into a shutdown (ExternalShutdownException),
-            # whichever reaches spin first: only a KeyboardInterrupt names its signal for sure
-            print(f"tether-sim: stopped by {'SIGINT' if isinstance(exc, KeyboardInterrupt) else 'SIGINT/SIGTERM (an rclpy shutdown)'}: "
-                  f"{node.account()}", file=sys.stderr)
+        # rclpy's own handlers turn SIGINT as well as SIGTERM into a shutdown (ExternalShutdownException),
+        # whichever reaches spin first: only a KeyboardInterrupt names its signal for sure
+        _say_stopped(node, "SIGINT" if isinstance(exc, KeyboardInterrupt) else "SIGINT/SIGTERM (an rclpy shutdown)")
     except Interrupted as exc:  # SIGTERM during the start-up compile
         print(f"tether-sim: {exc}", file=sys.stderr)
         exit_if_compiling(0)
     except Exception as exc:
-        if not rclpy.ok():
-            pass  # SIGINT/SIGTERM arrived while a callback was publishing: a normal shutdown
+        if not rclpy.ok():  # SIGINT/SIGTERM arrived while a callback was publishing: a normal shutdown
+            _say_stopped(node, "SIGINT/SIGTERM (an rclpy shutdown)")
         elif isinstance(exc, ConfigError):
             print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
             return 2
