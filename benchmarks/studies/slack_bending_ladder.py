@@ -22,6 +22,8 @@ import sys
 import time
 from pathlib import Path
 
+import yaml
+
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
@@ -155,10 +157,7 @@ def main(argv=None):
     args.out.mkdir(parents=True, exist_ok=True)
     if not args.compare:
         done = {_key(r) for r in _read(args.out / "runs.csv")}
-        extra = {}
-        for item in args.set:
-            k, _, v = item.partition("=")
-            extra[k] = float(v) if v.replace(".", "", 1).replace("e", "", 1).lstrip("-").isdigit() else v
+        extra = {k: yaml.safe_load(v) for k, _, v in (item.partition("=") for item in args.set)}  # as a YAML value
         print(f"# overrides {extra}", flush=True)
         print(f"# {platform.node()} {time.strftime('%Y-%m-%d %H:%M')} load {os.getloadavg()[0]:.1f}", flush=True)
         for L in args.lengths:
