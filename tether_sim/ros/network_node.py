@@ -34,7 +34,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription, TetherState, WinchCommand, WinchState
 from visualization_msgs.msg import Marker
 
-from tether_sim.io.inputs import EndPoseInput
+from tether_sim.io.inputs import EndPoseInput, knot_spacing
 from tether_sim.numerics.rotations import quaternion_matrix
 from tether_sim.ros.network_driver import ENDS, NetworkDriver
 from tether_sim.network.params import load_network, load_network_files
@@ -81,7 +81,7 @@ class NetworkSimNode(Node):
             inp = EndPoseInput(name, self._attachment(name), max_end_speed=node.max_end_speed,
                                input_timeout=node.input_timeout, max_extrapolation=node.max_extrapolation,
                                history_span=history_span(node), future_tolerance=node.future_stamp_tolerance,
-                               max_age=node.max_input_age)
+                               max_age=node.max_input_age, min_spacing=knot_spacing(node.output_rate))
             self.inputs[name] = inp
             self.create_subscription(PoseStamped, f"{name}/pose", lambda m, e=name: self._on_pose(e, m),
                                      qos_profile_sensor_data)
@@ -121,6 +121,7 @@ class NetworkSimNode(Node):
         self._first_tick = None
         self._last_output = -math.inf
         self.tick_errors, self.last_tick_error = 0, ""
+        self.snaps_published = 0  # snap events published since the start (diagnostics "snaps")
         self._failure_logged = False
         self._period = _new_period(self.inputs)
         self.create_timer(1.0 / node.output_rate, self._on_tick)
@@ -216,6 +217,7 @@ class NetworkSimNode(Node):
             ev = replace(ev, location=end)
             if isinstance(ev, SnapEvent):
                 self._period["snaps"] += 1
+                self.snaps_published += 1
                 msg = convert.snap_event(ev, frame, self.driver.degraded, self.driver.lag)
                 self.get_logger().warning(f"snap load on {line} at its {end} end: peak {msg.peak_tension:.1f} N")
                 self.pubs[f"/tether/{line}/snap_events"].publish(msg)
@@ -311,7 +313,7 @@ class NetworkSimNode(Node):
                "degraded": bool(d.degraded), "dropped_total": float(d.dropped_total), "resyncs": d.resyncs,
                "resyncs_recent": p["resyncs"], "tick_errors": self.tick_errors,
                "tick_errors_recent": p["tick_errors"] + (1 if d.failed else 0),
-               "last_tick_error": f"network simulation stopped: {d.failed}" if d.failed else self.last_tick_error, "snaps": p["snaps"], "slack": dict(d.slack),
+               "last_tick_error": f"network simulation stopped: {d.failed}" if d.failed else self.last_tick_error, "snaps": self.snaps_published, "snaps_recent": p["snaps"], "slack": dict(d.slack),
                "numerical_snaps": d.numerical_snaps, "numerical_snaps_recent": p["numerical"],
                "last_numerical_snap": d.last_numerical_snap, "lines": ", ".join(self.spec.lines),
                "tick_load": p["busy"] / max(time.perf_counter() - p["wall0"], 1e-9), "tick_max_ms": 1e3 * p["tick_max"]}
