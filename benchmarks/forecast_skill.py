@@ -59,23 +59,33 @@ def case_config(path, source, seed, args):
     return replace(cfg, node=replace(cfg.node, max_lag=math.inf, input_delay=0.0))
 
 
-def run_case(cfg, minutes, nominal_error):
-    """(snaps [(end, time)], forecasts, wall s, look-ahead wall s) of one run."""
+def run_case(cfgs, minutes, nominal_error, cable_waves=True):
+    """One run of the sea of ``cfgs`` (one configuration per forecast source, the same sea) with a
+    forecast service per source observing the same driver (the truth run is shared by the sources):
+    (snaps [(end, time)], {source: forecasts}, wall s, {source: look-ahead wall s}, simulated s).
+    ``cable_waves=False``: the waves move the ship (RAO) but do not act on the cable (still water)."""
+    cfg = cfgs[0]
     src = {"ship": MotionSource(build_motion(cfg.motion, np.asarray(cfg.ship_end.position, float), wave_components(cfg)))}
+    if not cable_waves:
+        cfg = replace(cfg, waves=replace(cfg.waves, kind="none"))
     driver = SimulationDriver(cfg, src, start_blend=False)
-    service = ForecastService(cfg, nominal_error=nominal_error if cfg.forecast.source == "known_sea" else 0.0)
+    services = {c.forecast.source: ForecastService(c, nominal_error=nominal_error if c.forecast.source == "known_sea" else 0.0)
+                for c in cfgs}
     driver.start(0.0)
     rate = cfg.node.output_rate
-    snaps, forecasts, look = [], [], 0.0
+    snaps = []
+    forecasts = {name: [] for name in services}
+    look = {name: 0.0 for name in services}
     wall0 = time.perf_counter()
     for k in range(1, int(round(minutes * 60.0 * rate)) + 1):
         report = driver.tick(k / rate)
         snaps += [(e.location, e.time) for e in report.events if isinstance(e, SnapEvent)]
-        done = service.completed
-        service.observe(driver, clock_origin=0.0, tick_index=k)
-        if service.completed > done:
-            look += service.last_wall
-        forecasts += service.poll()
+        for name, service in services.items():
+            done = service.completed
+            service.observe(driver, clock_origin=0.0, tick_index=k)
+            if service.completed > done:
+                look[name] += service.last_wall
+            forecasts[name] += service.poll()
     snaps += [(e.location, e.time) for e in driver.detector.flush()]
     return snaps, forecasts, time.perf_counter() - wall0, look, driver.solver.time
 
@@ -95,30 +105,39 @@ def main(argv=None) -> int:
     ap.add_argument("--sea-error", type=float, default=0.1, help="members' spread, fraction of Hs")
     ap.add_argument("--nominal-error", type=float, default=0.1, help="known_sea: error of each forecast's nominal sea, fraction of Hs")
     ap.add_argument("--command-rate", type=float, default=10.0)
-    ap.add_argument("--json", default=None, help="write every number here")
+    ap.add_argument("--no-cable-waves", dest="cable_waves", action="store_false",
+                    help="the waves move the ship (RAO) but do not act on the cable (cheaper: no wave kinematics "
+                         "at the quadrature points; the members never perturb the cable's waves anyway)")
+    ap.add_argument("--json", default=None, help="write every number here (after every run)")
     args = ap.parse_args(argv)
     rows = []
     print(f"forecast skill: Hs {args.hs:g} m, Tp {args.tp:g} s, {args.directions} direction(s), horizon {args.horizon:g} s, {args.members} members, "
-          f"{args.rate:g} forecasts/s, sea_error {args.sea_error:g}, nominal error {args.nominal_error:g}")
+          f"{args.rate:g} forecasts/s, sea_error {args.sea_error:g}, nominal error {args.nominal_error:g}, "
+          f"waves on the cable: {'yes' if args.cable_waves else 'no'}", flush=True)
     for path in args.files:
-        for source in args.sources:
-            for seed in args.seeds:
-                cfg = case_config(path, source, seed, args)
-                snaps, forecasts, wall, look, sim = run_case(cfg, args.minutes, args.nominal_error)
+        for seed in args.seeds:
+            cfgs = [case_config(path, source, seed, args) for source in args.sources]
+            snaps, forecasts, wall, look, sim = run_case(cfgs, args.minutes, args.nominal_error, args.cable_waves)
+            for source in args.sources:
+                fc = forecasts[source]
                 for lead in (5.0, 3.0):
                     for end in ("ship", "vehicle"):
-                        s = score(forecasts, snaps, end, lead=lead, until=sim)
+                        s = score(fc, snaps, end, lead=lead, until=sim)
                         row = {"file": path, "source": source, "seed": seed, "end": end, "lead": lead,
                                "minutes": args.minutes, "snaps": s.snaps, "warned": s.warned,
                                "warnings": s.warnings, "false_alarms": s.false_alarms,
                                "episodes": s.false_alarm_episodes, "forecast_minutes": s.minutes,
-                               "wall_s": wall, "lookahead_wall_s": look, "forecasts": len(forecasts) // 2,
-                               "degraded": sum(f.degraded for f in forecasts) // 2}
+                               "snaps_in_run": sum(e == end for e, _ in snaps),
+                               "wall_s": wall, "lookahead_wall_s": look[source], "forecasts": len(fc) // 2,
+                               "degraded": sum(f.degraded for f in fc) // 2}
                         rows.append(row)
                         print(f"{Path(path).stem:12s} {source:9s} seed {seed} {end:7s} lead {lead:g} s: "
                               f"{s.warned}/{s.snaps} snaps warned, {s.warnings} warnings, {s.false_alarms} false alarms "
                               f"({s.false_alarms_per_10min:.2f}/10 min, {s.episodes_per_10min:.2f} episodes/10 min); "
-                              f"wall {wall:.0f} s (look-ahead {look:.0f} s)", flush=True)
+                              f"run wall {wall:.0f} s (this source's look-ahead {look[source]:.0f} s)", flush=True)
+            if args.json:  # after every run, so an interrupted study keeps what finished
+                Path(args.json).parent.mkdir(parents=True, exist_ok=True)
+                Path(args.json).write_text(json.dumps({"args": vars(args), "rows": rows}, indent=1))
     print("\ntotals (all seeds):")
     keys = sorted({(r["file"], r["source"], r["end"], r["lead"]) for r in rows})
     for key in keys:
@@ -130,9 +149,6 @@ def main(argv=None) -> int:
         print(f"  {Path(key[0]).stem:12s} {key[1]:9s} {key[2]:7s} lead {key[3]:g} s: {warned}/{snaps} warned ({frac}), "
               f"{10 * fa / max(minutes, 1e-9):.2f} false alarms/10 min ({10 * ep / max(minutes, 1e-9):.2f} episodes), "
               f"{minutes:.1f} min scored")
-    if args.json:
-        Path(args.json).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.json).write_text(json.dumps({"args": vars(args), "rows": rows}, indent=1))
     return 0
 
 

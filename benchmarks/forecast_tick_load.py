@@ -72,9 +72,15 @@ def main(argv=None) -> int:
                 if kind == "on":
                     counts["on"][0] += service.completed - done0
                     counts["on"][1] += service.skipped - skipped0
-                    wait_end = time.perf_counter() + 60.0
-                    while service._busy and time.perf_counter() < wait_end:  # next "off" window: no look-ahead running
-                        time.sleep(0.01)
+                    # the next "off" window starts with no look-ahead running: the node ticks on (not
+                    # recorded) until the worker has finished the one it has
+                    wait_end = time.perf_counter() + 120.0
+                    while service._busy and time.perf_counter() < wait_end:
+                        k += 1
+                        pause = t_start + k * period - time.perf_counter()
+                        if pause > 0:
+                            time.sleep(pause)
+                        driver.tick(time.perf_counter() - t_start)
                     service.next_due = None
     finally:
         service.close()

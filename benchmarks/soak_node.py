@@ -9,7 +9,9 @@ so every snap event would be false). Every 30 s one fault from a fixed cycle is 
 infinite poses, a bad quaternion, a pose stamped 1 h ahead, one 10 s in the past, a backwards
 stamp, a wrong frame, a 3 s dropout, a 1 s flood at 1 kHz. This process publishes the poses
 (loopback only, private ROS_DOMAIN_ID), subscribes to /tether/state, /tether/snap_events and
-/diagnostics, samples the node's resident memory every 10 s, and prints / writes
+/diagnostics (on a line-network file, config/ropos_tms.yaml: to /tether/<line>/state and
+/tether/<line>/snap_events of every line, and it holds the other driven points, the vehicle, at their
+configured positions on /<point>/pose; the faults go to the ship's pose), samples the node's resident memory every 10 s, and prints / writes
 (``summary.txt``, ``soak.png``): memory at start and end (and its slope), interval between states
 (median, p99, max), lag and degraded share, non-finite values received (must be 0), snap events
 (must be 0), rejected inputs by reason. Exit code 1 when a non-finite value or a snap event came,
@@ -42,8 +44,25 @@ def heave(t: float) -> float:
     return 0.5 * math.sin(2 * math.pi * 0.1 * t)
 
 
+def network_of(params: str):
+    """(lines, {driven point other than the ship: position}) of a line-network file, None for a
+    single-line file."""
+    from tether_sim.network.params import file_is_network, load_network_files
+
+    if not file_is_network(params):
+        return None
+    spec, _ = load_network_files([params])
+    held = {n: p.position for n, p in spec.points.items() if p.kind == "prescribed" and n != "ship"}
+    return list(spec.lines), held
+
+
 class Soak:
-    def __init__(self, node):
+    """The probe: publishes the poses, listens to the states, snap events and /diagnostics. On a
+    line network (``network``: (lines, held points)) it listens to every ``/tether/<line>/state``
+    and ``/tether/<line>/snap_events`` and holds the other driven points (the vehicle) at their
+    configured positions; the intervals, lag and degraded share are those of the first line."""
+
+    def __init__(self, node, network=None):
         from diagnostic_msgs.msg import DiagnosticArray
         from geometry_msgs.msg import PoseStamped
         from rclpy.qos import qos_profile_sensor_data
@@ -52,17 +71,27 @@ class Soak:
         self.node, self.PoseStamped = node, PoseStamped
         self.pub = node.create_publisher(PoseStamped, "/ship/pose", qos_profile_sensor_data)
         self.states, self.snaps, self.nonfinite, self.diag, self.health = [], [], 0, None, []
-        node.create_subscription(TetherState, "/tether/state", self.on_state, 100)
-        node.create_subscription(SnapLoadEvent, "/tether/snap_events", self.snaps.append, 100)
+        lines, self.held = network if network is not None else ([None], {})
+        self.held_pubs = {n: node.create_publisher(PoseStamped, f"/{n}/pose", qos_profile_sensor_data)
+                          for n in self.held}
+        self.state_counts = {line or "tether": 0 for line in lines}
+        for i, line in enumerate(lines):
+            prefix = "/tether" if line is None else f"/tether/{line}"
+            node.create_subscription(TetherState, f"{prefix}/state",
+                                     lambda m, ln=line or "tether", first=(i == 0): self.on_state(m, ln, first), 100)
+            node.create_subscription(SnapLoadEvent, f"{prefix}/snap_events",
+                                     lambda m, ln=line or "tether": self.snaps.append((ln, m)), 100)
         node.create_subscription(DiagnosticArray, "/diagnostics", self.on_diag, 10)
 
-    def on_state(self, msg):
+    def on_state(self, msg, line="tether", first=True):
         values = [msg.ship_end_tension, msg.vehicle_end_tension, *msg.tension,
                   *(c for p in msg.position for c in (p.x, p.y, p.z))]
         if not all(map(math.isfinite, values)):
             self.nonfinite += 1
-        self.states.append((time.monotonic(), msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec,
-                            msg.lag, msg.degraded, msg.ship_end_tension))
+        self.state_counts[line] += 1
+        if first:
+            self.states.append((time.monotonic(), msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec,
+                                msg.lag, msg.degraded, msg.ship_end_tension))
 
     def on_diag(self, msg):
         self.diag = {s.name: {kv.key: kv.value for kv in s.values} for s in msg.status}
@@ -80,6 +109,12 @@ class Soak:
         msg.pose.position.z = float(z)
         msg.pose.orientation.x, msg.pose.orientation.y, msg.pose.orientation.z, msg.pose.orientation.w = q
         self.pub.publish(msg)
+        for name, pub in self.held_pubs.items():  # a network's other driven points (the vehicle), held
+            held = self.PoseStamped()
+            held.header.stamp, held.header.frame_id = msg.header.stamp, "map"
+            held.pose.position.x, held.pose.position.y, held.pose.position.z = (float(v) for v in self.held[name])
+            held.pose.orientation.w = 1.0
+            pub.publish(held)
 
 
 def run(args) -> int:
@@ -98,7 +133,7 @@ def run(args) -> int:
                                  env=env, stdout=log, stderr=subprocess.STDOUT)
     rclpy.init()
     probe = rclpy.create_node("soak_probe")
-    soak = Soak(probe)
+    soak = Soak(probe, network_of(args.params))
     memory, fault_log = [], []
     t_start = time.monotonic()
     end = t_start + 60.0 * args.minutes
@@ -162,7 +197,11 @@ def report(args, out, soak, memory, fault_log, died) -> int:
     load = Path("/proc/loadavg").read_text().split()[:3]
     lines = [f"soak of {args.minutes:g} min, params {args.params}, load average at the end {' '.join(load)}",
              f"node alive to the end: {not died}",
-             f"TetherState received: {len(arr)}; non-finite: {soak.nonfinite}; snap events: {len(soak.snaps)}",
+             f"TetherState received: {len(arr)}"
+             + (f" (per line: {', '.join(f'{k} {v}' for k, v in soak.state_counts.items())})"
+                if len(soak.state_counts) > 1 else "")
+             + f"; non-finite: {soak.nonfinite}; snap events: {len(soak.snaps)}"
+             + (f" ({', '.join(sorted({ln for ln, _ in soak.snaps}))})" if soak.snaps else ""),
              f"interval between states (wall, ms): median {np.median(gaps):.1f}, p99 {np.percentile(gaps, 99):.1f}, "
              f"max {gaps.max():.1f}",
              f"lag (s): median {np.median(arr[:, 2]) if len(arr) else math.nan:.3f}, max "

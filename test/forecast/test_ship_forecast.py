@@ -8,7 +8,8 @@ import pytest
 
 from tether_sim.forecast.service import ExternalForecast
 from tether_sim.forecast.ship_forecast import (
-    ARShipPredictor, MotionMember, component_spread, external_members, perturb_motion,
+    ARShipPredictor, ConditionedMember, MotionMember, component_spread, external_members, perturb_motion,
+    perturbed_members,
 )
 from tether_sim.physics.motion import SinesMotion
 
@@ -43,6 +44,32 @@ def test_motion_member_evaluates_at_solver_time_plus_offset():
     p, v = MotionMember(motion, offset=2.5).at(1.0)
     assert p[2] == pytest.approx(math.sin(2 * math.pi * 0.1 * 3.5))
     assert v[2] == pytest.approx(2 * math.pi * 0.1 * math.cos(2 * math.pi * 0.1 * 3.5))
+
+
+def test_conditioned_members_start_from_the_measured_state_and_relax_to_their_forecast():
+    """Perturbed members start at the commanded position and velocity (C1), the difference fades as
+    (dp + (dv + dp/T) tau) exp(-tau/T): gone to 1e-6 after 20 T; the velocity is the position's
+    derivative; the unperturbed nominal is left as it is (an exact forecast stays exact)."""
+    motion = SinesMotion((0.0, 0.0, 0.0), [1.0, 0.4], [0.11, 0.2], [0.3, 1.0])
+    t0, T = 40.0, 2.0
+    p0, v0 = motion.at(t0)[:2]
+    members = perturbed_members(motion, 0.0, 4, 0.1, np.random.default_rng(5), start=(t0, p0, v0, T))
+    assert isinstance(members[0], MotionMember) and members[0].motion is motion
+    for m in members[1:]:
+        assert isinstance(m, ConditionedMember)
+        p, v = m.at(t0)
+        assert np.allclose(p, p0, atol=1e-12) and np.allclose(v, v0, atol=1e-12)
+        own = m.member.at(t0)[0]
+        assert np.linalg.norm(own - p0) > 1e-3  # the perturbation is there...
+        far = t0 + 20 * T
+        assert np.allclose(m.at(far)[0], m.member.at(far)[0], atol=1e-6)  # ...and the member relaxes to it
+        for t in (t0 + 0.7, t0 + 3.1):
+            h = 1e-5
+            fd = (m.at(t + h)[0] - m.at(t - h)[0]) / (2 * h)
+            assert np.allclose(m.at(t)[1], fd, atol=1e-6)
+    nominal = perturbed_members(motion, 0.0, 1, 0.1, np.random.default_rng(5), start=(t0, p0 + 0.1, v0, T),
+                                condition_nominal=True)[0]
+    assert np.allclose(nominal.at(t0)[0], p0 + 0.1)
 
 
 def two_sines(t):

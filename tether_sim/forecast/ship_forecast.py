@@ -85,15 +85,42 @@ def can_perturb(motion) -> bool:
     return getattr(motion, "response", None) is not None or (hasattr(motion, "a") and hasattr(motion, "phi"))
 
 
-def perturbed_members(motion, offset, members, error, rng, nominal_first=True):
+def perturbed_members(motion, offset, members, error, rng, nominal_first=True, start=None, condition_nominal=False):
     """``members`` MotionMembers of ``motion``: the first the nominal (unless ``nominal_first`` is
-    false), the others perturbed with the spread of ``error`` (fraction of Hs)."""
+    false), the others perturbed with the spread of ``error`` (fraction of Hs). ``start`` = (t0, p0,
+    v0, T): every perturbed member (and the nominal too with ``condition_nominal``) starts from the
+    measured state (:class:`ConditionedMember`)."""
     spread = component_spread(error)
     out = []
     for m in range(members):
         nominal = (m == 0 and nominal_first) or spread == 0.0
-        out.append(MotionMember(motion if nominal else perturb_motion(motion, spread, rng), offset))
+        member = MotionMember(motion if nominal else perturb_motion(motion, spread, rng), offset)
+        if start is not None and (not nominal or condition_nominal):
+            member = ConditionedMember(member, *start)
+        out.append(member)
     return out
+
+
+class ConditionedMember:
+    """A member started from the measured ship state: at solver time ``t0`` the fairlead is at ``p0``
+    with velocity ``v0`` (what the run commands now), while the member's own forecast says (p, v)
+    there. The difference (dp, dv) fades out as c(tau) = (dp + (dv + dp / T) tau) exp(-tau / T),
+    tau = t - t0 (c(0) = dp, c'(0) = dv, C1 at the start), so the member's error is zero now and
+    grows to the forecast's stated error over a few ``T`` (a real sea-wave forecast is conditioned on
+    the ship it sees; without this a perturbed member would jerk the fairlead at the first tick)."""
+
+    def __init__(self, member, t0, p0, v0, T):
+        self.member, self.t0, self.T = member, float(t0), float(T)
+        p, v = member.at(self.t0)
+        self.dp = np.asarray(p0, float) - p
+        self.b = np.asarray(v0, float) - v + self.dp / self.T
+
+    def at(self, t):
+        p, v = self.member.at(t)
+        tau = max(t - self.t0, 0.0)
+        e = math.exp(-tau / self.T)
+        c = (self.dp + self.b * tau) * e
+        return p + c, v + self.b * e - c / self.T
 
 
 class SplineMember:

@@ -23,43 +23,33 @@ simulation with an error in the log and /diagnostics; nothing more is published.
 
 import math
 import time
-from dataclasses import replace
 
-import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray
-from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
+from geometry_msgs.msg import PoseStamped, WrenchStamped
 from nav_msgs.msg import Path
 from rclpy.node import Node
-from rclpy.qos import QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from rclpy.qos import QoSProfile, ReliabilityPolicy
 from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription, TetherState, WinchCommand, WinchState
 from visualization_msgs.msg import Marker
 
-from tether_sim.io.inputs import EndPoseInput
-from tether_sim.numerics.rotations import quaternion_matrix
-from tether_sim.ros.network_driver import ENDS, NetworkDriver
+from tether_sim.ros.network_driver import NetworkDriver
 from tether_sim.network.params import load_network, load_network_files
-from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent
-from tether_sim.ros import cdr, convert
-from tether_sim.ros.sim_node import EVENTS, LATCHED, RELIABLE, TetherSimNode, _new_period, history_span
+from tether_sim.physics.snap import NumericalSnapWarning
+from tether_sim.ros import convert
+from tether_sim.ros import network_outputs as outputs
+from tether_sim.ros.sim_node import EVENTS, LATCHED, RELIABLE, TetherSimNode, _new_period
 from tether_sim.ros.tf import TF_QOS, TFMessage, tf_message_cdr
 
-
-def line_topics(line: str) -> dict:
-    """Output topics of one line: {resolved name: (type, qos kind)}."""
-    return {f"/tether/{line}/state": (TetherState, "reliable"), f"/tether/{line}/path": (Path, "reliable"),
-            f"/tether/{line}/marker": (Marker, "reliable"), f"/tether/{line}/snap_events": (SnapLoadEvent, "events"),
-            f"/tether/{line}/slack_warnings": (SlackWarning, "events"),
-            f"/tether/{line}/description": (TetherDescription, "latched")}
-
-
-def _to_body(R, v):
-    return R.T @ np.asarray(v, float)
+_TYPES = {"TetherState": TetherState, "Path": Path, "Marker": Marker, "SnapLoadEvent": SnapLoadEvent,
+          "SlackWarning": SlackWarning, "TetherDescription": TetherDescription, "WrenchStamped": WrenchStamped,
+          "PoseStamped": PoseStamped, "DiagnosticArray": DiagnosticArray, "WinchState": WinchState}
 
 
 class NetworkSimNode(Node):
     """Simulation node on a line network (module doc)."""
 
     # the pose / twist input handling of the single-line node (same rejections, same logging)
+    _add_pose_input = TetherSimNode._add_pose_input
     _on_pose = TetherSimNode._on_pose
     _on_twist = TetherSimNode._on_twist
     _reject = TetherSimNode._reject
@@ -78,15 +68,7 @@ class NetworkSimNode(Node):
         for name, p in self.spec.points.items():
             if p.kind != "prescribed":
                 continue
-            inp = EndPoseInput(name, self._attachment(name), max_end_speed=node.max_end_speed,
-                               input_timeout=node.input_timeout, max_extrapolation=node.max_extrapolation,
-                               history_span=history_span(node), future_tolerance=node.future_stamp_tolerance,
-                               max_age=node.max_input_age)
-            self.inputs[name] = inp
-            self.create_subscription(PoseStamped, f"{name}/pose", lambda m, e=name: self._on_pose(e, m),
-                                     qos_profile_sensor_data)
-            self.create_subscription(TwistStamped, f"{name}/twist", lambda m, e=name: self._on_twist(e, m),
-                                     qos_profile_sensor_data)
+            self._add_pose_input(name, self._attachment(name))
         # build once now: compiles the kernels, solves the statics, and a network the solvers cannot
         # build fails at start-up (ConfigError naming network.lines.<line>)
         t0 = time.perf_counter()
@@ -97,30 +79,22 @@ class NetworkSimNode(Node):
                                f"{len(self.spec.bodies)} body(ies), built in {time.perf_counter() - t0:.1f} s; "
                                f"coupling step {min(self.spec.coupling_step, self.driver.net.coupling_limit):.4g} s")
         self.pubs = {}
-        for line in self.spec.lines:
-            for topic, (msg_type, kind) in line_topics(line).items():
-                profile = LATCHED if kind == "latched" else EVENTS if kind == "events" else RELIABLE
-                self.pubs[topic] = self.create_publisher(msg_type, convert.ros_name(topic), profile)
-        for name in [*self.spec.points, *self.spec.bodies]:
-            topic = f"/tether/{name}_wrench"
-            self.pubs[topic] = self.create_publisher(WrenchStamped, convert.ros_name(topic), RELIABLE)
-        for name in self.spec.bodies:
-            topic = f"/{name}/sim_pose"
-            self.pubs[topic] = self.create_publisher(PoseStamped, convert.ros_name(topic), RELIABLE)
-        self.pubs["/diagnostics"] = self.create_publisher(DiagnosticArray, "/diagnostics", RELIABLE)
+        for topic, (type_name, kind) in outputs.output_topics(self.spec, self.driver.net.winches).items():
+            profile = LATCHED if kind == "latched" else EVENTS if kind == "events" else RELIABLE
+            self.pubs[topic] = self.create_publisher(_TYPES[type_name.rsplit("/", 1)[1]], convert.ros_name(topic),
+                                                     profile)
         self.tf_pub = None
         if TFMessage is not None and node.publish_tf:
             self.tf_pub = self.create_publisher(TFMessage, "/tf", TF_QOS)
-        self.winch_pubs = {}
         reliable = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
         for line in self.driver.net.winches:
-            self.winch_pubs[line] = self.create_publisher(WinchState, f"winch/{line}/state", reliable)
             self.create_subscription(WinchCommand, f"winch/{line}/command",
                                      lambda m, ln=line: self._on_winch_command(ln, m), reliable)
         self.started = False
         self._first_tick = None
         self._last_output = -math.inf
         self.tick_errors, self.last_tick_error = 0, ""
+        self.snaps_published = 0  # snap events published since the start (diagnostics "snaps")
         self._failure_logged = False
         self._period = _new_period(self.inputs)
         self.create_timer(1.0 / node.output_rate, self._on_tick)
@@ -128,14 +102,7 @@ class NetworkSimNode(Node):
 
     # ------------------------------------------------------------------ frames
     def _attachment(self, point):
-        node = self.config.node
-        return getattr(node, f"{point}_attachment") if point in ENDS else (0.0, 0.0, 0.0)
-
-    def _frame(self, name):
-        node = self.config.node
-        if name in ENDS:
-            return node.body_frame(name)
-        return f"{node.frame_prefix}{name}/base_link"
+        return outputs.attachment(self.config.node, point)
 
     # ------------------------------------------------------------------ winch
     def _on_winch_command(self, line, msg):
@@ -204,105 +171,46 @@ class NetworkSimNode(Node):
 
     # ------------------------------------------------------------------ outputs
     def _publish_events(self, line, events):
-        frame = self.config.node.world_frame
         for ev in events:
-            end = ev.location.rsplit("/", 1)[-1]
             if isinstance(ev, NumericalSnapWarning):
                 self._period["numerical"] += 1
                 self._log_throttled(("numerical", line), "warning",
-                                    f"{line}: re-tensioning at its {end} end rejected by the snap guard (numerical, "
-                                    f"not a snap): {ev.reason}")
-                continue
-            ev = replace(ev, location=end)
-            if isinstance(ev, SnapEvent):
+                                    f"{line}: re-tensioning at its {ev.location.rsplit('/', 1)[-1]} end rejected by "
+                                    f"the snap guard (numerical, not a snap): {ev.reason}")
+        for topic, msg in outputs.event_outputs(self.driver, self.config.node, line, events):
+            if topic.endswith("/snap_events"):
                 self._period["snaps"] += 1
-                msg = convert.snap_event(ev, frame, self.driver.degraded, self.driver.lag)
-                self.get_logger().warning(f"snap load on {line} at its {end} end: peak {msg.peak_tension:.1f} N")
-                self.pubs[f"/tether/{line}/snap_events"].publish(msg)
-            else:
-                static = self.driver.static_tensions[line][ENDS.index(end)]
-                self.pubs[f"/tether/{line}/slack_warnings"].publish(convert.slack_warning(ev, frame, static))
+                self.snaps_published += 1
+                self.get_logger().warning(f"snap load on {line} at its {msg.end} end: peak {msg.peak_tension:.1f} N")
+            self.pubs[topic].publish(msg)
 
     def _wanted(self, topic):
         return self.pubs[topic].get_subscription_count() > 0
 
+    def _orientation(self, name):
+        inp = self.inputs.get(name)
+        return inp.orientation_at(self.driver.stamp) if inp is not None and inp.has_data else None
+
     def _publish_outputs(self):
-        d, net, node = self.driver, self.driver.net, self.config.node
-        stamp = cdr.stamp_parts(d.stamp)
-        world = node.world_frame
-        for line, solver in net.lines.items():
-            names = [f"/tether/{line}/{k}" for k in ("state", "path", "marker")]
-            if any(self._wanted(t) for t in names):
-                L = float(getattr(solver, "unstretched_length", self.spec.lines[line].config.cable.length))
-                st = solver.state(np.linspace(0.0, L, node.output_points))
-                pts = np.asarray(st.position, float)
-                t0, t1 = net.end_load(line, "ship")[1], net.end_load(line, "vehicle")[1]
-                if self._wanted(names[0]):
-                    self.pubs[names[0]].publish(cdr.tether_state(
-                        stamp, world, solver.name, st.arc_length, pts, st.velocity, st.tension, st.curvature,
-                        st.bending_moment, t0, t1, float(st.time_step), float(d.real_time_factor), float(d.lag),
-                        bool(d.degraded)))
-                if self._wanted(names[1]):
-                    self.pubs[names[1]].publish(cdr.path(stamp, world, pts))
-                if self._wanted(names[2]):
-                    scale = 2.0 * max(max(d.static_tensions[line]), 1.0)
-                    self.pubs[names[2]].publish(cdr.marker_line_strip(
-                        stamp, world, f"tether/{line}", 0, convert.MARKER_WIDTH, convert.MARKER_COLOUR, pts,
-                        convert.tension_colours(st.tension, scale)))
-        for name in self.spec.points:
-            topic = f"/tether/{name}_wrench"
-            if self._wanted(topic):
-                force, torque = self.point_wrench(name)
-                self.pubs[topic].publish(cdr.wrench_stamped(stamp, self._frame(name), force, torque))
-        transforms = []
-        for name, b in net.bodies.items():
-            force, moment = self.body_wrench(name)
-            if self._wanted(f"/tether/{name}_wrench"):
-                self.pubs[f"/tether/{name}_wrench"].publish(cdr.wrench_stamped(stamp, self._frame(name), force, moment))
-            if self._wanted(f"/{name}/sim_pose"):
-                self.pubs[f"/{name}/sim_pose"].publish(cdr.pose_stamped(stamp, world, b.state[0:3], b.state[3:7]))
-            transforms.append((self._frame(name), b.state[0:3], b.state[3:7]))
-        if self.tf_pub is not None and transforms:
-            self.tf_pub.publish(tf_message_cdr(d.stamp, world, transforms))
-        for line, pub in self.winch_pubs.items():
-            w = net.winches[line].winch
-            end = net.winches[line].config.winch.end
-            pub.publish(WinchState(header=convert.header(d.stamp, world), end=end, mode=w.mode,
-                                   setpoint=float(w.setpoint), length=float(w.length), speed=float(w.speed),
-                                   commanded_speed=float(w.commanded_speed),
-                                   tension=float(net.end_load(line, end)[1]), **w.flags))
+        wanted = lambda topic: topic.startswith("/winch/") or self._wanted(topic)  # noqa: E731
+        for topic, payload in outputs.tick_outputs(self.driver, self.config.node, self._orientation, wanted):
+            if topic == "/tf":
+                if self.tf_pub is not None and payload:
+                    self.tf_pub.publish(tf_message_cdr(self.driver.stamp, self.config.node.world_frame, payload))
+            else:
+                self.pubs[topic].publish(payload)
 
     def point_wrench(self, name):
-        """Force and torque by the lines on point ``name`` in its body frame (pose input orientation;
-        world-aligned for a fixed point or before the first pose), torque about the frame origin."""
-        net = self.driver.net
-        F, M = np.zeros(3), np.zeros(3)
-        for e in self.spec.ends_on(name):
-            f, _, m = net.end_load(e.line, e.end)
-            F += f
-            M += m
-        inp = self.inputs.get(name)
-        q = inp.orientation_at(self.driver.stamp) if inp is not None and inp.has_data else np.array([0.0, 0.0, 0.0, 1.0])
-        R = quaternion_matrix(np.asarray(q, float))
-        f, m = _to_body(R, F), _to_body(R, M)
-        r = np.asarray(self._attachment(name), float)
-        return f, np.cross(r, f) + m
+        """Force and torque by the lines on point ``name`` in its body frame (network_outputs.point_wrench)."""
+        return outputs.point_wrench(self.driver, self.config.node, name, self._orientation(name))
 
     def body_wrench(self, name):
         """Force and moment about the CoG by the lines on body ``name``, in its body frame."""
-        b = self.driver.net.bodies[name]
-        F, M = self.driver.net._body_loads(name)
-        R = quaternion_matrix(b.state[3:7])
-        lever = b.attachments @ R.T
-        force = F.sum(axis=0)
-        moment = np.cross(lever, F).sum(axis=0) + M.sum(axis=0)
-        return _to_body(R, force), _to_body(R, moment)
+        return outputs.body_wrench(self.driver.net, name)
 
     def _publish_description(self, line):
-        cfg = replace(self.spec.lines[line].config, node=self.config.node)
-        L = float(cfg.cable.length)
         self.pubs[f"/tether/{line}/description"].publish(
-            convert.description(cfg, np.linspace(0.0, L, self.config.node.output_points), self._now()))
+            outputs.description(self.spec, self.config.node, line, self._now()))
 
     def _publish_diagnostics(self):
         now, d, p = self._now(), self.driver, self._period
@@ -311,7 +219,7 @@ class NetworkSimNode(Node):
                "degraded": bool(d.degraded), "dropped_total": float(d.dropped_total), "resyncs": d.resyncs,
                "resyncs_recent": p["resyncs"], "tick_errors": self.tick_errors,
                "tick_errors_recent": p["tick_errors"] + (1 if d.failed else 0),
-               "last_tick_error": f"network simulation stopped: {d.failed}" if d.failed else self.last_tick_error, "snaps": p["snaps"], "slack": dict(d.slack),
+               "last_tick_error": f"network simulation stopped: {d.failed}" if d.failed else self.last_tick_error, "snaps": self.snaps_published, "snaps_recent": p["snaps"], "slack": dict(d.slack),
                "numerical_snaps": d.numerical_snaps, "numerical_snaps_recent": p["numerical"],
                "last_numerical_snap": d.last_numerical_snap, "lines": ", ".join(self.spec.lines),
                "tick_load": p["busy"] / max(time.perf_counter() - p["wall0"], 1e-9), "tick_max_ms": 1e3 * p["tick_max"]}

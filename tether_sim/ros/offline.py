@@ -11,6 +11,9 @@ the clock starts at 0 and the ship end (if ``prescribed``) follows ``motion`` of
 Unlike the node, the offline run never drops lag: every tick is simulated to its target time.
 The file also holds /tf_static (once, at the first output) and /tf (every output) as the node
 publishes them (``node.publish_tf``; :mod:`tether_sim.ros.tf`).
+
+A line-network file (a ``network`` section, config/ropos_tms.yaml) runs the network node's driver
+and messages instead: per-line topics, the cage, the winches (:mod:`tether_sim.ros.network_offline`).
 """
 
 import argparse
@@ -25,7 +28,7 @@ from rclpy.serialization import serialize_message
 from tqdm import tqdm
 
 from tether_sim.errors import ConfigError, TetherSimError
-from tether_sim.io.inputs import EndPoseInput
+from tether_sim.io.inputs import EndPoseInput, knot_spacing
 from tether_sim.io.params import load_config
 from tether_sim.ros import cdr, convert, forecast_io, winch_io
 from tether_sim.ros import tf as tf_out
@@ -59,33 +62,43 @@ class RecordedPoses:
 
 def read_pose_inputs(path, config, topics) -> dict:
     """end -> RecordedPoses for the prescribed ends, from an MCAP of PoseStamped/TwistStamped."""
+    node = config.node
+    wanted = {end: (topics[end], getattr(node, f"{end}_attachment")) for end in END_NAMES
+              if getattr(config, f"{end}_end").kind == "prescribed"}
+    return read_poses(path, wanted, node)
+
+
+def read_poses(path, wanted: dict, node, required: bool = True) -> dict:
+    """name -> RecordedPoses from an MCAP of PoseStamped (and optional TwistStamped on the sibling
+    ``.../twist`` topic); ``wanted``: {name: (pose topic, attachment)}. ``required``: a name without
+    poses is a ConfigError (else it is left out)."""
     from tether_sim.io.mcap_log import read_messages
 
-    node = config.node
-    wanted = {}
-    for end in END_NAMES:
-        if getattr(config, f"{end}_end").kind == "prescribed":
-            wanted[topics[end]] = (end, "pose")
-            wanted[topics[end].rsplit("/", 1)[0] + "/twist"] = (end, "twist")
-    poses = {end: [] for end, _ in wanted.values()}
-    twists = {end: [] for end, _ in wanted.values()}
-    for topic, _type, log_ns, msg in read_messages(str(path), topics=list(wanted)):
-        end, kind = wanted[topic]
+    by_topic = {}
+    for name, (topic, _) in wanted.items():
+        by_topic[topic] = (name, "pose")
+        by_topic[topic.rsplit("/", 1)[0] + "/twist"] = (name, "twist")
+    poses = {name: [] for name in wanted}
+    twists = {name: [] for name in wanted}
+    for topic, _type, log_ns, msg in read_messages(str(path), topics=list(by_topic)):
+        name, kind = by_topic[topic]
         stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9 or log_ns * 1e-9
         if kind == "pose":
             p, q = msg.pose.position, msg.pose.orientation
-            poses[end].append((stamp, (p.x, p.y, p.z), (q.x, q.y, q.z, q.w)))
+            poses[name].append((stamp, (p.x, p.y, p.z), (q.x, q.y, q.z, q.w)))
         else:
             lin, ang = msg.twist.linear, msg.twist.angular
             body = bool(msg.header.frame_id) and msg.header.frame_id.lstrip("/") != node.world_frame.lstrip("/")
-            twists[end].append((stamp, (lin.x, lin.y, lin.z), (ang.x, ang.y, ang.z), body))
+            twists[name].append((stamp, (lin.x, lin.y, lin.z), (ang.x, ang.y, ang.z), body))
     out = {}
-    for end in poses:
-        if not poses[end]:
-            raise ConfigError(f"{path}: no PoseStamped messages on {topics[end]} for the prescribed {end} end")
-        inp = EndPoseInput(end, getattr(node, f"{end}_attachment"), max_end_speed=node.max_end_speed,
-                           input_timeout=node.input_timeout, max_extrapolation=node.max_extrapolation)
-        out[end] = RecordedPoses(inp, poses[end], twists[end])
+    for name, (topic, attachment) in wanted.items():
+        if not poses[name]:
+            if required:
+                raise ConfigError(f"{path}: no PoseStamped messages on {topic} for the prescribed {name} end")
+            continue
+        inp = EndPoseInput(name, attachment, max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
+                           max_extrapolation=node.max_extrapolation, min_spacing=knot_spacing(node.output_rate))
+        out[name] = RecordedPoses(inp, poses[name], twists[name])
     return out
 
 
@@ -139,13 +152,7 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
         run.write([("/tether/description", convert.description(config, run.arc, t0))])
         run.write_tick()
         next_diag = t0 + 1.0
-        bar = tqdm(total=n_ticks, unit="tick", disable=not progress, desc="tether-sim-offline")
-        for k in range(1, n_ticks + 1):
-            if stop is not None and stop.requested:
-                break
-            now = t0 + k / rate
-            for r in recorded.values():
-                r.feed_until(now)
+        for k, now in tick_clock(t0, rate, n_ticks, recorded, stop, progress):
             while True:
                 report = driver.tick(now)
                 run.events.extend(report.events)
@@ -160,9 +167,7 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
             if now >= next_diag:
                 next_diag += 1.0
                 run.write_diagnostics(now, report, sources, forecaster)
-            bar.update(1)
             done = k
-        bar.close()
         run.flush()
     wall = wallclock.perf_counter() - wall0
     interrupted = stop.name if stop is not None and stop.requested and done < n_ticks else ""
@@ -173,6 +178,23 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
             "messages": getattr(writer, "message_count", None), "static_tensions": driver.static_tensions,
             "snap_peaks": run.peaks, "events": run.events, "forecasts": run.forecasts, **run.counts,
             "numerical_snaps": driver.numerical_snaps}
+
+
+def tick_clock(t0, rate, n_ticks, recorded, stop=None, progress=True):
+    """(k, clock time) of the ticks k = 1 ... n_ticks of an offline run at ``rate``, with the
+    recorded poses fed up to each tick's time; ends early when ``stop`` is requested; a progress bar."""
+    bar = tqdm(total=n_ticks, unit="tick", disable=not progress, desc="tether-sim-offline")
+    try:
+        for k in range(1, n_ticks + 1):
+            if stop is not None and stop.requested:
+                return
+            now = t0 + k / rate
+            for r in recorded.values():
+                r.feed_until(now)
+            yield k, now
+            bar.update(1)
+    finally:
+        bar.close()
 
 
 def _inputs(config, input_path, topics, duration):
@@ -207,7 +229,7 @@ class _OfflineOutputs:
         self.writer, self.driver = writer, driver
         self.arc = np.linspace(0.0, config.cable.length, config.node.output_points)
         self.counts = {"snap_events": 0, "slack_warnings": 0, "divergences": 0, "numerical_snaps": 0}
-        self._numerical_written = 0
+        self._numerical_written = self._snaps_written = 0
         self.peaks, self.events, self.forecasts = [], [], []
         self.frame = config.node.world_frame
         self.static_written = False
@@ -265,10 +287,11 @@ class _OfflineOutputs:
                "time_step": driver.solver.stable_time_step(), "lag": 0.0, "degraded": driver.degraded,
                "divergences": driver.divergences,
                "error_recent": report.error is not None, "last_error": driver.last_error or "",
-               "snaps": 0, "slack": dict(driver.slack), "numerical_snaps": driver.numerical_snaps,
+               "snaps": self.counts["snap_events"], "snaps_recent": self.counts["snap_events"] - self._snaps_written,
+               "slack": dict(driver.slack), "numerical_snaps": driver.numerical_snaps,
                "numerical_snaps_recent": driver.numerical_snaps - self._numerical_written,
                "last_numerical_snap": driver.last_numerical_snap}
-        self._numerical_written = driver.numerical_snaps
+        self._numerical_written, self._snaps_written = driver.numerical_snaps, self.counts["snap_events"]
         health = {end: dict(src.health(now), rejected_recent=0) for end, src in sources.items()
                   if isinstance(src, EndPoseInput)}
         array = convert.diagnostics(now, "tether_sim_offline", sim, health)
@@ -305,7 +328,8 @@ def main(argv=None) -> int:
     ap.add_argument("--params", required=True, help="parameter file (ROS layout, tether_sim: ros__parameters:)")
     ap.add_argument("--duration", type=float, default=None, help="simulated seconds (default: 'duration' of the file, "
                     "or the span of the input poses)")
-    ap.add_argument("--input", default=None, help="MCAP with geometry_msgs/PoseStamped of the prescribed ends")
+    ap.add_argument("--input", default=None, help="MCAP with geometry_msgs/PoseStamped of the prescribed ends "
+                    "(of a network file: of its driven points, /<point>/pose)")
     ap.add_argument("--output", required=True, help="output MCAP file")
     ap.add_argument("--ship-topic", default="/ship/pose",
                     help="PoseStamped topic of --input that drives the ship end (default: %(default)s)")
@@ -332,6 +356,11 @@ def main(argv=None) -> int:
         print(f"tether-sim-offline: cannot write --output {args.output}: {exc.strerror or exc}", file=sys.stderr)
         return 2
     s = summary
+    if s.get("network"):
+        from tether_sim.ros.network_offline import print_summary
+
+        print_summary(s, sys.stderr)
+        return stop.exit_code if s["interrupted"] else (1 if s["failed"] else 0)
     if s["interrupted"]:
         print(f"tether-sim-offline: stopped by {s['interrupted']} at {s['duration']:.6g} s of "
               f"{s['planned_duration']:.6g} s simulated ({s['ticks']} ticks); the file is complete up to there "
@@ -352,12 +381,25 @@ def main(argv=None) -> int:
 
 
 def _run_main(args, stop) -> dict:
-    config = load_config(args.params)
+    from tether_sim.network.params import file_is_network, load_network_files
+
+    network = file_is_network(args.params)
+    if network:
+        spec, config = load_network_files([args.params])
+    else:
+        config = load_config(args.params)
     if args.duration is not None and not (math.isfinite(args.duration) and args.duration > 0):
         raise ConfigError(f"--duration must be a positive number of seconds, got {args.duration}")
     if args.input and not Path(args.input).is_file():
         raise ConfigError(f"--input {args.input}: no such file")
     check_output_path(args.output)
+    if network:
+        from tether_sim.ros.network_offline import run_network_offline
+
+        summary = run_network_offline(spec, config, args.output, duration=args.duration, input_path=args.input,
+                                      topics={"ship": args.ship_topic, "vehicle": args.vehicle_topic},
+                                      progress=not args.no_progress, stop=stop)
+        return dict(summary, network=True)
     return run_offline(config, args.output, duration=args.duration, input_path=args.input,
                        topics={"ship": args.ship_topic, "vehicle": args.vehicle_topic},
                        progress=not args.no_progress, stop=stop)

@@ -1,0 +1,163 @@
+"""The network node's output messages, built once for the node (published) and the offline runner
+(written to MCAP): the line-network counterpart of :func:`tether_sim.ros.convert.tick_outputs`.
+
+Topics (resolved names in the root namespace; docs/network.md "The node on a network"): per line
+``/tether/<line>/state|path|marker|snap_events|slack_warnings|description``; per point and per
+body ``/tether/<name>_wrench``; per body ``/<body>/sim_pose`` and its transform on /tf; per winch
+``/winch/<line>/state``; ``/diagnostics``.
+
+The periodic outputs are CDR bytes (:mod:`tether_sim.ros.cdr`), events, winch states and the
+description are message objects; a publisher takes either.
+"""
+
+from dataclasses import replace
+
+import numpy as np
+from tether_sim_msgs.msg import WinchState
+
+from tether_sim.numerics.rotations import quaternion_matrix
+from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent
+from tether_sim.ros import cdr, convert
+from tether_sim.ros.network_driver import ENDS
+
+
+def line_topics(line: str) -> dict:
+    """Output topics of one line: {resolved name: (type name, qos kind)}."""
+    return {f"/tether/{line}/state": ("tether_sim_msgs/msg/TetherState", "reliable"),
+            f"/tether/{line}/path": ("nav_msgs/msg/Path", "reliable"),
+            f"/tether/{line}/marker": ("visualization_msgs/msg/Marker", "reliable"),
+            f"/tether/{line}/snap_events": ("tether_sim_msgs/msg/SnapLoadEvent", "events"),
+            f"/tether/{line}/slack_warnings": ("tether_sim_msgs/msg/SlackWarning", "events"),
+            f"/tether/{line}/description": ("tether_sim_msgs/msg/TetherDescription", "latched")}
+
+
+def output_topics(spec, winch_lines=()) -> dict:
+    """Every output topic of a network (except /tf): {resolved name: (type name, qos kind)}."""
+    out = {}
+    for line in spec.lines:
+        out.update(line_topics(line))
+    for name in [*spec.points, *spec.bodies]:
+        out[f"/tether/{name}_wrench"] = ("geometry_msgs/msg/WrenchStamped", "reliable")
+    for name in spec.bodies:
+        out[f"/{name}/sim_pose"] = ("geometry_msgs/msg/PoseStamped", "reliable")
+    for line in winch_lines:
+        out[f"/winch/{line}/state"] = ("tether_sim_msgs/msg/WinchState", "reliable")
+    out["/diagnostics"] = ("diagnostic_msgs/msg/DiagnosticArray", "reliable")
+    return out
+
+
+def attachment(node, name):
+    """Attachment of a driven point's frame (``node.<point>_attachment`` for ship / vehicle)."""
+    return getattr(node, f"{name}_attachment") if name in ENDS else (0.0, 0.0, 0.0)
+
+
+def frame(node, name):
+    """Body frame of a point or body: node.ship_frame / node.vehicle_frame, else <prefix><name>/base_link."""
+    return node.body_frame(name) if name in ENDS else f"{node.frame_prefix}{name}/base_link"
+
+
+def point_wrench(driver, node, name, orientation=None):
+    """Force and torque by the lines on point ``name`` in its body frame (``orientation``: its pose
+    input's quaternion x, y, z, w; None: world-aligned, as a fixed point or before the first pose),
+    torque about the frame origin."""
+    net = driver.net
+    F, M = np.zeros(3), np.zeros(3)
+    for e in driver.spec.ends_on(name):
+        f, _, m = net.end_load(e.line, e.end)
+        F += f
+        M += m
+    q = np.array([0.0, 0.0, 0.0, 1.0]) if orientation is None else np.asarray(orientation, float)
+    R = quaternion_matrix(q)
+    f, m = R.T @ F, R.T @ M
+    r = np.asarray(attachment(node, name), float)
+    return f, np.cross(r, f) + m
+
+
+def body_wrench(net, name):
+    """Force and moment about the CoG by the lines on body ``name``, in its body frame."""
+    b = net.bodies[name]
+    F, M = net._body_loads(name)
+    R = quaternion_matrix(b.state[3:7])
+    lever = b.attachments @ R.T
+    force = F.sum(axis=0)
+    moment = np.cross(lever, F).sum(axis=0) + M.sum(axis=0)
+    return R.T @ force, R.T @ moment
+
+
+def tick_outputs(driver, node, orientation_of=lambda name: None, wanted=None) -> list:
+    """(topic, payload) of every periodic output of the driver's current state, stamped with its
+    clock time; ``orientation_of(point)``: a driven point's quaternion (None: world-aligned);
+    ``wanted(topic)``: only these (None: all). Returns also the body transforms for /tf as the
+    last item ``("/tf", [(frame, position, quaternion), ...])`` (an empty list without bodies)."""
+    net = driver.net
+    spec = driver.spec
+    want = (lambda topic: True) if wanted is None else wanted
+    stamp = cdr.stamp_parts(driver.stamp)
+    world = node.world_frame
+    out = []
+    for line, solver in net.lines.items():
+        names = [f"/tether/{line}/{k}" for k in ("state", "path", "marker")]
+        if any(want(t) for t in names):
+            L = float(getattr(solver, "unstretched_length", spec.lines[line].config.cable.length))
+            st = solver.state(np.linspace(0.0, L, node.output_points))
+            pts = np.asarray(st.position, float)
+            t0, t1 = net.end_load(line, "ship")[1], net.end_load(line, "vehicle")[1]
+            if want(names[0]):
+                out.append((names[0], cdr.tether_state(
+                    stamp, world, solver.name, st.arc_length, pts, st.velocity, st.tension, st.curvature,
+                    st.bending_moment, t0, t1, float(st.time_step), float(driver.real_time_factor), float(driver.lag),
+                    bool(driver.degraded))))
+            if want(names[1]):
+                out.append((names[1], cdr.path(stamp, world, pts)))
+            if want(names[2]):
+                scale = 2.0 * max(max(driver.static_tensions[line]), 1.0)
+                out.append((names[2], cdr.marker_line_strip(
+                    stamp, world, f"tether/{line}", 0, convert.MARKER_WIDTH, convert.MARKER_COLOUR, pts,
+                    convert.tension_colours(st.tension, scale))))
+    for name in spec.points:
+        topic = f"/tether/{name}_wrench"
+        if want(topic):
+            force, torque = point_wrench(driver, node, name, orientation_of(name))
+            out.append((topic, cdr.wrench_stamped(stamp, frame(node, name), force, torque)))
+    transforms = []
+    for name, b in net.bodies.items():
+        if want(f"/tether/{name}_wrench"):
+            force, moment = body_wrench(net, name)
+            out.append((f"/tether/{name}_wrench", cdr.wrench_stamped(stamp, frame(node, name), force, moment)))
+        if want(f"/{name}/sim_pose"):
+            out.append((f"/{name}/sim_pose", cdr.pose_stamped(stamp, world, b.state[0:3], b.state[3:7])))
+        transforms.append((frame(node, name), b.state[0:3], b.state[3:7]))
+    for line, link in net.winches.items():
+        w, end = link.winch, link.config.winch.end
+        out.append((f"/winch/{line}/state", WinchState(
+            header=convert.header(driver.stamp, world), end=end, mode=w.mode, setpoint=float(w.setpoint),
+            length=float(w.length), speed=float(w.speed), commanded_speed=float(w.commanded_speed),
+            tension=float(net.end_load(line, end)[1]), **w.flags)))
+    out.append(("/tf", transforms))
+    return out
+
+
+def event_outputs(driver, node, line, events) -> list:
+    """(topic, message) of one line's detector events; the snap guard's NumericalSnapWarning items
+    have no topic (never published as snaps: the caller logs and counts them). The event's ``end``
+    is ship / vehicle, the line's s = 0 / s = L end."""
+    out = []
+    for ev in events:
+        if isinstance(ev, NumericalSnapWarning):
+            continue
+        end = ev.location.rsplit("/", 1)[-1]
+        ev = replace(ev, location=end)
+        if isinstance(ev, SnapEvent):
+            out.append((f"/tether/{line}/snap_events", convert.snap_event(ev, node.world_frame, driver.degraded,
+                                                                          driver.lag)))
+        else:
+            static = driver.static_tensions[line][ENDS.index(end)]
+            out.append((f"/tether/{line}/slack_warnings", convert.slack_warning(ev, node.world_frame, static)))
+    return out
+
+
+def description(spec, node, line, t):
+    """TetherDescription of one line (its cable and every key), stamped ``t``."""
+    cfg = replace(spec.lines[line].config, node=node)
+    L = float(cfg.cable.length)
+    return convert.description(cfg, np.linspace(0.0, L, node.output_points), t)
