@@ -201,3 +201,41 @@ def test_is_held_beyond_the_extrapolation():
     assert inp.is_held(0.0)
     inp.add_pose(1.0, (0.0, 0.0, 0.0), IDENTITY)
     assert not inp.is_held(1.1) and inp.is_held(1.3)
+
+
+# ---------------------------------------------------------------- knots at least min_spacing apart
+def test_a_catch_up_burst_with_stamp_jitter_gives_no_velocity_spike():
+    # 20 Hz samples of a 0.5 m, 0.1 Hz heave (peak speed 0.314 m/s); at 2 s the publisher catches up
+    # after a stall: poses 1 ms apart, the middle one's position read 30 ms before its stamp (9.4 mm).
+    # Every sample a knot: a finite difference over 1 ms makes metres per second of it (the false snap
+    # of the one-hour soak, docs/node.md). Knots at least 10 ms apart: the burst is one knot and the
+    # velocity stays the heave's (central differences over 0.1 s err by a w^3 h^2 / 6 = 2e-4 m/s).
+    w = 2 * math.pi * 0.1
+
+    def heave(t):
+        return (0.0, 0.0, 0.5 * math.sin(w * t))
+
+    stamps = [0.05 * k for k in range(41)] + [2.001, 2.002, 2.003] + [2.05 + 0.05 * k for k in range(10)]
+    speeds = {}
+    for min_spacing in (0.0, 0.01):
+        inp = EndPoseInput("ship", min_spacing=min_spacing)
+        for s in stamps:
+            assert inp.add_pose(s, heave(s - 0.03 if s == 2.002 else s), IDENTITY) is None
+        speeds[min_spacing] = max(np.linalg.norm(inp.attachment_at(t)[1]) for t in np.linspace(1.9, 2.4, 2001))
+        if min_spacing:
+            gaps = np.diff(inp._stamps)
+            assert gaps[:-1].min() >= min_spacing and inp.last_stamp == pytest.approx(2.5)
+            for t in np.linspace(1.9, 2.4, 51):
+                assert inp.attachment_at(t)[0][2] == pytest.approx(heave(t)[2], abs=1e-5)
+    assert speeds[0.0] > 4.0 and speeds[0.01] < 0.315  # (measured 4.56 and 0.314 m/s)
+
+
+def test_knots_of_a_fast_stream_are_min_spacing_apart_and_the_newest_sample_is_always_kept():
+    inp = EndPoseInput("ship", min_spacing=0.01)
+    for k in range(1001):  # 1 kHz for 1 s
+        assert inp.add_pose(k * 1e-3, circle(k * 1e-3)[0], IDENTITY) is None
+    gaps = np.diff(inp._stamps)
+    assert gaps[:-1].min() >= 0.01 - 1e-12 and inp.last_stamp == pytest.approx(1.0) and inp.accepted == 1001
+    for t in np.linspace(0.1, 0.95, 18):  # 10 ms knots: central differences err by a w^3 h^2 / 6 ~ 3e-4 m/s
+        p, v = inp.attachment_at(t)
+        assert np.linalg.norm(p - circle(t)[0]) < 1e-5 and np.linalg.norm(v - circle(t)[1]) < 2e-3

@@ -148,3 +148,51 @@ def test_detector_turns_an_impossible_snap_into_a_numerical_warning(peak, rise, 
 def test_guard_margin_zero_turns_the_guard_off():
     events = _run_detector(1.04e6, 0.0, margin=0.0)
     assert [type(e) for e in events if not type(e).__name__ == "SlackStarted"] == [SnapEvent]
+
+
+def _two_ends(ship_slack, ship_rise_start, vehicle=True, speed=0.35, dt=1e-4):
+    """The soak's pair (docs/node.md): the vehicle end (static 43.1 kN) slack 1.00-1.20 s and back in
+    3.3 ms to 112 kN (numerical: shorter than the 25.7 ms crossing of a 100 m element); the ship end
+    (static 48.1 kN) slack from ``ship_slack`` and back from ``ship_rise_start`` in 30 ms to 157.6 kN
+    = 3.28 x static (within the guard's bound on its own: 1.5 x (2 x 48.1 kN + dv (2 Z + k t_r)) =
+    1.5 x (96.2 + 0.35 x (23.4 + 6.8)) kN = 160.2 kN)."""
+    c = math.sqrt(EA / GAMMA0)
+    g = SnapGuard(impedance=Z, stiffness=K, mass=14797.0, crossing_time=100.0 / c, margin=1.5, travel_time=L / c)
+    static = [48.1e3, 43.1e3]
+    det = SnapDetector(SnapConfig(), ["ship", "vehicle"], static, [0.0, L], g)
+    t = np.arange(0.0, 5.0, dt)
+    T = np.tile(np.array(static), (t.size, 1))
+
+    def pulse(col, slack, rise_start, rise, peak):
+        T[(t >= slack) & (t < rise_start), col] = 0.0
+        up = (t >= rise_start) & (t < rise_start + rise)
+        T[up, col] = peak * np.sin(0.5 * np.pi * (t[up] - rise_start) / rise)
+        down = (t >= rise_start + rise) & (t < rise_start + rise + 0.3)
+        T[down, col] = peak + (static[col] - peak) * (t[down] - rise_start - rise) / 0.3
+
+    if vehicle:
+        pulse(1, 1.0, 1.2, 0.0033, 112e3)
+    pulse(0, ship_slack, ship_rise_start, 0.030, 157.6e3)
+    events = []
+    for i in range(0, t.size, 200):  # 20 ms chunks, like ticks
+        events += det.update(t[i:i + 200], T[i:i + 200], speed)
+    return [e for e in events + det.flush() if not type(e).__name__ == "SlackStarted"]
+
+
+def test_one_slack_episode_one_verdict_a_front_after_a_rejected_one_is_not_a_snap():
+    # alone, the ship's re-tensioning is plausible: published
+    (alone,) = _two_ends(1.05, 1.2203, vehicle=False)
+    assert isinstance(alone, SnapEvent) and alone.amplification == pytest.approx(3.28, abs=0.01)
+    # after the vehicle end's rejected re-tensioning in the same slack episode (the soak of
+    # 2026-11-26 published it): it carries that front, a numerical warning too
+    vehicle, ship = _two_ends(1.05, 1.2203)
+    assert isinstance(vehicle, NumericalSnapWarning) and "crossing" in vehicle.reason
+    assert isinstance(ship, NumericalSnapWarning) and ship.location == "ship"
+    assert "same slack episode" in ship.reason and ship.tension_peak == pytest.approx(157.6e3, rel=1e-3)
+    # the ship went slack only after the vehicle's peak, within the axial round trip (103 ms): same episode
+    assert all(isinstance(e, NumericalSnapWarning) for e in _two_ends(1.25, 1.30))
+    # the ship re-tensioned first: the origin of the front, judged on its own (published)
+    first, second = _two_ends(1.05, 1.15)
+    assert isinstance(first, SnapEvent) and first.location == "ship" and isinstance(second, NumericalSnapWarning)
+    # a slack that starts after the round trip is a new episode, judged on its own
+    assert [type(e) for e in _two_ends(1.35, 1.5)] == [NumericalSnapWarning, SnapEvent]

@@ -316,3 +316,23 @@ def test_a_substep_dearer_than_the_whole_budget_still_makes_progress(monkeypatch
     driver.start(0.0)
     stamps = [driver.tick(0.02 * k).stamp for k in range(1, 6)]
     assert stamps == pytest.approx([0.01, 0.02, 0.03, 0.04, 0.05])  # one substep per tick, late but moving
+
+
+def test_an_input_lost_blend_starts_where_the_end_is():
+    # a ship end moving at 0.1 m/s whose input falls silent: after max_extrapolation (0.2 s) the
+    # source holds it and the end is blended to rest. The blend is sized by the offset at the end of
+    # the chunk (the probe) but starts at the chunk's start from the end's state there: the commanded
+    # speed never exceeds the stream's 0.1 m/s (before 2026-11-27 the blend started from the
+    # position extrapolated to the probe, one chunk's travel ahead: 0.2 m/s over that chunk)
+    inp = EndPoseInput("ship", max_extrapolation=0.2)
+    for k in range(21):
+        inp.add_pose(0.05 * k, (0.1 * 0.05 * k, 0.0, 0.0), (0, 0, 0, 1))
+    driver = SimulationDriver(make_config(), {"ship": inp}, solver_factory=ElasticString, start_blend=False)
+    driver.start(0.5)
+    reports = [driver.tick(0.5 + 0.02 * k) for k in range(1, 101)]
+    assert any(reason == "input lost" for r in reports for *_, reason in r.blends)
+    calls = [(t, p) for end, t, p in driver.solver.calls if end == "ship"]
+    times = np.array([t for t, _ in calls]) + 0.02  # (a command is set at the chunk's start for its end)
+    x = np.array([p[0] for _, p in calls])
+    speed = np.diff(x) / np.diff(times)
+    assert speed.max() <= 0.1 * (1.0 + 1e-9) and speed.min() > -0.1

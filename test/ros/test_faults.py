@@ -133,7 +133,7 @@ def test_diagnostics_never_hide_cannot_keep_up_behind_a_snap():
     pytest.importorskip("rclpy")
     from tether_sim.ros import convert
 
-    sim = {"running": True, "snaps": 2, "behind": True, "lag": 0.8, "degraded": True, "resyncs_recent": 0,
+    sim = {"running": True, "snaps": 3, "snaps_recent": 2, "behind": True, "lag": 0.8, "degraded": True, "resyncs_recent": 0,
            "tick_errors_recent": 1, "last_tick_error": "KeyError: 'x'", "slack": {"ship": False}}
     st = convert.diagnostics(1.0, "tether_sim", sim, {}).status[0]
     assert st.level == convert.LEVEL_ERROR
@@ -194,3 +194,59 @@ def test_a_first_pose_between_start_and_first_tick_is_blended_not_stepped():
     assert any(reason == "input resumed" for r in reports for *_, reason in r.blends)
     z = [float(driver.solver.state(np.array([0.0])).position[0][2])]
     assert reports[0].degraded and z[0] == pytest.approx(0.05, abs=1e-6)  # on the input after the blend
+
+
+def test_a_jittered_catch_up_burst_of_poses_makes_no_slack_and_no_snap():
+    """The false snap of the one-hour soak (docs/node.md), reproduced offline. A pose publisher
+    stalls and catches up: three poses 2 ms apart, the middle one's position read 30 ms before its
+    stamp (the publisher was preempted between reading its clock and its position: 9 mm at the
+    heave's 0.31 m/s). A finite difference over 2 ms makes that 4.7 m/s; the node's tick, 0.2 s
+    late, commands the ship end with it. Before the fix (every sample a knot) the ROPOS tether with
+    its README mesh (N = 2, P = 4) went slack at both ends and the vehicle end re-tensioned in
+    4.9 ms, a rejected numerical snap (106.9 kN); with knots half an output period apart the
+    commanded ship speed stays the heave's (0.314 m/s) and the end tensions stay within 0.8-1.2 x
+    static (the heave and the cage's inertia move them by a few kN)."""
+    from pathlib import Path
+
+    from tether_sim.io.inputs import knot_spacing
+    from tether_sim.io.params import load_config
+    from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted
+
+    config = load_config(Path(__file__).resolve().parents[2] / "config" / "ropos_L200.yaml")
+    node = config.node
+    inp = EndPoseInput("ship", max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
+                       max_extrapolation=node.max_extrapolation, history_span=node.input_delay + node.max_lag + 1.0,
+                       future_tolerance=node.future_stamp_tolerance, max_age=node.max_input_age,
+                       min_spacing=knot_spacing(node.output_rate))
+    w = 2 * math.pi * 0.1  # 0.5 m heave at 0.1 Hz: peak speed 0.314 m/s
+
+    def pose(stamp, read_at, now):
+        assert inp.add_pose(stamp, (0.0, 0.0, 0.5 * math.sin(w * read_at)), (0, 0, 0, 1), now=now) is None
+
+    pose(0.0, 0.0, 0.0)
+    driver = SimulationDriver(config, {"ship": inp})
+    driver.start(0.2)
+    static = np.array(driver.static_tensions)
+    burst, phase = 10.0, 0.0007  # the stall ends at 10 s; the late tick simulates up to 10.0007 s
+    now, next_pose, events, speed, tensions = 0.2 + phase, 0.05, [], [], []
+    for _ in range(int(12.0 * RATE)):
+        now += 1.0 / RATE
+        if burst - 0.2 < now - node.input_delay < burst:
+            continue  # the node's timer is 0.2 s late: its next tick lands inside the burst
+        while next_pose <= now + 1e-9:
+            if abs(next_pose - burst) < 1e-9:
+                pose(burst, burst, now)
+                pose(burst + 0.002, burst + 0.002 - 0.030, now)
+                pose(burst + 0.004, burst + 0.004, now)
+            else:
+                pose(next_pose, next_pose, now)
+            next_pose += 0.05
+        events += driver.tick(now).events
+        speed.append(float(np.linalg.norm(driver._end_state["ship"][1])))
+        if now > 5.0:  # (after the start-up blend)
+            f = driver.solver.end_forces()
+            tensions.append((f.ship_tension, f.vehicle_tension))
+    assert not [e for e in events if isinstance(e, (SlackStarted, NumericalSnapWarning, SnapEvent))], events
+    assert max(speed) < 0.32
+    ratio = np.array(tensions) / static
+    assert ratio.min() > 0.8 and ratio.max() < 1.2, (ratio.min(), ratio.max())

@@ -15,6 +15,18 @@ Rejected samples (the reason string is returned, the stored history is unchanged
 - ``stamp not increasing``: a stamp at or before the last accepted one (but within those bounds);
 - ``jump``: the attachment point moved faster than ``max_end_speed`` since the last accepted sample.
 
+Samples closer together than ``min_spacing`` are not all kept as knots: a new sample replaces the
+newest knot while that knot lies less than ``min_spacing`` after the one before it, so every knot
+interval but the newest is at least ``min_spacing`` long. A pose source stamps its samples with some
+jitter (the stamp and the measured position are not taken at the same instant); across samples
+a fraction of a millisecond apart (a publisher catching up after a stall) finite differences turn
+a millimetre of that jitter into metres per second of end velocity, which the solver, commanded
+at the output rate, would carry into the cable as a tension wave that did not happen (a false
+snap of 3.3 x static in a one-hour soak, docs/node.md). The node passes half an output period:
+the commands sample the stream once per period, so detail finer than that lies beyond their
+Nyquist frequency anyway; the velocity error from a stamp jitter ``d`` is then at most about
+``|v| d / min_spacing`` instead of ``|v| d / (sample interval)``.
+
 The history is sized by time (``history_span`` s behind the newest sample), not by a sample
 count, so it is correct at any input rate (tested at 1 kHz). An input is stale when no pose was
 accepted for ``input_timeout`` s of the node's clock, or when the newest accepted stamp is older
@@ -40,6 +52,12 @@ QUATERNION_NORM_TOLERANCE = 0.1  # |norm - 1| beyond this is not a rotation with
 FUTURE_TOLERANCE = 0.25  # s a stamp may lie ahead of the node's clock (clock skew, replay timing)
 MAX_AGE = 2.0  # s a stamp may lie behind the node's clock (transport latency)
 MAX_SAMPLES = 20000  # hard cap of the pose history (1 kHz for 20 s)
+
+
+def knot_spacing(output_rate: float) -> float:
+    """The shortest knot interval of a pose input commanded at ``output_rate`` Hz: half an output
+    period (module docstring), s."""
+    return 0.5 / max(float(output_rate), 1e-9)
 
 
 def slerp(q0, q1, u: float) -> np.ndarray:
@@ -69,7 +87,8 @@ class _Sample:
 class EndPoseInput:
     """Validated history of one end's body pose, queried for the attachment point at any time.
 
-    ``history_span``: seconds of samples kept behind the newest one (the node passes
+    ``min_spacing``: shortest interval between interpolation knots, s (module docstring; 0 keeps
+    every sample). ``history_span``: seconds of samples kept behind the newest one (the node passes
     ``input_delay + max_lag`` plus a margin, so a simulation running late still interpolates);
     at most ``max_samples`` (+63, pruned in batches) are kept (a flood beyond that shortens the
     span, shown in ``health()['history_span']``). ``future_tolerance`` / ``max_age``: with the node's clock
@@ -81,7 +100,7 @@ class EndPoseInput:
     def __init__(self, name: str, attachment=(0.0, 0.0, 0.0), *, max_end_speed: float = 20.0,
                  input_timeout: float = 1.0, max_extrapolation: float = 0.2, history_span: float = 3.0,
                  max_samples: int = MAX_SAMPLES, future_tolerance: float = FUTURE_TOLERANCE,
-                 max_age: float = MAX_AGE):
+                 max_age: float = MAX_AGE, min_spacing: float = 0.0):
         self.name = name
         self.offset = np.asarray(attachment, dtype=float).reshape(3)
         self.max_end_speed = float(max_end_speed)
@@ -91,6 +110,7 @@ class EndPoseInput:
         self.max_samples = max(int(max_samples), 4)
         self.future_tolerance = float(future_tolerance)
         self.max_age = float(max_age)
+        self.min_spacing = max(float(min_spacing), 0.0)  # s, shortest knot interval (module docstring)
         self._samples: list[_Sample] = []
         self._stamps: list[float] = []  # the samples' stamps (bisect)
         self._twists: list = []  # (stamp, linear_world, angular_world)
@@ -126,8 +146,13 @@ class EndPoseInput:
             dt = stamp - last.stamp
             if np.linalg.norm(att - last.attachment) > self.max_end_speed * dt + 1e-9:
                 return self._reject("jump")
-        self._samples.append(_Sample(float(stamp), p, q, att, self._twist_velocity_at(stamp, q)))
-        self._stamps.append(float(stamp))
+        sample = _Sample(float(stamp), p, q, att, self._twist_velocity_at(stamp, q))
+        s = self._samples
+        if len(s) >= 2 and s[-1].stamp - s[-2].stamp < self.min_spacing:
+            s[-1], self._stamps[-1] = sample, float(stamp)  # the newest knot was too close: replaced
+        else:
+            s.append(sample)
+            self._stamps.append(float(stamp))
         self._prune()
         self._accepted_at = float(stamp) if now is None else float(now)
         self.accepted += 1

@@ -21,7 +21,8 @@ A plausibility guard (:class:`SnapGuard`, docs/snap_guard.md) checks every snap 
 what the cable's axial impedance, the system's kinetic energy and the relative end speed allow,
 and against the shortest rise the discretisation can carry (the axial wave crossing one element).
 An event that fails it is returned as a :class:`NumericalSnapWarning` instead of a
-:class:`SnapEvent`: reported, never published as a snap.
+:class:`SnapEvent`: reported, never published as a snap; so is a re-tensioning at another location
+that carries the front of a rejected one in the same slack episode (:meth:`SnapGuard.same_episode`).
 
 Slack duration runs from the downward crossing of the slack threshold to the last upward crossing
 of it (linear interpolation between samples); the rise time runs from the upward crossing that
@@ -117,19 +118,37 @@ class SnapGuard:
     stretch; k t_r dv: the stretch the ends can impose within the rise; 2 T_static: a weight taken up
     from slack overshoots at most to twice its static value. A peak above B, or a rise shorter than
     ``crossing_time`` (the axial wave crossing the shortest element: faster than the discretisation
-    can carry a physical front), is numerical."""
+    can carry a physical front), is numerical.
+
+    One slack episode, one verdict (:meth:`same_episode`): a re-tensioning at a location whose slack
+    period overlaps a rejected re-tensioning's episode elsewhere on the cable, and that started no
+    earlier than the rejected one, carries that front and is numerical too."""
 
     impedance: float  # N s/m
     stiffness: float  # N/m
     mass: float  # kg (inf: both ends kinematic)
     crossing_time: float  # s
     margin: float = 1.5
+    travel_time: float = 0.0  # s, the axial wave's crossing of the whole cable, L / c (the episode rule)
 
     def bound(self, static_tension: float, speed: float, rise_time: float) -> float:
         """The largest plausible peak (N) for a relative end speed ``speed`` and rise time ``rise_time``."""
         energy = math.sqrt(self.stiffness * self.mass) if math.isfinite(self.mass) else math.inf
         quasi = min(energy, self.stiffness * max(rise_time, 0.0))
         return self.margin * (2.0 * abs(static_tension) + max(speed, 0.0) * (2.0 * self.impedance + quasi))
+
+    def same_episode(self, event: "SnapEvent", rejected: "NumericalSnapWarning") -> bool:
+        """True when ``event`` (at another location) belongs to the slack episode of the ``rejected``
+        re-tensioning and started its own re-tensioning no earlier (docs/snap_guard.md, "One episode,
+        one verdict"): the slack periods overlap, the rejected one's extended by the cable's axial
+        round trip 2 L / c after its peak (its front, and that front's reflection, are in the cable
+        until then)."""
+        if self.margin <= 0.0 or event.location == rejected.location:
+            return False
+        rise_start, rejected_rise_start = event.time - event.rise_time, rejected.time - rejected.rise_time
+        exit_time = event.slack_start + event.slack_duration
+        return (rise_start >= rejected_rise_start and exit_time >= rejected.slack_start
+                and event.slack_start <= rejected.time + 2.0 * self.travel_time)
 
     def check(self, event: "SnapEvent", speed: float):
         """None when ``event`` is plausible, else the :class:`NumericalSnapWarning` replacing it."""
@@ -174,7 +193,8 @@ def snap_guard(config, element_length: float) -> SnapGuard:
             mass += float(body.mass) + float(np.max(body.added_mass))
     c = math.sqrt(EA / float(cab.gamma0))
     return SnapGuard(impedance=math.sqrt(EA * float(cab.gamma0)), stiffness=EA / float(cab.length), mass=mass,
-                     crossing_time=float(element_length) / c if c > 0 else 0.0, margin=float(config.snap.guard_margin))
+                     crossing_time=float(element_length) / c if c > 0 else 0.0, margin=float(config.snap.guard_margin),
+                     travel_time=float(cab.length) / c if c > 0 else 0.0)
 
 
 # Per-location machine state columns.
@@ -302,6 +322,7 @@ class SnapDetector:
         self._thresholds = np.zeros((n, 3))
         self._events = np.zeros((64, _N_EVENT))
         self._speed = np.zeros(n)  # largest relative end speed since each location's slack began
+        self._rejected = []  # the latest NumericalSnapWarning of each location (one episode, one verdict)
         self.set_config(config)
 
     def set_config(self, config: SnapConfig) -> None:
@@ -387,7 +408,28 @@ class SnapDetector:
             return event
         if self.guard is None:
             return event
-        return self.guard.check(event, float(self._speed[j])) or event
+        warning = self.guard.check(event, float(self._speed[j]))
+        if warning is None:
+            origin = next((w for w in self._rejected if self.guard.same_episode(event, w)), None)
+            if origin is not None:
+                warning = self._carried(event, origin, float(self._speed[j]))
+        if warning is None:
+            return event
+        self._rejected = [w for w in self._rejected if w.location != event.location] + [warning]
+        return warning
+
+    def _carried(self, event, origin, speed):
+        """The warning replacing ``event``, which carries the front of the rejected ``origin``."""
+        late = event.time - event.rise_time - (origin.time - origin.rise_time)
+        reason = (f"re-tensioned {late * 1e3:.3g} ms after the rejected re-tensioning at {origin.location} in the same "
+                  f"slack episode (axial round trip {2e3 * self.guard.travel_time:.3g} ms): it carries that front "
+                  f"(rejected peak {origin.tension_peak / 1e3:.4g} kN at t = {origin.time:.3f} s)")
+        return NumericalSnapWarning(time=event.time, location=event.location, arc_length=event.arc_length,
+                                    tension_peak=event.peak_tension,
+                                    bound=self.guard.bound(event.static_tension, speed, event.rise_time),
+                                    rise_time=event.rise_time, crossing_time=self.guard.crossing_time,
+                                    relative_speed=speed, static_tension=event.static_tension,
+                                    slack_start=event.slack_start, reason=reason)
 
     def flush(self) -> list:
         """Close every open re-tensioning window now (end of a run) and return those snap events."""

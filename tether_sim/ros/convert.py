@@ -120,8 +120,9 @@ def diagnostics(t: float, node_name: str, sim: dict, inputs: dict) -> Diagnostic
 
     ``sim`` has: real_time_factor, time_step, lag, degraded, dropped_total, resyncs(_recent),
     capped_ticks, behind, divergences, error_recent, last_error, tick_errors(_recent),
-    last_tick_error, slack (dict end -> bool), snaps (count in the period), numerical_snaps(_recent)
-    and last_numerical_snap (the snap guard's rejections: total, in the period, the last one),
+    last_tick_error, slack (dict end -> bool), snaps(_recent) (snap events published: total, in the
+    period), numerical_snaps(_recent) and last_numerical_snap (the snap guard's rejections: total, in
+    the period, the last one),
     running (bool).
     ``inputs``: end -> EndPoseInput.health(now) dict plus ``rejected_recent`` (count in the period).
     The simulation status message lists every problem of the period (none hides another, e.g.
@@ -135,8 +136,8 @@ def diagnostics(t: float, node_name: str, sim: dict, inputs: dict) -> Diagnostic
         problems.append((LEVEL_ERROR, f"solver diverged and was recovered: {sim.get('last_error')}"))
     if sim.get("tick_errors_recent"):
         problems.append((LEVEL_ERROR, f"{sim['tick_errors_recent']} tick(s) failed: {sim.get('last_tick_error')}"))
-    if sim.get("snaps"):
-        problems.append((LEVEL_ERROR, f"{sim['snaps']} snap load(s) in the last period"))
+    if sim.get("snaps_recent"):
+        problems.append((LEVEL_ERROR, f"{sim['snaps_recent']} snap load(s) in the last period"))
     if sim.get("numerical_snaps_recent"):
         problems.append((LEVEL_WARN, f"{sim['numerical_snaps_recent']} re-tensioning peak(s) rejected by the snap guard "
                                      f"as numerical, not published as snaps: {sim.get('last_numerical_snap', '')}"))

@@ -113,10 +113,10 @@ class EndCommands:
         (sized by the offset to the source at ``probe``, default ``t``)."""
         if end not in self._end_state or self.sources.get(end) is None:
             return
-        p0, v0 = self._end_state[end]
+        p0, v0 = self._end_state[end]  # the end's state at t: where the blend starts
         p_s, v_s = self.end_target(end, t if probe is None else probe)
-        p0 = p0 + v0 * (0.0 if probe is None else probe - t)
-        distance, speed_change = np.linalg.norm(p_s - p0), np.linalg.norm(v_s - v0)
+        ahead = p0 + v0 * (0.0 if probe is None else probe - t)  # the held trajectory at the probe (sizing only)
+        distance, speed_change = np.linalg.norm(p_s - ahead), np.linalg.norm(v_s - v0)
         if distance < 1e-9 and speed_change < 1e-9:
             return  # already on the stream
         duration = blend_time(distance, speed_change, self.config.node.max_end_speed)

@@ -53,6 +53,7 @@ class _Writer:
     def __init__(self, writer, driver, spec, node):
         self.writer, self.driver, self.spec, self.node = writer, driver, spec, node
         self.counts = {"snap_events": 0, "slack_warnings": 0, "numerical_snaps": 0}
+        self._snaps_written = 0  # snap events up to the last diagnostics (its "snaps_recent")
         self.peaks, self.events = [], []
         for topic, (type_name, qos) in outputs.output_topics(spec, driver.net.winches).items():
             writer.add_topic(topic, type_name, "reliable" if qos == "events" else qos)  # (events: deeper reliable)
@@ -100,10 +101,12 @@ class _Writer:
                "time_step": float(min(self.spec.coupling_step, d.net.coupling_limit)), "lag": 0.0,
                "degraded": bool(d.degraded), "tick_errors_recent": 1 if d.failed else 0,
                "last_tick_error": f"network simulation stopped: {d.failed}" if d.failed else "",
-               "snaps": self.counts["snap_events"], "slack": dict(d.slack), "numerical_snaps": d.numerical_snaps,
+               "snaps": self.counts["snap_events"], "snaps_recent": self.counts["snap_events"] - self._snaps_written,
+               "slack": dict(d.slack), "numerical_snaps": d.numerical_snaps,
                "numerical_snaps_recent": 0, "last_numerical_snap": d.last_numerical_snap,
                "lines": ", ".join(self.spec.lines)}
         health = {name: dict(src.health(now), rejected_recent=0) for name, src in sources.items()}
+        self._snaps_written = self.counts["snap_events"]
         self._put("/diagnostics", convert.diagnostics(now, NODE_NAME, sim, health), now)
 
 

@@ -28,7 +28,7 @@ from rclpy.serialization import serialize_message
 from tqdm import tqdm
 
 from tether_sim.errors import ConfigError, TetherSimError
-from tether_sim.io.inputs import EndPoseInput
+from tether_sim.io.inputs import EndPoseInput, knot_spacing
 from tether_sim.io.params import load_config
 from tether_sim.ros import cdr, convert, forecast_io, winch_io
 from tether_sim.ros import tf as tf_out
@@ -97,7 +97,7 @@ def read_poses(path, wanted: dict, node, required: bool = True) -> dict:
                 raise ConfigError(f"{path}: no PoseStamped messages on {topic} for the prescribed {name} end")
             continue
         inp = EndPoseInput(name, attachment, max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
-                           max_extrapolation=node.max_extrapolation)
+                           max_extrapolation=node.max_extrapolation, min_spacing=knot_spacing(node.output_rate))
         out[name] = RecordedPoses(inp, poses[name], twists[name])
     return out
 
@@ -229,7 +229,7 @@ class _OfflineOutputs:
         self.writer, self.driver = writer, driver
         self.arc = np.linspace(0.0, config.cable.length, config.node.output_points)
         self.counts = {"snap_events": 0, "slack_warnings": 0, "divergences": 0, "numerical_snaps": 0}
-        self._numerical_written = 0
+        self._numerical_written = self._snaps_written = 0
         self.peaks, self.events, self.forecasts = [], [], []
         self.frame = config.node.world_frame
         self.static_written = False
@@ -287,10 +287,11 @@ class _OfflineOutputs:
                "time_step": driver.solver.stable_time_step(), "lag": 0.0, "degraded": driver.degraded,
                "divergences": driver.divergences,
                "error_recent": report.error is not None, "last_error": driver.last_error or "",
-               "snaps": 0, "slack": dict(driver.slack), "numerical_snaps": driver.numerical_snaps,
+               "snaps": self.counts["snap_events"], "snaps_recent": self.counts["snap_events"] - self._snaps_written,
+               "slack": dict(driver.slack), "numerical_snaps": driver.numerical_snaps,
                "numerical_snaps_recent": driver.numerical_snaps - self._numerical_written,
                "last_numerical_snap": driver.last_numerical_snap}
-        self._numerical_written = driver.numerical_snaps
+        self._numerical_written, self._snaps_written = driver.numerical_snaps, self.counts["snap_events"]
         health = {end: dict(src.health(now), rejected_recent=0) for end, src in sources.items()
                   if isinstance(src, EndPoseInput)}
         array = convert.diagnostics(now, "tether_sim_offline", sim, health)

@@ -27,7 +27,7 @@ from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription, 
 from visualization_msgs.msg import Marker
 
 from tether_sim.errors import ConfigError, TetherSimError
-from tether_sim.io.inputs import EndPoseInput
+from tether_sim.io.inputs import EndPoseInput, knot_spacing
 from tether_sim.io.params import check_values, load_config
 from tether_sim.io.schema import key_map
 from tether_sim.physics.snap import NumericalSnapWarning, SnapDetector
@@ -135,7 +135,7 @@ class TetherSimNode(Node):
         self.inputs[name] = EndPoseInput(name, attachment, max_end_speed=node.max_end_speed,
                                          input_timeout=node.input_timeout, max_extrapolation=node.max_extrapolation,
                                          history_span=history_span(node), future_tolerance=node.future_stamp_tolerance,
-                                         max_age=node.max_input_age)
+                                         max_age=node.max_input_age, min_spacing=knot_spacing(node.output_rate))
         self.create_subscription(PoseStamped, f"{name}/pose", lambda m, e=name: self._on_pose(e, m),
                                  qos_profile_sensor_data)
         self.create_subscription(TwistStamped, f"{name}/twist", lambda m, e=name: self._on_twist(e, m),
@@ -387,7 +387,7 @@ class TetherSimNode(Node):
                "resyncs_recent": p["resyncs"], "capped_ticks": d.capped_ticks, "behind": p["behind"],
                "divergences": d.divergences, "error_recent": p["errors"] > 0, "last_error": d.last_error or "",
                "tick_errors": self.tick_errors, "tick_errors_recent": p["tick_errors"],
-               "last_tick_error": self.last_tick_error, "snaps": p["snaps"], "slack": dict(d.slack),
+               "last_tick_error": self.last_tick_error, "snaps": self.snaps_published, "snaps_recent": p["snaps"], "slack": dict(d.slack),
                "numerical_snaps": d.numerical_snaps, "numerical_snaps_recent": p["numerical"],
                "last_numerical_snap": d.last_numerical_snap,
                "tick_load": p["busy"] / max(time.perf_counter() - p["wall0"], 1e-9), "tick_max_ms": 1e3 * p["tick_max"]}
