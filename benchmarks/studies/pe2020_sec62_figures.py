@@ -4,7 +4,7 @@ t0 / t1 / t2, cable position near the cage at t0) from runs of the paper's cases
 
 Each run: config/ropos_L<L>_paper.yaml with the circular fairlead orbit (a = 2 m, frequency f, ramped over
 one period, as config/studies/pe2020_sec62.yaml), EI = alpha * 2.62 kN m^2, N elements at P = 4 and
-dg.damping implicit, driven at 50 Hz through ``advance_to`` (the fairlead pose of the scenario's own motion
+dg.damping as --damping (explicit by default: the ladder's; docs/dg_solver.md "Slack with bending"), driven at 50 Hz through ``advance_to`` (the fairlead pose of the scenario's own motion
 model). Stored per run (npz in --out): end tensions at every substep, cage and fairlead vertical
 acceleration per tick, tension and position along the cable at the snapshot times. Runs already stored
 are reused; the table of the first snap after ``--from`` s (time, peak, per end) is printed.
@@ -29,14 +29,14 @@ from benchmarks.studies.slack_bending_ladder import case_config  # noqa: E402
 SNAP_PERIODS = (8.65, 8.665, 8.67)  # t0, t1, t2 of PE2020 Fig. 6c, in forcing periods
 
 
-def run(L, f, alpha, N, periods, out):
-    path = out / f"L{L:g}_f{f:g}_a{alpha:g}_N{N}_p{periods:g}.npz"
+def run(L, f, alpha, N, periods, out, damping="explicit"):
+    path = out / f"L{L:g}_f{f:g}_a{alpha:g}_N{N}_p{periods:g}_{damping}.npz"
     if path.exists():
         return dict(np.load(path))
     from tether_sim.physics.motion import build_motion
     from tether_sim.solvers.factory import build_solver
 
-    cfg = case_config(L, f, alpha, N, periods, {"dg.damping": "implicit"})
+    cfg = case_config(L, f, alpha, N, periods, {"dg.damping": damping})
     motion = build_motion(cfg.motion, cfg.ship_end.position)
     s = build_solver(cfg)
     t0 = s.time
@@ -160,6 +160,7 @@ def main(argv=None):
     ap.add_argument("--alphas", type=float, nargs="+", default=[0.0, 1.0, 10.0, 100.0])
     ap.add_argument("--f", type=float, default=0.2)
     ap.add_argument("--N", type=int, default=40)
+    ap.add_argument("--damping", choices=("explicit", "implicit"), default="explicit")
     ap.add_argument("--periods", type=float, default=9.0)
     ap.add_argument("--from", dest="t_from", type=float, default=None, help="first snap after this time (s); "
                     "default: 8.4 periods (the paper's Fig. 6 slack period)")
@@ -173,7 +174,7 @@ def main(argv=None):
     print("L alpha N | ship: first snap t (s), peak (kN) | cage: t, peak | CPU s")
     for L in args.lengths:
         for alpha in args.alphas:
-            r = run(L, args.f, alpha, args.N, args.periods, args.out)
+            r = run(L, args.f, alpha, args.N, args.periods, args.out, args.damping)
             runs.append(r)
             static = float(np.median(r["ship"][(r["t"] > 1.0) & (r["t"] < 2.0)]))
             static_c = float(np.median(r["cage"][(r["t"] > 1.0) & (r["t"] < 2.0)]))
