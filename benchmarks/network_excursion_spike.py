@@ -10,11 +10,13 @@ snap 1 kN) with the line's snap plausibility guard (docs/snap_guard.md): a snap,
 warning with its reason.
 
 - tether_sim, excursion on DG: mesh ladder ``--dg`` N P ... (the tether on the 1 % rule mesh);
-- tether_sim, excursion on the hybrid solver: ``--hybrid`` segments ... (time step 5 ms);
+- tether_sim, excursion on the hybrid solver: ``--hybrid`` segments ... with ``--hybrid-dt`` steps
+  (default 5 ms);
 - MoorDyn v2: segment ladder ``--md`` for the excursion tether (tether 80 segments), and
   ``--md-coupling`` (the vehicle force is sampled once per coupling step).
 
 Usage: PYTHONPATH=. python benchmarks/network_excursion_spike.py [--dg 6 3 10 4 20 4] [--hybrid 30 60]
+       [--hybrid-dt 0.005 0.001]
        [--md 30 60 120] [--duration 4.5] [--json out/excursion_spike.json] [--figure docs/figures/excursion_spike.png]
 """
 
@@ -41,7 +43,7 @@ def run_ours(solver, duration, mesh):
     from tether_sim.network.spec import parse_network
     from tether_sim.ros.network_driver import line_snap_guard
 
-    kw = {"exc_dg": mesh} if solver == "dg" else {"exc_hybrid": (mesh[0], 0.005)}
+    kw = {"exc_dg": mesh} if solver == "dg" else {"exc_hybrid": (mesh[0], mesh[1] if len(mesh) > 1 else 0.005)}
     spec = parse_network(nm.network_tree(solver, 0.005, **kw))
     net = NetworkSolver(spec)
     guard = line_snap_guard(spec, "excursion", net.line("excursion"))
@@ -104,14 +106,22 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--dg", type=int, nargs="*", default=[6, 3, 10, 4, 20, 4])
     ap.add_argument("--hybrid", type=int, nargs="*", default=[30, 60])
+    ap.add_argument("--hybrid-dt", type=float, nargs="*", default=[0.005],
+                    help="time steps of the hybrid excursion tether (s): every segment count with every step")
     ap.add_argument("--md", type=int, nargs="*", default=[30, 60, 120])
     ap.add_argument("--md-coupling", type=float, default=0.002)
     ap.add_argument("--duration", type=float, default=4.5)
     ap.add_argument("--window", type=float, nargs=2, default=[3.0, 4.5])
+    ap.add_argument("--excursion-damping", type=float, default=None,
+                    help="the excursion tether's axial damping in both codes (N s; default: 2000)")
+    ap.add_argument("--md-scheme", default="RK2", choices=["RK2", "RK4"], help="MoorDyn's time scheme")
     ap.add_argument("--json", default="out/excursion_spike.json")
     ap.add_argument("--figure", default="")
     args = ap.parse_args(argv)
     lo, hi = args.window
+    if args.excursion_damping is not None:
+        nm.set_excursion_damping(args.excursion_damping)
+    nm.MD_SCHEME[:] = [args.md_scheme]
     print(f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}", flush=True)
     runs, table = {}, {}
     for n in args.md:
@@ -126,9 +136,9 @@ def main(argv=None):
         runs[name], table[name] = r, dict(measures(r["t"], r["T"], lo, hi), detector=describe(r["events"], lo, hi),
                                           crossing_ms=1e3 * r["crossing"], error=r["error"])
         print(f"{name}: {table[name]} cpu {r['cpu']:.1f} s", flush=True)
-    for n in args.hybrid:
-        r = run_ours("hybrid", args.duration, (n,))
-        name = f"hybrid {n} seg"
+    for n, dt in ((n, dt) for n in args.hybrid for dt in args.hybrid_dt):
+        r = run_ours("hybrid", args.duration, (n, dt))
+        name = f"hybrid {n} seg, {1e3 * dt:g} ms"
         if r["t"].size and r["t"][-1] >= lo:
             table[name] = dict(measures(r["t"], r["T"], lo, min(hi, r["t"][-1])), detector=describe(r["events"], lo, hi),
                                error=r["error"])
@@ -143,13 +153,14 @@ def main(argv=None):
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         fig, ax = plt.subplots(2, 1, figsize=(9, 7))
+        greys = iter(["k", "0.55", "0.75"])
         for name, r in runs.items():
             if not r["t"].size:
                 continue
-            style = "k-" if name.startswith("MoorDyn") else "-"
+            md = name.startswith("MoorDyn")
+            style = dict(color=next(greys, "0.8"), lw=1.4) if md else dict(lw=1.0, alpha=0.5)
             for a in ax:
-                a.plot(r["t"], r["T"], style if name.startswith("MoorDyn") else "-", lw=1.0 if "MoorDyn" not in name else 1.4,
-                       alpha=0.5 + 0.5 * name.startswith("MoorDyn"), label=name)
+                a.plot(r["t"], r["T"], "-", label=name, **style)
         ax[0].set_xlim(lo, hi)
         p = max(v.get("peak", 0.0) for v in table.values())
         tp = table[max((k for k in table if "peak" in table[k]), key=lambda k: table[k]["peak"])]["t_peak"]

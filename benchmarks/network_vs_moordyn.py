@@ -28,7 +28,7 @@ import os
 import sys
 import tempfile
 import time
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 
 import numpy as np
@@ -45,6 +45,13 @@ EXCURSION = CableProperties(length=30.0, EA=2.0e6, gamma0=1.0, density=1100.0, d
                             material="bilinear", Cdn=1.2, Cdt=0.02, Cmn=1.0, Cmt=0.0)
 VEHICLE_OFFSET = np.array([20.0, 0.0, -15.0])  # from the cage's lower attachment at rest
 MD_SEGMENTS = [80, 30]
+MD_SCHEME = ["RK2"]  # MoorDyn's time scheme (RK4 for an undamped line: RK2 grows on the imaginary axis)
+
+
+def set_excursion_damping(zeta):
+    """The excursion tether's axial damping (N s) in both codes (``--excursion-damping``)."""
+    global EXCURSION
+    EXCURSION = replace(EXCURSION, damping=float(zeta))
 
 
 def cage_bottom_at_rest():
@@ -152,7 +159,7 @@ ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs
 0 writeLog
 {dt:.8g} dtM
 1000 CFL
-RK2 tScheme
+{MD_SCHEME[0]} tScheme
 {rc.G} g
 {rc.RHO_F} rho
 {LENGTH + 500.0:.8g} WtrDpth
@@ -170,9 +177,9 @@ RK2 tScheme
 def run_moordyn(duration, coupling):
     import moordyn
 
-    dt_stable = min(rc.moordyn_stable_dt(LENGTH, MD_SEGMENTS[0]),
+    dt_stable = min(rc.moordyn_stable_dt(LENGTH, MD_SEGMENTS[0], scheme=MD_SCHEME[0]),
                     rc.moordyn_stable_dt(EXCURSION.length, MD_SEGMENTS[1], EA=EXCURSION.EA, zeta=EXCURSION.damping,
-                                         gamma0=EXCURSION.gamma0))
+                                         gamma0=EXCURSION.gamma0, scheme=MD_SCHEME[0]))
     dt = coupling / math.ceil(coupling / dt_stable - 1e-9)
     path = Path(tempfile.mkdtemp(prefix="md_net_")) / "network.txt"
     path.write_text(moordyn_input(dt))

@@ -285,13 +285,18 @@ ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs
 """
 
 
-def _rk2_stable(z):
-    """|R(z)| <= 1 for the two-stage second-order Runge-Kutta amplification R = 1 + z + z^2/2."""
-    return abs(1.0 + z + 0.5 * z * z) <= 1.0
+def _rk_stable(z, scheme="RK2"):
+    """|R(z)| <= 1 for the Runge-Kutta amplification R = sum z^k / k! to the scheme's order (RK2, RK4)."""
+    order = {"RK2": 2, "RK4": 4}[scheme]
+    term, r = 1.0, 1.0
+    for k in range(1, order + 1):
+        term = term * z / k
+        r += term
+    return abs(r) <= 1.0
 
 
-def moordyn_stable_dt(length, n_segments, safety=0.9, EA=EA, zeta=ZETA, gamma0=GAMMA0):
-    """Largest stable RK2 step (s) of MoorDyn's highest axial mode, times a safety factor.
+def moordyn_stable_dt(length, n_segments, safety=0.9, EA=EA, zeta=ZETA, gamma0=GAMMA0, scheme="RK2"):
+    """Largest stable RK2 (or ``scheme`` RK4) step (s) of MoorDyn's highest axial mode, times a safety factor.
 
     Neighbouring nodes moving in opposition: node mass gamma0 l, stiffness 4 EA / l, damping
     4 BA / l, so lambda solves gamma0 l lambda^2 + (4 BA / l) lambda + 4 EA / l = 0. Lightly
@@ -307,7 +312,7 @@ def moordyn_stable_dt(length, n_segments, safety=0.9, EA=EA, zeta=ZETA, gamma0=G
     lo, hi = 0.0, 10.0 * seg / math.sqrt(EA / gamma0)
     for _ in range(60):  # bisection on the step; stability region is an interval along these rays
         mid = 0.5 * (lo + hi)
-        if all(_rk2_stable(mid * v) for v in lam):
+        if all(_rk_stable(mid * v, scheme) for v in lam):
             lo = mid
         else:
             hi = mid
