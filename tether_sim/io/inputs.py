@@ -27,7 +27,7 @@ the commands sample the stream once per period, so detail finer than that lies b
 Nyquist frequency anyway; the velocity error from a stamp jitter ``d`` is then at most about
 ``|v| d / min_spacing`` instead of ``|v| d / (sample interval)``. The one-sided differences at
 the oldest and the newest knot (the newest one's is the extrapolation's velocity) span at least
-``2 min_spacing``.
+``4 min_spacing`` (two output periods at the node's spacing).
 
 The history is sized by time (``history_span`` s behind the newest sample), not by a sample
 count, so it is correct at any input rate (tested at 1 kHz). An input is stale when no pose was
