@@ -41,7 +41,7 @@ from tether_sim.forecast.service import ForecastService  # noqa: E402
 from tether_sim.forecast.skill import score  # noqa: E402
 from tether_sim.io.params import load_config  # noqa: E402
 from tether_sim.physics.motion import build_motion  # noqa: E402
-from tether_sim.physics.snap import SnapEvent  # noqa: E402
+from tether_sim.physics.snap import SlackStarted, SnapEvent  # noqa: E402
 from tether_sim.physics.waves import wave_components  # noqa: E402
 from tether_sim.ros.driver import MotionSource, SimulationDriver  # noqa: E402
 
@@ -73,13 +73,14 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True):
                 for c in cfgs}
     driver.start(0.0)
     rate = cfg.node.output_rate
-    snaps = []
+    snaps, slacks = [], []
     forecasts = {name: [] for name in services}
     look = {name: 0.0 for name in services}
     wall0 = time.perf_counter()
     for k in range(1, int(round(minutes * 60.0 * rate)) + 1):
         report = driver.tick(k / rate)
         snaps += [(e.location, e.time) for e in report.events if isinstance(e, SnapEvent)]
+        slacks += [(e.location, e.time) for e in report.events if isinstance(e, SlackStarted)]
         for name, service in services.items():
             done = service.completed
             service.observe(driver, clock_origin=0.0, tick_index=k)
@@ -87,6 +88,7 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True):
                 look[name] += service.last_wall
             forecasts[name] += service.poll()
     snaps += [(e.location, e.time) for e in driver.detector.flush()]
+    run_case.slacks = slacks  # slack periods begun (for --dump)
     return snaps, forecasts, time.perf_counter() - wall0, look, driver.solver.time
 
 
@@ -109,8 +111,9 @@ def main(argv=None) -> int:
                     help="the waves move the ship (RAO) but do not act on the cable (cheaper: no wave kinematics "
                          "at the quadrature points; the members never perturb the cable's waves anyway)")
     ap.add_argument("--json", default=None, help="write every number here (after every run)")
+    ap.add_argument("--dump", action="store_true", help="--json also lists every warning (p >= 0.5), snap and slack start")
     args = ap.parse_args(argv)
-    rows = []
+    rows, dumps = [], []
     print(f"forecast skill: Hs {args.hs:g} m, Tp {args.tp:g} s, {args.directions} direction(s), horizon {args.horizon:g} s, {args.members} members, "
           f"{args.rate:g} forecasts/s, sea_error {args.sea_error:g}, nominal error {args.nominal_error:g}, "
           f"waves on the cable: {'yes' if args.cable_waves else 'no'}", flush=True)
@@ -118,6 +121,11 @@ def main(argv=None) -> int:
         for seed in args.seeds:
             cfgs = [case_config(path, source, seed, args) for source in args.sources]
             snaps, forecasts, wall, look, sim = run_case(cfgs, args.minutes, args.nominal_error, args.cable_waves)
+            if args.dump:
+                dumps.append({"file": path, "seed": seed, "snaps": snaps, "slack_starts": run_case.slacks,
+                              "warnings": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.time_to_snap_std,
+                                                  f.predicted_peak) for f in fc if f.probability >= 0.5]
+                                           for src, fc in forecasts.items()}})
             for source in args.sources:
                 fc = forecasts[source]
                 for lead in (5.0, 3.0):
@@ -137,7 +145,7 @@ def main(argv=None) -> int:
                               f"run wall {wall:.0f} s (this source's look-ahead {look[source]:.0f} s)", flush=True)
             if args.json:  # after every run, so an interrupted study keeps what finished
                 Path(args.json).parent.mkdir(parents=True, exist_ok=True)
-                Path(args.json).write_text(json.dumps({"args": vars(args), "rows": rows}, indent=1))
+                Path(args.json).write_text(json.dumps({"args": vars(args), "rows": rows, "runs": dumps}, indent=1))
     print("\ntotals (all seeds):")
     keys = sorted({(r["file"], r["source"], r["end"], r["lead"]) for r in rows})
     for key in keys:

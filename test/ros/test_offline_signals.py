@@ -51,7 +51,8 @@ def test_a_signal_closes_the_file_and_says_what_was_written(tmp_path, sig):
     m = re.search(rf"stopped by {sig.name} at ([0-9.e+]+) s of 3600 s simulated \((\d+) ticks\)", stderr)
     assert m, stderr
     simulated, ticks = float(m.group(1)), int(m.group(2))
-    assert 0 < simulated < 3600 and ticks == round(simulated * 20.0)  # output_rate 20 Hz
+    # (0 ticks is possible on a loaded machine: the signal may come before the first tick is done)
+    assert 0 <= simulated < 3600 and ticks == round(simulated * 20.0)  # output_rate 20 Hz
     assert f"wrote {out}" in stdout
     # the file: footer and summary written (our reader and rosbags), every tick in it, the last at the
     # time the account names

@@ -5,6 +5,23 @@ and the total T = EA eps + zeta deps/dt is clipped at 0 so that a slackening cab
 ``LAW_LINEAR`` (T = EA eps + zeta deps/dt for any sign), ``LAW_TABLE`` (synthetic ropes: a
 piecewise-linear elastic tension through (table_strain, table_tension) starting at (0, 0),
 extrapolated with the last slope, zero in compression, plus zeta deps/dt, clipped at 0).
+
+**Compression up to the mesh's buckling load** (``pc`` below, N; solvers/dg: ``compression_cap``). The
+"no compression" of Eq. 22 is the law of a perfectly flexible cable, which buckles under any push. A
+cable with bending stiffness EI carries a push elastically until it buckles: a wave of the centreline
+of wavenumber k buckles at its Euler load EI k^2, and to shorten the chord by a fraction d with such
+a wave costs the bending energy EI k^2 d per metre, i.e. a compression EI k^2. A solver with bending
+computes the buckling of the wavelengths its mesh resolves itself; the law stands for the shorter,
+unresolved ones. So for the laws without compression, with a cap pc >= 0:
+
+    T_el = k0 eps for 0 > eps > eps_y = -pc / k0 (k0 = EA, table: its first slope): the material is
+    strained, T = max(T_el + zeta deps/dt, -pc);
+    T = T_el = -pc l / l_y below (l = 1 + eps, l_y = 1 + eps_y): buckled below the mesh scale, the chord
+    shortens at the Euler load of the shortest resolved wave, and the push fades with the chord so that
+    the force vector T q / l = -pc q / l_y is continuous (Lipschitz) through a fold, where q / l flips.
+
+pc = 0 (no bending, EI = 0) is Eq. 22 exactly, bit for bit; as the mesh is refined pc grows and the
+law tends to the linear rod (compression carried, buckling resolved), and as EI -> 0 to Eq. 22.
 """
 
 import numpy as np
@@ -26,12 +43,35 @@ def chord_floor(law):
 
 
 @jit
-def elastic_tension(law, eps, EA, tab_eps, tab_T):
-    """Elastic part of the tension at strain eps (N)."""
+def _first_slope(law, EA, tab_eps, tab_T):
+    """dT/deps at eps = 0+ (the stiffness of the first strain, used in capped compression)."""
+    if law == LAW_TABLE:
+        return (tab_T[1] - tab_T[0]) / (tab_eps[1] - tab_eps[0])
+    return EA
+
+
+@jit
+def buckled(law, eps, EA, tab_eps, tab_T, pc):
+    """True where a law without compression is buckled below the mesh scale (k0 eps <= -pc, module
+    docstring); always for eps <= 0 without a cap (pc = 0), never for the linear law."""
+    if law == LAW_LINEAR or eps > 0.0:
+        return False
+    return _first_slope(law, EA, tab_eps, tab_T) * eps <= -pc
+
+
+@jit
+def elastic_tension(law, eps, EA, tab_eps, tab_T, pc):
+    """Elastic part of the tension at strain eps (N); pc: compression cap (module docstring)."""
     if law == LAW_LINEAR:
         return EA * eps
     if eps <= 0.0:
-        return 0.0
+        if pc <= 0.0:
+            return 0.0
+        k0 = _first_slope(law, EA, tab_eps, tab_T)
+        t = k0 * eps
+        if t > -pc:
+            return t
+        return -pc * (1.0 + eps) / (1.0 - pc / k0)  # buckled: fades with the chord (pc < k0 here)
     if law == LAW_BILINEAR:
         return EA * eps
     n = tab_eps.shape[0]
@@ -44,12 +84,13 @@ def elastic_tension(law, eps, EA, tab_eps, tab_T):
 
 
 @jit
-def tension_slope(law, eps, EA, tab_eps, tab_T):
+def tension_slope(law, eps, EA, tab_eps, tab_T, pc):
     """dT/deps of the elastic part (N); sets the local wave speed lambda [PE2020 Eq. 25]."""
     if law == LAW_LINEAR:
         return EA
-    if eps < 0.0:
-        return 0.0
+    if eps < 0.0:  # capped compression: k0 while strained; 0 where buckled (the fading push is no wave)
+        k0 = _first_slope(law, EA, tab_eps, tab_T)
+        return k0 if pc > 0.0 and k0 * eps > -pc else 0.0
     if law == LAW_BILINEAR:
         return EA
     n = tab_eps.shape[0]
@@ -60,14 +101,31 @@ def tension_slope(law, eps, EA, tab_eps, tab_T):
 
 
 @jit
-def axial_tension(law, eps, eps_rate, EA, zeta, tab_eps, tab_T):
-    """T(eps, deps/dt) [PE2020 Eq. 22] (visco-elastic; see module docstring per law)."""
+def axial_tension(law, eps, eps_rate, EA, zeta, tab_eps, tab_T, pc):
+    """T(eps, deps/dt) [PE2020 Eq. 22] (visco-elastic; see module docstring per law and for pc)."""
     if law == LAW_LINEAR:
         return EA * eps + zeta * eps_rate
+    if pc > 0.0:
+        tel = elastic_tension(law, eps, EA, tab_eps, tab_T, pc)
+        if buckled(law, eps, EA, tab_eps, tab_T, pc):
+            return tel  # no material strain rate where buckled below the mesh scale
+        t = tel + zeta * eps_rate
+        return t if t > -pc else -pc
     if eps <= 0.0:
         return 0.0
-    t = elastic_tension(law, eps, EA, tab_eps, tab_T) + zeta * eps_rate
+    t = elastic_tension(law, eps, EA, tab_eps, tab_T, 0.0) + zeta * eps_rate
     return t if t > 0.0 else 0.0
+
+
+@jit
+def compression_cap(law, EI, P, h):
+    """The cap pc of the laws without compression on an element of length h with order P (N): the Euler
+    load EI k^2 of the shortest wave the element resolves, k = pi P / h (wavelength 2 h / P, two nodes
+    per wave); 0 for the linear law and without bending (module docstring)."""
+    if law == LAW_LINEAR or EI <= 0.0:
+        return 0.0
+    k = 3.141592653589793 * P / h
+    return EI * k * k
 
 
 class TensionLaw:
@@ -92,17 +150,17 @@ class TensionLaw:
         else:
             self.tab_eps, self.tab_T = np.zeros(2), np.zeros(2)
 
-    def tension(self, eps, eps_rate=0.0):
-        """T(eps, deps/dt), vectorised."""
+    def tension(self, eps, eps_rate=0.0, pc=0.0):
+        """T(eps, deps/dt), vectorised; pc: the compression cap (module docstring)."""
         e = np.atleast_1d(np.asarray(eps, float))
         r = np.broadcast_to(np.asarray(eps_rate, float), e.shape)
-        return np.array([axial_tension(self.code, a, b, self.EA, self.zeta, self.tab_eps, self.tab_T)
+        return np.array([axial_tension(self.code, a, b, self.EA, self.zeta, self.tab_eps, self.tab_T, pc)
                          for a, b in zip(e, r)])
 
-    def slope(self, eps):
+    def slope(self, eps, pc=0.0):
         """dT/deps (elastic), vectorised."""
         e = np.atleast_1d(np.asarray(eps, float))
-        return np.array([tension_slope(self.code, a, self.EA, self.tab_eps, self.tab_T) for a in e])
+        return np.array([tension_slope(self.code, a, self.EA, self.tab_eps, self.tab_T, pc) for a in e])
 
     def max_slope(self) -> float:
         """Largest dT/deps the law can reach (sets the largest wave speed)."""

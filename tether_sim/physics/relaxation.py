@@ -33,7 +33,7 @@ def _node_forces(r, ds, law, EA, tab_eps, tab_T, fext, hrd, Cdt, Cdn, cz, cx, cy
         if ln <= 0.0:
             continue
         l = ln / ds[k]
-        T = axial_tension(law, l - 1.0, 0.0, EA, 0.0, tab_eps, tab_T)
+        T = axial_tension(law, l - 1.0, 0.0, EA, 0.0, tab_eps, tab_T, 0.0)  # (statics: no bending)
         t0, t1, t2 = d0 / ln, d1 / ln, d2 / ln
         F[k, 0] += T * t0
         F[k, 1] += T * t1

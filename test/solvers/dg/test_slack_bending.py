@@ -18,7 +18,9 @@ from tether_sim.config import SimConfig
 from tether_sim.numerics.quadrature import gauss_legendre
 from tether_sim.physics.boundary import EndCondition
 from tether_sim.physics.cable import CableProperties
-from tether_sim.physics.constitutive import LAW_BILINEAR, LAW_LINEAR, LAW_TABLE, chord_floor
+from tether_sim.physics.constitutive import (
+    LAW_BILINEAR, LAW_LINEAR, LAW_TABLE, axial_tension, chord_floor, compression_cap,
+)
 from tether_sim.physics.environment import Environment
 from tether_sim.solvers.config import DGOptions, InitialState
 from tether_sim.solvers.dg import layout as Y
@@ -76,12 +78,20 @@ def test_bending_force_is_continuous_as_a_chord_passes_through_zero(law):
     # 2e-9 change of the state -> a change of the same order (Lipschitz); the stretched form changes O(1)
     assert np.max(np.abs(a - b)) <= 1e-6 * scale
     assert np.max(np.abs(ta - tb)) <= 1e-6 * np.max(np.abs(tc))
-    # where slack (no axial tension) the tension vector is the bending shear alone; it stays of the size of
-    # the mean line's bending (16.5 N measured on this state), not growing as 1/l^3
-    slack = s._wq[:, :, Y.W_L] < 1.0  # (the mu = 1e-3 state; the same points are slack for +-1e-9)
+    # where slack the tension vector is the capped compression T(l) q / l (physics/constitutive.py: at most the
+    # Euler load pc of the mesh's shortest wave, fading as -pc q / l_y where buckled) plus the bending shear;
+    # the shear stays of the size of the mean line's bending (16.5 N measured on this state), not ~1/l^3
+    wq = s._wq
+    slack = wq[:, :, Y.W_L] < 1.0  # (the mu = 1e-3 state; the same points are slack for +-1e-9)
     assert slack.sum() >= 5
-    print("largest shear force where slack (N):", np.max(np.abs(ta[slack])))
-    assert np.max(np.abs(ta[slack])) <= 10.0 * 2620.0 / H**3
+    pc = compression_cap(s.law.code, 2620.0, 4, H)
+    assert pc == pytest.approx(2620.0 * (np.pi * 4 / H) ** 2, rel=1e-15)
+    T = np.vectorize(lambda x: axial_tension(s.law.code, x, 0.0, s.law.EA, 0.0, s.law.tab_eps, s.law.tab_T, pc))(
+        wq[:, :, Y.W_L] - 1.0)
+    assert np.all(T[slack] < 0.0) and np.all(T[slack] >= -pc)
+    shear = tc - T[:, :, None] * wq[:, :, Y.W_I:Y.W_I + 3]
+    print("largest shear force where slack (N):", np.max(np.abs(shear[slack])))
+    assert np.max(np.abs(shear[slack])) <= 10.0 * 2620.0 / H**3
 
 
 def taut_state(s):
@@ -108,3 +118,48 @@ def test_taut_cable_is_pe2020_bit_for_bit(zeta_b, damping):
 def test_chord_floor_per_law():
     assert chord_floor(LAW_BILINEAR) == 1.0 and chord_floor(LAW_TABLE) == 1.0
     assert chord_floor(LAW_LINEAR) == 0.0
+
+
+@pytest.mark.parametrize("law", ["bilinear", "table"])
+def test_capped_compression_law(law):
+    """The laws without compression with a cap pc (physics/constitutive.py): Eq. 22 exactly at pc = 0; with
+    pc > 0 linear compression k0 eps down to -pc, then a push fading as -pc l / l_y, continuous at every
+    joint and zero at a collapsed chord; the damping acts only where the material is strained."""
+    from tether_sim.physics.constitutive import TensionLaw, buckled, elastic_tension, tension_slope
+
+    s = solver(law=law)
+    code, EA, te, tt = s.law.code, s.law.EA, s.law.tab_eps, s.law.tab_T
+    k0 = EA if law == "bilinear" else tt[1] / te[1]
+    rng = np.random.default_rng(5)
+    eps = np.concatenate([rng.uniform(-1.0, 0.02, 400), [0.0, -0.0, 1e-12, -1e-12]])
+    rate = rng.normal(0.0, 5.0, eps.size)
+    old = TensionLaw(s.config.cable)  # slopes: the law's Python view
+    for e, r in zip(eps, rate):  # pc = 0 is Eq. 22 as printed
+        tel = 0.0 if e <= 0.0 else float(elastic_tension(code, e, EA, te, tt, 0.0))
+        want = 0.0 if e <= 0.0 else max(0.0, tel + 50.0 * r)
+        assert axial_tension(code, e, r, EA, 50.0, te, tt, 0.0) == want
+        assert tension_slope(code, e, EA, te, tt, 0.0) == (0.0 if e < 0.0 else old.slope(e)[0])
+    pc = 0.02 * k0
+    ey = -pc / k0
+    ly = 1.0 + ey
+    T = lambda e, r=0.0, z=0.0: axial_tension(code, e, r, EA, z, te, tt, pc)  # noqa: E731
+    assert T(-0.5 * pc / k0) == pytest.approx(-0.5 * pc, rel=1e-12)  # elastic compression
+    assert T(ey * (1 + 1e-12)) == pytest.approx(-pc, rel=1e-9) and T(ey * (1 - 1e-12)) == pytest.approx(-pc, rel=1e-9)
+    assert T(-0.5) == pytest.approx(-pc * 0.5 / ly, rel=1e-12) and T(-1.0) == 0.0  # fading push
+    assert buckled(code, -0.5, EA, te, tt, pc) and not buckled(code, 0.5 * ey, EA, te, tt, pc)
+    assert tension_slope(code, 0.5 * ey, EA, te, tt, pc) == k0 and tension_slope(code, -0.5, EA, te, tt, pc) == 0.0
+    zeta = 1e3
+    assert T(0.5 * ey, 3.0, zeta) == pytest.approx(-0.5 * pc + 3e3, rel=1e-12)  # damped where strained
+    assert T(0.5 * ey, -1e9, zeta) == -pc  # never beyond the cap
+    assert T(-0.5, 1e9, zeta) == T(-0.5)  # no material strain rate where buckled
+    # the force vector T(l) q / l is Lipschitz through a fold (q -> -q): -pc q / l_y
+    for l in (1e-3, 1e-6):
+        assert T(l - 1.0) / l == pytest.approx(-pc / ly, rel=1e-8)  # (l - 1 rounds l to ~1e-16 absolute)
+
+
+def test_compression_cap_is_the_euler_load_of_the_shortest_resolved_wave():
+    EI, P, h = 2620.0, 4, 5.0
+    wavelength = 2.0 * h / P  # two nodes per wave
+    assert compression_cap(LAW_BILINEAR, EI, P, h) == pytest.approx(EI * (2 * np.pi / wavelength) ** 2, rel=1e-14)
+    assert compression_cap(LAW_TABLE, EI, P, h) == compression_cap(LAW_BILINEAR, EI, P, h)
+    assert compression_cap(LAW_LINEAR, EI, P, h) == 0.0 and compression_cap(LAW_BILINEAR, 0.0, P, h) == 0.0

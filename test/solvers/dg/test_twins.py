@@ -18,7 +18,7 @@ import pytest
 from tether_sim.config import SimConfig
 from tether_sim.physics.boundary import EndCondition
 from tether_sim.physics.cable import CableProperties
-from tether_sim.physics.constitutive import axial_tension
+from tether_sim.physics.constitutive import axial_tension, buckled, compression_cap, elastic_tension
 from tether_sim.physics.environment import Environment
 from tether_sim.solvers.config import DGOptions, InitialState
 from tether_sim.solvers.dg import layout as Y
@@ -114,34 +114,41 @@ def test_elementwise_momentum_matches_a_numpy_transcription(case):
 
 
 @pytest.mark.parametrize("law", ["bilinear", "linear", "table"])
-@pytest.mark.parametrize("N, P", [(3, 4), (2, 3)])
-def test_written_out_tension_and_wave_speed_equal_their_composition(law, N, P):
-    s = cable_solver(N=N, P=P, law=law)
+@pytest.mark.parametrize("N, P, EI", [(3, 4, 0.0), (2, 3, 0.0), (3, 4, 2000.0)])
+def test_written_out_tension_and_wave_speed_equal_their_composition(law, N, P, EI):
+    s = cable_solver(N=N, P=P, law=law, EI=EI)
+    s.iprm[Y.I_BENDING] = 0  # W_TV = T i alone (the cap depends on EI and P, not on this switch)
     s._evaluate()
     code, EA, zeta = s.law.code, s.prm[Y.P_EA], s.prm[Y.P_ZETA]
     wq = s._wq
     eps = wq[:, :, Y.W_L] - 1.0
     assert eps.min() < 0.0 < eps.max()  # slack and taut points
-    T = np.array([[axial_tension(code, eps[e, j], wq[e, j, Y.W_EDOT], EA, zeta, s.law.tab_eps, s.law.tab_T)
+    pc = [compression_cap(code, EI, P, h) for h in s.h]
+    if EI > 0.0 and law != "linear":  # strained compression and buckled points are both visited
+        bk = np.array([[buckled(code, eps[e, j], EA, s.law.tab_eps, s.law.tab_T, pc[e])
+                        for j in range(wq.shape[1])] for e in range(N)])
+        assert bk.any() and ((eps < 0) & ~bk).any()
+    T = np.array([[axial_tension(code, eps[e, j], wq[e, j, Y.W_EDOT], EA, zeta, s.law.tab_eps, s.law.tab_T, pc[e])
                    for j in range(wq.shape[1])] for e in range(N)])
     assert np.array_equal(wq[:, :, Y.W_TV:Y.W_TV + 3], T[:, :, None] * wq[:, :, Y.W_I:Y.W_I + 3])
     q = s._tr[:, :, Y.T_Q:Y.T_Q + 3]
-    lam = np.array([[local_speed(s.prm, code, *q[e, side], s.law.tab_eps, s.law.tab_T) for side in range(2)]
+    lam = np.array([[local_speed(s.prm, code, *q[e, side], s.law.tab_eps, s.law.tab_T, pc[e]) for side in range(2)]
                     for e in range(N)])
     assert np.array_equal(s._tr[:, :, Y.T_LAM], lam)
 
 
-def plain_clip(flux, q):
-    """T_hat minus its compressive axial part: (T_hat . i) < 0 is removed along i = q / |q|."""
+def plain_clip(flux, q, pc=0.0):
+    """T_hat with its axial part (T_hat . i) clipped at -pc along i = q / |q|."""
     n = np.linalg.norm(q)
     if n <= 1e-300:
         return flux.copy()
     i = q / n
     a = flux @ i
-    return flux - a * i if a < 0.0 else flux.copy()
+    return flux - (a + pc) * i if a < -pc else flux.copy()
 
 
-def test_clip_compression_removes_exactly_the_compressive_axial_part():
+@pytest.mark.parametrize("pc", [0.0, 3e3])
+def test_clip_compression_removes_exactly_the_compressive_axial_part(pc):
     rng = np.random.default_rng(3)
     for trial in range(200):
         fl = np.zeros((3, Y.NFL))
@@ -149,13 +156,13 @@ def test_clip_compression_removes_exactly_the_compressive_axial_part():
         fl[:, Y.F_V:Y.F_V + 3] = rng.standard_normal((3, 3)) * 1e4
         tr[:, :, Y.T_Q:Y.T_Q + 3] = rng.standard_normal((2, 2, 3)) * (0.0 if trial % 50 == 0 else 1.0)
         k, e, side = trial % 3, trial % 2, (trial // 2) % 2
-        want = plain_clip(fl[k, Y.F_V:Y.F_V + 3], tr[e, side, Y.T_Q:Y.T_Q + 3])
-        clip_compression(fl, tr, k, e, side)
+        want = plain_clip(fl[k, Y.F_V:Y.F_V + 3], tr[e, side, Y.T_Q:Y.T_Q + 3], pc)
+        clip_compression(fl, tr, k, e, side, pc)
         # same formula, the axial component recomputed by numpy's dot: a few ulps of |T_hat|
         assert np.allclose(fl[k, Y.F_V:Y.F_V + 3], want, rtol=0, atol=1e-15 * 1e4 * 10)
         q = tr[e, side, Y.T_Q:Y.T_Q + 3]
         if np.linalg.norm(q) > 0:
-            assert fl[k, Y.F_V:Y.F_V + 3] @ q / np.linalg.norm(q) >= -1e-10  # never compressive after
+            assert fl[k, Y.F_V:Y.F_V + 3] @ q / np.linalg.norm(q) >= -pc - 1e-10  # never below -pc after
 
 
 def evaluate(s, fdamp, implicit):
@@ -198,7 +205,8 @@ def test_clip_end_fluxes_is_the_clip_of_the_total_end_flux(kinds):
             i = q / np.linalg.norm(q)
             lam = max(tr[e, end, Y.T_LAM], s.prm[Y.P_LAMBDA_BC])
             elastic = tr[e, end, Y.T_TV:Y.T_TV + 3] - sgn * lam * (g0 * vbc[end, 3:6] - tr[e, end, Y.T_V:Y.T_V + 3])
-            total = plain_clip(elastic + sgn * fdamp[end, 0:3], q)
+            pc = compression_cap(s.law.code, s.config.cable.EI, s.P, s.h[e])  # > 0 with bending (clamped case)
+            total = plain_clip(elastic + sgn * fdamp[end, 0:3], q, pc)
             clipped += int(not np.array_equal(total, elastic + sgn * fdamp[end, 0:3]))
             d = total - fl[k, Y.F_V:Y.F_V + 3] - sgn * fdamp[end, 0:3]
             want_endf[end, 0:3] += sgn * d
@@ -215,24 +223,30 @@ def test_clip_end_fluxes_is_the_clip_of_the_total_end_flux(kinds):
     assert clipped > 0  # the compressive branch was exercised
 
 
+@pytest.mark.parametrize("EI", [0.0, 0.3])
 @pytest.mark.parametrize("law", ["bilinear", "table", "linear"])
-def test_clip_set_marks_exactly_the_points_whose_total_tension_would_push(law):
-    from tether_sim.physics.constitutive import elastic_tension
+def test_clip_set_marks_exactly_the_points_whose_total_tension_would_push(law, EI):
+    """... below -p_c, the compression cap (0 without bending)."""
     from tether_sim.solvers.dg import damping_layout as DL
     from tether_sim.solvers.dg.damping_ops import clip_set, damping_geometry
 
-    s = cable_solver(N=4, P=3, law=law, damping="implicit")
+    s = cable_solver(N=4, P=3, law=law, damping="implicit", EI=EI)
     dw = s._damp
-    damping_geometry(s.U, s.V, dw.idp, dw.dprm, dw.wp)
+    damping_geometry(s.U, s.V, dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
     wp = dw.wp
     rng = np.random.default_rng(11)
     wp[:, :, DL.WP_E0] = rng.standard_normal(wp.shape[:2]) * 20.0  # strain rates of either sign
     Z0 = wp[:, :, DL.WP_Z].copy()
     n = clip_set(dw.idp, dw.dprm, wp, s.law.tab_eps, s.law.tab_T)
     zeta = dw.dprm[DL.DP_ZETA]
-    tel = np.vectorize(lambda eps: elastic_tension(s.law.code, eps, s.law.EA, s.law.tab_eps, s.law.tab_T))(
-        wp[:, :, DL.WP_L] - 1.0)
-    push = (Z0 > 0) & (tel + zeta * wp[:, :, DL.WP_E0] < 0) if law != "linear" else np.zeros(Z0.shape, bool)
+    pc = np.array([compression_cap(s.law.code, EI, 3, h) for h in s.h])[:, None] + 0.0 * wp[:, :, DL.WP_L]
+    assert np.array_equal(wp[:, :, DL.WP_PC], pc) and (law == "linear" or (pc > 0).all() == (EI > 0))
+    eps = wp[:, :, DL.WP_L] - 1.0
+    tel = np.vectorize(lambda x, c: elastic_tension(s.law.code, x, s.law.EA, s.law.tab_eps, s.law.tab_T, c))(eps, pc)
+    k0 = s.law.EA if law != "table" else s.law.tab_T[1] / s.law.tab_eps[1]
+    strained = (eps > 0) | (law == "linear") | ((pc > 0) & (k0 * eps > -pc))
+    assert np.array_equal(Z0 > 0, strained)
+    push = (Z0 > 0) & (tel + zeta * wp[:, :, DL.WP_E0] < -pc) if law != "linear" else np.zeros(Z0.shape, bool)
     assert n == push.sum() and (law == "linear" or 0 < n < push.size)
     assert np.array_equal(wp[:, :, DL.WP_Z], np.where(push, 0.0, Z0))
-    assert np.array_equal(wp[:, :, DL.WP_TC], np.where(push, -tel, 0.0))
+    assert np.array_equal(wp[:, :, DL.WP_TC], np.where(push, -pc - tel, 0.0))

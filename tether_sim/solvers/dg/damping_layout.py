@@ -68,6 +68,7 @@ define(globals(), "wp", [
     ("WP_X", 1, "e", "1/s", "strain rate the damping tension is evaluated at"),
     ("WP_TC", 1, "T_c", "N", "constant damping tension of points where the no-compression clip is active"),
     ("WP_BC0", 1, "e_c", "1/s", "strain rate caused by that constant force"),
+    ("WP_PC", 1, "p_c", "N", "compression cap of the point's element (constitutive.compression_cap; set once: h is fixed)"),
     ("WP_ZF", 1, "Z_LU", "N s", "Z when the strain-rate LU was computed"),
     ("WP_KX", 1, "x", "1/s", "K x (defect correction): input"),
     ("WP_KY", 1, "K x", "1/s^2", "and output"),

@@ -6,17 +6,17 @@ divergence through the added mass, end forces, the no-compression clip and relea
 import math
 
 from tether_sim.numerics.jit import jit
-from tether_sim.physics.constitutive import LAW_LINEAR, chord_floor, elastic_tension
+from tether_sim.physics.constitutive import LAW_LINEAR, buckled, chord_floor, elastic_tension
 from tether_sim.physics.end_conditions import is_kinematic
 from tether_sim.solvers.dg.damping_layout import (
     DP_AN, DP_AT, DP_EA, DP_G0, DP_IP0, DP_LAMBDA, DP_TC0, DP_ZETA, DP_ZETAB, ID_KIND0, ID_LAW, ID_REL0, OP_DIV,
-    OP_G, OP_KDOT, OP_TAU, WP_E0, WP_I, WP_IDOT, WP_KDOT, WP_L, WP_MB, WP_NUS, WP_R, WP_TAU, WP_TC, WP_TV, WP_X,
-    WP_Z,
+    OP_G, OP_KDOT, OP_TAU, WP_E0, WP_I, WP_IDOT, WP_KDOT, WP_L, WP_MB, WP_NUS, WP_PC, WP_R, WP_TAU, WP_TC, WP_TV,
+    WP_X, WP_Z,
 )
 
 
 @jit
-def damping_geometry(U, V, idp, dprm, wp):
+def damping_geometry(U, V, idp, dprm, wp, tab_eps, tab_T):
     """Frozen geometry at the Gauss points: tangent i, stretch l, damping coefficient Z."""
     N, nm = U.shape[0], U.shape[1]
     nq = V.shape[0]
@@ -37,14 +37,17 @@ def damping_geometry(U, V, idp, dprm, wp):
             wp[e, j, WP_I + 1] = q1 * il
             wp[e, j, WP_I + 2] = q2 * il
             wp[e, j, WP_L] = l
-            wp[e, j, WP_Z] = zeta if (linear or l > 1.0) else 0.0
+            # the material is strained where taut, or in capped compression short of the cap
+            strained = linear or not buckled(idp[ID_LAW], l - 1.0, dprm[DP_EA], tab_eps, tab_T, wp[e, j, WP_PC])
+            wp[e, j, WP_Z] = zeta if strained else 0.0
 
 
 @jit
 def clip_set(idp, dprm, wp, tab_eps, tab_T):
-    """No-compression laws [Eq. 22]: T = max(0, T_el + zeta e). Where the strain rate e at the start
-    of the step (WP_E0) would make the total compressive, the damping tension is the constant -T_el
-    (total 0) for the step: Z = 0 there and T_c = -T_el (WP_TC). Returns the number of such points."""
+    """No-compression laws [Eq. 22]: T = max(-p_c, T_el + zeta e) (p_c = WP_PC, the compression cap, 0 without
+    bending). Where the strain rate e at the start of the step (WP_E0) would take the total below -p_c, the
+    damping tension is the constant -p_c - T_el (total -p_c) for the step: Z = 0 there and T_c = -p_c - T_el
+    (WP_TC). Returns the number of such points."""
     N, nq = wp.shape[0], wp.shape[1]
     nclip = 0
     if idp[ID_LAW] == LAW_LINEAR:
@@ -57,10 +60,11 @@ def clip_set(idp, dprm, wp, tab_eps, tab_T):
         for j in range(nq):
             wp[e, j, WP_TC] = 0.0
             if wp[e, j, WP_Z] > 0.0:
-                tel = elastic_tension(idp[ID_LAW], wp[e, j, WP_L] - 1.0, dprm[DP_EA], tab_eps, tab_T)
-                if tel + zeta * wp[e, j, WP_E0] < 0.0:
+                pc = wp[e, j, WP_PC]
+                tel = elastic_tension(idp[ID_LAW], wp[e, j, WP_L] - 1.0, dprm[DP_EA], tab_eps, tab_T, pc)
+                if tel + zeta * wp[e, j, WP_E0] < -pc:
                     wp[e, j, WP_Z] = 0.0
-                    wp[e, j, WP_TC] = -tel
+                    wp[e, j, WP_TC] = -pc - tel
                     nclip += 1
     return nclip
 
@@ -100,7 +104,7 @@ def release_ends(U, vbc, idp, dprm, bvec, Tr, wp, tab_eps, tab_T):
         a_el = 0.0
         a_d = 0.0
         for j in range(nq):
-            t_el = elastic_tension(idp[ID_LAW], wp[e, j, WP_L] - 1.0, dprm[DP_EA], tab_eps, tab_T)
+            t_el = elastic_tension(idp[ID_LAW], wp[e, j, WP_L] - 1.0, dprm[DP_EA], tab_eps, tab_T, wp[e, j, WP_PC])
             t_d = wp[e, j, WP_Z] * wp[e, j, WP_E0] + wp[e, j, WP_TC]
             ii = wp[e, j, WP_I] * i0 + wp[e, j, WP_I + 1] * i1 + wp[e, j, WP_I + 2] * i2
             a_el += bvec[2 + end, j] * t_el * ii
@@ -113,10 +117,11 @@ def release_ends(U, vbc, idp, dprm, bvec, Tr, wp, tab_eps, tab_T):
             ic = i0 if c == 0 else (i1 if c == 1 else i2)
             vrel += (g0 * vbc[end, 3 + c] - vc) * ic
         a_el -= sgn * lam * vrel
-        if a_el + a_d < 0.0:
+        pc = wp[e, 0, WP_PC]
+        if a_el + a_d < -pc:
             idp[ID_REL0 + end] = 1
             nrel += 1
-            a = -a_el if a_el > 0.0 else 0.0
+            a = -(a_el + pc) if a_el > -pc else 0.0  # the elastic flux is clipped at -pc by dg_rhs
             dprm[DP_TC0 + 3 * end] = a * i0
             dprm[DP_TC0 + 3 * end + 1] = a * i1
             dprm[DP_TC0 + 3 * end + 2] = a * i2

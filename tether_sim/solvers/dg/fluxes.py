@@ -90,11 +90,13 @@ def tension_jump_penalty(prm, iprm, h, Pj, Tr, Lf, wq, tr, fl, dU):
 
 
 @jit_inline
-def clip_compression(fl, tr, k, e, side):
-    """Remove a compressive axial part of the boundary flux T_hat (laws without compression).
+def clip_compression(fl, tr, k, e, side, pc):
+    """Clip the axial part of the boundary flux T_hat at -pc (laws without compression; pc the element's
+    compression cap, physics/constitutive.py: 0 without bending).
 
     The Riemann solution of a cable that cannot push has T* >= 0: a boundary moving into the cable
-    faster than the upwind term allows produces slack, not compression.
+    faster than the upwind term allows produces slack, not compression; with bending the cable pushes
+    up to the Euler load of the mesh's shortest wave, as inside the cable.
     """
     q0 = tr[e, side, T_Q]
     q1 = tr[e, side, T_Q + 1]
@@ -106,10 +108,11 @@ def clip_compression(fl, tr, k, e, side):
     i1 = q1 / lq
     i2 = q2 / lq
     a = fl[k, F_V] * i0 + fl[k, F_V + 1] * i1 + fl[k, F_V + 2] * i2
-    if a < 0.0:
-        fl[k, F_V] -= a * i0
-        fl[k, F_V + 1] -= a * i1
-        fl[k, F_V + 2] -= a * i2
+    if a < -pc:
+        d = a + pc
+        fl[k, F_V] -= d * i0
+        fl[k, F_V + 1] -= d * i1
+        fl[k, F_V + 2] -= d * i2
 
 
 @jit_inline

@@ -41,10 +41,11 @@ import numpy as np
 
 from tether_sim.numerics.banded import band_factor, band_solve
 from tether_sim.numerics.jit import jit
+from tether_sim.physics.constitutive import compression_cap
 from tether_sim.solvers.dg.damping_layout import (
     DP_AN, DP_AT, DP_EA, DP_G0, DP_LAMBDA, DP_LU_H, DP_ZETA, DP_ZETAB, GAMMA_SDIRK, ID_KIND0, ID_KIND1, ID_KL, ID_LAW,
     ID_LU_AGE, ID_MODE, ID_REACH, ID_REL0, ID_RELF0, LU_MAX_AGE, LU_TOL, MODE_AXIAL, MODE_GENERAL, N_DP, N_ID, NWD,
-    NWP, OP_DIV, OP_GP, OP_H, WD_F, WD_K1, WD_P, WD_Y, WP_BC0, WP_E0, WP_E1, WP_E2, WP_I, WP_KX, WP_KY, WP_TC, WP_TV,
+    NWP, OP_DIV, OP_GP, OP_H, WD_F, WD_K1, WD_P, WD_Y, WP_BC0, WP_E0, WP_E1, WP_E2, WP_I, WP_KX, WP_KY, WP_PC, WP_TC, WP_TV,
     WP_X, WP_Z, WP_ZF, DP_IP0, build_operators,
 )
 from tether_sim.solvers.dg.damping_ops import (
@@ -79,6 +80,8 @@ class DampingWork:
         self.idp[ID_REACH], self.idp[ID_KL] = reach, kl
         self.idp[ID_LU_AGE] = -1
         self.wp = np.zeros((N, nq, NWP))
+        for e in range(N):  # (a winch, which would change h, is refused with implicit damping: winch_driver.py)
+            self.wp[e, :, WP_PC] = compression_cap(law_code, cable.EI, nm - 1, h[e])
         self.wd = np.zeros((N, nm, NWD))
         self.band = np.zeros((n, 2 * kl + 1))
         self.vec = np.zeros((4, max(n, kl + 1)))
@@ -188,7 +191,7 @@ def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, 
     nm = U.shape[1]
     kl = idp[ID_KL]
     g = GAMMA_SDIRK
-    damping_geometry(U, V, idp, dprm, wp)
+    damping_geometry(U, V, idp, dprm, wp, tab_eps, tab_T)
     strain_rates(U, 3, True, vbc, blk, bvec, wp, WP_E0)
     nclip = clip_set(idp, dprm, wp, tab_eps, tab_T)
     nclip += release_ends(U, vbc, idp, dprm, bvec, Tr, wp, tab_eps, tab_T)
@@ -338,7 +341,7 @@ def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp
     period = 2 * reach + 1
     g = GAMMA_SDIRK
     gh = g * hs
-    damping_geometry(U, V, idp, dprm, wp)
+    damping_geometry(U, V, idp, dprm, wp, tab_eps, tab_T)
     strain_rates(U, 3, True, vbc, blk, bvec, wp, WP_E0)
     clip_set(idp, dprm, wp, tab_eps, tab_T)
     release_ends(U, vbc, idp, dprm, bvec, Tr, wp, tab_eps, tab_T)

@@ -30,7 +30,9 @@ be pulled taut, never pushed).
 import math
 
 from tether_sim.numerics.jit import jit, jit_inline
-from tether_sim.physics.constitutive import LAW_BILINEAR, LAW_LINEAR, LAW_TABLE, axial_tension, tension_slope
+from tether_sim.physics.constitutive import (
+    LAW_BILINEAR, LAW_LINEAR, LAW_TABLE, axial_tension, compression_cap, tension_slope,
+)
 from tether_sim.physics.end_conditions import is_kinematic
 from tether_sim.physics.hydrodynamics import current_at, morison_drag, surface_drag, wave_inertia, wetted_fraction
 from tether_sim.physics.seabed import seabed_force
@@ -38,10 +40,10 @@ from tether_sim.physics.waves import wave_kinematics
 from tether_sim.solvers.dg.elementops import strong_derivative
 from tether_sim.solvers.dg.layout import (
     B_F, B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, F_NU, F_Q, F_V,
-    I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_NWAVE, I_SEABED, I_SURFACE,
+    I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_P, I_NWAVE, I_SEABED, I_SURFACE,
     M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDN_AIR, P_CDT, P_CDT_AIR, P_EA, P_FBZ, P_FBZ_AIR, P_GAMMA0,
     P_HALF_RHO_D, P_HALF_RHO_D_AIR, P_RHO_AH, P_SURF_B, P_TIME, P_WAVE_DEPTH, P_WAVE_STRETCH, P_WAVE_ZCUT, N_PRM,
-    P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_QPENT, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
+    P_EI, P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_QPENT, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
     T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TE, W_TV, W_V, W_WET,
 )
 from tether_sim.solvers.dg.fluxes import (
@@ -83,10 +85,11 @@ def hermite_end(bc, end, t, out):
 
 
 @jit
-def local_speed(prm, law, q0, q1, q2, tab_eps, tab_T):
-    """lambda = sqrt(dT/deps / gamma0) at a trace [PE2020 Eq. 25], floored by P_LAMBDA_FLOOR."""
+def local_speed(prm, law, q0, q1, q2, tab_eps, tab_T, pc):
+    """lambda = sqrt(dT/deps / gamma0) at a trace [PE2020 Eq. 25], floored by P_LAMBDA_FLOOR; pc: the
+    compression cap of the element (physics/constitutive.py)."""
     eps = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2) - 1.0
-    lam = math.sqrt(tension_slope(law, eps, prm[P_EA], tab_eps, tab_T) / prm[P_GAMMA0])
+    lam = math.sqrt(tension_slope(law, eps, prm[P_EA], tab_eps, tab_T, pc) / prm[P_GAMMA0])
     return lam if lam > prm[P_LAMBDA_FLOOR] else prm[P_LAMBDA_FLOOR]
 
 
@@ -149,8 +152,8 @@ def internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, 
         else:  # n = +1
             fl[N, F_V + c] = tr[N - 1, 1, T_TV + c] + lam1 * (g0 * vbc[1, 3 + c] - tr[N - 1, 1, T_V + c])
     if law != LAW_LINEAR:
-        clip_compression(fl, tr, 0, 0, 0)
-        clip_compression(fl, tr, N, N - 1, 1)
+        clip_compression(fl, tr, 0, 0, 0, compression_cap(law, prm[P_EI], iprm[I_P], h[0]))
+        clip_compression(fl, tr, N, N - 1, 1, compression_cap(law, prm[P_EI], iprm[I_P], h[N - 1]))
     end_outputs(N, tr, fl, endf, k0, k1, bc)
 
 
@@ -173,10 +176,12 @@ def tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, w
     bending = iprm[I_BENDING] != 0
     lam_taut = math.sqrt(prm[P_EA] / g0)  # = local_speed of a taut trace for the (bi)linear laws
     lam_floor = prm[P_LAMBDA_FLOOR]
+    EA = prm[P_EA]
     # 1. q, v at the Gauss points and traces; tangent, elongation, local wave speed. The two
     # six-channel sums below are written out on purpose: one helper returning a 6-tuple measured
     # 41-43 us per substep against 35-36 us (ROPOS N = 20, P = 4, bench_dg_kernel.py).
     for e in range(N):
+        pc = compression_cap(law, prm[P_EI], iprm[I_P], h[e])  # 0 without bending: Eq. 22 as printed
         for j in range(nq):
             s0 = 0.0
             s1 = 0.0
@@ -226,16 +231,17 @@ def tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, w
             tr[e, side, T_V + 1] = s4
             tr[e, side, T_V + 2] = s5
             if law == LAW_TABLE:
-                lam = local_speed(prm, law, s0, s1, s2, tab_eps, tab_T)
-            else:  # local_speed written out: the slope is EA (taut, or any strain for the linear law) or 0
+                lam = local_speed(prm, law, s0, s1, s2, tab_eps, tab_T, pc)
+            else:  # local_speed written out: the slope is EA (taut, capped compression, linear law) or 0
                 lam = lam_taut
-                if law == LAW_BILINEAR and math.sqrt(s0 * s0 + s1 * s1 + s2 * s2) - 1.0 < 0.0:
-                    lam = 0.0
+                if law == LAW_BILINEAR:
+                    el = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2) - 1.0
+                    if el < 0.0 and not EA * el > -pc:
+                        lam = 0.0
                 lam = lam if lam > lam_floor else lam_floor
             tr[e, side, T_LAM] = lam
     # 2. fluxes of F_q = v / gamma0 (and of the strain-rate gradient)
     velocity_fluxes(prm, iprm, vbc, tr, fl)
-    EA = prm[P_EA]
     zeta = prm[P_ZETA]
     damped = iprm[I_AXDAMP] != 0
     qtens = prm[P_QPENT] != 0.0
@@ -244,6 +250,7 @@ def tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, w
         # the volume term and differs only in the (central) interface fluxes
         hb = 1.0 / h[e]
         asc = (2.0 / h[e]) * ig0
+        pc = compression_cap(law, prm[P_EI], iprm[I_P], h[e])
         jr0 = fl[e + 1, F_Q] - ig0 * tr[e, 1, T_V]
         jr1 = fl[e + 1, F_Q + 1] - ig0 * tr[e, 1, T_V + 1]
         jr2 = fl[e + 1, F_Q + 2] - ig0 * tr[e, 1, T_V + 2]
@@ -296,16 +303,22 @@ def tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, w
             wq[e, j, W_EDOT] = edot
             eps = wq[e, j, W_L] - 1.0
             if law == LAW_TABLE:
-                T = axial_tension(law, eps, edot, EA, zeta, tab_eps, tab_T)
-            else:  # axial_tension written out for the linear and bilinear laws [Eq. 22]
+                T = axial_tension(law, eps, edot, EA, zeta, tab_eps, tab_T, pc)
+            else:  # axial_tension written out for the linear and bilinear laws [Eq. 22, compression cap pc]
                 T = EA * eps + zeta * edot
-                if law == LAW_BILINEAR and (eps <= 0.0 or not T > 0.0):
-                    T = 0.0
+                if law == LAW_BILINEAR:
+                    if pc > 0.0:
+                        if EA * eps <= -pc:  # buckled below the mesh scale: the push fades with the chord
+                            T = -pc * (1.0 + eps) / (1.0 - pc / EA)
+                        elif not T > -pc:
+                            T = -pc
+                    elif eps <= 0.0 or not T > 0.0:
+                        T = 0.0
             wq[e, j, W_TV] = T * i0
             wq[e, j, W_TV + 1] = T * i1
             wq[e, j, W_TV + 2] = T * i2
             if qtens:  # elastic part alone, for the q-equation penalty (fluxes.tension_jump_penalty)
-                Te = axial_tension(law, eps, 0.0, EA, 0.0, tab_eps, tab_T)
+                Te = axial_tension(law, eps, 0.0, EA, 0.0, tab_eps, tab_T, pc)
                 wq[e, j, W_TE] = Te * i0
                 wq[e, j, W_TE + 1] = Te * i1
                 wq[e, j, W_TE + 2] = Te * i2

@@ -15,9 +15,9 @@ import numpy as np
 
 from tether_sim.numerics.jit import jit
 from tether_sim.numerics.polys import legendre_at, legendre_integral_at
-from tether_sim.physics.constitutive import axial_tension
+from tether_sim.physics.constitutive import axial_tension, compression_cap
 from tether_sim.solvers.dg.kernels import internal_forces
-from tether_sim.solvers.dg.layout import I_ANCHOR, I_BENDING, M_KAP, M_MS, M_NUS, M_TAU, M_TV
+from tether_sim.solvers.dg.layout import I_ANCHOR, I_BENDING, I_P, M_KAP, M_MS, M_NUS, M_TAU, M_TV
 from tether_sim.solvers.dg.stepper import fill_end_kinematics
 from tether_sim.solvers.dg.winch import winch_active, winch_end_velocity
 from tether_sim.solvers.dg.workspace import (
@@ -100,7 +100,7 @@ def _at3(w, p, arr, e, col):
 
 
 @jit
-def sample_state(U, ra, wm, h, iprm, g0, law, EA, zeta, tab_eps, tab_T, elem, phi, iphi, starts, out):
+def sample_state(U, ra, wm, h, iprm, g0, law, EA, zeta, EI, tab_eps, tab_T, elem, phi, iphi, starts, out):
     """Fill out (NS, n) at the points of a sampling plan (module docstring)."""
     element_starts(U, ra, h, iprm, starts)
     bending = iprm[I_BENDING] != 0
@@ -125,7 +125,8 @@ def sample_state(U, ra, wm, h, iprm, g0, law, EA, zeta, tab_eps, tab_T, elem, ph
         i2 = q2 * il
         eps = l - 1.0
         out[S_STRAIN, p] = eps
-        out[S_TENSION, p] = axial_tension(law, eps, i0 * d0 + i1 * d1 + i2 * d2, EA, zeta, tab_eps, tab_T)
+        out[S_TENSION, p] = axial_tension(law, eps, i0 * d0 + i1 * d1 + i2 * d2, EA, zeta, tab_eps, tab_T,
+                                          compression_cap(law, EI, iprm[I_P], h[e]))
         out[S_TV, p], out[S_TV + 1, p], out[S_TV + 2, p] = _at3(phi, p, wm, e, M_TV)
         for c in range(S_CURV, S_SHEAR + 3):
             out[c, p] = 0.0
