@@ -25,7 +25,9 @@ at the output rate, would carry into the cable as a tension wave that did not ha
 snap of 3.3 x static in a one-hour soak, docs/node.md). The node passes half an output period:
 the commands sample the stream once per period, so detail finer than that lies beyond their
 Nyquist frequency anyway; the velocity error from a stamp jitter ``d`` is then at most about
-``|v| d / min_spacing`` instead of ``|v| d / (sample interval)``.
+``|v| d / min_spacing`` instead of ``|v| d / (sample interval)``. The one-sided differences at
+the oldest and the newest knot (the newest one's is the extrapolation's velocity) span at least
+``4 min_spacing`` (two output periods at the node's spacing).
 
 The history is sized by time (``history_span`` s behind the newest sample), not by a sample
 count, so it is correct at any input rate (tested at 1 kHz). An input is stale when no pose was
@@ -239,6 +241,10 @@ class EndPoseInput:
     def last_stamp(self) -> float | None:
         return self._samples[-1].stamp if self._samples else None
 
+    def covers(self, t: float) -> bool:
+        """True when the history reaches back to ``t`` (its oldest sample is at or before it)."""
+        return bool(self._samples) and self._samples[0].stamp <= t
+
     def age(self, now: float) -> float:
         """Seconds from the newest accepted stamp to ``now`` (inf when none)."""
         return float("inf") if not self._samples else now - self._samples[-1].stamp
@@ -260,6 +266,11 @@ class EndPoseInput:
         if len(s) == 1:
             return np.zeros(3)
         lo, hi = max(i - 1, 0), min(i + 1, len(s) - 1)
+        if self.min_spacing > 0.0 and (lo == i or hi == i):  # one-sided: over at least 4 min_spacing
+            if hi == i:  # the newest knot (its velocity is the extrapolation's)
+                lo = max(bisect.bisect_right(self._stamps, s[i].stamp - 4.0 * self.min_spacing) - 1, 0)
+            else:
+                hi = min(bisect.bisect_left(self._stamps, s[i].stamp + 4.0 * self.min_spacing), len(s) - 1)
         return (s[hi].attachment - s[lo].attachment) / (s[hi].stamp - s[lo].stamp)
 
     def _bracket(self, t: float) -> int:

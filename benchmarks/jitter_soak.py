@@ -1,0 +1,116 @@
+"""The one-hour soak's input, offline and seeded: a jittery, stalling pose publisher and late ticks
+against the stepping driver (no ROS, no wall clock; minutes of CPU for an hour).
+
+    .venv/bin/python benchmarks/jitter_soak.py [--minutes 60] [--seed 1] [--min-spacing auto|0|S]
+
+The tether of ``config/ropos_L200.yaml`` (README mesh, N = 2, P = 4) under the soak's heave (0.5 m at
+0.1 Hz: the tether never goes slack, so every slack warning, snap or rejected re-tensioning is
+false). The publisher sends a pose every 50 ms, reading its clock (the stamp) and then its position;
+with probability 5 % it is preempted in between for an exponential time of mean 10 ms (the stamp
+is that much later than the position). With probability 2 % a send is stalled by 50-400 ms, and the
+overdue poses then go out back to back, 0.5 ms apart, as the soak's loop does. Every 270 s the
+publisher falls silent for 3 s (a dropout: input lost, held, resumed, blended). The node's timer
+fires every 20 ms; 1 % of its ticks come 20-300 ms late. ``--min-spacing``: the pose inputs'
+shortest knot interval (auto: the node's, half an output period; 0: every sample a knot, the
+behaviour before 2026-11-27). Prints the counts of slack warnings, snap events and rejected
+re-tensionings, the largest commanded ship-end speed and the end tension range (x static).
+"""
+
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def run(minutes, seed, min_spacing):
+    from tether_sim.io.inputs import EndPoseInput, knot_spacing
+    from tether_sim.io.params import load_config
+    from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapEvent
+    from tether_sim.ros.driver import SimulationDriver
+
+    config = load_config(REPO / "config" / "ropos_L200.yaml")
+    node = config.node
+    spacing = knot_spacing(node.output_rate) if min_spacing == "auto" else float(min_spacing)
+    inp = EndPoseInput("ship", max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
+                       max_extrapolation=node.max_extrapolation, history_span=node.input_delay + node.max_lag + 1.0,
+                       future_tolerance=node.future_stamp_tolerance, max_age=node.max_input_age, min_spacing=spacing)
+    rng = np.random.default_rng(seed)
+    w = 2 * math.pi * 0.1
+
+    # the publisher's sends over the whole run: (arrival = stamp, stamp, time the position was read)
+    sends, t_end, k, busy_until = [], 60.0 * minutes + 1.0, 0, 0.0
+    while k * 0.05 < t_end:
+        due = k * 0.05
+        k += 1
+        if due % 270.0 > 267.0:
+            continue  # dropout
+        if rng.random() < 0.02:
+            busy_until = max(busy_until, due + rng.uniform(0.05, 0.4))  # stalled
+        read = max(due, busy_until)
+        busy_until = read + 0.0005 if read > due else busy_until  # overdue sends go out back to back
+        stamp = read + (rng.exponential(0.010) if rng.random() < 0.05 else rng.uniform(0.0, 2e-4))
+        sends.append((stamp, read))
+    sends.sort()
+    stamps = np.array([s for s, _ in sends])
+    z = 0.5 * np.sin(w * np.array([r for _, r in sends]))
+
+    fed = 0
+
+    def feed(now):
+        nonlocal fed
+        while fed < len(stamps) and stamps[fed] <= now:
+            inp.add_pose(float(stamps[fed]), (0.0, 0.0, float(z[fed])), (0, 0, 0, 1), now=now)
+            fed += 1
+
+    feed(0.3)
+    driver = SimulationDriver(config, {"ship": inp})
+    driver.start(0.3)
+    static = np.array(driver.static_tensions)
+    counts = {"slack": 0, "snap": 0, "numerical": 0}
+    vmax, lo, hi, late_ticks, cpu0 = 0.0, np.inf, 0.0, 0, time.process_time()
+    now, skip_until = 0.3, 0.0
+    while now < t_end:
+        now += 1.0 / node.output_rate
+        if now < skip_until:
+            continue
+        if rng.random() < 0.01:
+            skip_until = now + rng.uniform(0.02, 0.3)  # this tick and those until then come late
+            late_ticks += 1
+            continue
+        feed(now)
+        report = driver.tick(now)
+        for ev in report.events:
+            key = "slack" if isinstance(ev, SlackStarted) else "snap" if isinstance(ev, SnapEvent) else \
+                "numerical" if isinstance(ev, NumericalSnapWarning) else None
+            if key:
+                counts[key] += 1
+                print(f"  t = {now:8.2f} s  {type(ev).__name__} at {ev.location}", flush=True)
+        vmax = max(vmax, float(np.linalg.norm(driver._end_state["ship"][1])))
+        if now > 10.0 and not report.blending:
+            f = driver.solver.end_forces()
+            ratio = np.array([f.ship_tension, f.vehicle_tension]) / static
+            lo, hi = min(lo, ratio.min()), max(hi, ratio.max())
+    print(f"{minutes:g} min, seed {seed}, knot spacing {spacing * 1e3:g} ms: {len(stamps)} poses, {late_ticks} late ticks; "
+          f"slack warnings {counts['slack']}, snap events {counts['snap']}, rejected re-tensionings "
+          f"{counts['numerical']}; largest commanded ship speed {vmax:.3f} m/s (heave 0.314); end tension "
+          f"{lo:.3f}-{hi:.3f} x static outside blends; {time.process_time() - cpu0:.0f} s CPU", flush=True)
+    return counts
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--minutes", type=float, default=60.0)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--min-spacing", default="auto")
+    args = ap.parse_args(argv)
+    counts = run(args.minutes, args.seed, args.min_spacing)
+    return 1 if any(counts.values()) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
