@@ -95,7 +95,9 @@ def test_absolute_retension_and_snap_thresholds_for_a_line_slack_by_design():
     assert [type(e) for e in events] == [SlackStarted, SnapEvent, SlackStarted]
     assert events[1].peak_tension == pytest.approx(1500.0) and events[1].slack_start == pytest.approx(0.0)
     relative = run(SnapDetector(SnapConfig(slack_threshold=10.0), ["vehicle"], [3.0], [30.0]), t, y)
-    assert [round(e.peak_tension) for e in relative if isinstance(e, SnapEvent)] == [60, 1500]
+    # (with a 3 N snap level each ringing is a re-tensioning of its own: the second is under way when the
+    # first one's 1 s window closes, so it gets its own window, as it would 0.1 s later)
+    assert [round(e.peak_tension) for e in relative if isinstance(e, SnapEvent)] == [60, 60, 1500]
     # the re-tension threshold is never below the slack threshold; 1.4 kN does not reach a 2 kN snap threshold
     det = SnapDetector(SnapConfig(slack_threshold=10.0, retension_threshold=5.0, snap_threshold=2000.0),
                        ["vehicle"], [3.0], [30.0])

@@ -269,11 +269,22 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                 # sample (the tension has turned or levelled off); a re-tensioning still rising at the
                 # end of the window is followed to its turning point, for at most 10 windows.
                 if (elapsed >= peak_window and s[_PEAK_T] < t) or elapsed >= 10.0 * peak_window:
-                    if s[_PEAK] >= snap_level and s[_EXIT_T] - s[_SLACK_START] >= min_duration:
+                    # after its peak the tension went slack again and is re-tensioning now: that rise gets
+                    # its own window in the same slack episode (a one-step numerical spike early in the
+                    # window must not hide the real snap that follows it)
+                    split = s[_EXIT_T] > s[_PEAK_EXIT] and y >= lo
+                    exit_t = s[_PEAK_EXIT] if split else s[_EXIT_T]
+                    if s[_PEAK] >= snap_level and exit_t - s[_SLACK_START] >= min_duration:
                         n_ev = _emit(events, n_ev, 1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START],
-                                     s[_EXIT_T], s[_PEAK_EXIT])
-                    s[_MODE] = _TAUT
-                    mode = _TAUT
+                                     exit_t, s[_PEAK_EXIT])
+                    if split:
+                        s[_RETENSION_T] = t
+                        s[_PEAK] = y
+                        s[_PEAK_T] = t
+                        s[_PEAK_EXIT] = s[_EXIT_T]
+                    else:
+                        s[_MODE] = _TAUT
+                        mode = _TAUT
             if mode == _TAUT:
                 if y < lo:
                     tc = _crossing_time(t0, y0, t, y, lo) if has_prev and y0 >= lo else t
