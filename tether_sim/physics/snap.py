@@ -139,16 +139,17 @@ class SnapGuard:
 
     def same_episode(self, event: "SnapEvent", rejected: "NumericalSnapWarning") -> bool:
         """True when ``event`` (at another location) belongs to the slack episode of the ``rejected``
-        re-tensioning and started its own re-tensioning no earlier (docs/snap_guard.md, "One episode,
-        one verdict"): the slack periods overlap, the rejected one's extended by the cable's axial
-        round trip 2 L / c after its peak (its front, and that front's reflection, are in the cable
-        until then)."""
+        re-tensioning and is carried by its front (docs/snap_guard.md, "One episode, one verdict"): the
+        slack periods overlap and ``event`` started its own re-tensioning no earlier than the rejected one
+        and no later than the cable's axial round trip 2 L / c after its peak (its front, and that front's
+        reflection, are in the cable until then; a re-tensioning that starts later is not that front and
+        is judged on its own)."""
         if self.margin <= 0.0 or event.location == rejected.location:
             return False
         rise_start, rejected_rise_start = event.time - event.rise_time, rejected.time - rejected.rise_time
         exit_time = event.slack_start + event.slack_duration
-        return (rise_start >= rejected_rise_start and exit_time >= rejected.slack_start
-                and event.slack_start <= rejected.time + 2.0 * self.travel_time)
+        return (rejected_rise_start <= rise_start <= rejected.time + 2.0 * self.travel_time
+                and exit_time >= rejected.slack_start)
 
     def check(self, event: "SnapEvent", speed: float):
         """None when ``event`` is plausible, else the :class:`NumericalSnapWarning` replacing it."""
