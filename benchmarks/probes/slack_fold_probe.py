@@ -34,109 +34,90 @@ s.drain_end_tensions()
 mode = sys.argv[1]
 tag = os.environ.get("TAG", f"a{alpha:g}N{N}")
 dt_tick = 0.02
+
+
+def restore(arg):
+    """The snapshot file ``arg`` into the solver ("-": start from the initial state)."""
+    if arg != "-":
+        with open(arg, "rb") as fh:
+            s.restore(pickle.load(fh))
+
+
+def ticks(t_end):
+    """Advance tick by tick (the ship end on its orbit, as the offline runner drives it) up to ``t_end``;
+    yield (tick time, substep times, ship tensions, cage tensions) after each tick."""
+    k = int(round(s.time / dt_tick))
+    while (k + 1) * dt_tick <= t_end + 1e-9:
+        k += 1
+        yield (k * dt_tick, *advance(k * dt_tick))
+
+
+def advance(t):
+    p, v = mot.at(t)[:2]
+    s.set_end_motion("ship", p, v)
+    s.advance_to(t)
+    return s.drain_end_tensions()
+
+
+def substeps(t_end):
+    """One stable substep per advance up to ``t_end``; yield the cage tension after each."""
+    while s.time < t_end:
+        yield advance(s.time + s.stable_time_step())[2][-1]
+
+
 if mode == "save":
     t_save = float(sys.argv[2])
-    k = 0
     c0 = time.process_time()
-    while k * dt_tick < t_save - 1e-9:
-        k += 1
-        p, v = mot.at(k * dt_tick)[:2]
-        s.set_end_motion("ship", p, v)
-        s.advance_to(k * dt_tick)
-        tt, a, b = s.drain_end_tensions()
-        if k % 50 == 0:
-            print(f"t {k*dt_tick:.2f} Tship max {a.max():.0f} Tcage max {b.max():.0f} lmin {s._wq[:,:,Y.W_L].min():.3f} cpu {time.process_time()-c0:.0f}", flush=True)
-    pickle.dump(s.snapshot(), open(f"out/snap_{tag}_{t_save:g}.pkl", "wb"))
+    for t, _, a, b in ticks(t_save):
+        if int(round(t / dt_tick)) % 50 == 0:
+            print(f"t {t:.2f} Tship max {a.max():.0f} Tcage max {b.max():.0f} lmin {s._wq[:, :, Y.W_L].min():.3f} "
+                  f"cpu {time.process_time() - c0:.0f}", flush=True)
+    with open(f"out/snap_{tag}_{t_save:g}.pkl", "wb") as fh:
+        pickle.dump(s.snapshot(), fh)
 elif mode == "steps":
-    snap = pickle.load(open(sys.argv[2], "rb"))
-    s.restore(snap)
-    t_end = float(sys.argv[3])
-    k = int(round(s.time / dt_tick))
+    restore(sys.argv[2])
     rows = []
-    while k * dt_tick < t_end - 1e-9:
-        k += 1
-        p, v = mot.at(k * dt_tick)[:2]
-        s.set_end_motion("ship", p, v)
-        s.advance_to(k * dt_tick)
-        tt, a, b = s.drain_end_tensions()
+    for _, tt, a, b in ticks(float(sys.argv[3])):
         wl = s._wq[:, :, Y.W_L]
         for x in range(len(tt)):
             rows.append((tt[x], a[x], b[x], wl.min(), wl[-1].min(), wl[-1].max(), np.argmin(wl.min(axis=1))))
     R = np.array(rows)
     np.save(f"out/steps_{tag}.npy", R)
     i = np.argmax(R[:, 2])
-    print("max cage T", R[i, 2], "at", R[i, 0], "max ship", R[:, 1].max(), "at", R[np.argmax(R[:,1]), 0])
+    print("max cage T", R[i, 2], "at", R[i, 0], "max ship", R[:, 1].max(), "at", R[np.argmax(R[:, 1]), 0])
     for r in R[max(0, i - 8): i + 8]:
         print(" ".join(f"{x:.5g}" for x in r))
-
-if mode == "fine":
-    # restore, tick to T1, then single substeps to T2 printing the cage end trace
-    snap = pickle.load(open(sys.argv[2], "rb"))
-    s.restore(snap)
-    T1, T2 = float(sys.argv[3]), float(sys.argv[4])
-    k = int(round(s.time / dt_tick))
-    while (k + 1) * dt_tick <= T1 + 1e-9:
-        k += 1
-        p, v = mot.at(k * dt_tick)[:2]
-        s.set_end_motion("ship", p, v)
-        s.advance_to(k * dt_tick)
-    s.drain_end_tensions()
-    Nn = s._tr.shape[0]
-    while s.time < T2:
-        h = s.stable_time_step()
-        t = s.time + h
-        p, v = mot.at(t)[:2]
-        s.set_end_motion("ship", p, v)
-        s.advance_to(t)
-        tt, a, b = s.drain_end_tensions()
-        tr = s._tr[Nn - 1, 1]
-        fl = s._fl[Nn]
-        q = tr[Y.T_Q:Y.T_Q + 3]; vv = tr[Y.T_V:Y.T_V + 3]; TV = tr[Y.T_TV:Y.T_TV + 3]; FV = fl[Y.F_V:Y.F_V + 3]
-        vb = s.ws.vbc[1, 3:6] if hasattr(s.ws, 'vbc') else np.full(3, np.nan)
-        print(f"{s.time:.7f} Tcage {b[-1]:10.1f} |q| {np.linalg.norm(q):.4f} q {q.round(4)} v+ {vv.round(3)} vbc {np.round(vb,3)} T+ {TV.round(0)} Fv {FV.round(0)} lam {tr[Y.T_LAM]:.0f}")
-
-if mode == "gauss":
-    snap = pickle.load(open(sys.argv[2], "rb"))
-    s.restore(snap)
-    T1, T2 = float(sys.argv[3]), float(sys.argv[4])
-    k = int(round(s.time / dt_tick))
-    while (k + 1) * dt_tick <= T1 + 1e-9:
-        k += 1
-        p, v = mot.at(k * dt_tick)[:2]
-        s.set_end_motion("ship", p, v)
-        s.advance_to(k * dt_tick)
+elif mode in ("fine", "gauss"):  # restore, tick to T1, then one substep at a time to T2
+    restore(sys.argv[2])
+    for _ in ticks(float(sys.argv[3])):
+        pass
     s.drain_end_tensions()
     Nn = s._tr.shape[0]
     np.set_printoptions(linewidth=250, precision=4, suppress=False)
-    while s.time < T2:
-        h = s.stable_time_step()
-        t = s.time + h
-        p, v = mot.at(t)[:2]
-        s.set_end_motion("ship", p, v)
-        s.advance_to(t)
-        tt, a, b = s.drain_end_tensions()
-        wq = s._wq
-        print(f"t {s.time:.7f} Tcage {b[-1]:.0f}")
+    for Tcage in substeps(float(sys.argv[4])):
+        if mode == "fine":  # the cage end trace
+            tr, fl = s._tr[Nn - 1, 1], s._fl[Nn]
+            q, vv, TV, FV = tr[Y.T_Q:Y.T_Q + 3], tr[Y.T_V:Y.T_V + 3], tr[Y.T_TV:Y.T_TV + 3], fl[Y.F_V:Y.F_V + 3]
+            print(f"{s.time:.7f} Tcage {Tcage:10.1f} |q| {np.linalg.norm(q):.4f} q {q.round(4)} v+ {vv.round(3)} "
+                  f"vbc {np.round(s.ws.vbc[1, 3:6], 3)} T+ {TV.round(0)} Fv {FV.round(0)} lam {tr[Y.T_LAM]:.0f}")
+            continue
+        wq = s._wq  # the last two elements' Gauss points
+        print(f"t {s.time:.7f} Tcage {Tcage:.0f}")
         for e in (Nn - 2, Nn - 1):
             T = np.linalg.norm(wq[e, :, Y.W_TV:Y.W_TV + 3], axis=1)
-            print(f"  e{e} l {wq[e,:,Y.W_L].round(4)}\n      edot {wq[e,:,Y.W_EDOT].round(3)}\n      |TV| {T.round(0)}\n      vz {wq[e,:,Y.W_V+2].round(2)}")
-
-if mode == "trace":
-    # from 0 or a snapshot; print per tick after T0: max cable speed, where, min l, max end tensions
-    if sys.argv[2] != "-":
-        s.restore(pickle.load(open(sys.argv[2], "rb")))
-    T0, T2 = float(sys.argv[3]), float(sys.argv[4])
-    k = int(round(s.time / dt_tick))
+            print(f"  e{e} l {wq[e, :, Y.W_L].round(4)}\n      edot {wq[e, :, Y.W_EDOT].round(3)}\n      |TV| {T.round(0)}"
+                  f"\n      vz {wq[e, :, Y.W_V + 2].round(2)}")
+elif mode == "trace":  # from 0 or a snapshot; per tick after T0: largest cable speed, shortest chord, end tensions
+    restore(sys.argv[2])
+    T0 = float(sys.argv[3])
     g0 = cfg.cable.gamma0
-    while k * dt_tick < T2 - 1e-9:
-        k += 1
-        p, v = mot.at(k * dt_tick)[:2]
-        s.set_end_motion("ship", p, v)
-        s.advance_to(k * dt_tick)
-        tt, a, b = s.drain_end_tensions()
-        if k * dt_tick >= T0 - 1e-9:
+    for t, _, a, b in ticks(float(sys.argv[4])):
+        if t >= T0 - 1e-9:
             wq = s._wq
             sp = np.linalg.norm(wq[:, :, Y.W_V:Y.W_V + 3], axis=2) / g0
-            e = np.unravel_index(np.argmax(sp), sp.shape)
             wl = wq[:, :, Y.W_L]
-            print(f"t {k*dt_tick:.2f} vmax {sp.max():6.2f} at e{e[0]} | lmin {wl.min():.3f} at e{np.unravel_index(np.argmin(wl), wl.shape)[0]} | slack pts {(wl<1).sum()} | Tship {a.max():9.0f} Tcage {b.max():9.0f}", flush=True)
+            print(f"t {t:.2f} vmax {sp.max():6.2f} at e{np.unravel_index(np.argmax(sp), sp.shape)[0]} | lmin "
+                  f"{wl.min():.3f} at e{np.unravel_index(np.argmin(wl), wl.shape)[0]} | slack pts {(wl < 1).sum()} | "
+                  f"Tship {a.max():9.0f} Tcage {b.max():9.0f}", flush=True)
+else:
+    sys.exit(f"unknown mode {mode!r}: save, trace, steps, fine or gauss")
