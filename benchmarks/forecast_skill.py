@@ -22,6 +22,9 @@ Usage (the figures of BENCHMARKS.md and docs/forecast.md):
     .venv/bin/python benchmarks/forecast_skill.py --files config/ropos_L200.yaml --sources poses --minutes 5
 
 Prints one line per (file, source, seed) and the totals; ``--json`` writes every number.
+``--rescore`` scores the forecasts of ``--dump`` files again without running anything: totals at
+several probability thresholds, the reliability of the probability (binned against the frequency of
+a snap within the horizon), and the snap time as it was estimated before 2026-11-27 for comparison.
 """
 
 import argparse
@@ -38,7 +41,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from tether_sim.forecast.service import ForecastService  # noqa: E402
-from tether_sim.forecast.skill import score  # noqa: E402
+from tether_sim.forecast.skill import reliability, score  # noqa: E402
 from tether_sim.io.params import load_config  # noqa: E402
 from tether_sim.physics.motion import build_motion  # noqa: E402
 from tether_sim.physics.snap import SlackStarted, SnapEvent  # noqa: E402
@@ -92,6 +95,54 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True):
     return snaps, forecasts, time.perf_counter() - wall0, look, driver.solver.time
 
 
+def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0)) -> int:
+    """Score the forecasts of ``--dump`` JSON files again, without running anything: per file and
+    source, totals over the files at each probability threshold, the reliability of the probability,
+    and (threshold 0.5) the time estimate as it was before 2026-11-27, the median over the members
+    that snap only, for the same forecasts."""
+    from types import SimpleNamespace
+
+    runs = []
+    for path in paths:
+        doc = json.loads(Path(path).read_text())
+        for run in doc["runs"]:
+            for source, fc in run["forecasts"].items():
+                runs.append((run["file"], source, run["seed"], doc["args"]["minutes"] * 60.0, run["snaps"],
+                             [SimpleNamespace(end=e, stamp=st, probability=p, time_to_snap=t, members=m,
+                                              horizon=doc["args"]["horizon"], member_snaps=ms)
+                              for e, st, p, t, m, ms in fc]))
+    old = lambda f: (float(np.median([t for t, _ in f.member_snaps])) - f.stamp if f.member_snaps else math.nan)  # noqa: E731
+    for key in sorted({(r[0], r[1]) for r in runs}):
+        sel = [r for r in runs if (r[0], r[1]) == key]
+        seeds = ", ".join(str(r[2]) for r in sel)
+        print(f"\n{Path(key[0]).stem} {key[1]} (seeds {seeds}, {sum(r[3] for r in sel) / 60:.1f} min of sea):")
+        for end in ("ship", "vehicle"):
+            if not any(e == end for r in sel for e, _ in r[4]) and not any(
+                    f.end == end and f.probability >= min(thresholds) for r in sel for f in r[5]):
+                continue  # no snap and no warning at this end
+            for threshold, timing in [(t, None) for t in thresholds] + [(0.5, old)]:
+                tot = np.zeros(5)
+                for _, _, _, until, snaps, fc in sel:
+                    if timing is not None:
+                        fc = [SimpleNamespace(**{**vars(f), "time_to_snap": timing(f)}) for f in fc]
+                    sc = score(fc, snaps, end, threshold=threshold, until=until)
+                    sc3 = score(fc, snaps, end, threshold=threshold, until=until, lead=3.0)
+                    tot += (sc.snaps, sc.warned, sc3.warned, sc.false_alarms, sc.minutes)
+                how = " (snap time as before 2026-11-27: median over the snapping members)" if timing else ""
+                print(f"  {end:7s} p >= {threshold:5.3f}: {tot[1]:.0f}/{tot[0]:.0f} warned >= 5 s ({tot[2]:.0f} >= 3 s), "
+                      f"{tot[3]:.0f} false alarms = {10 * tot[3] / max(tot[4], 1e-9):.2f} / 10 min ({tot[4]:.1f} min scored){how}")
+            bins = [reliability(fc, snaps, end, until=until) for _, _, _, until, snaps, fc in sel]
+            print(f"  {end} reliability (probability bin: forecasts, mean probability, observed frequency of a snap within the horizon):")
+            for i in range(len(bins[0])):
+                n = sum(b[i].forecasts for b in bins)
+                if n:
+                    mp = sum(b[i].forecasts * b[i].mean_probability for b in bins if b[i].forecasts) / n
+                    ob = sum(b[i].forecasts * b[i].observed for b in bins if b[i].forecasts) / n
+                    print(f"    [{bins[0][i].low:.3f}, {bins[0][i].high:.3f}{']' if i == len(bins[0]) - 1 else ')'}: "
+                          f"{n:4d}, {mp:.2f}, {ob:.2f}")
+    return 0
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--files", nargs="+", default=["config/ropos_L1730.yaml", "config/ropos_L200.yaml"])
@@ -112,7 +163,11 @@ def main(argv=None) -> int:
                          "at the quadrature points; the members never perturb the cable's waves anyway)")
     ap.add_argument("--json", default=None, help="write every number here (after every run)")
     ap.add_argument("--dump", action="store_true", help="--json also lists every warning (p >= 0.5), every forecast with its members' snaps, every snap and slack start")
+    ap.add_argument("--rescore", nargs="+", default=None, metavar="JSON",
+                    help="run nothing: score the forecasts of --dump JSON files again (thresholds, reliability)")
     args = ap.parse_args(argv)
+    if args.rescore:
+        return rescore(args.rescore)
     rows, dumps = [], []
     print(f"forecast skill: Hs {args.hs:g} m, Tp {args.tp:g} s, {args.directions} direction(s), horizon {args.horizon:g} s, {args.members} members, "
           f"{args.rate:g} forecasts/s, sea_error {args.sea_error:g}, nominal error {args.nominal_error:g}, "
