@@ -16,7 +16,9 @@ import yaml
 from tether_sim.config import SimConfig
 from tether_sim.errors import ConfigError
 from tether_sim.io.schema import key_map
+from tether_sim.physics.constitutive import TensionLaw
 from tether_sim.solvers.resolution import resolve
+from tether_sim.solvers.work import check_work
 
 NODE_SECTION_NAMES = ("tether_sim", "/tether_sim", "/**")
 
@@ -160,6 +162,18 @@ def cross_check(config: SimConfig, where: str = "parameters") -> SimConfig:
     if config.solver == "dg" and config.cable.EA <= 0.0:
         raise ConfigError(f"{where}: cable.EA = {config.cable.EA:g} N: the dg solver needs an axial stiffness > 0 "
                           "(EA = 0, an inextensible cable, is for solver: hybrid)")
+    opt = config.dg
+    if config.solver == "dg" and len(opt.element_lengths) not in (0, opt.n_elements):
+        raise ConfigError(f"{where}: dg.element_lengths has {len(opt.element_lengths)} weights, dg.n_elements = "
+                          f"{opt.n_elements}: give one positive weight per element (or none: uniform)")
+    if config.solver == "dg" and any(w <= 0.0 for w in opt.element_lengths):
+        raise ConfigError(f"{where}: dg.element_lengths: every weight must be > 0, got {list(opt.element_lengths)}")
+    try:
+        TensionLaw(config.cable)
+    except ValueError as exc:  # the tabulated law: its points, checked together
+        raise ConfigError(f"{where}: {exc}") from exc
+    # inside its range every key may still make a run that never ends (a substep of 1e-8 s): refused here
+    check_work(config, where)
     return config
 
 
