@@ -111,7 +111,7 @@ def main(argv=None) -> int:
                     help="the waves move the ship (RAO) but do not act on the cable (cheaper: no wave kinematics "
                          "at the quadrature points; the members never perturb the cable's waves anyway)")
     ap.add_argument("--json", default=None, help="write every number here (after every run)")
-    ap.add_argument("--dump", action="store_true", help="--json also lists every warning (p >= 0.5), snap and slack start")
+    ap.add_argument("--dump", action="store_true", help="--json also lists every warning (p >= 0.5), every forecast with its members' snaps, every snap and slack start")
     args = ap.parse_args(argv)
     rows, dumps = [], []
     print(f"forecast skill: Hs {args.hs:g} m, Tp {args.tp:g} s, {args.directions} direction(s), horizon {args.horizon:g} s, {args.members} members, "
@@ -125,7 +125,11 @@ def main(argv=None) -> int:
                 dumps.append({"file": path, "seed": seed, "snaps": snaps, "slack_starts": run_case.slacks,
                               "warnings": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.time_to_snap_std,
                                                   f.predicted_peak) for f in fc if f.probability >= 0.5]
-                                           for src, fc in forecasts.items()}})
+                                           for src, fc in forecasts.items()},
+                              # every forecast with its members' snaps (reliability, other thresholds)
+                              "forecasts": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.members,
+                                                   f.member_snaps) for f in fc]
+                                            for src, fc in forecasts.items()}})
             for source in args.sources:
                 fc = forecasts[source]
                 for lead in (5.0, 3.0):

@@ -3,7 +3,8 @@
 The node's stepping core (SimulationDriver with the node's wall budget per tick, the ship on its RAO
 motion) is ticked on a wall-clock schedule at ``node.output_rate`` as the node's timer does, for
 alternating windows with the forecast off and on (the node's ForecastService: look-aheads in a worker
-thread, the tick only hands over a snapshot and publishes finished forecasts). Per window kind: the
+thread, the tick only hands over a snapshot and publishes finished forecasts), after the motion's
+ramp-in (ticked through first, not recorded: no forecast is issued during it). Per window kind: the
 p50 / p99 / max of the tick's wall time (driver.tick + the forecast hook), the ticks over the output
 period, the lag behind the clock at the end, and the forecasts completed / skipped (a forecast falling
 due while the worker is still busy is skipped). Message publishing is not included (no ROS here).
@@ -50,6 +51,14 @@ def main(argv=None) -> int:
     t_start = time.perf_counter()
     driver.start(0.0)
     k = 0
+    # the forecast starts once the motion has ramped in (forecast/service.py): tick through the ramp
+    # first (not recorded), so every "on" window has forecasts
+    while k * period < cfg.motion.ramp_time:
+        k += 1
+        pause = t_start + k * period - time.perf_counter()
+        if pause > 0:
+            time.sleep(pause)
+        driver.tick(time.perf_counter() - t_start)
     try:
         for _ in range(args.rounds):
             for kind in ("off", "on"):

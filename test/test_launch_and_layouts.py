@@ -6,7 +6,8 @@ ROS 2's launch, RViz or Foxglove (none runs here):
   that reads an argument declared later fails, as launch fails), every substitution resolved,
   conditions parsed as launch parses them, parameter files opened, and each executable looked up
   in <prefix>/lib/tether_sim/ through the ament index (where launch_ros looks, not the venv's bin/);
-  with no arguments, the README's arguments and a replay;
+  with no arguments, the README's arguments and a replay; where ROS 2's launch / launch_ros are
+  importable, the same argument sets through them as well (skipped otherwise);
 - the RViz config parses as YAML, uses RViz 2's default display classes, shows the tether marker,
   both wrenches and the snap markers on topics the node publishes, in the node's world frame;
 - the Foxglove layout parses, its layout tree and panel configs agree, and every plotted path is a
@@ -289,6 +290,71 @@ def test_launch_model_catches_order_lookup_and_condition_errors(launch, tmp_path
     monkeypatch.setenv("AMENT_PREFIX_PATH", str(prefix))
     with pytest.raises(LaunchError, match="executable 'tether-sim' not found on the libexec directory"):
         ros2_launch(launch["generate_launch_description"]())
+
+
+# ------------------------------------------------------------------ launch file, with launch itself
+# Where ROS 2's own launch / launch_ros are importable (a ROS install, or their sources on PYTHONPATH)
+# the file also runs through them, as `ros2 launch tether_sim tether_sim.launch.py ARGS` does it: a
+# LaunchService with the file included, shut down once every expected process has started. The
+# package registry has neither, so `make test` skips this and the model above stands in for it.
+REAL_LAUNCH = """
+import json, sys
+import launch
+from launch.actions import IncludeLaunchDescription, RegisterEventHandler, EmitEvent
+from launch.event_handlers import OnProcessStart
+from launch.events import Shutdown
+from launch.launch_description_sources import PythonLaunchDescriptionSource
+path, expected, *arguments = sys.argv[1:]
+expected, started = set(expected.split(',')), []
+def on_start(event, context):
+    started.append(event.action.process_details['cmd'][0])
+    names = {c.rsplit('/', 1)[-1] for c in started}
+    return [EmitEvent(event=Shutdown(reason='all started'))] if names >= expected else None
+include = IncludeLaunchDescription(PythonLaunchDescriptionSource(path),
+                                   launch_arguments=[a.split(':=', 1) for a in arguments])
+service = launch.LaunchService(argv=arguments, noninteractive=True)
+service.include_launch_description(launch.LaunchDescription([
+    RegisterEventHandler(OnProcessStart(on_start=on_start)), include]))
+code = service.run()
+print('RESULT ' + json.dumps({'code': code, 'started': started}), flush=True)
+"""
+
+
+def run_real_launch(path, expected, arguments=()):
+    import subprocess
+
+    done = subprocess.run([sys.executable, "-c", REAL_LAUNCH, str(path), ",".join(sorted(expected)), *arguments],
+                          capture_output=True, text=True, timeout=120)
+    results = [line for line in done.stdout.splitlines() if line.startswith("RESULT ")]
+    assert results, done.stdout[-3000:] + done.stderr[-3000:]
+    return json.loads(results[-1][len("RESULT "):]), done.stdout + done.stderr
+
+
+def test_launch_file_with_ros2s_own_launch(tmp_path):
+    import importlib.util
+
+    # (the repository's launch/ folder alone would import as an empty namespace package `launch`)
+    if importlib.util.find_spec("launch_ros") is None or importlib.util.find_spec("launch.launch_service") is None:
+        pytest.skip("ROS 2's launch / launch_ros are not installed (neither is on the package registry)")
+    from ament_index_python.packages import get_package_prefix
+
+    prefix = Path(get_package_prefix("tether_sim"))
+    for arguments, expected in (((), {"tether-sim"}),
+                                (readme_launch_arguments(), {"tether-sim", "tether-sim-record"}),
+                                (["namespace:=rov2", "replay:=true", "input:=i.mcap"], {"tether-sim", "tether-sim-replay"})):
+        result, log = run_real_launch(LAUNCH, expected, arguments)
+        assert result["code"] == 0, log[-3000:]
+        # each executable where launch_ros looks for it: <prefix>/lib/tether_sim/
+        assert {Path(c).name for c in result["started"]} == expected, log[-3000:]
+        assert {Path(c).parent for c in result["started"]} == {prefix / "lib" / "tether_sim"}, log[-3000:]
+    # and launch itself fails on a default that reads an argument declared after it
+    text = LAUNCH.read_text()
+    replay = '    ("replay", "false", "also start tether-sim-replay of \'input\', publishing /clock"),\n'
+    assert replay in text
+    reordered = tmp_path / "reordered.launch.py"
+    reordered.write_text(text.replace(replay, "").replace('    ("record", "false"', replay + '    ("record", "false"'))
+    result, log = run_real_launch(reordered, {"tether-sim"})
+    assert result["code"] != 0 and "launch configuration 'replay' does not exist" in log, log[-3000:]
 
 
 # ------------------------------------------------------------------ RViz

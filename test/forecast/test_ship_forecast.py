@@ -36,7 +36,23 @@ def test_component_spread_gives_the_stated_elevation_error(error):
     rms = math.sqrt(np.mean(np.square(errs)))
     assert rms == pytest.approx(error * hs, rel=0.08)
     assert component_spread(0.0) == 0.0
-    assert component_spread(0.1) == pytest.approx(0.283, abs=0.003)  # 28 % in amplitude, 16 deg in phase
+    assert component_spread(0.1) == pytest.approx(0.289, abs=0.001)  # s^2 = -ln(1 - 8 x 0.01)
+    with pytest.raises(ValueError, match="sqrt"):
+        component_spread(0.36)  # more than an unrelated sea of the same spectrum
+
+
+def test_perturbed_members_keep_the_energy_of_the_sea_they_forecast():
+    """An unbiased forecast's ensemble has, on average, the spectrum of the sea: the members' mean
+    square amplitude per component is the truth's (a factor 1 + alpha, alpha ~ N(0, s^2), gave
+    1 + s^2 = 1.08 at 10 % of Hs: members in a sea 4 % higher in Hs)."""
+    rng = np.random.default_rng(11)
+    n = 400
+    amp = rng.rayleigh(0.1, n)
+    motion = SinesMotion((0.0, 0.0, 0.0), amp, rng.uniform(0.05, 0.25, n), rng.uniform(0, 2 * np.pi, n))
+    s = component_spread(0.1)
+    ratio = [np.sum(perturb_motion(motion, s, rng).a ** 2) / np.sum(amp ** 2) for _ in range(100)]
+    # sampling error of the mean: std(a^2) = sqrt(exp(4 s^2) - 1) = 0.63 over ~n/2 effective components x 100 draws
+    assert np.mean(ratio) == pytest.approx(1.0, abs=0.01)
 
 
 def test_motion_member_evaluates_at_solver_time_plus_offset():

@@ -202,13 +202,15 @@ def test_one_slack_episode_one_verdict_a_front_after_a_rejected_one_is_not_a_sna
     assert [type(e) for e in _two_ends(1.05, 1.6)] == [NumericalSnapWarning, SnapEvent]
 
 
-@pytest.mark.parametrize("gap", [0.5, 0.95, 1.3])
+@pytest.mark.parametrize("gap", [0.5, 0.95, 1.03, 1.3])
 def test_a_rejected_spike_does_not_hide_the_snap_that_follows_it(gap):
     """A one-step numerical spike (48 kN, one 0.1 ms sample) in a slack period, then the real re-tensioning
     (210 kN, rising over 0.3 s) starting ``gap`` s later. With the 1 s peak window the spike's window closes
     while the real rise is under way (gap 0.95: measured at the cage, ROPOS 200 m, alpha = 1, N = 40, where
     the cage snap was then lost); the spike is a numerical warning and the real snap is a snap, whatever
-    the gap."""
+    the gap. Gap 1.03: the spike's window closes with the cage slack and the real rise starts 0.03 s later;
+    the slack before it began when the tension fell back after the spike (1.2 s), not when the window closed
+    (then the 0.03 s "slack" was shorter than snap.min_slack_duration and the real snap went unrecorded)."""
     c = math.sqrt(EA / GAMMA0)
     g = SnapGuard(impedance=Z, stiffness=K, mass=14797.0, crossing_time=5.0 / c, margin=1.5, travel_time=L / c)
     det = SnapDetector(SnapConfig(peak_window=1.0), ["vehicle"], [43e3], [L], g)
@@ -231,6 +233,7 @@ def test_a_rejected_spike_does_not_hide_the_snap_that_follows_it(gap):
     else:
         assert [type(e) for e in events] == [NumericalSnapWarning, SnapEvent]
         assert events[0].tension_peak == 48e3 and events[0].time == pytest.approx(1.2)
+        assert events[1].slack_start == pytest.approx(1.2, abs=2 * dt)  # fell back right after the spike
     snap = events[-1]
     assert snap.peak_tension == pytest.approx(210e3, rel=1e-3) and snap.time == pytest.approx(r0 + 0.3, abs=2 * dt)
     assert snap.rise_time > 0.25  # from the real rise's own crossing of the slack level, not the spike's

@@ -15,11 +15,15 @@ restored) and turns a request into one :class:`EndForecast` per end:
   state: a slack period already under way is continued), so a forecast snap is what the node would
   report; after the horizon a member is stepped on (at most 10 peak windows) only to close a
   re-tensioning window already open, and a snap counts when its peak lies within the horizon;
-- per end: ``probability`` = members with a snap / members that finished; ``time_to_snap`` and
-  ``predicted_peak`` = medians over the members that snap (NaN when none does; the median, not the
-  mean: members that first snap on different waves would average to an instant between them), with
-  the standard deviation of the times; members whose solver diverges are left out and make the
-  forecast degraded.
+- per end: ``probability`` = members with a snap / members that finished; ``time_to_snap`` = the
+  median snap time of the whole ensemble, the members without a snap counted as snapping after the
+  horizon (:func:`ensemble_median_time`: NaN when fewer than half the members snap; the median, not
+  the mean: members that first snap on different waves would average to an instant between them).
+  Over the snapping members alone it would be biased early whenever some do not snap: a member
+  whose sea is milder snaps later, after the horizon or not at all, so a median over the members
+  that snap within the horizon drops the late tail of the ensemble's snap times. ``predicted_peak`` = median peak over the members that snap (the
+  peak if it snaps; NaN when none does), with the standard deviation of their times; members whose
+  solver diverges are left out and make the forecast degraded.
 
 Times: members' motions are functions of solver time; the detector and the results use the clock
 (``clock = anchor + solver time``), as the driver does.
@@ -101,7 +105,7 @@ class LookAhead:
             out.append(EndForecast(
                 stamp=request.issued, end=end, horizon=request.horizon,
                 probability=len(snaps) / n if n else math.nan,
-                time_to_snap=float(np.median(times)) if snaps else math.nan,
+                time_to_snap=ensemble_median_time(times, n),
                 time_to_snap_std=float(times.std()) if snaps else math.nan,
                 predicted_peak=float(np.median(peaks)) if snaps else math.nan,
                 members=n, source=request.source, degraded=bool(reasons) or n == 0,
@@ -146,6 +150,21 @@ class LookAhead:
                             and request.issued - 1e-9 <= ev.time <= end_clock + 1e-9):
                         first[ev.location] = (ev.time, ev.peak_tension)
         return first
+
+
+def ensemble_median_time(times, members):
+    """Median snap time of the whole ensemble of ``members`` members, of which those with a snap
+    within the horizon snapped at ``times`` and the others later (after the horizon, or never): NaN
+    when fewer than half of them snap (the median lies beyond the horizon); with exactly half of an
+    even ensemble snapping, the last of those (the median interval's finite end). Not the median
+    over the snapping members alone: that drops the ensemble's late tail (module doc)."""
+    times = np.sort(np.asarray(times, float))
+    k = times.size
+    if members <= 0 or 2 * k < members:
+        return math.nan
+    if 2 * k == members:
+        return float(times[-1])
+    return float(np.median(np.concatenate([times, np.full(members - k, math.inf)])))
 
 
 def _window_open(detector, first):

@@ -20,7 +20,11 @@ Which ship-motion forecast drives the members (``forecast.source``; ship_forecas
 - ``auto``: known_sea for an analytic motion, else external while a valid one is held, else poses.
 
 No forecast is started while the driver has snap detection suspended (a blend, re-synchronisation,
-recovery: the detector the members would copy is about to be rebuilt) or before it has started.
+recovery: the detector the members would copy is about to be rebuilt), before it has started, or
+while the ship's analytic motion is still ramping in (``motion.ramp_time``): a ramp is the
+simulation's start-up device, not a sea; neither the known sea's perturbation model (stationary
+components) nor the pose predictor (fitted on a stationary history) describes it, and a forecast
+issued in it would score the start-up transient, not the forecast.
 """
 
 import copy
@@ -168,6 +172,10 @@ class ForecastService:
         if driver._suspended_until is not None or driver.detector is None:
             self.last_status = "waiting: snap detection suspended (blend, re-synchronisation or recovery)"
             return
+        ramp_left = _ramp_left(driver)
+        if ramp_left > 0.0:
+            self.last_status = f"waiting: the ship motion's ramp-in (motion.ramp_time) ends in {ramp_left:.1f} s"
+            return
         if self.threaded and self._busy:
             self.skipped += 1
             return
@@ -297,6 +305,17 @@ class ForecastService:
             out[f"forecast {end} probability"] = f.probability
             out[f"forecast {end} time_to_snap s"] = f.time_to_snap
         return out
+
+
+def _ramp_left(driver) -> float:
+    """Seconds until the ship's analytic motion has ramped in (0 when it has, or has no ramp)."""
+    src = driver.sources.get("ship")
+    motion = getattr(src, "motion", None)
+    ramp_time = float(getattr(motion, "ramp_time", 0.0) or 0.0)
+    if ramp_time <= 0.0:
+        return 0.0
+    t = driver.solver.time + (0.0 if getattr(src, "time_base", "clock") == "solver" else driver.anchor)
+    return max(ramp_time - t, 0.0)
 
 
 WORKER_SWITCH_INTERVAL = 5e-4  # s, GIL switch interval while a look-ahead worker runs (CPython default 5e-3)

@@ -4,12 +4,18 @@ Each member is an object with ``at(t) -> (position (3,), velocity (3,))``, t in 
 
 Known sea (:func:`perturbed_members`): the run's own analytic motion (``motion.kind`` rao, sines,
 heave) is its future; the ensemble represents the error a real wave forecast would have. Each wave
-component n of a member gets its amplitude scaled by (1 + alpha_n) and its phase shifted by phi_n,
-alpha_n and phi_n independent N(0, s^2). The elevation error of a member is then a zero-mean
-process with variance sum a_n^2 / 2 (2 + s^2 - 2 exp(-s^2 / 2)) = m0 (2 + s^2 - 2 exp(-s^2 / 2)),
-so its rms is ``error`` x Hs (Hs = 4 sqrt(m0)) when s solves 2 + s^2 - 2 exp(-s^2/2) = 16 error^2
-(:func:`component_spread`; 10 % of Hs: s = 0.28, i.e. 28 % in amplitude and 16 deg in phase). For a
-sum of sines the same relative spread applies to its terms (error as a fraction of 4 x rms motion).
+component n of a member gets its amplitude scaled by a_n = exp(s z_n - s^2) and its phase shifted by
+phi_n = s w_n, z_n and w_n independent N(0, 1). The amplitude factor is log-normal with E[a_n^2] = 1:
+a member's sea has, on average, the energy (the spectrum) of the sea it forecasts, as an unbiased
+forecast must (a factor 1 + alpha_n, alpha_n ~ N(0, s^2), would give every member 1 + s^2 times the
+energy: at 10 % of Hs error a sea 4 % higher in Hs, biased towards more, larger and earlier snaps).
+With E[a_n] = exp(-s^2 / 2) and E[exp(i phi_n)] = exp(-s^2 / 2) the elevation error of a member is
+a zero-mean process of variance sum A_n^2 / 2 E|a_n exp(i phi_n) - 1|^2 = m0 (2 - 2 exp(-s^2)), so
+its rms is ``error`` x Hs (Hs = 4 sqrt(m0)) for s^2 = -ln(1 - 8 error^2) (:func:`component_spread`;
+10 % of Hs: s = 0.289, i.e. 29 % in log-amplitude and 17 deg in phase). The largest error such a
+forecast can have is that of an unrelated sea of the same spectrum, rms sqrt(2 m0) = Hs / sqrt(8)
+(35 % of Hs): ``error`` must stay below it. For a sum of sines the same relative spread applies to
+its terms (error as a fraction of 4 x rms motion).
 A circle orbit is deterministic (no perturbation model; members are all the nominal).
 
 Poses only (:class:`ARShipPredictor`): an autoregressive model per axis, fitted by least squares on
@@ -36,14 +42,24 @@ from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
 
 
+MAX_SEA_ERROR = 1.0 / math.sqrt(8.0)  # rms error of an unrelated sea of the same spectrum, fraction of Hs
+
+
 def component_spread(error: float) -> float:
-    """s such that per-component N(0, s^2) amplitude and phase errors give an elevation error of rms
-    ``error`` x Hs (module doc)."""
+    """s such that the energy-preserving per-component amplitude and phase errors of
+    :func:`perturb_motion` give an elevation error of rms ``error`` x Hs: s^2 = -ln(1 - 8 error^2)
+    (module doc); ValueError at or above :data:`MAX_SEA_ERROR`."""
     if error <= 0.0:
         return 0.0
-    target = 16.0 * error * error
-    f = lambda s: 2.0 + s * s - 2.0 * math.exp(-0.5 * s * s) - target  # noqa: E731
-    return brentq(f, 0.0, 10.0 + 4.0 * error)
+    if error >= MAX_SEA_ERROR:
+        raise ValueError(f"forecast.sea_error {error:g}: an unbiased sea forecast's error stays below "
+                         f"Hs / sqrt(8) = {MAX_SEA_ERROR:.3f} Hs (that of an unrelated sea of the same spectrum)")
+    return math.sqrt(-math.log(1.0 - 8.0 * error * error))
+
+
+def amplitude_factors(spread: float, n: int, rng):
+    """n log-normal amplitude factors exp(s z - s^2), z ~ N(0, 1): mean square exactly 1 (module doc)."""
+    return np.exp(spread * rng.standard_normal(n) - spread * spread)
 
 
 class MotionMember:
@@ -59,24 +75,25 @@ class MotionMember:
 
 
 def perturb_motion(motion, spread: float, rng):
-    """A copy of an analytic motion with its wave components' (or sines') amplitudes and phases
-    perturbed by N(0, spread^2) (module doc); the motion itself when it has no such model."""
+    """A copy of an analytic motion with its wave components' (or sines') amplitudes scaled by
+    log-normal factors of mean square 1 and phases shifted by N(0, spread^2) (module doc); the motion
+    itself when it has no such model."""
     if spread <= 0.0:
         return motion
     response = getattr(motion, "response", None)
     if response is not None:  # RaoMotion: the components of the ship response
         n = response.omega.size
-        alpha, phi = rng.normal(0.0, spread, n), rng.normal(0.0, spread, n)
+        scale, phi = amplitude_factors(spread, n, rng), rng.normal(0.0, spread, n)
         out = copy.copy(motion)
         out.response = copy.copy(response)
-        out.response.coef = response.coef * (1.0 + alpha)[:, None]
+        out.response.coef = response.coef * scale[:, None]
         out.response.theta0 = response.theta0 + phi[:, None]
         return out
     if hasattr(motion, "a") and hasattr(motion, "phi"):  # SinesMotion
         n = motion.a.size
-        alpha, phi = rng.normal(0.0, spread, n), rng.normal(0.0, spread, n)
+        scale, phi = amplitude_factors(spread, n, rng), rng.normal(0.0, spread, n)
         out = copy.copy(motion)
-        out.a, out.phi = motion.a * (1.0 + alpha), motion.phi + phi
+        out.a, out.phi = motion.a * scale, motion.phi + phi
         return out
     return motion
 

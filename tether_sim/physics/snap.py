@@ -15,7 +15,13 @@ tension samples [DNV-RP-H103 slack criterion; PE2020 Sec. 6]:
                            three thresholds in N instead, for a line slack by design.)
                            Dips back below the slack threshold inside the window (chatter, a weak
                            first re-tension) belong to the same slack period: no new warning, and
-                           the slack period ends at the last upward crossing.
+                           the slack period ends at the last upward crossing. If, when the window
+                           closes, the tension has fallen back below the slack threshold after the
+                           peak and is still slack (or re-tensioning again), a new slack period
+                           began where it fell (a :class:`SlackStarted` with that time), and the
+                           re-tensioning that ends it gets its own window: a one-step spike early in
+                           a long slack period does not hide, or shorten, the slack before the real
+                           snap.
 
 A plausibility guard (:class:`SnapGuard`, docs/snap_guard.md) checks every snap event against
 what the cable's axial impedance, the system's kinetic energy and the relative end speed allow,
@@ -200,8 +206,10 @@ def snap_guard(config, element_length: float) -> SnapGuard:
 
 # Per-location machine state columns.
 (_MODE, _SLACK_START, _MIN_T, _EXIT_T, _PEAK, _PEAK_T, _RETENSION_T, _PREV_T, _PREV_TENSION, _HAS_PREV,
- _PEAK_EXIT) = range(11)
-_N_STATE = 11
+ _PEAK_EXIT, _DROP_T, _DROP_Y, _DROP_MIN) = range(14)
+_N_STATE = 14
+# _DROP_T: within a re-tensioning window, when the tension first fell back below the slack threshold after
+# the window's running maximum (NaN while it has not); _DROP_Y the sample there, _DROP_MIN the least since.
 _TAUT, _SLACK, _RISING = 0.0, 1.0, 2.0
 # Event rows: kind (0 slack, 1 snap), location, time, tension/peak, min, slack_start, exit time,
 # start of the re-tensioning holding the peak.
@@ -265,6 +273,14 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                     s[_PEAK] = y
                     s[_PEAK_T] = t
                     s[_PEAK_EXIT] = s[_EXIT_T]
+                    s[_DROP_T] = np.nan
+                if np.isnan(s[_DROP_T]):
+                    if has_prev and y0 >= lo > y:
+                        s[_DROP_T] = _crossing_time(t0, y0, t, y, lo)
+                        s[_DROP_Y] = y
+                        s[_DROP_MIN] = y
+                elif y < s[_DROP_MIN]:
+                    s[_DROP_MIN] = y
                 elapsed = t - s[_RETENSION_T]
                 # Close once the window has passed and the running maximum lies behind the current
                 # sample (the tension has turned or levelled off); a re-tensioning still rising at the
@@ -278,11 +294,27 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                     if s[_PEAK] >= snap_level and exit_t - s[_SLACK_START] >= min_duration:
                         n_ev = _emit(events, n_ev, 1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START],
                                      exit_t, s[_PEAK_EXIT])
+                    # the slack period before what follows began where the tension fell back below the
+                    # slack threshold after the peak (not at the window's end: a rejected one-step spike in
+                    # a long slack period must not shorten the slack before the real re-tensioning)
+                    dropped = not np.isnan(s[_DROP_T])
+                    if dropped and (split or y < lo):
+                        s[_SLACK_START] = s[_DROP_T]
+                        s[_MIN_T] = s[_DROP_MIN]
+                        n_ev = _emit(events, n_ev, 0.0, j, s[_DROP_T], s[_DROP_Y], s[_DROP_Y], s[_DROP_T],
+                                     s[_DROP_T], s[_DROP_T])
                     if split:
                         s[_RETENSION_T] = t
                         s[_PEAK] = y
                         s[_PEAK_T] = t
                         s[_PEAK_EXIT] = s[_EXIT_T]
+                        s[_DROP_T] = np.nan
+                    elif dropped and y < lo:
+                        s[_MODE] = _SLACK
+                        s[_EXIT_T] = s[_SLACK_START]
+                        s[_PEAK] = -np.inf
+                        s[_DROP_T] = np.nan
+                        mode = _SLACK
                     else:
                         s[_MODE] = _TAUT
                         mode = _TAUT
@@ -303,6 +335,7 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                 if y > hi:
                     s[_MODE] = _RISING
                     s[_RETENSION_T] = t
+                    s[_DROP_T] = np.nan
                     if y > s[_PEAK]:
                         s[_PEAK] = y
                         s[_PEAK_T] = t

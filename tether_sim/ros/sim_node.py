@@ -8,6 +8,7 @@ the outputs built by :mod:`tether_sim.ros.convert`; diagnostics go out at 1 Hz.
 
 import difflib
 import math
+import signal
 import sys
 import time
 
@@ -517,6 +518,16 @@ def check_params_files(files, overrides=None) -> None:
                 raise
 
 
+def _ignore_further_signals() -> None:
+    """Once the node is stopping, more SIGINT/SIGTERM must not cut its clean-up short: Ctrl-C on
+    ``ros2 launch`` reaches the node twice (the terminal's SIGINT to the process group, then launch's
+    own), and launch follows with SIGTERM if the node is still alive after 5 s. Ignored at the OS level
+    (SIG_IGN): Python keeps that through its own exit, where it resets a handler of its own to the
+    default (killed by SIGINT, exit code -2, "process has died" in launch)."""
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, signal.SIG_IGN)
+
+
 def _say_stopped(node, how):
     """The one line on what a node stopped by a signal did (it writes no file: nothing to close; exit code 0,
     as ROS launch expects of a node told to stop)."""
@@ -545,6 +556,7 @@ def main(args=None):
     argv = retarget(argv, log=lambda text: print(f"tether-sim: {text}", file=sys.stderr))
     rclpy.init(args=argv)
     node = None
+    stopping = False  # by a signal: further ones are ignored
     try:
         if network:
             from tether_sim.ros.network_node import NetworkSimNode
@@ -554,8 +566,12 @@ def main(args=None):
             node = TetherSimNode(where=", ".join(files) or "command-line parameters", cli_keys=cli_param_keys(argv))
         rclpy.spin(node)
         if not rclpy.ok():  # spin may also simply return when the context is shut down by a signal
+            stopping = True
+            _ignore_further_signals()
             _say_stopped(node, "SIGINT/SIGTERM (an rclpy shutdown)")
     except (KeyboardInterrupt, ExternalShutdownException) as exc:
+        stopping = True
+        _ignore_further_signals()
         exit_if_compiling(0)  # SIGINT during the start-up compile: leave without waiting for it
         # rclpy's own handlers turn SIGINT as well as SIGTERM into a shutdown (ExternalShutdownException),
         # whichever reaches spin first: only a KeyboardInterrupt names its signal for sure
@@ -565,6 +581,8 @@ def main(args=None):
         exit_if_compiling(0)
     except Exception as exc:
         if not rclpy.ok():  # SIGINT/SIGTERM arrived while a callback was publishing: a normal shutdown
+            stopping = True
+            _ignore_further_signals()
             _say_stopped(node, "SIGINT/SIGTERM (an rclpy shutdown)")
         elif isinstance(exc, ConfigError):
             print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
@@ -579,6 +597,8 @@ def main(args=None):
             node.destroy_node()
         if rclpy.ok():
             rclpy.shutdown()
+        if stopping:  # rclpy's shutdown puts back the handlers it found at init
+            _ignore_further_signals()
     return 0
 
 
