@@ -18,7 +18,7 @@ bench_tick.load_baseline; its first run compiles its kernels) in the same proces
 alternately, so that their ratio does not depend on the machine's load.
 
 Usage: nice -n 10 .venv/bin/python benchmarks/bench_node_tick.py [--params config/ropos_L200.yaml ...]
-           [--ticks 1500] [--alpha 0] [--repeat 3] [--baseline /work/main] [--profile 500]
+           [--ticks 1500] [--alpha 0] [--repeat 3] [--baseline ../other-checkout] [--profile 500] [--split]
 """
 
 import argparse
