@@ -40,6 +40,7 @@ setup(
         ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
         (f"share/{PACKAGE}", ["package.xml"]),
         (f"share/{PACKAGE}/config", sorted(glob("config/*.yaml") + glob("config/*.txt"))),
+        (f"share/{PACKAGE}/config/studies", sorted(glob("config/studies/*.yaml"))),  # their base: ../
         (f"share/{PACKAGE}/data", sorted(f for f in glob("data/*") if os.path.isfile(f))),
         (f"share/{PACKAGE}/launch", sorted(glob("launch/*.launch.py"))),
         (f"share/{PACKAGE}/rviz", sorted(glob("rviz/*.rviz"))),

@@ -178,6 +178,11 @@ def test_data_files_install_the_ament_index_marker_and_manifest(setup_py):
     assert data[f"share/{PACKAGE}"] == ["package.xml"]
     assert sorted(data[f"share/{PACKAGE}/config"]) == sorted(
         str(p.relative_to(ROOT)) for p in [*(ROOT / "config").glob("*.yaml"), *(ROOT / "config").glob("*.txt")])
+    # every folder of config/ is installed; the study files next to the files their `base:` names
+    folders = sorted(p.name for p in (ROOT / "config").iterdir() if p.is_dir())
+    assert folders == ["studies"]
+    assert sorted(data[f"share/{PACKAGE}/config/studies"]) == sorted(
+        str(p.relative_to(ROOT)) for p in (ROOT / "config" / "studies").glob("*.yaml"))
     packages = set(setup_py["packages"])
     assert PACKAGE in packages and not any(p.startswith("test") for p in packages)
 

@@ -89,7 +89,7 @@ TF2_HASH="$(hash_of "$DEPS_HASH" "$ROOT"/msg_defs/tf2_msgs/{CMakeLists.txt,packa
 shopt -s nullglob
 PKG_INPUTS=("$ROOT/setup.py" "$ROOT/setup.cfg" "$ROOT/package.xml" "$ROOT"/resource/*)
 # config/ and data/ are linked, not copied: only the list of names matters (edits are live)
-DATA_LIST="$(cd "$ROOT" && for f in config/*.yaml data/* launch/*.launch.py rviz/*.rviz foxglove/*.json; do [[ -f "$f" ]] && printf '%s\n' "$f"; done; true)"
+DATA_LIST="$(cd "$ROOT" && for f in config/*.yaml config/studies/*.yaml data/* launch/*.launch.py rviz/*.rviz foxglove/*.json; do [[ -f "$f" ]] && printf '%s\n' "$f"; done; true)"
 shopt -u nullglob
 PKG_HASH="$(hash_of "$MSGS_HASH" "${PKG_INPUTS[@]}")"
 LINKS_HASH="$(hash_of "$PKG_HASH" "$DATA_LIST" "$ROOT/tools/link_data_files.py")"

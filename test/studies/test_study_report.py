@@ -1,4 +1,7 @@
-"""``tether-sim-study report`` on a synthetic results table (no simulation)."""
+"""``tether-sim-study report`` on synthetic results tables (no simulation): the figures follow what the
+study varies (seeded levels, an amplitude x frequency sweep, the PE2020 L x EI x f grid), the Gumbel
+fit is made per seeded condition and never for a deterministic sweep, and the Parquet table carries
+each column's unit."""
 
 import math
 
@@ -8,8 +11,8 @@ import pytest
 from scipy.stats import gumbel_r
 
 from tether_sim.studies.cli import main
-from tether_sim.studies.report import exceedance_groups, gumbel_fit
-from tether_sim.studies.results import to_table
+from tether_sim.studies.report import exceedance_groups, gumbel_fit, study_axes
+from tether_sim.studies.results import column_unit, to_table
 
 MU, BETA = 120e3, 8e3  # N: the Gumbel distribution the synthetic per-case maxima are drawn from
 
@@ -23,8 +26,9 @@ def synthetic_rows(n_seeds=200):
             static = 60e3
             rows.append({
                 "key": f"k{level}-{seed}", "index": len(rows), "study": "synthetic", "status": "ok", "error": "",
-                "var.level": level, "var.seed": seed, "cable.length": 1730.0,
-                "fairlead_frequency_Hz": 0.1 + 0.05 * (seed % 3), "fairlead_amplitude_m": level,
+                "var.level": level, "var.seed": seed, "cable_length_m": 1730.0,
+                # the sines' mean frequency, equal up to rounding in the last digit (one value, not three)
+                "fairlead_frequency_Hz": 0.190775 * (1 + 2e-16 * (seed % 3)), "fairlead_amplitude_m": 1.5 * level,
                 "ship_T_max_N": t_max + 44e3, "vehicle_T_max_N": t_max, "ship_static_N": static + 44e3,
                 "vehicle_static_N": static, "vehicle_daf": t_max / static, "ship_daf": (t_max + 44e3) / (static + 44e3),
                 "vehicle_dnv_slack_ok": seed % 2 == 0, "ship_dnv_slack_ok": True, "vehicle_n_slack": seed % 2,
@@ -38,8 +42,8 @@ def synthetic_rows(n_seeds=200):
 
 def test_gumbel_fit_recovers_the_distribution():
     rows = synthetic_rows()
-    groups, per_seed = exceedance_groups([r for r in rows if r["status"] == "ok"])
-    assert per_seed and sorted(groups) == ["level=1", "level=1.5"]
+    groups = exceedance_groups([r for r in rows if r["status"] == "ok"])
+    assert sorted(groups) == ["level=1", "level=1.5"]
     loc, scale = gumbel_fit(groups["level=1"])
     # maximum likelihood from n = 200 samples: standard errors ~1.1 beta / sqrt(n) for mu and
     # ~0.78 beta / sqrt(n) for beta, i.e. ~8 % and ~6 % of beta; 4 standard errors allowed
@@ -51,10 +55,79 @@ def test_report_writes_figures_and_summary(tmp_path, capsys):
     pq.write_table(to_table(synthetic_rows(20)), tmp_path / "results.parquet")
     assert main(["report", str(tmp_path)]) == 0
     out = tmp_path / "report"
-    for name in ("peak_tension_heatmap.png", "daf_sea_state.png", "exceedance.png"):
-        assert (out / name).stat().st_size > 10_000
+    # one axis: the amplitude (the level expresses nothing else; the frequency differs only by rounding)
+    assert sorted(p.name for p in out.glob("*.png")) == ["daf_sea_state.png", "exceedance.png", "peak_tension.png"]
+    for p in out.glob("*.png"):
+        assert p.stat().st_size > 10_000
     text = (out / "report.md").read_text()
+    assert "Varied: fairlead amplitude a (m) and the seed (20 seeds)." in text
     assert "41 cases in the results: 40 ok, 1 failed." in text
     assert "SolverDivergedError: boom" in text
     assert "| level=1 | 20 |" in text and "cases per core-hour" in text
     assert "600 cases per core-hour" in text  # 40 cases x 6 s of CPU = 1/15 h
+
+
+def sweep_rows(grid: dict, columns) -> list:
+    """A deterministic sweep: every combination of the grid's variables, ``columns(values)`` the
+    resolved columns of a case; tensions made up from them (no seed)."""
+    import itertools
+
+    rows = []
+    for values in itertools.product(*grid.values()):
+        v = dict(zip(grid, values))
+        c = columns(v)
+        t_max = 50e3 * (1 + c["fairlead_amplitude_m"] * c["fairlead_frequency_Hz"]) + 10 * c["cable_length_m"]
+        rows.append({"key": f"k{len(rows)}", "index": len(rows), "study": "sweep", "status": "ok", "error": "",
+                     **{f"var.{k}": x for k, x in v.items()}, **c,
+                     "ship_T_max_N": t_max + 40e3, "vehicle_T_max_N": t_max, "vehicle_daf": t_max / 50e3,
+                     "vehicle_dnv_slack_ok": t_max < 80e3, "ship_dnv_slack_ok": True, "vehicle_n_slack": 0,
+                     "vehicle_n_snap": 0, "vehicle_snap_peak_N": math.nan, "vehicle_snap_daf": math.nan,
+                     "vehicle_slack_max_s": 0.0, "vehicle_rise_time_s": math.nan, "rtf": 5.0, "cpu_s": 12.0,
+                     "sim_s": 60.0})
+    return rows
+
+
+def heave_sweep(v):  # config/studies/heave_sweep.yaml: motion.amplitude x f
+    return {"cable_length_m": 1730.0, "cable_EI_Nm2": 0.0, "fairlead_amplitude_m": v["motion.amplitude"],
+            "fairlead_frequency_Hz": v["f"], "duration_s": 12 / v["f"]}
+
+
+def pe2020(v):  # config/studies/pe2020_sec62.yaml: L x alpha x f
+    return {"cable_length_m": float(v["L"]), "cable_EI_Nm2": v["alpha"] * 2620.0, "fairlead_amplitude_m": 2.0,
+            "fairlead_frequency_Hz": v["f"], "duration_s": 12 / v["f"]}
+
+
+def test_figures_follow_what_the_study_varies(tmp_path):
+    heave = sweep_rows({"motion.amplitude": [0.5, 1.0, 1.5, 2.0, 2.5, 3.0], "f": [0.1, 0.15, 0.2, 0.25, 0.3]},
+                       heave_sweep)
+    # frequency across, amplitude up: one heat map per end, not six one-row panels per amplitude
+    assert study_axes(heave) == [("fairlead_frequency_Hz", "fairlead frequency f (Hz)"),
+                                 ("fairlead_amplitude_m", "fairlead amplitude a (m)")]
+    assert exceedance_groups(heave) is None  # different conditions: no extreme-value sample
+    grid = sweep_rows({"L": [200, 500, 975, 1730], "alpha": [0, 1, 10, 100], "f": [0.1, 0.2, 0.25]}, pe2020)
+    assert [c for c, _ in study_axes(grid)] == ["fairlead_frequency_Hz", "cable_length_m", "cable_EI_Nm2"]
+    # a variable no resolved column expresses is an axis of its own, with its parameter's unit
+    extra = sweep_rows({"f": [0.1, 0.2], "snap.slack_fraction": [0.05, 0.1, 0.2]}, lambda v: heave_sweep(
+        {"motion.amplitude": 2.0, "f": v["f"]}))
+    assert [label for _, label in study_axes(extra)] == ["fairlead frequency f (Hz)", "snap.slack_fraction"]
+
+    pq.write_table(to_table(heave), tmp_path / "results.parquet")
+    assert main(["report", str(tmp_path)]) == 0
+    out = tmp_path / "report"
+    assert sorted(p.name for p in out.glob("*.png")) == ["daf_sea_state.png", "peak_tension_heatmap.png"]
+    text = (out / "report.md").read_text()
+    assert "Varied: fairlead frequency f (Hz), fairlead amplitude a (m)." in text
+    assert "None: the cases are different conditions (no seeds)" in text and "exceedance.png" not in text
+
+
+def test_results_table_carries_units(tmp_path):
+    rows = sweep_rows({"motion.amplitude": [0.5, 1.0], "f": [0.1, 0.2]}, heave_sweep)
+    pq.write_table(to_table(rows), tmp_path / "results.parquet")
+    schema = pq.read_schema(tmp_path / "results.parquet")
+    units = {f.name: (f.metadata or {}).get(b"unit", b"").decode() for f in schema}
+    assert units["vehicle_T_max_N"] == "N" and units["cable_length_m"] == "m" and units["cable_EI_Nm2"] == "N m^2"
+    assert units["fairlead_frequency_Hz"] == "Hz" and units["duration_s"] == "s" and units["cpu_s"] == "s"
+    assert units["vehicle_daf"] == units["rtf"] == "1"
+    assert units["var.motion.amplitude"] == "m"  # a study variable that names a parameter
+    assert units["var.f"] == units["key"] == units["vehicle_n_snap"] == ""  # free variable, identity, count
+    assert column_unit("ship_snap_daf") == "1" and column_unit("hybrid_dt_s") == "s"

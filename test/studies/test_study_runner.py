@@ -75,6 +75,19 @@ def test_resume_skips_done_cases(local_run, tmp_path):
     assert [t["index"] for t in tasks] == [3]
 
 
+def test_exit_status_says_whether_cases_failed(local_run, tmp_path, capsys):
+    from tether_sim.studies.cli import main
+
+    out, _ = local_run
+    copy = tmp_path / "copy"
+    shutil.copytree(out, copy)
+    assert main([str(TINY), "--out", str(copy)]) == 0  # nothing left to run: none of this run failed
+    assert "0 case(s) run (0 ok, 0 failed), 4 already in the results" in capsys.readouterr().out
+    # case 3 again: its solver still cannot be built, so the study ran to its end with a failure
+    assert main([str(TINY), "--out", str(copy), "--retry-failed", "--cases", "3", "--workers", "1"]) == 1
+    assert "1 case(s) run (0 ok, 1 failed)" in capsys.readouterr().out
+
+
 def test_dask_local_cluster_matches_local_processes(local_run, tmp_path):
     distributed = pytest.importorskip("distributed")
     out, _ = local_run

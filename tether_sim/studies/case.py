@@ -115,9 +115,9 @@ def fairlead_motion(motion) -> tuple:
 def _config_columns(config) -> dict:
     """The resolved quantities the report plots against, whatever the study called its variables."""
     amplitude, frequency = fairlead_motion(config.motion)
-    return {"cable.length": float(config.cable.length), "cable.EI": float(config.cable.EI),
+    return {"cable_length_m": float(config.cable.length), "cable_EI_Nm2": float(config.cable.EI),
             "motion.kind": str(config.motion.kind), "fairlead_amplitude_m": amplitude,
-            "fairlead_frequency_Hz": frequency, "duration": float(config.duration)}
+            "fairlead_frequency_Hz": frequency, "duration_s": float(config.duration)}
 
 
 _CASES_IN_PROCESS = [0]

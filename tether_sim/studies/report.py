@@ -1,13 +1,21 @@
 """``tether-sim-study report RESULTS``: the figures a snap-load engineer reads, and a markdown summary.
 
-- ``peak_tension_heatmap.png``: largest tension (ship and cage) against cable length and fairlead
-  frequency, one column of panels per value of a third varied quantity (PE2020 Sec. 6.2 / Fig. 5-6
-  grid: L x f, per alpha); cells that violate the DNV-RP-H103 slack criterion are hatched.
-- ``daf_sea_state.png``: dynamic amplification factor at the cage against the sea state. Until
-  waves and RAOs exist the sea state is the fairlead motion: amplitude and frequency.
-- ``exceedance.png``: exceedance probability of the per-case maxima of the cage tension (Weibull
-  plotting positions i / (n + 1)) with a Gumbel fit (``scipy.stats.gumbel_r``, maximum likelihood);
-  per condition when the study has seeds (cases that differ only by their seed), else pooled.
+The figures follow what the study varies (its axes, :func:`study_axes`): the varied resolved
+quantities (fairlead frequency, fairlead amplitude, cable length, bending stiffness, preferred in
+that order) and the varied study variables that none of them already expresses; the seed is never
+an axis, and values equal to 10 significant digits are one value.
+
+- ``peak_tension_heatmap.png`` (two axes or more): largest tension (ship and cage) over the first
+  two axes, one column of panels per value of a third axis of at most 6 values (PE2020 Sec. 6.2 /
+  Fig. 5-6 grid: f x L, per EI), else the largest over the remaining ones; cells that violate the
+  DNV-RP-H103 slack criterion are starred. ``peak_tension.png`` instead for one axis: largest
+  tension against it, every case a point (the seeds of a condition side by side).
+- ``daf_sea_state.png``: dynamic amplification factor at the cage against the first axis, one line
+  per value of the second (largest over the rest).
+- ``exceedance.png``: only for a study with seeds (cases that differ only by their seed): exceedance
+  probability of the per-case maxima of the cage tension (Weibull plotting positions i / (n + 1))
+  with a Gumbel fit (``scipy.stats.gumbel_r``, maximum likelihood) per condition. A deterministic
+  sweep has no such figure: its cases are different conditions, not samples of one sea state.
 - ``report.md``: cases, failures, the table of headline statistics, Gumbel parameters, throughput.
 """
 
@@ -19,7 +27,10 @@ import numpy as np
 from tether_sim.studies.results import read_results
 from tether_sim.studies.stats import DNV_SLACK_FRACTION
 
-L_KEY, F_KEY, A_KEY = "cable.length", "fairlead_frequency_Hz", "fairlead_amplitude_m"
+# resolved quantities (case.py) that can be axes, in order of preference, with their axis labels
+AXES = {"fairlead_frequency_Hz": "fairlead frequency f (Hz)", "fairlead_amplitude_m": "fairlead amplitude a (m)",
+        "cable_length_m": "cable length L (m)", "cable_EI_Nm2": "bending stiffness EI (N m^2)"}
+SEED = "var.seed"
 
 
 def _plt():
@@ -35,108 +46,157 @@ def _ok(rows):
     return [r for r in rows if r.get("status") == "ok"]
 
 
+def _key(value):
+    """A value as the figures group it: numbers to 10 significant digits (0.19077500000000001 and
+    0.190775 are one column), anything else as its text."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return float(f"{value:.10g}")
+    return repr(value)
+
+
 def _varied(rows):
     """Variable columns (``var.*``) that take more than one value, in table order."""
     cols = [c for c in (rows[0] if rows else {}) if c.startswith("var.")]
-    return [c for c in cols if len({repr(r.get(c)) for r in rows}) > 1]
+    return [c for c in cols if len({_key(r.get(c)) for r in rows}) > 1]
 
 
-def _facet(rows):
-    """The varied quantity (other than length, frequency, seed) to split the heat maps by, if any."""
+def _expresses(rows, a, b) -> bool:
+    """Column a's values determine column b's and the other way round (one-to-one over the rows)."""
+    pairs = {(_key(r.get(a)), _key(r.get(b))) for r in rows}
+    return len(pairs) == len({x for x, _ in pairs}) == len({y for _, y in pairs})
+
+
+def _unit_label(column):
+    """Axis label of a study variable: its name, with the unit when it names a parameter."""
+    from tether_sim.io.schema import key_map
+
+    key = key_map().get(column[4:])
+    return f"{column[4:]} ({key.unit})" if key is not None and key.unit else column[4:]
+
+
+def study_axes(rows) -> list:
+    """[(column, label)] of what the study varies, preferred axes first (module docstring)."""
+    numeric = [c for c in rows[0] if all(isinstance(r.get(c), (int, float)) and not isinstance(r.get(c), bool)
+                                         and math.isfinite(r.get(c)) for r in rows)] if rows else []
+    axes = [(c, AXES[c]) for c in AXES if c in numeric and len({_key(r[c]) for r in rows}) > 1]
     for c in _varied(rows):
-        values = {r[c] for r in rows}
-        if c != "var.seed" and c not in ("var." + L_KEY, "var." + F_KEY) and 1 < len(values) <= 6:
-            if all(isinstance(x, (int, float)) for x in values) and not all(len({r[c] for r in rows if (r[L_KEY], r[F_KEY]) == key}) == 1
-                       for key in {(r[L_KEY], r[F_KEY]) for r in rows}):
-                return c
-    return None
+        if c != SEED and c in numeric and not any(_expresses(rows, c, a) for a, _ in axes):
+            axes.append((c, _unit_label(c)))
+    return axes
 
 
-def heatmap(rows, path):
-    """Largest ship and cage tension on the (frequency, length) grid; max over unlisted variables."""
+def _fmt_value(v):
+    return f"{v:g}" if isinstance(v, float) else str(v)
+
+
+def heatmap(rows, axes, path):
+    """Largest ship and cage tension over the first two axes (faceted by a third of <= 6 values)."""
     plt = _plt()
-    facet = _facet(rows)
-    values = sorted({r[facet] for r in rows}) if facet else [None]
-    lengths = sorted({r[L_KEY] for r in rows})
-    freqs = sorted({r[F_KEY] for r in rows})
-    fig, axes = plt.subplots(2, len(values), figsize=(max(6.0, 3.4 * len(values) + 1.2), 2.6 + 1.1 * len(lengths) * 2),
-                             squeeze=False)
+    (xc, xl), (yc, yl) = axes[0], axes[1]
+    facet = axes[2] if len(axes) > 2 and len({_key(r[axes[2][0]]) for r in rows}) <= 6 else None
+    rest = [label for c, label in axes[2:] if facet is None or c != facet[0]]
+    values = sorted({_key(r[facet[0]]) for r in rows}) if facet else [None]
+    xs = sorted({_key(r[xc]) for r in rows})
+    ys = sorted({_key(r[yc]) for r in rows})
+    fig, axs = plt.subplots(2, len(values), figsize=(max(6.0, 3.4 * len(values) + 1.2), 2.6 + 1.1 * len(ys) * 2),
+                            squeeze=False)
     for col, v in enumerate(values):
-        sub = [r for r in rows if facet is None or r[facet] == v]
+        sub = [r for r in rows if facet is None or _key(r[facet[0]]) == v]
         for row, (end, label) in enumerate((("ship", "ship"), ("vehicle", "cage"))):
-            grid = np.full((len(lengths), len(freqs)), np.nan)
+            grid = np.full((len(ys), len(xs)), np.nan)
             bad = np.zeros_like(grid, dtype=bool)
             for r in sub:
-                i, j = lengths.index(r[L_KEY]), freqs.index(r[F_KEY])
+                i, j = ys.index(_key(r[yc])), xs.index(_key(r[xc]))
                 grid[i, j] = np.fmax(grid[i, j], r[f"{end}_T_max_N"] / 1e3)
                 bad[i, j] |= not r[f"{end}_dnv_slack_ok"]
-            ax = axes[row, col]
+            ax = axs[row, col]
             im = ax.imshow(grid, origin="lower", aspect="auto", cmap="viridis")
-            for i in range(len(lengths)):
-                for j in range(len(freqs)):
+            for i in range(len(ys)):
+                for j in range(len(xs)):
                     if np.isfinite(grid[i, j]):
                         ax.text(j, i, f"{grid[i, j]:.0f}" + ("*" if bad[i, j] else ""), ha="center", va="center",
                                 color="w" if grid[i, j] < np.nanmean(grid) else "k", fontsize=8)
-            ax.set_xticks(range(len(freqs)), [f"{f:g}" for f in freqs])
-            ax.set_yticks(range(len(lengths)), [f"{L:g}" for L in lengths])
-            ax.set_xlabel("fairlead frequency f (Hz)")
-            ax.set_ylabel("cable length L (m)")
+            ax.set_xticks(range(len(xs)), [_fmt_value(x) for x in xs])
+            ax.set_yticks(range(len(ys)), [_fmt_value(y) for y in ys])
+            ax.set_xlabel(xl)
+            ax.set_ylabel(yl)
             title = f"{label}: largest tension (kN)"
-            ax.set_title(title + (f"\n{facet[4:]} = {v:g}" if facet else ""), fontsize=9)
+            ax.set_title(title + (f"\n{facet[1]} = {_fmt_value(v)}" if facet else ""), fontsize=9)
             fig.colorbar(im, ax=ax, shrink=0.85)
-    fig.suptitle(f"Peak tension against length and frequency\n(* = slack: T_min < {DNV_SLACK_FRACTION:g} T_static, "
+    over = f"; largest over {', '.join(rest)}" if rest else ""
+    fig.suptitle(f"Peak tension{over}\n(* = slack: T_min < {DNV_SLACK_FRACTION:g} T_static, "
                  "DNV-RP-H103 criterion not met)", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
-def daf_figure(rows, path):
-    """Cage DAF (T_max / static) against fairlead amplitude and frequency (the sea state until waves)."""
+def peak_figure(rows, axis, path):
+    """One axis: largest ship and cage tension of every case against it (seeds side by side)."""
     plt = _plt()
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
-    f = np.array([r[F_KEY] for r in rows])
-    a = np.array([r[A_KEY] for r in rows])
-    daf = np.array([r["vehicle_daf"] for r in rows])
-    ok = np.array([bool(r["vehicle_dnv_slack_ok"]) for r in rows])
-    sc = ax1.scatter(f[ok], a[ok], c=daf[ok], cmap="plasma", vmin=np.nanmin(daf), vmax=np.nanmax(daf), s=60,
-                     marker="o", label="DNV slack criterion met")
-    ax1.scatter(f[~ok], a[~ok], c=daf[~ok], cmap="plasma", vmin=np.nanmin(daf), vmax=np.nanmax(daf), s=70,
-                marker="X", edgecolors="k", linewidths=0.5, label="slack (criterion not met)")
-    fig.colorbar(sc, ax=ax1, label="cage DAF = T_max / T_static")
-    ax1.set_xlabel("fairlead frequency f (Hz)")
-    ax1.set_ylabel("fairlead amplitude a (m)")
-    ax1.set_title("Cage DAF against the fairlead motion (max over other variables at a point)", fontsize=9)
-    ax1.legend(fontsize=7, loc="best")
-    group_key = A_KEY if len(set(a)) > 1 else L_KEY
-    for g in sorted({r[group_key] for r in rows}):
-        sub = sorted((r for r in rows if r[group_key] == g), key=lambda r: r[F_KEY])
-        fs = sorted({r[F_KEY] for r in sub})
-        worst = [max(r["vehicle_daf"] for r in sub if r[F_KEY] == x) for x in fs]
-        ax2.plot(fs, worst, "o-", label=f"{'a' if group_key == A_KEY else 'L'} = {g:g} m")
-    ax2.axhline(1.0, color="0.5", lw=0.8)
-    ax2.set_xlabel("fairlead frequency f (Hz)")
-    ax2.set_ylabel("cage DAF (largest over the other variables)")
-    ax2.set_title("DAF against frequency", fontsize=9)
-    ax2.grid(alpha=0.3)
-    ax2.legend(fontsize=7)
+    column, label = axis
+    fig, ax = plt.subplots(figsize=(7.5, 4.5))
+    x = np.array([r[column] for r in rows], float)
+    for end, name, marker in (("ship", "ship", "s"), ("vehicle", "cage", "o")):
+        t = np.array([r[f"{end}_T_max_N"] for r in rows], float) / 1e3
+        ok = np.array([bool(r[f"{end}_dnv_slack_ok"]) for r in rows])
+        line = ax.plot(x[ok], t[ok], marker, ls="none", ms=5, label=f"{name} (DNV slack criterion met)")[0]
+        ax.plot(x[~ok], t[~ok], marker, ls="none", ms=7, mfc="none", color=line.get_color(),
+                label=f"{name}, slack (criterion not met)")
+    ax.set_xlabel(label)
+    ax.set_ylabel("largest tension over the run (kN)")
+    ax.set_title(f"Peak tension, every case ({len(rows)})", fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def daf_figure(rows, axes, path):
+    """Cage DAF (T_max / static) against the first axis, one line per value of the second."""
+    plt = _plt()
+    xc, xl = axes[0]
+    fig, ax = plt.subplots(figsize=(7.5, 4.5))
+    groups = sorted({_key(r[axes[1][0]]) for r in rows}) if len(axes) > 1 else [None]
+    for g in groups:
+        sub = [r for r in rows if g is None or _key(r[axes[1][0]]) == g]
+        xs = sorted({_key(r[xc]) for r in sub})
+        worst = [max(r["vehicle_daf"] for r in sub if _key(r[xc]) == x) for x in xs]
+        ax.plot(xs, worst, "o-", label=None if g is None else f"{axes[1][1]} = {_fmt_value(g)}")
+        bad = [(x, max(r["vehicle_daf"] for r in sub if _key(r[xc]) == x)) for x in xs
+               if any(not r["vehicle_dnv_slack_ok"] for r in sub if _key(r[xc]) == x)]
+        if bad:
+            ax.plot(*zip(*bad), "X", color="k", ms=7, mfc="none")
+    ax.axhline(1.0, color="0.5", lw=0.8)
+    ax.set_xlabel(xl)
+    ax.set_ylabel("cage DAF = T_max / T_static")
+    rest = [label for _, label in axes[2:]] + (["seed"] if SEED in _varied(rows) else [])
+    ax.set_title("Cage DAF" + (f", largest over {', '.join(rest)}" if rest else "") +
+                 " (x: slack, DNV criterion not met)", fontsize=9)
+    ax.grid(alpha=0.3)
+    if len(groups) > 1:
+        ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
 def exceedance_groups(rows):
-    """{label: per-case maxima of the cage tension (N)}: per seed group if every group has >= 5 cases."""
-    varied = [c for c in _varied(rows) if c != "var.seed"]
-    if "var.seed" in (rows[0] if rows else {}):
-        groups = {}
-        for r in rows:
-            label = ", ".join(f"{c[4:]}={r[c]:g}" if isinstance(r[c], (int, float)) else f"{c[4:]}={r[c]}"
-                              for c in varied) or "all cases"
-            groups.setdefault(label, []).append(r["vehicle_T_max_N"])
-        if all(len(v) >= 5 for v in groups.values()):
-            return dict(sorted(groups.items(), key=lambda kv: -len(kv[1]))[:6]), True
-    return {"all cases (pooled)": [r["vehicle_T_max_N"] for r in rows]}, False
+    """{condition: per-case maxima of the cage tension (N)} for a study with seeds, every condition
+    (cases that differ only by their seed) with >= 5 cases, at most 6 conditions; None otherwise: a
+    deterministic sweep's cases are different conditions, whose maxima are no sample of one
+    distribution."""
+    if SEED not in _varied(rows):
+        return None
+    varied = [c for c in _varied(rows) if c != SEED]
+    groups = {}
+    for r in rows:
+        label = ", ".join(f"{c[4:]}={_fmt_value(r[c])}" for c in varied) or "all cases"
+        groups.setdefault(label, []).append(r["vehicle_T_max_N"])
+    if not all(len(v) >= 5 for v in groups.values()):
+        return None
+    return dict(sorted(groups.items(), key=lambda kv: -len(kv[1]))[:6])
 
 
 def gumbel_fit(maxima):
@@ -146,11 +206,10 @@ def gumbel_fit(maxima):
     return tuple(float(x) for x in gumbel_r.fit(np.asarray(maxima, float)))
 
 
-def exceedance_figure(rows, path):
+def exceedance_figure(groups, path):
     from scipy.stats import gumbel_r
 
     plt = _plt()
-    groups, per_seed = exceedance_groups(rows)
     fits = {}
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
     for label, maxima in groups.items():
@@ -167,14 +226,13 @@ def exceedance_figure(rows, path):
                         label=f"Gumbel fit: mu = {loc / 1e3:.1f} kN, beta = {scale / 1e3:.2f} kN")
     ax.set_xlabel("per-case maximum of the cage tension (kN)")
     ax.set_ylabel("exceedance probability P(T_max > x)")
-    ax.set_title("Exceedance of per-case maxima" + (" per condition (seeds)" if per_seed else
-                                                       " (pooled over all cases)"), fontsize=9)
+    ax.set_title("Exceedance of per-case maxima per condition (over its seeds)", fontsize=9)
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
-    return fits, per_seed
+    return fits
 
 
 def _fmt(v):
@@ -204,9 +262,21 @@ def write_report(results, out=None) -> Path:
     text = [f"# Study {name}: snap-load summary", "",
             f"{len(rows)} cases in the results: {len(ok)} ok, {len(failed)} failed.", ""]
     if ok:
-        heatmap(ok, out / "peak_tension_heatmap.png")
-        daf_figure(ok, out / "daf_sea_state.png")
-        fits, per_seed = exceedance_figure(ok, out / "exceedance.png")
+        axes = study_axes(ok)
+        figures = []
+        if len(axes) >= 2:
+            heatmap(ok, axes, out / "peak_tension_heatmap.png")
+            figures.append("![peak tension](peak_tension_heatmap.png)")
+        elif axes:
+            peak_figure(ok, axes[0], out / "peak_tension.png")
+            figures.append("![peak tension](peak_tension.png)")
+        if axes:
+            daf_figure(ok, axes, out / "daf_sea_state.png")
+            figures.append("![DAF](daf_sea_state.png)")
+        groups = exceedance_groups(ok)
+        fits = exceedance_figure(groups, out / "exceedance.png") if groups else {}
+        if groups:
+            figures.append("![exceedance](exceedance.png)")
         varied = _varied(ok)
         cols = ["index"] + varied + [
             lambda r: r["ship_T_max_N"] / 1e3, lambda r: r["vehicle_T_max_N"] / 1e3, "vehicle_daf",
@@ -217,26 +287,30 @@ def write_report(results, out=None) -> Path:
             "ship T_max kN", "cage T_max kN", "cage DAF", "cage slack", "cage snaps", "cage snap peak kN",
             "snap DAF", "longest slack s", "rise time s", "DNV ok cage", "DNV ok ship", "numerical warnings", "RT factor"]
         cpu_h = sum(r["cpu_s"] for r in ok) / 3600.0
-        text += ["![peak tension](peak_tension_heatmap.png)", "", "![DAF](daf_sea_state.png)", "",
-                 "![exceedance](exceedance.png)", "", "## Cases", "",
+        text += ["Varied: " + (", ".join(label for _, label in axes) or "nothing but the seed") +
+                 (f" and the seed ({len({r[SEED] for r in ok})} seeds)" if axes and SEED in _varied(ok) else "") + ".", ""]
+        text += [x for f in figures for x in (f, "")] + ["## Cases", "",
                  f"DNV-RP-H103 slack criterion (Sec. 3.4.3, F_hydro <= 0.9 F_static): met when the tension at "
                  f"that end never fell below {DNV_SLACK_FRACTION:g} x its static value. DAF = largest tension / "
                  "static tension; snap DAF = largest snap peak / static. Numerical warnings: re-tensioning peaks "
                  "(both ends) the snap guard rejected as physically impossible (docs/snap_guard.md); they are not "
                  "counted as snaps, but T_max and DAF of such a case are the raw solution's and include them.", ""]
         text += _table(ok, cols, names) + [""]
-        text += ["## Gumbel fit of the per-case maxima of the cage tension", "",
-                 "Per condition (cases differing only by their seed)." if per_seed else
-                 "Pooled over all cases: the cases are different conditions, so this describes the spread of the "
-                 "study, not the extreme-value distribution of one sea state (use seeds for that).", ""]
-        from scipy.stats import gumbel_r
+        text += ["## Gumbel fit of the per-case maxima of the cage tension", ""]
+        if groups is None:
+            text += ["None: " + ("the cases are different conditions (no seeds), whose maxima are no sample of "
+                                 "one sea state; add `seeds:` to the study for an extreme-value fit." if SEED not in
+                                 _varied(ok) else "a condition has fewer than 5 seeds."), ""]
+        else:
+            from scipy.stats import gumbel_r
 
-        if not fits:
-            text += ["No fit: fewer than 3 distinct per-case maxima.", ""]
-        text += _table([{"g": k, "n": n, "mu": loc / 1e3, "beta": s / 1e3,
-                         "q": gumbel_r.ppf(0.9, loc, s) / 1e3} for k, (loc, s, n) in fits.items()],
-                       ["g", "n", "mu", "beta", "q"],
-                       ["condition", "n", "mu (kN)", "beta (kN)", "90 % quantile (kN)"]) + [""]
+            text += ["Per condition (cases differing only by their seed).", ""]
+            if not fits:
+                text += ["No fit: fewer than 3 distinct per-case maxima.", ""]
+            text += _table([{"g": k, "n": n, "mu": loc / 1e3, "beta": s / 1e3,
+                             "q": gumbel_r.ppf(0.9, loc, s) / 1e3} for k, (loc, s, n) in fits.items()],
+                           ["g", "n", "mu", "beta", "q"],
+                           ["condition", "n", "mu (kN)", "beta (kN)", "90 % quantile (kN)"]) + [""]
         text += ["## Throughput", "",
                  f"{len(ok)} cases, {sum(r['sim_s'] for r in ok):.4g} s simulated, {cpu_h * 3600:.4g} s of "
                  f"thread-CPU time: {len(ok) / cpu_h if cpu_h > 0 else math.nan:.4g} cases per core-hour "

@@ -97,8 +97,31 @@ def _atomic(path, write):
     os.replace(tmp, path)
 
 
+# unit of a column by the end of its name (the columns name their unit: docs/studies.md)
+UNIT_SUFFIXES = (("_Nm2", "N m^2"), ("_Hz", "Hz"), ("_N", "N"), ("_m", "m"), ("_s", "s"))
+DIMENSIONLESS = {"daf", "rtf", "dg_cfl"}  # ratios: unit "1"
+
+
+def column_unit(name: str):
+    """The unit of a result column ("1" for a ratio), or None (identity, counts, text, a study
+    variable that names no parameter). A study variable (``var.<name>``) that names a parameter
+    has that parameter's unit."""
+    if name.startswith("var."):
+        from tether_sim.io.schema import key_map
+
+        key = key_map().get(name[4:])
+        return key.unit or None if key is not None else None
+    if name in DIMENSIONLESS or name.endswith("_daf"):
+        return "1"
+    for suffix, unit in UNIT_SUFFIXES:
+        if name.endswith(suffix):
+            return unit
+    return None
+
+
 def to_table(rows: list) -> pa.Table:
-    """Rows (dicts, maybe with different columns) -> a table with the union of the columns."""
+    """Rows (dicts, maybe with different columns) -> a table with the union of the columns; each
+    column with a unit carries it as Parquet field metadata ``unit`` (:func:`column_unit`)."""
     columns = []
     for r in rows:
         columns.extend(k for k in r if k not in columns)
@@ -110,7 +133,13 @@ def to_table(rows: list) -> pa.Table:
         except (pa.ArrowInvalid, pa.ArrowTypeError):  # mixed kinds (e.g. number and text): keep as text
             arrays[c] = pa.array([None if v is None else json.dumps(v) if not isinstance(v, str) else v
                                   for v in values])
-    return pa.table(arrays) if arrays else pa.table({})
+    if not arrays:
+        return pa.table({})
+    fields = []
+    for c, a in arrays.items():
+        unit = column_unit(c)
+        fields.append(pa.field(c, a.type, metadata={"unit": unit} if unit else None))
+    return pa.Table.from_arrays(list(arrays.values()), schema=pa.schema(fields))
 
 
 def _csv_ready(table):
