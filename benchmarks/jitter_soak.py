@@ -2,6 +2,7 @@
 against the stepping driver (no ROS, no wall clock; minutes of CPU for an hour).
 
     .venv/bin/python benchmarks/jitter_soak.py [--minutes 60] [--seed 1] [--min-spacing auto|0|S]
+        [--params FILE] [--set KEY=VALUE ...] [--stall P]
 
 The tether of ``config/ropos_L200.yaml`` (README mesh, N = 2, P = 4) under the soak's heave (0.5 m at
 0.1 Hz: the tether never goes slack, so every slack warning, snap or rejected re-tensioning is
@@ -14,6 +15,11 @@ fires every 20 ms; 1 % of its ticks come 20-300 ms late. ``--min-spacing``: the 
 shortest knot interval (auto: the node's, half an output period; 0: every sample a knot, the
 behaviour before 2026-11-27). Prints the counts of slack warnings, snap events and rejected
 re-tensionings, the largest commanded ship-end speed and the end tension range (x static).
+
+``--params`` / ``--set``: another file and overrides (YAML values), e.g. the hybrid solver with a
+winch schedule. ``--stall P``: with probability P a tick comes 1.1-3 x ``node.max_lag`` late (the
+node behind: the driver re-synchronises); the end tensions of the states within 1 s after each
+re-synchronisation are reported apart (x static; they are marked degraded, as the node does).
 """
 
 import argparse
@@ -27,13 +33,13 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[1]
 
 
-def run(minutes, seed, min_spacing):
+def run(minutes, seed, min_spacing, params=None, overrides=None, stall=0.0):
     from tether_sim.io.inputs import EndPoseInput, knot_spacing
     from tether_sim.io.params import load_config
     from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapEvent
     from tether_sim.ros.driver import SimulationDriver
 
-    config = load_config(REPO / "config" / "ropos_L200.yaml")
+    config = load_config(params or REPO / "config" / "ropos_L200.yaml", overrides or {})
     node = config.node
     spacing = knot_spacing(node.output_rate) if min_spacing == "auto" else float(min_spacing)
     inp = EndPoseInput("ship", max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
@@ -74,12 +80,17 @@ def run(minutes, seed, min_spacing):
     counts = {"slack": 0, "snap": 0, "numerical": 0}
     vmax, lo, hi, late_ticks, cpu0 = 0.0, np.inf, 0.0, 0, time.process_time()
     now, skip_until = 0.3, 0.0
+    resynced, after = -np.inf, [np.inf, 0.0, 0]  # after a re-synchronisation: min, max (x static), states
     while now < t_end:
         now += 1.0 / node.output_rate
         if now < skip_until:
             continue
         if rng.random() < 0.01:
             skip_until = now + rng.uniform(0.02, 0.3)  # this tick and those until then come late
+            late_ticks += 1
+            continue
+        if stall > 0.0 and rng.random() < stall:
+            skip_until = now + rng.uniform(1.1, 3.0) * node.max_lag  # the node behind: a re-synchronisation
             late_ticks += 1
             continue
         feed(now)
@@ -91,14 +102,21 @@ def run(minutes, seed, min_spacing):
                 counts[key] += 1
                 print(f"  t = {now:8.2f} s  {type(ev).__name__} at {ev.location}", flush=True)
         vmax = max(vmax, float(np.linalg.norm(driver._end_state["ship"][1])))
-        if now > 10.0 and not report.blending:
-            f = driver.solver.end_forces()
-            ratio = np.array([f.ship_tension, f.vehicle_tension]) / static
+        if report.dropped > 0.0:
+            resynced = now
+        f = driver.solver.end_forces()
+        ratio = np.array([f.ship_tension, f.vehicle_tension]) / static
+        if now - resynced < 1.0:
+            after = [min(after[0], ratio.min()), max(after[1], ratio.max()), after[2] + 1]
+        elif now > 10.0 and not report.blending:
             lo, hi = min(lo, ratio.min()), max(hi, ratio.max())
     print(f"{minutes:g} min, seed {seed}, knot spacing {spacing * 1e3:g} ms: {len(stamps)} poses, {late_ticks} late ticks; "
           f"slack warnings {counts['slack']}, snap events {counts['snap']}, rejected re-tensionings "
           f"{counts['numerical']}; largest commanded ship speed {vmax:.3f} m/s (heave 0.314); end tension "
           f"{lo:.3f}-{hi:.3f} x static outside blends; {time.process_time() - cpu0:.0f} s CPU", flush=True)
+    if stall > 0.0:
+        print(f"re-synchronisations {driver.resyncs}; the {after[2]} states within 1 s after them: end tension "
+              f"{after[0]:.3f}-{after[1]:.3f} x static", flush=True)
     return counts
 
 
@@ -107,8 +125,14 @@ def main(argv=None) -> int:
     ap.add_argument("--minutes", type=float, default=60.0)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--min-spacing", default="auto")
+    ap.add_argument("--params", help="parameter file (default: config/ropos_L200.yaml)")
+    ap.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", help="overrides (YAML values)")
+    ap.add_argument("--stall", type=float, default=0.0, help="probability per tick of a stall beyond node.max_lag")
     args = ap.parse_args(argv)
-    counts = run(args.minutes, args.seed, args.min_spacing)
+    import yaml
+
+    overrides = {k: yaml.safe_load(v) for k, v in (item.split("=", 1) for item in args.set)}
+    counts = run(args.minutes, args.seed, args.min_spacing, args.params, overrides, args.stall)
     return 1 if any(counts.values()) else 0
 
 

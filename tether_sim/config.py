@@ -96,6 +96,7 @@ class SimConfig:
 
     solver: str = param("dg", doc="which solver: dg (Palm & Eskilsson) or hybrid (Goyal & Perkins)", choices=("dg", "hybrid"))
     duration: float = param(60.0, unit="s", doc="simulated duration of an offline run", min=0.0, max=1e7)
+    work_limit: float = param(1000.0, unit="s", doc="a configuration whose estimated cost exceeds this many CPU seconds per simulated second is refused at load, naming the keys that set the substep (tether_sim/solvers/work.py: substep rule x mesh, CPU per update measured on the 2-core reference machine); 0 = no limit", min=0.0, max=1e12)
     cable: CableProperties = field(default_factory=CableProperties)
     environment: Environment = field(default_factory=Environment)
     ship_end: EndCondition = field(default_factory=EndCondition)

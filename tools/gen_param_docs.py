@@ -33,17 +33,41 @@ parameter services); other keys are fixed at start-up.
 Some keys are checked together, at load and on every live change (`tether_sim.io.params.cross_check`):
 `snap.retension_fraction` must be above `snap.slack_fraction` (unless `snap.slack_threshold` > 0 sets
 an absolute threshold), so that slack has hysteresis (change both at once, atomically, when live); the
-`dg` solver needs `cable.EA` > 0 (EA = 0, an inextensible cable, is for the `hybrid` solver). A range
-below is what the loader accepts; `tools/audit_param_ranges.py` runs each numeric key at both ends of
-its range through the offline runner and prints what breaks, and with `--loader` gives every key
-values outside its range, NaN and +-inf, and values of the wrong type (text, list, bool, null, a
-fraction for an integer, an unknown choice): on 2026-11-26 each of them, for all 187 keys, was a
-ConfigError naming the key (test/tools/test_param_audit.py keeps it so). The run at the range ends
-(dg solver, 2026-11-26, load 9-17) was stopped after its first 59 of ~300 runs (`duration` to
-`dg.n_elements`): 53 ran with finite states, 1 was refused, 5 took longer than 20 s (`duration`
-1e7, `cable.length` 0.001, `cable.gamma0` 1e-9, `cable.damping` 1e12, `cable.bending_damping` 1e12),
-none broke; `dg.n_elements` 2000 was still in its static solve after 15 min (a range end that is
-accepted but not usable on this machine).
+`dg` solver needs `cable.EA` > 0 (EA = 0, an inextensible cable, is for the `hybrid` solver); the
+material cross-section `cable.gamma0 / cable.density` may be at most 2 `cable.diameter`^2 (a solid
+section inside the diameter has 0.79 d^2; a density in g/cm^3 is refused, not a buoyancy 470 x too
+large); `dg.element_lengths` needs one positive weight per element, a tabulated law
+(`cable.table_*`) its points in order, and `dg.fixed_time_step` must be within the stability limit
+(these three used to fail only when the solver was built). **Cost:** every key can sit inside its
+range while the run could never finish (the DG substep falls as 1/h, and as 1/h^2 with material
+damping or bending, 1/h^4 with bending damping). `tether_sim/solvers/work.py` estimates one simulated
+second from the solver's own substep rule and the mesh (DG: element-modes x substeps at 0.45 us of
+CPU each; hybrid: segments x steps at 15 us; measured on the 2-core reference machine, checked by
+`benchmarks/bench_work_estimate.py`), and a configuration above `work_limit` CPU seconds per
+simulated second (1000; 0 lifts the limit) is refused naming the keys that set the substep, e.g.
+`dg.n_elements` 2000 on `config/ropos_L200.yaml` (a 1.28e-8 s substep set by its axial damping,
+2.1e5 CPU s per simulated second). The estimate counts the stepping only (a floor of a run's cost;
+the live node also times its solver at start-up, docs/node.md) at the configured length (a winch that
+hauls in shortens the elements later), and it does not bound the total: a long `duration` or
+initial relaxation is the user's choice.
+
+A range below is what the loader accepts; `tools/audit_param_ranges.py` runs each numeric key at both
+ends of its range through the offline runner (0.3 s of a 1 m heave on `config/ropos_L200.yaml`, a
+manual N = 3, P = 2 mesh; 20 s allowed per run) and prints what breaks, and with `--loader` gives
+every key values outside its range, NaN and +-inf, and values of the wrong type (text, list, bool,
+null, a fraction for an integer, an unknown choice): each of them, for every key, is a ConfigError
+naming the key (test/tools/test_param_audit.py keeps it so). The range ends on 2026-11-27 (load
+7-10): **dg solver**, 242 runs of 121 keys: 227 ran with finite states; 12 refused at load (the cost:
+`cable.length` 0.001, `cable.gamma0` 1e-9, `cable.damping` 1e12, `dg.n_elements` 2000; the checks
+above: `cable.EA` 0, `dg.fixed_time_step` 10 (before: an error when the solver was built), the snap
+fractions and winch lengths and setpoints at their ends); 3 slow, accepted: `duration` 1e7,
+`cable.bending_damping` 1e12 (220 CPU s per simulated second on this mesh, under the limit) and
+`initial.relax_time` 1e5 (about 300 CPU s of relaxation in one compiled call, which a signal does not
+interrupt; stopped). The winch, wave and forecast keys ran with those features off. **hybrid
+solver**, `hybrid.*`, `cable.*` and `work_limit` (64 runs): 59 ran; `hybrid.time_step` 1e-7 refused
+(the cost); `cable.density` 0.001 failed in the first Newton step (now refused by the cross-section
+check); slow, accepted: `hybrid.n_segments` 100000 (150 CPU s per simulated second),
+`hybrid.relax_time_step` 0 and `hybrid.static_relax_time` 1e6 (long initial relaxations).
 
 """
 

@@ -184,12 +184,23 @@ def test_frame_names_prefix_and_attachment_frames():
 
 
 ROPOS = Path(__file__).resolve().parents[2] / "config" / "ropos_L200.yaml"
+MANUAL = {"dg.resolution": "manual", "dg.n_elements": 3, "dg.order": 2}
 
 
 @pytest.mark.parametrize("overrides, words", [
     ({"snap.retension_fraction": 0.05}, ["snap.retension_fraction = 0.05", "snap.slack_fraction = 0.1"]),
     ({"snap.retension_fraction": 0.1}, ["must be above"]),  # equal: no hysteresis either
     ({"cable.EA": 0.0, "dg.resolution": "manual"}, ["cable.EA = 0", "solver: hybrid"]),
+    # (these two passed the loader and failed when the solver was built)
+    ({"dg.resolution": "manual", "dg.n_elements": 3, "dg.element_lengths": [1.0, 2.0]},
+     ["dg.element_lengths has 2 weights", "dg.n_elements = 3"]),
+    ({"cable.material": "table", "cable.table_strain": [0.0, 0.01], "cable.table_tension": [0.0]},
+     ["cable.table_strain / cable.table_tension"]),
+    # the range end cable.density 0.001 kg/m^3 (A = 3010 m^2 on a 3 cm cable: the hybrid solver's Newton failed
+    # at t = 0) and the density in g/cm^3 (every key in range, the buoyancy 470 x too large)
+    ({"cable.density": 0.001}, ["cable.gamma0 / cable.density = 3.01 / 0.001", "2 x cable.diameter^2 = 0.0018 m^2"]),
+    ({"cable.density": 7.153}, ["cable.gamma0 / cable.density = 3.01 / 7.153 = 0.421 m^2"]),
+    ({**MANUAL, "dg.fixed_time_step": 10.0}, ["dg.fixed_time_step = 10 s exceeds the stability limit 0.00273 s"]),
 ])
 def test_related_keys_are_cross_checked_at_load(overrides, words):
     """Each value inside its documented range, the pair not: refused at load, naming both keys and the file
@@ -208,3 +219,52 @@ def test_cross_checks_leave_valid_combinations_alone():
     # EA = 0 is the hybrid solver's inextensible rod (the Goyal-Perkins file)
     gp = load_config(ROPOS.parent / "goyal_perkins.yaml")
     assert gp.solver == "hybrid" and gp.cable.EA == 0.0
+
+
+@pytest.mark.parametrize("overrides, words", [
+    # the mesh: 2000 elements of 0.1 m with the ROPOS axial damping, a 1.3e-8 s substep (before: accepted, a
+    # 0.3 s run still going after 15 min)
+    ({**MANUAL, "dg.n_elements": 2000}, ["dg.n_elements = 2000", "cable.damping = 45500", "1.28e-08 s",
+                                         "axial material damping", "dg.damping: implicit"]),
+    # material damping and bending damping at their range ends (h^-2, h^-4 terms of the substep rule)
+    ({**MANUAL, "cable.damping": 1e12}, ["cable.damping = 1e+12", "axial material damping"]),
+    ({**MANUAL, "dg.n_elements": 20, "cable.bending_damping": 1e12}, ["cable.bending_damping = 1e+12", "bending damping"]),
+    # the axial wave speed sqrt(EA / gamma0) = 3e10 m/s (both in range)
+    ({**MANUAL, "cable.EA": 1e12, "cable.gamma0": 1e-9, "cable.damping": 0.0}, ["cable.EA = 1e+12", "cable.gamma0 = 1e-09",
+                                                                                "axial waves"]),
+    # the shortest cable: 1 mm in three elements
+    ({**MANUAL, "cable.length": 0.001}, ["elements down to 0.000333 m"]),
+    ({**MANUAL, "dg.fixed_time_step": 1e-12}, ["dg.fixed_time_step = 1e-12 s"]),
+    ({"solver": "hybrid", "hybrid.n_segments": 100000, "hybrid.time_step": 1e-7}, ["hybrid.n_segments = 100000",
+                                                                                    "hybrid.time_step = 1e-07 s"]),
+])
+def test_a_run_that_could_never_finish_is_refused_at_load_naming_its_keys_and_the_limit(overrides, words):
+    """Every key inside its documented range, the run not doable: one simulated second estimated above
+    work_limit CPU seconds (tether_sim/solvers/work.py) is a ConfigError naming the keys that set the
+    substep and the limit; work_limit 0 lifts it (the configuration then loads)."""
+    with pytest.raises(ConfigError) as err:
+        load_config(ROPOS, overrides)
+    text = str(err.value)
+    assert str(ROPOS) in text and "work_limit = 1000 s" in text, text
+    for w in words:
+        assert w in text, (w, text)
+    assert load_config(ROPOS, {**overrides, "work_limit": 0.0}).work_limit == 0.0
+
+
+def test_the_work_estimate_uses_the_solvers_own_substep_and_passes_the_shipped_files():
+    from tether_sim.solvers.factory import build_solver
+    from tether_sim.solvers.work import estimate
+
+    for overrides in ({}, {**MANUAL, "cable.EI": 2620.0, "cable.bending_damping": 10.0},
+                      {**MANUAL, "dg.element_lengths": [1.0, 3.0, 1.0], "environment.seabed": True,
+                       "environment.seabed_z": -190.0}):
+        config = load_config(ROPOS, overrides)
+        assert estimate(config).substep == pytest.approx(build_solver(config).stable_time_step(), rel=1e-12)
+    from tether_sim.network.params import file_is_network
+
+    checked = 0
+    for path in sorted(ROPOS.parent.glob("*.yaml")):
+        if "tether_sim:" in path.read_text() and not file_is_network(path):
+            assert estimate(load_config(path)).cpu < 10.0, path  # far below the limit
+            checked += 1
+    assert checked >= 15

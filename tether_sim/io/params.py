@@ -16,9 +16,12 @@ import yaml
 from tether_sim.config import SimConfig
 from tether_sim.errors import ConfigError
 from tether_sim.io.schema import key_map
+from tether_sim.physics.constitutive import TensionLaw
 from tether_sim.solvers.resolution import resolve
+from tether_sim.solvers.work import check_work
 
 NODE_SECTION_NAMES = ("tether_sim", "/tether_sim", "/**")
+AREA_LIMIT = 2.0  # largest material cross-section gamma0 / density, in units of cable.diameter^2 (cross_check)
 
 
 class _Loader(yaml.SafeLoader):
@@ -160,6 +163,29 @@ def cross_check(config: SimConfig, where: str = "parameters") -> SimConfig:
     if config.solver == "dg" and config.cable.EA <= 0.0:
         raise ConfigError(f"{where}: cable.EA = {config.cable.EA:g} N: the dg solver needs an axial stiffness > 0 "
                           "(EA = 0, an inextensible cable, is for solver: hybrid)")
+    # the material cross-section A = gamma0 / density [PE2020 Eq. 14] sets the buoyancy (and the hybrid rod's
+    # rotary inertia): a solid section inside the diameter has A <= pi d^2 / 4 = 0.79 d^2 (a square section
+    # d^2); far above it is a unit slip (density in g/cm^3: A 470 d^2 on ROPOS; at the range end 0.001 kg/m^3
+    # the hybrid solver's first Newton step failed)
+    cab = config.cable
+    area = cab.gamma0 / cab.density
+    if area > AREA_LIMIT * cab.diameter ** 2:
+        raise ConfigError(f"{where}: cable.gamma0 / cable.density = {cab.gamma0:g} / {cab.density:g} = {area:.3g} m^2 "
+                          f"material cross-section, above {AREA_LIMIT:g} x cable.diameter^2 = {AREA_LIMIT * cab.diameter ** 2:.3g} "
+                          "m^2 (a solid section inside the diameter has at most 0.79 d^2): check the units of cable.density "
+                          "(kg/m^3) and cable.diameter (m)")
+    opt = config.dg
+    if config.solver == "dg" and len(opt.element_lengths) not in (0, opt.n_elements):
+        raise ConfigError(f"{where}: dg.element_lengths has {len(opt.element_lengths)} weights, dg.n_elements = "
+                          f"{opt.n_elements}: give one positive weight per element (or none: uniform)")
+    if config.solver == "dg" and any(w <= 0.0 for w in opt.element_lengths):
+        raise ConfigError(f"{where}: dg.element_lengths: every weight must be > 0, got {list(opt.element_lengths)}")
+    try:
+        TensionLaw(config.cable)
+    except ValueError as exc:  # the tabulated law: its points, checked together
+        raise ConfigError(f"{where}: {exc}") from exc
+    # inside its range every key may still make a run that never ends (a substep of 1e-8 s): refused here
+    check_work(config, where)
     return config
 
 

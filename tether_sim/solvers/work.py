@@ -1,0 +1,135 @@
+"""What one simulated second of a configuration costs, estimated at load time (nothing is built).
+
+Every key can sit inside its documented range and still make a run that never ends: the DG solver
+steps explicitly with the substep of dg/timestep.py, which falls as 1/h for the axial waves and as
+1/h^2 (1/h^4) for material damping and bending (bending damping), so ``dg.n_elements: 2000`` on the
+ROPOS tether with its axial damping asks for a 1.3e-8 s substep, 2.3e7 substeps for 0.3 s. The
+hybrid solver does one implicit step of ``hybrid.n_segments`` segments every ``hybrid.time_step``.
+
+The counts are machine-independent (element-mode updates, segment-steps per simulated second); the
+CPU time per count was measured on the 2-core reference machine on 2026-11-27 (load average 7,
+``nice -n 10``; the commands in docs/parameters.md):
+
+- DG, ROPOS L = 200 m: 0.33-0.55 us of CPU per element-mode per SSP-RK3 substep
+  (N = 20, P = 4: 0.55; N = 200, P = 2: 0.42; N = 2000, P = 2: 0.33);
+- hybrid, ROPOS L = 200 m: 9.5-19 us per segment per implicit step (50-800 segments).
+
+``check_work`` refuses (ConfigError) a configuration whose estimate exceeds ``work_limit`` CPU
+seconds per simulated second, naming the keys that set the substep and the limit, and a
+``dg.fixed_time_step`` above the stability limit (the solver's own check, made at load).
+"""
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from tether_sim.errors import ConfigError
+
+DG_UPDATE_CPU = 0.45e-6  # CPU s per element-mode per substep (the upper half of the measured 0.33-0.55 us)
+HYBRID_SEGMENT_CPU = 15e-6  # CPU s per segment per implicit step (measured 9.5-19 us)
+
+# the terms of the DG substep rule (dg/timestep.py) and the keys that set each
+_DG_TERMS = {
+    "waves": ("axial waves", ("cable.EA", "cable.gamma0", "dg.lambda_floor"), "a lower axial stiffness"),
+    "damping": ("axial material damping", ("cable.damping",), "dg.damping: implicit, or less cable.damping"),
+    "bending": ("bending waves", ("cable.EI",), "less cable.EI"),
+    "bending_damping": ("bending damping", ("cable.bending_damping",),
+                        "dg.damping: implicit, or less cable.bending_damping"),
+    "seabed": ("seabed contact", ("environment.seabed_stiffness",), "a softer seabed"),
+}
+
+
+@dataclass(frozen=True)
+class Work:
+    """The estimate: ``substep`` (s), ``count`` (unknown updates per simulated second: element-modes
+    x substeps for dg, segments x steps for hybrid), ``cpu`` (CPU s per simulated second on the
+    reference machine) and the sentence that says what sets them."""
+
+    substep: float
+    count: float
+    cpu: float
+    cause: str
+
+
+def element_sizes(config) -> np.ndarray:
+    """The DG element lengths (m): ``dg.element_lengths`` scaled to the cable length, or uniform."""
+    opt, L = config.dg, float(config.cable.length)
+    if len(opt.element_lengths) == 0:
+        return np.full(int(opt.n_elements), L / int(opt.n_elements))
+    w = np.asarray(opt.element_lengths, float)
+    return w / w.sum() * L
+
+
+def dg_work(config) -> Work:
+    """The DG estimate, with the substep of the solver's own rule (``stable_time_step``)."""
+    from tether_sim.physics.constitutive import TensionLaw
+    from tether_sim.solvers.dg.timestep import stable_dt
+
+    cab, env, opt = config.cable, config.environment, config.dg
+    h, P = element_sizes(config), int(opt.order)
+    slope = TensionLaw(cab).max_slope()
+    implicit = opt.damping == "implicit"
+    kd = env.seabed_stiffness * cab.diameter if env.seabed else 0.0
+    rule = opt.cfl * stable_dt(h, P, slope, cab.gamma0, cab.damping, cab.EI, cab.bending_damping, opt.lambda_floor,
+                               kd, env.seabed_damping, implicit)
+    dofs = h.size * (P + 1)
+    mesh = f"dg.n_elements = {h.size}, dg.order = {P} (elements down to {float(np.min(h)):.3g} m)"
+    if opt.fixed_time_step > 0.0:
+        if opt.fixed_time_step > rule / opt.cfl:  # the solver's own check (UnstableTimeStepError), at load
+            raise ConfigError(f"dg.fixed_time_step = {opt.fixed_time_step:g} s exceeds the stability limit "
+                              f"{rule / opt.cfl:.3g} s of {mesh} (cfl = 1; the automatic substep with dg.cfl = "
+                              f"{opt.cfl:g} would be {rule:.3g} s): reduce it, or use fewer elements / a lower order")
+        substep, cause = float(opt.fixed_time_step), f"dg.fixed_time_step = {opt.fixed_time_step:g} s on {mesh}"
+    else:
+        one = {  # each term of the rule alone (the others zero): the largest rate names the cause
+            "waves": stable_dt(h, P, slope, cab.gamma0, 0.0, 0.0, 0.0, opt.lambda_floor),
+            "damping": stable_dt(h, P, 0.0, cab.gamma0, 0.0 if implicit else cab.damping, 0.0, 0.0),
+            "bending": stable_dt(h, P, 0.0, cab.gamma0, 0.0, cab.EI, 0.0),
+            "bending_damping": stable_dt(h, P, 0.0, cab.gamma0, 0.0, 0.0, 0.0 if implicit else cab.bending_damping),
+            "seabed": stable_dt(h, P, 0.0, cab.gamma0, 0.0, 0.0, 0.0, 0.0, kd, env.seabed_damping) if kd > 0 else 1.0,
+        }
+        term = min(one, key=one.get)
+        what, keys, remedy = _DG_TERMS[term]
+        values = ", ".join(f"{k} = {_value(config, k):g}" for k in keys)
+        substep = rule
+        cause = (f"{mesh} with {values}: the substep of the stability rule is {substep:.3g} s, set by the "
+                 f"{what} (remedies: fewer elements or a lower order, {remedy})")
+    count = dofs / substep
+    return Work(substep, count, count * DG_UPDATE_CPU, cause)
+
+
+def hybrid_work(config) -> Work:
+    opt = config.hybrid
+    count = int(opt.n_segments) / float(opt.time_step)
+    cause = (f"hybrid.n_segments = {opt.n_segments} with hybrid.time_step = {opt.time_step:g} s "
+             "(remedies: fewer segments, a longer time step)")
+    return Work(float(opt.time_step), count, count * HYBRID_SEGMENT_CPU, cause)
+
+
+def estimate(config) -> Work:
+    return hybrid_work(config) if config.solver == "hybrid" else dg_work(config)
+
+
+def check_work(config, where: str = "parameters") -> None:
+    """ConfigError when one simulated second would cost more than ``work_limit`` CPU seconds."""
+    try:
+        work = estimate(config)
+    except ConfigError as exc:
+        raise ConfigError(f"{where}: {exc}") from exc
+    limit = float(config.work_limit)
+    if limit <= 0.0:
+        return
+    if not math.isfinite(work.cpu) or work.cpu > limit:
+        unit = "element-mode updates" if config.solver != "hybrid" else "segment-steps"
+        raise ConfigError(
+            f"{where}: {work.cause}; {work.count:.3g} {unit} per simulated second, about {work.cpu:.3g} CPU s per "
+            f"simulated second on the reference machine, above the limit work_limit = {limit:g} s "
+            "(work_limit: 0 lifts it)")
+
+
+def _value(config, dotted: str) -> float:
+    obj = config
+    for part in dotted.split("."):
+        obj = getattr(obj, part)
+    return float(obj)
