@@ -10,14 +10,10 @@ at 1 %, 50 Hz), ``bench_moordyn`` (MoorDyn's ladder), ``bench_accuracy`` + ``sum
 (accuracy against cost), ``bench_solvers`` / ``bench_live_configs`` (real-time factors),
 ``bench_implicit_damping``, ``bench_free_surface``, ``bench_winch`` / ``bench_hybrid_winch`` /
 ``bench_ropos_descent`` (winch), ``bench_hybrid`` / ``bench_hybrid_jacobian`` (hybrid solver),
-``bench_node`` / ``bench_tf`` / ``soak_node`` (the ROS node), ``bench_study_throughput`` (snap-load
-<<<<<<< HEAD
+``bench_node`` / ``bench_node_tick`` / ``bench_tf`` / ``soak_node`` (the ROS node), ``bench_study_throughput`` (snap-load
 studies), ``forecast_skill`` / ``forecast_tick_load`` (the snap forecast: its skill, and the tick with
-the look-aheads running). Bit identity: ``regression_vs_baseline`` (all shipped configurations against another checkout)
-=======
-studies), ``network_vs_single_line`` / ``network_vs_moordyn`` (line networks; figures in docs/network.md).
-Bit identity: ``regression_vs_baseline`` (all shipped configurations against another checkout)
->>>>>>> main
+the look-aheads running), ``network_vs_single_line`` / ``network_vs_moordyn`` (line networks; figures in
+docs/network.md). Bit identity: ``regression_vs_baseline`` (all shipped configurations against another checkout)
 and ``dg_regression`` (DG end tensions on the ROPOS case, ``--save`` then ``--compare``).
 
 ``studies/``: accuracy and physics studies whose results are in docs/ (not timings).

@@ -37,20 +37,21 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 CASES = ((200.0, 2, 0.0), (200.0, 2, 1.0), (1730.0, 3, 0.0), (1730.0, 3, 1.0), (1730.0, 20, 0.0), (1730.0, 20, 1.0))
 
 
-def load_baseline(root):
-    """(tether_sim package, ropos_case module) of another checkout, renamed to tether_sim_base."""
-    key = hashlib.sha1(str(Path(root).resolve()).encode()).hexdigest()[:10]
+def load_baseline(root, with_ros=False):
+    """(tether_sim package, ropos_case module) of another checkout, renamed to tether_sim_base
+    (``with_ros``: its tether_sim.ros too, for the node)."""
+    key = hashlib.sha1(f"{Path(root).resolve()}{'+ros' if with_ros else ''}".encode()).hexdigest()[:10]
     tmp = Path(tempfile.gettempdir()) / f"tether_sim_base_{key}"  # kept: its numba cache survives runs
     if not (tmp / "ropos_case_base.py").exists():
-        _copy_renamed(root, tmp)
+        _copy_renamed(root, tmp, with_ros)
     sys.path.insert(0, str(tmp))
     return importlib.import_module("tether_sim_base.solvers.factory"), importlib.import_module("ropos_case_base")
 
 
-def _copy_renamed(root, tmp):
+def _copy_renamed(root, tmp, with_ros=False):
     shutil.rmtree(tmp, ignore_errors=True)
     shutil.copytree(Path(root) / "tether_sim", tmp / "tether_sim_base",
-                    ignore=shutil.ignore_patterns("__pycache__", "ros"))
+                    ignore=shutil.ignore_patterns("__pycache__", *(() if with_ros else ("ros",))))
     shutil.copy(Path(root) / "benchmarks" / "ropos_case.py", tmp / "ropos_case_base.py")
     for path in list((tmp / "tether_sim_base").rglob("*.py")) + [tmp / "ropos_case_base.py"]:
         text = path.read_text()

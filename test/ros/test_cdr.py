@@ -118,3 +118,30 @@ def test_stamp_parts_rounds_to_nanoseconds_and_clamps_at_zero():
     assert cdr.stamp_parts(1.9999999996) == (2, 0)
     assert cdr.stamp_parts(3.25) == (3, 250_000_000)
     assert cdr.stamp_parts(-1.0) == (0, 0)
+
+
+def test_a_reused_layout_carries_only_the_new_values():
+    """The encoders keep one buffer per layout and rewrite its fields: a second message of the same
+    layout must decode to its own values (no field left from the first), and a new point count (a
+    winch) gets its own layout."""
+    rng = np.random.default_rng(7)
+    for n in (41, 41, 12, 41):
+        p, v = rng.normal(size=(n, 3)), rng.normal(size=(n, 3))
+        s, T, k, m = (rng.normal(size=n) for _ in range(4))
+        stamp = (int(rng.integers(0, 2**31 - 1)), int(rng.integers(0, 10**9)))
+        degraded = bool(rng.integers(0, 2))
+        data = cdr.tether_state(stamp, "map", "dg", s, p, v, T, k, m, 1.0, 2.0, 3.0, 4.0, 0.5, degraded)
+        _check(data, TetherState(header=_header(stamp, "map"), solver="dg", arc_length=s.tolist(), position=_points(p),
+                                 velocity=_points(v, Vector3), tension=T.tolist(), curvature=k.tolist(),
+                                 bending_moment=m.tolist(), ship_end_tension=1.0, vehicle_end_tension=2.0, time_step=3.0,
+                                 real_time_factor=4.0, lag=0.5, degraded=degraded))
+        expected = Path(header=_header(stamp, "map"))
+        for x, y, z in p.tolist():
+            pose = PoseStamped(header=_header(stamp, "map"))
+            pose.pose.position = Point(x=x, y=y, z=z)
+            pose.pose.orientation.w = 1.0
+            expected.poses.append(pose)
+        _check(cdr.path(stamp, "map", p), expected)
+        w = WrenchStamped(header=_header(stamp, "ship/base_link"))
+        w.wrench.force, w.wrench.torque = Vector3(x=p[0, 0], y=p[0, 1], z=p[0, 2]), Vector3(x=v[0, 0], y=v[0, 1], z=v[0, 2])
+        _check(cdr.wrench_stamped(stamp, "ship/base_link", p[0], v[0]), w)

@@ -302,13 +302,18 @@ class EndPoseInput:
         a, b = s[i], s[i + 1]
         h = b.stamp - a.stamp
         u = (t - a.stamp) / h
-        m0, m1 = self._knot_velocity(i) * h, self._knot_velocity(i + 1) * h
         # cubic Hermite basis and its derivative
         h00, h10, h01, h11 = 2 * u**3 - 3 * u**2 + 1, u**3 - 2 * u**2 + u, -2 * u**3 + 3 * u**2, u**3 - u**2
         d00, d10, d01, d11 = 6 * u**2 - 6 * u, 3 * u**2 - 4 * u + 1, -6 * u**2 + 6 * u, 3 * u**2 - 2 * u
-        pos = h00 * a.attachment + h10 * m0 + h01 * b.attachment + h11 * m1
-        vel = (d00 * a.attachment + d10 * m0 + d01 * b.attachment + d11 * m1) / h
-        return pos, vel
+        # per component in plain floats: the same operations in the same order as on the 3-vectors
+        # (tens of microseconds less per call than numpy's small-array overheads)
+        pos, vel = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
+        for c, (pa, pb, v0, v1) in enumerate(zip(a.attachment.tolist(), b.attachment.tolist(),
+                                                 self._knot_velocity(i).tolist(), self._knot_velocity(i + 1).tolist())):
+            m0, m1 = v0 * h, v1 * h
+            pos[c] = h00 * pa + h10 * m0 + h01 * pb + h11 * m1
+            vel[c] = (d00 * pa + d10 * m0 + d01 * pb + d11 * m1) / h
+        return np.array(pos), np.array(vel)
 
     def orientation_at(self, t: float) -> np.ndarray:
         """Body orientation quaternion (x, y, z, w) at t: slerp inside, held outside the samples."""

@@ -31,11 +31,12 @@ class BodyFrame:
             return np.asarray(src.orientation_at(self.stamp), float)
         return np.array([0.0, 0.0, 0.0, 1.0])
 
-    def body_wrench(self, end, forces, body=None):
+    def body_wrench(self, end, forces, body=None, orientation=None):
         """Force and torque BY the tether ON the body of ``end``, in its body frame, about its origin
-        (``body``: the BodyState of a simulated body end, if the caller already has it):
+        (``body``: the BodyState of a simulated body end, ``orientation``: the end's
+        :meth:`end_orientation`, if the caller already has them):
         ``f = R^T F``, ``torque = r x f + R^T M`` (world force F and moment M, offset r)."""
-        q = self.end_orientation(end, body).tolist()
+        q = (self.end_orientation(end, body) if orientation is None else orientation).tolist()
         f = _to_body(q, getattr(forces, f"{end}_force"))
         m = _to_body(q, getattr(forces, f"{end}_moment"))
         (rx, ry, rz), (fx, fy, fz) = self.offset(end), f

@@ -4,7 +4,9 @@ The node publishes these bytes with ``Publisher.publish(bytes)`` (rmw publishes 
 and the offline runner writes them into MCAP, so no Python message object is built per tick:
 building a TetherState/Marker/Path as rclpy objects (one ``Point`` per output point, one
 ``PoseStamped`` per Path pose, each field type-checked on assignment) and converting them to C
-for serialization cost ~2 ms per 50 Hz tick; these encoders take ~0.1 ms (docs/node.md).
+for serialization cost ~2 ms per 50 Hz tick (docs/node.md). Each layout (message type, frame and
+names, point count) is encoded once into a buffer (:class:`_Template`); a tick writes the stamp and
+the values in place and copies the bytes out (``benchmarks/bench_node_tick.py`` times the tick).
 
 Encoding: the ROS 2 default, plain CDR little endian (XCDR1) with the 4-byte encapsulation header
 ``00 01 00 00``; every primitive is aligned to its size (8 for float64) counted from the end of
@@ -16,6 +18,7 @@ No rclpy import here (plain numpy/struct); the field order follows the Jazzy mes
 """
 
 import struct
+import threading
 
 import numpy as np
 
@@ -24,8 +27,6 @@ _ZEROS = bytes(8)
 _U32 = struct.Struct("<I")
 _TIME = struct.Struct("<iI")
 _3I = struct.Struct("<iii")
-_6D = struct.Struct("<6d")
-_7D = struct.Struct("<7d")
 
 
 def stamp_parts(t: float) -> tuple:
@@ -74,13 +75,6 @@ class CdrBuffer:
         self.align(8)
         self.raw(np.ascontiguousarray(values, dtype="<f8").tobytes())
 
-    def float64_sequence(self, values) -> None:
-        """sequence<float64>, or a sequence of a message of doubles (Point, Vector3) given as (n, k)."""
-        values = np.ascontiguousarray(values, dtype="<f8")
-        self.u32(values.shape[0] if values.ndim else 1)
-        if values.size:
-            self.float64s(values)
-
     def tobytes(self) -> bytes:
         return b"".join(self.parts)
 
@@ -89,119 +83,232 @@ def _text(s: str) -> bytes:
     return s.encode("utf-8")
 
 
+class _Template:
+    """The bytes of one message layout, built once with zero values (``build`` on a CdrBuffer); each
+    encoding writes the changing fields in place (numpy views and ``struct.pack_into`` at the offsets
+    ``build`` recorded) and copies the bytes out. The buffer holds 4 bytes of lead before the
+    encapsulation header, so a payload offset that is 8-aligned is 8-aligned in the buffer too."""
+
+    LEAD = 4
+
+    def _finish(self, b: CdrBuffer) -> None:
+        data = b.tobytes()
+        self.buf = bytearray(self.LEAD) + bytearray(data)
+        self._out = memoryview(self.buf)[self.LEAD:]
+
+    def _at(self, offset: int) -> int:
+        """Buffer index of a payload offset."""
+        return self.LEAD + len(ENCAPSULATION) + offset
+
+    def _f8(self, offset: int, shape, strides=None) -> np.ndarray:
+        return np.ndarray(shape, dtype="<f8", buffer=self.buf, offset=self._at(offset), strides=strides)
+
+    def tobytes(self) -> bytes:
+        return self._out.tobytes()
+
+
+def _header_at(b: CdrBuffer, frame: bytes) -> int:
+    """Writes a std_msgs/Header with a zero stamp; returns the stamp's payload offset."""
+    b.align(4)
+    at = b.offset
+    b.header((0, 0), frame)
+    return at
+
+
+def _sequence_at(b: CdrBuffer, n: int, width: int) -> int:
+    """Writes sequence<float64> (width 1) or a sequence of a message of ``width`` doubles, n zero
+    elements; returns the payload offset of the first double."""
+    b.u32(n)
+    if n:
+        b.align(8)
+    at = b.offset
+    if n:
+        b.raw(bytes(8 * n * width))
+    return at
+
+
+class TetherStateEncoder(_Template):
+    """tether_sim_msgs/TetherState of ``n`` points in one frame from one solver (a fixed layout)."""
+
+    def __init__(self, frame: str, solver_name: str, n: int):
+        b = CdrBuffer()
+        self._stamp = _header_at(b, _text(frame))
+        b.string(_text(solver_name))
+        offsets = [_sequence_at(b, n, width) for width in (1, 3, 3, 1, 1, 1)]
+        b.align(8)
+        scalars = b.offset
+        b.raw(bytes(5 * 8 + 1))  # ship/vehicle tension, time step, real-time factor, lag; the bool degraded
+        self._finish(b)
+        self.n = n
+        self.arrays = [self._f8(at, (n, 3) if width == 3 else (n,)) for at, width in zip(offsets, (1, 3, 3, 1, 1, 1))]
+        self._scalars = self._at(scalars)
+
+    def encode(self, stamp: tuple, arc_length, position, velocity, tension, curvature, bending_moment,
+               ship_tension: float, vehicle_tension: float, time_step: float, real_time_factor: float,
+               lag: float = 0.0, degraded: bool = False) -> bytes:
+        _TIME.pack_into(self.buf, self._at(self._stamp), *stamp)
+        for view, values in zip(self.arrays, (arc_length, position, velocity, tension, curvature, bending_moment)):
+            view[...] = values
+        _5D_BOOL.pack_into(self.buf, self._scalars, ship_tension, vehicle_tension, time_step, real_time_factor, lag,
+                           1 if degraded else 0)
+        return self.tobytes()
+
+
+_5D_BOOL = struct.Struct("<5dB")
+
+
 def tether_state(stamp: tuple, frame: str, solver_name: str, arc_length, position, velocity, tension, curvature,
                  bending_moment, ship_tension: float, vehicle_tension: float, time_step: float,
                  real_time_factor: float, lag: float = 0.0, degraded: bool = False) -> bytes:
     """tether_sim_msgs/TetherState (msg_defs/msg/TetherState.msg); arrays (n,) or (n, 3), world frame."""
-    b = CdrBuffer()
-    b.header(stamp, _text(frame))
-    b.string(_text(solver_name))
-    b.float64_sequence(arc_length)
-    b.float64_sequence(position)
-    b.float64_sequence(velocity)
-    b.float64_sequence(tension)
-    b.float64_sequence(curvature)
-    b.float64_sequence(bending_moment)
-    b.float64s((ship_tension, vehicle_tension, time_step, real_time_factor, lag))
-    b.raw(b"\x01" if degraded else b"\x00")  # bool (1 byte, no alignment)
-    return b.tobytes()
+    enc = encoder(TetherStateEncoder, frame, solver_name, len(arc_length))
+    return enc.encode(stamp, arc_length, position, velocity, tension, curvature, bending_moment, float(ship_tension),
+                      float(vehicle_tension), float(time_step), float(real_time_factor), float(lag), bool(degraded))
 
 
 _IDENTITY_POSE = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])  # Point position, Quaternion x, y, z, w
 LINE_STRIP, ADD = 4, 0  # visualization_msgs/Marker constants
 
 
-def _marker_constant_parts(frame: bytes, ns: str, marker_id: int, width: float, colour) -> tuple:
-    """(bytes from the end of the header to the points count, bytes after the colours): constant
-    for a frame name and marker style, so they are encoded once (their padding depends only on the
-    frame name's length; the part after the 4-byte colours holds only 4-aligned and 1-byte items)."""
-    key = (frame, ns, marker_id, width, tuple(colour))
-    parts = _MARKER_PARTS.get(key)
-    if parts is None:
+class MarkerLineStripEncoder(_Template):
+    """visualization_msgs/Marker LINE_STRIP (action ADD, identity pose, lifetime 0, not frame-locked)
+    of ``n`` points with per-vertex colours, one frame, namespace, id, width and colour."""
+
+    def __init__(self, frame: str, ns: str, marker_id: int, width: float, colour, n: int):
         b = CdrBuffer()
-        b.header((0, 0), frame)
-        start = len(b.tobytes())
+        self._stamp = _header_at(b, _text(frame))
         b.string(_text(ns))
-        b.packed(_3I, 4, marker_id, LINE_STRIP, ADD)
+        b.packed(_3I, 4, int(marker_id), LINE_STRIP, ADD)
         b.float64s(_IDENTITY_POSE)
-        b.float64s((width, 0.0, 0.0))  # scale
+        b.float64s((float(width), 0.0, 0.0))  # scale
         b.align(4)
         b.raw(np.asarray(colour, dtype="<f4").tobytes())
         b.packed(_TIME, 4, 0, 0)  # lifetime (Duration): forever
         b.raw(b"\x00")  # frame_locked = False
-        middle = b.tobytes()[start:]
-        t = CdrBuffer()  # after the colours (offset 4-aligned):
-        t.string(b"")  # texture_resource
-        t.header((0, 0), b"")  # texture (sensor_msgs/CompressedImage): header,
-        t.string(b"")  # format,
-        t.u32(0)  # data (uint8[])
-        t.u32(0)  # uv_coordinates
-        t.string(b"")  # text
-        t.string(b"")  # mesh_resource
-        t.string(b"")  # mesh_file (visualization_msgs/MeshFile): filename,
-        t.u32(0)  # data (uint8[])
-        t.raw(b"\x00")  # mesh_use_embedded_materials = False
-        parts = _MARKER_PARTS[key] = (middle, t.tobytes()[len(ENCAPSULATION):])
-    return parts
+        points = _sequence_at(b, n, 3)
+        b.u32(n)
+        colours = b.offset
+        b.raw(bytes(16 * n))  # ColorRGBA: 4 float32, 4-aligned
+        b.string(b"")  # texture_resource
+        b.header((0, 0), b"")  # texture (sensor_msgs/CompressedImage): header,
+        b.string(b"")  # format,
+        b.u32(0)  # data (uint8[])
+        b.u32(0)  # uv_coordinates
+        b.string(b"")  # text
+        b.string(b"")  # mesh_resource
+        b.string(b"")  # mesh_file (visualization_msgs/MeshFile): filename,
+        b.u32(0)  # data (uint8[])
+        b.raw(b"\x00")  # mesh_use_embedded_materials = False
+        self._finish(b)
+        self.n = n
+        self.points = self._f8(points, (n, 3))
+        self.colours = np.ndarray((n, 4), dtype="<f4", buffer=self.buf, offset=self._at(colours))
 
-
-_MARKER_PARTS = {}
+    def encode(self, stamp: tuple, points, colours) -> bytes:
+        _TIME.pack_into(self.buf, self._at(self._stamp), *stamp)
+        self.points[...] = points
+        self.colours[...] = colours  # float64 -> float32: rounded as astype rounds
+        return self.tobytes()
 
 
 def marker_line_strip(stamp: tuple, frame: str, ns: str, marker_id: int, width: float, colour, points,
                       colours) -> bytes:
     """visualization_msgs/Marker LINE_STRIP (action ADD, identity pose, lifetime 0, not frame-locked)
     with per-vertex colours: ``colour`` (4,) RGBA, ``points`` (n, 3), ``colours`` (n, 4) RGBA."""
-    frame_b = _text(frame)
-    middle, tail = _marker_constant_parts(frame_b, ns, int(marker_id), float(width), tuple(float(c) for c in colour))
-    b = CdrBuffer()
-    b.header(stamp, frame_b)
-    b.raw(middle)
-    b.float64_sequence(points)
-    colours = np.ascontiguousarray(colours, dtype="<f4")
-    b.u32(colours.shape[0])
-    b.raw(colours.tobytes())
-    b.raw(tail)
-    return b.tobytes()
+    enc = encoder(MarkerLineStripEncoder, frame, ns, int(marker_id), float(width), tuple(float(c) for c in colour),
+                  len(points))
+    return enc.encode(stamp, points, colours)
+
+
+class PathEncoder(_Template):
+    """nav_msgs/Path of ``n`` poses, each a PoseStamped with the path's header and identity orientation."""
+
+    def __init__(self, frame: str, n: int):
+        b = CdrBuffer()
+        frame_b = _text(frame)
+        stamps = [_header_at(b, frame_b)]
+        b.u32(n)
+        positions = []
+        for _ in range(n):
+            stamps.append(_header_at(b, frame_b))
+            b.align(8)
+            positions.append(b.offset)
+            b.float64s(_IDENTITY_POSE)
+        self._finish(b)
+        self.n = n
+        self._stamps = [self._at(at) for at in stamps]
+        # every pose after the first starts 8-aligned, so they share one layout: a strided view
+        self.first = self._f8(positions[0], (1, 3)) if n else None
+        stride = positions[2] - positions[1] if n > 2 else 0
+        self.rest = self._f8(positions[1], (n - 1, 3), (stride, 8)) if n > 1 else None
+        if n > 1:
+            self.sec = np.ndarray((n - 1,), "<i4", self.buf, self._stamps[2], (stride,))
+            self.nanosec = np.ndarray((n - 1,), "<u4", self.buf, self._stamps[2] + 4, (stride,))
+
+    def encode(self, stamp: tuple, points) -> bytes:
+        n = self.n
+        for at in self._stamps[:2]:
+            _TIME.pack_into(self.buf, at, *stamp)
+        if n:
+            points = np.asarray(points, float)
+            self.first[0] = points[0]
+        if n > 1:
+            self.rest[...] = points[1:]
+            self.sec[...] = stamp[0]
+            self.nanosec[...] = stamp[1]
+        return self.tobytes()
 
 
 def path(stamp: tuple, frame: str, points) -> bytes:
     """nav_msgs/Path of ``points`` (n, 3), each a PoseStamped with the path's header and identity
     orientation."""
-    b = CdrBuffer()
-    frame_b = _text(frame)
-    b.header(stamp, frame_b)
-    n = len(points)
-    b.u32(n)
-    if n == 0:
-        return b.tobytes()
-    poses = np.zeros((n, 7), dtype="<f8")
-    poses[:, 0:3] = points
-    poses[:, 6] = 1.0
-    head = np.frombuffer(_TIME.pack(*stamp) + _U32.pack(len(frame_b) + 1) + frame_b + b"\x00", np.uint8)
-    b.raw(head.tobytes())  # the first PoseStamped: header (4-aligned), pose (8-aligned)
-    b.align(8)
-    b.raw(poses[0].tobytes())
-    if n > 1:  # the others all start 8-aligned, so they share one layout: a (n - 1, stride) block
-        gap = -head.size % 8
-        rows = np.zeros((n - 1, head.size + gap + 56), np.uint8)
-        rows[:, :head.size] = head
-        rows[:, head.size + gap:] = poses[1:].view(np.uint8).reshape(n - 1, 56)
-        b.raw(rows.tobytes())
-    return b.tobytes()
+    return encoder(PathEncoder, frame, len(points)).encode(stamp, points)
+
+
+class _StampedDoublesEncoder(_Template):
+    """A header followed by ``count`` float64 (8-aligned): WrenchStamped (6), PoseStamped (7)."""
+
+    def __init__(self, frame: str, count: int):
+        b = CdrBuffer()
+        self._stamp = _header_at(b, _text(frame))
+        b.align(8)
+        at = b.offset
+        b.raw(bytes(8 * count))
+        self._finish(b)
+        self._values = self._at(at)
+        self._fmt = struct.Struct(f"<{count}d")
+
+    def encode(self, stamp: tuple, *values) -> bytes:
+        _TIME.pack_into(self.buf, self._at(self._stamp), *stamp)
+        self._fmt.pack_into(self.buf, self._values, *values)
+        return self.tobytes()
 
 
 def wrench_stamped(stamp: tuple, frame: str, force, torque) -> bytes:
     """geometry_msgs/WrenchStamped."""
-    b = CdrBuffer()
-    b.header(stamp, _text(frame))
-    b.packed(_6D, 8, *(float(x) for x in force), *(float(x) for x in torque))
-    return b.tobytes()
+    return encoder(_StampedDoublesEncoder, frame, 6).encode(stamp, *(float(x) for x in force),
+                                                            *(float(x) for x in torque))
 
 
 def pose_stamped(stamp: tuple, frame: str, position, orientation) -> bytes:
     """geometry_msgs/PoseStamped (orientation quaternion x, y, z, w)."""
-    b = CdrBuffer()
-    b.header(stamp, _text(frame))
-    b.packed(_7D, 8, *(float(x) for x in position), *(float(x) for x in orientation))
-    return b.tobytes()
+    return encoder(_StampedDoublesEncoder, frame, 7).encode(stamp, *(float(x) for x in position),
+                                                            *(float(x) for x in orientation))
+
+
+_LOCAL = threading.local()  # each thread its own encoders: their buffers are written in place
+MAX_ENCODERS = 64
+
+
+def encoder(kind, *layout):
+    """The encoder of a message layout (``kind(*layout)``), built on first use and kept (per thread)."""
+    cache = getattr(_LOCAL, "encoders", None)
+    if cache is None:
+        cache = _LOCAL.encoders = {}
+    key = (kind, *layout)
+    enc = cache.get(key)
+    if enc is None:
+        if len(cache) >= MAX_ENCODERS:  # e.g. a winch changing the point count: rebuilt as needed
+            cache.clear()
+        enc = cache[key] = kind(*layout)
+    return enc

@@ -202,21 +202,73 @@ MARKER_COLOUR = (1.0, 1.0, 0.0, 1.0)  # RGBA of the strip (the per-vertex colour
 SHAPE_TOPICS = ("/tether/state", "/tether/marker", "/tether/path")  # need the state at the output points
 
 
-def tick_outputs(driver, arc_lengths, wanted=None) -> list:
+class OutputFrame:
+    """The driver's outputs at its current simulated instant, each asked of the solver once however
+    many messages of the tick read it (the end forces, each end's body state and body orientation,
+    the state at a set of arc lengths). Valid for one output: build a new one after the next tick."""
+
+    __slots__ = ("driver", "solver", "_forces", "_bodies", "_orientations", "_states")
+
+    def __init__(self, driver):
+        self.driver, self.solver = driver, driver.solver
+        self._forces = None
+        self._bodies, self._orientations, self._states = {}, {}, {}
+
+    def forces(self):
+        if self._forces is None:
+            self._forces = self.solver.end_forces()
+        return self._forces
+
+    def body(self, end):
+        """BodyState of a ``body`` end (None for the other kinds)."""
+        if end not in self._bodies:
+            is_body = getattr(self.driver.config, f"{end}_end").kind == "body"
+            self._bodies[end] = self.solver.body_state(end) if is_body else None
+        return self._bodies[end]
+
+    def orientation(self, end) -> np.ndarray:
+        """Quaternion (x, y, z, w) of the end's body frame (:meth:`SimulationDriver.end_orientation`)."""
+        q = self._orientations.get(end)
+        if q is None:
+            q = self._orientations[end] = self.driver.end_orientation(end, self.body(end))
+        return q
+
+    def state(self, arc_lengths):
+        """The solver's state at ``arc_lengths`` (one sampling per distinct set of points)."""
+        key = np.asarray(arc_lengths, float).tobytes()
+        state = self._states.get(key)
+        if state is None:
+            state = self._states[key] = self.solver.state(arc_lengths)
+        return state
+
+    def end_positions(self, length: float) -> np.ndarray:
+        """(2, 3) positions at s = 0 and s = ``length``: the first and last output point when a state
+        sampled here starts and ends there (the solvers sample each point on its own, so the values
+        are those of a sampling at the two points), else a sampling at the two."""
+        for state in self._states.values():
+            s = state.arc_length
+            if len(s) >= 2 and s[0] == 0.0 and s[-1] == length:
+                return np.asarray(state.position, float)[[0, -1]]
+        return np.asarray(self.state(np.array([0.0, length])).position, float)
+
+
+def tick_outputs(driver, arc_lengths, wanted=None, frame=None) -> list:
     """(topic, serialized CDR bytes) of every periodic output of the current driver state, stamped
     with the clock time of the state (:mod:`tether_sim.ros.cdr`; no message objects per tick).
 
     ``wanted``: only these topics (the node passes the ones with a subscriber, so nobody pays for
-    a Marker or Path no one displays); None = all."""
+    a Marker or Path no one displays); None = all. ``frame``: the :class:`OutputFrame` of this state
+    when other outputs (/tf) read it too."""
     cfg, solver = driver.config, driver.solver
+    frame = OutputFrame(driver) if frame is None else frame
     node = cfg.node
     stamp = cdr.stamp_parts(driver.stamp)
     world = node.world_frame
     want = (lambda topic: True) if wanted is None else wanted.__contains__
     out = []
-    forces = solver.end_forces()
+    forces = frame.forces()
     if any(want(topic) for topic in SHAPE_TOPICS):
-        state = solver.state(arc_lengths)
+        state = frame.state(arc_lengths)
         points = np.asarray(state.position, float)
         if want("/tether/state"):
             out.append(("/tether/state", cdr.tether_state(
@@ -234,9 +286,9 @@ def tick_outputs(driver, arc_lengths, wanted=None) -> list:
         is_body = getattr(cfg, f"{end}_end").kind == "body"
         if not (want(wrench_topic) or (is_body and want(pose_topic))):
             continue
-        body = solver.body_state(end) if is_body else None
+        body = frame.body(end)
         if want(wrench_topic):
-            force, torque = driver.body_wrench(end, forces, body)
+            force, torque = driver.body_wrench(end, forces, body, frame.orientation(end))
             out.append((wrench_topic, cdr.wrench_stamped(stamp, node.body_frame(end), force, torque)))
         if body is not None and want(pose_topic):
             out.append((pose_topic, cdr.pose_stamped(stamp, world, body.position, body.orientation)))

@@ -266,7 +266,8 @@ class _OfflineOutputs:
         self.write(winch_items)
         sec, nanosec = cdr.stamp_parts(driver.stamp)
         ns = sec * 1_000_000_000 + nanosec
-        for topic, data in convert.tick_outputs(driver, self.arc):
+        frame = convert.OutputFrame(driver)  # what the outputs and /tf share
+        for topic, data in convert.tick_outputs(driver, self.arc, None, frame):
             self.writer.write(topic, data, ns, ns)
         if self.tf:
             if not self.static_written:  # once, at the first output, as the node's latched /tf_static
@@ -274,7 +275,7 @@ class _OfflineOutputs:
                 self.writer.write("/tf_static", serialize_message(static), ns, ns)
                 self.static_written = True
             self.writer.write("/tf", tf_out.tf_message_cdr(driver.stamp, driver.config.node.world_frame,
-                                                           tf_out.dynamic_transforms(driver)), ns, ns)
+                                                           tf_out.dynamic_transforms(driver, frame)), ns, ns)
 
     def write_forecasts(self, forecasts):
         """SnapForecast messages of finished forecasts (log time = their stamp, the state they start from)."""

@@ -282,9 +282,10 @@ class TetherSimNode(Node):
                 self._last_output = self.driver.stamp
                 self.arc_lengths = self.winch_io.tick(self.arc_lengths)  # outputs follow L(t) (winch)
                 wanted = {topic for topic in self._tick_topics if self.pubs[topic].get_subscription_count() > 0}
-                for topic, data in convert.tick_outputs(self.driver, self.arc_lengths, wanted):
+                frame = convert.OutputFrame(self.driver)  # what the outputs and /tf share
+                for topic, data in convert.tick_outputs(self.driver, self.arc_lengths, wanted, frame):
                     self.pubs[topic].publish(data)
-                self.tf.publish(self.driver)
+                self.tf.publish(self.driver, frame)
                 self.forecast_io.tick(now)  # hands a due forecast to its worker thread; publishes finished ones
         except Exception as exc:  # noqa: BLE001 - the node must stay up; the error is reported
             if not self.context.ok():

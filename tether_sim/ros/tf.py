@@ -99,23 +99,24 @@ def static_transforms(config, stamp: float) -> list:
             for end in ENDS]
 
 
-def body_poses(driver, include_prescribed: bool = True) -> list:
-    """(end, position, quaternion) of each end's body frame origin in the world frame."""
-    cfg, solver = driver.config, driver.solver
-    arc = {"ship": 0.0, "vehicle": cfg.cable.length}
+def body_poses(driver, include_prescribed: bool = True, frame=None) -> list:
+    """(end, position, quaternion) of each end's body frame origin in the world frame (``frame``:
+    the :class:`~tether_sim.ros.convert.OutputFrame` of this state, if the caller has one)."""
+    cfg = driver.config
+    frame = convert.OutputFrame(driver) if frame is None else frame
     out, attach = [], None
     for end in ENDS:
         kind = getattr(cfg, f"{end}_end").kind
         if kind == "prescribed" and not include_prescribed:
             continue
         if kind == "body":
-            body = solver.body_state(end)
+            body = frame.body(end)
             if body is not None:
                 out.append((end, np.asarray(body.position, float), np.asarray(body.orientation, float)))
                 continue
         if attach is None:
-            attach = np.asarray(solver.state(np.array([arc["ship"], arc["vehicle"]])).position, float)
-        q = np.asarray(driver.end_orientation(end), float)
+            attach = frame.end_positions(cfg.cable.length)
+        q = np.asarray(frame.orientation(end), float)
         p_att = attach[0 if end == "ship" else 1]
         out.append((end, p_att - rotate(q, end_offset(cfg, end)), q))
     return out
@@ -133,10 +134,11 @@ def tether_frames(solver, length: float, count: int) -> list:
     return [(p[k], tangent_quaternion(ahead[k] - behind[k])) for k in range(count)]
 
 
-def dynamic_transforms(driver) -> list:
-    """(child frame, position, quaternion) of every /tf transform, all with the world frame as parent."""
+def dynamic_transforms(driver, frame=None) -> list:
+    """(child frame, position, quaternion) of every /tf transform, all with the world frame as parent
+    (``frame``: the :class:`~tether_sim.ros.convert.OutputFrame` of this state, if the caller has one)."""
     node = driver.config.node
-    out = [(node.body_frame(end), p, q) for end, p, q in body_poses(driver, node.tf_prescribed_ends)]
+    out = [(node.body_frame(end), p, q) for end, p, q in body_poses(driver, node.tf_prescribed_ends, frame)]
     for k, (p, q) in enumerate(tether_frames(driver.solver, driver.config.cable.length, node.tf_tether_frames)):
         out.append((node.tether_frame(k), p, q))
     return out
@@ -172,7 +174,8 @@ class TfPublisher:
         self.pub = node.create_publisher(TFMessage, "/tf", TF_QOS)
         self.static_pub = node.create_publisher(TFMessage, "/tf_static", TF_STATIC_QOS)
 
-    def publish(self, driver) -> None:
+    def publish(self, driver, frame=None) -> None:
+        """``frame``: the :class:`~tether_sim.ros.convert.OutputFrame` the tick's other outputs read."""
         if not self.enabled or driver.solver is None:
             return
         if not self._static_sent:
@@ -180,4 +183,4 @@ class TfPublisher:
             self._static_sent = True
         if self.pub.get_subscription_count() > 0:
             cfg = driver.config
-            self.pub.publish(tf_message_cdr(driver.stamp, cfg.node.world_frame, dynamic_transforms(driver)))
+            self.pub.publish(tf_message_cdr(driver.stamp, cfg.node.world_frame, dynamic_transforms(driver, frame)))

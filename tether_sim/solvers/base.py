@@ -25,6 +25,8 @@ Contract
 from dataclasses import dataclass, field
 from typing import NamedTuple, Protocol, runtime_checkable
 
+import math
+
 import numpy as np
 
 from tether_sim.physics.boundary import END_NAMES
@@ -180,7 +182,11 @@ def relative_end_speed(solver, length: float) -> float:
     v = np.array(state.velocity, float)
     for j, end in enumerate(END_NAMES):
         body = solver.body_state(end)
-        if body is not None:
-            arm = np.asarray(state.position[j], float) - np.asarray(body.position, float)
-            v[j] = np.asarray(body.velocity, float) + np.cross(np.asarray(body.angular_velocity, float), arm)
-    return float(np.linalg.norm(v[0] - v[1]))
+        if body is not None:  # v + omega x arm in plain floats (np.cross costs ~15 us on 3-vectors; same operations)
+            (px, py, pz), (bx, by, bz) = (float(c) for c in state.position[j]), (float(c) for c in body.position)
+            ax, ay, az = px - bx, py - by, pz - bz
+            wx, wy, wz = (float(c) for c in body.angular_velocity)
+            ux, uy, uz = (float(c) for c in body.velocity)
+            v[j] = (ux + (wy * az - wz * ay), uy + (wz * ax - wx * az), uz + (wx * ay - wy * ax))
+    d = v[0] - v[1]
+    return math.sqrt(float(d.dot(d)))  # = np.linalg.norm(d), which computes sqrt(d.dot(d))

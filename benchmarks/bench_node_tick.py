@@ -1,0 +1,266 @@
+"""The simulation node's tick cost without the timer and DDS timing: the real node driven by hand.
+
+``bench_node.py`` measures the node as it runs (its own process, a 50 Hz timer, poses from another
+process); its tick figures carry the machine's scheduling and the DDS threads. This script builds the
+same node (``TetherSimNode`` from the parameter file, every output it publishes) in one process, gives
+it a simulated clock (``_now`` returns a counter advanced by one output period per tick) and feeds it
+the ship pose on the file's motion (``_on_pose`` with a PoseStamped, as the subscription would), then
+calls the timer's callback ``_on_tick`` in a loop and takes its thread CPU time. A sink process
+subscribes (raw bytes, no decoding) to every periodic output and /tf, so the node builds and
+publishes everything a recorder or RViz would get, to another process as they would. Per tick it also times the
+solver's parts (``advance_to``; ``state``; ``end_forces`` / ``body_state`` / ``drain_end_tensions``)
+(``--split``) so the node's own work is the difference; the 1 Hz diagnostics and the pose callback are
+timed apart.
+
+``--profile N``: cProfile of N ticks after the timed ones (the functions by own time).
+``--baseline DIR``: a second node from another checkout's ``tether_sim`` (renamed copy, as
+bench_tick.load_baseline; its first run compiles its kernels) in the same process, the two ticked
+alternately, so that their ratio does not depend on the machine's load.
+
+Usage: nice -n 10 .venv/bin/python benchmarks/bench_node_tick.py [--params config/ropos_L200.yaml ...]
+           [--ticks 1500] [--alpha 0] [--repeat 3] [--baseline ../other-checkout] [--profile 500] [--split]
+"""
+
+import argparse
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+EI_STAR = 2.62e3  # N m^2, the ROPOS bending stiffness of alpha = 1 [PE2020 Sec. 6.2]
+
+
+class _Bench:
+    """One node of one tree, its simulated clock and pose feed, and its per-tick figures."""
+
+    def __init__(self, pkg, params, alpha, split):
+        import importlib
+
+        from geometry_msgs.msg import PoseStamped
+
+        self.pkg = pkg
+        sim_node = importlib.import_module(f"{pkg}.ros.sim_node")
+        self.convert = importlib.import_module(f"{pkg}.ros.convert")
+        build_solver = importlib.import_module(f"{pkg}.solvers.factory").build_solver
+        build_motion = importlib.import_module(f"{pkg}.physics.motion").build_motion
+        self.parts = {"advance": 0.0, "state": 0.0, "outputs": 0.0}
+        parts = self.parts
+
+        def timed(fn, key):
+            def wrapper(*a, **k):
+                c = time.thread_time()
+                out = fn(*a, **k)
+                parts[key] += time.thread_time() - c
+                return out
+            return wrapper
+
+        def instrumented_factory(config):
+            solver = build_solver(config)
+            solver.advance_to = timed(solver.advance_to, "advance")
+            solver.state = timed(solver.state, "state")
+            for name in ("end_forces", "body_state", "drain_end_tensions"):
+                setattr(solver, name, timed(getattr(solver, name), "outputs"))
+            return solver
+
+        self.node = sim_node.TetherSimNode(where=str(params), solver_factory=instrumented_factory if split else build_solver)
+        cfg = self.cfg = self.node.config
+        wanted = [t for t in self.node.pubs if t in self.convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
+        self.publishers = [self.node.pubs[t] for t in wanted] + ([self.node.tf.pub] if self.node.tf.enabled else [])
+        self.motion = build_motion(cfg.motion, cfg.ship_end.position)
+        self.period = 1.0 / cfg.node.output_rate
+        self.clock = 100.0  # the node's clock, s; the motion's time is clock - 100
+        self.node._now = lambda: self.clock
+        self.msg = PoseStamped()
+        self.msg.header.frame_id = cfg.node.world_frame
+        self.msg.pose.orientation.w = 1.0
+        self.rows, self.pose_cpu, self.diag_cpu = [], [], []
+
+    def tick(self, k, timed, prof=None):
+        self.clock += self.period
+        c = time.thread_time()
+        p, _, _ = self.motion.at(self.clock - 100.0)
+        self.msg.header.stamp = self.convert.time_msg(self.clock)
+        self.msg.pose.position.x, self.msg.pose.position.y, self.msg.pose.position.z = (float(v) for v in p)
+        self.node._on_pose("ship", self.msg)
+        self.pose_cpu.append(time.thread_time() - c)
+        for key in self.parts:
+            self.parts[key] = 0.0
+        if prof is not None:
+            prof.enable()
+        c = time.thread_time()
+        self.node._on_tick()
+        cpu = time.thread_time() - c
+        if prof is not None:
+            prof.disable()
+        if timed:
+            self.rows.append((cpu, self.parts["advance"], self.parts["state"], self.parts["outputs"]))
+        if k % round(self.cfg.node.output_rate) == 0:
+            c = time.thread_time()
+            self.node._publish_diagnostics()
+            self.diag_cpu.append(time.thread_time() - c)
+
+    def report(self, params, alpha):
+        import numpy as np
+
+        r = np.array(self.rows) * 1e3
+        node_own = r[:, 0] - r[:, 1:].sum(axis=1)
+        med = lambda a: [float(np.median(a)), float(np.percentile(a, 99))]  # noqa: E731
+        return {"params": str(params), "alpha": alpha, "package": self.pkg, "ticks": len(self.rows),
+                "subscribed": f"{sum(p.get_subscription_count() > 0 for p in self.publishers)}/{len(self.publishers)}",
+                "tick_ms": med(r[:, 0]), "advance_ms": med(r[:, 1]), "state_ms": med(r[:, 2]), "outputs_ms": med(r[:, 3]),
+                "node_own_ms": med(node_own), "pose_callback_ms": float(np.median(self.pose_cpu) * 1e3),
+                "diagnostics_ms": float(np.median(self.diag_cpu) * 1e3), "tick_errors": self.node.tick_errors,
+                "snaps": self.node.snaps_published, "tick_cpu_s": [float(x) for x in r[:, 0] * 1e-3]}
+
+
+def child(params, ticks, alpha, profile, split, baseline):
+    """Runs in a child process: one node per tree (this one, and ``baseline``'s renamed copy), ticked
+    alternately (the order swapped every tick); prints one JSON line."""
+    import numpy as np
+    import rclpy
+
+    pkgs = ["tether_sim"]
+    if baseline:
+        sys.path.insert(0, str(ROOT))
+        from benchmarks.bench_tick import load_baseline
+
+        load_baseline(baseline, with_ros=True)
+        pkgs.append("tether_sim_base")
+    rclpy.init(args=["tether_sim", "--ros-args", "--params-file", str(params), "-p", f"cable.EI:={alpha * EI_STAR}"])
+    benches = [_Bench(pkg, params, alpha, split) for pkg in pkgs]
+    deadline = time.monotonic() + 30.0
+    while any(p.get_subscription_count() == 0 for b in benches for p in b.publishers) and time.monotonic() < deadline:
+        time.sleep(0.05)  # discovery of the sink process
+    warm = 100  # the first ticks start the solver and may load lazily used kernels
+    prof = None
+    for k in range(warm + ticks + (profile or 0)):
+        if k == warm + ticks:
+            import cProfile
+            prof = cProfile.Profile()
+        for b in (benches if k % 2 == 0 else benches[::-1]):
+            b.tick(k, warm <= k < warm + ticks, prof if b is benches[0] else None)
+    reports = [b.report(params, alpha) for b in benches]
+    if profile:
+        import io
+        import pstats
+        s = io.StringIO()
+        pstats.Stats(prof, stream=s).sort_stats("tottime").print_stats(30)
+        reports[0]["profile"] = s.getvalue()
+    if baseline:  # tick by tick: the two nodes' ticks k ran next to each other
+        a, b = (np.array(r.pop("tick_cpu_s")) for r in reports)
+        reports[0]["baseline_over_this"] = float(np.median(b) / np.median(a))
+    else:
+        reports[0].pop("tick_cpu_s")
+    load = list(os.getloadavg())
+    for r in reports:
+        r["load"] = load
+    print("BENCH_NODE_TICK " + json.dumps(reports), flush=True)
+    for b in benches:
+        b.node.destroy_node()
+    rclpy.shutdown()
+
+
+def sink():
+    """Runs in its own process: raw subscriptions to every periodic output and /tf, spun."""
+    import importlib
+
+    import rclpy
+    from rclpy.executors import ExternalShutdownException
+
+    from tether_sim.ros import convert
+    from tether_sim.ros.sim_node import RELIABLE
+    from tether_sim.ros.tf import TF_QOS, TFMessage
+
+    rclpy.init()
+    node = rclpy.create_node("bench_node_tick_sink")
+    for topic, (type_name, _) in convert.TOPICS.items():
+        if topic in convert.SHAPE_TOPICS or topic.endswith(("_wrench", "sim_pose")):
+            package, _, name = type_name.split("/")
+            msg_type = getattr(importlib.import_module(f"{package}.msg"), name)
+            node.create_subscription(msg_type, topic, lambda _m: None, RELIABLE, raw=True)
+    if TFMessage is not None:
+        node.create_subscription(TFMessage, "/tf", lambda _m: None, TF_QOS, raw=True)
+    print("SINK_READY", flush=True)
+    try:
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+
+
+def launch(params, ticks, alpha, profile, split, baseline=None):
+    env = dict(os.environ, ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", ROS_DOMAIN_ID=str(100 + os.getpid() % 100))
+    cmd = [sys.executable, __file__, "--child", str(params), "--ticks", str(ticks), "--alpha", str(alpha)]
+    if profile:
+        cmd += ["--profile", str(profile)]
+    if split:
+        cmd += ["--split"]
+    if baseline:
+        cmd += ["--baseline", str(baseline)]
+    sink_proc = subprocess.Popen([sys.executable, __file__, "--sink"], env=env, cwd=ROOT, stdout=subprocess.PIPE, text=True)
+    try:
+        if sink_proc.stdout.readline().strip() != "SINK_READY":
+            raise RuntimeError("the subscriber process did not start")
+        proc = subprocess.run(cmd, env=env, cwd=ROOT, capture_output=True, text=True, timeout=3600)
+    finally:
+        sink_proc.send_signal(signal.SIGINT)
+        try:
+            sink_proc.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            sink_proc.kill()
+    for line in proc.stdout.splitlines():
+        if line.startswith("BENCH_NODE_TICK "):
+            return json.loads(line[len("BENCH_NODE_TICK "):])
+    raise RuntimeError(f"run failed ({proc.returncode}):\n{proc.stdout[-2000:]}\n{proc.stderr[-3000:]}")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--params", nargs="+", default=["config/ropos_L200.yaml", "config/ropos_L1730.yaml"])
+    ap.add_argument("--ticks", type=int, default=1500)
+    ap.add_argument("--alpha", type=float, default=0.0, help="bending factor, EI = alpha * 2.62 kN m^2")
+    ap.add_argument("--repeat", type=int, default=1)
+    ap.add_argument("--baseline", default=None, help="another checkout, timed interleaved with this one")
+    ap.add_argument("--profile", type=int, default=0)
+    ap.add_argument("--split", action="store_true", help="also time the solver's calls (adds ~10 clock reads a tick)")
+    ap.add_argument("--json", default="out/bench_node_tick.json")
+    ap.add_argument("--child", default=None)
+    ap.add_argument("--sink", action="store_true")
+    args = ap.parse_args(argv)
+    if args.sink:
+        return sink()
+    if args.child:
+        return child(args.child, args.ticks, args.alpha, args.profile, args.split, args.baseline)
+    print(f"bench_node_tick, {os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
+          f"{args.ticks} ticks, alpha={args.alpha:g}, load average {os.getloadavg()[0]:.2f}", flush=True)
+    rows = []
+    for params in args.params:
+        ratios = []
+        for _ in range(args.repeat):
+            reports = launch(params, args.ticks, args.alpha, args.profile, args.split, args.baseline)
+            for r, name in zip(reports, ("this tree", "baseline")):
+                rows.append(r)
+                split = (f"advance {r['advance_ms'][0]:.3f}, state {r['state_ms'][0]:.3f}, other solver outputs "
+                         f"{r['outputs_ms'][0]:.3f}, node's own {r['node_own_ms'][0]:.3f} (p99 {r['node_own_ms'][1]:.3f}); "
+                         if args.split else "")
+                print(f"{Path(params).name} [{name}] tick CPU median {r['tick_ms'][0]:.3f} ms (p99 {r['tick_ms'][1]:.3f}): "
+                      f"{split}pose callback {r['pose_callback_ms']:.3f}, diagnostics (1 Hz) {r['diagnostics_ms']:.3f}; "
+                      f"outputs subscribed {r['subscribed']}, snaps {r['snaps']}, tick errors {r['tick_errors']}, "
+                      f"load {r['load'][0]:.2f}", flush=True)
+                if r.get("profile"):
+                    print(r["profile"])
+            if args.baseline:
+                ratios.append(reports[0]["baseline_over_this"])
+        if args.baseline:
+            print(f"{Path(params).name}: baseline / this tree, tick CPU median: " + ", ".join(f"{x:.2f}" for x in ratios),
+                  flush=True)
+    Path(args.json).parent.mkdir(parents=True, exist_ok=True)
+    Path(args.json).write_text(json.dumps(rows, indent=1))
+    print(f"wrote {args.json}")
+
+
+if __name__ == "__main__":
+    main()
