@@ -227,8 +227,9 @@ def resolve(config, given=()):
 # bending, explicit or implicit damping. At 1.25 m (N = 40), explicit, 2026-11-27 (compression cap): alpha = 100
 # is clean and equals N = 20 to 3e-6; alpha = 1 has the ship snap within 0.4 % / 8 ms of N = 20 but one rejected
 # one-step cage event (48 kN, the Kelvin-Voigt term switching on where a part buckled below the mesh scale
-# re-tensions), after which that slack period's cage snap is not recorded. dg.damping implicit at 1.25 m was not
-# clean even without bending (2026-11-26: numerical events of 8-11 MN, all rejected by the snap guard).
+# re-tensions; the cage snap after it is recorded: 210.1 kN against 210.5 kN at N = 20). dg.damping implicit at
+# 1.25 m was not clean even without bending (2026-11-26: numerical events of 8-11 MN, all rejected by the snap
+# guard), nor with bending factor 1 (2026-11-27: tensions of MN through the slack phase).
 FINE_MESH_SPACING = 2.5  # m
 
 
@@ -245,9 +246,9 @@ def bending_mesh_warning(length, n_elements, order, EI, element_lengths=(), damp
     what = " and ".join(x for x in (f"bending (EI {EI:g} N m^2)" if EI > 0.0 else "",
                                     "dg.damping implicit" if implicit else "") if x)
     return (f"{what} on a DG node spacing of {spacing:.3g} m (h / P): below {FINE_MESH_SPACING:g} m slack phases can "
-            f"show one-step end-tension events (rejected by the snap guard, but the end's snap in that slack period is "
-            f"then not recorded; ROPOS 200 m slack-snap case: clean at 2.5 m; at 1.25 m clean with bending factor 100, one such "
-            f"event with factor 1; docs/dg_solver.md \"Slack with bending\"): check numerical warnings, or use a coarser mesh")
+            f"show one-step end-tension events (rejected by the snap guard; ROPOS 200 m slack-snap case: clean at 2.5 m; "
+            f"at 1.25 m clean with bending factor 100, one such event with factor 1, explicit damping; docs/dg_solver.md "
+            f"\"Slack with bending\"): check numerical warnings, or use a coarser mesh")
 
 
 def mesh_summary(n_elements, order, cfl, resolution, snap_tolerance) -> str:
