@@ -22,6 +22,11 @@ Usage (the figures of BENCHMARKS.md and docs/forecast.md):
     .venv/bin/python benchmarks/forecast_skill.py --files config/ropos_L200.yaml --sources poses --minutes 5
 
 Prints one line per (file, source, seed) and the totals; ``--json`` writes every number.
+``--rescore`` scores the forecasts of ``--dump`` files again without running anything: totals at
+several probability thresholds, the reliability of the probability (binned against the frequency of
+a snap within the horizon), and the snap time as it was estimated before 2026-11-27 for comparison;
+with ``--near-misses`` it runs each sea again without forecasts and sets every false-alarm episode
+against the run's own end tension (a peak at the snap level at the predicted time? slack before it?).
 """
 
 import argparse
@@ -38,7 +43,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from tether_sim.forecast.service import ForecastService  # noqa: E402
-from tether_sim.forecast.skill import score  # noqa: E402
+from tether_sim.forecast.skill import reliability, score  # noqa: E402
 from tether_sim.io.params import load_config  # noqa: E402
 from tether_sim.physics.motion import build_motion  # noqa: E402
 from tether_sim.physics.snap import SlackStarted, SnapEvent  # noqa: E402
@@ -92,6 +97,124 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True):
     return snaps, forecasts, time.perf_counter() - wall0, look, driver.solver.time
 
 
+def truth_tensions(path, seed, dumped_args):
+    """The run of a --dump file again, without forecasts, recording the end tensions of every substep:
+    (times, {end: tensions}, {end: slack level N}, {end: snap level N})."""
+    args = argparse.Namespace(**dumped_args)
+    cfg = case_config(path, "known_sea", seed, args)
+    src = {"ship": MotionSource(build_motion(cfg.motion, np.asarray(cfg.ship_end.position, float), wave_components(cfg)))}
+    if not args.cable_waves:
+        cfg = replace(cfg, waves=replace(cfg.waves, kind="none"))
+    driver = SimulationDriver(cfg, src, start_blend=False)
+    driver.start(0.0)
+    samples = []
+    drain = driver.solver.drain_end_tensions
+
+    def recording_drain():
+        out = drain()
+        samples.append((np.asarray(out[0]) + driver.anchor, np.asarray(out[1]), np.asarray(out[2])))
+        return out
+
+    driver.solver.drain_end_tensions = recording_drain
+    rate = cfg.node.output_rate
+    for k in range(1, int(round(args.minutes * 60.0 * rate)) + 1):
+        driver.tick(k / rate)
+    det, snap = driver.detector, cfg.snap
+    snap_levels = (np.full(2, snap.snap_threshold) if snap.snap_threshold > 0.0
+                   else snap.snap_fraction * np.abs(det.static_tensions))
+    t = np.concatenate([a for a, _, _ in samples])
+    tensions = {"ship": np.concatenate([b for _, b, _ in samples]), "vehicle": np.concatenate([c for _, _, c in samples])}
+    return t, tensions, dict(zip(det.locations, det.thresholds)), dict(zip(det.locations, snap_levels))
+
+
+def near_misses(paths, tolerance=1.5, before=6.0) -> int:
+    """Every false-alarm episode of --dump files against the run's own end tension (the run again,
+    without forecasts): the largest tension within +-``tolerance`` of the predicted time, the least in
+    the ``before`` s before it, and what the snap detector made of it."""
+    for path in paths:
+        doc = json.loads(Path(path).read_text())
+        for run in doc["runs"]:
+            t, tensions, slack, level = truth_tensions(run["file"], run["seed"], doc["args"])
+            end_time = doc["args"]["minutes"] * 60.0
+            for source, fc in run["forecasts"].items():
+                classes, last = {}, {}
+                print(f"\n{Path(run['file']).stem} {source} seed {run['seed']}: false-alarm episodes against the run's tension")
+                for end, stamp, p, tts, members, _ in fc:
+                    pred = stamp + tts
+                    if not p >= 0.5 or pred > end_time - tolerance or any(
+                            e == end and abs(pred - x) <= tolerance for e, x in run["snaps"]):
+                        continue
+                    if end in last and abs(pred - last[end]) <= tolerance:
+                        last[end] = pred
+                        continue  # the same episode
+                    last[end] = pred
+                    T = tensions[end]
+                    peak = T[(t >= pred - tolerance) & (t <= pred + tolerance)].max()
+                    trough = T[(t >= pred - before) & (t <= pred)].min()
+                    near = min((abs(pred - x) for e, x in run["snaps"] if e == end), default=math.inf)
+                    if near <= 2.0 * tolerance:
+                        kind = f"timing: the run's snap within {2.0 * tolerance:g} s"
+                    elif peak < level[end]:
+                        kind = "no peak at the snap level"
+                    elif trough >= slack[end]:
+                        kind = "peak >= snap level, no slack before it"
+                    else:
+                        kind = "slack and a peak >= snap level, no snap reported"
+                    classes[kind] = classes.get(kind, 0) + 1
+                    print(f"  {end:7s} stamp {stamp:6.1f} p {p:.3f} predicted {pred:7.2f} s: run's peak {peak / level[end]:.2f} x the snap "
+                          f"level, least tension in the {before:g} s before {trough / slack[end]:.2f} x the slack level: {kind}")
+                print("  episodes: " + ", ".join(f"{n} {k}" for k, n in sorted(classes.items())))
+    return 0
+
+
+def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0)) -> int:
+    """Score the forecasts of ``--dump`` JSON files again, without running anything: per file and
+    source, totals over the files at each probability threshold, the reliability of the probability,
+    and (threshold 0.5) the time estimate as it was before 2026-11-27, the median over the members
+    that snap only, for the same forecasts."""
+    from types import SimpleNamespace
+
+    runs = []
+    for path in paths:
+        doc = json.loads(Path(path).read_text())
+        for run in doc["runs"]:
+            for source, fc in run["forecasts"].items():
+                runs.append((run["file"], source, run["seed"], doc["args"]["minutes"] * 60.0, run["snaps"],
+                             [SimpleNamespace(end=e, stamp=st, probability=p, time_to_snap=t, members=m,
+                                              horizon=doc["args"]["horizon"], member_snaps=ms)
+                              for e, st, p, t, m, ms in fc]))
+    old = lambda f: (float(np.median([t for t, _ in f.member_snaps])) - f.stamp if f.member_snaps else math.nan)  # noqa: E731
+    for key in sorted({(r[0], r[1]) for r in runs}):
+        sel = [r for r in runs if (r[0], r[1]) == key]
+        seeds = ", ".join(str(r[2]) for r in sel)
+        print(f"\n{Path(key[0]).stem} {key[1]} (seeds {seeds}, {sum(r[3] for r in sel) / 60:.1f} min of sea):")
+        for end in ("ship", "vehicle"):
+            if not any(e == end for r in sel for e, _ in r[4]) and not any(
+                    f.end == end and f.probability >= min(thresholds) for r in sel for f in r[5]):
+                continue  # no snap and no warning at this end
+            for threshold, timing in [(t, None) for t in thresholds] + [(0.5, old)]:
+                tot = np.zeros(5)
+                for _, _, _, until, snaps, fc in sel:
+                    if timing is not None:
+                        fc = [SimpleNamespace(**{**vars(f), "time_to_snap": timing(f)}) for f in fc]
+                    sc = score(fc, snaps, end, threshold=threshold, until=until)
+                    sc3 = score(fc, snaps, end, threshold=threshold, until=until, lead=3.0)
+                    tot += (sc.snaps, sc.warned, sc3.warned, sc.false_alarms, sc.minutes)
+                how = " (snap time as before 2026-11-27: median over the snapping members)" if timing else ""
+                print(f"  {end:7s} p >= {threshold:5.3f}: {tot[1]:.0f}/{tot[0]:.0f} warned >= 5 s ({tot[2]:.0f} >= 3 s), "
+                      f"{tot[3]:.0f} false alarms = {10 * tot[3] / max(tot[4], 1e-9):.2f} / 10 min ({tot[4]:.1f} min scored){how}")
+            bins = [reliability(fc, snaps, end, until=until) for _, _, _, until, snaps, fc in sel]
+            print(f"  {end} reliability (probability bin: forecasts, mean probability, observed frequency of a snap within the horizon):")
+            for i in range(len(bins[0])):
+                n = sum(b[i].forecasts for b in bins)
+                if n:
+                    mp = sum(b[i].forecasts * b[i].mean_probability for b in bins if b[i].forecasts) / n
+                    ob = sum(b[i].forecasts * b[i].observed for b in bins if b[i].forecasts) / n
+                    print(f"    [{bins[0][i].low:.3f}, {bins[0][i].high:.3f}{']' if i == len(bins[0]) - 1 else ')'}: "
+                          f"{n:4d}, {mp:.2f}, {ob:.2f}")
+    return 0
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--files", nargs="+", default=["config/ropos_L1730.yaml", "config/ropos_L200.yaml"])
@@ -112,7 +235,14 @@ def main(argv=None) -> int:
                          "at the quadrature points; the members never perturb the cable's waves anyway)")
     ap.add_argument("--json", default=None, help="write every number here (after every run)")
     ap.add_argument("--dump", action="store_true", help="--json also lists every warning (p >= 0.5), every forecast with its members' snaps, every snap and slack start")
+    ap.add_argument("--rescore", nargs="+", default=None, metavar="JSON",
+                    help="run nothing: score the forecasts of --dump JSON files again (thresholds, reliability)")
+    ap.add_argument("--near-misses", action="store_true",
+                    help="with --rescore: run each dumped sea again without forecasts and compare every false-alarm "
+                         "episode with the run's own end tension (the snap level, the slack level)")
     args = ap.parse_args(argv)
+    if args.rescore:
+        return near_misses(args.rescore) if args.near_misses else rescore(args.rescore)
     rows, dumps = [], []
     print(f"forecast skill: Hs {args.hs:g} m, Tp {args.tp:g} s, {args.directions} direction(s), horizon {args.horizon:g} s, {args.members} members, "
           f"{args.rate:g} forecasts/s, sea_error {args.sea_error:g}, nominal error {args.nominal_error:g}, "

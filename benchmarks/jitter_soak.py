@@ -2,7 +2,7 @@
 against the stepping driver (no ROS, no wall clock; minutes of CPU for an hour).
 
     .venv/bin/python benchmarks/jitter_soak.py [--minutes 60] [--seed 1] [--min-spacing auto|0|S]
-        [--params FILE] [--set KEY=VALUE ...] [--stall P]
+        [--params FILE] [--set KEY=VALUE ...] [--stall P] [--slowdown K]
 
 The tether of ``config/ropos_L200.yaml`` (README mesh, N = 2, P = 4) under the soak's heave (0.5 m at
 0.1 Hz: the tether never goes slack, so every slack warning, snap or rejected re-tensioning is
@@ -20,6 +20,9 @@ re-tensionings, the largest commanded ship-end speed and the end tension range (
 winch schedule. ``--stall P``: with probability P a tick comes 1.1-3 x ``node.max_lag`` late (the
 node behind: the driver re-synchronises); the end tensions of the states within 1 s after each
 re-synchronisation are reported apart (x static; they are marked degraded, as the node does).
+``--slowdown K``: the solver behind (as test/ros/test_overload.py): a fake wall clock charged K x the
+simulated time of every advance, the node's wall budget per tick (``node.tick_budget`` of a period);
+above 1 / tick_budget the driver caps its ticks, lags and re-synchronises at ``node.max_lag``.
 """
 
 import argparse
@@ -33,7 +36,35 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[1]
 
 
-def run(minutes, seed, min_spacing, params=None, overrides=None, stall=0.0):
+class _FakeWall:
+    """The driver's wall clock when --slowdown is given: the tick's clock plus what the solver was charged."""
+
+    t = 0.0
+
+    @classmethod
+    def perf_counter(cls):
+        return cls.t
+
+
+class _SlowSolver:
+    def __init__(self, inner, slowdown):
+        self.inner, self.slowdown = inner, slowdown
+
+    def __getattr__(self, name):
+        return getattr(self.inner, name)
+
+    @property
+    def time(self):
+        return self.inner.time
+
+    def advance_to(self, t):
+        t0 = self.inner.time
+        n = self.inner.advance_to(t)
+        _FakeWall.t += self.slowdown * (self.inner.time - t0)
+        return n
+
+
+def run(minutes, seed, min_spacing, params=None, overrides=None, stall=0.0, slowdown=0.0):
     from tether_sim.io.inputs import EndPoseInput, knot_spacing
     from tether_sim.io.params import load_config
     from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapEvent
@@ -74,7 +105,15 @@ def run(minutes, seed, min_spacing, params=None, overrides=None, stall=0.0):
             fed += 1
 
     feed(0.3)
-    driver = SimulationDriver(config, {"ship": inp})
+    if slowdown > 0.0:
+        import tether_sim.ros.driver as driver_module
+        from tether_sim.solvers.factory import build_solver
+
+        driver_module.wallclock = _FakeWall
+        driver = SimulationDriver(config, {"ship": inp}, solver_factory=lambda c: _SlowSolver(build_solver(c), slowdown),
+                                  wall_budget=node.tick_budget / node.output_rate)
+    else:
+        driver = SimulationDriver(config, {"ship": inp})
     driver.start(0.3)
     static = np.array(driver.static_tensions)
     counts = {"slack": 0, "snap": 0, "numerical": 0}
@@ -94,6 +133,7 @@ def run(minutes, seed, min_spacing, params=None, overrides=None, stall=0.0):
             late_ticks += 1
             continue
         feed(now)
+        _FakeWall.t = max(_FakeWall.t, now)
         report = driver.tick(now)
         for ev in report.events:
             key = "slack" if isinstance(ev, SlackStarted) else "snap" if isinstance(ev, SnapEvent) else \
@@ -114,7 +154,7 @@ def run(minutes, seed, min_spacing, params=None, overrides=None, stall=0.0):
           f"slack warnings {counts['slack']}, snap events {counts['snap']}, rejected re-tensionings "
           f"{counts['numerical']}; largest commanded ship speed {vmax:.3f} m/s (heave 0.314); end tension "
           f"{lo:.3f}-{hi:.3f} x static outside blends; {time.process_time() - cpu0:.0f} s CPU", flush=True)
-    if stall > 0.0:
+    if stall > 0.0 or slowdown > 0.0:
         print(f"re-synchronisations {driver.resyncs}; the {after[2]} states within 1 s after them: end tension "
               f"{after[0]:.3f}-{after[1]:.3f} x static", flush=True)
     return counts
@@ -128,11 +168,12 @@ def main(argv=None) -> int:
     ap.add_argument("--params", help="parameter file (default: config/ropos_L200.yaml)")
     ap.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", help="overrides (YAML values)")
     ap.add_argument("--stall", type=float, default=0.0, help="probability per tick of a stall beyond node.max_lag")
+    ap.add_argument("--slowdown", type=float, default=0.0, help="the solver at 1/K x real time (a fake wall clock)")
     args = ap.parse_args(argv)
     import yaml
 
     overrides = {k: yaml.safe_load(v) for k, v in (item.split("=", 1) for item in args.set)}
-    counts = run(args.minutes, args.seed, args.min_spacing, args.params, overrides, args.stall)
+    counts = run(args.minutes, args.seed, args.min_spacing, args.params, overrides, args.stall, args.slowdown)
     return 1 if any(counts.values()) else 0
 
 

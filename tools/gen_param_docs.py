@@ -42,12 +42,12 @@ large); `dg.element_lengths` needs one positive weight per element, a tabulated 
 range while the run could never finish (the DG substep falls as 1/h, and as 1/h^2 with material
 damping or bending, 1/h^4 with bending damping). `tether_sim/solvers/work.py` estimates one simulated
 second from the solver's own substep rule and the mesh (DG: element-modes x substeps at 0.45 us of
-CPU each; hybrid: segments x steps at 15 us; measured on the 2-core reference machine, checked by
-`benchmarks/bench_work_estimate.py`), and a configuration above `work_limit` CPU seconds per
+CPU each; hybrid: segments x steps at 15 us; measured on the 2-core reference machine; within a
+factor 0.56-2.1 of the measured stepping, BENCHMARKS.md), and a configuration above `work_limit` CPU seconds per
 simulated second (1000; 0 lifts the limit) is refused naming the keys that set the substep, e.g.
 `dg.n_elements` 2000 on `config/ropos_L200.yaml` (a 1.28e-8 s substep set by its axial damping,
-2.1e5 CPU s per simulated second). The estimate counts the stepping only (a floor of a run's cost;
-the live node also times its solver at start-up, docs/node.md) at the configured length (a winch that
+2.1e5 CPU s per simulated second; 3e5 measured). The estimate counts the stepping only (the live
+node also times its solver at start-up, docs/node.md) at the configured length (a winch that
 hauls in shortens the elements later), and it does not bound the total: a long `duration` or
 initial relaxation is the user's choice.
 

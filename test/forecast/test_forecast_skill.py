@@ -42,3 +42,18 @@ def test_exact_tolerance_and_lead_are_inclusive():
     assert (s.snaps, s.warned, s.warnings, s.false_alarms) == (1, 1, 1, 0)
     s = score([fc(0.0, 0.0, 0.0), fc(10.5, 0.5, 16.5)], [("vehicle", 15.0)], "vehicle", until=40.0)
     assert (s.snaps, s.warned, s.false_alarms) == (1, 0, 0)  # 4.5 s ahead: too late, but right
+
+
+def test_reliability_bins_the_probability_against_the_snaps_within_each_horizon():
+    from tether_sim.forecast.skill import reliability
+
+    forecasts = [fc(0.0, 0.0, 0.0, horizon=10.0), fc(2.0, 0.1, 0.0, horizon=10.0),  # bin [0, .125): 1 of 2 held a snap
+                 fc(4.0, 0.5, 11.0, horizon=10.0), fc(20.0, 0.5, 25.0, horizon=10.0),  # [.375, .625): 1 of 2
+                 fc(6.0, 1.0, 11.0, horizon=10.0),  # the last bin includes 1
+                 fc(8.0, 1.0, 11.0, horizon=10.0, members=0),  # no members: left out
+                 fc(45.0, 0.0, 0.0, horizon=10.0)]  # its horizon runs past the run's end: left out
+    bins = reliability(forecasts, [("vehicle", 11.0), ("ship", 25.0)], "vehicle", until=50.0)
+    assert [b.forecasts for b in bins] == [2, 0, 2, 0, 1]
+    assert bins[0].observed == 0.5 and bins[0].mean_probability == pytest.approx(0.05)
+    assert bins[2].observed == 0.5 and bins[4].observed == 1.0
+    assert bins[1].observed != bins[1].observed  # empty: NaN

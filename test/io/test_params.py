@@ -3,6 +3,7 @@
 from dataclasses import replace
 from pathlib import Path
 
+import math
 import pytest
 import yaml
 
@@ -268,3 +269,25 @@ def test_the_work_estimate_uses_the_solvers_own_substep_and_passes_the_shipped_f
             assert estimate(load_config(path)).cpu < 10.0, path  # far below the limit
             checked += 1
     assert checked >= 15
+
+
+PAPER_200 = Path(__file__).resolve().parents[2] / "config" / "ropos_L200_paper.yaml"
+
+
+@pytest.mark.parametrize("EI, refused", [(2620.0, True), (26200.0, True), (262000.0, False), (0.0, False)])
+def test_implicit_damping_is_refused_where_slack_phases_reach_the_compression_cap(EI, refused):
+    """ROPOS 200 m on the paper's mesh (N = 20, P = 4; cage submerged weight 43.1 kN plus the cable's 5.9 kN):
+    the cap EI (pi P / h)^2 is 4.1 kN at bending factor 1 and 41 kN at 10, below the 49 kN the cable carries,
+    and there the implicit damping step gave cage snaps of 93-384 kN against 210 kN explicit; at factor 100
+    (414 kN) it matched explicit damping within 1.4e-5. Without bending (no cap) and with explicit damping
+    nothing is refused; nor is the Koh swinging cable (cap 232 N, weight 14 N)."""
+    overrides = {"dg.damping": "implicit", "cable.EI": EI}
+    if refused:
+        with pytest.raises(ConfigError) as err:
+            load_config(PAPER_200, overrides)
+        assert "dg.damping implicit" in str(err.value) and "dg.damping explicit" in str(err.value)
+        assert f"{math.pi ** 2 * EI * 0.16:.4g} N" in str(err.value)  # EI (pi 4 / 10)^2
+    else:
+        assert load_config(PAPER_200, overrides).dg.damping == "implicit"
+    assert load_config(PAPER_200, {"cable.EI": EI}).dg.damping == "explicit"
+    assert load_config(PAPER_200.parent / "koh_swinging_cable.yaml").dg.damping == "implicit"

@@ -66,3 +66,32 @@ def score(forecasts, snaps, end, *, lead=5.0, tolerance=1.5, threshold=0.5, unti
         last_pred = pred
     minutes = (fc[-1].stamp - first) / 60.0
     return Skill(end, len(scored), warned, len(warnings), len(false), episodes, minutes, lead, tolerance, threshold)
+
+
+@dataclass
+class ReliabilityBin:
+    low: float  # probability bin [low, high)
+    high: float
+    forecasts: int
+    mean_probability: float  # NaN when empty
+    observed: float  # fraction of these forecasts with a snap at the end within their horizon (NaN when empty)
+
+
+def reliability(forecasts, snaps, end, *, edges=(0.0, 0.125, 0.375, 0.625, 0.875, 1.0), until=None) -> list:
+    """Reliability of the forecast ``probability`` at ``end``: the forecasts binned by probability
+    (``edges``; the last bin includes 1), and per bin the fraction whose horizon (stamp, stamp +
+    horizon] held a snap at that end. A calibrated forecast has ``observed`` close to
+    ``mean_probability`` in every bin. Forecasts without members, and those whose horizon runs past
+    ``until`` (the run's end), are left out."""
+    times = sorted(t for e, t in snaps if e == end)
+    fc = [f for f in forecasts if f.end == end and f.members > 0
+          and (until is None or f.stamp + f.horizon <= until)]
+    out = []
+    for i, (low, high) in enumerate(zip(edges[:-1], edges[1:])):
+        last = i == len(edges) - 2
+        sel = [f for f in fc if low <= f.probability < high or (last and f.probability == high)]
+        hits = [any(f.stamp < t <= f.stamp + f.horizon for t in times) for f in sel]
+        n = len(sel)
+        out.append(ReliabilityBin(low, high, n, sum(f.probability for f in sel) / n if n else float("nan"),
+                                  sum(hits) / n if n else float("nan")))
+    return out

@@ -17,7 +17,7 @@ from tether_sim.config import SimConfig
 from tether_sim.errors import ConfigError
 from tether_sim.io.schema import key_map
 from tether_sim.physics.constitutive import TensionLaw
-from tether_sim.solvers.resolution import resolve
+from tether_sim.solvers.resolution import implicit_damping_refusal, resolve
 from tether_sim.solvers.work import check_work
 
 NODE_SECTION_NAMES = ("tether_sim", "/tether_sim", "/**")
@@ -184,6 +184,10 @@ def cross_check(config: SimConfig, where: str = "parameters") -> SimConfig:
         TensionLaw(config.cable)
     except ValueError as exc:  # the tabulated law: its points, checked together
         raise ConfigError(f"{where}: {exc}") from exc
+    # implicit damping where slack phases reach the compression cap of a cable with bending: measured wrong
+    reason = implicit_damping_refusal(config)
+    if reason:
+        raise ConfigError(f"{where}: {reason}")
     # inside its range every key may still make a run that never ends (a substep of 1e-8 s): refused here
     check_work(config, where)
     return config

@@ -256,3 +256,38 @@ def mesh_summary(n_elements, order, cfl, resolution, snap_tolerance) -> str:
     how = (f"dg.resolution auto, first-snap-peak tolerance {100 * float(snap_tolerance):g} %"
            if resolution == "auto" else "dg.resolution manual")
     return f"N = {n_elements}, P = {order}, dg.cfl {float(cfl):g} ({how})"
+
+
+# dg.damping implicit where a cable with bending can reach its compression cap (physics/constitutive.py): the
+# implicit step freezes, for a whole substep, which points are damped and where the total tension is held at the
+# cap, and in a slack phase in which the cap binds that is not right. ROPOS 200 m slack-snap case, bending factor 1
+# (2026-11-27, benchmarks/studies/slack_bending_ladder.py --set dg.damping=implicit): N = 20 published a 93 kN cage
+# "snap" at 5.44 s where explicit damping has a rejected one-step event; N = 40 carried tensions of MN through
+# the slack phase (10 numerical warnings), and at dg.cfl 0.25 published snaps of 193 kN (ship) and 384 kN (cage)
+# against 218 and 210 kN explicit. Where the cap stays above what the cable carries it is clean: bending factor
+# 100 (cap 414 kN / 1.65 MN) matches explicit damping within 1.4e-5 at N = 20 and 40.
+def implicit_damping_refusal(config) -> str:
+    """The reason (one line) why dg.damping implicit is refused for ``config``, or "". Refused when the cable has
+    bending, a law without compression, and a compression cap EI (pi P / h)^2 on its longest element below the
+    weight it carries (the cable's dry weight plus a body end's submerged weight: the compression a slack phase
+    can pile up is of that size)."""
+    from tether_sim.physics.bodies import submerged_weight
+    from tether_sim.physics.constitutive import LAW_CODES, LAW_LINEAR, compression_cap
+
+    cab, dg = config.cable, config.dg
+    law = LAW_CODES.get(cab.material, LAW_LINEAR)
+    if config.solver != "dg" or dg.damping != "implicit" or cab.EI <= 0.0 or law == LAW_LINEAR:
+        return ""
+    weights = list(dg.element_lengths) or [1.0] * int(dg.n_elements)
+    h = float(cab.length) * max(weights) / sum(weights)
+    pc = compression_cap(law, float(cab.EI), int(dg.order), h)
+    weight = float(cab.gamma0) * config.environment.g * float(cab.length)
+    if "body" in (config.ship_end.kind, config.vehicle_end.kind):
+        weight += max(submerged_weight(config.body, config.environment), 0.0)
+    if pc >= weight:
+        return ""
+    return (f"dg.damping implicit with bending (cable.EI {cab.EI:g} N m^2) on a cable without compression "
+            f"(cable.material {cab.material}): its compression cap EI (pi P / h)^2 = {pc:.4g} N (h = {h:.4g} m, P = "
+            f"{dg.order}) is below the weight it carries ({weight:.4g} N), so slack phases reach it, and there the "
+            f"implicit damping step is not right (ROPOS 200 m, bending factor 1: cage snaps of 93-384 kN against 210 kN "
+            f"with explicit damping; docs/dg_solver.md \"Slack with bending\"): use dg.damping explicit")
