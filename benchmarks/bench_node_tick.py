@@ -9,7 +9,7 @@ calls the timer's callback ``_on_tick`` in a loop and takes its thread CPU time.
 subscribes (raw bytes, no decoding) to every periodic output and /tf, so the node builds and
 publishes everything a recorder or RViz would get, to another process as they would. Per tick it also times the
 solver's parts (``advance_to``; ``state``; ``end_forces`` / ``body_state`` / ``drain_end_tensions``)
-(``--split``) so the node's own work is the difference; the 1 Hz diagnostics and the pose callback are
+and the publish calls (``--split``) so the node's own work is the difference; the 1 Hz diagnostics and the pose callback are
 timed apart.
 
 ``--profile N``: cProfile of N ticks after the timed ones (the functions by own time).
@@ -19,6 +19,7 @@ alternately, so that their ratio does not depend on the machine's load.
 
 Usage: nice -n 10 .venv/bin/python benchmarks/bench_node_tick.py [--params config/ropos_L200.yaml ...]
            [--ticks 1500] [--alpha 0] [--repeat 3] [--baseline ../other-checkout] [--profile 500] [--split]
+           [-p node.shape_rate:=10]
 """
 
 import argparse
@@ -37,7 +38,7 @@ EI_STAR = 2.62e3  # N m^2, the ROPOS bending stiffness of alpha = 1 [PE2020 Sec.
 class _Bench:
     """One node of one tree, its simulated clock and pose feed, and its per-tick figures."""
 
-    def __init__(self, pkg, params, alpha, split):
+    def __init__(self, pkg, params, alpha, split, overrides=()):
         import importlib
 
         from geometry_msgs.msg import PoseStamped
@@ -47,7 +48,7 @@ class _Bench:
         self.convert = importlib.import_module(f"{pkg}.ros.convert")
         build_solver = importlib.import_module(f"{pkg}.solvers.factory").build_solver
         build_motion = importlib.import_module(f"{pkg}.physics.motion").build_motion
-        self.parts = {"advance": 0.0, "state": 0.0, "outputs": 0.0}
+        self.parts = {"advance": 0.0, "state": 0.0, "outputs": 0.0, "publish": 0.0}
         parts = self.parts
 
         def timed(fn, key):
@@ -66,10 +67,14 @@ class _Bench:
                 setattr(solver, name, timed(getattr(solver, name), "outputs"))
             return solver
 
-        self.node = sim_node.TetherSimNode(where=str(params), solver_factory=instrumented_factory if split else build_solver)
+        self.node = sim_node.TetherSimNode(where=str(params), solver_factory=instrumented_factory if split else build_solver,
+                                           parameter_overrides=list(overrides))
         cfg = self.cfg = self.node.config
         wanted = [t for t in self.node.pubs if t in self.convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
         self.publishers = [self.node.pubs[t] for t in wanted] + ([self.node.tf.pub] if self.node.tf.enabled else [])
+        if split:
+            for publisher in self.publishers:
+                publisher.publish = timed(publisher.publish, "publish")
         self.motion = build_motion(cfg.motion, cfg.ship_end.position)
         self.period = 1.0 / cfg.node.output_rate
         self.clock = 100.0  # the node's clock, s; the motion's time is clock - 100
@@ -97,7 +102,7 @@ class _Bench:
         if prof is not None:
             prof.disable()
         if timed:
-            self.rows.append((cpu, self.parts["advance"], self.parts["state"], self.parts["outputs"]))
+            self.rows.append((cpu, self.parts["advance"], self.parts["state"], self.parts["outputs"], self.parts["publish"]))
         if k % round(self.cfg.node.output_rate) == 0:
             c = time.thread_time()
             self.node._publish_diagnostics()
@@ -112,12 +117,13 @@ class _Bench:
         return {"params": str(params), "alpha": alpha, "package": self.pkg, "ticks": len(self.rows),
                 "subscribed": f"{sum(p.get_subscription_count() > 0 for p in self.publishers)}/{len(self.publishers)}",
                 "tick_ms": med(r[:, 0]), "advance_ms": med(r[:, 1]), "state_ms": med(r[:, 2]), "outputs_ms": med(r[:, 3]),
+                "publish_ms": med(r[:, 4]),
                 "node_own_ms": med(node_own), "pose_callback_ms": float(np.median(self.pose_cpu) * 1e3),
                 "diagnostics_ms": float(np.median(self.diag_cpu) * 1e3), "tick_errors": self.node.tick_errors,
                 "snaps": self.node.snaps_published, "tick_cpu_s": [float(x) for x in r[:, 0] * 1e-3]}
 
 
-def child(params, ticks, alpha, profile, split, baseline):
+def child(params, ticks, alpha, profile, split, baseline, extra=()):
     """Runs in a child process: one node per tree (this one, and ``baseline``'s renamed copy), ticked
     alternately (the order swapped every tick); prints one JSON line."""
     import numpy as np
@@ -130,8 +136,12 @@ def child(params, ticks, alpha, profile, split, baseline):
 
         load_baseline(baseline, with_ros=True)
         pkgs.append("tether_sim_base")
+    import yaml
+    from rclpy.parameter import Parameter
+
     rclpy.init(args=["tether_sim", "--ros-args", "--params-file", str(params), "-p", f"cable.EI:={alpha * EI_STAR}"])
-    benches = [_Bench(pkg, params, alpha, split) for pkg in pkgs]
+    overrides = [Parameter(key, value=yaml.safe_load(text)) for key, _, text in (item.partition(":=") for item in extra)]
+    benches = [_Bench(pkg, params, alpha, split, overrides if pkg == "tether_sim" else []) for pkg in pkgs]
     deadline = time.monotonic() + 30.0
     while any(p.get_subscription_count() == 0 for b in benches for p in b.publishers) and time.monotonic() < deadline:
         time.sleep(0.05)  # discovery of the sink process
@@ -191,7 +201,7 @@ def sink():
         pass
 
 
-def launch(params, ticks, alpha, profile, split, baseline=None):
+def launch(params, ticks, alpha, profile, split, baseline=None, extra=()):
     env = dict(os.environ, ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", ROS_DOMAIN_ID=str(100 + os.getpid() % 100))
     cmd = [sys.executable, __file__, "--child", str(params), "--ticks", str(ticks), "--alpha", str(alpha)]
     if profile:
@@ -200,6 +210,8 @@ def launch(params, ticks, alpha, profile, split, baseline=None):
         cmd += ["--split"]
     if baseline:
         cmd += ["--baseline", str(baseline)]
+    for item in extra:
+        cmd += ["-p", item]
     sink_proc = subprocess.Popen([sys.executable, __file__, "--sink"], env=env, cwd=ROOT, stdout=subprocess.PIPE, text=True)
     try:
         if sink_proc.stdout.readline().strip() != "SINK_READY":
@@ -229,22 +241,25 @@ def main(argv=None):
     ap.add_argument("--json", default="out/bench_node_tick.json")
     ap.add_argument("--child", default=None)
     ap.add_argument("--sink", action="store_true")
+    ap.add_argument("-p", dest="extra", action="append", default=[], metavar="KEY:=VALUE",
+                    help="a parameter of this tree's node (not the baseline's), e.g. node.shape_rate:=10")
     args = ap.parse_args(argv)
     if args.sink:
         return sink()
     if args.child:
-        return child(args.child, args.ticks, args.alpha, args.profile, args.split, args.baseline)
+        return child(args.child, args.ticks, args.alpha, args.profile, args.split, args.baseline, args.extra)
     print(f"bench_node_tick, {os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
-          f"{args.ticks} ticks, alpha={args.alpha:g}, load average {os.getloadavg()[0]:.2f}", flush=True)
+          f"{args.ticks} ticks, alpha={args.alpha:g}{''.join(' -p ' + e for e in args.extra)}, load average {os.getloadavg()[0]:.2f}", flush=True)
     rows = []
     for params in args.params:
         ratios = []
         for _ in range(args.repeat):
-            reports = launch(params, args.ticks, args.alpha, args.profile, args.split, args.baseline)
+            reports = launch(params, args.ticks, args.alpha, args.profile, args.split, args.baseline, args.extra)
             for r, name in zip(reports, ("this tree", "baseline")):
                 rows.append(r)
                 split = (f"advance {r['advance_ms'][0]:.3f}, state {r['state_ms'][0]:.3f}, other solver outputs "
-                         f"{r['outputs_ms'][0]:.3f}, node's own {r['node_own_ms'][0]:.3f} (p99 {r['node_own_ms'][1]:.3f}); "
+                         f"{r['outputs_ms'][0]:.3f}, publishing {r['publish_ms'][0]:.3f}, the node's own rest "
+                         f"{r['node_own_ms'][0]:.3f} (p99 {r['node_own_ms'][1]:.3f}); "
                          if args.split else "")
                 print(f"{Path(params).name} [{name}] tick CPU median {r['tick_ms'][0]:.3f} ms (p99 {r['tick_ms'][1]:.3f}): "
                       f"{split}pose callback {r['pose_callback_ms']:.3f}, diagnostics (1 Hz) {r['diagnostics_ms']:.3f}; "

@@ -84,9 +84,10 @@ def _text(s: str) -> bytes:
 
 
 class _Template:
-    """The bytes of one message layout, built once with zero values (``build`` on a CdrBuffer); each
-    encoding writes the changing fields in place (numpy views and ``struct.pack_into`` at the offsets
-    ``build`` recorded) and copies the bytes out. The buffer holds 4 bytes of lead before the
+    """The bytes of one message layout, written once with zero values on a CdrBuffer by the
+    subclass's constructor, which records the offsets of the changing fields; each encoding writes
+    those in place (numpy views, ``struct.pack_into``) and copies the bytes out. Not shared between
+    threads (:func:`encoder` keeps one per thread). The buffer holds 4 bytes of lead before the
     encapsulation header, so a payload offset that is 8-aligned is 8-aligned in the buffer too."""
 
     LEAD = 4

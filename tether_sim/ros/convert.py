@@ -252,13 +252,33 @@ class OutputFrame:
         return np.asarray(self.state(np.array([0.0, length])).position, float)
 
 
-def tick_outputs(driver, arc_lengths, wanted=None, frame=None) -> list:
+class ShapeGate:
+    """Whether the shape outputs (SHAPE_TOPICS) go out with the output at a stamp: at every output
+    (``node.shape_rate`` 0), else at the first output and then once at least 1 / shape_rate of clock
+    time has passed since the last one (a clock that jumped back starts over)."""
+
+    TOLERANCE = 1e-6  # s: stamps are sums of floats; output_rate / shape_rate outputs make one period
+
+    def __init__(self, shape_rate: float):
+        self.period = 1.0 / shape_rate if shape_rate > 0.0 else 0.0
+        self.last = None
+
+    def due(self, stamp: float) -> bool:
+        if self.period <= 0.0:
+            return True
+        if self.last is not None and self.last <= stamp < self.last + self.period - self.TOLERANCE:
+            return False
+        self.last = stamp
+        return True
+
+
+def tick_outputs(driver, arc_lengths, wanted=None, frame=None, shapes=True) -> list:
     """(topic, serialized CDR bytes) of every periodic output of the current driver state, stamped
     with the clock time of the state (:mod:`tether_sim.ros.cdr`; no message objects per tick).
 
     ``wanted``: only these topics (the node passes the ones with a subscriber, so nobody pays for
     a Marker or Path no one displays); None = all. ``frame``: the :class:`OutputFrame` of this state
-    when other outputs (/tf) read it too."""
+    when other outputs (/tf) read it too. ``shapes``: False leaves out SHAPE_TOPICS (:class:`ShapeGate`)."""
     cfg, solver = driver.config, driver.solver
     frame = OutputFrame(driver) if frame is None else frame
     node = cfg.node
@@ -267,7 +287,7 @@ def tick_outputs(driver, arc_lengths, wanted=None, frame=None) -> list:
     want = (lambda topic: True) if wanted is None else wanted.__contains__
     out = []
     forces = frame.forces()
-    if any(want(topic) for topic in SHAPE_TOPICS):
+    if shapes and any(want(topic) for topic in SHAPE_TOPICS):
         state = frame.state(arc_lengths)
         points = np.asarray(state.position, float)
         if want("/tether/state"):

@@ -84,6 +84,7 @@ class NetworkSimNode(Node):
             self.pubs[topic] = self.create_publisher(_TYPES[type_name.rsplit("/", 1)[1]], convert.ros_name(topic),
                                                      profile)
         self.tf_pub = None
+        self._shape_gate = convert.ShapeGate(self.config.node.shape_rate)
         if TFMessage is not None and node.publish_tf:
             self.tf_pub = self.create_publisher(TFMessage, "/tf", TF_QOS)
         reliable = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
@@ -193,7 +194,8 @@ class NetworkSimNode(Node):
 
     def _publish_outputs(self):
         wanted = lambda topic: topic.startswith("/winch/") or self._wanted(topic)  # noqa: E731
-        for topic, payload in outputs.tick_outputs(self.driver, self.config.node, self._orientation, wanted):
+        shapes = self._shape_gate.due(self.driver.stamp)
+        for topic, payload in outputs.tick_outputs(self.driver, self.config.node, self._orientation, wanted, shapes):
             if topic == "/tf":
                 if self.tf_pub is not None and payload:
                     self.tf_pub.publish(tf_message_cdr(self.driver.stamp, self.config.node.world_frame, payload))

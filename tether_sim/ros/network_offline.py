@@ -52,6 +52,7 @@ class _Writer:
 
     def __init__(self, writer, driver, spec, node):
         self.writer, self.driver, self.spec, self.node = writer, driver, spec, node
+        self.shape_gate = convert.ShapeGate(node.shape_rate)
         self.counts = {"snap_events": 0, "slack_warnings": 0, "numerical_snaps": 0}
         self._snaps_written = 0  # snap events up to the last diagnostics (its "snaps_recent")
         self.peaks, self.events = [], []
@@ -88,7 +89,7 @@ class _Writer:
         d = self.driver
         sec, nanosec = cdr.stamp_parts(d.stamp)
         t = sec + 1e-9 * nanosec
-        for topic, payload in outputs.tick_outputs(d, self.node, orientation_of):
+        for topic, payload in outputs.tick_outputs(d, self.node, orientation_of, None, self.shape_gate.due(d.stamp)):
             if topic == "/tf":
                 if self.tf and payload:
                     self._put("/tf", tf_out.tf_message_cdr(d.stamp, self.node.world_frame, payload), t)

@@ -84,11 +84,12 @@ def body_wrench(net, name):
     return R.T @ force, R.T @ moment
 
 
-def tick_outputs(driver, node, orientation_of=lambda name: None, wanted=None) -> list:
+def tick_outputs(driver, node, orientation_of=lambda name: None, wanted=None, shapes=True) -> list:
     """(topic, payload) of every periodic output of the driver's current state, stamped with its
     clock time; ``orientation_of(point)``: a driven point's quaternion (None: world-aligned);
     ``wanted(topic)``: only these (None: all). Returns also the body transforms for /tf as the
-    last item ``("/tf", [(frame, position, quaternion), ...])`` (an empty list without bodies)."""
+    last item ``("/tf", [(frame, position, quaternion), ...])`` (an empty list without bodies).
+    ``shapes``: False leaves out the lines' state, path and marker (``node.shape_rate``, convert.ShapeGate)."""
     net = driver.net
     spec = driver.spec
     want = (lambda topic: True) if wanted is None else wanted
@@ -97,7 +98,7 @@ def tick_outputs(driver, node, orientation_of=lambda name: None, wanted=None) ->
     out = []
     for line, solver in net.lines.items():
         names = [f"/tether/{line}/{k}" for k in ("state", "path", "marker")]
-        if any(want(t) for t in names):
+        if shapes and any(want(t) for t in names):
             L = float(getattr(solver, "unstretched_length", spec.lines[line].config.cable.length))
             st = solver.state(np.linspace(0.0, L, node.output_points))
             pts = np.asarray(st.position, float)

@@ -233,6 +233,7 @@ class _OfflineOutputs:
         self.peaks, self.events, self.forecasts = [], [], []
         self.frame = config.node.world_frame
         self.static_written = False
+        self.shape_gate = convert.ShapeGate(config.node.shape_rate)
         for topic, (type_name, qos) in convert.TOPICS.items():
             if topic.endswith("sim_pose") and getattr(config, f"{topic.split('/')[1]}_end").kind != "body":
                 continue
@@ -267,7 +268,8 @@ class _OfflineOutputs:
         sec, nanosec = cdr.stamp_parts(driver.stamp)
         ns = sec * 1_000_000_000 + nanosec
         frame = convert.OutputFrame(driver)  # what the outputs and /tf share
-        for topic, data in convert.tick_outputs(driver, self.arc, None, frame):
+        shapes = self.shape_gate.due(driver.stamp)  # node.shape_rate, as the node
+        for topic, data in convert.tick_outputs(driver, self.arc, None, frame, shapes):
             self.writer.write(topic, data, ns, ns)
         if self.tf:
             if not self.static_written:  # once, at the first output, as the node's latched /tf_static

@@ -95,6 +95,7 @@ class TetherSimNode(Node):
         self.forecast_io = NodeForecast(self, solver_factory)  # tether/snap_forecast (forecast.enabled; ros/forecast_io.py)
         # periodic outputs: built (and published) only while someone subscribes to them
         self._tick_topics = [t for t in self.pubs if t in convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
+        self._shape_gate = convert.ShapeGate(node.shape_rate)
         self._first_tick = None
         self.tick_errors, self.last_tick_error = 0, ""
         self.snaps_published = 0
@@ -283,7 +284,8 @@ class TetherSimNode(Node):
                 self.arc_lengths = self.winch_io.tick(self.arc_lengths)  # outputs follow L(t) (winch)
                 wanted = {topic for topic in self._tick_topics if self.pubs[topic].get_subscription_count() > 0}
                 frame = convert.OutputFrame(self.driver)  # what the outputs and /tf share
-                for topic, data in convert.tick_outputs(self.driver, self.arc_lengths, wanted, frame):
+                shapes = self._shape_gate.due(self.driver.stamp)  # node.shape_rate
+                for topic, data in convert.tick_outputs(self.driver, self.arc_lengths, wanted, frame, shapes):
                     self.pubs[topic].publish(data)
                 self.tf.publish(self.driver, frame)
                 self.forecast_io.tick(now)  # hands a due forecast to its worker thread; publishes finished ones
