@@ -49,6 +49,19 @@ ROOT = Path(__file__).resolve().parents[1]
 EI_STAR = 2.62e3  # N m^2, the ROPOS bending stiffness of alpha = 1 [PE2020 Sec. 6.2]
 
 
+def instrument(build_solver, timed):
+    """A solver factory whose solvers time their calls by part with ``timed(fn, part)``: advance, state, and
+    the end outputs (also bench_node_tick.py)."""
+    def factory(config):
+        solver = build_solver(config)
+        solver.advance_to = timed(solver.advance_to, "advance")
+        solver.state = timed(solver.state, "state")
+        for name in ("end_forces", "body_state", "drain_end_tensions"):
+            setattr(solver, name, timed(getattr(solver, name), "outputs"))
+        return solver
+    return factory
+
+
 def _rss_mb(key="VmRSS"):
     for line in Path("/proc/self/status").read_text().splitlines():
         if line.startswith(key + ":"):
@@ -144,17 +157,9 @@ def child(params, seconds, alpha, t_launch):
             return out
         return wrapper
 
-    def instrumented_factory(config):
-        solver = build_solver(config)
-        solver.advance_to = timed(solver.advance_to, "advance")
-        solver.state = timed(solver.state, "state")
-        for name in ("end_forces", "body_state", "drain_end_tensions"):
-            setattr(solver, name, timed(getattr(solver, name), "outputs"))
-        return solver
-
     args = ["tether_sim", "--ros-args", "--params-file", str(params), "-p", f"cable.EI:={alpha * EI_STAR}"]
     rclpy.init(args=args)
-    node = TetherSimNode(where=str(params), solver_factory=instrumented_factory)
+    node = TetherSimNode(where=str(params), solver_factory=instrument(build_solver, timed))
     t_node = time.time()
     for publisher in node.pubs.values():
         publisher.publish = timed(publisher.publish, "publish")

@@ -32,7 +32,8 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-EI_STAR = 2.62e3  # N m^2, the ROPOS bending stiffness of alpha = 1 [PE2020 Sec. 6.2]
+sys.path.insert(0, str(ROOT))
+from benchmarks.bench_node import EI_STAR, instrument  # noqa: E402
 
 
 class _Bench:
@@ -59,15 +60,7 @@ class _Bench:
                 return out
             return wrapper
 
-        def instrumented_factory(config):
-            solver = build_solver(config)
-            solver.advance_to = timed(solver.advance_to, "advance")
-            solver.state = timed(solver.state, "state")
-            for name in ("end_forces", "body_state", "drain_end_tensions"):
-                setattr(solver, name, timed(getattr(solver, name), "outputs"))
-            return solver
-
-        self.node = sim_node.TetherSimNode(where=str(params), solver_factory=instrumented_factory if split else build_solver,
+        self.node = sim_node.TetherSimNode(where=str(params), solver_factory=instrument(build_solver, timed) if split else build_solver,
                                            parameter_overrides=list(overrides))
         cfg = self.cfg = self.node.config
         wanted = [t for t in self.node.pubs if t in self.convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
@@ -131,7 +124,6 @@ def child(params, ticks, alpha, profile, split, baseline, extra=()):
 
     pkgs = ["tether_sim"]
     if baseline:
-        sys.path.insert(0, str(ROOT))
         from benchmarks.bench_tick import load_baseline
 
         load_baseline(baseline, with_ros=True)

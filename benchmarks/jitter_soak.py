@@ -36,8 +36,9 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[1]
 
 
-class _FakeWall:
-    """The driver's wall clock when --slowdown is given: the tick's clock plus what the solver was charged."""
+class FakeWall:
+    """The driver's wall clock when --slowdown is given: the tick's clock plus what the solver was charged
+    (also used by test/ros/test_overload.py)."""
 
     t = 0.0
 
@@ -46,7 +47,9 @@ class _FakeWall:
         return cls.t
 
 
-class _SlowSolver:
+class SlowSolver:
+    """The real solver; every substep costs ``slowdown`` x its simulated time on the fake wall clock."""
+
     def __init__(self, inner, slowdown):
         self.inner, self.slowdown = inner, slowdown
 
@@ -60,7 +63,7 @@ class _SlowSolver:
     def advance_to(self, t):
         t0 = self.inner.time
         n = self.inner.advance_to(t)
-        _FakeWall.t += self.slowdown * (self.inner.time - t0)
+        FakeWall.t += self.slowdown * (self.inner.time - t0)
         return n
 
 
@@ -109,8 +112,8 @@ def run(minutes, seed, min_spacing, params=None, overrides=None, stall=0.0, slow
         import tether_sim.ros.driver as driver_module
         from tether_sim.solvers.factory import build_solver
 
-        driver_module.wallclock = _FakeWall
-        driver = SimulationDriver(config, {"ship": inp}, solver_factory=lambda c: _SlowSolver(build_solver(c), slowdown),
+        driver_module.wallclock = FakeWall
+        driver = SimulationDriver(config, {"ship": inp}, solver_factory=lambda c: SlowSolver(build_solver(c), slowdown),
                                   wall_budget=node.tick_budget / node.output_rate)
     else:
         driver = SimulationDriver(config, {"ship": inp})
@@ -133,7 +136,7 @@ def run(minutes, seed, min_spacing, params=None, overrides=None, stall=0.0, slow
             late_ticks += 1
             continue
         feed(now)
-        _FakeWall.t = max(_FakeWall.t, now)
+        FakeWall.t = max(FakeWall.t, now)
         report = driver.tick(now)
         for ev in report.events:
             key = "slack" if isinstance(ev, SlackStarted) else "snap" if isinstance(ev, SnapEvent) else \

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import tether_sim.ros.driver as driver_module
+from benchmarks.jitter_soak import FakeWall, SlowSolver
 from tether_sim.io.inputs import EndPoseInput
 from tether_sim.io.params import load_config
 from tether_sim.physics.snap import SnapEvent
@@ -30,34 +31,6 @@ A, F = 0.5, 0.1  # heave amplitude m, frequency Hz
 def heave(t):
     w = 2 * math.pi * F
     return np.array([0.0, 0.0, A * math.sin(w * t)]), np.array([0.0, 0.0, A * w * math.cos(w * t)])
-
-
-class FakeWall:
-    t = 0.0
-
-    @classmethod
-    def perf_counter(cls):
-        return cls.t
-
-
-class SlowSolver:
-    """The real solver; every substep costs ``slowdown`` x its simulated time on the fake wall clock."""
-
-    def __init__(self, inner, slowdown):
-        self.inner, self.slowdown = inner, slowdown
-
-    def __getattr__(self, name):
-        return getattr(self.inner, name)
-
-    @property
-    def time(self):
-        return self.inner.time
-
-    def advance_to(self, t):
-        t0 = self.inner.time
-        n = self.inner.advance_to(t)
-        FakeWall.t += self.slowdown * (self.inner.time - t0)
-        return n
 
 
 def coarse_ropos(max_lag):

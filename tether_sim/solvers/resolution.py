@@ -273,13 +273,13 @@ def implicit_damping_refusal(config) -> str:
     can pile up is of that size)."""
     from tether_sim.physics.bodies import submerged_weight
     from tether_sim.physics.constitutive import LAW_CODES, LAW_LINEAR, compression_cap
+    from tether_sim.solvers.work import element_sizes
 
     cab, dg = config.cable, config.dg
     law = LAW_CODES.get(cab.material, LAW_LINEAR)
     if config.solver != "dg" or dg.damping != "implicit" or cab.EI <= 0.0 or law == LAW_LINEAR:
         return ""
-    weights = list(dg.element_lengths) or [1.0] * int(dg.n_elements)
-    h = float(cab.length) * max(weights) / sum(weights)
+    h = float(max(element_sizes(config)))
     pc = compression_cap(law, float(cab.EI), int(dg.order), h)
     weight = float(cab.gamma0) * config.environment.g * float(cab.length)
     if "body" in (config.ship_end.kind, config.vehicle_end.kind):
