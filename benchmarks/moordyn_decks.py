@@ -1,10 +1,10 @@
 """MoorDyn's own test decks through our reader: which load, and their static fairlead forces against MoorDyn's.
 
 For every MoorDyn v2 input file under test/data/moordyn/decks/ (MoorDyn's tests/Mooring/, BSD-3,
-test/data/moordyn/SOURCE.md): read it with tether_sim.io.moordyn; a deck outside the subset is
+test/data/moordyn/SOURCE.md): read it with tether_sim.network.moordyn; a deck outside the subset is
 listed with the feature that refused it. For the decks that load, the static force of the lines on
 each coupled (Vessel) point, ours (elastic catenaries with the frictionless seabed of
-physics/statics.py, tether_sim.io.moordyn.static_point_forces) against pip moordyn's (moordyn.Init:
+physics/statics.py, tether_sim.network.moordyn.static_point_forces) against pip moordyn's (moordyn.Init:
 its initial-condition solve, then GetPointForce of the point). MoorDyn's stored initial conditions
 (the fileIC option) are dropped, so it starts from its own catenary.
 
@@ -22,7 +22,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from tether_sim.errors import ConfigError  # noqa: E402
-from tether_sim.io.moordyn import network_spec, read_deck, static_point_forces  # noqa: E402
+from tether_sim.network.moordyn import network_spec, read_deck, static_point_forces  # noqa: E402
 
 DECKS = Path(__file__).resolve().parents[1] / "test" / "data" / "moordyn" / "decks"
 

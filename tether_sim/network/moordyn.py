@@ -1,6 +1,6 @@
 """MoorDyn v2 input files -> a line-network parameter file (``network`` section, docs/moordyn.md).
 
-    python -m tether_sim.io.moordyn DECK.txt --output DECK.yaml [--solver hybrid|dg]
+    python -m tether_sim.network.moordyn DECK.txt --output DECK.yaml [--solver hybrid|dg]
 
 The subset of the MoorDyn v2 format (MoorDyn's docs/inputs.rst; sections found by a ``---`` line
 holding the section's name, as MoorDyn's own reader does) that maps onto the line network of
@@ -599,7 +599,7 @@ def params_text(deck: Deck, solver: str = "hybrid") -> str:
     """A ROS 2 parameter file (network section) for the deck, with a header naming its source."""
     tree = {"/**/tether_sim": {"ros__parameters": {"network": to_network(deck, solver)}}}
     head = [f"# Converted from the MoorDyn v2 input file {Path(deck.path).name}",
-            "#   python -m tether_sim.io.moordyn DECK --output FILE (docs/moordyn.md)",
+            "#   python -m tether_sim.network.moordyn DECK --output FILE (docs/moordyn.md)",
             "# MoorDyn points -> points (Fixed: fixed, Vessel/Coupled: prescribed); line end B (the fairlead)",
             "# = from (s = 0), end A = to; seabed at z = -WtrDpth with kBot, cBot (as a ratio of critical)",
             "# and FrictionCoefficient."]
@@ -609,7 +609,7 @@ def params_text(deck: Deck, solver: str = "hybrid") -> str:
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python -m tether_sim.io.moordyn",
+    ap = argparse.ArgumentParser(prog="python -m tether_sim.network.moordyn",
                                  description="Convert a MoorDyn v2 input file to a line-network parameter file.")
     ap.add_argument("deck", help="MoorDyn v2 input file")
     ap.add_argument("--output", "-o", required=True, help="parameter file to write (YAML)")

@@ -1,4 +1,4 @@
-"""MoorDyn v2 input files (tether_sim/io/moordyn.py): MoorDyn's own test decks load or are refused by
+"""MoorDyn v2 input files (tether_sim/network/moordyn.py): MoorDyn's own test decks load or are refused by
 name, the mapping keeps MoorDyn's loads per metre, and the static fairlead force of every deck with a
 Vessel point matches pip moordyn's within 1 %.
 
@@ -17,7 +17,7 @@ import yaml
 
 from benchmarks import moordyn_decks as md
 from tether_sim.errors import ConfigError
-from tether_sim.io import moordyn as mdr
+from tether_sim.network import moordyn as mdr
 from tether_sim.network.params import load_network_files
 from tether_sim.physics.hydrodynamics import net_weight_per_length
 
