@@ -32,6 +32,7 @@ from tether_sim.solvers.dg.stepping import SteppingMixin
 from tether_sim.solvers.dg.tick import TG_SET
 from tether_sim.solvers.dg.winch_driver import WinchMixin
 from tether_sim.solvers.dg.workspace import Workspace
+from tether_sim.solvers.work import mesh_sizes
 
 class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
     """Discontinuous Galerkin cable solver [PE2020 Sec. 2-3]; see docs/dg_solver.md."""
@@ -106,12 +107,10 @@ class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
 
     # ------------------------------------------------------------------ set-up
     def _element_sizes(self, opt):
-        if len(opt.element_lengths) == 0:
-            return np.full(self.N, self.L / self.N)
         wts = np.asarray(opt.element_lengths, float)
-        if wts.size != self.N or np.any(wts <= 0):
+        if wts.size and (wts.size != self.N or np.any(wts <= 0)):
             raise ValueError(f"dg.element_lengths: need {self.N} positive weights (dg.n_elements), got {wts.size}")
-        return np.ascontiguousarray(wts / wts.sum() * self.L)
+        return mesh_sizes(self.L, self.N, wts)
 
     def _parameters(self, cab, env, opt):
         prm = np.zeros(Y.N_PRM)
