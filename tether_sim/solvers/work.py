@@ -57,13 +57,18 @@ class Work:
     cause: str
 
 
+def mesh_sizes(length, n_elements, weights=()) -> np.ndarray:
+    """The DG element lengths (m) of a cable of ``length``: the relative ``weights`` (dg.element_lengths,
+    one per element) scaled to it, or ``n_elements`` equal ones when there are none."""
+    if len(weights) == 0:
+        return np.full(int(n_elements), float(length) / int(n_elements))
+    w = np.asarray(weights, float)
+    return np.ascontiguousarray(w / w.sum() * float(length))
+
+
 def element_sizes(config) -> np.ndarray:
-    """The DG element lengths (m): ``dg.element_lengths`` scaled to the cable length, or uniform."""
-    opt, L = config.dg, float(config.cable.length)
-    if len(opt.element_lengths) == 0:
-        return np.full(int(opt.n_elements), L / int(opt.n_elements))
-    w = np.asarray(opt.element_lengths, float)
-    return w / w.sum() * L
+    """The DG element lengths (m) of ``config`` (:func:`mesh_sizes` of its cable and dg keys)."""
+    return mesh_sizes(config.cable.length, config.dg.n_elements, config.dg.element_lengths)
 
 
 def winch_range(config) -> tuple:
@@ -117,15 +122,14 @@ def dg_winch_work(config, length) -> Work:
 def dg_work_at_length(config) -> Work:
     """The DG estimate at the configured length (``stable_time_step`` of the solver as built)."""
     from tether_sim.physics.constitutive import TensionLaw
-    from tether_sim.solvers.dg.timestep import stable_dt
+    from tether_sim.solvers.dg.timestep import config_stable_dt, stable_dt
 
     cab, env, opt = config.cable, config.environment, config.dg
     h, P = element_sizes(config), int(opt.order)
     slope = TensionLaw(cab).max_slope()
     implicit = opt.damping == "implicit"
     kd = env.seabed_stiffness * cab.diameter if env.seabed else 0.0
-    rule = opt.cfl * stable_dt(h, P, slope, cab.gamma0, cab.damping, cab.EI, cab.bending_damping, opt.lambda_floor,
-                               kd, env.seabed_damping, implicit)
+    rule = config_stable_dt(config, h, slope, implicit)
     dofs = h.size * (P + 1)
     mesh = f"dg.n_elements = {h.size}, dg.order = {P} (elements down to {float(np.min(h)):.3g} m)"
     if opt.fixed_time_step > 0.0:

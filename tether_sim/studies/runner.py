@@ -110,7 +110,7 @@ def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=
     selected = study.n_cases() if cases is None else len({i for i in cases if 0 <= i < study.n_cases()})
     if limit is not None:
         selected = min(selected, max(0, int(limit)))
-    store = ResultStore(out_dir)
+    store = ResultStore(out_dir, units=study.column_units())
     progress = Progress(selected, 0, stream=stream)  # the total shrinks as cases turn out done or duplicate
     last_table = [time.monotonic()]
     counts = {"skipped": 0, "tasks": 0, "exhausted": False}
