@@ -173,5 +173,5 @@ def test_the_estimate_is_announced_before_the_solver_is_built_and_adds_up(tmp_pa
                                   announce=said.append)
     assert len(said) == 1 and said[0].startswith("0.5 s simulated, 10 output ticks: expected to take about")
     total, _ = offline.run_estimate(config, 0.5)
-    assert total == pytest.approx(offline.START_CPU + 0.5 * estimate(config).cpu + 10 * offline.OUTPUT_TICK_CPU)
+    assert total == pytest.approx(offline.START_CPU + 0.5 * estimate(config).cpu + 10 * offline.TICK_CPU["dg"])
     assert summary["expected_cpu"] == total and summary["cpu_time"] > 0.0

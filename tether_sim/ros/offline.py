@@ -38,10 +38,14 @@ from tether_sim.solvers.work import estimate as work_estimate
 from tether_sim.stopping import SignalStop, interrupted_code
 
 # What an offline run costs besides the solver's substeps (solvers/work.py): each output tick (messages,
-# /tf, the snap detector, the MCAP write) and the start (the numba cache, the static solve). Measured
-# against tether-sim-offline runs on the 2-core reference machine (2026-11-27; docs/node.md "Offline runs").
-OUTPUT_TICK_CPU = 2.0e-3  # CPU s per output tick
-START_CPU = 2.0  # CPU s
+# /tf, the snap detector, the MCAP write; for the hybrid solver also its Python per step and its state
+# profile, which the per-segment figure of work.py does not carry) and the start (the numba cache, the
+# static solve). Measured with tether-sim-offline on the 2-core reference machine, 2026-11-27, load 13-14
+# (CPU time of the process from the start of the solver to the file's close; commands in docs/node.md
+# "Offline runner"): start 1.0-1.24 s; DG 0.65-0.88 ms per tick (ropos_L200, ropos_L1730, 20 s);
+# hybrid 10.7-12.4 ms per tick all in (ropos_L1730_hybrid, ropos_L200_hybrid, 10 s).
+TICK_CPU = {"dg": 0.8e-3, "hybrid": 9e-3}  # CPU s per output tick
+START_CPU = 1.1  # CPU s
 
 
 def run_estimate(config, duration: float) -> tuple:
@@ -50,7 +54,7 @@ def run_estimate(config, duration: float) -> tuple:
     (solvers/work.py, at the configured cable length) plus the outputs' and the start's share."""
     work = work_estimate(config)
     n_ticks = max(1, int(round(duration * config.node.output_rate)))
-    solver, outputs = work.cpu * duration, n_ticks * OUTPUT_TICK_CPU
+    solver, outputs = work.cpu * duration, n_ticks * TICK_CPU.get(config.solver, TICK_CPU["dg"])
     total = START_CPU + solver + outputs
     return total, (f"{duration:.6g} s simulated, {n_ticks} output ticks: expected to take about {_span(total)} of "
                    f"CPU on an idle core (solver ~{_span(solver)}, outputs ~{_span(outputs)}; the solver's "
