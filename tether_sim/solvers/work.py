@@ -122,7 +122,7 @@ def dg_winch_work(config, length) -> Work:
     cause = (f"{at.cause.split(': the substep')[0]} hauled in to winch.min_length = {float(length):g} m (of "
              f"cable.length = {float(cab.length):g} m; winch.max_speed = {float(w.max_speed):g} m/s): the substep there "
              f"is {substep:.3g} s (remedies: a longer winch.min_length, fewer elements or a lower order)")
-    return Work(substep, count, count * DG_UPDATE_CPU, cause)
+    return Work(substep, count, count * dg_update_cpu(config), cause)
 
 
 def dg_work_at_length(config) -> Work:
