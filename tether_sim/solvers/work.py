@@ -12,6 +12,10 @@ CPU time per count was measured on the 2-core reference machine on 2026-11-27 (l
 
 - DG, ROPOS L = 200 m: 0.33-0.55 us of CPU per element-mode per SSP-RK3 substep
   (N = 20, P = 4: 0.55; N = 200, P = 2: 0.42; N = 2000, P = 2: 0.33);
+- DG with ``dg.damping: implicit`` (measured 2026-11-27, load ~13, ``bench_work_estimate.py``): the
+  axial damping solve (no bending damping) 0.88-0.95 us per element-mode per substep (ROPOS 200 m,
+  N = 20 and 40, P = 4); with bending damping (the general block solve) 34 us (Koh's swinging cable,
+  N = 20, P = 4): 75 times an explicit update, so its cheaper substep is not a cheaper run there;
 - hybrid, ROPOS L = 200 m: 9.5-19 us per segment per implicit step (50-800 segments).
 
 ``check_work`` refuses (ConfigError) a configuration whose estimate exceeds ``work_limit`` CPU
@@ -27,6 +31,8 @@ import numpy as np
 from tether_sim.errors import ConfigError
 
 DG_UPDATE_CPU = 0.45e-6  # CPU s per element-mode per substep (the upper half of the measured 0.33-0.55 us)
+DG_IMPLICIT_AXIAL_CPU = 0.95e-6  # the same with the implicit axial damping solve (measured 0.88-0.95 us)
+DG_IMPLICIT_GENERAL_CPU = 35e-6  # the same with the implicit bending-damping (general) solve (measured 34 us)
 HYBRID_SEGMENT_CPU = 15e-6  # CPU s per segment per implicit step (measured 9.5-19 us)
 
 # the terms of the DG substep rule (dg/timestep.py) and the keys that set each
@@ -52,27 +58,31 @@ class Work:
     cause: str
 
 
+def mesh_sizes(length, n_elements, weights=()) -> np.ndarray:
+    """The DG element lengths (m) of a cable of ``length``: the relative ``weights`` (dg.element_lengths,
+    one per element) scaled to it, or ``n_elements`` equal ones when there are none."""
+    if len(weights) == 0:
+        return np.full(int(n_elements), float(length) / int(n_elements))
+    w = np.asarray(weights, float)
+    return np.ascontiguousarray(w / w.sum() * float(length))
+
+
 def element_sizes(config) -> np.ndarray:
-    """The DG element lengths (m): ``dg.element_lengths`` scaled to the cable length, or uniform."""
-    opt, L = config.dg, float(config.cable.length)
-    if len(opt.element_lengths) == 0:
-        return np.full(int(opt.n_elements), L / int(opt.n_elements))
-    w = np.asarray(opt.element_lengths, float)
-    return w / w.sum() * L
+    """The DG element lengths (m) of ``config`` (:func:`mesh_sizes` of its cable and dg keys)."""
+    return mesh_sizes(config.cable.length, config.dg.n_elements, config.dg.element_lengths)
 
 
 def dg_work(config) -> Work:
     """The DG estimate, with the substep of the solver's own rule (``stable_time_step``)."""
     from tether_sim.physics.constitutive import TensionLaw
-    from tether_sim.solvers.dg.timestep import stable_dt
+    from tether_sim.solvers.dg.timestep import config_stable_dt, stable_dt
 
     cab, env, opt = config.cable, config.environment, config.dg
     h, P = element_sizes(config), int(opt.order)
     slope = TensionLaw(cab).max_slope()
     implicit = opt.damping == "implicit"
     kd = env.seabed_stiffness * cab.diameter if env.seabed else 0.0
-    rule = opt.cfl * stable_dt(h, P, slope, cab.gamma0, cab.damping, cab.EI, cab.bending_damping, opt.lambda_floor,
-                               kd, env.seabed_damping, implicit)
+    rule = config_stable_dt(config, h, slope, implicit)
     dofs = h.size * (P + 1)
     mesh = f"dg.n_elements = {h.size}, dg.order = {P} (elements down to {float(np.min(h)):.3g} m)"
     if opt.fixed_time_step > 0.0:
@@ -96,7 +106,16 @@ def dg_work(config) -> Work:
         cause = (f"{mesh} with {values}: the substep of the stability rule is {substep:.3g} s, set by the "
                  f"{what} (remedies: fewer elements or a lower order, {remedy})")
     count = dofs / substep
-    return Work(substep, count, count * DG_UPDATE_CPU, cause)
+    return Work(substep, count, count * dg_update_cpu(config), cause)
+
+
+def dg_update_cpu(config) -> float:
+    """CPU s per element-mode per substep of the DG solver with ``config``'s damping (the solver's own
+    choice of the implicit damping mode, dg/solver.py ``_setup_damping``)."""
+    cab = config.cable
+    if config.dg.damping != "implicit" or not (cab.damping > 0.0 or cab.bending_damping > 0.0):
+        return DG_UPDATE_CPU
+    return DG_IMPLICIT_GENERAL_CPU if cab.bending_damping > 0.0 else DG_IMPLICIT_AXIAL_CPU
 
 
 def hybrid_work(config) -> Work:

@@ -93,7 +93,7 @@ def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=
         invalid = [r for r in invalid if r["row"]["index"] in cases]
     if limit is not None:
         tasks = tasks[:max(0, int(limit))]
-    store = ResultStore(out_dir)
+    store = ResultStore(out_dir, units=study.column_units())
     progress = Progress(len(tasks) + len(invalid), skipped, stream=stream)
     last_table = [time.monotonic()]
 
