@@ -3,12 +3,14 @@ the results, run the rest (local processes or Dask), journal each one as it fini
 
 import hashlib
 import json
+import os
 import shutil
 import sys
 import time
 from pathlib import Path
 
 from tether_sim.errors import ConfigError
+from tether_sim.solvers.work import span
 from tether_sim.studies.case import code_version, make_task
 from tether_sim.studies.execute import Progress, failed_result, run_dask, run_local
 from tether_sim.studies.results import ResultStore
@@ -93,6 +95,13 @@ def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=
         invalid = [r for r in invalid if r["row"]["index"] in cases]
     if limit is not None:
         tasks = tasks[:max(0, int(limit))]
+    if tasks:  # what the cases to run should cost, before they start (solvers/work.py run_estimate)
+        cpu = sum(t["expected_cpu"] for t in tasks)
+        line = f"[study] {len(tasks)} case(s) to run: expected about {span(cpu)} of CPU on idle cores"
+        if scheduler is None:
+            n = max(1, min(workers or os.cpu_count() or 1, len(tasks)))
+            line += f", about {span(cpu / n)} on {n} local worker(s)"
+        print(line + " (a busy machine takes longer)", file=stream, flush=True)
     store = ResultStore(out_dir, units=study.column_units())
     progress = Progress(len(tasks) + len(invalid), skipped, stream=stream)
     last_table = [time.monotonic()]
