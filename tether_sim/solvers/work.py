@@ -18,13 +18,18 @@ CPU time per count was measured on the 2-core reference machine on 2026-11-27 (l
   N = 20, P = 4): 75 times an explicit update, so its cheaper substep is not a cheaper run there;
 - hybrid, ROPOS L = 200 m: 9.5-19 us per segment per implicit step (50-800 segments).
 
+With a winch (``winch.enabled``) the length changes during the run: the DG elements scale with it, so
+the estimate is taken at the shortest length the winch can reach (``winch.min_length``, with its
+transport speed ``winch.max_speed``), and the hybrid solver adds segments as it pays out, so there at
+the longest (``winch.max_length``).
+
 ``check_work`` refuses (ConfigError) a configuration whose estimate exceeds ``work_limit`` CPU
 seconds per simulated second, naming the keys that set the substep and the limit, and a
 ``dg.fixed_time_step`` above the stability limit (the solver's own check, made at load).
 """
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -72,8 +77,56 @@ def element_sizes(config) -> np.ndarray:
     return mesh_sizes(config.cable.length, config.dg.n_elements, config.dg.element_lengths)
 
 
+def winch_range(config) -> tuple:
+    """(shortest, longest) unstretched length the run can reach, m: ``winch.min_length`` and
+    ``winch.max_length`` with a winch (a command on the winch topic may ask for either at any time; the
+    winch never passes them), else the configured length twice."""
+    L, w = float(config.cable.length), config.winch
+    if not w.enabled:
+        return L, L
+    return min(float(w.min_length), L), max(float(w.max_length), L)
+
+
 def dg_work(config) -> Work:
-    """The DG estimate, with the substep of the solver's own rule (``stable_time_step``)."""
+    """The DG estimate, with the substep of the solver's own rule (``stable_time_step``); with a winch,
+    at the shortest length it can haul in to (:func:`dg_winch_work`), where the elements are shortest."""
+    work = dg_work_at_length(config)
+    shortest = winch_range(config)[0]
+    if shortest < float(config.cable.length):
+        hauled = dg_winch_work(config, shortest)
+        if hauled.cpu > work.cpu:
+            return hauled
+    return work
+
+
+def dg_winch_work(config, length) -> Work:
+    """The DG estimate with the cable hauled in to ``length``: the elements scale with the length (h_e =
+    w_e L(t), docs/dg_solver.md "Winch") and the winch's transport at ``winch.max_speed`` adds to the
+    wave speed, as in the solver's own rule while the winch moves (dg/winch_driver.py ``_winch_limit``)."""
+    from tether_sim.solvers.dg.timestep import _A, _coef
+
+    cab, opt, w = config.cable, config.dg, config.winch
+    scaled = replace(config, cable=replace(cab, length=float(length)), dg=replace(opt, fixed_time_step=0.0))
+    at = dg_work_at_length(scaled)
+    h, P = element_sizes(scaled), int(opt.order)
+    limit = 1.0 / (opt.cfl / at.substep + _coef(_A, P, 2) * float(w.max_speed) / float(np.min(h)))
+    if opt.fixed_time_step > 0.0:
+        if opt.fixed_time_step > limit:  # the solver's own check while the winch moves (UnstableTimeStepError)
+            raise ConfigError(f"dg.fixed_time_step = {opt.fixed_time_step:g} s exceeds the stability limit {limit:.3g} s "
+                              f"of the cable hauled in to winch.min_length = {float(length):g} m (elements down to "
+                              f"{float(np.min(h)):.3g} m): reduce it, or raise winch.min_length")
+        substep = float(opt.fixed_time_step)
+    else:
+        substep = opt.cfl * limit
+    count = h.size * (P + 1) / substep
+    cause = (f"{at.cause.split(': the substep')[0]} hauled in to winch.min_length = {float(length):g} m (of "
+             f"cable.length = {float(cab.length):g} m; winch.max_speed = {float(w.max_speed):g} m/s): the substep there "
+             f"is {substep:.3g} s (remedies: a longer winch.min_length, fewer elements or a lower order)")
+    return Work(substep, count, count * dg_update_cpu(config), cause)
+
+
+def dg_work_at_length(config) -> Work:
+    """The DG estimate at the configured length (``stable_time_step`` of the solver as built)."""
     from tether_sim.physics.constitutive import TensionLaw
     from tether_sim.solvers.dg.timestep import config_stable_dt, stable_dt
 
@@ -119,10 +172,20 @@ def dg_update_cpu(config) -> float:
 
 
 def hybrid_work(config) -> Work:
+    """One implicit step of every segment per ``hybrid.time_step``. With a winch the segments keep their
+    length (one is added per cable.length / hybrid.n_segments paid out, hybrid/winch.py), so the count
+    is that of the longest length the winch can pay out to."""
     opt = config.hybrid
-    count = int(opt.n_segments) / float(opt.time_step)
-    cause = (f"hybrid.n_segments = {opt.n_segments} with hybrid.time_step = {opt.time_step:g} s "
-             "(remedies: fewer segments, a longer time step)")
+    n0 = int(opt.n_segments)
+    length, longest = float(config.cable.length), winch_range(config)[1]
+    n = n0 + max(0, math.ceil((longest - length) / (length / n0) - 1e-9))
+    count = n / float(opt.time_step)
+    cause = f"hybrid.n_segments = {n0} with hybrid.time_step = {opt.time_step:g} s"
+    if n > n0:
+        cause += (f", {n} segments when the winch has paid out to winch.max_length = {longest:g} m "
+                  "(remedies: a shorter winch.max_length, fewer segments, a longer time step)")
+    else:
+        cause += " (remedies: fewer segments, a longer time step)"
     return Work(float(opt.time_step), count, count * HYBRID_SEGMENT_CPU, cause)
 
 
@@ -168,15 +231,16 @@ START_CPU = 1.1  # CPU s
 def run_estimate(config, duration: float) -> tuple:
     """(CPU seconds, one line) that a run of ``duration`` simulated seconds with outputs at
     node.output_rate (tether-sim-offline, a study case) is expected to take on the reference machine,
-    before it starts: :func:`estimate` (at the configured cable length) plus the outputs' and the
-    start's share."""
+    before it starts: :func:`estimate` (with a winch: at its worst reachable length) plus the outputs'
+    and the start's share."""
     work = estimate(config)
     n_ticks = max(1, int(round(duration * config.node.output_rate)))
     solver, outputs = work.cpu * duration, n_ticks * TICK_CPU.get(config.solver, TICK_CPU["dg"])
     total = START_CPU + solver + outputs
     return total, (f"{duration:.6g} s simulated, {n_ticks} output ticks: expected to take about {span(total)} of "
                    f"CPU on an idle core (solver ~{span(solver)}, outputs ~{span(outputs)}; the solver's "
-                   f"substep {work.substep:.3g} s at the configured cable length); longer on a busy machine")
+                   f"substep {work.substep:.3g} s{' at the shortest length the winch can reach' if config.winch.enabled else ''}); "
+                   "longer on a busy machine")
 
 
 def span(seconds: float) -> str:

@@ -41,6 +41,7 @@ KEEP_DEFAULTS = {"mcap": False, "events": True}
 
 MAX_CASES = 100_000  # cases in one study file (the product of its blocks), checked before they are expanded
 MAX_FILE_BYTES = 1_000_000
+EAGER_CASES = 1_000  # cases checked when the file is loaded (errors up front); the rest as they are run
 
 
 class StudyError(ConfigError):
@@ -68,6 +69,7 @@ class Study:
     description: str = ""
     units: dict = field(default_factory=dict)  # study variable (not a parameter) -> unit ("1": a ratio)
     _cases: list = field(default=None, repr=False, compare=False)
+    _paths: dict = field(default_factory=dict, repr=False, compare=False)  # base text -> resolved path
 
     @property
     def variables(self) -> list:
@@ -83,32 +85,41 @@ class Study:
     def cases(self) -> list:
         """Every case: the cross product of the blocks (the first block varies slowest); computed once."""
         if self._cases is None:
-            self._cases = self._expand()
+            self._cases = list(self.iter_cases())
         return self._cases
 
-    def _expand(self) -> list:
-        keys = key_map()
+    def iter_cases(self):
+        """The cases one at a time (a 10^5-case study starts at once; listing them all first took
+        minutes). A case whose ``set`` expression or ``base`` fails raises StudyError."""
+        for index, variables in self.iter_variables():
+            yield self.case(index, variables)
+
+    def iter_variables(self):
+        """(index, variables) of every case, in order, without resolving them."""
         rows = [[{name: values[i] for name, values in block.items()} for i in range(_length(block))]
                 for _, block in self.blocks]
-        out, paths = [], {}
         for index, combo in enumerate(itertools.product(*rows)):
-            variables = {k: v for part in combo for k, v in part.items()}
-            overrides = {k: _coerce(keys[k], v, self, k) for k, v in variables.items() if k in keys}
-            for key, value in self.set.items():
-                if isinstance(value, str) and value.lstrip().startswith("="):
-                    try:
-                        value = evaluate(value.lstrip()[1:], variables)
-                    except ExpressionError as exc:
-                        raise _err(self.path, f"set.{key}: {exc}") from None
-                overrides[key] = _coerce(keys[key], value, self, key)
-            try:
-                base = self.base.format(**variables)
-            except (ValueError, TypeError, KeyError, IndexError, AttributeError) as exc:
-                raise _err(self.path, f"base {self.base!r}: {type(exc).__name__}: {exc}") from None
-            if base not in paths:
-                paths[base] = (Path(base) if Path(base).is_absolute() else self.path.parent / base).resolve()
-            out.append(Case(index, variables, paths[base], overrides))
-        return out
+            yield index, {k: v for part in combo for k, v in part.items()}
+
+    def case(self, index, variables) -> Case:
+        """The case of these variables: its parameters (the ``set`` expressions evaluated) and base file."""
+        keys = key_map()
+        overrides = {k: _coerce(keys[k], v, self, k) for k, v in variables.items() if k in keys}
+        for key, value in self.set.items():
+            if isinstance(value, str) and value.lstrip().startswith("="):
+                try:
+                    value = evaluate(value.lstrip()[1:], variables)
+                except ExpressionError as exc:
+                    raise _err(self.path, f"set.{key}: {exc}") from None
+            overrides[key] = _coerce(keys[key], value, self, key)
+        try:
+            base = self.base.format(**variables)
+        except (ValueError, TypeError, KeyError, IndexError, AttributeError) as exc:
+            raise _err(self.path, f"base {self.base!r}: {type(exc).__name__}: {exc}") from None
+        path = self._paths.get(base)
+        if path is None:
+            path = self._paths[base] = (Path(base) if Path(base).is_absolute() else self.path.parent / base).resolve()
+        return Case(index, variables, path, overrides)
 
 
 def _length(block):
@@ -316,5 +327,6 @@ def load_study(path) -> Study:
     keep.update(doc.get("keep") or {})
     study = Study(str(doc.get("name") or path.stem), path, doc["base"], blocks, settings, keep,
                   str(doc.get("description") or ""), units)
-    study.cases()  # expression and base errors now, not in a worker
+    for _ in itertools.islice(study.iter_cases(), EAGER_CASES):  # expression and base errors now, not in a worker
+        pass
     return study
