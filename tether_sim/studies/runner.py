@@ -137,7 +137,8 @@ def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=
                 progress.instant += 1
                 on_result(item)
             else:
-                progress.total -= 1
+                if limit is None:  # (with --limit the total is the limit until the tasks are known)
+                    progress.total -= 1
                 if kind == "skipped":
                     counts["skipped"] += 1
                     progress.skipped += 1
