@@ -228,3 +228,89 @@ def test_a_solver_that_cannot_keep_up_with_the_wall_clock_is_refused_at_start_up
                 TetherSimNode(context=context, parameter_overrides=overrides).destroy_node()
         finally:
             rclpy.shutdown(context=context)
+
+
+# what the node logs as the reason of a degraded state (sim_node._handle_report)
+DEGRADED_REASONS = ("marked degraded", "blended onto its pose input", "re-synchronised", "clock jumped backwards",
+                    "solver diverged", "solver restarted")
+
+
+class Recorder:
+    """The node's log lines and its /tether/state publications, in the order they happen: ("log",
+    text) and ("state", the degraded flag the message carries)."""
+
+    def __init__(self, node):
+        self.events, self.node, self.logger = [], node, node.get_logger()
+        node.get_logger = lambda: self
+        self.pub = node.pubs["/tether/state"]
+        node.pubs["/tether/state"] = self
+
+    def __getattr__(self, name):  # the logger's other levels
+        return getattr(self.logger, name)
+
+    def warning(self, text, **kwargs):
+        self.events.append(("log", text))
+        return self.logger.warning(text, **kwargs)
+
+    def error(self, text, **kwargs):
+        self.events.append(("log", text))
+        return self.logger.error(text, **kwargs)
+
+    def publish(self, data):
+        self.events.append(("state", bool(self.node.driver.degraded)))
+        return self.pub.publish(data)
+
+    def get_subscription_count(self):
+        return self.pub.get_subscription_count()
+
+
+def test_a_degraded_state_and_the_log_agree_through_every_kind_of_fault(monkeypatch):
+    """The log said "marked degraded" while the published state had degraded false (2 of 3 late soak
+    states): every tick that logs it publishes a degraded state, and every run of degraded states
+    starts at a tick that logs its reason (the node's warning throttle set to 0 here: in service the
+    repeats of one kind are rate-limited). Faults: start from rest, a dropout of the pose input, the
+    node behind (a 0.3 s /clock step with at most 60 substeps a tick: capped, late, catching up), a
+    1.5 s step (beyond node.max_lag: re-synchronised) and /clock jumping back."""
+    import tether_sim.ros.sim_node as sim_node
+
+    monkeypatch.setattr(sim_node, "WARN_PERIOD", 0.0)
+    h = SimHarness({**PARAMS, "node.max_substeps_per_tick": 60})  # 31 substeps a tick keep up; a jump does not
+    try:
+        rec = Recorder(h.node)
+        h.run(1.0, ship=SHIP)  # started from rest: blended
+        h.run(2.0)  # no ship pose for 1 s (node.input_timeout 0.5 s): input lost, held
+        h.run(3.0, ship=SHIP)  # input resumed: blended
+        h.step(3.3, ship=SHIP)  # 0.3 s at once: capped ticks, late until caught up
+        h.run(4.5, ship=SHIP)
+        h.step(6.0, ship=SHIP)  # 1.5 s at once: beyond max_lag, re-synchronised
+        h.run(7.0, ship=SHIP)
+        h.time = 5.0  # /clock jumps back 2 s
+        h.run(7.0, ship=SHIP)
+        events = rec.events
+        states = [flag for kind, flag in events if kind == "state"]
+        assert len(states) > 200 and sum(states) > 20 and not all(states)
+        logs = [text for kind, text in events if kind == "log"]
+        for reason in DEGRADED_REASONS[:4]:  # each fault happened and was logged
+            assert any(reason in text for text in logs), reason
+        # "marked degraded" logged -> the state published in that tick is degraded
+        late = [i for i, (kind, text) in enumerate(events) if kind == "log" and "marked degraded" in text]
+        assert len(late) >= 3
+        for i in late:
+            following = next((e for e in events[i + 1:] if e[0] == "state"), None)
+            assert following == ("state", True), f"logged {events[i][1]!r}, published degraded false"
+        # a run of degraded states starts at a tick that logged a reason
+        since, was_degraded, runs = 0, False, 0
+        for i, (kind, flag) in enumerate(events):
+            if kind != "state":
+                continue
+            if flag and not was_degraded:
+                runs += 1
+                said = [text for k, text in events[since:i] if k == "log"]
+                assert any(r in text for text in said for r in DEGRADED_REASONS), f"degraded without a reason: {said}"
+            since, was_degraded = i, flag
+        assert runs >= 3  # (the dropout and its resume are one run)
+        # the published messages carry the same flags
+        received = [m.degraded for m in h.received["/tether/state"]]
+        assert sum(received) > 0 and received == states[:len(received)]
+    finally:
+        h.close()

@@ -9,6 +9,7 @@ int q ds up to the boundary fluxes, r(L) - r(0) follows v_hat(L) - v_hat(0) to r
 """
 
 import math
+import time as wallclock
 
 import numpy as np
 
@@ -32,6 +33,13 @@ from tether_sim.solvers.dg.stepping import SteppingMixin
 from tether_sim.solvers.dg.tick import TG_SET
 from tether_sim.solvers.dg.winch_driver import WinchMixin
 from tether_sim.solvers.dg.workspace import Workspace
+
+# The relaxation runs in compiled calls of this much wall time (the first of RELAX_FIRST_CHUNK substeps,
+# to measure): a signal (Ctrl-C) is handled by Python between two calls, so a long initial.relax_time
+# stops within about this; the substeps are those of one advance_to (same size, same times).
+RELAX_CHUNK_WALL = 0.2  # s
+RELAX_FIRST_CHUNK = 200
+
 
 class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
     """Discontinuous Galerkin cable solver [PE2020 Sec. 2-3]; see docs/dg_solver.md."""
@@ -280,6 +288,19 @@ class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
         if relax > 0:
             self.relax(relax)
 
+    def _relax_in_chunks(self, t):
+        """advance_to(t) in compiled calls of about RELAX_CHUNK_WALL s each (a signal is handled between
+        them); the same substeps as one advance_to: n of span / n, the chunk ends at t0 + k dt."""
+        n, dt = self._substeps_to(t, "relax")
+        t0, done, chunk = self.time, 0, RELAX_FIRST_CHUNK
+        while done < n:
+            m = min(chunk, n - done)
+            wall = wallclock.perf_counter()
+            done += m
+            self._run(m, dt, t if done == n else t0 + done * dt)
+            spent = wallclock.perf_counter() - wall
+            chunk = max(1, min(8 * m, int(m * RELAX_CHUNK_WALL / max(spent, 1e-9))))
+
     def _choose_q_penalty(self, shape):
         """dg.q_penalty_jump auto: the tension-jump penalty when max dT/deps / min T of the static
         state exceeds dg.q_penalty_auto_ratio (docs/dg_solver.md, "q-equation penalty")."""
@@ -333,7 +354,7 @@ class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
         t0 = self.time
         saved = self.ws.ends.copy()
         try:
-            self.advance_to(t0 + duration)
+            self._relax_in_chunks(t0 + duration)
         finally:
             self.prm[Y.P_RELAX] = 0.0
         self.time = t0
