@@ -32,7 +32,11 @@ would take the strain penalty of PE2020 Eq. 24: the static EA / T_min is 1990, j
 dg.q_penalty_auto_ratio 2000, and in the tension troughs of the 5 m heave (EA / T ~ 4500) that
 penalty lets axial waves ring (~0.4 s period, +-80 kN at 50 m depth).
 
-Usage: PYTHONPATH=. python benchmarks/chain_cases.py [--solver hybrid|dg] [--segments N] [--order P]
+``--moordyn`` runs pip moordyn on the same deck and motion instead (its fairlead force GetPointForce,
+stepped every 0.1 s with the velocity of the next interval, as MoorDyn's test does), for the same
+metrics: a second code on the reference.
+
+Usage: PYTHONPATH=. python benchmarks/chain_cases.py [--solver hybrid|dg] [--moordyn] [--segments N] [--order P]
        [--elements N] [--cases WD0050:A1 ...] [--friction-speed V] [--plot DIR]
 """
 
@@ -77,7 +81,7 @@ def reference_lag(name, depth="WD0050"):
     return float(lags[int(np.argmin(err))])
 
 
-def case_spec(depth, solver="hybrid", segments=None, order=4, elements=None, friction_speed=None, extra=None,
+def case_spec(depth, solver="dg", segments=None, order=4, elements=None, friction_speed=None, extra=None,
               friction=None):
     deck = read_deck(DATA / "decks" / f"{depth}_Chain.txt")
     over = {}
@@ -133,6 +137,49 @@ def run(spec, name, t_end=20.0):
     return np.array(out_t), np.array(fair), np.array(anch), time.perf_counter() - wall
 
 
+def run_moordyn(depth, name, t_end=20.0):
+    """The same drive through pip moordyn (the deck as MoorDyn's test runs it, its stored initial state
+    dropped): (t, fairlead force |F| (N), anchor tension (N)) every 0.1 s, wall time (s). The anchor
+    value is MoorDyn's GetFASTtens anchor tension (its fixed points report no force)."""
+    import os
+    import tempfile
+
+    import moordyn
+
+    from benchmarks.moordyn_decks import _without_file_ic
+
+    tm, xm = motion(name)
+    keep = tm <= t_end + 0.1 + 1e-9
+    tm, xm = tm[keep], xm[keep]
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / f"{depth}_Chain.txt"
+        path.write_text(_without_file_ic((DATA / "decks" / f"{depth}_Chain.txt").read_text()))
+        sys.stdout.flush()
+        saved, devnull = os.dup(1), os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, 1)
+        try:
+            system = moordyn.Create(str(path))
+            moordyn.Init(system, list(xm[0]), [0.0, 0.0, 0.0])
+            point = moordyn.GetPoint(system, 2)
+            fair = [np.linalg.norm(moordyn.GetPointForce(point))]
+            anch = [math.hypot(*[v[0] for v in moordyn.GetFASTtens(system, 1)[2:]])]
+            wall = time.perf_counter()
+            for i in range(len(tm) - 1):
+                dt = tm[i + 1] - tm[i]
+                v = (xm[i + 1] - xm[i]) / dt
+                moordyn.Step(system, list(xm[i]), list(v), tm[i] - tm[0], dt)
+                fair.append(np.linalg.norm(moordyn.GetPointForce(point)))
+                anch.append(math.hypot(*[v[0] for v in moordyn.GetFASTtens(system, 1)[2:]]))
+            wall = time.perf_counter() - wall
+            moordyn.Close(system)
+        finally:
+            sys.stdout.flush()
+            os.dup2(saved, 1)
+            os.close(saved)
+            os.close(devnull)
+    return tm, np.array(fair), np.array(anch), wall
+
+
 def compare(depth, name, t, fair, anch, t_end=20.0):
     """Metrics against the reference (module doc), over 0 <= t <= t_end."""
     tr, fr, ar, _ = reference(depth, name)
@@ -153,7 +200,8 @@ def compare(depth, name, t, fair, anch, t_end=20.0):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--solver", default="hybrid", choices=("hybrid", "dg"))
+    ap.add_argument("--solver", default="dg", choices=("dg", "hybrid"),
+                    help="default dg (the hybrid does not start on these decks: docs/moordyn.md)")
     ap.add_argument("--segments", type=int, default=None, help="hybrid segments (default: the deck's NumSegs)")
     ap.add_argument("--order", type=int, default=4)
     ap.add_argument("--elements", type=int, default=None, help="DG elements (default ceil(NumSegs / order))")
@@ -167,6 +215,7 @@ def main(argv=None):
     ap.add_argument("--friction-speed", type=float, default=None, help="environment.seabed_friction_speed (m/s)")
     ap.add_argument("--cases", nargs="*", default=[f"{d}:{m}" for d in DEPTHS for m in MOTIONS])
     ap.add_argument("--plot", default=None, help="directory for a PNG per case")
+    ap.add_argument("--moordyn", action="store_true", help="run pip moordyn instead of our solver (same metrics)")
     args = ap.parse_args(argv)
     extra = {}
     if args.time_step:
@@ -176,7 +225,8 @@ def main(argv=None):
     if dg:
         extra["dg"] = dg
     print(f"solver {args.solver}, segments {args.segments}, order {args.order}, elements {args.elements}, "
-          f"time_step {args.time_step}, dg {dg}, friction speed {args.friction_speed}, friction {args.friction}, t_end {args.t_end}")
+          f"time_step {args.time_step}, dg {dg}, friction speed {args.friction_speed}, friction {args.friction}, "
+          f"t_end {args.t_end}")
     print("| case | static fairlead (kN): ours / ref / diff | static anchor (kN): ours / ref / diff | "
           "max pointwise | at t (s) | MoorDyn metric | tension range ours (kN) | reference (kN) | wall (s) |")
     print("|---|---|---|---:|---:|---:|---|---|---:|")
@@ -185,9 +235,14 @@ def main(argv=None):
         spec = case_spec(depth, args.solver, args.segments, args.order, args.elements, args.friction_speed, extra,
                          args.friction)
         sf, sa = static_tensions(spec)
-        t, fair, anch, wall = run(spec, name, args.t_end)
+        if args.moordyn:
+            t, fair, anch, wall = run_moordyn(depth, name, args.t_end)
+            sf, sa = fair[0], anch[0]
+        else:
+            t, fair, anch, wall = run(spec, name, args.t_end)
         m = compare(depth, name, t, fair, anch, args.t_end)
-        print(f"| {depth} {name} | {sf / 1e3:.1f} / {STATIC_FAIR[depth] / 1e3:.1f} / {100 * (sf / STATIC_FAIR[depth] - 1):+.2f} % "
+        ef = 100 * (sf / STATIC_FAIR[depth] - 1)
+        print(f"| {depth} {name} | {sf / 1e3:.1f} / {STATIC_FAIR[depth] / 1e3:.1f} / {ef:+.2f} % "
               f"| {sa / 1e3:.1f} / {STATIC_ANCHOR[depth] / 1e3:.1f} / {100 * (sa / STATIC_ANCHOR[depth] - 1):+.2f} % "
               f"| {100 * m['pointwise']:.2f} % | {m['at']:.1f} | {100 * m['moordyn']:.2f} % "
               f"| {m['range_ours'][0] / 1e3:.0f}-{m['range_ours'][1] / 1e3:.0f} "
@@ -199,7 +254,8 @@ def main(argv=None):
             tr, fr, _, _ = reference(depth, name)
             fig, ax = plt.subplots(figsize=(8, 3.5))
             ax.plot(tr, fr / 1e3, "k.", ms=3, label="OrcaFlex (reference)")
-            ax.plot(t + TAU, fair / 1e3, "C0-", label=f"ours ({args.solver})")
+            who = "pip moordyn" if args.moordyn else f"ours ({args.solver})"
+            ax.plot(t + TAU, fair / 1e3, "C1-" if args.moordyn else "C0-", label=who)
             ax.set_xlim(-10, 20)
             ax.set_xlabel("t (s)")
             ax.set_ylabel("fairlead tension (kN)")
@@ -207,7 +263,8 @@ def main(argv=None):
             ax.legend()
             fig.tight_layout()
             Path(args.plot).mkdir(parents=True, exist_ok=True)
-            fig.savefig(Path(args.plot) / f"chain_{depth}_{name}_{args.solver}.png", dpi=90)
+            tag = "moordyn" if args.moordyn else args.solver
+            fig.savefig(Path(args.plot) / f"chain_{depth}_{name}_{tag}.png", dpi=90)
             plt.close(fig)
 
 

@@ -614,7 +614,8 @@ def main(argv=None):
                                  description="Convert a MoorDyn v2 input file to a line-network parameter file.")
     ap.add_argument("deck", help="MoorDyn v2 input file")
     ap.add_argument("--output", "-o", required=True, help="parameter file to write (YAML)")
-    ap.add_argument("--solver", default="dg", choices=("dg", "hybrid"), help="solver of every line (default dg; docs/moordyn.md)")
+    ap.add_argument("--solver", default="dg", choices=("dg", "hybrid"),
+                    help="solver of every line (default dg; docs/moordyn.md)")
     args = ap.parse_args(argv)
     try:
         deck = read_deck(args.deck)
