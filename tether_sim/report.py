@@ -48,7 +48,6 @@ SLACK_TYPE = "tether_sim_msgs/msg/SlackWarning"
 WRENCH_TYPE = "geometry_msgs/msg/WrenchStamped"
 DIAGNOSTICS_TYPE = "diagnostic_msgs/msg/DiagnosticArray"
 DESCRIPTION_TYPE = "tether_sim_msgs/msg/TetherDescription"
-ENDS = END_NAMES
 
 
 class ReportError(TetherSimError, ValueError):
@@ -131,13 +130,13 @@ def _load_run(path, t0_s, skip_corrupt, line=None) -> RunData:
     else:
         state_topic = "/tether/state" if "/tether/state" in state_topics else state_topics[0]
         mine = lambda t: True  # noqa: E731
-        wrench_topics = {end: t for t in _topics_of(summary, WRENCH_TYPE) for end in ENDS if end in t}
+        wrench_topics = {end: t for t in _topics_of(summary, WRENCH_TYPE) for end in END_NAMES if end in t}
     wanted = [state_topic, *filter(mine, _topics_of(summary, SNAP_TYPE)), *filter(mine, _topics_of(summary, SLACK_TYPE)),
               *wrench_topics.values(), *_topics_of(summary, DIAGNOSTICS_TYPE),
               *filter(mine, _topics_of(summary, DESCRIPTION_TYPE))]
     parameters = {}
     diagnostics = {}
-    times, positions, tensions, ends, snaps, warns = [], [], [], {e: [] for e in ENDS}, [], []
+    times, positions, tensions, ends, snaps, warns = [], [], [], {e: [] for e in END_NAMES}, [], []
     arcs = []
     degraded = []
     wrench = {end: ([], []) for end in wrench_topics}
@@ -243,7 +242,7 @@ def threshold_series(t: np.ndarray, warned: list) -> np.ndarray:
 def slack_periods(run: RunData) -> dict:
     """end -> list of {start, end, duration, min_tension, threshold} (see module docstring)."""
     out = {}
-    for end in ENDS:
+    for end in END_NAMES:
         warned = [(w["t"], w["threshold"]) for w in run.warnings if w["end"] == end]
         threshold = threshold_series(run.t, warned)
         series = run.end_tension[end]
@@ -282,7 +281,7 @@ def node_health(run: RunData) -> dict | None:
 
 def static_tensions(run: RunData) -> dict:
     """end -> tension of the first state (the initial static equilibrium), N."""
-    return {end: float(run.end_tension[end][0]) for end in ENDS}
+    return {end: float(run.end_tension[end][0]) for end in END_NAMES}
 
 
 def _mesh_line(parameters: dict) -> str:
@@ -319,7 +318,7 @@ def tension_envelope(run: RunData) -> dict:
             "min_N": [float(x) for x in tension.min(axis=0)],
             "largest": {"tension_N": largest, "arc_length_m": float(arcs[k_t, k_s]), "time_s": float(run.t[k_t])},
             "smallest_N": float(tension.min()),
-            "end_max_N": {end: float(run.end_tension[end].max()) for end in ENDS},
+            "end_max_N": {end: float(run.end_tension[end].max()) for end in END_NAMES},
             "breaking_load_N": mbl if mbl > 0 else None, "utilisation": largest / mbl if mbl > 0 else None}
 
 
@@ -351,7 +350,7 @@ def summary_json(run: RunData, periods: dict, envelope: dict, figures: dict) -> 
         "truncation": run.truncation,
         "end_tension_N": {end: {"static": float(run.end_tension[end][0]), "mean": float(run.end_tension[end].mean()),
                                 "min": float(run.end_tension[end].min()), "max": float(run.end_tension[end].max())}
-                          for end in ENDS},
+                          for end in END_NAMES},
         "tension_envelope": {"largest_N": envelope["largest"]["tension_N"],
                              "largest_at_arc_length_m": envelope["largest"]["arc_length_m"],
                              "largest_at_time_s": envelope["largest"]["time_s"], "smallest_N": envelope["smallest_N"],
@@ -359,13 +358,13 @@ def summary_json(run: RunData, periods: dict, envelope: dict, figures: dict) -> 
         "breaking_load_N": envelope["breaking_load_N"], "utilisation": envelope["utilisation"],
         "slack_periods": {end: [{"start_s": p["start"], "end_s": p["end"], "duration_s": p["duration"],
                                  "min_tension_N": p["min_tension"], "threshold_N": p["threshold"]} for p in periods[end]]
-                          for end in ENDS},
+                          for end in END_NAMES},
         "snap_events": [{"end": e["end"], "arc_length_m": e["arc_length"], "peak_time_s": e["t_peak"], "peak_N": e["peak"],
                          "static_N": e["static"], "amplification": e["amplification"], "min_tension_N": e["min"],
                          "slack_start_s": e["slack_start"], "slack_duration_s": e["slack_duration"],
                          "rise_time_s": e["rise_time"], "criterion": e["criterion"]}
                         for e in sorted(run.snaps, key=lambda e: e["t_peak"])],
-        "slack_warnings": {end: sum(w["end"] == end for w in run.warnings) for end in ("ship", "vehicle", "span")},
+        "slack_warnings": {end: sum(w["end"] == end for w in run.warnings) for end in (*END_NAMES, "span")},
         "node_health": None if health is None else {"real_time_factor": health["real_time_factor"],
                                                     "clock_time_skipped_s": health["dropped_s"],
                                                     "divergences": health["divergences"],
@@ -410,7 +409,7 @@ def summary_markdown(run: RunData, periods: dict, figures: dict, envelope: dict 
     lines += envelope_markdown(envelope if envelope is not None else tension_envelope(run))
     lines += ["", "## Slack periods", "", "| end | start [s] | end [s] | duration [s] | "
               "min tension [N] | threshold [N] |", "|---|---|---|---|---|---|"]
-    for end in ENDS:
+    for end in END_NAMES:
         for p in periods[end]:
             lines.append(f"| {end} | {p['start']:.3f} | {p['end']:.3f} | {p['duration']:.3f} | "
                          f"{p['min_tension']:.1f} | {p['threshold']:.1f} |")
@@ -437,7 +436,7 @@ def summary_markdown(run: RunData, periods: dict, figures: dict, envelope: dict 
                   f"Real-time factor {health['real_time_factor']:.2f}; clock time skipped because the "
                   f"solver was behind: {health['dropped_s']:.1f} s of {duration:.1f} s; divergence "
                   f"recoveries: {health['divergences']:.0f}; ticks capped: {health['capped_ticks']:.0f}."]
-    counts = {end: sum(w["end"] == end for w in run.warnings) for end in ("ship", "vehicle", "span")}
+    counts = {end: sum(w["end"] == end for w in run.warnings) for end in (*END_NAMES, "span")}
     lines += winch_markdown(run, periods)
     lines += forecast_markdown(run)  # snap forecast runs: skill against the snaps above
     lines += ["", "Slack warnings: " + ", ".join(f"{k} {v}" for k, v in counts.items()) + ".",

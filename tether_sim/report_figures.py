@@ -10,6 +10,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from tether_sim.physics.boundary import END_NAMES  # noqa: E402
+
 END_COLOURS = {"ship": "tab:blue", "vehicle": "tab:orange"}
 ANNOTATED = 5  # snap peaks labelled per end (the largest); all are marked
 
@@ -49,7 +51,7 @@ def degraded_intervals(run) -> list:
 def plot_end_tensions(run, periods: dict, path: Path) -> Path:
     """Ship and vehicle end tension vs time; slack periods shaded, snap peaks marked."""
     fig, axes = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True, constrained_layout=True)
-    for ax, end in zip(axes, ("ship", "vehicle")):
+    for ax, end in zip(axes, END_NAMES):
         ax.plot(run.t, run.end_tension[end] / 1e3, color=END_COLOURS[end], lw=1.2,
                 label=f"{end} end tension (TetherState)")
         if end in run.wrench and len(run.wrench[end][0]):

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from tether_sim.io.mcap_log import read_messages, read_summary
+from tether_sim.physics.boundary import END_NAMES
 
 WINCH_TYPE = "tether_sim_msgs/msg/WinchState"
 COMMAND_TYPE = "tether_sim_msgs/msg/WinchCommand"
@@ -118,7 +119,7 @@ def plot_winch_time(run, periods, path: Path) -> Path:
     wi = run.winch
     fig, axes = plt.subplots(3, 1, figsize=(11, 8.5), sharex=True, constrained_layout=True)
     ax = axes[0]
-    for end in ("ship", "vehicle"):
+    for end in END_NAMES:
         ax.plot(run.t, run.end_tension[end] / 1e3, color=END_COLOURS[end], lw=0.8, label=f"{end} end tension")
         _shade(ax, run, periods, end)
         snaps = [e for e in run.snaps if e["end"] == end]
@@ -156,7 +157,7 @@ def plot_tension_length(run, periods, path: Path) -> Path:
     wi = run.winch
     length = wi.length_at(run.t)
     fig, axes = plt.subplots(1, 2, figsize=(12, 5.5), sharex=True, constrained_layout=True)
-    for ax, end in zip(axes, ("ship", "vehicle")):
+    for ax, end in zip(axes, END_NAMES):
         points = ax.scatter(length, run.end_tension[end] / 1e3, c=run.t, s=2, cmap="viridis", lw=0)
         slack = np.zeros(len(run.t), bool)
         for p in periods.get(end, []):

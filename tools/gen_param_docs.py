@@ -47,9 +47,14 @@ factor 0.56-2.1 of the measured stepping, BENCHMARKS.md), and a configuration ab
 simulated second (1000; 0 lifts the limit) is refused naming the keys that set the substep, e.g.
 `dg.n_elements` 2000 on `config/ropos_L200.yaml` (a 1.28e-8 s substep set by its axial damping,
 2.1e5 CPU s per simulated second; 3e5 measured). The estimate counts the stepping only (the live
-node also times its solver at start-up, docs/node.md) at the configured length (a winch that
-hauls in shortens the elements later), and it does not bound the total: a long `duration` or
-initial relaxation is the user's choice.
+node also times its solver at start-up, docs/node.md). With a winch it is taken where the winch can
+take the cable (a command on its topic may ask for either limit at any time): DG at `winch.min_length`
+(the elements scale with the length, and the winch's transport at `winch.max_speed` adds to the wave
+speed, as in the solver's own rule while it moves), hybrid at `winch.max_length` (a segment is added per
+`cable.length / hybrid.n_segments` paid out); e.g. `dg.n_elements` 20, `dg.order` 4 on
+`config/ropos_L200.yaml` costs 2.5 CPU s per simulated second at 200 m, 210 hauled in to 20 m (accepted)
+and 8e4 hauled in to the default `winch.min_length` of 1 m (refused: raise `winch.min_length`). It does
+not bound the total: a long `duration` or initial relaxation is the user's choice.
 
 A range below is what the loader accepts; `tools/audit_param_ranges.py` runs each numeric key at both
 ends of its range through the offline runner (0.3 s of a 1 m heave on `config/ropos_L200.yaml`, a
@@ -62,8 +67,10 @@ naming the key (test/tools/test_param_audit.py keeps it so). The range ends on 2
 above: `cable.EA` 0, `dg.fixed_time_step` 10 (before: an error when the solver was built), the snap
 fractions and winch lengths and setpoints at their ends); 3 slow, accepted: `duration` 1e7,
 `cable.bending_damping` 1e12 (220 CPU s per simulated second on this mesh, under the limit) and
-`initial.relax_time` 1e5 (about 300 CPU s of relaxation in one compiled call, which a signal does not
-interrupt; stopped). The winch, wave and forecast keys ran with those features off. **hybrid
+`initial.relax_time` 1e5 (about 300 CPU s of relaxation; it then ran in one compiled call that a
+signal could not interrupt: now in calls of about 0.2 s, bit-identical, and Ctrl-C stops it; measured
+2026-11-27: `tether-sim-offline` on this file with `initial.kind: relax`, SIGINT 25 s into the start-up,
+exit 130 after 1.7 s with "stopped by SIGINT while starting"). The winch, wave and forecast keys ran with those features off. **hybrid
 solver**, `hybrid.*`, `cable.*` and `work_limit` (64 runs): 59 ran; `hybrid.time_step` 1e-7 refused
 (the cost); `cable.density` 0.001 failed in the first Newton step (now refused by the cross-section
 check); slow, accepted: `hybrid.n_segments` 100000 (150 CPU s per simulated second),

@@ -46,7 +46,10 @@ def test_motion_generator_run_writes_every_topic_with_sim_time_log_times(tmp_pat
     params = write_params(tmp_path / "p.yaml", motion={"kind": "circle", "amplitude": 0.5, "frequency": 0.5})
     out = tmp_path / "out.mcap"
     assert main(["--params", params, "--output", str(out), "--no-progress"]) == 0
-    assert "static tensions" in capsys.readouterr().out
+    printed = capsys.readouterr()
+    assert "static tensions" in printed.out and "s of CPU" in printed.out
+    # the time it will take is said before it starts (the progress bar's ETA comes only once it runs)
+    assert "2 s simulated, 40 output ticks: expected to take about" in printed.err and "of CPU" in printed.err
     msgs = by_topic(out)
     expected = {t for t in TOPICS if not t.endswith("sim_pose")} | {"/tf", "/tf_static"}
     assert set(msgs) == expected
@@ -148,3 +151,27 @@ def test_an_output_path_under_a_regular_file_is_a_clear_error(tmp_path, capsys):
     assert main(["--params", params, "--output", str(blocker / "sub" / "out.mcap"), "--no-progress"]) == 2
     err = capsys.readouterr().err
     assert "is a regular file, not a directory" in err and "Traceback" not in err
+
+
+def test_the_estimate_is_announced_before_the_solver_is_built_and_adds_up(tmp_path):
+    """run_offline's announcement comes before any solver exists (a long run says what it will cost
+    before it starts), and its total is the start, the solver's load-time work estimate and the
+    outputs' share (the constants are measured against real runs: docs/node.md "Offline runs")."""
+    from tether_sim.io.params import load_config
+    from tether_sim.ros import offline
+    from tether_sim.solvers.factory import build_solver
+    from tether_sim.solvers.work import estimate
+
+    config = load_config(write_params(tmp_path / "p.yaml"))
+    said = []
+
+    def factory(cfg):
+        assert said, "the solver was built before the estimate was announced"
+        return build_solver(cfg)
+
+    summary = offline.run_offline(config, None, duration=0.5, progress=False, solver_factory=factory,
+                                  announce=said.append)
+    assert len(said) == 1 and said[0].startswith("0.5 s simulated, 10 output ticks: expected to take about")
+    total, _ = offline.run_estimate(config, 0.5)
+    assert total == pytest.approx(offline.START_CPU + 0.5 * estimate(config).cpu + 10 * offline.TICK_CPU["dg"])
+    assert summary["expected_cpu"] == total and summary["cpu_time"] > 0.0

@@ -105,6 +105,47 @@ def test_poses_in_another_frame_are_rejected_once_with_the_remedy_then_counted(m
         h.close()
 
 
+def test_a_missing_pose_publisher_is_logged_once_then_at_doubling_intervals_and_shown_in_diagnostics(monkeypatch):
+    """No ship pose publisher at all: the stale warning comes at once, then after 2, 4, 8, 16, 32 s and
+    then every 60 s (not every 2 s for ever); /diagnostics says it every period. A pose ends the
+    episode; the next silence is logged at once again. The back-off clock is the test's."""
+    from tether_sim.ros import sim_node
+
+    h = SimHarness(flat_params())
+    log = Log()
+    monkeypatch.setattr(h.node, "get_logger", lambda: log)
+    wall = [0.0]
+    monkeypatch.setattr(sim_node, "_monotonic", lambda: wall[0])
+    stale = lambda: [line for line in log.lines if "no ship pose accepted yet" in line]  # noqa: E731
+    try:
+        h.run(2.0, dt=0.1)  # the node starts without the ship pose after node.input_timeout (1 s)
+        assert h.node.driver.solver is not None and len(stale()) == 1, log.lines
+        assert "next reminder in 2 s" in stale()[0] and "up to 60 s" in stale()[0]
+        logged_at = [0.0]
+        due = (2.0, 6.0, 14.0, 30.0, 62.0, 122.0, 182.0)
+        for w in sorted({*due, *(d - 0.01 for d in due), 1.0, 100.0, 200.0}):  # a tick just before each and at it
+            wall[0] = w
+            n = len(stale())
+            h.step(h.time + 0.1)
+            for _ in range(200):  # the tick of this clock time runs while the wall clock reads w
+                if h.node.driver.last_now >= h.time - 1e-9:
+                    break
+                h.spin(1)
+            if len(stale()) > n:
+                logged_at.append(wall[0])
+        assert logged_at == [0.0, *due], logged_at  # 8 lines in 200 s, not 100
+        st = status(h.received["/diagnostics"][-1], "ship input")
+        assert st.level == b"\x03" and "no ship pose accepted yet (0 rejected)" in st.message, st.message  # STALE
+        h.run(h.time + 0.2, ship=SHIP)  # a publisher appears: the episode ends
+        assert not h.node.inputs["ship"].is_stale(h.time) and ("stale", "ship") not in h.node._backoff
+        n = len(log.lines)
+        h.run(h.time + 1.5, dt=0.1)  # and goes silent again: logged at once
+        again = [line for line in log.lines[n:] if "ship pose input stale" in line]
+        assert len(again) == 1 and "next reminder in 2 s" in again[0], log.lines[n:]
+    finally:
+        h.close()
+
+
 def test_the_console_script_refuses_bad_arguments_clearly(tmp_path, capsys):
     path = tmp_path / "p.yaml"
     path.write_text("/**/tether_sim:\n  ros__parameters:\n    motion:\n      kind: none\n")

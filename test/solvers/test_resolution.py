@@ -184,8 +184,10 @@ def test_fine_mesh_warning_at_the_measured_spacings():
     text = res.bending_mesh_warning(200.0, 40, 4, 0.0, damping="implicit")
     assert "dg.damping implicit" in text and "EI" not in text
     assert res.bending_mesh_warning(200.0, 20, 4, 0.0, damping="implicit") == ""
-    # non-uniform meshes: the smallest element decides
+    # non-uniform meshes: the smallest element decides; dg.element_lengths are weights scaled to the length
     assert res.bending_mesh_warning(200.0, 3, 4, 2620.0, element_lengths=(190.0, 5.0, 5.0)) != ""
+    assert "1.25 m" in res.bending_mesh_warning(200.0, 3, 4, 2620.0, element_lengths=(38.0, 1.0, 1.0))  # 5 m / 4
+    assert res.bending_mesh_warning(200.0, 3, 4, 2620.0, element_lengths=(1.0, 1.0, 2.0)) == ""  # 50 m: 12.5 m
     # the live files' meshes (the rule's) are far coarser than the caution
     for length in (200.0, 500.0, 1730.0):
         r = res.choose(length, 0.01)

@@ -108,8 +108,7 @@ def test_random_and_mangled_study_files_are_study_errors(tmp_path, seed):
 
 
 def test_resolving_reads_each_base_file_once(tmp_path, monkeypatch):
-    """Listing a study resolves every case; the base file is read and checked once, not once a case
-    (a 10^5-case study lists in about a minute of CPU: docs/studies.md)."""
+    """Planning a study resolves every case; the base file is read and checked once, not once a case."""
     path = tmp_path / "s.yaml"
     path.write_text(BASE + "vary: {grid: {motion.amplitude: [0.5, 1.0, 1.5, 2.0], f: [0.1, 0.2, 0.3, 0.4, 0.5]}}\n"
                     "seeds: 10\nset: {motion.frequency: '= f', motion.sine_phases: '= phases(seed, 3)'}\n")
@@ -128,3 +127,54 @@ def test_resolving_reads_each_base_file_once(tmp_path, monkeypatch):
     for case in study.cases()[::37]:
         assert make_task(case, study, code_version(), tmp_path / "out")["key"] == tasks[case.index]["key"]
 
+
+
+LARGE = (BASE + "vary: {grid: {motion.amplitude: " + str([round(0.01 * (i + 1), 2) for i in range(1000)])
+         + ", f: [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0]}}\nseeds: 10\n"
+         "set: {motion.frequency: '= f', motion.sine_phases: '= phases(seed, 3)'}\n")
+
+
+def test_a_study_at_the_case_limit_starts_at_once_and_resolves_a_case_when_it_is_needed(tmp_path, monkeypatch):
+    """10^5 cases (the limit): resolving them all before anything ran or was listed took 1-8 minutes
+    (0.4-5 ms a case with the machine's load); now the file is checked on its first cases, and the
+    cases are resolved one at a time as the workers (or --list) take them."""
+    from tether_sim.studies import case as case_module
+    from tether_sim.studies import runner
+
+    path = tmp_path / "large.yaml"
+    path.write_text(LARGE)
+    resolved = []
+    original = case_module.make_task
+    monkeypatch.setattr(runner, "make_task", lambda c, *a, **k: resolved.append(c.index) or original(c, *a, **k))
+    study = load_study(path)
+    assert study.n_cases() == MAX_CASES
+    lazy = runner.plan_lazy(study, tmp_path / "out")
+    first = [next(lazy) for _ in range(3)]
+    assert [(kind, index) for kind, index, *_ in first] == [("task", 0), ("task", 1), ("task", 2)] and resolved == [0, 1, 2]
+    assert first[2][3] == {"motion.amplitude": 0.01, "f": 0.1, "seed": 2}
+    # the same task as resolving that case alone
+    from tether_sim.studies.case import code_version
+
+    assert first[1][2]["key"] == original(study.case(1, first[1][3]), study, code_version(), tmp_path / "out")["key"]
+    # a case further on whose expression fails is a failed row of its own, not the end of the study
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(BASE + "vary: {grid: {f: [0.1, 0.2, 0.0]}}\nset: {motion.frequency: '= f', duration: '= 1 / f'}\n")
+    with pytest.raises(StudyError, match="set.duration"):  # (within the first cases: refused up front)
+        load_study(bad)
+    monkeypatch.setattr("tether_sim.studies.spec.EAGER_CASES", 1)
+    kinds = [(kind, index) for kind, index, *_ in runner.plan_lazy(load_study(bad), tmp_path / "out2")]
+    assert kinds == [("task", 0), ("task", 1), ("invalid", 2)]
+
+
+def test_listing_a_study_at_the_case_limit_prints_its_first_cases_at_once(tmp_path):
+    path = tmp_path / "large.yaml"
+    path.write_text(LARGE)
+    proc = subprocess.Popen([sys.executable, "-m", "tether_sim.studies.cli", str(path), "--list", "--out",
+                             str(tmp_path / "out")], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    try:
+        lines = [proc.stdout.readline() for _ in range(5)]  # (all 10^5 would take minutes)
+    finally:
+        proc.kill()
+        proc.communicate(timeout=60)
+    assert [line.split()[:3] for line in lines] == [[str(i), "to", "run"] for i in range(5)], lines
+    assert "motion.amplitude=0.01, f=0.1, seed=4" in lines[4]

@@ -12,7 +12,7 @@ from scipy.stats import gumbel_r
 
 from tether_sim.studies.cli import main
 from tether_sim.studies.report import exceedance_groups, gumbel_fit, study_axes
-from tether_sim.studies.results import column_unit, to_table
+from tether_sim.studies.results import column_unit, read_units, to_table
 
 MU, BETA = 120e3, 8e3  # N: the Gumbel distribution the synthetic per-case maxima are drawn from
 
@@ -130,4 +130,14 @@ def test_results_table_carries_units(tmp_path):
     assert units["vehicle_daf"] == units["rtf"] == "1"
     assert units["var.motion.amplitude"] == "m"  # a study variable that names a parameter
     assert units["var.f"] == units["key"] == units["vehicle_n_snap"] == ""  # free variable, identity, count
+    # the study's own variables with the units of its file (Study.column_units): in the table and the report
+    pq.write_table(to_table(rows, {"var.f": "Hz"}), tmp_path / "results.parquet")
+    assert read_units(tmp_path)["var.f"] == "Hz" and read_units(tmp_path)["var.motion.amplitude"] == "m"
+    assert main(["report", str(tmp_path)]) == 0
+    assert "| case | motion.amplitude (m) | f (Hz) |" in (tmp_path / "report" / "report.md").read_text()
+    grid = sweep_rows({"L": [200, 1730], "alpha": [0, 1, 10]}, lambda v: pe2020({**v, "f": 0.2}))
+    for r in grid:
+        r["cable_length_m"] = 500.0  # (a resolved column that no longer expresses L: L is an axis of its own)
+    assert study_axes(grid, {"var.L": "m", "var.alpha": "1"})[1:] == [("var.L", "L (m)")]
+    assert study_axes(grid)[1:] == [("var.L", "L")]  # a table without the unit
     assert column_unit("ship_snap_daf") == "1" and column_unit("hybrid_dt_s") == "s"

@@ -14,7 +14,7 @@ import pytest
 from tether_sim.io.params import load_config
 from tether_sim.scenarios.ropos import static_end_tensions
 from tether_sim.studies.case import TIMING_COLUMNS
-from tether_sim.studies.results import read_results, same_physics
+from tether_sim.studies.results import read_results, read_units, same_physics
 from tether_sim.studies.runner import plan, run_study
 from tether_sim.studies.spec import load_study
 
@@ -35,6 +35,8 @@ def test_local_run_table(local_run):
     assert (out / "results.parquet").is_file() and (out / "results.csv").is_file()
     rows = sorted(read_results(out), key=lambda r: r["index"])
     assert [r["var.motion.amplitude"] for r in rows] == [0.1, 3.0, 500.0, 0.1]
+    # f is the study's own variable, set to motion.frequency as it is: its column carries Hz
+    assert read_units(out)["var.f"] == "Hz" and read_units(out)["var.motion.amplitude"] == "m"
     assert [r["status"] for r in rows] == ["ok", "ok", "failed", "failed"]
     # failed cases keep their error, and did not stop the others
     assert "motion.amplitude" in rows[2]["error"] and "above the maximum" in rows[2]["error"]

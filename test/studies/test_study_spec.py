@@ -106,9 +106,26 @@ def test_expressions():
     ("vary: {grid: {dg.n_elements: [2.5]}}", "expected an integer"),
     ("set: {cable.nope: 1}", "unknown parameter"),
     ("colour: red", "unknown entries"),
+    ("vary: {grid: {f: [1]}}\nset: {motion.frequency: '= f'}\nunits: {motion.amplitude: m}", "has its own unit"),
+    ("vary: {grid: {f: [1]}}\nset: {motion.frequency: '= f'}\nunits: {g: m}", "not a study variable"),
+    ("vary: {grid: {f: [1]}}\nset: {motion.frequency: '= f'}\nunits: {f: 3}", "expected a unit as text"),
+    ("vary: {grid: {f: [1]}}\nset: {motion.frequency: '= f'}\nunits: {f: s}", "gives it the unit of motion.frequency"),
 ])
 def test_bad_study_files_name_the_problem(tmp_path, text, message):
     path = write(tmp_path, BASE + text)
     with pytest.raises(StudyError, match=message) as info:
         load_study(path)
     assert str(path) in str(info.value)
+
+
+def test_the_study_variables_carry_their_units(tmp_path):
+    """A study's own variable has the unit its file declares, or else that of the parameter it is set
+    to as it is; an expression gives none (its unit is not the parameter's)."""
+    study = load_study(write(tmp_path, BASE + "vary: {grid: {f: [0.1, 0.2], a: [1, 2], k: [1, 2], n: [3]}}\n"
+                             "set: {motion.frequency: '= f', motion.amplitude: '= a * k', duration: '= n / f'}\n"
+                             "units: {k: '1'}"))
+    assert study.column_units() == {"var.f": "Hz", "var.k": "1"}
+    pe2020 = load_study(STUDIES / "pe2020_sec62.yaml")
+    assert pe2020.column_units() == {"var.L": "m", "var.alpha": "1", "var.f": "Hz"}
+    assert load_study(STUDIES / "heave_sweep.yaml").column_units() == {"var.f": "Hz"}
+    assert load_study(STUDIES / "heave_irregular_seeds.yaml").column_units() == {"var.level": "1"}

@@ -40,7 +40,6 @@ from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.snap import SnapEvent
 from tether_sim.solvers.base import relative_end_speed
 
-ENDS = END_NAMES
 VEHICLE_EASE_TIME = 1.0  # s, a prescribed vehicle end is eased to rest over this time constant
 
 
@@ -87,7 +86,7 @@ class LookAhead:
     def __init__(self, config, solver_factory):
         self.config = config
         self.solver = solver_factory(config)
-        self.prescribed = {end: getattr(config, f"{end}_end").kind == "prescribed" for end in ENDS}
+        self.prescribed = {end: getattr(config, f"{end}_end").kind == "prescribed" for end in END_NAMES}
 
     def run(self, request: ForecastRequest) -> list:
         """One :class:`EndForecast` per end."""
@@ -97,7 +96,7 @@ class LookAhead:
         if len(finished) < len(results):
             reasons.append(f"{len(results) - len(finished)} of {len(results)} members diverged")
         out = []
-        for end in ENDS:
+        for end in END_NAMES:
             snaps = [r[end] for r in finished if r[end] is not None]
             n = len(finished)
             times = np.array([t for t, _ in snaps]) - request.issued
@@ -119,7 +118,7 @@ class LookAhead:
         solver.restore(request.snapshot)
         solver.drain_end_tensions()
         detector = copy.deepcopy(request.detector)
-        first = {end: None for end in ENDS}
+        first = {end: None for end in END_NAMES}
         end_clock = request.issued + request.horizon
         t0 = request.solver_time
         n_ticks = max(1, int(math.ceil(request.horizon / request.tick - 1e-9)))

@@ -37,11 +37,12 @@ from dataclasses import replace
 
 import numpy as np
 
-from tether_sim.forecast.lookahead import ENDS, EndForecast, ForecastRequest, LookAhead
+from tether_sim.forecast.lookahead import EndForecast, ForecastRequest, LookAhead
 from tether_sim.forecast.ship_forecast import (
     ARShipPredictor, MotionMember, can_perturb, component_spread, external_members, perturb_motion, perturbed_members,
 )
 from tether_sim.numerics.rotations import quaternion_matrix
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.solvers.factory import build_solver
 
 
@@ -255,7 +256,7 @@ class ForecastService:
         except ValueError as exc:  # the ship-motion forecast cannot be made (e.g. too little history)
             reason = "; ".join([r for r in (request.degraded, f"no ship-motion forecast: {exc}") if r])
             results = [EndForecast(request.issued, end, request.horizon, math.nan, math.nan, math.nan, math.nan, 0,
-                                   request.source, True, reason) for end in ENDS]
+                                   request.source, True, reason) for end in END_NAMES]
         else:
             results = self._engine.run(request)
         self.last_wall = wallclock.perf_counter() - wall0

@@ -33,7 +33,7 @@ from tether_sim.config import SimConfig
 from tether_sim.errors import ConfigError
 from tether_sim.io.params import flatten, from_flat
 from tether_sim.physics.bodies import RigidBodyProperties
-from tether_sim.physics.boundary import EndCondition
+from tether_sim.physics.boundary import END_NAMES, EndCondition
 
 POINT_KINDS = ("fixed", "prescribed")
 FREE = "free"
@@ -163,7 +163,7 @@ def parse_network(tree: dict, where: str = "network") -> NetworkSpec:
         key = f"{where}.lines.{name}"
         ln = dict(_mapping(ln, key))
         ends = []
-        for ek, end in zip(END_KEYS, ("ship", "vehicle")):
+        for ek, end in zip(END_KEYS, END_NAMES):
             if ek not in ln:
                 raise ConfigError(f"{key}.{ek}: missing: the line end dangles (name a point, a body or {FREE!r})")
             target = ln.pop(ek)

@@ -40,6 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tether_sim.errors import ConfigError
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.spec import param
 
 MODES = ("speed", "length", "tension")
@@ -51,7 +52,7 @@ class WinchConfig:
     """Winch at one end of the tether (tether_sim/physics/winch.py; the length at the start is cable.length)."""
 
     enabled: bool = param(False, doc="the cable length changes during the run under this winch (solver API set_pay_out_rate)")
-    end: str = param("ship", doc="end the winch is at: ship (s = 0, the fairlead) or vehicle (s = L, a tether-management system)", choices=("ship", "vehicle"))
+    end: str = param("ship", doc="end the winch is at: ship (s = 0, the fairlead) or vehicle (s = L, a tether-management system)", choices=END_NAMES)
     mode: str = param("speed", doc="mode at the start: speed (setpoint m/s, > 0 pays out), length (setpoint m) or tension (setpoint N, drum side)", choices=MODES)
     setpoint: float = param(0.0, unit="m/s, m or N", doc="setpoint of winch.mode at the start (unit by mode)", min=-1e9, max=1e9)
     max_speed: float = param(2.0, unit="m/s", doc="largest pay-out or haul-in speed", min=0.0, max=100.0)

@@ -17,6 +17,7 @@ from std_msgs.msg import Header
 from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription
 
 from tether_sim.io.params import to_flat
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent
 from tether_sim.ros import cdr
 
@@ -70,7 +71,7 @@ def _point(p) -> Point:
 
 
 def _end_label(location: str) -> str:
-    return location if location in ("ship", "vehicle") else "span"
+    return location if location in END_NAMES else "span"
 
 
 def snap_event(ev, frame_id: str, degraded: bool = False, lag: float = 0.0) -> SnapLoadEvent:
@@ -156,7 +157,11 @@ def diagnostics(t: float, node_name: str, sim: dict, inputs: dict) -> Diagnostic
     prefix = node_name.lstrip("/")
     msg.status.append(_status(f"{prefix}: simulation", level, text, values, node_name))
     for end, h in inputs.items():
-        if h["stale"]:
+        if h["stale"] and not h["accepted"]:
+            rejected = sum(h["rejected"].values())
+            level, text = LEVEL_STALE, (f"no {end} pose accepted yet ({rejected} rejected): holding the "
+                                        "configured position")
+        elif h["stale"]:
             level, text = LEVEL_STALE, (f"no valid {end} pose for {h.get('since_accepted', h['age']):.3g} s "
                                         f"(newest accepted stamp {h['age']:.3g} s old)")
         elif h.get("rejected_recent"):
@@ -301,7 +306,7 @@ def tick_outputs(driver, arc_lengths, wanted=None, frame=None, shapes=True) -> l
                 tension_colours(state.tension, tension_scale(driver)))))
         if want("/tether/path"):
             out.append(("/tether/path", cdr.path(stamp, world, points)))
-    for end in ("ship", "vehicle"):
+    for end in END_NAMES:
         wrench_topic, pose_topic = f"/tether/{end}_wrench", f"/{end}/sim_pose"
         is_body = getattr(cfg, f"{end}_end").kind == "body"
         if not (want(wrench_topic) or (is_body and want(pose_topic))):

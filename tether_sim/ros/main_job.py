@@ -293,19 +293,19 @@ def _replay(root: Path, mcap: Path, args, group: ProcessGroup, node, record) -> 
 
 
 def print_findings(result: dict, static_expected, out: Path) -> None:
-    from tether_sim.report import ENDS
+    from tether_sim.physics.boundary import END_NAMES
 
     run, periods = result["run"], result["periods"]
     span = float(run.t[-1] - run.t[0])
     say(f"times below: {run.time_label}")
     say(f"recorded {len(run.t)} tether states over {span:.1f} s of simulated time "
         f"(solver {run.solver})")
-    for end in ENDS:
+    for end in END_NAMES:
         line = f"static tension, {end} end: {result['static'][end]:.0f} N (first recorded state)"
         if static_expected:
-            line += f"; solver equilibrium {static_expected[ENDS.index(end)]:.0f} N"
+            line += f"; solver equilibrium {static_expected[END_NAMES.index(end)]:.0f} N"
         say(line)
-    for end in ENDS:
+    for end in END_NAMES:
         spans = periods[end]
         total = sum(p["duration"] for p in spans)
         say(f"slack periods, {end} end: {len(spans)} (total {total:.2f} s)" +

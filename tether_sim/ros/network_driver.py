@@ -30,12 +30,11 @@ import numpy as np
 
 from tether_sim.network.solver import NetworkSolver
 from tether_sim.network.spec import NetworkSpec, PointSpec
-from tether_sim.physics.boundary import EndCondition
+from tether_sim.physics.boundary import END_NAMES, EndCondition
 from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapDetector, SnapEvent, snap_guard
 from tether_sim.ros.end_commands import Blend, blend_time
 from tether_sim.solvers.base import relative_end_speed
 
-ENDS = ("ship", "vehicle")
 SETTLE_TIME = 3.0  # s of simulated time a network with an unpolished DG line settles before its clock starts
 
 
@@ -151,13 +150,13 @@ class NetworkDriver:
         self.detectors = {}
         for name, solver in self.net.lines.items():
             if static or name not in self.static_tensions:
-                tension = [abs(self.net.end_load(name, e)[1]) for e in ENDS]
+                tension = [abs(self.net.end_load(name, e)[1]) for e in END_NAMES]
                 self.static_tensions[name] = [max(t, 1.0) for t in tension]
             L = float(self.spec.lines[name].config.cable.length)
-            self.detectors[name] = SnapDetector(self.spec.lines[name].config.snap, [f"{name}/{e}" for e in ENDS],
+            self.detectors[name] = SnapDetector(self.spec.lines[name].config.snap, [f"{name}/{e}" for e in END_NAMES],
                                                 self.static_tensions[name], [0.0, L],
                                                 line_snap_guard(self.spec, name, solver))
-            for e in ENDS:
+            for e in END_NAMES:
                 self.slack[f"{name}/{e}"] = False
 
     def _start_blends(self, target):

@@ -18,7 +18,7 @@ from tether_sim_msgs.msg import WinchState
 from tether_sim.numerics.rotations import quaternion_matrix
 from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent
 from tether_sim.ros import cdr, convert
-from tether_sim.ros.network_driver import ENDS
+from tether_sim.physics.boundary import END_NAMES
 
 
 def line_topics(line: str) -> dict:
@@ -48,12 +48,12 @@ def output_topics(spec, winch_lines=()) -> dict:
 
 def attachment(node, name):
     """Attachment of a driven point's frame (``node.<point>_attachment`` for ship / vehicle)."""
-    return getattr(node, f"{name}_attachment") if name in ENDS else (0.0, 0.0, 0.0)
+    return getattr(node, f"{name}_attachment") if name in END_NAMES else (0.0, 0.0, 0.0)
 
 
 def frame(node, name):
     """Body frame of a point or body: node.ship_frame / node.vehicle_frame, else <prefix><name>/base_link."""
-    return node.body_frame(name) if name in ENDS else f"{node.frame_prefix}{name}/base_link"
+    return node.body_frame(name) if name in END_NAMES else f"{node.frame_prefix}{name}/base_link"
 
 
 def point_wrench(driver, node, name, orientation=None):
@@ -152,7 +152,7 @@ def event_outputs(driver, node, line, events) -> list:
             out.append((f"/tether/{line}/snap_events", convert.snap_event(ev, node.world_frame, driver.degraded,
                                                                           driver.lag)))
         else:
-            static = driver.static_tensions[line][ENDS.index(end)]
+            static = driver.static_tensions[line][END_NAMES.index(end)]
             out.append((f"/tether/{line}/slack_warnings", convert.slack_warning(ev, node.world_frame, static)))
     return out
 

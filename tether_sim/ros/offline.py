@@ -34,7 +34,37 @@ from tether_sim.ros import cdr, convert, forecast_io, winch_io
 from tether_sim.ros import tf as tf_out
 from tether_sim.ros.driver import END_NAMES, MotionSource, SimulationDriver
 from tether_sim.solvers.factory import build_solver
+from tether_sim.solvers.work import estimate as work_estimate
 from tether_sim.stopping import SignalStop, interrupted_code
+
+# What an offline run costs besides the solver's substeps (solvers/work.py): each output tick (messages,
+# /tf, the snap detector, the MCAP write; for the hybrid solver also its Python per step and its state
+# profile, which the per-segment figure of work.py does not carry) and the start (the numba cache, the
+# static solve). Measured with tether-sim-offline on the 2-core reference machine, 2026-11-27, load 13-14
+# (CPU time of the process from the start of the solver to the file's close; commands in docs/node.md
+# "Offline runner"): start 1.0-1.24 s; DG 0.65-0.88 ms per tick (ropos_L200, ropos_L1730, 20 s);
+# hybrid 10.7-12.4 ms per tick all in (ropos_L1730_hybrid, ropos_L200_hybrid, 10 s).
+TICK_CPU = {"dg": 0.8e-3, "hybrid": 9e-3}  # CPU s per output tick
+START_CPU = 1.1  # CPU s
+
+
+def run_estimate(config, duration: float) -> tuple:
+    """(CPU seconds, one line) that an offline run of ``duration`` simulated seconds is expected to
+    take on the reference machine, before it starts: the solver's load-time work estimate
+    (solvers/work.py, at the configured cable length) plus the outputs' and the start's share."""
+    work = work_estimate(config)
+    n_ticks = max(1, int(round(duration * config.node.output_rate)))
+    solver, outputs = work.cpu * duration, n_ticks * TICK_CPU.get(config.solver, TICK_CPU["dg"])
+    total = START_CPU + solver + outputs
+    return total, (f"{duration:.6g} s simulated, {n_ticks} output ticks: expected to take about {_span(total)} of "
+                   f"CPU on an idle core (solver ~{_span(solver)}, outputs ~{_span(outputs)}; the solver's "
+                   f"substep {work.substep:.3g} s at the configured cable length); longer on a busy machine")
+
+
+def _span(seconds: float) -> str:
+    if seconds < 120.0:
+        return f"{seconds:.2g} s"
+    return f"{seconds / 60.0:.2g} min" if seconds < 7200.0 else f"{seconds / 3600.0:.2g} h"
 
 
 class RecordedPoses:
@@ -119,12 +149,13 @@ class _NoMcap:
 
 
 def run_offline(config, output, *, duration=None, input_path=None, topics=None, progress=True,
-                solver_factory=build_solver, stop=None) -> dict:
+                solver_factory=build_solver, stop=None, announce=None) -> dict:
     """Simulate and write every output topic to ``output`` (MCAP; ``None``: serialize, write no file).
 
     ``stop``: a :class:`tether_sim.stopping.SignalStop`; it is made graceful once the solver has
     started (the file opens then), and a stop request ends the run after the current tick with the
     file closed as at a normal end (``interrupted`` in the summary: the signal's name).
+    ``announce``: called with one line (:func:`run_estimate`) before the run starts.
     Returns a summary dict; ``events`` holds the detector's SlackStarted / SnapEvent objects."""
     from tether_sim.io.mcap_log import RosMcapWriter
 
@@ -142,7 +173,11 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
         forecaster = ForecastService(config, solver_factory=solver_factory)
     rate = config.node.output_rate
     n_ticks = max(1, int(round(duration * rate)))
-    wall0 = wallclock.perf_counter()
+    expected = math.nan
+    if announce is not None:
+        expected, line = run_estimate(config, duration)
+        announce(line)
+    wall0, cpu0 = wallclock.perf_counter(), wallclock.process_time()
     driver.start(t0)  # (the numba compile and the static solve: before the file exists, so a signal stops at once)
     if stop is not None:
         stop.graceful = True  # from here on a signal only asks the loop below to end and close the file
@@ -169,11 +204,12 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
                 run.write_diagnostics(now, report, sources, forecaster)
             done = k
         run.flush()
-    wall = wallclock.perf_counter() - wall0
+    wall, cpu = wallclock.perf_counter() - wall0, wallclock.process_time() - cpu0
     interrupted = stop.name if stop is not None and stop.requested and done < n_ticks else ""
     simulated = done / rate if interrupted else duration
     return {"output": str(output) if output is not None else None, "duration": simulated, "ticks": done,
-            "planned_duration": duration, "interrupted": interrupted, "wall_time": wall,
+            "planned_duration": duration, "interrupted": interrupted, "wall_time": wall, "cpu_time": cpu,
+            "expected_cpu": expected,
             "speed": simulated / wall if wall > 0 else math.inf,
             "messages": getattr(writer, "message_count", None), "static_tensions": driver.static_tensions,
             "snap_peaks": run.peaks, "events": run.events, "forecasts": run.forecasts, **run.counts,
@@ -368,8 +404,10 @@ def main(argv=None) -> int:
         print(f"tether-sim-offline: stopped by {s['interrupted']} at {s['duration']:.6g} s of "
               f"{s['planned_duration']:.6g} s simulated ({s['ticks']} ticks); the file is complete up to there "
               "and closed", file=sys.stderr)
+    took = f"{s['cpu_time']:.3g} s of CPU" + (f", {s['expected_cpu']:.2g} s expected" if math.isfinite(
+        s.get("expected_cpu", math.nan)) else "")
     print(f"wrote {s['output']}: {s['duration']:.3g} s simulated in {s['wall_time']:.3g} s "
-          f"({s['speed']:.3g} x real time); static tensions ship {s['static_tensions'][0]:.1f} N, "
+          f"({s['speed']:.3g} x real time; {took}); static tensions ship {s['static_tensions'][0]:.1f} N, "
           f"vehicle {s['static_tensions'][1]:.1f} N; {s['slack_warnings']} slack warnings, "
           f"{s['snap_events']} snap events, {s['divergences']} solver divergences (recovered)"
           + (f", {s['numerical_snaps']} re-tensioning peak(s) rejected by the snap guard as numerical (not snaps)"
@@ -405,7 +443,8 @@ def _run_main(args, stop) -> dict:
         return dict(summary, network=True)
     return run_offline(config, args.output, duration=args.duration, input_path=args.input,
                        topics={"ship": args.ship_topic, "vehicle": args.vehicle_topic},
-                       progress=not args.no_progress, stop=stop)
+                       progress=not args.no_progress, stop=stop,
+                       announce=lambda line: print(f"tether-sim-offline: {line}", file=sys.stderr, flush=True))
 
 
 if __name__ == "__main__":

@@ -52,6 +52,8 @@ _TYPES = {"TetherState": TetherState, "Marker": Marker, "Path": Path, "WrenchSta
           "DiagnosticArray": DiagnosticArray, "PoseStamped": PoseStamped}
 WARN_PERIOD = 2.0  # s between repeated warnings of one kind
 REJECT_SUMMARY_PERIOD = 10.0  # s between the counts of repeatedly rejected inputs of one kind
+STALE_LOG_MAX = 60.0  # s: a stale input is logged at once, then after 2, 4, 8 ... s, at most this far apart
+_monotonic = time.monotonic  # the clock of the stale-input back-off (a test sets its own)
 
 
 class TetherSimNode(Node):
@@ -72,6 +74,7 @@ class TetherSimNode(Node):
         self.inputs = {}
         self._last_log = {}  # key -> time.monotonic() of the last throttled log line
         self._rejected_unlogged = {}  # ("rejected", end, what) -> rejections since its last log line
+        self._backoff = {}  # key -> (monotonic time of its last log line, gap to the next one)
         for end in END_NAMES:
             if getattr(self.config, f"{end}_end").kind == "prescribed" and not self._ship_from_sea(end):
                 self._add_pose_input(end, getattr(node, f"{end}_attachment"))
@@ -203,6 +206,20 @@ class TetherSimNode(Node):
         else:
             self.get_logger().warning(text)
 
+    def _log_backoff(self, key, text):
+        """Log ``text`` (a warning) at once, then again after WARN_PERIOD, 2 WARN_PERIOD, 4 WARN_PERIOD ...
+        s, at most STALE_LOG_MAX s apart, while the condition lasts (its caller drops ``key`` from
+        ``_backoff`` when it ends: the next episode is logged at once). /diagnostics reports the
+        condition every period meanwhile."""
+        t = _monotonic()
+        last, gap = self._backoff.get(key, (None, 0.0))
+        if last is not None and t - last < gap:
+            return
+        gap = WARN_PERIOD if last is None else min(2.0 * gap, STALE_LOG_MAX)
+        self._backoff[key] = (t, gap)
+        self.get_logger().warning(f"{text} (next reminder in {gap:g} s, then at doubling intervals up to "
+                                  f"{STALE_LOG_MAX:g} s; /diagnostics reports the input every second)")
+
     def _reject(self, end, what, reason):
         """Count a rejected input; the first of a kind is logged at once with its reason, repeats
         once per REJECT_SUMMARY_PERIOD as a count (a stream of wrong poses is one line, not 50 a second)."""
@@ -326,7 +343,9 @@ class TetherSimNode(Node):
                     else f"no {end} pose accepted yet"
                 if rejected:
                     text += f"; {rejected} rejected so far (see the rejection warnings)"
-                self._log_throttled(("stale", end), "warning", f"{text}: holding/extrapolating")
+                self._log_backoff(("stale", end), f"{text}: holding/extrapolating")
+            else:
+                self._backoff.pop(("stale", end), None)
         for ev in report.events:
             if isinstance(ev, NumericalSnapWarning):
                 self._period["numerical"] += 1

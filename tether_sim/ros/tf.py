@@ -41,7 +41,6 @@ except ImportError:  # no tf2_msgs: neither a ROS 2 install nor msg_defs/tf2_msg
 TF_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)  # as tf2_ros' broadcaster
 TF_STATIC_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                            durability=DurabilityPolicy.TRANSIENT_LOCAL)
-ENDS = END_NAMES
 _7D = struct.Struct("<7d")
 
 
@@ -96,7 +95,7 @@ def static_transforms(config, stamp: float) -> list:
     """Body frame -> attachment frame of both ends."""
     node = config.node
     return [transform(stamp, node.body_frame(end), node.attachment_frame(end), end_offset(config, end))
-            for end in ENDS]
+            for end in END_NAMES]
 
 
 def body_poses(driver, include_prescribed: bool = True, frame=None) -> list:
@@ -105,7 +104,7 @@ def body_poses(driver, include_prescribed: bool = True, frame=None) -> list:
     cfg = driver.config
     frame = convert.OutputFrame(driver) if frame is None else frame
     out, attach = [], None
-    for end in ENDS:
+    for end in END_NAMES:
         kind = getattr(cfg, f"{end}_end").kind
         if kind == "prescribed" and not include_prescribed:
             continue

@@ -13,6 +13,7 @@ import numpy as np
 
 from tether_sim.io.params import load_config
 from tether_sim.physics.bodies import submerged_weight
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.motion import build_motion
 from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapDetector, SnapEvent, snap_guard
 from tether_sim.solvers.base import relative_end_speed
@@ -132,7 +133,7 @@ def run_case(config, output_rate=200.0, sample_rate=1000.0, keep_raw=False, t_en
     motion = build_motion(config.motion, ship_origin)
     h = getattr(solver, "h", None)
     element = float(np.min(h)) if h is not None else config.cable.length / max(int(config.hybrid.n_segments), 1)
-    detector = SnapDetector(config.snap, ["ship", "vehicle"], list(static), [0.0, config.cable.length],
+    detector = SnapDetector(config.snap, list(END_NAMES), list(static), [0.0, config.cable.length],
                             snap_guard(config, element))
     solver.drain_end_tensions()
     t_end = config.duration if t_end is None else t_end

@@ -14,6 +14,7 @@ import numpy as np
 
 from tether_sim.numerics.jit import jit_alloc
 from tether_sim.physics.bodies import submerged_weight
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.motion import build_motion
 from tether_sim.physics.snap import SnapDetector
 
@@ -90,7 +91,7 @@ def run_axial(config, n_elements=50, output_rate=100.0, t_end=None):
               drag_node, drag_cage, out_ship, out_cage, out_acc)
     t = dt * np.arange(1, k * n_sub + 1)
     static = (w_cage + w_node * (n - 0.5), w_cage + 0.5 * w_node)  # mid-element tensions of the end elements
-    detector = SnapDetector(config.snap, ["ship", "vehicle"], list(static), [0.5 * ds, L - 0.5 * ds])
+    detector = SnapDetector(config.snap, list(END_NAMES), list(static), [0.5 * ds, L - 0.5 * ds])
     events = detector.update(t, np.c_[out_ship, out_cage]) + detector.flush()
     return {"t": t, "ship_tension": out_ship, "vehicle_tension": out_cage, "t_out": t_out[1:],
             "cage_acceleration": out_acc, "static": static, "events": events, "dt": dt}

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.scenarios.ropos import (
     ALPHAS,
     FREQUENCIES,
@@ -237,7 +238,7 @@ def redetect(r, config=None):
     from tether_sim.physics.snap import SnapDetector
 
     cfg = config or ropos_config(r.length, r.alpha, r.frequency)
-    det = SnapDetector(cfg.snap, ["ship", "vehicle"], list(r.static), [0.0, r.length])
+    det = SnapDetector(cfg.snap, list(END_NAMES), list(r.static), [0.0, r.length])
     r.events = det.update(r.t, np.c_[r.ship_tension, r.vehicle_tension]) + det.flush() if r.t.size else []
     return r
 

@@ -235,11 +235,14 @@ FINE_MESH_SPACING = 2.5  # m
 
 def bending_mesh_warning(length, n_elements, order, EI, element_lengths=(), damping="explicit") -> str:
     """A warning (one line) when bending is on or dg.damping is implicit and the DG node spacing min(h) / P
-    is below FINE_MESH_SPACING, else "". A caution drawn from measured cases, not a proven bound."""
+    is below FINE_MESH_SPACING, else "". ``element_lengths``: dg.element_lengths, relative weights scaled to
+    ``length``. A caution drawn from measured cases, not a proven bound."""
     implicit = damping == "implicit"
     if not (EI > 0.0 or implicit):
         return ""
-    h = min(element_lengths) if len(element_lengths) else float(length) / int(n_elements)
+    from tether_sim.solvers.work import mesh_sizes
+
+    h = float(min(mesh_sizes(length, n_elements, element_lengths)))  # dg.element_lengths are weights
     spacing = h / max(int(order), 1)
     if spacing >= FINE_MESH_SPACING:
         return ""

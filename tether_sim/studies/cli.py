@@ -8,7 +8,9 @@ Results go to ``out/studies/<study name>/`` unless ``--out`` says otherwise (doc
 """
 
 import argparse
+import os
 import sys
+from pathlib import Path
 
 from tether_sim.errors import ConfigError
 from tether_sim.stopping import SignalStop, interrupted_code
@@ -42,19 +44,27 @@ def _report_parser():
 
 
 def _list(args):
-    from tether_sim.studies.runner import default_out, plan
+    """Each case as it is resolved (the first line at once, whatever the study's size), then the counts."""
+    from tether_sim.studies.runner import default_out, plan_lazy
     from tether_sim.studies.spec import load_study
 
     study = load_study(args.study)
     out = args.out or default_out(study)
-    tasks, invalid, skipped, duplicates = plan(study, out, args.retry_failed, stream=sys.stderr)
-    pending = {t["index"] for t in tasks}
-    bad = {r["row"]["index"] for r in invalid}
-    for case in study.cases():
-        state = "to run" if case.index in pending else "invalid" if case.index in bad else "done/duplicate"
-        values = ", ".join(f"{k}={v}" for k, v in case.variables.items())
-        print(f"{case.index:5d}  {state:14s}  {case.base.name}  {values}")
-    print(f"{len(tasks)} to run, {skipped} already in {out}, {len(invalid)} invalid, {len(duplicates)} duplicate")
+    states = {"task": "to run", "invalid": "invalid", "skipped": "done", "duplicate": "duplicate"}
+    counts = dict.fromkeys(states, 0)
+    try:
+        for kind, index, item, variables in plan_lazy(study, out, args.retry_failed):
+            counts[kind] += 1
+            try:
+                base = Path(study.base.format(**variables)).name
+            except (ValueError, TypeError, KeyError, IndexError, AttributeError):
+                base = "?"
+            values = ", ".join(f"{k}={v}" for k, v in variables.items())
+            print(f"{index:5d}  {states[kind]:14s}  {base}  {values}", flush=index < 100)
+        print(f"{counts['task']} to run, {counts['skipped']} already in {out}, {counts['invalid']} invalid, "
+              f"{counts['duplicate']} duplicate")
+    except BrokenPipeError:  # the reader has gone (--list | head): stop quietly
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
     return 0
 
 

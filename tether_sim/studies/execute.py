@@ -24,6 +24,8 @@ from concurrent.futures.process import BrokenProcessPool
 
 from tether_sim.studies.case import run_task
 
+SUBMIT_AHEAD = 4  # cases submitted per worker ahead of the finished ones (the rest resolved as they are needed)
+
 
 class Progress:
     """Cases done / failed, throughput and time left, on one terminal line (or a line per update)."""
@@ -109,21 +111,32 @@ def stopped_tasks(futures: dict, stop) -> dict:
 
 
 def run_local(tasks, on_result, workers=None, tick=None, stop=None):
-    """Run ``tasks`` on ``workers`` local processes (default: every core); ``tick()`` is called
-    every few seconds while they run (progress heartbeat). ``stop``: a
-    :class:`tether_sim.stopping.SignalStop`; on a stop request the cases not started are cancelled,
-    the workers are ended (their cases in flight are not in the results and run again on the next
-    start) and the function returns :func:`stopped_tasks`' account (None when every case ran)."""
-    workers = max(1, min(workers or os.cpu_count() or 1, len(tasks) or 1))
-    pending = list(tasks)
+    """Run ``tasks`` (an iterable: taken as workers free up, so a lazily resolved study starts at
+    once) on ``workers`` local processes (default: every core); ``tick()`` is called every few
+    seconds while they run (progress heartbeat). ``stop``: a :class:`tether_sim.stopping.SignalStop`;
+    on a stop request the cases submitted but not started are cancelled, the workers are ended (their
+    cases in flight are not in the results and run again on the next start) and the function returns
+    :func:`stopped_tasks`' account (None when every case ran)."""
+    workers = max(1, workers or os.cpu_count() or 1)
+    if isinstance(tasks, (list, tuple)):
+        workers = min(workers, len(tasks) or 1)
+    source, retry = iter(tasks), []
     breakages = {}
     context = multiprocessing.get_context("spawn")  # a clean interpreter per worker (numba, DDS libraries)
-    while pending:
+    more = True
+    while more or retry:
         with ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=_worker_ignores_sigint) as pool:
-            futures = {pool.submit(run_task, t): t for t in pending}
-            pending = []
+            futures = {}
             broken = False
-            while futures:
+            while True:
+                while not broken and len(futures) < SUBMIT_AHEAD * workers and (retry or more):
+                    task = retry.pop(0) if retry else next(source, None)
+                    if task is None:
+                        more = False
+                        break
+                    futures[pool.submit(run_task, task)] = task
+                if not futures:
+                    break
                 finished, _ = wait(futures, timeout=0.5 if stop is not None else 5.0, return_when=FIRST_COMPLETED)
                 if tick is not None:
                     tick()
@@ -147,9 +160,12 @@ def run_local(tasks, on_result, workers=None, tick=None, stop=None):
                             on_result(failed_result(task, "a worker process died twice while this case was running "
                                                           "(BrokenProcessPool; out of memory or a crash in compiled code?)"))
                         else:
-                            pending.append(task)
+                            retry.append(task)
+                if broken and not futures:
+                    break
             if broken:
-                print(f"[study] a worker process died; {len(pending)} case(s) run again on a new pool", file=sys.stderr)
+                print(f"[study] a worker process died; {len(retry)} case(s) run again on a new pool", file=sys.stderr)
+    return None
 
 
 def run_dask(tasks, on_result, scheduler, tick=None, stop=None):
@@ -162,8 +178,17 @@ def run_dask(tasks, on_result, scheduler, tick=None, stop=None):
         link = client.dashboard_link
         print(f"[study] Dask scheduler {client.scheduler.address}, {len(client.scheduler_info()['workers'])} "
               f"worker(s); dashboard: {link}", file=sys.stderr)
-        futures = {client.submit(run_task, t, key=f"case-{t['index']:05d}-{t['key']}", pure=False): t for t in tasks}
-        while futures:
+        source, futures, more = iter(tasks), {}, True
+        ahead = SUBMIT_AHEAD * max(1, len(client.scheduler_info()["workers"]))
+        while True:
+            while more and len(futures) < ahead:  # (taken as the cluster frees up: a lazy study starts at once)
+                t = next(source, None)
+                if t is None:
+                    more = False
+                    break
+                futures[client.submit(run_task, t, key=f"case-{t['index']:05d}-{t['key']}", pure=False)] = t
+            if not futures:
+                break
             if stop is not None and stop.requested:
                 in_flight = _dask_in_flight(client, futures)
                 account = {"in_flight": in_flight, "signal": stop.name,

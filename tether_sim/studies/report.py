@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tether_sim.studies.results import read_results
+from tether_sim.studies.results import column_unit, read_results, read_units
 from tether_sim.studies.stats import DNV_SLACK_FRACTION
 
 # resolved quantities (case.py) that can be axes, in order of preference, with their axis labels
@@ -66,22 +66,22 @@ def _expresses(rows, a, b) -> bool:
     return len(pairs) == len({x for x, _ in pairs}) == len({y for _, y in pairs})
 
 
-def _unit_label(column):
-    """Axis label of a study variable: its name, with the unit when it names a parameter."""
-    from tether_sim.io.schema import key_map
+def _unit_label(column, units=None):
+    """Axis label of a study variable: its name, with its unit (that of the parameter it names, or
+    the one the results table carries for the study's own variables; "-" for a ratio)."""
+    unit = column_unit(column, units)
+    return f"{column[4:]} ({'-' if unit == '1' else unit})" if unit else column[4:]
 
-    key = key_map().get(column[4:])
-    return f"{column[4:]} ({key.unit})" if key is not None and key.unit else column[4:]
 
-
-def study_axes(rows) -> list:
-    """[(column, label)] of what the study varies, preferred axes first (module docstring)."""
+def study_axes(rows, units=None) -> list:
+    """[(column, label)] of what the study varies, preferred axes first (module docstring); ``units``:
+    column -> unit of the results table (:func:`read_units`)."""
     numeric = [c for c in rows[0] if all(isinstance(r.get(c), (int, float)) and not isinstance(r.get(c), bool)
                                          and math.isfinite(r.get(c)) for r in rows)] if rows else []
     axes = [(c, AXES[c]) for c in AXES if c in numeric and len({_key(r[c]) for r in rows}) > 1]
     for c in _varied(rows):
         if c != SEED and c in numeric and not any(_expresses(rows, c, a) for a, _ in axes):
-            axes.append((c, _unit_label(c)))
+            axes.append((c, _unit_label(c, units)))
     return axes
 
 
@@ -262,7 +262,8 @@ def write_report(results, out=None) -> Path:
     text = [f"# Study {name}: snap-load summary", "",
             f"{len(rows)} cases in the results: {len(ok)} ok, {len(failed)} failed.", ""]
     if ok:
-        axes = study_axes(ok)
+        units = read_units(results)
+        axes = study_axes(ok, units)
         figures = []
         if len(axes) >= 2:
             heatmap(ok, axes, out / "peak_tension_heatmap.png")
@@ -283,7 +284,7 @@ def write_report(results, out=None) -> Path:
             "vehicle_n_slack", "vehicle_n_snap", lambda r: r["vehicle_snap_peak_N"] / 1e3, "vehicle_snap_daf",
             "vehicle_slack_max_s", "vehicle_rise_time_s", "vehicle_dnv_slack_ok", "ship_dnv_slack_ok",
             lambda r: (r.get("ship_n_numerical") or 0) + (r.get("vehicle_n_numerical") or 0), "rtf"]
-        names = ["case"] + [c[4:] for c in varied] + [
+        names = ["case"] + [_unit_label(c, units) for c in varied] + [
             "ship T_max kN", "cage T_max kN", "cage DAF", "cage slack", "cage snaps", "cage snap peak kN",
             "snap DAF", "longest slack s", "rise time s", "DNV ok cage", "DNV ok ship", "numerical warnings", "RT factor"]
         cpu_h = sum(r["cpu_s"] for r in ok) / 3600.0

@@ -27,8 +27,9 @@ TABLE = "results.parquet"
 class ResultStore:
     """Append finished cases; read back what is done; write the tables."""
 
-    def __init__(self, out_dir):
+    def __init__(self, out_dir, units=None):
         self.dir = Path(out_dir)
+        self.units = dict(units or {})  # column -> unit of the study's own variables (Study.column_units)
         self.journal = self.dir / "cases.jsonl"
         self.events_journal = self.dir / "events.jsonl"
 
@@ -60,14 +61,14 @@ class ResultStore:
         """results.parquet / results.csv (and events.parquet) from the journal; returns the Parquet path."""
         self.dir.mkdir(parents=True, exist_ok=True)
         rows = sorted(self.load().values(), key=lambda r: (r.get("index", 0), r["key"]))
-        table = to_table(rows)
+        table = to_table(rows, self.units)
         _atomic(self.dir / TABLE, lambda p: pq.write_table(table, p))
         _atomic(self.dir / "results.csv", lambda p: pacsv.write_csv(_csv_ready(table), p))
         if self.events_journal.is_file():
             keys = {r["key"] for r in rows}
             events = [json.loads(x) for x in self.events_journal.read_text().splitlines() if x.strip()]
             events = _last_run_events(events, keys)
-            _atomic(self.dir / "events.parquet", lambda p: pq.write_table(to_table(events), p))
+            _atomic(self.dir / "events.parquet", lambda p: pq.write_table(to_table(events, self.units), p))
         return self.dir / TABLE
 
 
@@ -102,15 +103,16 @@ UNIT_SUFFIXES = (("_Nm2", "N m^2"), ("_Hz", "Hz"), ("_N", "N"), ("_m", "m"), ("_
 DIMENSIONLESS = {"daf", "rtf", "dg_cfl"}  # ratios: unit "1"
 
 
-def column_unit(name: str):
+def column_unit(name: str, units=None):
     """The unit of a result column ("1" for a ratio), or None (identity, counts, text, a study
-    variable that names no parameter). A study variable (``var.<name>``) that names a parameter
-    has that parameter's unit."""
+    variable without one). A study variable (``var.<name>``) that names a parameter has that
+    parameter's unit; the study's own variables have the unit ``units`` (column -> unit, from
+    Study.column_units) gives them."""
     if name.startswith("var."):
         from tether_sim.io.schema import key_map
 
         key = key_map().get(name[4:])
-        return key.unit or None if key is not None else None
+        return (key.unit or None) if key is not None else (units or {}).get(name)
     if name in DIMENSIONLESS or name.endswith("_daf"):
         return "1"
     for suffix, unit in UNIT_SUFFIXES:
@@ -119,9 +121,10 @@ def column_unit(name: str):
     return None
 
 
-def to_table(rows: list) -> pa.Table:
+def to_table(rows: list, units=None) -> pa.Table:
     """Rows (dicts, maybe with different columns) -> a table with the union of the columns; each
-    column with a unit carries it as Parquet field metadata ``unit`` (:func:`column_unit`)."""
+    column with a unit carries it as Parquet field metadata ``unit`` (:func:`column_unit`; ``units``:
+    those of the study's own variables)."""
     columns = []
     for r in rows:
         columns.extend(k for k in r if k not in columns)
@@ -137,7 +140,7 @@ def to_table(rows: list) -> pa.Table:
         return pa.table({})
     fields = []
     for c, a in arrays.items():
-        unit = column_unit(c)
+        unit = column_unit(c, units)
         fields.append(pa.field(c, a.type, metadata={"unit": unit} if unit else None))
     return pa.Table.from_arrays(list(arrays.values()), schema=pa.schema(fields))
 
@@ -150,6 +153,14 @@ def _csv_ready(table):
             col = pa.array([None if v is None else json.dumps(v) for v in col.to_pylist()], pa.string())
         cols[name] = col
     return pa.table(cols)
+
+
+def read_units(path) -> dict:
+    """column -> unit of a results folder or Parquet file (the field metadata ``unit``)."""
+    path = Path(path)
+    if path.is_dir():
+        path = path / TABLE
+    return {f.name: f.metadata[b"unit"].decode() for f in pq.read_schema(path) if f.metadata and b"unit" in f.metadata}
 
 
 def read_results(path) -> list:

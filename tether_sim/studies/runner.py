@@ -23,38 +23,60 @@ def default_out(study) -> Path:
 
 
 def plan(study, out_dir, retry_failed=False, stream=None):
-    """(tasks to run, invalid cases as failed results, number skipped, duplicates) for a study.
-    Resolving takes about a millisecond a case: a progress line goes to ``stream`` every few seconds."""
-    code = code_version()
-    done = ResultStore(out_dir).load()
-    tasks, invalid, seen, duplicates, skipped = [], [], {}, [], 0
-    base_files = {}
-    cases = study.cases()
+    """(tasks to run, invalid cases as failed results, number skipped, duplicates) for a study: every
+    case resolved (:func:`plan_lazy` all the way). Resolving takes about a millisecond a case: a progress
+    line goes to ``stream`` every few seconds."""
+    tasks, invalid, duplicates, skipped = [], [], [], 0
     t0 = last = time.monotonic()
-    for case in cases:
+    n = study.n_cases()
+    for kind, index, item, _ in plan_lazy(study, out_dir, retry_failed):
         if stream is not None and time.monotonic() - last > RESOLVE_PROGRESS_S:
             last = time.monotonic()
-            print(f"[study] resolving the cases: {case.index}/{len(cases)} in {last - t0:.0f} s", file=stream,
-                  flush=True)
+            print(f"[study] resolving the cases: {index}/{n} in {last - t0:.0f} s", file=stream, flush=True)
+        if kind == "task":
+            tasks.append(item)
+        elif kind == "invalid":
+            invalid.append(item)
+        elif kind == "duplicate":
+            duplicates.append((index, item))
+        else:
+            skipped += 1
+    return tasks, invalid, skipped, duplicates
+
+
+def plan_lazy(study, out_dir, retry_failed=False, indices=None):
+    """The cases of a study resolved one at a time, in order (only those in ``indices``, if given):
+    yields (kind, case index, item, variables) with kind "task" (item: the task to run), "invalid" (a case the
+    parameter loader or its ``set`` expression rejects: a failed result to record, not yet in the
+    results), "skipped" (done already, or an invalid case already recorded) or "duplicate" (item: the
+    index of the case it resolves like). The first case is ready at once, whatever the study's size."""
+    code = code_version()
+    done = ResultStore(out_dir).load()
+    seen, base_files = {}, {}
+    for index, variables in study.iter_variables():
+        if indices is not None and index not in indices:
+            continue
+        case = None
         try:
+            case = study.case(index, variables)
             task = make_task(case, study, code, out_dir, base_files)
-        except ConfigError as exc:  # a case the parameter loader rejects: a failed row, not the end
-            text = json.dumps([str(case.base), case.overrides, code["source_hash"]], sort_keys=True, default=repr)
-            task = {"key": "invalid-" + hashlib.sha256(text.encode()).hexdigest()[:12], "index": case.index,
-                    "study": study.name, "variables": dict(case.variables)}
-            invalid.append(failed_result(task, f"ConfigError: {exc}"))
+        except ConfigError as exc:  # a case the loader rejects (StudyError: its expression): a failed row
+            ident = [str(case.base), case.overrides] if case is not None else [study.base, repr(variables)]
+            text = json.dumps([*ident, code["source_hash"]], sort_keys=True, default=repr)
+            task = {"key": "invalid-" + hashlib.sha256(text.encode()).hexdigest()[:12], "index": index,
+                    "study": study.name, "variables": dict(variables)}
+            result = failed_result(task, f"{type(exc).__name__}: {exc}")
+            yield ("skipped", index, None, variables) if task["key"] in done else ("invalid", index, result, variables)
             continue
         if task["key"] in seen:
-            duplicates.append((case.index, seen[task["key"]]))
+            yield "duplicate", index, seen[task["key"]], variables
             continue
-        seen[task["key"]] = case.index
+        seen[task["key"]] = index
         previous = done.get(task["key"])
         if previous is not None and (previous.get("status") == "ok" or not retry_failed):
-            skipped += 1
+            yield "skipped", index, None, variables
             continue
-        tasks.append(task)
-    new = [r for r in invalid if r["row"]["key"] not in done]
-    return tasks, new, skipped + len(invalid) - len(new), duplicates
+        yield "task", index, task, variables
 
 
 def parse_indices(text) -> set:
@@ -85,17 +107,13 @@ def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=
     out_dir = Path(out_dir) if out_dir else default_out(study)
     out_dir.mkdir(parents=True, exist_ok=True)
     shutil.copyfile(study.path, out_dir / "study.yaml")
-    tasks, invalid, skipped, duplicates = plan(study, out_dir, retry_failed, stream=stream)
-    for index, first in duplicates:
-        print(f"[study] case {index} resolves to the same configuration as case {first}: run once", file=stream)
-    if cases is not None:
-        tasks = [t for t in tasks if t["index"] in cases]
-        invalid = [r for r in invalid if r["row"]["index"] in cases]
+    selected = study.n_cases() if cases is None else len({i for i in cases if 0 <= i < study.n_cases()})
     if limit is not None:
-        tasks = tasks[:max(0, int(limit))]
-    store = ResultStore(out_dir)
-    progress = Progress(len(tasks) + len(invalid), skipped, stream=stream)
+        selected = min(selected, max(0, int(limit)))
+    store = ResultStore(out_dir, units=study.column_units())
+    progress = Progress(selected, 0, stream=stream)  # the total shrinks as cases turn out done or duplicate
     last_table = [time.monotonic()]
+    counts = {"skipped": 0, "tasks": 0, "exhausted": False}
 
     def on_result(result):
         store.append(result)
@@ -104,34 +122,56 @@ def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=
             store.write_tables()
             last_table[0] = time.monotonic()
 
+    def tasks():
+        """The tasks to run, resolved as the workers ask for them; invalid cases recorded on the way."""
+        for kind, index, item, _ in plan_lazy(study, out_dir, retry_failed, cases):
+            if limit is not None and counts["tasks"] >= limit:
+                break
+            if kind == "task":
+                counts["tasks"] += 1
+                yield item
+            elif kind == "invalid":
+                progress.instant += 1
+                on_result(item)
+            else:
+                progress.total -= 1
+                if kind == "skipped":
+                    counts["skipped"] += 1
+                    progress.skipped += 1
+                else:
+                    print(f"[study] case {index} resolves to the same configuration as case {item}: run once",
+                          file=stream)
+        counts["exhausted"] = True
+        progress.total = progress.instant + counts["tasks"]  # now known: the invalid cases and the tasks
+
     if stop is not None:
         stop.graceful = True  # from here on results are written: a signal asks for a clean stop
-    for result in invalid:
-        on_result(result)
-    progress.instant = len(invalid)
     progress.update(None, force=True)
     account = None
-    if tasks:
-        if scheduler is None:
-            account = run_local(tasks, on_result, workers, tick=progress.tick, stop=stop)
-        else:
-            cluster = _cluster(scheduler, workers)
-            try:
-                account = run_dask(tasks, on_result, cluster, tick=progress.tick, stop=stop)
-            finally:
-                if cluster is not scheduler:
-                    cluster.close()
+    source = tasks()
+    if scheduler is None:
+        account = run_local(source, on_result, workers, tick=progress.tick, stop=stop)
+    else:
+        cluster = _cluster(scheduler, workers)
+        try:
+            account = run_dask(source, on_result, cluster, tick=progress.tick, stop=stop)
+        finally:
+            if cluster is not scheduler:
+                cluster.close()
     progress.close()
     table = store.write_tables()
     summary = {"out": str(out_dir), "table": str(table), "ran": progress.done + progress.failed,
-               "ok": progress.done, "failed": progress.failed, "skipped": skipped, "interrupted": "",
+               "ok": progress.done, "failed": progress.failed, "skipped": counts["skipped"], "interrupted": "",
                "in_flight": 0, "not_started": 0}
     if account is not None:
         for task in account["in_flight"] + account["not_started"]:  # not in the results: no file of theirs
             if task.get("mcap"):  # either (a case cut short leaves an MCAP without its summary)
                 Path(task["mcap"]).unlink(missing_ok=True)
+        # not started: those cancelled, and (not resolved yet) the selected cases still to come
+        later = 0 if counts["exhausted"] else max(0, progress.total - progress.done - progress.failed
+                                                  - len(account["in_flight"]) - len(account["not_started"]))
         summary.update(interrupted=account["signal"], in_flight=len(account["in_flight"]),
-                       not_started=len(account["not_started"]))
+                       not_started=len(account["not_started"]) + later)
     return summary
 
 

@@ -12,10 +12,13 @@ A study file is YAML (documented with examples in docs/studies.md)::
     set:                              # every case: a value, or "= expression" of the variables
       motion.frequency: "= f"
       duration: "= 12 / f"
+    units: {L: m, alpha: "1"}         # units of the study's own variables (f: Hz, from motion.frequency)
     keep: {mcap: false, events: true}
 
 A variable whose name is a parameter key (``motion.amplitude``, ``duration``) sets that parameter;
 other names are study variables, used in ``base`` and in ``set`` expressions, and kept as columns.
+A study variable's unit is the one ``units`` gives it, or else that of the parameter it is set to
+as it is (``motion.frequency: "= f"`` gives ``f`` Hz); the results table carries it (``var.f``).
 """
 
 import itertools
@@ -31,13 +34,14 @@ from tether_sim.errors import ConfigError
 from tether_sim.io.schema import key_map
 from tether_sim.studies.expressions import ExpressionError, evaluate, names_in
 
-TOP_KEYS = ("name", "description", "base", "vary", "seeds", "set", "keep")
+TOP_KEYS = ("name", "description", "base", "vary", "seeds", "set", "units", "keep")
 BLOCK_KINDS = ("grid", "zip", "random", "lhs")
 KEEP_DEFAULTS = {"mcap": False, "events": True}
 
 
 MAX_CASES = 100_000  # cases in one study file (the product of its blocks), checked before they are expanded
 MAX_FILE_BYTES = 1_000_000
+EAGER_CASES = 1_000  # cases checked when the file is loaded (errors up front); the rest as they are run
 
 
 class StudyError(ConfigError):
@@ -63,11 +67,17 @@ class Study:
     set: dict = field(default_factory=dict)
     keep: dict = field(default_factory=lambda: dict(KEEP_DEFAULTS))
     description: str = ""
+    units: dict = field(default_factory=dict)  # study variable (not a parameter) -> unit ("1": a ratio)
     _cases: list = field(default=None, repr=False, compare=False)
+    _paths: dict = field(default_factory=dict, repr=False, compare=False)  # base text -> resolved path
 
     @property
     def variables(self) -> list:
         return [name for _, block in self.blocks for name in block]
+
+    def column_units(self) -> dict:
+        """Units of the ``var.<name>`` result columns of the study's own variables."""
+        return {f"var.{name}": unit for name, unit in self.units.items()}
 
     def n_cases(self) -> int:
         return math.prod(_length(block) for _, block in self.blocks)
@@ -75,32 +85,41 @@ class Study:
     def cases(self) -> list:
         """Every case: the cross product of the blocks (the first block varies slowest); computed once."""
         if self._cases is None:
-            self._cases = self._expand()
+            self._cases = list(self.iter_cases())
         return self._cases
 
-    def _expand(self) -> list:
-        keys = key_map()
+    def iter_cases(self):
+        """The cases one at a time (a 10^5-case study starts at once; listing them all first took
+        minutes). A case whose ``set`` expression or ``base`` fails raises StudyError."""
+        for index, variables in self.iter_variables():
+            yield self.case(index, variables)
+
+    def iter_variables(self):
+        """(index, variables) of every case, in order, without resolving them."""
         rows = [[{name: values[i] for name, values in block.items()} for i in range(_length(block))]
                 for _, block in self.blocks]
-        out, paths = [], {}
         for index, combo in enumerate(itertools.product(*rows)):
-            variables = {k: v for part in combo for k, v in part.items()}
-            overrides = {k: _coerce(keys[k], v, self, k) for k, v in variables.items() if k in keys}
-            for key, value in self.set.items():
-                if isinstance(value, str) and value.lstrip().startswith("="):
-                    try:
-                        value = evaluate(value.lstrip()[1:], variables)
-                    except ExpressionError as exc:
-                        raise _err(self.path, f"set.{key}: {exc}") from None
-                overrides[key] = _coerce(keys[key], value, self, key)
-            try:
-                base = self.base.format(**variables)
-            except (ValueError, TypeError, KeyError, IndexError, AttributeError) as exc:
-                raise _err(self.path, f"base {self.base!r}: {type(exc).__name__}: {exc}") from None
-            if base not in paths:
-                paths[base] = (Path(base) if Path(base).is_absolute() else self.path.parent / base).resolve()
-            out.append(Case(index, variables, paths[base], overrides))
-        return out
+            yield index, {k: v for part in combo for k, v in part.items()}
+
+    def case(self, index, variables) -> Case:
+        """The case of these variables: its parameters (the ``set`` expressions evaluated) and base file."""
+        keys = key_map()
+        overrides = {k: _coerce(keys[k], v, self, k) for k, v in variables.items() if k in keys}
+        for key, value in self.set.items():
+            if isinstance(value, str) and value.lstrip().startswith("="):
+                try:
+                    value = evaluate(value.lstrip()[1:], variables)
+                except ExpressionError as exc:
+                    raise _err(self.path, f"set.{key}: {exc}") from None
+            overrides[key] = _coerce(keys[key], value, self, key)
+        try:
+            base = self.base.format(**variables)
+        except (ValueError, TypeError, KeyError, IndexError, AttributeError) as exc:
+            raise _err(self.path, f"base {self.base!r}: {type(exc).__name__}: {exc}") from None
+        path = self._paths.get(base)
+        if path is None:
+            path = self._paths[base] = (Path(base) if Path(base).is_absolute() else self.path.parent / base).resolve()
+        return Case(index, variables, path, overrides)
 
 
 def _length(block):
@@ -201,6 +220,38 @@ def _blocks(path, vary, seeds):
     return blocks
 
 
+def _units(path, declared, names, settings, keys) -> dict:
+    """Units of the study's own variables: ``units:`` of the file, else the unit of a parameter the
+    variable is set to as it is (``key: "= name"``); a declared unit that contradicts it is an error."""
+    declared = {} if declared is None else declared
+    if not isinstance(declared, dict):
+        raise _err(path, f"units: expected a mapping study variable -> unit, got {declared!r}")
+    for name, unit in declared.items():
+        if name in keys:
+            raise _err(path, f"units.{name}: a parameter has its own unit ({keys[name].unit or 'none'}); units "
+                       "are for the study's own variables")
+        if name not in names:
+            raise _err(path, f"units.{name}: not a study variable (variables: {', '.join(map(str, names))})")
+        if not isinstance(unit, str) or not unit.strip():
+            raise _err(path, f"units.{name}: expected a unit as text (\"m\", \"Hz\", \"1\" for a ratio), got {unit!r}")
+    units = {name: unit.strip() for name, unit in declared.items()}
+    inferred = {}
+    for key, value in settings.items():
+        bare = value.strip().lstrip("=").strip() if isinstance(value, str) and value.strip().startswith("=") else None
+        if bare in names and bare not in keys and keys[key].unit:
+            inferred.setdefault(bare, set()).add((key, keys[key].unit))
+    for name, found in inferred.items():
+        found_units = {u for _, u in found}
+        if name in units:
+            if units[name] not in found_units or len(found_units) > 1:
+                key, unit = next((k, u) for k, u in sorted(found) if u != units[name])
+                raise _err(path, f"units.{name}: {units[name]!r}, but set.{key} = {name} gives it the unit of {key} "
+                           f"({unit!r})")
+        elif len(found_units) == 1:  # (a variable set to parameters of different units: none, unless declared)
+            units[name] = found_units.pop()
+    return units
+
+
 def _check_count(path, where, n):
     if n > MAX_CASES:
         raise _err(path, f"{where}: {n} cases is above the limit of {MAX_CASES} cases per study file "
@@ -266,6 +317,7 @@ def load_study(path) -> Study:
     unused = [n for n in names if n not in keys and n not in used]
     if unused:
         raise _err(path, f"variables {unused} are neither parameters nor used in base or set")
+    units = _units(path, doc.get("units"), names, settings, keys)
     keep = dict(KEEP_DEFAULTS)
     if not isinstance(doc.get("keep") or {}, dict) or not all(isinstance(v, bool) for v in (doc.get("keep") or {}).values()):
         raise _err(path, f"keep: expected a mapping of {', '.join(KEEP_DEFAULTS)} to true or false")
@@ -274,6 +326,7 @@ def load_study(path) -> Study:
         raise _err(path, f"keep: unknown entries {sorted(extra)} (allowed: {', '.join(KEEP_DEFAULTS)})")
     keep.update(doc.get("keep") or {})
     study = Study(str(doc.get("name") or path.stem), path, doc["base"], blocks, settings, keep,
-                  str(doc.get("description") or ""))
-    study.cases()  # expression and base errors now, not in a worker
+                  str(doc.get("description") or ""), units)
+    for _ in itertools.islice(study.iter_cases(), EAGER_CASES):  # expression and base errors now, not in a worker
+        pass
     return study

@@ -29,7 +29,6 @@ import math
 from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent, SlackStarted
 
-ENDS = END_NAMES
 DNV_SLACK_FRACTION = 0.1  # T >= 0.1 T_static <=> F_hydro <= 0.9 F_static [DNV-RP-H103 Sec. 3.4.3]
 
 
@@ -89,7 +88,7 @@ class _Tapped:
 def end_statistics(events, static_tensions, tap) -> dict:
     """Columns ``<end>_<statistic>`` for both ends (NaN where a statistic does not exist)."""
     row = {}
-    for j, end in enumerate(ENDS):
+    for j, end in enumerate(END_NAMES):
         static = float(static_tensions[j])
         snaps = [e for e in events if isinstance(e, SnapEvent) and e.location == end]
         slacks = [e for e in events if isinstance(e, SlackStarted) and e.location == end]

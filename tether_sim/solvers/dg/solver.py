@@ -33,6 +33,7 @@ from tether_sim.solvers.dg.stepping import SteppingMixin
 from tether_sim.solvers.dg.tick import TG_SET
 from tether_sim.solvers.dg.winch_driver import WinchMixin
 from tether_sim.solvers.dg.workspace import Workspace
+from tether_sim.solvers.work import mesh_sizes
 
 # The relaxation runs in compiled calls of this much wall time (the first of RELAX_FIRST_CHUNK substeps,
 # to measure): a signal (Ctrl-C) is handled by Python between two calls, so a long initial.relax_time
@@ -114,12 +115,10 @@ class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
 
     # ------------------------------------------------------------------ set-up
     def _element_sizes(self, opt):
-        if len(opt.element_lengths) == 0:
-            return np.full(self.N, self.L / self.N)
         wts = np.asarray(opt.element_lengths, float)
-        if wts.size != self.N or np.any(wts <= 0):
+        if wts.size and (wts.size != self.N or np.any(wts <= 0)):
             raise ValueError(f"dg.element_lengths: need {self.N} positive weights (dg.n_elements), got {wts.size}")
-        return np.ascontiguousarray(wts / wts.sum() * self.L)
+        return mesh_sizes(self.L, self.N, wts)
 
     def _parameters(self, cab, env, opt):
         prm = np.zeros(Y.N_PRM)

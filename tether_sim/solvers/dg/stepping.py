@@ -17,7 +17,7 @@ from tether_sim.solvers.dg.damping_layout import MODE_EXPLICIT
 from tether_sim.solvers.dg.inputs import motion_floats
 from tether_sim.solvers.dg.stepper import STATUS_DIVERGED
 from tether_sim.solvers.dg.tick import BAD_INPUT, TG_P, TG_SET, TG_V, dg_tick, drain_now, evaluate_now, node_tick, outputs_now
-from tether_sim.solvers.dg.timestep import stable_dt
+from tether_sim.solvers.dg.timestep import config_stable_dt
 
 # the end-load columns are those of TickOutput.loads, so that tick() returns a view of endf
 assert (Y.E_F, Y.E_T, Y.E_M) == (LOAD_F, LOAD_T, LOAD_M)
@@ -29,11 +29,8 @@ class SteppingMixin:
     # ------------------------------------------------------------------ time step
     def stable_time_step(self, h=None) -> float:
         """Automatic substep = dg.cfl x the stability limit of docs/dg_solver.md (element sizes h)."""
-        cab, env = self.config.cable, self.config.environment
-        kd = env.seabed_stiffness * cab.diameter if env.seabed else 0.0
-        return self.config.dg.cfl * stable_dt(self.h if h is None else h, self.P, self.law.max_slope(), cab.gamma0, cab.damping,
-                                              cab.EI, cab.bending_damping, self.config.dg.lambda_floor,
-                                              kd, env.seabed_damping, self._damp.mode != MODE_EXPLICIT)
+        return config_stable_dt(self.config, self.h if h is None else h, self.law.max_slope(),
+                                self._damp.mode != MODE_EXPLICIT)
 
     def _substep(self):
         return self.fixed_dt if self.fixed_dt > 0 else self._dt_rule

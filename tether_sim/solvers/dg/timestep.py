@@ -55,3 +55,13 @@ def stable_dt(h, P, max_slope, gamma0, zeta, EI, zeta_b, lambda_floor=0.0, seabe
         rate = rate + w * (1.0 + 2.0 * seabed_zeta) / SSPRK3_IMAG_LIMIT
     rmax = float(np.max(rate))
     return 1.0 / rmax if rmax > 0 else 1.0
+
+
+def config_stable_dt(config, h, max_slope, implicit_damping) -> float:
+    """The automatic substep: dg.cfl x :func:`stable_dt` with the cable, environment and dg keys of
+    ``config`` on element sizes ``h`` (the solver's ``stable_time_step`` and the load-time work
+    estimate both call this)."""
+    cab, env, opt = config.cable, config.environment, config.dg
+    kd = env.seabed_stiffness * cab.diameter if env.seabed else 0.0
+    return opt.cfl * stable_dt(h, int(opt.order), max_slope, cab.gamma0, cab.damping, cab.EI, cab.bending_damping,
+                               opt.lambda_floor, kd, env.seabed_damping, implicit_damping)
