@@ -64,7 +64,7 @@ def case_config(path, source, seed, args):
     return replace(cfg, node=replace(cfg.node, max_lag=math.inf, input_delay=0.0))
 
 
-def run_case(cfgs, minutes, nominal_error, cable_waves=True):
+def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
     """One run of the sea of ``cfgs`` (one configuration per forecast source, the same sea) with a
     forecast service per source observing the same driver (the truth run is shared by the sources):
     (snaps [(end, time)], {source: forecasts}, wall s, {source: look-ahead wall s}, simulated s).
@@ -74,7 +74,8 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True):
     if not cable_waves:
         cfg = replace(cfg, waves=replace(cfg.waves, kind="none"))
     driver = SimulationDriver(cfg, src, start_blend=False)
-    services = {c.forecast.source: ForecastService(c, nominal_error=nominal_error if c.forecast.source == "known_sea" else 0.0)
+    services = {c.forecast.source: ForecastService(c, nominal_error=nominal_error if c.forecast.source == "known_sea" else 0.0,
+                                                   covariance=covariance)
                 for c in cfgs}
     driver.start(0.0)
     rate = cfg.node.output_rate
@@ -125,6 +126,65 @@ def truth_tensions(path, seed, dumped_args):
     t = np.concatenate([a for a, _, _ in samples])
     tensions = {"ship": np.concatenate([b for _, b, _ in samples]), "vehicle": np.concatenate([c for _, _, c in samples])}
     return t, tensions, dict(zip(det.locations, det.thresholds)), dict(zip(det.locations, snap_levels))
+
+
+def motion_error(args) -> int:
+    """The known sea's members against the truth, the fairlead's motion only (no cable; cheap): for
+    forecasts stamped every 5 s of each seed's sea after the ramp, the rms of (member - truth) of the
+    fairlead's heave (per cent of Hs) and of its vertical acceleration, and the members' rms vertical
+    acceleration against the truth's, by lead time; members conditioned on the measured state by the
+    covariance of the sea (as the forecast does) and by the exponential fade alone (as before
+    2026-11-27), the same draws for both."""
+    from tether_sim.forecast.ship_forecast import component_spread, perturb_motion, perturbed_members
+
+    leads = np.arange(0.0, args.horizon + 1e-9, 0.25)
+    h = 1e-3
+    for path in args.files:
+        stats = {}
+        for seed in args.seeds:
+            cfg = case_config(path, "known_sea", seed, args)
+            truth = build_motion(cfg.motion, np.asarray(cfg.ship_end.position, float), wave_components(cfg))
+            hs = cfg.waves.Hs
+            stamps = np.arange(cfg.motion.ramp_time + 10.0, args.minutes * 60.0 - args.horizon, 5.0)
+            heave = np.array([truth.at(t)[0][2] for t in np.arange(stamps[0], stamps[-1], 0.5)])
+            print(f"{Path(path).stem} seed {seed}: the fairlead's heave 4 x rms = {4.0 * heave.std():.2f} m (Hs {hs:g} m)", flush=True)
+            for covariance in (True, False):
+                rng = np.random.default_rng(1000 * seed)
+                err_z, err_a, acc_m, acc_t = (np.zeros(leads.size) for _ in range(4))
+                n = 0
+                for t0 in stamps:
+                    p0, v0 = truth.at(t0)[:2]
+                    nominal = perturb_motion(truth, component_spread(args.nominal_error), rng)
+                    members = perturbed_members(nominal, 0.0, args.members, args.sea_error, rng, True,
+                                                (t0, p0, v0, 2.0), True, covariance=covariance)
+                    tt = t0 + leads
+                    truth_z = np.array([truth.at(t)[0][2] for t in tt])
+                    truth_a = np.array([truth.at(t)[2][2] for t in tt])
+                    for m in members:
+                        z = np.array([m.at(t)[0][2] for t in tt])
+                        a = np.array([(m.at(t + h)[1][2] - m.at(t - h)[1][2]) / (2 * h) for t in tt])
+                        err_z += (z - truth_z) ** 2
+                        err_a += (a - truth_a) ** 2
+                        acc_m += a ** 2
+                        acc_t += truth_a ** 2
+                        n += 1
+                key = "covariance" if covariance else "exponential fade"
+                prev = stats.get(key, (np.zeros(leads.size),) * 4 + (0,))
+                stats[key] = (prev[0] + err_z, prev[1] + err_a, prev[2] + acc_m, prev[3] + acc_t, prev[4] + n)
+        print(f"\n{Path(path).stem}, seeds {args.seeds}, {args.minutes:g} min each, members {args.members}, nominal error "
+              f"{args.nominal_error:g} Hs, spread {args.sea_error:g} Hs (Hs {args.hs:g} m): member - truth, fairlead")
+        print("  lead s | heave error % Hs: covariance, fade | accel error m/s^2: covariance, fade | "
+              "member / truth rms accel: covariance, fade")
+        for i, lead in enumerate(leads):
+            if abs(lead - round(lead)) > 1e-9:
+                continue
+            row = []
+            for key in ("covariance", "exponential fade"):
+                ez, ea, am, at, n = stats[key]
+                row.append((100.0 * math.sqrt(ez[i] / n) / args.hs, math.sqrt(ea[i] / n), math.sqrt(am[i] / max(at[i], 1e-30))))
+            print(f"  {lead:5.1f} | {row[0][0]:5.1f} {row[1][0]:5.1f} | {row[0][1]:5.3f} {row[1][1]:5.3f} | "
+                  f"{row[0][2]:5.3f} {row[1][2]:5.3f}")
+    return 0
 
 
 def near_misses(paths, tolerance=1.5, before=6.0) -> int:
@@ -240,17 +300,24 @@ def main(argv=None) -> int:
     ap.add_argument("--near-misses", action="store_true",
                     help="with --rescore: run each dumped sea again without forecasts and compare every false-alarm "
                          "episode with the run's own end tension (the snap level, the slack level)")
+    ap.add_argument("--fade", action="store_true",
+                    help="known_sea: condition the members on the measured ship state by the exponential fade alone "
+                         "(as before 2026-11-27) instead of the sea's covariance, for comparison")
+    ap.add_argument("--motion-error", action="store_true",
+                    help="run no cable: the known sea's members against the truth, fairlead motion only, by lead time")
     args = ap.parse_args(argv)
+    if args.motion_error:
+        return motion_error(args)
     if args.rescore:
         return near_misses(args.rescore) if args.near_misses else rescore(args.rescore)
     rows, dumps = [], []
     print(f"forecast skill: Hs {args.hs:g} m, Tp {args.tp:g} s, {args.directions} direction(s), horizon {args.horizon:g} s, {args.members} members, "
           f"{args.rate:g} forecasts/s, sea_error {args.sea_error:g}, nominal error {args.nominal_error:g}, "
-          f"waves on the cable: {'yes' if args.cable_waves else 'no'}", flush=True)
+          f"waves on the cable: {'yes' if args.cable_waves else 'no'}, members conditioned by {'the exponential fade' if args.fade else 'the covariance'}", flush=True)
     for path in args.files:
         for seed in args.seeds:
             cfgs = [case_config(path, source, seed, args) for source in args.sources]
-            snaps, forecasts, wall, look, sim = run_case(cfgs, args.minutes, args.nominal_error, args.cable_waves)
+            snaps, forecasts, wall, look, sim = run_case(cfgs, args.minutes, args.nominal_error, args.cable_waves, not args.fade)
             if args.dump:
                 dumps.append({"file": path, "seed": seed, "snaps": snaps, "slack_starts": run_case.slacks,
                               "warnings": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.time_to_snap_std,

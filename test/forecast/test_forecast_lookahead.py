@@ -103,7 +103,9 @@ def test_a_forecast_issued_inside_a_slack_period_continues_the_detector_state():
 
 
 def test_ensemble_members_spread_and_the_probability_counts_them():
-    cfg = regular_wave_case(members=6, sea_error=0.1)
+    # unconditioned members (condition_time 0): in a regular wave the measured ship state determines the
+    # one component, and conditioned members are all the truth (test_ship_forecast.py)
+    cfg = regular_wave_case(members=6, sea_error=0.1, condition_time=0.0)
     snaps, forecasts = run(cfg, duration=8.0)
     vehicle = [f for f in forecasts if f.end == "vehicle" and f.probability > 0]
     assert vehicle

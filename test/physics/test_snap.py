@@ -175,6 +175,43 @@ def test_slow_monotonic_retension_is_followed_to_its_peak():
     assert events[1].peak_tension == pytest.approx(111e3) and events[1].time == pytest.approx(27.3, abs=1e-3)
 
 
+# The cage of the 1730 m live file (static 43.06 kN) taken up from slack in stages, one per axial round trip
+# 2 L / c = 0.89 s (the front reflecting between the cage and the ship; Saint-Venant's impact of a mass on a
+# rod), with small dips between the stages: knots from the run's own end tension (JONSWAP Hs 3 m, seed 11,
+# t = 353.4-360 s, benchmarks/forecast_skill.py's sea). The first stage tops at 42.83 kN, 0.5 % under the
+# snap level, 0.96 s after the re-tensioning; the largest, 100.07 kN (2.3 x static), comes 2.7 s after it.
+STAGED = [(0.0, 43.06e3), (350.0, 43.06e3), (351.0, 0.0), (353.43, 0.0), (353.47, 14.56e3), (353.83, 10.22e3),
+          (354.23, 13.67e3), (354.27, 15.37e3), (354.43, 42.83e3), (354.51, 42.44e3), (355.11, 54.70e3),
+          (355.35, 81.03e3), (355.59, 78.64e3), (356.19, 100.07e3), (356.83, 87.66e3), (357.07, 96.82e3),
+          (357.5, 85.0e3), (360.0, 43.06e3)]
+
+
+def test_a_staged_rise_is_one_snap_at_its_largest_stage():
+    """A re-tensioning that rises in stages without falling back into slack is one event whose peak is
+    its largest stage: the window closes once the running maximum is a whole window old. (Before
+    2026-11-27 the window closed 1 s after the re-tensioning on the first sample below the running
+    maximum, 42.64 kN here, under the snap level: no snap was reported for a 100 kN peak.)"""
+    static = 43.06e3
+    t = np.arange(0.0, 360.0, 1e-2)
+    y = piecewise(t, STAGED)[:, None]
+    events = run(SnapDetector(SnapConfig(), ["vehicle"], [static], [1730.0]), t, y)
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent]
+    snap = events[1]
+    assert snap.peak_tension == pytest.approx(100.07e3) and snap.time == pytest.approx(356.19, abs=1e-9)
+    t_exit = 353.43 + 0.04 * 4306.0 / 14560.0  # upward crossing of the slack level (10 % of static)
+    assert snap.slack_start == pytest.approx(351.0 - 4306.0 / 43060.0, abs=1e-9)
+    assert snap.rise_time == pytest.approx(356.19 - t_exit, abs=1e-9)
+    # the event is emitted once the peak is a window old (not before: a larger stage could still come)
+    det = SnapDetector(SnapConfig(), ["vehicle"], [static], [1730.0])
+    upto = t < 356.19 + 0.99
+    assert not [e for e in det.update(t[upto], y[upto]) if isinstance(e, SnapEvent)]
+    assert [e.peak_tension for e in det.update(t[~upto], y[~upto]) if isinstance(e, SnapEvent)] == [pytest.approx(100.07e3)]
+    # the same staged rise that tops out under the snap level is no snap (nothing invented)
+    low = [(a, min(b, 0.95 * static) if a > 353.0 else b) for a, b in STAGED]
+    events = run(SnapDetector(SnapConfig(), ["vehicle"], [static], [1730.0]), t, piecewise(t, low)[:, None])
+    assert [type(e) for e in events] == [SlackStarted]
+
+
 def test_bad_input_is_rejected_clearly():
     with pytest.raises(ValueError, match="2 locations"):
         SnapDetector(SnapConfig(), ["ship", "vehicle"], [1.0], [0.0, 1.0])

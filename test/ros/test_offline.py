@@ -160,7 +160,7 @@ def test_the_estimate_is_announced_before_the_solver_is_built_and_adds_up(tmp_pa
     from tether_sim.io.params import load_config
     from tether_sim.ros import offline
     from tether_sim.solvers.factory import build_solver
-    from tether_sim.solvers.work import estimate
+    from tether_sim.solvers import work
 
     config = load_config(write_params(tmp_path / "p.yaml"))
     said = []
@@ -172,6 +172,6 @@ def test_the_estimate_is_announced_before_the_solver_is_built_and_adds_up(tmp_pa
     summary = offline.run_offline(config, None, duration=0.5, progress=False, solver_factory=factory,
                                   announce=said.append)
     assert len(said) == 1 and said[0].startswith("0.5 s simulated, 10 output ticks: expected to take about")
-    total, _ = offline.run_estimate(config, 0.5)
-    assert total == pytest.approx(offline.START_CPU + 0.5 * estimate(config).cpu + 10 * offline.TICK_CPU["dg"])
+    total, _ = work.run_estimate(config, 0.5)
+    assert total == pytest.approx(work.START_CPU + 0.5 * work.estimate(config).cpu + 10 * work.TICK_CPU["dg"])
     assert summary["expected_cpu"] == total and summary["cpu_time"] > 0.0

@@ -87,7 +87,21 @@ def test_exit_status_says_whether_cases_failed(local_run, tmp_path, capsys):
     assert "0 case(s) run (0 ok, 0 failed), 4 already in the results" in capsys.readouterr().out
     # case 3 again: its solver still cannot be built, so the study ran to its end with a failure
     assert main([str(TINY), "--out", str(copy), "--retry-failed", "--cases", "3", "--workers", "1"]) == 1
-    assert "1 case(s) run (0 ok, 1 failed)" in capsys.readouterr().out
+    printed = capsys.readouterr()
+    assert "1 case(s) run (0 ok, 1 failed)" in printed.out
+    # what it would cost was said before it ran (solvers/work.py run_estimate of the case's configuration)
+    assert "[study] 1 case(s) to run: expected about" in printed.err and "on 1 local worker(s)" in printed.err
+
+
+def test_each_task_carries_the_estimate_of_its_run(tmp_path):
+    from tether_sim.solvers.work import run_estimate
+    from tether_sim.studies.runner import plan
+    from tether_sim.studies.spec import load_study
+
+    tasks, _, _, _ = plan(load_study(TINY), tmp_path)
+    config = load_config(HERE.parents[1] / "config" / "ropos_L200_paper.yaml",
+                         {**load_study(TINY).cases()[0].overrides})
+    assert tasks[0]["index"] == 0 and tasks[0]["expected_cpu"] == pytest.approx(run_estimate(config, 3.0)[0])
 
 
 def test_dask_local_cluster_matches_local_processes(local_run, tmp_path):

@@ -111,7 +111,7 @@ class ExternalForecast:
 class ForecastService:
     """Forecasts beside a :class:`~tether_sim.ros.driver.SimulationDriver` (module doc)."""
 
-    def __init__(self, config, *, solver_factory=build_solver, threaded=False, nominal_error=0.0):
+    def __init__(self, config, *, solver_factory=build_solver, threaded=False, nominal_error=0.0, covariance=True):
         fc = config.forecast
         if config.winch.enabled:
             raise ValueError("forecast.enabled: the snap forecast does not run with winch.enabled (the winch's "
@@ -123,6 +123,9 @@ class ForecastService:
         # sea that is itself in error by this fraction of Hs (a fresh draw per forecast), as a real
         # sea-wave forecast would be, and the members spread about that nominal
         self.nominal_error = float(nominal_error)
+        # known_sea: members conditioned on the measured ship state through the sea's covariance (False: the
+        # exponential fade alone, as before 2026-11-27; the skill benchmark's --fade, for comparison)
+        self.covariance = bool(covariance)
         self.predictor = ARShipPredictor(fc.ar_order, fc.ar_sample_period, fc.ar_window)
         node = config.node
         self.external = ExternalForecast(node.world_frame, node.ship_attachment, fc.external_max_age,
@@ -220,7 +223,7 @@ class ForecastService:
             if fc.condition_time > 0.0 and ship is not None:
                 start = (t_solver, np.array(ship[0], float), np.array(ship[1], float), fc.condition_time)
             plan = _Plan(perturbed_members, motion, offset, members, fc.sea_error, rng, True, start,
-                         self.nominal_error > 0.0)
+                         self.nominal_error > 0.0, self.covariance)
         elif source == "external":
             stamp, times, fair = held
             current = driver._end_state.get("ship", (fair[0],))[0]

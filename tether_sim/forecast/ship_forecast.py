@@ -31,7 +31,8 @@ time series analysis", OCEANS 81); their skill decays within one to two wave per
 External (:func:`external_members`): predicted ship poses from another system (a wave radar or
 deterministic sea-wave prediction), validated by the caller, turned into the fairlead trajectory
 ``p + R(q) r`` by a cubic spline; its members scale the predicted displacement about the current
-position by (1 + alpha), alpha ~ N(0, s^2) with s from ``error`` as above.
+position by a log-normal factor exp(s z - s^2), z ~ N(0, 1), of mean square 1 (energy-preserving, as
+the known sea's), s from ``error`` as above.
 """
 
 import copy
@@ -102,39 +103,90 @@ def can_perturb(motion) -> bool:
     return getattr(motion, "response", None) is not None or (hasattr(motion, "a") and hasattr(motion, "phi"))
 
 
-def perturbed_members(motion, offset, members, error, rng, nominal_first=True, start=None, condition_nominal=False):
+def perturbed_members(motion, offset, members, error, rng, nominal_first=True, start=None, condition_nominal=False,
+                      covariance=True):
     """``members`` MotionMembers of ``motion``: the first the nominal (unless ``nominal_first`` is
     false), the others perturbed with the spread of ``error`` (fraction of Hs). ``start`` = (t0, p0,
     v0, T): every perturbed member (and the nominal too with ``condition_nominal``) starts from the
-    measured state (:class:`ConditionedMember`)."""
+    measured state (:class:`ConditionedMember`, conditioned on the covariance of ``motion``'s wave
+    components; ``covariance=False``: the exponential fade alone, as before 2026-11-27)."""
     spread = component_spread(error)
+    modes = linear_modes(motion) if start is not None and covariance else None
     out = []
     for m in range(members):
         nominal = (m == 0 and nominal_first) or spread == 0.0
         member = MotionMember(motion if nominal else perturb_motion(motion, spread, rng), offset)
         if start is not None and (not nominal or condition_nominal):
-            member = ConditionedMember(member, *start)
+            member = ConditionedMember(member, *start, modes=modes)
         out.append(member)
     return out
+
+
+def linear_modes(motion):
+    """(omega (n,), U (n, 3) complex) with the motion's offset, to first order in the ship's rotations,
+    Re sum_n U_n exp(-i omega_n t) (RaoMotion: U_n = Rz(heading) (D_n[:3] + D_n[3:] x lever), D_n the
+    DOFs' complex amplitudes coef exp(i theta0); SinesMotion: vertical, U_n = a_n exp(i (pi/2 - phi_n)));
+    None for a motion without such components (circle, record)."""
+    response = getattr(motion, "response", None)
+    if response is not None:
+        d = response.coef * np.exp(1j * response.theta0)
+        lever = np.asarray(motion.lever, float)
+        rot = np.cross(d[:, 3:], lever)  # small rotations: R r - r = theta x r
+        c, s = math.cos(response.heading), math.sin(response.heading)
+        rz = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        return np.asarray(response.omega, float), (d[:, :3] + rot) @ rz.T
+    if hasattr(motion, "a") and hasattr(motion, "phi") and hasattr(motion, "w"):
+        u = np.zeros((motion.a.size, 3), complex)
+        u[:, 2] = motion.a * np.exp(1j * (0.5 * math.pi - motion.phi))
+        return np.asarray(motion.w, float), u
+    return None
 
 
 class ConditionedMember:
     """A member started from the measured ship state: at solver time ``t0`` the fairlead is at ``p0``
     with velocity ``v0`` (what the run commands now), while the member's own forecast says (p, v)
-    there. The difference (dp, dv) fades out as c(tau) = (dp + (dv + dp / T) tau) exp(-tau / T),
-    tau = t - t0 (c(0) = dp, c'(0) = dv, C1 at the start), so the member's error is zero now and
-    grows to the forecast's stated error over a few ``T`` (a real sea-wave forecast is conditioned on
-    the ship it sees; without this a perturbed member would jerk the fairlead at the first tick)."""
+    there. The member adds to its own forecast the expected continuation of that difference
+    delta = (dp, dv), so it is at (p0, v0) at t0 (C1) and its error grows to the forecast's stated
+    error as its lead grows (a real sea-wave forecast is conditioned on the ship it sees; without
+    this a perturbed member would jerk the fairlead at the first tick).
 
-    def __init__(self, member, t0, p0, v0, T):
+    With ``modes`` (:func:`linear_modes` of the forecast sea) the continuation is the conditional
+    mean of the error process given delta: the perturbations are independent per wave component
+    with the same relative spread (:func:`perturb_motion`), so the error's covariance is the
+    motion's own, C(tau) = kappa sum_n Re(W_n W_n^H exp(-i omega_n tau)) / 2 with W_n = (U_n,
+    -i omega_n U_n), and the correction is C(tau) C(0)^+ delta (kappa cancels). It oscillates with
+    the sea's own frequencies and fades as the sea decorrelates; the member's error variance is
+    then C(0) - C(tau) C(0)^+ C(tau)^T, which grows from 0 and never exceeds the unconditioned error.
+    What delta has outside the range of C(0) (an axis the modes do not move), and all of it without
+    ``modes``, fades as c(tau) = (dp + (dv + dp / T) tau) exp(-tau / T) (c(0) = dp, c'(0) = dv).
+    That exponential fade alone, used before 2026-11-27 for the whole delta, does not follow the
+    sea: half a wave period on, the error it adds has the sign the member's own error then has, and
+    the member's error rose above the stated error at leads of 2-8 s (docs/forecast.md)."""
+
+    def __init__(self, member, t0, p0, v0, T, modes=None):
         self.member, self.t0, self.T = member, float(t0), float(T)
         p, v = member.at(self.t0)
-        self.dp = np.asarray(p0, float) - p
-        self.b = np.asarray(v0, float) - v + self.dp / self.T
+        delta = np.concatenate([np.asarray(p0, float) - p, np.asarray(v0, float) - v])
+        self.omega = self.g = self.w = None
+        if modes is not None:
+            omega, u = modes
+            w = np.concatenate([u, -1j * omega[:, None] * u], axis=1)  # (n, 6): position and velocity
+            c0 = 0.5 * np.real(w.T @ np.conj(w))  # (6, 6) covariance at lag 0 (up to kappa)
+            beta = np.linalg.pinv(c0, rcond=1e-10, hermitian=True) @ delta
+            self.omega, self.w = np.asarray(omega, float), w
+            self.g = 0.5 * (np.conj(w) @ beta)  # (n,): correction(tau) = Re sum_n w_n g_n exp(-i omega_n tau)
+            delta = delta - c0 @ beta  # the residual outside the covariance's range
+        self.dp = delta[:3]
+        self.b = delta[3:] + self.dp / self.T if self.T > 0.0 else np.zeros(3)
 
     def at(self, t):
         p, v = self.member.at(t)
         tau = max(t - self.t0, 0.0)
+        if self.g is not None:
+            corr = np.real((self.g * np.exp(-1j * self.omega * tau)) @ self.w)
+            p, v = p + corr[:3], v + corr[3:]
+        if self.T <= 0.0:
+            return p, v
         e = math.exp(-tau / self.T)
         c = (self.dp + self.b * tau) * e
         return p + c, v + self.b * e - c / self.T
@@ -217,12 +269,14 @@ class ARShipPredictor:
 
 def external_members(times, positions, current, members, error, rng):
     """Members from a validated external forecast of the fairlead (``times`` (k,) solver time,
-    ``positions`` (k, 3)): the nominal first, then the displacement about ``current`` scaled by
-    (1 + alpha) (module doc)."""
+    ``positions`` (k, 3)): the nominal first, then the displacement about ``current`` scaled by a
+    log-normal factor exp(s z - s^2) of mean square 1 (module doc: the members keep, on average, the
+    forecast's energy; a factor 1 + alpha, alpha ~ N(0, s^2), used before 2026-11-27, gave them
+    1 + s^2 = 1.08 times it at 10 % of Hs)."""
     spread = component_spread(error)
     positions = np.asarray(positions, float)
     out = []
     for m in range(members):
-        scale = 1.0 if m == 0 or spread == 0.0 else 1.0 + rng.normal(0.0, spread)
+        scale = 1.0 if m == 0 or spread == 0.0 else float(amplitude_factors(spread, 1, rng)[0])
         out.append(SplineMember(times, current + scale * (positions - current)))
     return out

@@ -1,6 +1,6 @@
 """MoorDyn v2 input files -> a line-network parameter file (``network`` section, docs/moordyn.md).
 
-    python -m tether_sim.network.moordyn DECK.txt --output DECK.yaml [--solver hybrid|dg]
+    python -m tether_sim.network.moordyn DECK.txt --output DECK.yaml [--solver dg|hybrid]
 
 The subset of the MoorDyn v2 format (MoorDyn's docs/inputs.rst; sections found by a ``---`` line
 holding the section's name, as MoorDyn's own reader does) that maps onto the line network of
@@ -471,11 +471,12 @@ def _name(kind, number):
     return f"{kind}{number}"
 
 
-def to_network(deck: Deck, solver: str = "hybrid", dg_order: int = 4) -> dict:
+def to_network(deck: Deck, solver: str = "dg", dg_order: int = 4) -> dict:
     """The ``network`` mapping (tether_sim/network/spec.py) of a deck.
 
-    Mesh: hybrid: n_segments = NumSegs; dg: order ``dg_order`` and n_elements = ceil(NumSegs / order)
-    (about NumSegs nodes along the line)."""
+    Mesh: dg (the default): order ``dg_order`` and n_elements = ceil(NumSegs / order) (about NumSegs
+    nodes along the line); hybrid: n_segments = NumSegs. The hybrid solver's initial relaxation does
+    not converge on MoorDyn's chain decks with seabed friction (docs/moordyn.md)."""
     if solver not in ("hybrid", "dg"):
         raise ConfigError(f"solver: {solver!r} is not one of hybrid, dg")
     depth = water_depth(deck)
@@ -556,7 +557,7 @@ def to_network(deck: Deck, solver: str = "hybrid", dg_order: int = 4) -> dict:
     return tree
 
 
-def network_spec(deck: Deck, solver: str = "hybrid", overrides: dict | None = None):
+def network_spec(deck: Deck, solver: str = "dg", overrides: dict | None = None):
     """The validated NetworkSpec of a deck (``overrides``: {line key path: value} merged into every
     line, e.g. {"hybrid": {"n_segments": 80}})."""
     from tether_sim.network.spec import parse_network
@@ -595,7 +596,7 @@ def static_point_forces(spec):
     return out
 
 
-def params_text(deck: Deck, solver: str = "hybrid") -> str:
+def params_text(deck: Deck, solver: str = "dg") -> str:
     """A ROS 2 parameter file (network section) for the deck, with a header naming its source."""
     tree = {"/**/tether_sim": {"ros__parameters": {"network": to_network(deck, solver)}}}
     head = [f"# Converted from the MoorDyn v2 input file {Path(deck.path).name}",
@@ -613,7 +614,8 @@ def main(argv=None):
                                  description="Convert a MoorDyn v2 input file to a line-network parameter file.")
     ap.add_argument("deck", help="MoorDyn v2 input file")
     ap.add_argument("--output", "-o", required=True, help="parameter file to write (YAML)")
-    ap.add_argument("--solver", default="hybrid", choices=("hybrid", "dg"), help="solver of every line")
+    ap.add_argument("--solver", default="dg", choices=("dg", "hybrid"),
+                    help="solver of every line (default dg; docs/moordyn.md)")
     args = ap.parse_args(argv)
     try:
         deck = read_deck(args.deck)

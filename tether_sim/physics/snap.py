@@ -6,10 +6,12 @@ tension samples [DNV-RP-H103 slack criterion; PE2020 Sec. 6]:
 ``taut``   -> ``slack``   when T drops below the slack threshold (default 10% of the static
                            tension there); a :class:`SlackStarted` early warning is emitted.
 ``slack``  -> ``rising``  when T rises above the re-tension threshold (hysteresis).
-``rising`` -> ``taut``    after ``peak_window`` seconds, once the running maximum lies behind the
-                           current sample (a re-tensioning still rising at the end of the window
-                           is followed until it turns, at most 10 windows): the largest tension since leaving slack
-                           is the snap peak; a :class:`SnapEvent` is emitted if it reaches
+``rising`` -> ``taut``    after ``peak_window`` seconds, once the running maximum is ``peak_window``
+                           seconds old (no larger tension for a whole window after it: a
+                           re-tensioning that rises in stages, or is still rising, is followed to its
+                           largest stage, at most 10 windows after it began) or, when the tension
+                           fell back into slack after it, lies behind the current sample: the largest
+                           tension since leaving slack is the snap peak; a :class:`SnapEvent` is emitted if it reaches
                            ``snap_fraction`` x static and the slack lasted ``min_slack_duration``.
                            (``slack_threshold``, ``retension_threshold``, ``snap_threshold``: the
                            three thresholds in N instead, for a line slack by design.)
@@ -53,7 +55,7 @@ class SnapConfig:
     slack_threshold: float = param(0.0, unit="N", doc="absolute slack threshold; > 0 overrides slack_fraction", min=0.0, max=1e9, live=True)
     retension_fraction: float = param(0.2, doc="slack ends when tension rises above retension_fraction * static (hysteresis)", min=0.0, max=10.0, live=True)
     min_slack_duration: float = param(0.1, unit="s", doc="no snap event after a slack period shorter than this", min=0.0, max=1e4, live=True)
-    peak_window: float = param(1.0, unit="s", doc="after re-tensioning, the snap peak is the largest tension within this window (extended while the tension has not yet turned, up to 10 windows)", min=1e-6, max=1e4, live=True)
+    peak_window: float = param(1.0, unit="s", doc="after re-tensioning, the snap peak is the largest tension until none larger follows within this window (a staged rise is one event; at most 10 windows); keep it above the cable's axial round trip 2 L / c, the spacing of the stages", min=1e-6, max=1e4, live=True)
     snap_fraction: float = param(1.0, doc="a re-tensioning is a snap only if its peak reaches snap_fraction * static; weaker ones that fall back into slack are merged into the slack period", min=0.0, max=100.0, live=True)
     retension_threshold: float = param(0.0, unit="N", doc="absolute re-tension threshold: slack ends when the tension rises above it; > 0 overrides retension_fraction (never below the slack threshold)", min=0.0, max=1e9, live=True)
     snap_threshold: float = param(0.0, unit="N", doc="absolute snap threshold: a re-tensioning is a snap only if its peak reaches it; > 0 overrides snap_fraction (for a line that hangs slack by design, e.g. an excursion tether, whose static tension is no scale)", min=0.0, max=1e9, live=True)
@@ -282,10 +284,15 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                 elif y < s[_DROP_MIN]:
                     s[_DROP_MIN] = y
                 elapsed = t - s[_RETENSION_T]
-                # Close once the window has passed and the running maximum lies behind the current
-                # sample (the tension has turned or levelled off); a re-tensioning still rising at the
-                # end of the window is followed to its turning point, for at most 10 windows.
-                if (elapsed >= peak_window and s[_PEAK_T] < t) or elapsed >= 10.0 * peak_window:
+                # Close once the window has passed and the running maximum lies behind the current sample;
+                # while the tension has stayed out of slack since that maximum, only once the maximum is a
+                # whole window old (no larger tension for a window after it): a re-tensioning that rises in
+                # stages (a heavy end taken up step by step, one step per axial round trip of the cable,
+                # with small dips between them) is one event whose peak is its largest stage. A tension
+                # back in slack after the maximum closes as before (the split below). At most 10 windows.
+                if (elapsed >= peak_window and s[_PEAK_T] < t
+                        and (t - s[_PEAK_T] >= peak_window or not np.isnan(s[_DROP_T]))) \
+                        or elapsed >= 10.0 * peak_window:
                     # after its peak the tension went slack again and is re-tensioning now: that rise gets
                     # its own window in the same slack episode (a one-step numerical spike early in the
                     # window must not hide the real snap that follows it)

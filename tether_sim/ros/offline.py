@@ -34,38 +34,8 @@ from tether_sim.ros import cdr, convert, forecast_io, winch_io
 from tether_sim.ros import tf as tf_out
 from tether_sim.ros.driver import END_NAMES, MotionSource, SimulationDriver
 from tether_sim.solvers.factory import build_solver
-from tether_sim.solvers.work import estimate as work_estimate
+from tether_sim.solvers.work import run_estimate
 from tether_sim.stopping import SignalStop, interrupted_code
-
-# What an offline run costs besides the solver's substeps (solvers/work.py): each output tick (messages,
-# /tf, the snap detector, the MCAP write; for the hybrid solver also its Python per step and its state
-# profile, which the per-segment figure of work.py does not carry) and the start (the numba cache, the
-# static solve). Measured with tether-sim-offline on the 2-core reference machine, 2026-11-27, load 13-14
-# (CPU time of the process from the start of the solver to the file's close; commands in docs/node.md
-# "Offline runner"): start 1.0-1.24 s; DG 0.65-0.88 ms per tick (ropos_L200, ropos_L1730, 20 s);
-# hybrid 10.7-12.4 ms per tick all in (ropos_L1730_hybrid, ropos_L200_hybrid, 10 s).
-TICK_CPU = {"dg": 0.8e-3, "hybrid": 9e-3}  # CPU s per output tick
-START_CPU = 1.1  # CPU s
-
-
-def run_estimate(config, duration: float) -> tuple:
-    """(CPU seconds, one line) that an offline run of ``duration`` simulated seconds is expected to
-    take on the reference machine, before it starts: the solver's load-time work estimate
-    (solvers/work.py, at the configured cable length) plus the outputs' and the start's share."""
-    work = work_estimate(config)
-    n_ticks = max(1, int(round(duration * config.node.output_rate)))
-    solver, outputs = work.cpu * duration, n_ticks * TICK_CPU.get(config.solver, TICK_CPU["dg"])
-    total = START_CPU + solver + outputs
-    return total, (f"{duration:.6g} s simulated, {n_ticks} output ticks: expected to take about {_span(total)} of "
-                   f"CPU on an idle core (solver ~{_span(solver)}, outputs ~{_span(outputs)}; the solver's "
-                   f"substep {work.substep:.3g} s at the configured cable length); longer on a busy machine")
-
-
-def _span(seconds: float) -> str:
-    if seconds < 120.0:
-        return f"{seconds:.2g} s"
-    return f"{seconds / 60.0:.2g} min" if seconds < 7200.0 else f"{seconds / 3600.0:.2g} h"
-
 
 class RecordedPoses:
     """Pose (and twist) samples of one end from an MCAP, fed to an EndPoseInput ahead of the clock."""

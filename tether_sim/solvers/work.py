@@ -215,3 +215,36 @@ def _value(config, dotted: str) -> float:
     for part in dotted.split("."):
         obj = getattr(obj, part)
     return float(obj)
+
+
+# What a whole run (tether-sim-offline, a study case) costs besides the solver's substeps: each output
+# tick (messages, /tf, the snap detector, the MCAP write; for the hybrid solver also its Python per step
+# and its state profile, which the per-segment figure above does not carry) and the start (the numba
+# cache, the static solve). Measured with tether-sim-offline on the 2-core reference machine, 2026-11-27, load 13-14
+# (CPU time of the process from the start of the solver to the file's close; commands in docs/node.md
+# "Offline runner"): start 1.0-1.24 s; DG 0.65-0.88 ms per tick (ropos_L200, ropos_L1730, 20 s);
+# hybrid 10.7-12.4 ms per tick all in (ropos_L1730_hybrid, ropos_L200_hybrid, 10 s).
+TICK_CPU = {"dg": 0.8e-3, "hybrid": 9e-3}  # CPU s per output tick
+START_CPU = 1.1  # CPU s
+
+
+def run_estimate(config, duration: float) -> tuple:
+    """(CPU seconds, one line) that a run of ``duration`` simulated seconds with outputs at
+    node.output_rate (tether-sim-offline, a study case) is expected to take on the reference machine,
+    before it starts: :func:`estimate` (with a winch: at its worst reachable length) plus the outputs'
+    and the start's share."""
+    work = estimate(config)
+    n_ticks = max(1, int(round(duration * config.node.output_rate)))
+    solver, outputs = work.cpu * duration, n_ticks * TICK_CPU.get(config.solver, TICK_CPU["dg"])
+    total = START_CPU + solver + outputs
+    return total, (f"{duration:.6g} s simulated, {n_ticks} output ticks: expected to take about {span(total)} of "
+                   f"CPU on an idle core (solver ~{span(solver)}, outputs ~{span(outputs)}; the solver's "
+                   f"substep {work.substep:.3g} s{' at the shortest length the winch can reach' if config.winch.enabled else ''}); "
+                   "longer on a busy machine")
+
+
+def span(seconds: float) -> str:
+    """A CPU time as people read it: 42 s, 5.3 min, 2.1 h."""
+    if seconds < 120.0:
+        return f"{seconds:.2g} s" if seconds < 10.0 else f"{seconds:.0f} s"
+    return f"{seconds / 60.0:.2g} min" if seconds < 7200.0 else f"{seconds / 3600.0:.2g} h"

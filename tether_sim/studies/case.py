@@ -23,6 +23,7 @@ from pathlib import Path
 
 import tether_sim
 from tether_sim.io.params import ParamFileOverlay, load_config, to_flat
+from tether_sim.solvers.work import run_estimate
 from tether_sim.studies.stats import TensionTap, end_statistics, event_rows
 
 # Columns that depend on the machine and the moment, not on the physics (left out of comparisons).
@@ -74,7 +75,8 @@ def make_task(case, study, code, out_dir, base_files=None) -> dict:
     mcap = str(Path(out_dir) / "mcap" / f"case{case.index:05d}_{key}.mcap") if study.keep.get("mcap") else None
     return {"key": key, "index": case.index, "study": study.name, "variables": dict(case.variables),
             "base": str(case.base), "overrides": dict(case.overrides), "source_hash": code["source_hash"],
-            "mcap": mcap, "events": bool(study.keep.get("events", True))}
+            "mcap": mcap, "events": bool(study.keep.get("events", True)),
+            "expected_cpu": run_estimate(config, config.duration)[0]}
 
 
 def _resolution(tap, config) -> dict:

@@ -3,12 +3,14 @@ the results, run the rest (local processes or Dask), journal each one as it fini
 
 import hashlib
 import json
+import os
 import shutil
 import sys
 import time
 from pathlib import Path
 
 from tether_sim.errors import ConfigError
+from tether_sim.solvers.work import span
 from tether_sim.studies.case import code_version, make_task
 from tether_sim.studies.execute import Progress, failed_result, run_dask, run_local
 from tether_sim.studies.results import ResultStore
@@ -110,6 +112,7 @@ def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=
     selected = study.n_cases() if cases is None else len({i for i in cases if 0 <= i < study.n_cases()})
     if limit is not None:
         selected = min(selected, max(0, int(limit)))
+    _announce_cost(study, out_dir, retry_failed, cases, limit, selected, scheduler is None, workers, stream)
     store = ResultStore(out_dir, units=study.column_units())
     progress = Progress(selected, 0, stream=stream)  # the total shrinks as cases turn out done or duplicate
     last_table = [time.monotonic()]
@@ -134,7 +137,8 @@ def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=
                 progress.instant += 1
                 on_result(item)
             else:
-                progress.total -= 1
+                if limit is None:  # (with --limit the total is the limit until the tasks are known)
+                    progress.total -= 1
                 if kind == "skipped":
                     counts["skipped"] += 1
                     progress.skipped += 1
@@ -173,6 +177,37 @@ def run_study(path, out_dir=None, *, scheduler=None, workers=None, retry_failed=
         summary.update(interrupted=account["signal"], in_flight=len(account["in_flight"]),
                        not_started=len(account["not_started"]) + later)
     return summary
+
+
+ESTIMATE_CASES = 500  # cases resolved before the start to state the cost (a larger study: extrapolated)
+
+
+def _announce_cost(study, out_dir, retry_failed, cases, limit, selected, local, workers, stream):
+    """One line, before the cases start, on what they should cost: the run estimate of each case to run
+    (solvers/work.py run_estimate, in its task), summed; from the first ESTIMATE_CASES cases, scaled to
+    the ``selected`` ones, when there are more; divided over the ``workers`` when they are ``local``."""
+    cpu, n_tasks, examined, complete = 0.0, 0, 0, True
+    for kind, _, item, _ in plan_lazy(study, out_dir, retry_failed, cases):
+        if limit is not None and n_tasks >= limit:
+            break
+        if examined >= ESTIMATE_CASES:
+            complete = False
+            break
+        examined += 1
+        if kind == "task":
+            n_tasks, cpu = n_tasks + 1, cpu + item["expected_cpu"]
+    if n_tasks == 0:
+        return
+    what = f"{n_tasks} case(s)"
+    if not complete:  # the rest as the resolved ones
+        scale = selected / examined
+        n_tasks, cpu = max(n_tasks, round(n_tasks * scale)), cpu * scale
+        what = f"about {n_tasks} case(s) (from the first {examined})"
+    line = f"[study] {what} to run: expected about {span(cpu)} of CPU on idle cores"
+    if local:
+        n = max(1, min(workers or os.cpu_count() or 1, n_tasks))
+        line += f", about {span(cpu / n)} on {n} local worker(s)"
+    print(line + " (a busy machine takes longer)", file=stream, flush=True)
 
 
 def _cluster(scheduler, workers):
