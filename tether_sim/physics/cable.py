@@ -24,6 +24,7 @@ class CableProperties:
     damping: float = param(0.0, unit="N s", doc="axial material damping zeta in T = EA*eps + zeta*deps/dt [PE2020 Eq. 22]", min=0.0, max=1e12)
     bending_damping: float = param(0.0, unit="N m^2 s", doc="bending damping zeta_b in M = i x (EI*kappa + zeta_b*dkappa/dt) [PE2020 Eq. 19]", min=0.0, max=1e12)
     material: str = param("bilinear", doc="tension-strain law: bilinear (no compression, Eq. 22), linear, table", choices=("bilinear", "linear", "table"))
+    compression: str = param("none", doc="what a slack cable with bending pushes: none (PE2020 Eq. 22 as printed: the material shortens freely, bending acts on the curved line only; as MoorDyn) or buckling (the push is carried up to the Euler load EI (pi P / h)^2 of the mesh's shortest wave: a rod that must buckle to shorten; mesh-dependent where a slack phase reaches it). Laws without compression only (bilinear, table); no effect without bending. docs/dg_solver.md \"Slack with bending\"", choices=("none", "buckling"))
     table_strain: tuple = param((), unit="-", doc="strain points of the tabulated law (increasing, first 0)")
     table_tension: tuple = param((), unit="N", doc="tension at table_strain (material=table)")
     Cdn: float = param(1.0, doc="normal drag coefficient C_d,perp [PE2020 Eq. 17]", min=0.0, max=100.0)

@@ -6,7 +6,10 @@ and the total T = EA eps + zeta deps/dt is clipped at 0 so that a slackening cab
 piecewise-linear elastic tension through (table_strain, table_tension) starting at (0, 0),
 extrapolated with the last slope, zero in compression, plus zeta deps/dt, clipped at 0).
 
-**Compression up to the mesh's buckling load** (``pc`` below, N; solvers/dg: ``compression_cap``). The
+**Compression up to the mesh's buckling load** (``cable.compression: buckling``; ``pc`` below, N; solvers/dg:
+``compression_cap``, with the EI of :func:`cap_stiffness`). The default, ``cable.compression: none``, is Eq. 22
+as printed with or without bending (pc = 0): the material of a slack cable shortens freely, and bending acts on
+the curvature of the line only, as in MoorDyn; docs/dg_solver.md "Slack with bending" compares the two. The
 "no compression" of Eq. 22 is the law of a perfectly flexible cable, which buckles under any push. A
 cable with bending stiffness EI carries a push elastically until it buckles: a wave of the centreline
 of wavenumber k buckles at its Euler load EI k^2, and to shorten the chord by a fraction d with such
@@ -126,6 +129,12 @@ def compression_cap(law, EI, P, h):
         return 0.0
     k = 3.141592653589793 * P / h
     return EI * k * k
+
+
+def cap_stiffness(cable):
+    """EI of the compression cap (N m^2): the cable's EI with ``cable.compression: buckling``, 0 with ``none``
+    (Eq. 22 as printed: a slack cable pushes nothing, with or without bending)."""
+    return float(cable.EI) if getattr(cable, "compression", "none") == "buckling" else 0.0
 
 
 class TensionLaw:

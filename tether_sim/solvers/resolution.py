@@ -249,9 +249,9 @@ def bending_mesh_warning(length, n_elements, order, EI, element_lengths=(), damp
     what = " and ".join(x for x in (f"bending (EI {EI:g} N m^2)" if EI > 0.0 else "",
                                     "dg.damping implicit" if implicit else "") if x)
     return (f"{what} on a DG node spacing of {spacing:.3g} m (h / P): below {FINE_MESH_SPACING:g} m slack phases can "
-            f"show one-step end-tension events (rejected by the snap guard; ROPOS 200 m slack-snap case: clean at 2.5 m; "
-            f"at 1.25 m clean with bending factor 100, one such event with factor 1, explicit damping; docs/dg_solver.md "
-            f"\"Slack with bending\"): check numerical warnings, or use a coarser mesh")
+            f"show one-step end-tension events (rejected by the snap guard; ROPOS 200 m slack-snap case, explicit damping: "
+            f"clean at 2.5 m; at 1.25 m one such event of 0.4-2.8 MN with cable.compression none, the snaps after it "
+            f"up to 23 % off, and one with buckling at bending factor 1; docs/dg_solver.md \"Slack with bending\"): check numerical warnings, or use a coarser mesh")
 
 
 def mesh_summary(n_elements, order, cfl, resolution, snap_tolerance) -> str:
@@ -271,26 +271,26 @@ def mesh_summary(n_elements, order, cfl, resolution, snap_tolerance) -> str:
 # 100 (cap 414 kN / 1.65 MN) matches explicit damping within 1.4e-5 at N = 20 and 40.
 def implicit_damping_refusal(config) -> str:
     """The reason (one line) why dg.damping implicit is refused for ``config``, or "". Refused when the cable has
-    bending, a law without compression, and a compression cap EI (pi P / h)^2 on its longest element below the
+    bending, a law without compression, ``cable.compression: buckling`` and a compression cap EI (pi P / h)^2 on its longest element below the
     weight it carries (the cable's dry weight plus a body end's submerged weight: the compression a slack phase
     can pile up is of that size)."""
     from tether_sim.physics.bodies import submerged_weight
-    from tether_sim.physics.constitutive import LAW_CODES, LAW_LINEAR, compression_cap
+    from tether_sim.physics.constitutive import LAW_CODES, LAW_LINEAR, cap_stiffness, compression_cap
     from tether_sim.solvers.work import element_sizes
 
     cab, dg = config.cable, config.dg
     law = LAW_CODES.get(cab.material, LAW_LINEAR)
-    if config.solver != "dg" or dg.damping != "implicit" or cab.EI <= 0.0 or law == LAW_LINEAR:
+    if config.solver != "dg" or dg.damping != "implicit" or cap_stiffness(cab) <= 0.0 or law == LAW_LINEAR:
         return ""
     h = float(max(element_sizes(config)))
-    pc = compression_cap(law, float(cab.EI), int(dg.order), h)
+    pc = compression_cap(law, cap_stiffness(cab), int(dg.order), h)
     weight = float(cab.gamma0) * config.environment.g * float(cab.length)
     if "body" in (config.ship_end.kind, config.vehicle_end.kind):
         weight += max(submerged_weight(config.body, config.environment), 0.0)
     if pc >= weight:
         return ""
-    return (f"dg.damping implicit with bending (cable.EI {cab.EI:g} N m^2) on a cable without compression "
-            f"(cable.material {cab.material}): its compression cap EI (pi P / h)^2 = {pc:.4g} N (h = {h:.4g} m, P = "
+    return (f"dg.damping implicit with bending (cable.EI {cab.EI:g} N m^2) and cable.compression buckling on a cable "
+            f"without compression (cable.material {cab.material}): its compression cap EI (pi P / h)^2 = {pc:.4g} N (h = {h:.4g} m, P = "
             f"{dg.order}) is below the weight it carries ({weight:.4g} N), so slack phases reach it, and there the "
             f"implicit damping step is not right (ROPOS 200 m, bending factor 1: cage snaps of 93-384 kN against 210 kN "
-            f"with explicit damping; docs/dg_solver.md \"Slack with bending\"): use dg.damping explicit")
+            f"with explicit damping; docs/dg_solver.md \"Slack with bending\"): use dg.damping explicit or cable.compression none")

@@ -18,7 +18,7 @@ import pytest
 from tether_sim.config import SimConfig
 from tether_sim.physics.boundary import EndCondition
 from tether_sim.physics.cable import CableProperties
-from tether_sim.physics.constitutive import axial_tension, buckled, compression_cap, elastic_tension
+from tether_sim.physics.constitutive import axial_tension, buckled, cap_stiffness, compression_cap, elastic_tension
 from tether_sim.physics.environment import Environment
 from tether_sim.solvers.config import DGOptions, InitialState
 from tether_sim.solvers.dg import layout as Y
@@ -30,11 +30,13 @@ from tether_sim.solvers.dg.solver import DGCableSolver
 pytestmark = pytest.mark.jit_off
 
 
-def cable_solver(N=3, P=4, EI=0.0, law="bilinear", kinds=("prescribed", "free"), damping="explicit", seed=0):
+def cable_solver(N=3, P=4, EI=0.0, law="bilinear", kinds=("prescribed", "free"), damping="explicit", seed=0,
+                 compression="buckling"):
     """A 50 m cable in water with drag, anisotropic added mass and damping, on a curved state with
-    slack and taut points and a random velocity (every branch of the point loads is visited)."""
+    slack and taut points and a random velocity (every branch of the point loads is visited). With bending the
+    capped compression (cable.compression buckling) by default: its branches are the ones written out."""
     cab = CableProperties(length=50.0, EA=2e5, gamma0=3.0, diameter=0.03, density=7000.0, EI=EI, damping=300.0,
-                          material=law, Cdn=1.2, Cdt=0.05, Cmn=1.0, Cmt=0.3,
+                          material=law, compression=compression, Cdn=1.2, Cdt=0.05, Cmn=1.0, Cmt=0.3,
                           table_strain=(0.0, 0.01, 0.05), table_tension=(0.0, 1e3, 2e4))
     cfg = SimConfig(cable=cab, environment=Environment(g=9.81, fluid_density=1025.0),
                     ship_end=EndCondition(kind=kinds[0], position=(0, 0, 0)),
@@ -123,7 +125,7 @@ def test_written_out_tension_and_wave_speed_equal_their_composition(law, N, P, E
     wq = s._wq
     eps = wq[:, :, Y.W_L] - 1.0
     assert eps.min() < 0.0 < eps.max()  # slack and taut points
-    pc = [compression_cap(code, EI, P, h) for h in s.h]
+    pc = [compression_cap(code, cap_stiffness(s.config.cable), P, h) for h in s.h]
     if EI > 0.0 and law != "linear":  # strained compression and buckled points are both visited
         bk = np.array([[buckled(code, eps[e, j], EA, s.law.tab_eps, s.law.tab_T, pc[e])
                         for j in range(wq.shape[1])] for e in range(N)])
@@ -205,7 +207,7 @@ def test_clip_end_fluxes_is_the_clip_of_the_total_end_flux(kinds):
             i = q / np.linalg.norm(q)
             lam = max(tr[e, end, Y.T_LAM], s.prm[Y.P_LAMBDA_BC])
             elastic = tr[e, end, Y.T_TV:Y.T_TV + 3] - sgn * lam * (g0 * vbc[end, 3:6] - tr[e, end, Y.T_V:Y.T_V + 3])
-            pc = compression_cap(s.law.code, s.config.cable.EI, s.P, s.h[e])  # > 0 with bending (clamped case)
+            pc = compression_cap(s.law.code, cap_stiffness(s.config.cable), s.P, s.h[e])  # > 0 with bending (clamped case)
             total = plain_clip(elastic + sgn * fdamp[end, 0:3], q, pc)
             clipped += int(not np.array_equal(total, elastic + sgn * fdamp[end, 0:3]))
             d = total - fl[k, Y.F_V:Y.F_V + 3] - sgn * fdamp[end, 0:3]
@@ -239,7 +241,7 @@ def test_clip_set_marks_exactly_the_points_whose_total_tension_would_push(law, E
     Z0 = wp[:, :, DL.WP_Z].copy()
     n = clip_set(dw.idp, dw.dprm, wp, s.law.tab_eps, s.law.tab_T)
     zeta = dw.dprm[DL.DP_ZETA]
-    pc = np.array([compression_cap(s.law.code, EI, 3, h) for h in s.h])[:, None] + 0.0 * wp[:, :, DL.WP_L]
+    pc = np.array([compression_cap(s.law.code, cap_stiffness(s.config.cable), 3, h) for h in s.h])[:, None] + 0.0 * wp[:, :, DL.WP_L]
     assert np.array_equal(wp[:, :, DL.WP_PC], pc) and (law == "linear" or (pc > 0).all() == (EI > 0))
     eps = wp[:, :, DL.WP_L] - 1.0
     tel = np.vectorize(lambda x, c: elastic_tension(s.law.code, x, s.law.EA, s.law.tab_eps, s.law.tab_T, c))(eps, pc)

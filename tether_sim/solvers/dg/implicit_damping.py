@@ -41,7 +41,7 @@ import numpy as np
 
 from tether_sim.numerics.banded import band_factor, band_solve
 from tether_sim.numerics.jit import jit
-from tether_sim.physics.constitutive import compression_cap
+from tether_sim.physics.constitutive import cap_stiffness, compression_cap
 from tether_sim.solvers.dg.damping_layout import (
     DP_AN, DP_AT, DP_EA, DP_G0, DP_LAMBDA, DP_LU_H, DP_ZETA, DP_ZETAB, GAMMA_SDIRK, ID_KIND0, ID_KIND1, ID_KL, ID_LAW,
     ID_LU_AGE, ID_MODE, ID_REACH, ID_REL0, ID_RELF0, LU_MAX_AGE, LU_TOL, MODE_AXIAL, MODE_GENERAL, N_DP, N_ID, NWD,
@@ -81,7 +81,7 @@ class DampingWork:
         self.idp[ID_LU_AGE] = -1
         self.wp = np.zeros((N, nq, NWP))
         for e in range(N):  # (a winch, which would change h, is refused with implicit damping: winch_driver.py)
-            self.wp[e, :, WP_PC] = compression_cap(law_code, cable.EI, nm - 1, h[e])
+            self.wp[e, :, WP_PC] = compression_cap(law_code, cap_stiffness(cable), nm - 1, h[e])
         self.wd = np.zeros((N, nm, NWD))
         self.band = np.zeros((n, 2 * kl + 1))
         self.vec = np.zeros((4, max(n, kl + 1)))

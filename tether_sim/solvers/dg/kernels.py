@@ -43,7 +43,7 @@ from tether_sim.solvers.dg.layout import (
     I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_P, I_NWAVE, I_SEABED, I_SURFACE,
     M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDN_AIR, P_CDT, P_CDT_AIR, P_EA, P_FBZ, P_FBZ_AIR, P_GAMMA0,
     P_HALF_RHO_D, P_HALF_RHO_D_AIR, P_RHO_AH, P_SURF_B, P_TIME, P_WAVE_DEPTH, P_WAVE_STRETCH, P_WAVE_ZCUT, N_PRM,
-    P_EI, P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_QPENT, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
+    P_EI, P_EIC, P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_QPENT, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
     T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TE, W_TV, W_V, W_WET,
 )
 from tether_sim.solvers.dg.fluxes import (
@@ -152,8 +152,8 @@ def internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, 
         else:  # n = +1
             fl[N, F_V + c] = tr[N - 1, 1, T_TV + c] + lam1 * (g0 * vbc[1, 3 + c] - tr[N - 1, 1, T_V + c])
     if law != LAW_LINEAR:
-        clip_compression(fl, tr, 0, 0, 0, compression_cap(law, prm[P_EI], iprm[I_P], h[0]))
-        clip_compression(fl, tr, N, N - 1, 1, compression_cap(law, prm[P_EI], iprm[I_P], h[N - 1]))
+        clip_compression(fl, tr, 0, 0, 0, compression_cap(law, prm[P_EIC], iprm[I_P], h[0]))
+        clip_compression(fl, tr, N, N - 1, 1, compression_cap(law, prm[P_EIC], iprm[I_P], h[N - 1]))
     end_outputs(N, tr, fl, endf, k0, k1, bc)
 
 
@@ -181,7 +181,7 @@ def tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, w
     # six-channel sums below are written out on purpose: one helper returning a 6-tuple measured
     # 41-43 us per substep against 35-36 us (ROPOS N = 20, P = 4, bench_dg_kernel.py).
     for e in range(N):
-        pc = compression_cap(law, prm[P_EI], iprm[I_P], h[e])  # 0 without bending: Eq. 22 as printed
+        pc = compression_cap(law, prm[P_EIC], iprm[I_P], h[e])  # 0 without bending: Eq. 22 as printed
         for j in range(nq):
             s0 = 0.0
             s1 = 0.0
@@ -250,7 +250,7 @@ def tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, w
         # the volume term and differs only in the (central) interface fluxes
         hb = 1.0 / h[e]
         asc = (2.0 / h[e]) * ig0
-        pc = compression_cap(law, prm[P_EI], iprm[I_P], h[e])
+        pc = compression_cap(law, prm[P_EIC], iprm[I_P], h[e])
         jr0 = fl[e + 1, F_Q] - ig0 * tr[e, 1, T_V]
         jr1 = fl[e + 1, F_Q + 1] - ig0 * tr[e, 1, T_V + 1]
         jr2 = fl[e + 1, F_Q + 2] - ig0 * tr[e, 1, T_V + 2]

@@ -37,6 +37,7 @@ define(globals(), "prm", [
     ("P_MU", 1, "mu", "-", "seabed friction coefficient [Eq. 16]"),
     ("P_VMU", 1, "v_mu", "m/s", "friction regularisation speed"),
     ("P_EI", 1, "EI", "N m^2", "bending stiffness"),
+    ("P_EIC", 1, "EI_c", "N m^2", "bending stiffness of the compression cap (cable.compression buckling: EI; none: 0, Eq. 22)"),
     ("P_ZETAB", 1, "zeta_b", "N m^2 s", "bending damping [Eq. 19]"),
     ("P_BETA", 1, "beta", "-", "LDG flux bias [Eq. 29-30]"),
     ("P_TORQUE", 1, "GIp Omega_1", "N m", "torque [Eq. 21]"),

@@ -16,7 +16,7 @@ import numpy as np
 from tether_sim.errors import UnstableTimeStepError
 from tether_sim.numerics.operators import element_operators, project_function
 from tether_sim.physics.bodies import BODY_STATE_SIZE, initial_body_state, pack_body_params, submerged_weight
-from tether_sim.physics.constitutive import TensionLaw
+from tether_sim.physics.constitutive import TensionLaw, cap_stiffness
 from tether_sim.physics.end_conditions import KIND_CODES, anchor_end, end_kind, held_in_place
 from tether_sim.physics.hydrodynamics import (
     added_mass_per_length, air_weight_per_length, current_table, net_weight_per_length,
@@ -138,6 +138,7 @@ class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
         prm[Y.P_MU] = env.seabed_friction
         prm[Y.P_VMU] = env.seabed_friction_speed
         prm[Y.P_EI] = cab.EI
+        prm[Y.P_EIC] = cap_stiffness(cab)
         prm[Y.P_ZETAB] = cab.bending_damping
         prm[Y.P_BETA] = opt.beta
         prm[Y.P_TORQUE] = cab.torque

@@ -21,7 +21,7 @@ from tether_sim.solvers.dg.damping_layout import MODE_EXPLICIT
 from tether_sim.solvers.dg.implicit_damping import damping_step
 from tether_sim.solvers.dg.kernels import dg_rhs, hermite_end
 from tether_sim.solvers.dg.layout import (
-    E_F, E_T, F_V, I_ANCHOR, I_CURRENT, I_KIND0, I_LAW, I_N, I_P, I_SURFACE, P_EI, P_GAMMA0, P_LAMBDA_BC, P_MN,
+    E_F, E_T, F_V, I_ANCHOR, I_CURRENT, I_KIND0, I_LAW, I_N, I_P, I_SURFACE, P_EIC, P_GAMMA0, P_LAMBDA_BC, P_MN,
     P_MT, P_RELAX, P_TIME, P_WL, T_LAM, T_Q, T_TV, T_V, W_I, W_WET,
 )
 from tether_sim.solvers.dg.workspace import (
@@ -126,7 +126,7 @@ def clip_end_fluxes(prm, iprm, h, V, Pj, Lf, vbc, wq, tr, fl, dU, endf, fdamp):
         tot1 = tr[e, end, T_TV + 1] - sgn * lam * (g0 * vbc[end, 4] - tr[e, end, T_V + 1]) + sgn * fdamp[end, 1]
         tot2 = tr[e, end, T_TV + 2] - sgn * lam * (g0 * vbc[end, 5] - tr[e, end, T_V + 2]) + sgn * fdamp[end, 2]
         a = tot0 * i0 + tot1 * i1 + tot2 * i2
-        pc = compression_cap(iprm[I_LAW], prm[P_EI], iprm[I_P], h[e])
+        pc = compression_cap(iprm[I_LAW], prm[P_EIC], iprm[I_P], h[e])
         if a < -pc:
             d = a + pc
             tot0 -= d * i0
