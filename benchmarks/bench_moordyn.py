@@ -21,6 +21,7 @@ Usage: PYTHONPATH=. python benchmarks/bench_moordyn.py [--lengths 200 1730]
 """
 
 import argparse
+import contextlib
 import json
 import math
 import os
@@ -40,23 +41,30 @@ COUPLING_STEP = 0.005  # s; tension sampled at 200 Hz for the peaks
 NODE_STEP = 0.02  # s; 50 Hz, the node's output rate, for the speed figure
 
 
-def _quiet_create(moordyn, path):
-    """moordyn.Create with its console banner sent to /dev/null (C-level stdout)."""
+@contextlib.contextmanager
+def c_stdout_silenced():
+    """C-level stdout sent to /dev/null inside the block (MoorDyn prints its banner and log there)."""
     sys.stdout.flush()
     saved = os.dup(1)
     devnull = os.open(os.devnull, os.O_WRONLY)
     try:
         os.dup2(devnull, 1)
-        system = moordyn.Create(str(path))
-        p0, v0 = rc.fairlead_motion(0.0)
-        t0 = time.perf_counter()
-        err = moordyn.Init(system, list(p0), list(v0))
-        init_wall = time.perf_counter() - t0
+        yield
     finally:
         sys.stdout.flush()
         os.dup2(saved, 1)
         os.close(saved)
         os.close(devnull)
+
+
+def _quiet_create(moordyn, path):
+    """moordyn.Create with its console banner sent to /dev/null (C-level stdout)."""
+    with c_stdout_silenced():
+        system = moordyn.Create(str(path))
+        p0, v0 = rc.fairlead_motion(0.0)
+        t0 = time.perf_counter()
+        err = moordyn.Init(system, list(p0), list(v0))
+        init_wall = time.perf_counter() - t0
     if err != 0:
         raise RuntimeError(f"MoorDyn Init failed with code {err}")
     return system, init_wall

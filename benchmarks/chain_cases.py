@@ -141,11 +141,11 @@ def run_moordyn(depth, name, t_end=20.0):
     """The same drive through pip moordyn (the deck as MoorDyn's test runs it, its stored initial state
     dropped): (t, fairlead force |F| (N), anchor tension (N)) every 0.1 s, wall time (s). The anchor
     value is MoorDyn's GetFASTtens anchor tension (its fixed points report no force)."""
-    import os
     import tempfile
 
     import moordyn
 
+    from benchmarks.bench_moordyn import c_stdout_silenced
     from benchmarks.moordyn_decks import _without_file_ic
 
     tm, xm = motion(name)
@@ -154,10 +154,7 @@ def run_moordyn(depth, name, t_end=20.0):
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / f"{depth}_Chain.txt"
         path.write_text(_without_file_ic((DATA / "decks" / f"{depth}_Chain.txt").read_text()))
-        sys.stdout.flush()
-        saved, devnull = os.dup(1), os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, 1)
-        try:
+        with c_stdout_silenced():
             system = moordyn.Create(str(path))
             moordyn.Init(system, list(xm[0]), [0.0, 0.0, 0.0])
             point = moordyn.GetPoint(system, 2)
@@ -172,11 +169,6 @@ def run_moordyn(depth, name, t_end=20.0):
                 anch.append(math.hypot(*[v[0] for v in moordyn.GetFASTtens(system, 1)[2:]]))
             wall = time.perf_counter() - wall
             moordyn.Close(system)
-        finally:
-            sys.stdout.flush()
-            os.dup2(saved, 1)
-            os.close(saved)
-            os.close(devnull)
     return tm, np.array(fair), np.array(anch), wall
 
 

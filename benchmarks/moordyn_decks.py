@@ -12,7 +12,6 @@ Usage: PYTHONPATH=. python benchmarks/moordyn_decks.py [--decks DIR]
 """
 
 import argparse
-import os
 import sys
 import tempfile
 from pathlib import Path
@@ -21,6 +20,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from benchmarks.bench_moordyn import c_stdout_silenced  # noqa: E402
 from tether_sim.errors import ConfigError  # noqa: E402
 from tether_sim.network.moordyn import network_spec, read_deck, static_point_forces  # noqa: E402
 
@@ -55,10 +55,7 @@ def moordyn_static(deck_path):
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / Path(deck_path).name
         path.write_text(_without_file_ic(Path(deck_path).read_text(errors="replace")))
-        sys.stdout.flush()
-        saved, devnull = os.dup(1), os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, 1)  # MoorDyn prints its banner and log to C stdout
-        try:
+        with c_stdout_silenced():
             system = moordyn.Create(str(path))
             coupled, x = [], []
             for i in range(1, moordyn.GetNumberPoints(system) + 1):
@@ -69,11 +66,6 @@ def moordyn_static(deck_path):
             err = moordyn.Init(system, x, [0.0] * len(x))
             forces = {i: np.array(moordyn.GetPointForce(moordyn.GetPoint(system, i))) for i in coupled}
             moordyn.Close(system)
-        finally:
-            sys.stdout.flush()
-            os.dup2(saved, 1)
-            os.close(saved)
-            os.close(devnull)
     if err != 0:
         raise RuntimeError(f"{deck_path}: moordyn.Init failed with code {err}")
     return forces

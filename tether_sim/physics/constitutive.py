@@ -134,7 +134,7 @@ def compression_cap(law, EI, P, h):
 def cap_stiffness(cable):
     """EI of the compression cap (N m^2): the cable's EI with ``cable.compression: buckling``, 0 with ``none``
     (Eq. 22 as printed: a slack cable pushes nothing, with or without bending)."""
-    return float(cable.EI) if getattr(cable, "compression", "none") == "buckling" else 0.0
+    return float(cable.EI) if cable.compression == "buckling" else 0.0
 
 
 class TensionLaw:

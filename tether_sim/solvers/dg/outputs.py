@@ -5,7 +5,6 @@ import numpy as np
 
 from tether_sim.numerics.polys import legendre_integral_at
 from tether_sim.physics.bodies import body_acceleration
-from tether_sim.physics.constitutive import cap_stiffness
 from tether_sim.physics.hydrodynamics import current_at
 from tether_sim.solvers.base import BodyState, EndForces, SolverState, end_index
 from tether_sim.solvers.dg import layout as Y
@@ -59,7 +58,7 @@ class OutputsMixin:
         plan = self._plan(arc_lengths)
         o = np.empty((NS, plan.s.size))
         sample_state(self.U, self.ra, self._wm, self.h, self.iprm, self.config.cable.gamma0, self.law.code,
-                     self.law.EA, self.law.zeta, cap_stiffness(self.config.cable), self.law.tab_eps, self.law.tab_T, plan.elem, plan.phi, plan.iphi,
+                     self.law.EA, self.law.zeta, self.prm[Y.P_EIC], self.law.tab_eps, self.law.tab_T, plan.elem, plan.phi, plan.iphi,
                      plan.starts, o)
         vec = lambda c0: o[c0:c0 + 3].T.copy()  # noqa: E731  (n, 3) C-contiguous
         extra = {"moment_vector": vec(S_MVEC), "shear_force": vec(S_SHEAR), "tension_vector": vec(S_TV)}
