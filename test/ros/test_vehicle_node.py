@@ -18,7 +18,7 @@ pytest.importorskip("tether_sim_msgs")
 pytest.importorskip("mujoco")
 
 import rclpy  # noqa: E402
-from geometry_msgs.msg import WrenchStamped  # noqa: E402
+from geometry_msgs.msg import PoseStamped, WrenchStamped  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from sim_harness import overrides  # noqa: E402
 from tether_sim_msgs.msg import TetherState  # noqa: E402
@@ -156,3 +156,19 @@ def test_a_wrench_in_the_wrong_frame_or_not_finite_is_rejected_and_an_old_one_st
     node._on_wrench(msg)
     assert node._tether_wrench(node.sim.time)[0][0] == 10.0
     assert not np.any(node._tether_wrench(node.sim.time + 0.6)[0]) and node.stale  # older than WRENCH_TIMEOUT
+
+
+def test_an_unstable_vehicle_simulation_stops_publishing(loop):
+    """A tether wrench of 1e12 N makes MuJoCo's state blow up (and MuJoCo would reset it to the start):
+    the node says so and publishes no more poses, rather than a vehicle back at its start."""
+    lp = loop(start=(36.0, 0.0, -2.0), setpoint=(36.0, 0.0, -2.0))
+    node = lp.vehicle
+    poses = []
+    lp.probe.create_subscription(PoseStamped, "/vehicle/pose", poses.append, 100)
+    node.wrench = (node.sim.time, np.array([1e12, 0.0, 0.0]), np.array([0.0, 1e12, 0.0]))
+    node.tick()
+    n = len(poses)
+    for _ in range(5):
+        node.tick()
+        lp.executor.spin_once(timeout_sec=0.01)
+    assert node.failed and len(poses) == n

@@ -35,7 +35,7 @@ from rosgraph_msgs.msg import Clock
 
 from tether_sim.ros.convert import time_msg
 from tether_sim.vehicle.model import MODELS
-from tether_sim.vehicle.sim import StationKeeper, VehicleSim
+from tether_sim.vehicle.sim import StationKeeper, VehicleDiverged, VehicleSim
 
 WRENCH_TIMEOUT = 0.5  # s of simulated time a tether wrench stays applied without a newer one
 
@@ -60,6 +60,7 @@ class VehicleNode(Node):
         self.wrench = None  # (stamp s, force (3,), torque (3,)) of the latest accepted tether wrench
         self.stale = False
         self.rejected = 0
+        self.failed = False  # the simulation went unstable: nothing more is published
         self.thrust = np.zeros(len(sim.model.thruster_positions))
         self.applied = np.zeros(6)  # the tether wrench applied in the last step (body frame)
         self.pose_pub = self.create_publisher(PoseStamped, "vehicle/pose", 10)
@@ -104,7 +105,19 @@ class VehicleNode(Node):
 
     def tick(self):
         """One output period: MuJoCo steps (each with the controller's thrust and the tether wrench),
-        then vehicle/pose, vehicle/thrust and /clock."""
+        then vehicle/pose, vehicle/thrust and /clock. A simulation that went unstable publishes nothing
+        more (its state is not the vehicle's motion)."""
+        if self.failed:
+            return
+        try:
+            self._advance()
+        except VehicleDiverged as exc:
+            self.failed = True
+            self.get_logger().error(f"{exc}: stopped publishing vehicle/pose")
+            return
+        self.publish()
+
+    def _advance(self):
         steps = self.substeps
         if not self.own_clock:  # follow the wall clock
             now = self.get_clock().now().nanoseconds * 1e-9
@@ -116,7 +129,6 @@ class VehicleNode(Node):
             f, m = self._tether_wrench(self.sim.time if self.own_clock else self.now())
             self.applied = np.concatenate([f, m])
             self.sim.step(self.thrust, f, m)
-        self.publish()
 
     def publish(self):
         t = self.now()

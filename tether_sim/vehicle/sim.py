@@ -16,6 +16,7 @@ held level), maps the wanted body wrench to the thrusters by the pseudo-inverse 
 matrix and clips each thruster at its limit.
 """
 
+import logging
 import math
 
 import mujoco
@@ -32,6 +33,15 @@ _XML = """<mujoco>
     </body>
   </worldbody>
 </mujoco>"""
+
+
+# MuJoCo's warnings go to the log, not to a MUJOCO_LOG.TXT in the working directory
+mujoco.set_mju_user_warning(lambda text: logging.getLogger("tether_sim.vehicle").warning("MuJoCo: %s", text))
+_UNSTABLE = (mujoco.mjtWarning.mjWARN_BADQACC, mujoco.mjtWarning.mjWARN_BADQVEL, mujoco.mjtWarning.mjWARN_BADQPOS)
+
+
+class VehicleDiverged(RuntimeError):
+    """MuJoCo found the vehicle's state non-finite or huge (and would reset it to the start)."""
 
 
 def quat_to_matrix(q) -> np.ndarray:
@@ -101,7 +111,13 @@ class VehicleSim:
         applied = self.scale * tau  # M_RB (M_RB + M_A)^-1 tau
         self.data.xfrc_applied[1, 0:3] = R @ applied[0:3]  # world frame, at the body's centre of mass
         self.data.xfrc_applied[1, 3:6] = R @ applied[3:6]
+        before = [self.data.warning[w].number for w in _UNSTABLE]
+        t = self.time
         mujoco.mj_step(self.mj, self.data)
+        if [self.data.warning[w].number for w in _UNSTABLE] != before or not np.all(np.isfinite(self.data.qpos)):
+            # MuJoCo has reset the state to the start: that is not the vehicle's motion
+            raise VehicleDiverged(f"the vehicle simulation went unstable at t = {t:.3f} s (loads {np.round(tau, 1)} "
+                                  "N, N m in the body frame)")
 
 
 def yaw_of(q) -> float:
