@@ -36,6 +36,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from benchmarks import ropos_case as rc  # noqa: E402
+from benchmarks.bench_moordyn import c_stdout_silenced  # noqa: E402
 from tether_sim.physics.cable import CableProperties  # noqa: E402
 
 LENGTH = 200.0
@@ -184,18 +185,10 @@ def run_moordyn(duration, coupling):
     path = Path(tempfile.mkdtemp(prefix="md_net_")) / "network.txt"
     path.write_text(moordyn_input(dt))
     veh = vehicle_position()
-    sys.stdout.flush()
-    saved, devnull = os.dup(1), os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(devnull, 1)
+    with c_stdout_silenced():  # MoorDyn's console banner and log
         system = moordyn.Create(str(path))
         p0, v0 = rc.fairlead_motion(0.0)
         err = moordyn.Init(system, list(p0) + list(veh), list(v0) + [0.0, 0.0, 0.0])
-    finally:
-        sys.stdout.flush()
-        os.dup2(saved, 1)
-        os.close(saved)
-        os.close(devnull)
     if err != 0:
         raise RuntimeError(f"MoorDyn Init failed with code {err}")
     line = moordyn.GetLine(system, 1)
