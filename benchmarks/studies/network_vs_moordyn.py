@@ -16,7 +16,7 @@ the ship and at the cage, the excursion tether's force on the vehicle (largest |
 the r.m.s. difference of |F| over the run against MoorDyn, relative to MoorDyn's largest), the
 cage heave. Writes a JSON and a figure.
 
-Usage: PYTHONPATH=. python benchmarks/network_vs_moordyn.py [--duration 12] [--tick 0.005]
+Usage: PYTHONPATH=. python benchmarks/studies/network_vs_moordyn.py [--duration 12] [--tick 0.005]
        [--coupling 0.005] [--solvers dg hybrid] [--json out/network_vs_moordyn.json]
        [--figure docs/figures/network_vs_moordyn.png]
 """
@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from benchmarks import ropos_case as rc  # noqa: E402
 from benchmarks.bench_moordyn import c_stdout_silenced  # noqa: E402
@@ -134,7 +134,7 @@ def moordyn_input(dt):
         return f"{name} {d['diam']:.8g} {d['mass']:.8g} {d['EA']:.8g} {d['BA']:.8g} 0 {d['Cd']:.8g} {d['Ca']:.8g} {d['CdAx']:.8g} {d['CaAx']:.8g}"
 
     return f"""--------------------- MoorDyn Input File ------------------------------------
-ROPOS tether, cage and excursion tether (tether_sim benchmarks/network_vs_moordyn.py)
+ROPOS tether, cage and excursion tether (tether_sim benchmarks/studies/network_vs_moordyn.py)
 ---------------------- LINE TYPES -----------------------------------------------------
 TypeName  Diam  Mass/m  EA  BA/-zeta  EI  Cd  Ca  CdAx  CaAx
 (name) (m) (kg/m) (N) (N-s/-) (N-m^2) (-) (-) (-) (-)

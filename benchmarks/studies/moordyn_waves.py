@@ -25,7 +25,7 @@ s = L / (2N) against it). MoorDyn is run on a segment ladder, ours on a DG mesh 
 segment ladder; the reference is MoorDyn's finest. MoorDyn is also run once without the axial
 Froude-Krylov part (PE2020 Eq. 13's form), which shows what that term does to the answer.
 
-Usage: PYTHONPATH=. python benchmarks/moordyn_waves.py [--duration 42] [--segments 20 40 80 160]
+Usage: PYTHONPATH=. python benchmarks/studies/moordyn_waves.py [--duration 42] [--segments 20 40 80 160]
        [--dg-elements 4 8 16] [--hybrid-segments 20 40 80] [--figure docs/figures/moordyn_waves.png]
 The cheap version is test/solvers/test_waves_vs_moordyn.py.
 """
@@ -39,7 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from benchmarks.bench_moordyn import c_stdout_silenced  # noqa: E402
 from tether_sim.physics import waves  # noqa: E402
@@ -78,7 +78,7 @@ def run_ours(solver, duration, step=0.02, arc_lengths=None, **extra):
 
 def moordyn_input(n_segments, dt):
     return f"""--------------------- MoorDyn Input File ------------------------------------
-tether_sim benchmarks/moordyn_waves.py: submerged line in a regular wave, external wave kinematics
+tether_sim benchmarks/studies/moordyn_waves.py: submerged line in a regular wave, external wave kinematics
 ---------------------- LINE TYPES -----------------------------------------------------
 TypeName  Diam  Mass/m  EA  BA/-zeta  EI  Cd  Ca  CdAx  CaAx
 (name) (m) (kg/m) (N) (N-s/-) (N-m^2) (-) (-) (-) (-)
