@@ -172,3 +172,11 @@ def test_an_unstable_vehicle_simulation_stops_publishing(loop):
         node.tick()
         lp.executor.spin_once(timeout_sec=0.01)
     assert node.failed and len(poses) == n
+
+
+@pytest.mark.parametrize("args, says", [(["--duration", "1"], "--duration 1.0"), (["--current", "5"], "--current 5.0")])
+def test_the_demo_refuses_bad_arguments(args, says, capsys):
+    from tether_sim.ros.rov_demo import main
+
+    assert main(args) == 2
+    assert says in capsys.readouterr().err
