@@ -47,8 +47,8 @@ def solver(law="bilinear", EI=2620.0, zeta_b=0.0, N=3, P=4, damping="explicit", 
 
 def fold_point(s, e=1, j=2):
     """Arc coordinate of Gauss point j of element e."""
-    x, _ = gauss_legendre(s.V.shape[0])
-    return s.s_edges[e] + 0.5 * (x[j] + 1.0) * s.h[e]
+    x, _ = gauss_legendre(s.ws.V.shape[0])
+    return s.s_edges[e] + 0.5 * (x[j] + 1.0) * s.ws.h[e]
 
 
 def fold(mu, s_f):
@@ -63,7 +63,7 @@ def fold(mu, s_f):
 
 def rhs(s):
     s._evaluate()
-    return s._dU[:, :, 3:6].copy(), s._wq[:, :, Y.W_TV:Y.W_TV + 3].copy()
+    return s.ws.dU[:, :, 3:6].copy(), s.ws.wq[:, :, Y.W_TV:Y.W_TV + 3].copy()
 
 
 @pytest.mark.parametrize("compression", ["none", "buckling"])
@@ -87,7 +87,7 @@ def test_bending_force_is_continuous_as_a_chord_passes_through_zero(law, compres
     # the shear stays of the size of the bending of b = 2 q / (1 + l^2) (ldg.py): -J d/ds(EI b'') with J = 2 I and
     # b_y = 2 u / (1 + u^2) at the fold (u = (s - s_f) / H), |d3 b_y / ds3| = 12 / H^3: 2 x 12 EI / H^3 = 63 N per
     # component, 105 N measured on this state; the stretched form grows as 1/l^3
-    wq = s._wq
+    wq = s.ws.wq
     slack = wq[:, :, Y.W_L] < 1.0  # (the mu = 1e-3 state; the same points are slack for +-1e-9)
     assert slack.sum() >= 5
     pc = compression_cap(s.law.code, cap_stiffness(s.config.cable), 4, H)
@@ -117,9 +117,9 @@ def test_taut_cable_is_pe2020_bit_for_bit(zeta_b, damping):
     for law in ("bilinear", "linear"):
         s = solver(law=law, zeta_b=zeta_b, damping=damping)
         taut_state(s)
-        s._end_vel = np.zeros((2, 3))
+        s.ws.ends[:, 3:6] = np.zeros((2, 3))
         runs[law] = rhs(s)
-        assert s._wq[:, :, Y.W_L].min() >= 1.0
+        assert s.ws.wq[:, :, Y.W_L].min() >= 1.0
     assert np.array_equal(runs["bilinear"][0], runs["linear"][0])
     assert np.array_equal(runs["bilinear"][1], runs["linear"][1])
 
@@ -190,9 +190,9 @@ def energy_solver(kinds, EI=262000.0, N=4, h=1.25):
 def cable_energy(s):
     """Kinetic + bending (EI |kappa|^2 / 2, kappa the LDG derivative of the bending tangent) + elastic energy (J)."""
     s._evaluate()
-    wq = s._wq
-    x, wg = gauss_legendre(s.V.shape[0])
-    w = wg[None, :] * s.h[:, None] / 2.0
+    wq = s.ws.wq
+    x, wg = gauss_legendre(s.ws.V.shape[0])
+    w = wg[None, :] * s.ws.h[:, None] / 2.0
     cab = s.config.cable
     kin = np.sum(w * np.sum(wq[:, :, Y.W_V:Y.W_V + 3] ** 2, axis=2)) / (2.0 * cab.gamma0)
     bend = 0.5 * cab.EI * np.sum(w * np.sum(wq[:, :, Y.W_KAP:Y.W_KAP + 3] ** 2, axis=2))
@@ -220,24 +220,24 @@ def test_bending_of_a_short_chord_is_the_gradient_of_its_energy(kinds, stretch):
     case on fine meshes."""
     s = energy_solver(kinds)
     s.set_shape(wavy(stretch), moving, origin=np.zeros(3))
-    s._end_vel = np.zeros((2, 3))
-    U0 = s.U.copy()
+    s.ws.ends[:, 3:6] = np.zeros((2, 3))
+    U0 = s.ws.U.copy()
     s._evaluate()
-    dU = s._dU.copy()
-    slack = s._wq[:, :, Y.W_L] < 1.0
+    dU = s.ws.dU.copy()
+    slack = s.ws.wq[:, :, Y.W_L] < 1.0
     assert slack.all() if stretch == 0.7 else (slack.any() and not slack.all())
     d = 1e-6
-    s.U[...] = U0 + d * dU
+    s.ws.U[...] = U0 + d * dU
     ep = cable_energy(s)
-    s.U[...] = U0 - d * dU
+    s.ws.U[...] = U0 - d * dU
     em = cable_energy(s)
     rate = (ep - em) / (2 * d)
-    s.U[...] = U0
+    s.ws.U[...] = U0
     # the scale: the power of the bending shear alone
-    x, wg = gauss_legendre(s.V.shape[0])
+    x, wg = gauss_legendre(s.ws.V.shape[0])
     s._evaluate()
-    qdot = np.einsum('jk,ekc->ejc', s.V, dU[:, :, 0:3])
-    power = np.sum(wg[None, :] * s.h[:, None] / 2 * np.sum(s._wq[:, :, Y.W_TS:Y.W_TS + 3] * qdot, axis=2))
+    qdot = np.einsum('jk,ekc->ejc', s.ws.V, dU[:, :, 0:3])
+    power = np.sum(wg[None, :] * s.ws.h[:, None] / 2 * np.sum(s.ws.wq[:, :, Y.W_TS:Y.W_TS + 3] * qdot, axis=2))
     print(kinds, stretch, "dE/dt", rate, "bending power", power)
     assert abs(power) > 1e3
     if kinds == ("free", "free") and stretch == 0.7:
@@ -259,7 +259,7 @@ def test_slack_cable_piling_up_on_a_fixed_end_gains_no_energy():
     for k in range(1, 41):
         s.advance_to(0.0025 * k)
         worst = max(worst, cable_energy(s) / e0)
-        lmin = min(lmin, s._wq[:, :, Y.W_L].min())
+        lmin = min(lmin, s.ws.wq[:, :, Y.W_L].min())
     print("largest E / E0", worst, "shortest chord", lmin)
     assert lmin < 0.8  # the chord did collapse at the end
     assert worst <= 1.0 + 1e-3
