@@ -176,11 +176,26 @@ class DGCableSolver:
             self._choose_q_penalty(shape)
         if shape is not None and all(held_in_place(k) for k in self.kinds):
             self.equilibrium_iterations = polish_equilibrium(self, end_pos[1] - end_pos[0])
+        self.start_warning = self._start_mismatch(shape) if shape is not None else ""
         relax = config.initial.relax_time
         if kind == "relax" or (kind == "static" and shape is None):
             relax = relax if relax > 0 else self._default_relax_time()
         if relax > 0:
             self.relax(relax)
+
+    def _start_mismatch(self, shape) -> str:
+        """A sentence when the mesh cannot hold the static shape, else "": the projected state's tension
+        exceeds the shape's by more than half its largest tension (and 1 N) somewhere. A slack cable whose
+        static shape has a kink (a light tether in a current, its slack streaming past an end and doubling
+        back) projects onto too few elements with kN spikes that no relaxation removes."""
+        s = np.linspace(0.0, self.L, 8 * self.N * (self.P + 1) + 1)
+        dg, ref = self.state(s).tension, shape.tension(s)
+        k = int(np.argmax(dg - ref))
+        if dg[k] - ref[k] <= max(0.5 * float(np.max(ref)), 1.0):
+            return ""
+        return (f"the mesh (N = {self.N}, P = {self.P}) cannot hold the static shape: its starting tension is "
+                f"{dg[k]:.4g} N at s = {s[k]:.1f} m where the static shape has {ref[k]:.4g} N (largest "
+                f"{float(np.max(ref)):.4g} N; a kink in a slack cable?): refine dg.n_elements")
 
     def _relax_in_chunks(self, t):
         """advance_to(t) in compiled calls of about RELAX_CHUNK_WALL s each (a signal is handled between
