@@ -34,7 +34,8 @@ setup(
         "rosbags",
     ],
     # tether-sim-study (tether_sim/studies): Parquet tables, Dask execution and its dashboard
-    extras_require={"studies": ["dask[distributed]", "pyarrow", "bokeh"]},
+    # tether-sim-vehicle (tether_sim/vehicle): the vehicle simulated in MuJoCo
+    extras_require={"studies": ["dask[distributed]", "pyarrow", "bokeh"], "vehicle": ["mujoco>=3.3,<3.4"]},
     zip_safe=True,
     data_files=[
         ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
@@ -56,6 +57,7 @@ setup(
             "tether-sim-study = tether_sim.studies.cli:main",
             "tether-sim-recover = tether_sim.io.mcap_recover:main",
             "tether-sim-poses = tether_sim.ros.pose_source:main",
+            "tether-sim-vehicle = tether_sim.ros.vehicle_node:main",
         ],
     },
 )

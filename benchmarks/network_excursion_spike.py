@@ -15,7 +15,7 @@ warning with its reason.
 - MoorDyn v2: segment ladder ``--md`` for the excursion tether (tether 80 segments), and
   ``--md-coupling`` (the vehicle force is sampled once per coupling step).
 
-Usage: PYTHONPATH=. python benchmarks/network_excursion_spike.py [--dg 6 3 10 4 20 4] [--hybrid 30 60]
+Usage: PYTHONPATH=. python benchmarks/network_excursion_spike.py [--dg 6 3 10 4 20 4] [--dg-cfl 0.8] [--hybrid 30 60]
        [--hybrid-dt 0.005 0.001]
        [--md 30 60 120] [--duration 4.5] [--json out/excursion_spike.json] [--figure docs/figures/excursion_spike.png]
 """
@@ -38,13 +38,16 @@ from tether_sim.physics.snap import NumericalSnapWarning, SnapConfig, SnapDetect
 THRESHOLDS = SnapConfig(slack_threshold=10.0, retension_threshold=100.0, snap_threshold=1000.0, min_slack_duration=0.1)
 
 
-def run_ours(solver, duration, mesh):
+def run_ours(solver, duration, mesh, cfl=None):
     from tether_sim.network.solver import NetworkSolver
     from tether_sim.network.spec import parse_network
     from tether_sim.ros.network_driver import line_snap_guard
 
     kw = {"exc_dg": mesh} if solver == "dg" else {"exc_hybrid": (mesh[0], mesh[1] if len(mesh) > 1 else 0.005)}
-    spec = parse_network(nm.network_tree(solver, 0.005, **kw))
+    tree = nm.network_tree(solver, 0.005, **kw)
+    if cfl is not None and solver == "dg":
+        tree["lines"]["excursion"]["dg"]["cfl"] = cfl
+    spec = parse_network(tree)
     net = NetworkSolver(spec)
     guard = line_snap_guard(spec, "excursion", net.line("excursion"))
     static = [max(abs(net.end_load("excursion", e)[1]), 1.0) for e in ("ship", "vehicle")]
@@ -105,6 +108,7 @@ def describe(events, lo, hi):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--dg", type=int, nargs="*", default=[6, 3, 10, 4, 20, 4])
+    ap.add_argument("--dg-cfl", type=float, default=None, help="dg.cfl of the DG excursion tether (default: dg.cfl's)")
     ap.add_argument("--hybrid", type=int, nargs="*", default=[30, 60])
     ap.add_argument("--hybrid-dt", type=float, nargs="*", default=[0.005],
                     help="time steps of the hybrid excursion tether (s): every segment count with every step")
@@ -131,7 +135,7 @@ def main(argv=None):
         print(f"{name} (dt {r['dt']:.3g} s, coupling {args.md_coupling} s): {table[name]} cpu {r['cpu']:.1f} s", flush=True)
     for i in range(0, len(args.dg), 2):
         mesh = (args.dg[i], args.dg[i + 1])
-        r = run_ours("dg", args.duration, mesh)
+        r = run_ours("dg", args.duration, mesh, args.dg_cfl)
         name = f"DG N={mesh[0]} P={mesh[1]}"
         runs[name], table[name] = r, dict(measures(r["t"], r["T"], lo, hi), detector=describe(r["events"], lo, hi),
                                           crossing_ms=1e3 * r["crossing"], error=r["error"])

@@ -49,6 +49,7 @@ CONSOLE_SCRIPTS = {  # CONTRACTS.md
     "tether-sim-study": "tether_sim.studies.cli:main",
     "tether-sim-recover": "tether_sim.io.mcap_recover:main",
     "tether-sim-poses": "tether_sim.ros.pose_source:main",
+    "tether-sim-vehicle": "tether_sim.ros.vehicle_node:main",
 }
 
 

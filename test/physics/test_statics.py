@@ -70,3 +70,49 @@ def test_touchdown_on_the_seabed():
     # inextensible closed form; EA = 1e9 stretches by ~1e-6, hence rel 1e-5
     assert -zg == pytest.approx((math.hypot(H, w * sol.touchdown) - H) / w, rel=1e-5)
     assert np.allclose(r[-1], [220.0, 0, zg], atol=1e-6)
+
+
+def test_an_anchor_at_s0_is_the_mirror_of_an_anchor_at_sL():
+    """The same line with its ends swapped: the s = 0 end the anchor on the seabed (a line described
+    from its anchor) gives the mirrored shape and the same end tensions as the s = L end on it."""
+    w, L, EA, zg = 1000.0, 450.0, 5e8, -50.0
+    law = TensionLaw(CableProperties(EA=EA))
+    top, anchor = np.array([420.0, 0.0, 0.0]), np.array([0.0, 0.0, zg])
+    down = catenary_between(top, anchor, L, w, law, seabed_z=zg)
+    up = catenary_between(anchor, top, L, w, law, seabed_z=zg)
+    s = np.linspace(0.0, L, 91)
+    assert np.allclose(up.position(s), down.position(L - s), rtol=0, atol=1e-9 * L)
+    assert np.allclose(up.tension(s), down.tension(L - s), rtol=1e-10)
+    assert np.allclose(up.force_at(s), -down.force_at(L - s), rtol=0, atol=1e-9 * w * L)
+    assert up.touchdown == 0.0 and up.liftoff == pytest.approx(L - down.touchdown, rel=1e-12)
+
+
+def test_both_ends_above_the_seabed_with_the_middle_lying_on_it():
+    """A long tether from a ship to a vehicle both above the seabed, its middle on the seabed: two
+    inextensible catenaries with horizontal touchdowns, s_h = sqrt(h^2 + 2 h H / w) and span
+    x = (H / w) asinh(w s_h / H) each (Irvine), joined by a straight lying part with the same H."""
+    w, L, zg = 50.0, 480.0, -100.0
+    law = TensionLaw(CableProperties(EA=1e12))
+    A, B = np.array([0.0, 0.0, 0.0]), np.array([0.0, 380.0, -70.0])
+    sol = catenary_between(A, B, L, w, law, seabed_z=zg)
+
+    def part(H, h):
+        sh = math.sqrt(h * h + 2.0 * h * H / w)
+        return sh, H / w * math.asinh(w * sh / H)
+
+    def span(H):
+        (sa, xa), (sb, xb) = part(H, 100.0), part(H, 30.0)
+        return xa + xb + (L - sa - sb) - 380.0
+
+    H = brentq(span, 1.0, 1e6, xtol=1e-12)
+    assert np.linalg.norm(sol.T0[:2]) == pytest.approx(H, rel=1e-6)
+    assert sol.touchdown == pytest.approx(part(H, 100.0)[0], rel=1e-6)
+    assert L - sol.liftoff == pytest.approx(part(H, 30.0)[0], rel=1e-6)
+    s = np.linspace(0.0, L, 601)
+    r = sol.position(s)
+    assert np.allclose(r[[0, -1]], [A, B], atol=1e-6)
+    assert np.all(r[:, 2] >= zg - 1e-6)
+    assert np.allclose(r[(s > sol.touchdown + 1e-6) & (s < sol.liftoff - 1e-6), 2], zg, atol=1e-6)
+    T = sol.force_at([0.0, L])
+    assert T[1, 2] - T[0, 2] == pytest.approx(w * (sol.touchdown + L - sol.liftoff), rel=1e-12)
+    assert T[1, 2] == pytest.approx(w * part(H, 30.0)[0], rel=1e-6)  # the vehicle end carries its hanging part

@@ -123,7 +123,9 @@ def test_tms_node_publishes_both_lines_the_vehicle_wrench_and_the_cage(tms):
     w = wrenches[(exc.header.stamp.sec, exc.header.stamp.nanosec)]  # the same instant
     assert w.header.frame_id == "rov/base_link"
     f = np.array([w.wrench.force.x, w.wrench.force.y, w.wrench.force.z])
-    assert np.linalg.norm(f) == pytest.approx(exc.vehicle_end_tension, rel=1e-4)  # |F| vs axial T: strain-scale
+    # |F| against the axial T: strain-scale, plus the end flux's transverse part on the slack line (its
+    # penalty on the end's transverse velocity mismatch: 10 mN is Z = 1.4 kN s/m times 7 um/s of ringing)
+    assert np.linalg.norm(f) == pytest.approx(exc.vehicle_end_tension, rel=1e-4, abs=0.01)
     assert f[0] < 0.0 and f[2] < 0.0 and abs(f[1]) < 1e-6 * np.linalg.norm(f)
     # the cage's wrench: both lines on it balance its wet weight (at rest, within 1 %)
     cw = r["/tether/cage_wrench"][-1].wrench.force

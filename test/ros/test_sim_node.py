@@ -180,3 +180,10 @@ def test_vehicle_body_end_publishes_its_pose_and_the_wrench_of_a_hanging_cage(ha
     assert (wrench.force.x, wrench.force.y) == pytest.approx((0.0, 0.0), abs=1e-3 * weight)
     assert wrench.force.z == pytest.approx(weight, rel=0.005)  # the tether holds the cage up
     assert (wrench.torque.x, wrench.torque.y, wrench.torque.z) == pytest.approx((0.0, 0.0, 0.0), abs=1e-3 * weight)
+
+
+def test_arguments_outside_the_ros_arguments_are_refused(capsys):
+    """`tether-sim --params FILE` (the offline runner's form) must not start the node on its defaults."""
+    assert main(["tether-sim", "--params", "config/ropos_L200.yaml"]) == 2
+    err = capsys.readouterr().err
+    assert "unknown argument(s) --params config/ropos_L200.yaml" in err and "--ros-args --params-file" in err

@@ -55,7 +55,8 @@ class NetworkBody:
         if np.any(self.mass + self.added_mass <= 0) or np.any(self.inertia <= 0):
             raise ValueError(f"network body {name}: mass + added mass and inertia + added inertia must be positive")
         self.state = initial_body_state(props)
-        self.impulse = {"lines": np.zeros(3), "weight": np.zeros(3), "drag": np.zeros(3)}
+        self.impulse_table = np.zeros((3, 3))  # rows: line ends, wet weight, drag (body_kernels.IMP_*)
+        self.impulse = {"lines": self.impulse_table[0], "weight": self.impulse_table[1], "drag": self.impulse_table[2]}
 
     # ------------------------------------------------------------------ kinematics
     @property

@@ -29,9 +29,11 @@ import numpy as np
 
 from tether_sim.errors import ConfigError
 from tether_sim.network.body import NetworkBody
+from tether_sim.network.body_kernels import BP_DRAG, BP_INERTIA, BP_MASS, BP_ROT_DAMPING, BP_WET, N_BP, kdk_close, kdk_open
 from tether_sim.network.spec import line_end_condition
 from tether_sim.network.statics import solve_network_statics
 from tether_sim.physics.constitutive import TensionLaw
+from tether_sim.physics.hydrodynamics import current_at, current_table
 from tether_sim.solvers.base import LOAD_F, LOAD_M, LOAD_T
 from tether_sim.solvers.factory import build_solver
 from tether_sim.solvers.winch_link import WinchLink
@@ -120,10 +122,14 @@ class NetworkSolver:
                 raise ConfigError(f"network.lines.{name}: {exc}") from exc
         self.time = 0.0
         self.coupling_limit = max_coupling_step(spec, self.bodies) if self.bodies else math.inf
-        self._loads = {n: np.zeros((2, 7)) for n in self.lines}
+        # every line's end loads in one array (the compiled body step reads its rows); _loads[line] is a view
+        self._load_table = np.zeros((len(self.lines), 2, 7))
+        self._loads = {n: self._load_table[i] for i, n in enumerate(self.lines)}
         for n, s in self.lines.items():
             out = s.tick(0.0, drain=True)
             self._loads[n][:] = out.loads[:, :7]
+        self._current = current_table(self.env)
+        self._kernel = {n: self._body_arrays(n, b) for n, b in self.bodies.items()}
         self.samples = {n: [] for n in self.lines}
         self.coupling_steps = 0
 
@@ -162,12 +168,25 @@ class NetworkSolver:
         return F, M
 
     def _fluid_velocity(self, body):
-        from tether_sim.physics.hydrodynamics import current_at, current_table
-        cz, cx, cy = current_table(self.env)
+        cz, cx, cy = self._current
         out = np.zeros(3)
         if cz.size:
             current_at(body.state[2], cz, cx, cy, out)
         return out
+
+    def _body_arrays(self, name, b):
+        """The arrays of the compiled coupling step of body ``name`` (network/body_kernels.py):
+        (parameters, (line, end) rows of its attachments in the load table, work, targets)."""
+        prm = np.zeros(N_BP)
+        prm[BP_MASS:BP_MASS + 3] = b.mass + b.added_mass
+        prm[BP_INERTIA:BP_INERTIA + 3] = b.inertia
+        prm[BP_ROT_DAMPING:BP_ROT_DAMPING + 3] = b.rot_damping
+        prm[BP_DRAG:BP_DRAG + 3] = b.drag
+        prm[BP_WET] = b.wet_weight
+        index = {n: i for i, n in enumerate(self.lines)}
+        rows = np.array([[index[e.line], 0 if e.end == "ship" else 1] for e in self.spec.ends_on(name)],
+                        dtype=np.int64).reshape(-1, 2)
+        return prm, rows, np.zeros((3, 13)), np.zeros((len(rows), 6))
 
     # ------------------------------------------------------------------ stepping
     def tick(self, t, drain=True):
@@ -203,12 +222,11 @@ class NetworkSolver:
     def _coupling_step(self, dt, t_new, chunks):
         fluid = {n: self._fluid_velocity(b) for n, b in self.bodies.items()}
         targets = {}
-        for n, b in self.bodies.items():
-            F, M = self._body_loads(n)
-            b.kick(0.5 * dt, F, M, fluid[n])
-            b.drift(dt)
-            pred = b.predicted_end_state(0.5 * dt, F, M, fluid[n])
-            targets[n] = b.attachment_points(pred)
+        loads = self._load_table
+        for n, b in self.bodies.items():  # half kick, drift, end targets (NetworkBody.kick, drift, ...)
+            prm, rows, work, tg = self._kernel[n]
+            kdk_open(b.state, b.attachments, loads, rows, prm, fluid[n], dt, b.impulse_table, work, tg)
+            targets[n] = tg
         for p in self.points.values():
             if p.spec.kind == "prescribed":
                 p.pos, p.vel = _hermite(p.p0, p.v0, p.p1, p.v1, p.t1 - p.t0, t_new - p.t0)
@@ -217,7 +235,7 @@ class NetworkSolver:
             for e in self.spec.lines[name].ends:
                 if e.kind == "body":
                     bn, k = self._where[(name, e.end)]
-                    motion[e.end] = (targets[bn][0][k], targets[bn][1][k])
+                    motion[e.end] = (targets[bn][k, 0:3], targets[bn][k, 3:6])
                 elif e.kind == "point" and self.points[e.target].spec.kind == "prescribed":
                     p = self.points[e.target]
                     motion[e.end] = (p.pos, p.vel)
@@ -225,9 +243,9 @@ class NetworkSolver:
             self._loads[name][:] = out.loads[:, :7]
             if out.count:
                 chunks[name].append(np.array(out.samples[:, :out.count]))
-        for n, b in self.bodies.items():
-            F, M = self._body_loads(n)
-            b.kick(0.5 * dt, F, M, fluid[n], closing=True)
+        for n, b in self.bodies.items():  # closing half kick with the new line loads
+            prm, rows, work, tg = self._kernel[n]
+            kdk_close(b.state, b.attachments, loads, rows, prm, fluid[n], dt, b.impulse_table, work)
         self.time = t_new
         self.coupling_steps += 1
 
@@ -249,7 +267,8 @@ class NetworkSolver:
             self.lines[n].restore(s)
         for n, (st, imp) in snap["bodies"].items():
             self.bodies[n].state[:] = st
-            self.bodies[n].impulse = {k: v.copy() for k, v in imp.items()}
+            for k, v in imp.items():
+                self.bodies[n].impulse[k][:] = v
         for n, (pp, pv) in snap["points"].items():
             self.points[n].pos[:], self.points[n].vel[:] = pp, pv
         for n, v in snap["loads"].items():

@@ -24,6 +24,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
 from tether_sim.physics.constitutive import TensionLaw
 from tether_sim.physics.end_conditions import KINDS, TABLE
@@ -43,6 +44,7 @@ class StaticSolution:
     law: TensionLaw
     origin: np.ndarray  # (3,) r(0)
     touchdown: float = -1.0  # arc length where the cable meets the seabed (-1: no contact)
+    liftoff: float = -1.0  # arc length where it leaves the seabed again toward s = L (-1: it lies to s = L)
     seabed_z: float = 0.0
     sink: float = 0.0
     method: str = "catenary"
@@ -57,6 +59,8 @@ class StaticSolution:
             T[:, 2] += self.w_air * np.minimum(s, self.crossing) + self.w * np.maximum(s - self.crossing, 0.0)
             return T
         T[:, 2] += self.w * np.minimum(s, self.touchdown if self.touchdown >= 0 else np.inf)
+        if self.touchdown >= 0 and self.liftoff >= 0:
+            T[:, 2] += self.w * np.maximum(s - self.liftoff, 0.0)
         return T
 
     def tension(self, s):
@@ -85,7 +89,11 @@ class StaticSolution:
             Ttd = self.force_at([self.touchdown])[0]
             H = np.linalg.norm(Ttd)
             d = Ttd / H if H > 0 else np.array([1.0, 0.0, 0.0])
-            r[lying] += np.outer(s[lying] - self.touchdown, d * (1.0 + self.law.strain_at(H)))
+            end = self.liftoff if self.liftoff >= 0 else self.length
+            r[lying] += np.outer(np.minimum(s[lying], end) - self.touchdown, d * (1.0 + self.law.strain_at(H)))
+            rising = s > end
+            if np.any(rising):  # the hanging part from the lift-off point up to s = L
+                r[rising] += _integral(Ttd, self.w, self.law, s[rising] - end)
         return r
 
 
@@ -241,10 +249,8 @@ def catenary_between(A, B, length, w, law, *, seabed_z=None, sink=0.0, tol=1e-11
     sol = _with_surface(StaticSolution(length, T0_of(x), w, law, A.copy()), w_air)
     if sol.crossing > 0.0:
         return sol  # touchdown with a surface crossing: not in closed form (solve_static relaxes it)
-    if seabed_z is not None and w > 0:
-        zmin = _lowest_z(sol)
-        if zmin < seabed_z - sink or B[2] <= seabed_z - sink + 1e-9 * length:
-            return _touchdown(A, B, length, w, law, seabed_z, sink, eh, dh)
+    if seabed_z is not None and w > 0 and _lowest_z(sol) < seabed_z - sink - 1e-9 * length:
+        return _touchdown(A, B, length, w, law, seabed_z, sink, eh, dh)  # the free catenary dips into the seabed
     return sol
 
 
@@ -253,49 +259,61 @@ def _lowest_z(sol):
     return float(sol.position(s)[:, 2].min())
 
 
+def _hanging_length(H, h, w, law, eh):
+    """Arc length of a hanging part that drops h from its upper end to a horizontal touchdown (vertical
+    force 0 there) under the horizontal force H; the drop grows with the length, so a bracketed root."""
+    if h <= 0.0:
+        return 0.0
+
+    def drop(sh):
+        return -_integral(np.array([H * eh[0], H * eh[1], -w * sh]), w, law, np.array([sh]))[0, 2]
+
+    return brentq(lambda sh: drop(sh) - h, 0.0, h + H / w + 1e-12 * h, xtol=1e-14 * h, rtol=1e-15)
+
+
 def _touchdown(A, B, length, w, law, zg, sink, eh, dh):
-    """Catenary from A down to a touchdown point, then straight along the seabed to B."""
-    zt = zg - sink
-    if A[2] <= zt:
-        raise RuntimeError("static catenary: the upper end is below the seabed")
+    """A cable lying on a frictionless seabed (z = zg - sink) between two hanging parts, one from each end.
 
-    def hanging(x):
-        H, std = x
-        T0 = np.array([H * eh[0], H * eh[1], -w * std])
-        r = _integral(T0, w, law, np.array([std]))[0]
-        return T0, r
+    Either end may be on the seabed (its hanging part has length 0: an anchor at s = 0 or at s = L; an end
+    at the seabed's surface z = zg counts as on it, the lying part below it by the sink), or
+    both above it (the middle lies). On the seabed the tension is horizontal and equal to H, so each
+    hanging part is an elastic catenary from its end down to a horizontal touchdown, of a length sh(H)
+    fixed by its drop; H solves the span:
+        x_A(H) + x_B(H) + (L - sh_A(H) - sh_B(H)) (1 + eps(H)) = horizontal distance from A to B,
+    whose left side grows with H (flatter parts, less cable lost to the drops): a bracketed root."""
+    zt, tol = zg - sink, 1e-9 * length
+    if min(A[2], B[2]) < zt - tol:
+        raise RuntimeError("static catenary: an end is below the seabed")
+    # an end on the seabed's surface (an anchor at the mudline) lies: the sink is the contact spring's, of
+    # the lying part, and does not lift the end's neighbourhood
+    hA, hB = (0.0 if X[2] <= zg + tol else float(X[2] - zt) for X in (A, B))
 
-    def resid(x):
-        H, std = x
-        T0, r = hanging(x)
-        lying = (length - std) * (1.0 + law.strain_at(H))
-        return np.array([A[2] + r[2] - zt, np.dot(r, eh) + lying - dh])
+    def parts(H):
+        shA, shB = _hanging_length(H, hA, w, law, eh), _hanging_length(H, hB, w, law, -eh)
+        xA = _integral(np.array([H * eh[0], H * eh[1], -w * shA]), w, law, np.array([shA]))[0] @ eh if shA else 0.0
+        xB = _integral(np.array([H * eh[0], H * eh[1], -w * shB]), w, law, np.array([shB]))[0] @ eh if shB else 0.0
+        return shA, shB, xA + xB + (length - shA - shB) * (1.0 + law.strain_at(H))
 
-    depth = A[2] - zt
-    std = min(math.sqrt(max(depth * (2.0 * depth), 1e-12)) * 1.5, 0.9 * length)
-    x = np.array([max(w * depth, 1e-6), std])
-    for _ in range(200):
-        f = resid(x)
-        if np.max(np.abs(f)) < 1e-11 * max(length, 1.0):
-            break
-        J = np.empty((2, 2))
-        for k in range(2):
-            dx = np.zeros(2)
-            dx[k] = 1e-7 * max(abs(x[k]), 1e-3)
-            J[:, k] = (resid(x + dx) - resid(x - dx)) / (2.0 * dx[k])
-        step = np.linalg.solve(J, f)
-        alpha = 1.0
-        while alpha > 1e-4:
-            xn = x - alpha * step
-            if xn[0] > 0 and 0 < xn[1] <= length and np.linalg.norm(resid(xn)) < np.linalg.norm(f):
-                break
-            alpha *= 0.5
-        x = xn
-    if np.max(np.abs(resid(x))) > 1e-6 * max(length, 1.0):
-        raise RuntimeError("static catenary with touchdown: Newton did not converge")
-    T0, _ = hanging(x)
-    return StaticSolution(length, T0, w, law, np.asarray(A, float).copy(), touchdown=float(x[1]),
-                          seabed_z=zg, sink=sink, method="catenary+seabed")
+    H_lo = 1e-9 * w * length
+    if parts(H_lo)[2] > dh:
+        raise RuntimeError("static catenary: more cable than the span on the seabed (slack; no unique shape)")
+    H_hi = w * length
+    while sum(parts(H_hi)[:2]) < length and parts(H_hi)[2] < dh:
+        H_hi *= 2.0
+    if sum(parts(H_hi)[:2]) > length:  # the lying part vanishes before the span is reached: H_hi at that point
+        H_hi = brentq(lambda H: sum(parts(H)[:2]) - length, H_lo, H_hi, xtol=1e-14 * H_hi, rtol=1e-15)
+        if parts(H_hi)[2] < dh:
+            raise RuntimeError("static catenary with touchdown: the cable cannot reach the span lying")
+    H = brentq(lambda H: parts(H)[2] - dh, H_lo, H_hi, xtol=1e-15 * H_hi, rtol=1e-15)
+    shA, shB, _ = parts(H)
+    T0 = np.array([H * eh[0], H * eh[1], -w * shA])
+    sol = StaticSolution(length, T0, w, law, np.asarray(A, float).copy(), touchdown=float(shA),
+                         liftoff=float(length - shB) if shB > 0 else -1.0, seabed_z=zg, sink=sink,
+                         method="catenary+seabed")
+    gap = sol.position([length])[0] - B
+    if max(abs(gap[0]), abs(gap[1]), abs(gap[2]) - (sink if hB == 0.0 else 0.0)) > 1e-6 * max(length, 1.0):
+        raise RuntimeError("static catenary with touchdown: the shape does not close on the s = L end")
+    return sol
 
 
 def _with_surface(sol, w_air):

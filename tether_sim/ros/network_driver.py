@@ -9,8 +9,9 @@ single-line node's counterpart is tether_sim/ros/driver.py).
   restarts with fresh detectors once the blends end (no snap is built from the gap or the bridge);
   the outputs are marked degraded meanwhile.
 - Start: the network statics at the driven points' current positions; a DG line whose discrete
-  equilibrium polish failed settles for ``SETTLE_TIME`` with the points held before the clock
-  starts (the snap detectors' static tensions are taken after it).
+  equilibrium polish failed settles with the points held before the clock starts, at least
+  ``SETTLE_TIME`` and then until two consecutive 1 s chunks are quiet (:func:`settle_quiet`), at
+  most ``SETTLE_MAX`` (the snap detectors' static tensions are taken after it).
 - Inputs: each driven (``prescribed``) point follows its source (an ``EndPoseInput``, or anything
   with ``has_data`` and ``attachment_at(t)``); without data it holds its configured position.
 - Snap detection: one :class:`SnapDetector` per line over its two ends, fed with every substep's
@@ -35,7 +36,20 @@ from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapDete
 from tether_sim.ros.end_commands import Blend, blend_time
 from tether_sim.solvers.base import relative_end_speed
 
-SETTLE_TIME = 3.0  # s of simulated time a network with an unpolished DG line settles before its clock starts
+SETTLE_TIME = 3.0  # s: the least simulated time a network with an unpolished DG line settles before its clock starts
+SETTLE_MAX = 30.0  # s: the most (the clock then starts with the lines as they are)
+SETTLE_CHUNK = 1.0  # s: settled once two consecutive chunks are quiet (settle_quiet)
+
+
+def settle_quiet(samples) -> bool:
+    """True when a line's end tensions over a settling chunk (samples (3, k): time, s = 0 end,
+    s = L end) stay within 0.5 N + 5 % of their mean at each end: at rest to the mesh's ringing."""
+    if samples.shape[1] == 0:
+        return True
+    for row in samples[1:3]:
+        if float(np.max(row) - np.min(row)) > 0.5 + 0.05 * abs(float(np.mean(row))):
+            return False
+    return True
 
 
 def element_length(solver, config) -> float:
@@ -141,6 +155,10 @@ class NetworkDriver:
         self.settled = [n for n, s in self.net.lines.items() if getattr(s, "equilibrium_iterations", 0) == -1]
         if self.settled and self.settle > 0.0:
             self.net.tick(self.settle)
+            quiet = 0  # then in chunks until the unpolished lines' end tensions are steady (a coarse mesh rings longer)
+            while quiet < 2 and self.net.time < SETTLE_MAX - 1e-9:
+                out = self.net.tick(min(self.net.time + SETTLE_CHUNK, SETTLE_MAX))
+                quiet = quiet + 1 if all(settle_quiet(out[n]["samples"]) for n in self.settled) else 0
         self.anchor = t0 - self.net.time
         self._build_detectors()
 

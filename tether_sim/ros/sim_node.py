@@ -561,6 +561,11 @@ def main(args=None):
     if wants_help(argv):
         print(USAGE)
         return 0
+    stray = rclpy.utilities.remove_ros_args(argv)[1:]
+    if stray:  # e.g. `--params FILE` (tether-sim-offline's form): rclpy would ignore it and run the defaults
+        print(f"tether-sim: unknown argument(s) {' '.join(stray)}: the node takes its parameters as ROS arguments, "
+              "e.g. tether-sim --ros-args --params-file FILE.yaml -p key:=value (tether-sim --help)", file=sys.stderr)
+        return 2
     files = params_files(argv)
     from tether_sim.network.params import file_is_network, load_network_files
 
