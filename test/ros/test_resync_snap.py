@@ -111,3 +111,4 @@ def test_a_snap_during_a_resynchronisation_blend_is_published_degraded():
     for ev, msg in snaps:
         assert ev.amplification > 2.0
         assert driver.bridged(ev) and msg.degraded and msg.peak_tension == ev.peak_tension
+

@@ -330,8 +330,8 @@ class SimulationDriver(EndCommands, BodyFrame):
         """Feed the snap detectors, unless detection is suspended (module doc, 6)."""
         times, t_ship, t_vehicle = self.solver.drain_end_tensions()
         if self._suspended_until is not None:
-            if self.stamp < self._suspended_until or self._blends:
-                return
+            if self.stamp < self._suspended_until or any(b.suspends for b in self._blends.values()):
+                return  # (a re-synchronisation's blend does not hold it: a node behind would never detect)
             self._suspended_until = None
             self._build_detector()  # fresh: nothing carries across the discontinuity
             keep = np.asarray(times) + self.anchor >= self.stamp - 1e-12

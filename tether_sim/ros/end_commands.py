@@ -35,6 +35,7 @@ class Blend:
     p0: np.ndarray
     v0: np.ndarray
     reason: str
+    suspends: bool = True  # snap detection is suspended while it runs (not after a re-synchronisation)
 
     def command(self, t, p_s, v_s):
         """(position, velocity, finished) at clock time ``t`` given the stream's (p_s, v_s)."""
@@ -125,7 +126,7 @@ class EndCommands:
         if distance < 1e-9 and speed_change < 1e-9:
             return 0.0  # already on the stream
         duration = blend_time(distance, speed_change, self.config.node.max_end_speed)
-        self._blends[end] = Blend(t, duration, p0.copy(), v0.copy(), reason)
+        self._blends[end] = Blend(t, duration, p0.copy(), v0.copy(), reason, suspend)
         report.blends.append((end, duration, reason))
         if suspend:
             self._suspend_detection(t + duration)
