@@ -58,6 +58,7 @@ setup(
             "tether-sim-recover = tether_sim.io.mcap_recover:main",
             "tether-sim-poses = tether_sim.ros.pose_source:main",
             "tether-sim-vehicle = tether_sim.ros.vehicle_node:main",
+            "tether-sim-rov-demo = tether_sim.ros.rov_demo:main",
         ],
     },
 )

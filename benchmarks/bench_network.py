@@ -17,7 +17,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from benchmarks import ropos_case as rc  # noqa: E402
-from benchmarks.network_vs_moordyn import network_tree, vehicle_position  # noqa: E402
+from benchmarks.studies.network_vs_moordyn import network_tree, vehicle_position  # noqa: E402
 from tether_sim.network.solver import NetworkSolver  # noqa: E402
 from tether_sim.network.spec import parse_network  # noqa: E402
 

@@ -14,9 +14,10 @@ t = 2 s at 50 Hz, then from that state:
 ``tether_sim_base`` (a copy in a temporary directory with the imports renamed) and times it in the
 same process, interleaved, so that the ratio does not depend on the machine's load.
 
-``--hybrid``: the hybrid solver's node tick instead (ROPOS L = 200 m, hybrid_ticks).
+``--hybrid``: the hybrid solver's node tick instead (ROPOS L = 200 m); ``--solver-tick FILE``: the same for
+the solver of FILE (solver.tick + state() per 50 Hz tick, the call a coupled program makes; solver_ticks).
 
-Usage: PYTHONPATH=. python benchmarks/bench_tick.py [--baseline /path/to/main] [--steps 2000] [--hybrid]
+Usage: PYTHONPATH=. python benchmarks/bench_tick.py [--baseline /path/to/main] [--steps 2000] [--hybrid | --solver-tick FILE]
 """
 
 import argparse
@@ -157,16 +158,16 @@ def split(sol, rc, repeat, n=200):
     return out
 
 
-def hybrid_ticks(trees, repeat, ticks=25, t_warm=1.0):
-    """us per node tick of the hybrid solver (config/ropos_L200_hybrid.yaml, its ship end on a 0.5 m
-    circle, solver.tick + state() at 50 Hz as a node calls them), per tree: blocks of ``ticks`` ticks
+def solver_ticks(trees, repeat, config_file, ticks=25, t_warm=1.0):
+    """us per node tick of the solver of ``config_file`` (its ship end on a 0.5 m circle, solver.tick +
+    state() at 50 Hz as a node calls them), per tree: blocks of ``ticks`` ticks
     taken in turn from each tree, best of ``repeat`` (the trees' states stay the same when their
     results are bit-identical, so each block does the same work in both)."""
     root = Path(__file__).resolve().parents[1]
     sols = {}
     for name, fac, mod in trees:
         params = importlib.import_module(fac.__name__.rsplit(".", 2)[0] + ".io.params")
-        sol = fac.build_solver(params.load_config(root / "config" / "ropos_L200_hybrid.yaml"))
+        sol = fac.build_solver(params.load_config(root / config_file))
         sols[name] = [sol, np.asarray(sol.config.ship_end.position, float)]
 
     def block(name, n):
@@ -195,17 +196,20 @@ def main(argv=None):
     ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--cases", default="all", help="comma-separated indices into CASES, or all")
     ap.add_argument("--split", action="store_true", help="also time each call of a tick (this tree)")
-    ap.add_argument("--hybrid", action="store_true", help="time the hybrid solver's node tick instead (hybrid_ticks)")
+    ap.add_argument("--hybrid", action="store_true", help="time the hybrid solver's node tick instead (solver_ticks on "
+                    "config/ropos_L200_hybrid.yaml)")
+    ap.add_argument("--solver-tick", metavar="FILE", help="time solver.tick + state() of FILE's solver instead (solver_ticks)")
     args = ap.parse_args(argv)
     from benchmarks import ropos_case as rc
     from tether_sim.solvers import factory
     trees = [("new", factory, rc)]
     if args.baseline:
         trees.insert(0, ("base",) + load_baseline(args.baseline))
-    if args.hybrid:
-        us = hybrid_ticks(trees, args.repeat)
-        print(f"bench_tick --hybrid {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load "
-              f"{os.getloadavg()[0]:.1f}; thread CPU, best of {args.repeat} blocks of 25 ticks; ropos_L200_hybrid: "
+    if args.hybrid or args.solver_tick:
+        config_file = args.solver_tick or "config/ropos_L200_hybrid.yaml"
+        us = solver_ticks(trees, args.repeat, config_file)
+        print(f"bench_tick {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load "
+              f"{os.getloadavg()[0]:.1f}; thread CPU, best of {args.repeat} blocks of 25 ticks; {config_file}: "
               + ", ".join(f"{name} {v:.0f} us/tick" for name, v in us.items())
               + (f"; new/base {us['new'] / us['base']:.3f}" if "base" in us else ""), flush=True)
         return

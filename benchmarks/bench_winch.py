@@ -56,7 +56,7 @@ def rhs_cost(length, n=2000, repeats=5):
     ws = s.ws
     for _ in range(repeats):
         for rate in best:
-            s.prm[Y.P_WLDOT] = rate
+            s.ws.prm[Y.P_WLDOT] = rate
             evaluate_now(ws.F, ws.I, ws.spec, s.time)
             c = time.thread_time()
             for _ in range(n):

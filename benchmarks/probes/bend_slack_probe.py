@@ -58,12 +58,12 @@ while s.time - t0 < T_END - 1e-9:
     tt, a, b = s.drain_end_tensions()
     ts.append(tt - t0)
     ship.append(a)
-    wl = s._wq[:, :, Y.W_L]
+    wl = s.ws.wq[:, :, Y.W_L]
     lmins.append((k * 0.02, wl.min()))
-    emax.append(np.linalg.norm(s._wq[:, :, Y.W_KAP:Y.W_KAP + 3], axis=2).max(axis=1))
+    emax.append(np.linalg.norm(s.ws.wq[:, :, Y.W_KAP:Y.W_KAP + 3], axis=2).max(axis=1))
     elmin.append(wl.min(axis=1))
     if snap is None and k * 0.02 >= SNAP - 1e-9:
-        snap = dict(l=wl.copy(), kap=s._wq[:, :, Y.W_KAP:Y.W_KAP + 3].copy(), i=s._wq[:, :, Y.W_I:Y.W_I + 3].copy())
+        snap = dict(l=wl.copy(), kap=s.ws.wq[:, :, Y.W_KAP:Y.W_KAP + 3].copy(), i=s.ws.wq[:, :, Y.W_I:Y.W_I + 3].copy())
     if not np.isfinite(wl).all() or (len(ship[-1]) and np.nanmax(np.abs(ship[-1])) > 5e6):
         print("diverged at", k * 0.02)
         break

@@ -39,7 +39,7 @@ def run(solver, wave, hybrid_dt=0.01, line="hanging"):
     if solver == "hybrid":
         extra["hybrid.time_step"] = hybrid_dt
     if line == "catenary":
-        from benchmarks import moordyn_waves as mw
+        from benchmarks.studies import moordyn_waves as mw
 
         top = [mw.TOP[0], 0.0, -AMPLITUDE]
         flat = mw.flat(solver, **{"ship_end.kind": "prescribed", "ship_end.position": top,
@@ -64,7 +64,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     global X0
     if args.line == "catenary":
-        from benchmarks import moordyn_waves as mw
+        from benchmarks.studies import moordyn_waves as mw
 
         X0 = mw.TOP[0]
     for wave in (False, True):

@@ -70,7 +70,7 @@ if mode == "save":
     c0 = time.process_time()
     for t, _, a, b in ticks(t_save):
         if int(round(t / dt_tick)) % 50 == 0:
-            print(f"t {t:.2f} Tship max {a.max():.0f} Tcage max {b.max():.0f} lmin {s._wq[:, :, Y.W_L].min():.3f} "
+            print(f"t {t:.2f} Tship max {a.max():.0f} Tcage max {b.max():.0f} lmin {s.ws.wq[:, :, Y.W_L].min():.3f} "
                   f"cpu {time.process_time() - c0:.0f}", flush=True)
     with open(f"out/snap_{tag}_{t_save:g}.pkl", "wb") as fh:
         pickle.dump(s.snapshot(), fh)
@@ -78,7 +78,7 @@ elif mode == "steps":
     restore(sys.argv[2])
     rows = []
     for _, tt, a, b in ticks(float(sys.argv[3])):
-        wl = s._wq[:, :, Y.W_L]
+        wl = s.ws.wq[:, :, Y.W_L]
         for x in range(len(tt)):
             rows.append((tt[x], a[x], b[x], wl.min(), wl[-1].min(), wl[-1].max(), np.argmin(wl.min(axis=1))))
     R = np.array(rows)
@@ -92,16 +92,16 @@ elif mode in ("fine", "gauss"):  # restore, tick to T1, then one substep at a ti
     for _ in ticks(float(sys.argv[3])):
         pass
     s.drain_end_tensions()
-    Nn = s._tr.shape[0]
+    Nn = s.ws.trc.shape[0]
     np.set_printoptions(linewidth=250, precision=4, suppress=False)
     for Tcage in substeps(float(sys.argv[4])):
         if mode == "fine":  # the cage end trace
-            tr, fl = s._tr[Nn - 1, 1], s._fl[Nn]
+            tr, fl = s.ws.trc[Nn - 1, 1], s.ws.fl[Nn]
             q, vv, TV, FV = tr[Y.T_Q:Y.T_Q + 3], tr[Y.T_V:Y.T_V + 3], tr[Y.T_TV:Y.T_TV + 3], fl[Y.F_V:Y.F_V + 3]
             print(f"{s.time:.7f} Tcage {Tcage:10.1f} |q| {np.linalg.norm(q):.4f} q {q.round(4)} v+ {vv.round(3)} "
                   f"vbc {np.round(s.ws.vbc[1, 3:6], 3)} T+ {TV.round(0)} Fv {FV.round(0)} lam {tr[Y.T_LAM]:.0f}")
             continue
-        wq = s._wq  # the last two elements' Gauss points
+        wq = s.ws.wq  # the last two elements' Gauss points
         print(f"t {s.time:.7f} Tcage {Tcage:.0f}")
         for e in (Nn - 2, Nn - 1):
             T = np.linalg.norm(wq[e, :, Y.W_TV:Y.W_TV + 3], axis=1)
@@ -113,7 +113,7 @@ elif mode == "trace":  # from 0 or a snapshot; per tick after T0: largest cable 
     g0 = cfg.cable.gamma0
     for t, _, a, b in ticks(float(sys.argv[4])):
         if t >= T0 - 1e-9:
-            wq = s._wq
+            wq = s.ws.wq
             sp = np.linalg.norm(wq[:, :, Y.W_V:Y.W_V + 3], axis=2) / g0
             wl = wq[:, :, Y.W_L]
             print(f"t {t:.2f} vmax {sp.max():6.2f} at e{np.unravel_index(np.argmax(sp), sp.shape)[0]} | lmin "

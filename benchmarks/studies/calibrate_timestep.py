@@ -22,20 +22,20 @@ from tether_sim.solvers.dg.solver import DGCableSolver
 
 
 def jacobian_eigs(solver):
-    U = solver.U.copy()
+    U = solver.ws.U.copy()
     n = U.size
     J = np.empty((n, n))
     eps = 1e-7
     for k in range(n):
         for sgn in (1, -1):
-            solver.U[...] = U
-            solver.U.reshape(-1)[k] += sgn * eps
+            solver.ws.U[...] = U
+            solver.ws.U.reshape(-1)[k] += sgn * eps
             solver._evaluate()
             if sgn == 1:
-                fp = solver._dU.reshape(-1).copy()
+                fp = solver.ws.dU.reshape(-1).copy()
             else:
-                J[:, k] = (fp - solver._dU.reshape(-1)) / (2 * eps)
-    solver.U[...] = U
+                J[:, k] = (fp - solver.ws.dU.reshape(-1)) / (2 * eps)
+    solver.ws.U[...] = U
     return np.linalg.eigvals(J)
 
 

@@ -35,7 +35,7 @@ def spectrum(EA, n, order, form, qp):
                   dg=replace(cfg.dg, n_elements=n, order=order, q_penalty_jump=form, q_penalty=qp))
     s = DGCableSolver(cfg)
     g0 = cfg.cable.gamma0
-    U0 = s.U.copy()
+    U0 = s.ws.U.copy()
     J, _ = _jacobian(s, U0, _residual(s), np.array([1.0, 1.0, 1.0, g0, g0, g0]))
     lam = np.linalg.eigvals(J.toarray())
     return lam, s.equilibrium_iterations, s.stable_time_step()

@@ -329,7 +329,7 @@ def test_the_work_estimate_of_a_winch_run_is_taken_where_the_winch_can_take_the_
     work = estimate(config)
     assert 100.0 < work.cpu < 1000.0 and "winch.min_length = 20 m" in work.cause
     solver = build_solver(config)  # the solver's substep at that length, hauling in at winch.max_speed
-    solver.prm[[Y.P_WL, Y.P_WR0, Y.P_WR1]] = 20.0, -2.0, -2.0
+    solver.ws.prm[[Y.P_WL, Y.P_WR0, Y.P_WR1]] = 20.0, -2.0, -2.0
     assert work.substep == pytest.approx(solver._winch_substep(0.0), rel=1e-9)
     assert estimate(replace(config, winch=replace(config.winch, enabled=False))).cpu < 3.0  # at 200 m
     # down to 1 m (the default winch.min_length): 0.05 m elements, 5e-10 s substeps: refused, named

@@ -1,4 +1,4 @@
-"""MoorDyn's chain cases against OrcaFlex (benchmarks/chain_cases.py; data test/data/moordyn/, BSD-3):
+"""MoorDyn's chain cases against OrcaFlex (benchmarks/studies/chain_cases.py; data test/data/moordyn/, BSD-3):
 the cheap part. The full set (three depths, two heave motions, 0-20 s) is the script, its table in
 docs/verification.md "Chain with seabed friction against OrcaFlex".
 
@@ -14,7 +14,7 @@ docs/verification.md "Chain with seabed friction against OrcaFlex".
 
 import pytest
 
-from benchmarks import chain_cases as cc
+from benchmarks.studies import chain_cases as cc
 
 
 @pytest.mark.parametrize("depth", cc.DEPTHS)

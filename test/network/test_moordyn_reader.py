@@ -3,7 +3,7 @@ name, the mapping keeps MoorDyn's loads per metre, and the static fairlead force
 Vessel point matches pip moordyn's within 1 %.
 
 The decks are MoorDyn's tests/Mooring/ (BSD-3, test/data/moordyn/SOURCE.md). Measured (2026-11-27,
-``PYTHONPATH=. python benchmarks/moordyn_decks.py``): WD0050 +0.25 %, WD0200 +0.02 %, WD0600
+``PYTHONPATH=. python benchmarks/studies/moordyn_decks.py``): WD0050 +0.25 %, WD0200 +0.02 %, WD0600
 +0.03 %, lines.txt +0.14 %, local_euler/duplicated.txt +0.11 %, polyester/simple.txt +0.00 %.
 Run time ~10 s (MoorDyn's initial-condition solves).
 """
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 import yaml
 
-from benchmarks import moordyn_decks as md
+from benchmarks.studies import moordyn_decks as md
 from tether_sim.errors import ConfigError
 from tether_sim.network import moordyn as mdr
 from tether_sim.network.params import load_network_files

@@ -51,3 +51,17 @@ def test_current_drag_is_balanced_by_the_top_tension():
     drag = per_seg.sum(0) - 0.5 * per_seg[0]
     assert r[-1, 0] > 0.5  # deflected downstream
     assert abs(T0[0] - drag[0]) < 1e-3 * drag[0]
+
+
+def test_end_tensions_of_a_curved_relaxed_shape_are_the_catenary_s():
+    """The end tensions of the relaxed shape (its segments' strain) against the elastic catenary's, at
+    both ends of a sagging cable: the finite-difference gradient's length at a curved end is not the
+    stretch (it read several times the tension on stiff cables)."""
+    law = TensionLaw(CableProperties(EA=2e5))
+    B = (50.0, 0.0, 0.0)
+    sh = relax_cable((0, 0, 0), B, 60.0, law, 0.05, held=(True, True), n_nodes=101, tol=1e-10)
+    cat = catenary_between((0, 0, 0), B, 60.0, 0.05, law)
+    # lumped weights on 100 segments: the end tension within 1 % (the weight of a half segment is 0.5 %)
+    assert np.allclose(sh.tension([0.0, 60.0]), cat.tension([0.0, 60.0]), rtol=0.01)
+    t = sh.tangent([0.0, 30.0, 60.0])
+    assert np.allclose(np.linalg.norm(t, axis=1), 1.0 + sh.strain([0.0, 30.0, 60.0]), rtol=1e-12)

@@ -77,7 +77,7 @@ def test_relaxation_reaches_the_newton_fixed_point():
     zero where it balances the Lax-Friedrichs penalty on the jumps of q; the table uses no damping.)"""
     overrides = {"cable.damping": ring_beam.RELAX_ZETA}
     config, solver = ring_beam.ring_solver(4, 3, overrides)
-    solver.prm[P_RELAX] = ring_beam.RELAX_DAMPING  # as during relaxation
+    solver.ws.prm[P_RELAX] = ring_beam.RELAX_DAMPING  # as during relaxation
     discrete_equilibrium(solver)
     e_newton = ring_beam.ring_error(solver, config)
     e_relax = ring_beam.static_error(4, 3, method="relax", relax_time=500.0)

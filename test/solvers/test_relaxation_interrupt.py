@@ -33,7 +33,7 @@ def test_the_relaxation_in_chunks_is_bit_identical_to_one_call(monkeypatch):
         one = relaxed(monkeypatch, 10**12, 1e9)  # a single compiled call, as before
         chunked = relaxed(monkeypatch, first, wall)
         assert chunked.time == one.time == 0.0
-        for a, b in ((one.U, chunked.U), (one.ra, chunked.ra), (one._bs, chunked._bs)):
+        for a, b in ((one.ws.U, chunked.ws.U), (one.ws.ra, chunked.ws.ra), (one.ws.bs, chunked.ws.bs)):
             assert np.array_equal(a, b)
         for solver in (one, chunked):  # and what follows the start
             solver.set_end_motion("ship", (0.0, 0.0, 0.1), (0.0, 0.0, 0.5))

@@ -1,4 +1,4 @@
-"""Cross-code check of the wave loads against MoorDyn: the cheap version of benchmarks/moordyn_waves.py.
+"""Cross-code check of the wave loads against MoorDyn: the cheap version of benchmarks/studies/moordyn_waves.py.
 
 The line of the benchmark (66 m, d = 0.05 m, slack catenary between fixed points at 50 m and 4 m depth,
 C_dn 1.2, C_dt 0.2, C_mn 1, C_mt 0.5) in a regular wave H = 3 m, T = 7 s, the same kinematics
@@ -18,7 +18,7 @@ the phase 16 deg off. Run time: ~10 s.
 
 import pytest
 
-from benchmarks import moordyn_waves as mw
+from benchmarks.studies import moordyn_waves as mw
 
 DURATION = 21.0
 

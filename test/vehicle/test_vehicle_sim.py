@@ -78,3 +78,12 @@ def test_the_allocation_reproduces_a_wanted_wrench_within_the_limits():
     got = m.thrust_matrix() @ u
     assert np.abs(u).max() == pytest.approx(m.thrust_limit) and got[0] == pytest.approx(4 * 40.0 * math.sqrt(0.5))
     assert np.allclose(got[1:], [0.0, 15.0, 0.0, 0.0, 0.0], atol=1e-9)
+
+
+def test_the_mission_holds_then_moves_its_set_point_at_the_transit_speed():
+    from tether_sim.vehicle.sim import Mission
+
+    m = Mission((0.0, 0.0, -10.0), target=(30.0, 40.0, -10.0), transit_after=5.0, speed=0.5)
+    assert np.allclose(m.setpoint(5.0), (0, 0, -10))
+    assert np.allclose(m.setpoint(15.0), (3.0, 4.0, -10.0))  # 5 m along the 50 m leg after 10 s
+    assert np.allclose(m.setpoint(500.0), (30.0, 40.0, -10.0))

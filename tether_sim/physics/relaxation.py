@@ -99,24 +99,35 @@ def _relax(r, held, ds, law, EA, kmax, tab_eps, tab_T, fext, hrd, Cdt, Cdn, cz, 
 class DiscreteShape:
     """Node positions of a relaxed cable; same evaluation methods as ``statics.StaticSolution``."""
 
-    def __init__(self, s, r, law, converged, residual, iterations):
+    def __init__(self, s, r, law, converged, residual, iterations, scale=1.0):
         self.s, self.r, self.law = s, r, law
         self.length = float(s[-1])
         self.converged, self.residual, self.iterations = converged, residual, iterations
+        self.scale = scale  # N: the loads the cable carries (weight, end loads, current drag)
         self.method = "dynamic relaxation"
+        # direction from the finite-difference gradient, stretch from the segments: the gradient's length
+        # at a curved end (one-sided, second order) is not the stretch (a 40 m light tether read 281 N at
+        # an end whose last segment carried 0.2 N)
         self._dr = np.stack([np.gradient(r[:, c], s, edge_order=2) for c in range(3)], axis=1)
+        self._mid = 0.5 * (s[1:] + s[:-1])
+        self._eps = np.linalg.norm(np.diff(r, axis=0), axis=1) / np.diff(s) - 1.0
+
+    def strain(self, s):
+        """Axial strain (n,): the segments' own, linear between their midpoints (constant beyond)."""
+        return np.interp(np.atleast_1d(np.asarray(s, float)), self._mid, self._eps)
 
     def position(self, s):
         s = np.atleast_1d(np.asarray(s, float))
         return np.stack([np.interp(s, self.s, self.r[:, c]) for c in range(3)], axis=1)
 
     def tangent(self, s):
+        """dr/ds (n, 3): the gradient's direction with the segments' stretch 1 + eps."""
         s = np.atleast_1d(np.asarray(s, float))
-        return np.stack([np.interp(s, self.s, self._dr[:, c]) for c in range(3)], axis=1)
+        d = np.stack([np.interp(s, self.s, self._dr[:, c]) for c in range(3)], axis=1)
+        return d / np.linalg.norm(d, axis=1)[:, None] * (1.0 + self.strain(s))[:, None]
 
     def tension(self, s):
-        eps = np.linalg.norm(self.tangent(s), axis=1) - 1.0
-        return self.law.tension(eps)
+        return self.law.tension(self.strain(s))
 
 
 def relax_cable(start, end, length, law, w, held=(True, False), loads=None, n_nodes=101, initial=None,
@@ -155,4 +166,6 @@ def relax_cable(start, end, length, law, w, held=(True, False), loads=None, n_no
     scale = float(np.max(np.abs(w))) * length + float(np.abs(loads).sum()) + 1.0  # w: scalar or per node
     it, res = _relax(r, hold, ds, law.code, law.EA, law.max_slope(), law.tab_eps, law.tab_T, fext, hrd, Cdt, Cdn,
                      cz, cx, cy, seabed, zg, Kd, max_iter, tol * scale, F, v, m)
-    return DiscreteShape(s, r, law, res < tol * scale, res, it)
+    # the loads include the current's drag (normal drag of the fastest current over the whole length)
+    u = max([float(np.max(np.abs(c))) for c in (cx, cy) if len(c)] + [0.0])
+    return DiscreteShape(s, r, law, res < tol * scale, res, it, scale=scale + hrd * Cdn * u * u * length)

@@ -31,6 +31,10 @@ from tether_sim.physics.end_conditions import KINDS, TABLE
 from tether_sim.physics.hydrodynamics import air_weight_per_length, net_weight_per_length
 from tether_sim.physics.relaxation import relax_cable
 
+# a relaxed shape is an initial state when its largest nodal force imbalance is below this fraction of the
+# loads it carries (relax_cable iterates towards 1e-9, which a light cable in a current may not reach
+# within its iteration limit; the dynamic solvers settle the rest)
+ACCEPTED_RESIDUAL = 1e-6
 KINEMATIC_KINDS = tuple(k.name for k in TABLE if k.kinematic and k.position != "body")  # held in place
 
 
@@ -401,8 +405,9 @@ def solve_static(config, vehicle_load=None, ship_load=None):
     if w_air is not None and initial is not None:  # free surface: per-node weight from the first guess
         wn = np.where(initial[:, 2] > 0.0, w_air, w)
     shape = relax_cable(start, end, L, law, wn, held=held, loads=loads, n_nodes=n, initial=initial, env=env, cable=cable)
-    if not shape.converged:
-        raise RuntimeError(f"static shape: dynamic relaxation did not converge (residual {shape.residual:.3g} N)")
+    if not (shape.converged or shape.residual <= ACCEPTED_RESIDUAL * shape.scale):
+        raise RuntimeError(f"static shape: dynamic relaxation did not converge (residual {shape.residual:.3g} N "
+                           f"against loads of {shape.scale:.3g} N)")
     return shape
 
 

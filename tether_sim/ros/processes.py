@@ -16,6 +16,8 @@ NODE_MODULES = {  # console script -> (module, entry function)
     "tether-sim": ("tether_sim.ros.sim_node", "main"),
     "tether-sim-record": ("tether_sim.ros.recorder_node", "main"),
     "tether-sim-replay": ("tether_sim.ros.replay_node", "main"),
+    "tether-sim-poses": ("tether_sim.ros.pose_source", "main"),
+    "tether-sim-vehicle": ("tether_sim.ros.vehicle_node", "main"),
 }
 
 

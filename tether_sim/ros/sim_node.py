@@ -293,6 +293,8 @@ class TetherSimNode(Node):
             self._publish_description()
             self.get_logger().info(f"{self.config.solver} solver started; static end tensions "
                                    f"{self.driver.static_tensions[0]:.1f} N (ship), {self.driver.static_tensions[1]:.1f} N (vehicle)")
+            if getattr(self.driver.solver, "start_warning", ""):
+                self.get_logger().warning(self.driver.solver.start_warning)
         try:
             report = self.driver.tick(now)
             self._handle_report(now, report)

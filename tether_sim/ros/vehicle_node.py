@@ -2,7 +2,8 @@
 
     tether-sim-vehicle [--model bluerov2_heavy] [--position X Y Z] [--yaw RAD] [--setpoint X Y Z]
                        [--setpoint-yaw RAD] [--current UX UY UZ] [--rate HZ] [--dt S] [--clock]
-                       [--duration S] [--ros-args -r __ns:=/rov1]
+                       [--transit X Y Z [--transit-after S] [--transit-speed V]] [--hold-until-tether]
+                       [--stop-after S] [--duration S] [--ros-args -r __ns:=/rov1]
 
 The vehicle (``tether_sim.vehicle``: rigid body in MuJoCo, hydrodynamics of the model's table,
 thrusters, a station-keeping controller) flies with the tether's force on it: each MuJoCo step
@@ -14,7 +15,11 @@ time: then tether-sim runs with ``use_sim_time:=true`` and follows it).
 
 A wrench in another frame than the vehicle frame, or with non-finite values, is rejected with a log
 line; a wrench older than ``WRENCH_TIMEOUT`` of simulated time is not applied any more (the vehicle
-then flies without the tether's force, and the log says so once per such gap).
+then flies without the tether's force, and the log says so once per such gap). With
+``--hold-until-tether`` the vehicle is held still (its time running, /clock published) until the
+tether's first wrench, so a tether node's start-up does not leave it flying alone; the mission (hold
+the set point, then ``--transit``) counts from that release. Exit code 0, or 1 when the simulation
+went unstable (it then stops publishing), 2 for a bad argument.
 """
 
 from __future__ import annotations
@@ -35,7 +40,7 @@ from rosgraph_msgs.msg import Clock
 
 from tether_sim.ros.convert import time_msg
 from tether_sim.vehicle.model import MODELS
-from tether_sim.vehicle.sim import StationKeeper, VehicleDiverged, VehicleSim
+from tether_sim.vehicle.sim import Mission, StationKeeper, VehicleDiverged, VehicleSim
 
 WRENCH_TIMEOUT = 0.5  # s of simulated time a tether wrench stays applied without a newer one
 
@@ -50,10 +55,15 @@ class VehicleNode(Node):
     wall clock (the MuJoCo time catches up with the elapsed wall time, at most 5 periods per tick)."""
 
     def __init__(self, sim: VehicleSim, keeper: StationKeeper, setpoint, setpoint_yaw=0.0, rate=50.0,
-                 clock=False, world_frame="map", vehicle_frame="rov/base_link", timer=True, **kwargs):
+                 clock=False, world_frame="map", vehicle_frame="rov/base_link", timer=True,
+                 hold_until_tether=False, **kwargs):
         super().__init__("tether_sim_vehicle", **kwargs)
         self.sim, self.keeper = sim, keeper
-        self.setpoint, self.setpoint_yaw = np.asarray(setpoint, float), float(setpoint_yaw)
+        self.mission = setpoint if isinstance(setpoint, Mission) else Mission(setpoint)
+        self.setpoint_yaw = float(setpoint_yaw)
+        # held still at its start (time running) until the tether's first wrench: the tether node's
+        # start-up then costs the vehicle nothing; the mission's clock starts at the release
+        self.released_at = None if hold_until_tether else sim.time
         self.period, self.own_clock = 1.0 / rate, bool(clock)
         self.world_frame, self.vehicle_frame = world_frame, vehicle_frame
         self.substeps = max(1, int(round(self.period / sim.dt)))
@@ -124,8 +134,15 @@ class VehicleNode(Node):
             if self.t_wall0 is None:
                 self.t_wall0 = now - self.sim.time
             steps = int(min(5 * self.substeps, max(0, round((now - self.t_wall0 - self.sim.time) / self.sim.dt))))
+        if self.released_at is None:
+            if self.wrench is None:  # held: the time runs, the vehicle does not move
+                self.sim.data.time += steps * self.sim.dt
+                return
+            self.released_at = self.sim.time
+            self.get_logger().info(f"the tether's first wrench: vehicle released at t = {self.sim.time:.2f} s")
         for _ in range(steps):
-            self.thrust = self.keeper.thrust(self.sim, self.setpoint, self.setpoint_yaw, self.sim.dt)
+            setpoint = self.mission.setpoint(self.sim.time - self.released_at)
+            self.thrust = self.keeper.thrust(self.sim, setpoint, self.setpoint_yaw, self.sim.dt)
             f, m = self._tether_wrench(self.sim.time if self.own_clock else self.now())
             self.applied = np.concatenate([f, m])
             self.sim.step(self.thrust, f, m)
@@ -171,6 +188,13 @@ def main(argv=None) -> int:
     ap.add_argument("--world-frame", default="map")
     ap.add_argument("--vehicle-frame", default="rov/base_link")
     ap.add_argument("--duration", type=float, default=0.0, help="stop after this many seconds of wall time (0: never)")
+    ap.add_argument("--transit", nargs=3, default=None, metavar=("X", "Y", "Z"), help="then fly to this point, m")
+    ap.add_argument("--transit-after", type=float, default=30.0, help="start the transit this long after the release, s")
+    ap.add_argument("--transit-speed", type=float, default=0.3, help="set point speed of the transit, m/s")
+    ap.add_argument("--hold-until-tether", action="store_true",
+                    help="hold the vehicle still (time running) until the tether's first wrench arrives")
+    ap.add_argument("--stop-after", type=float, default=0.0,
+                    help="stop this many simulated seconds after the release (0: never)")
     args = ap.parse_args(rclpy.utilities.remove_ros_args(argv)[1:])
     try:
         position = _vec3(args.position, "--position")
@@ -183,27 +207,38 @@ def main(argv=None) -> int:
         for name, v in (("--yaw", args.yaw), ("--setpoint-yaw", args.setpoint_yaw)):
             if v is not None and not math.isfinite(v):
                 raise ValueError(f"{name} {v}: a finite angle in rad")
+        target = _vec3(args.transit, "--transit") if args.transit is not None else None
+        for name, v, lo in (("--transit-after", args.transit_after, 0.0), ("--transit-speed", args.transit_speed, 1e-3),
+                            ("--stop-after", args.stop_after, 0.0)):
+            if not (math.isfinite(v) and v >= lo):
+                raise ValueError(f"{name} {v}: a finite number >= {lo:g}")
     except ValueError as exc:
         print(f"tether-sim-vehicle: {exc}", file=sys.stderr)
         return 2
     model = MODELS[args.model]
     sim = VehicleSim(model, position=position, yaw=args.yaw, dt=args.dt, current=current)
     rclpy.init(args=argv)
-    node = VehicleNode(sim, StationKeeper(model), setpoint, args.yaw if args.setpoint_yaw is None else args.setpoint_yaw,
-                       rate=args.rate, clock=args.clock, world_frame=args.world_frame, vehicle_frame=args.vehicle_frame)
-    node.get_logger().info(f"{model.name} ({model.source}) at {position}, holding {list(setpoint)}; current "
-                           f"{current} m/s; pose at {args.rate:g} Hz{', publishing /clock' if args.clock else ''}")
+    mission = Mission(setpoint, target, args.transit_after, args.transit_speed)
+    node = VehicleNode(sim, StationKeeper(model), mission, args.yaw if args.setpoint_yaw is None else args.setpoint_yaw,
+                       rate=args.rate, clock=args.clock, world_frame=args.world_frame, vehicle_frame=args.vehicle_frame,
+                       hold_until_tether=args.hold_until_tether)
+    node.get_logger().info(f"{model.name} ({model.source}) at {position}, holding {list(setpoint)}"
+                           + (f", then to {target} at {args.transit_speed:g} m/s after {args.transit_after:g} s" if target else "")
+                           + f"; current {current} m/s; pose at {args.rate:g} Hz{', publishing /clock' if args.clock else ''}")
     signal.signal(signal.SIGTERM, lambda *_: rclpy.try_shutdown())
     t_end = time.monotonic() + args.duration if args.duration > 0 else math.inf
     try:
-        while rclpy.ok() and time.monotonic() < t_end:
+        while rclpy.ok() and time.monotonic() < t_end and not node.failed:
             rclpy.spin_once(node, timeout_sec=0.1)
+            if args.stop_after > 0 and node.released_at is not None and node.sim.time - node.released_at >= args.stop_after:
+                node.get_logger().info(f"mission done: {args.stop_after:g} s after the release")
+                break
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
         node.destroy_node()
         rclpy.try_shutdown()
-    return 0
+    return 1 if node.failed else 0
 
 
 if __name__ == "__main__":

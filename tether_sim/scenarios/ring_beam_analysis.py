@@ -19,9 +19,9 @@ from tether_sim.solvers.dg import layout as Y
 
 def rate(solver, U):
     """du/dt (same shape as U) of a DGCableSolver at its current time for the modal state U."""
-    solver.U[...] = U
+    solver.ws.U[...] = U
     solver._evaluate()
-    return solver._dU.copy()
+    return solver.ws.dU.copy()
 
 
 def jacobian(solver, U, step=1e-7):
@@ -36,7 +36,7 @@ def jacobian(solver, U, step=1e-7):
         um[k] -= step
         J[:, k] = ((rate(solver, up.reshape(U.shape)) - rate(solver, um.reshape(U.shape))) / (2.0 * step)).ravel()
     f = rate(solver, U)
-    solver.U[...] = U
+    solver.ws.U[...] = U
     return J, f
 
 
@@ -50,7 +50,7 @@ def discrete_equilibrium(solver, tol=1e-12, floor=1e-8, max_iter=40):
     Started near the solution it needs 1-3 Jacobians."""
     from scipy.linalg import lu_factor, lu_solve
 
-    U = solver.U.copy()
+    U = solver.ws.U.copy()
     J, f = jacobian(solver, U)
     lu = lu_factor(J)
     fresh = True
@@ -78,7 +78,7 @@ def discrete_equilibrium(solver, tol=1e-12, floor=1e-8, max_iter=40):
         else:
             J, f = jacobian(solver, U)
             lu, fresh = lu_factor(J), True
-    solver.U[...] = U
+    solver.ws.U[...] = U
     return res, it
 
 
@@ -89,13 +89,13 @@ def linearised_spectrum(solver, relax_damping=0.0):
     v_x, v_z and of the block of q_y, v_y. About a state in the x-z plane the two blocks decouple
     (the coupling blocks vanish; checked, ValueError otherwise). ``relax_damping`` adds the
     relaxation's momentum damping rate (1/s), as during ``initial.kind = relax``."""
-    U = solver.U.copy()
-    saved = solver.prm[Y.P_RELAX]
-    solver.prm[Y.P_RELAX] = relax_damping
+    U = solver.ws.U.copy()
+    saved = solver.ws.prm[Y.P_RELAX]
+    solver.ws.prm[Y.P_RELAX] = relax_damping
     try:
         J, _ = jacobian(solver, U)
     finally:
-        solver.prm[Y.P_RELAX] = saved
+        solver.ws.prm[Y.P_RELAX] = saved
     channel = np.broadcast_to(np.arange(U.shape[2]), U.shape).ravel()
     out = (channel == 1) | (channel == 4)
     coupling = max(np.abs(J[np.ix_(out, ~out)]).max(), np.abs(J[np.ix_(~out, out)]).max())

@@ -102,7 +102,7 @@ def dg_work(config) -> Work:
 def dg_winch_work(config, length) -> Work:
     """The DG estimate with the cable hauled in to ``length``: the elements scale with the length (h_e =
     w_e L(t), docs/dg_solver.md "Winch") and the winch's transport at ``winch.max_speed`` adds to the
-    wave speed, as in the solver's own rule while the winch moves (dg/winch_driver.py ``_winch_limit``)."""
+    wave speed, as in the solver's own rule while the winch moves (dg/winch_driver.py ``limit``)."""
     from tether_sim.solvers.dg.timestep import _A, _coef
 
     cab, opt, w = config.cable, config.dg, config.winch
@@ -164,7 +164,7 @@ def dg_work_at_length(config) -> Work:
 
 def dg_update_cpu(config) -> float:
     """CPU s per element-mode per substep of the DG solver with ``config``'s damping (the solver's own
-    choice of the implicit damping mode, dg/solver.py ``_setup_damping``)."""
+    choice of the implicit damping mode, dg/solver.py ``_damping``)."""
     cab = config.cable
     if config.dg.damping != "implicit" or not (cab.damping > 0.0 or cab.bending_damping > 0.0):
         return DG_UPDATE_CPU

@@ -173,3 +173,22 @@ class StationKeeper:
             peak = np.abs(ug).max()
             u[idx] = ug * (self.limit / peak if peak > self.limit else 1.0)
         return u
+
+
+class Mission:
+    """Where the vehicle is told to be: hold ``station``, and from ``transit_after`` s (after the
+    mission starts) move the set point in a straight line to ``target`` at ``speed`` m/s, then hold
+    it. Without a target: hold the station."""
+
+    def __init__(self, station, target=None, transit_after=0.0, speed=0.3):
+        self.station = np.asarray(station, float)
+        self.target = None if target is None else np.asarray(target, float)
+        self.transit_after, self.speed = float(transit_after), float(speed)
+
+    def setpoint(self, t: float) -> np.ndarray:
+        if self.target is None or t <= self.transit_after:
+            return self.station
+        leg = self.target - self.station
+        length = float(np.linalg.norm(leg))
+        done = min(1.0, self.speed * (t - self.transit_after) / length) if length > 0 else 1.0
+        return self.station + done * leg

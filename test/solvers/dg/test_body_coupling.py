@@ -46,7 +46,7 @@ def test_axial_oscillation_period_of_body_on_elastic_cable():
     c = math.sqrt(EA / GAMMA0)
     beta = brentq(lambda b: b * math.tan(b) - GAMMA0 * L / M, 1e-6, 1.5)
     T = 2 * math.pi * L / (beta * c)
-    s._bs[1, 9] = 0.01  # 1 cm/s upward kick of the body
+    s.ws.bs[1, 9] = 0.01  # 1 cm/s upward kick of the body
     ts, vz = [], []
     for i in range(1, 601):
         s.advance_to(i * 2.5 * T / 600)

@@ -59,7 +59,7 @@ def solver(cab, ends, env=VACUUM, N=4, P=4, initial="straight", winch="ship", **
 
 def start_moving(s, rate):
     """The winch already runs at ``rate`` at t = 0 (no ramp): the steady pay-out state."""
-    s.prm[Y.P_WR0] = s.prm[Y.P_WR1] = s.prm[Y.P_WLDOT] = rate
+    s.ws.prm[Y.P_WR0] = s.ws.prm[Y.P_WR1] = s.ws.prm[Y.P_WLDOT] = rate
 
 
 # ----------------------------------------------------------------------------- 1. mass, geometry, momentum
@@ -86,7 +86,7 @@ def test_length_mass_and_far_end_follow_the_rate_schedule_to_round_off():
         t, r0 = t1, r1
         assert s.unstretched_length == pytest.approx(L, rel=1e-12, abs=0.0)
         assert s.L == s.unstretched_length
-        assert cab.gamma0 * s.h.sum() == pytest.approx(cab.gamma0 * L, rel=1e-12, abs=0.0)
+        assert cab.gamma0 * s.ws.h.sum() == pytest.approx(cab.gamma0 * L, rel=1e-12, abs=0.0)
         assert s.pay_out_rate == r1
         ends = s.positions_at(np.array([0.0, s.L]))
         assert np.abs(ends[1] - far).max() < 1e-9, (k, ends[1] - far)
@@ -107,36 +107,36 @@ def test_momentum_balance_with_the_material_flux_through_the_winch(rate, end, fa
     ends = (EndCondition(kind="prescribed", position=(0, 0, 0)), EndCondition(kind=far_kind, position=(30.0, 0, -35.0)))
     s = solver(cab, ends, env=Environment(g=9.81, fluid_density=0.0), N=5, P=4, initial="static", winch=end)
     rng = np.random.default_rng(3)
-    s.U[:, :, 3:6] += 0.3 * rng.standard_normal(s.U[:, :, 3:6].shape)
-    s._end_vel = [(0.2, -0.1, 0.4), (0.0, 0.0, 0.0)]
+    s.ws.U[:, :, 3:6] += 0.3 * rng.standard_normal(s.ws.U[:, :, 3:6].shape)
+    s.ws.ends[:, 3:6] = [(0.2, -0.1, 0.4), (0.0, 0.0, 0.0)]
     if far_kind == "body":
-        s._bs[1, 7:13] = (0.3, 0.1, -0.2, 0.05, -0.02, 0.01)  # body translating and rotating
+        s.ws.bs[1, 7:13] = (0.3, 0.1, -0.2, 0.05, -0.02, 0.01)  # body translating and rotating
     start_moving(s, rate)
     s._evaluate()
     w = 0 if end == "ship" else 1
     g0, N = cab.gamma0, s.N
-    hw = s.h / s.L
-    dP = np.sum(hw[:, None] * rate * s.U[:, 0, 3:6] + s.h[:, None] * s._dU[:, 0, 3:6], axis=0)
-    dQ = np.sum(hw[:, None] * rate * s.U[:, 0, 0:3] + s.h[:, None] * s._dU[:, 0, 0:3], axis=0)
-    ef = s._endf
-    trace_v = s._tr[w * (N - 1), w, Y.T_V:Y.T_V + 3]
-    v_star = g0 * s._vbc[w, 3:6] if rate > 0 else trace_v
-    weight = np.array([0.0, 0.0, s.prm[Y.P_FBZ] * s.L])
+    hw = s.ws.h / s.L
+    dP = np.sum(hw[:, None] * rate * s.ws.U[:, 0, 3:6] + s.ws.h[:, None] * s.ws.dU[:, 0, 3:6], axis=0)
+    dQ = np.sum(hw[:, None] * rate * s.ws.U[:, 0, 0:3] + s.ws.h[:, None] * s.ws.dU[:, 0, 0:3], axis=0)
+    ef = s.ws.endf
+    trace_v = s.ws.trc[w * (N - 1), w, Y.T_V:Y.T_V + 3]
+    v_star = g0 * s.ws.vbc[w, 3:6] if rate > 0 else trace_v
+    weight = np.array([0.0, 0.0, s.ws.prm[Y.P_FBZ] * s.L])
     expected_P = -(ef[0, Y.E_F:Y.E_F + 3] + ef[1, Y.E_F:Y.E_F + 3]) + weight + rate * v_star
     scale = np.abs(ef[:, Y.E_F:Y.E_F + 3]).max()
     assert np.abs(dP - expected_P).max() < 1e-12 * scale
-    expected_Q = s._fl[N, Y.F_Q:Y.F_Q + 3] - s._fl[0, Y.F_Q:Y.F_Q + 3] + rate * s._tr[w * (N - 1), w, Y.T_Q:Y.T_Q + 3]
+    expected_Q = s.ws.fl[N, Y.F_Q:Y.F_Q + 3] - s.ws.fl[0, Y.F_Q:Y.F_Q + 3] + rate * s.ws.trc[w * (N - 1), w, Y.T_Q:Y.T_Q + 3]
     assert np.abs(dQ - expected_Q).max() < 1e-12 * max(1.0, np.abs(expected_Q).max())
     # the sheave's kinematic condition: v_BC = v_end - n dL/dt q+
-    q_w = s._tr[w * (N - 1), w, Y.T_Q:Y.T_Q + 3]
-    v_end = s._vbc[w, 3:6] - (1.0 if w == 0 else -1.0) * rate * q_w  # the sheave's own velocity
+    q_w = s.ws.trc[w * (N - 1), w, Y.T_Q:Y.T_Q + 3]
+    v_end = s.ws.vbc[w, 3:6] - (1.0 if w == 0 else -1.0) * rate * q_w  # the sheave's own velocity
     if far_kind == "body" and w == 1:
         from tether_sim.physics.bodies import body_attachment_kinematics
         p, v = np.zeros(3), np.zeros(3)
-        body_attachment_kinematics(s._bs[1], s._bp[1], p, v)
+        body_attachment_kinematics(s.ws.bs[1], s.ws.bp[1], p, v)
         assert np.abs(v).max() > 0.1 and np.allclose(v_end, v, rtol=0, atol=1e-14)
     else:
-        assert np.allclose(v_end, s._end_vel[w], rtol=0, atol=1e-14)
+        assert np.allclose(v_end, s.ws.ends[w, 3:6], rtol=0, atol=1e-14)
 
 
 # ----------------------------------------------------------------------------- errors and the idle winch
@@ -170,7 +170,7 @@ def test_an_idle_winch_changes_nothing_bit_for_bit():
         for k in range(1, 6):
             s.set_end_motion("ship", (0.3 * k, 0.0, 0.0), (0.5, 0.0, 0.0))
             s.advance_to(0.1 * k)
-        runs.append((s.U.copy(), s.h.copy(), s.drain_end_tensions()[1]))
+        runs.append((s.ws.U.copy(), s.ws.h.copy(), s.drain_end_tensions()[1]))
     for a, b in zip(*runs):
         assert np.array_equal(a, b)
 
@@ -184,12 +184,12 @@ def test_snapshot_and_restore_carry_the_winch_state():
     snap = s.snapshot()
     s.set_pay_out_rate(-0.5)
     s.advance_to(0.4)
-    first = (s.U.copy(), s.unstretched_length)
+    first = (s.ws.U.copy(), s.unstretched_length)
     s.restore(snap)
     assert s.unstretched_length == pytest.approx(30.05) and s.pay_out_rate == 0.5
     s.set_pay_out_rate(-0.5)
     s.advance_to(0.4)
-    assert np.array_equal(s.U, first[0]) and s.unstretched_length == first[1]
+    assert np.array_equal(s.ws.U, first[0]) and s.unstretched_length == first[1]
 
 
 # ----------------------------------------------------------------------------- 2. quasi-static hanging pay-out
@@ -443,16 +443,16 @@ def test_twin_transport_kernel_against_the_quadrature_version(rate, end):
     s = solver(cab, (EndCondition(kind="prescribed", position=(0, 0, 0)), EndCondition(kind="body" if end == "vehicle"
                else "free", position=(10.0, 0, -25.0))), N=4, P=5, winch=end)
     rng = np.random.default_rng(7)
-    s.h[:] = np.array([0.2, 0.3, 0.1, 0.4]) * s.L  # unequal elements
-    s.U[...] = rng.standard_normal(s.U.shape)
-    s._end_vel = rng.standard_normal((2, 3))
+    s.ws.h[:] = np.array([0.2, 0.3, 0.1, 0.4]) * s.L  # unequal elements
+    s.ws.U[...] = rng.standard_normal(s.ws.U.shape)
+    s.ws.ends[:, 3:6] = rng.standard_normal((2, 3))
     start_moving(s, rate)
     s._evaluate()  # fills the traces tr and the sheave's v_BC
-    dU = np.zeros_like(s.U)
+    dU = np.zeros_like(s.ws.U)
     dra = np.zeros(3)
-    winch_transport(s.U, s.prm, s.iprm, s.h, s.Lf, s._tr, s._vbc, dU, dra)
+    winch_transport(s.ws.U, s.ws.prm, s.ws.iprm, s.ws.h, s.ws.Lf, s.ws.trc, s.ws.vbc, dU, dra)
     w = 0 if end == "ship" else 1
-    ref = plain_transport(s.U, s.h, rate, w, cab.gamma0, s._vbc)
+    ref = plain_transport(s.ws.U, s.ws.h, rate, w, cab.gamma0, s.ws.vbc)
     assert np.abs(dU - ref).max() < 1e-11 * np.abs(ref).max()
-    anchor_term = -rate * s._tr[0, 0, 0:3] if (w == 0) else np.zeros(3)  # the anchor is the ship end
+    anchor_term = -rate * s.ws.trc[0, 0, 0:3] if (w == 0) else np.zeros(3)  # the anchor is the ship end
     assert np.abs(dra - anchor_term).max() < 1e-14

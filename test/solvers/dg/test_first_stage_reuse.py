@@ -55,10 +55,10 @@ def take_tick(s, t, fresh_off):
 
 
 def assert_twins_equal(a, b):
-    assert np.array_equal(a.U, b.U)
-    assert np.array_equal(a.ra, b.ra)
-    assert np.array_equal(a._endf, b._endf)
-    assert np.array_equal(a._bs, b._bs)
+    assert np.array_equal(a.ws.U, b.ws.U)
+    assert np.array_equal(a.ws.ra, b.ws.ra)
+    assert np.array_equal(a.ws.endf, b.ws.endf)
+    assert np.array_equal(a.ws.bs, b.ws.bs)
     sa, sb = a.state(), b.state()
     for k in ("position", "velocity", "tension", "curvature"):
         assert np.array_equal(getattr(sa, k), getattr(sb, k)), k
@@ -94,17 +94,17 @@ def test_reused_first_stage_is_bit_identical_and_happens(case):
 
 def _perturb_state(s, k):
     if k == 3:
-        s.U[1, 0, 0] += 1e-7  # (a restored snapshot, a set_shape: the work arrays no longer match)
+        s.ws.U[1, 0, 0] += 1e-7  # (a restored snapshot, a set_shape: the work arrays no longer match)
 
 
 def _perturb_parameter(s, k):
     if k == 3:
-        s.prm[Y.P_GAMMA0] *= 1.001  # (read by the internal forces: v = p / gamma0)
+        s.ws.prm[Y.P_GAMMA0] *= 1.001  # (read by the internal forces: v = p / gamma0)
 
 
 def _perturb_end_load(s, k):
     if k == 3:
-        s.bc[1, Y.B_F + 2] -= 3.0  # the force end's load, written without set_end_load
+        s.ws.bc[1, Y.B_F + 2] -= 3.0  # the force end's load, written without set_end_load
 
 
 def _perturb_driven_end(s, k):

@@ -74,8 +74,8 @@ def test_discrete_equilibrium_has_zero_rate():
     assert s.equilibrium_iterations > 0
     s._evaluate()
     g0 = cfg.cable.gamma0
-    assert np.max(np.abs(s._dU[:, :, 0:3])) < 1e-9  # 1/s; q rates of O(1e-3) before the Newton
-    assert np.max(np.abs(s._dU[:, :, 3:6])) / g0 < 1e-6  # m/s^2
+    assert np.max(np.abs(s.ws.dU[:, :, 0:3])) < 1e-9  # 1/s; q rates of O(1e-3) before the Newton
+    assert np.max(np.abs(s.ws.dU[:, :, 3:6])) / g0 < 1e-6  # m/s^2
     r = s.positions_at(np.array([0.0, 325.0]))
     assert np.allclose(r, [[0.0, 0.0, -50.0], [300.0, 0.0, -150.0]], atol=1e-9)
 
@@ -89,7 +89,7 @@ def _low_modes(EA, **dg):
     cfg = replace(cfg, cable=replace(cfg.cable, EA=EA))
     s = DGCableSolver(cfg)
     g0 = cfg.cable.gamma0
-    J, _ = _jacobian(s, s.U.copy(), _residual(s), np.array([1.0, 1.0, 1.0, g0, g0, g0]))
+    J, _ = _jacobian(s, s.ws.U.copy(), _residual(s), np.array([1.0, 1.0, 1.0, g0, g0, g0]))
     lam = np.linalg.eigvals(J.toarray())
     osc = lam[lam.imag > 1e-6]
     return lam.real.max(), osc[np.argsort(np.abs(osc))][:4], s.stable_time_step()

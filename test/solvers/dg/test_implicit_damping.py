@@ -44,14 +44,14 @@ def curved_solver(k0, k1, zeta_b, law="linear", beta=0.0, seed=1):
     _, s = harness.make_solver(curved_flat(k0, k1, zeta_b, law, beta))
     s.set_shape(lambda x: np.stack([1.02 * np.cos(0.1 * x), 1.02 * np.sin(0.1 * x), 0.05 * np.cos(0.3 * x)], 1),
                 velocity=lambda x: np.stack([np.sin(x), 0.3 * np.cos(2 * x), 0.1 * x], 1))
-    s.U += 1e-3 * np.random.default_rng(seed).standard_normal(s.U.shape)
-    s._end_vel = [np.array([0.3, -0.2, 0.1]), np.array([-0.1, 0.25, 0.05])]
+    s.ws.U += 1e-3 * np.random.default_rng(seed).standard_normal(s.ws.U.shape)
+    s.ws.ends[:, 3:6] = [np.array([0.3, -0.2, 0.1]), np.array([-0.1, 0.25, 0.05])]
     return s
 
 
 def evaluate(s, prm, iprm):
-    dg_evaluate(s.time, views(s.ws), prm, iprm, s._no_fdamp, False)
-    return s._dU[:, :, 3:6].copy(), s._endf[:, :4].copy()
+    dg_evaluate(s.time, views(s.ws), prm, iprm, s.ws.no_fdamp, False)
+    return s.ws.dU[:, :, 3:6].copy(), s.ws.endf[:, :4].copy()
 
 
 @pytest.mark.parametrize("k0, k1, zeta_b, beta", [("prescribed", "fixed", 0.0, 0.0), ("prescribed", "free", 0.0, 0.0),
@@ -61,14 +61,14 @@ def evaluate(s, prm, iprm):
 def test_damping_operator_is_the_damping_part_of_the_rhs(k0, k1, zeta_b, beta):
     s = curved_solver(k0, k1, zeta_b, beta=beta)
     s._evaluate()
-    full, end_full = evaluate(s, s.prm, s.iprm)
-    prm = s.prm.copy()
+    full, end_full = evaluate(s, s.ws.prm, s.ws.iprm)
+    prm = s.ws.prm.copy()
     prm[Y.P_ZETA] = prm[Y.P_ZETAB] = 0.0
-    elastic, end_el = evaluate(s, prm, s._iprm_step)
+    elastic, end_el = evaluate(s, prm, s.ws.iprm_step)
     dw = s._damp
-    DO.damping_geometry(s.U, s.V, dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
-    DO.damping_force(s.U, 3, True, s._vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, s.Pj, dw.wp, dw.wd, DL.WD_F)
-    DO.end_damping_forces(dw.idp, dw.dprm, dw.bvec, s.U, s.Tr, dw.wp, dw.fdamp)
+    DO.damping_geometry(s.ws.U, s.ws.V, dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
+    DO.damping_force(s.ws.U, 3, True, s.ws.vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, s.ws.Pj, dw.wp, dw.wd, DL.WD_F)
+    DO.end_damping_forces(dw.idp, dw.dprm, dw.bvec, s.ws.U, s.ws.Tr, dw.wp, dw.fdamp)
     ref = full - elastic
     assert np.abs(ref).max() > 50.0  # the damping force is large here, so the comparison means something
     # round-off of sums of ~1e3-sized terms: 1e-10 relative
@@ -83,19 +83,19 @@ def test_damping_operator_is_the_damping_part_of_the_rhs(k0, k1, zeta_b, beta):
 @pytest.mark.jit_off
 def test_implicit_step_equals_dense_sdirk2(k0, k1, law, zeta_b, mode):
     s = curved_solver(k0, k1, zeta_b, law=law)
-    s._vbc[:] = 3.0 * np.random.default_rng(2).standard_normal((2, 6))
-    s._vbc[0, 3], s._vbc[1, 3] = 8.0, -8.0  # ends pushed into the cable: the bilinear ends are released
+    s.ws.vbc[:] = 3.0 * np.random.default_rng(2).standard_normal((2, 6))
+    s.ws.vbc[0, 3], s.ws.vbc[1, 3] = 8.0, -8.0  # ends pushed into the cable: the bilinear ends are released
     cab, env = s.config.cable, s.config.environment
-    dw = ID.DampingWork(mode, s.ops, s.h, s.kinds, cab, cab.gamma0, *added_mass_per_length(cab, env), 0.0,
-                        s.law.code, (s.iprm[Y.I_KIND0], s.iprm[Y.I_KIND1]), s._damp.dprm[DL.DP_LAMBDA])
-    U0, hs = s.U.copy(), 0.05
-    args = (s.V, s.Pj, s.Tr, s.law.tab_eps, s.law.tab_T, dw.wp, dw.wd, dw.band, dw.vec, dw.tmp, dw.fdamp)
-    ID.damping_step(hs, s.U, s._vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, *args)
+    dw = ID.DampingWork(mode, s.ops, s.ws.h, s.kinds, cab, cab.gamma0, *added_mass_per_length(cab, env), 0.0,
+                        s.law.code, (s.ws.iprm[Y.I_KIND0], s.ws.iprm[Y.I_KIND1]), s._damp.dprm[DL.DP_LAMBDA])
+    U0, hs = s.ws.U.copy(), 0.05
+    args = (s.ws.V, s.ws.Pj, s.ws.Tr, s.law.tab_eps, s.law.tab_T, dw.wp, dw.wd, dw.band, dw.vec, dw.tmp, dw.fdamp)
+    ID.damping_step(hs, s.ws.U, s.ws.vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, *args)
     # dense reference with the same frozen geometry, clip set and released ends
-    DO.damping_geometry(U0, s.V, dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
-    DO.strain_rates(U0, 3, True, s._vbc, dw.blk, dw.bvec, dw.wp, DL.WP_E0)
+    DO.damping_geometry(U0, s.ws.V, dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
+    DO.strain_rates(U0, 3, True, s.ws.vbc, dw.blk, dw.bvec, dw.wp, DL.WP_E0)
     DO.clip_set(dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
-    released = DO.release_ends(U0, s._vbc, dw.idp, dw.dprm, dw.bvec, s.Tr, dw.wp, s.law.tab_eps, s.law.tab_T)
+    released = DO.release_ends(U0, s.ws.vbc, dw.idp, dw.dprm, dw.bvec, s.ws.Tr, dw.wp, s.law.tab_eps, s.law.tab_T)
     if law == "bilinear":
         assert released >= 1
     N, nm = U0.shape[:2]
@@ -104,7 +104,7 @@ def test_implicit_step_equals_dense_sdirk2(k0, k1, law, zeta_b, mode):
     def f_d(v, affine):
         W = np.zeros((N, nm, 12))
         W[:, :, 9:12] = v.reshape(N, nm, 3)
-        DO.damping_force(W, 9, affine, s._vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, s.Pj, dw.wp, W, 0)
+        DO.damping_force(W, 9, affine, s.ws.vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, s.ws.Pj, dw.wp, W, 0)
         return W[:, :, 0:3].ravel()
 
     A = np.stack([f_d(np.eye(n)[i], False) for i in range(n)], 1)
@@ -119,8 +119,8 @@ def test_implicit_step_equals_dense_sdirk2(k0, k1, law, zeta_b, mode):
     k2 = np.linalg.solve(M, A @ (v0 + (1 - g) * hs * k1) + b)
     v1 = v0 + hs * ((1 - g) * k1 + g * k2)
     assert np.abs(v1 - v0).max() > 0.1
-    np.testing.assert_allclose(s.U[:, :, 3:6].ravel(), v1, atol=1e-11 * np.abs(v1).max())  # round-off
-    np.testing.assert_array_equal(s.U[:, :, 0:3], U0[:, :, 0:3])  # q untouched
+    np.testing.assert_allclose(s.ws.U[:, :, 3:6].ravel(), v1, atol=1e-11 * np.abs(v1).max())  # round-off
+    np.testing.assert_array_equal(s.ws.U[:, :, 0:3], U0[:, :, 0:3])  # q untouched
 
 
 # ---------------------------------------------------------------- damped axial vibration (closed form)
@@ -189,14 +189,14 @@ def test_stable_a_hundred_times_above_the_explicit_damping_limit():
     assert dt > 10 * dt_exp
     config, s = harness.make_solver(taut_flat(dt))
     rng = np.random.default_rng(3)
-    s.U[:, :, 0] += 1e-3 * rng.standard_normal(s.U[:, :, 0].shape)  # rough: every mode excited
-    s.U[:, :, 3:6] += 1e-2 * rng.standard_normal(s.U[:, :, 3:6].shape)
-    v0, ax0 = np.abs(s.U[:, :, 3:6]).max(), np.abs(s.U[:, :, 3]).max()
+    s.ws.U[:, :, 0] += 1e-3 * rng.standard_normal(s.ws.U[:, :, 0].shape)  # rough: every mode excited
+    s.ws.U[:, :, 3:6] += 1e-2 * rng.standard_normal(s.ws.U[:, :, 3:6].shape)
+    v0, ax0 = np.abs(s.ws.U[:, :, 3:6]).max(), np.abs(s.ws.U[:, :, 3]).max()
     peak, axial = [], []
     for t in np.arange(1, 41) * 0.02:
         s.advance_to(t)
-        peak.append(np.abs(s.U[:, :, 3:6]).max())
-        axial.append(np.abs(s.U[:, :, 3]).max())
+        peak.append(np.abs(s.ws.U[:, :, 3:6]).max())
+        axial.append(np.abs(s.ws.U[:, :, 3]).max())
     assert np.all(np.isfinite(peak))
     # bounded (the transverse waves are undamped here: no drag, zeta acts on the strain rate only),
     # and the axial motion damped: its slowest mode decays as e^-(zeta k^2 / 2 gamma0) t = e^-20 in 0.8 s

@@ -102,7 +102,7 @@ def test_wrong_end_kind_and_bad_input_are_clear_errors():
 
 def test_non_finite_state_raises_diverged():
     s = DGCableSolver(small_config())
-    s.U[1, 0, 4] = np.nan
+    s.ws.U[1, 0, 4] = np.nan
     with pytest.raises(SolverDivergedError):
         s.advance_to(0.01)
 

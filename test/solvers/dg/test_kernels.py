@@ -28,7 +28,7 @@ def straight(EI=0.0, zeta=0.0, g=0.0, rho=0.0, N=3, P=4, kinds=("fixed", "fixed"
 def test_uniformly_stretched_cable_is_at_rest():
     s = straight(zeta=50.0)
     s._evaluate()
-    assert np.max(np.abs(s._dU)) < 1e-9
+    assert np.max(np.abs(s.ws.dU)) < 1e-9
     # end forces: T = EA eps along the chord, pulling each end toward the other
     f = s.end_forces()
     T = 1e4 * 0.02
@@ -40,10 +40,10 @@ def test_uniformly_stretched_cable_is_at_rest():
 @pytest.mark.jit_off
 def test_bending_of_a_straight_cable_adds_nothing():
     a, b = straight(), straight(EI=5.0)
-    assert a.iprm[Y.I_BENDING] == 0 and b.iprm[Y.I_BENDING] == 1
+    assert a.ws.iprm[Y.I_BENDING] == 0 and b.ws.iprm[Y.I_BENDING] == 1
     a._evaluate()
     b._evaluate()
-    assert np.allclose(a._dU, b._dU, atol=1e-9)
+    assert np.allclose(a.ws.dU, b.ws.dU, atol=1e-9)
 
 
 @pytest.mark.jit_off
@@ -52,10 +52,10 @@ def test_rigid_translation_has_no_internal_force():
     v = np.array([0.3, -0.2, 0.1])
     s.set_shape(lambda x: np.repeat(np.array([[0.6, 0.0, -0.8]]) * 1.02, np.size(x), axis=0),
                 lambda x: np.repeat(v[None, :], np.size(x), axis=0))
-    s.prm[Y.P_HALF_RHO_D] = 0.0  # no drag: a translating cable keeps its momentum
+    s.ws.prm[Y.P_HALF_RHO_D] = 0.0  # no drag: a translating cable keeps its momentum
     s._evaluate()
     # the free ends carry T_hat = 0 while the interior is stretched: only the end modes accelerate
-    assert np.max(np.abs(s._dU[:, :, 0:3])) < 1e-12  # uniform velocity: q does not change
+    assert np.max(np.abs(s.ws.dU[:, :, 0:3])) < 1e-12  # uniform velocity: q does not change
 
 
 @pytest.mark.jit_off
@@ -71,8 +71,8 @@ def test_weight_and_added_mass_give_the_sinking_acceleration():
     s._evaluate()
     mn = 1000.0 * np.pi * 0.05**2 / 4
     a = -9.81 * (2.0 - 1000.0 * cab.area) / (2.0 + mn)
-    assert np.allclose(s._dU[:, 0, 5] / 2.0, a, rtol=1e-12)
-    assert np.allclose(s._dU[:, 1:, 3:6], 0.0, atol=1e-9)  # round-off of EA-sized terms (1e4)
+    assert np.allclose(s.ws.dU[:, 0, 5] / 2.0, a, rtol=1e-12)
+    assert np.allclose(s.ws.dU[:, 1:, 3:6], 0.0, atol=1e-9)  # round-off of EA-sized terms (1e4)
 
 
 def test_central_q_flux_keeps_a_low_tension_curved_catenary_static():

@@ -74,7 +74,7 @@ def test_tick_without_drain_keeps_the_samples_for_the_next_drain():
 def test_tick_rejects_bad_input_and_leaves_the_solver_unchanged():
     fast, _ = pair(200.0, 0.0, 2, 4)
     fast.tick(0.02, ship=rc.fairlead_motion(0.02))
-    before = fast.U.copy()
+    before = fast.ws.U.copy()
     p, v = rc.fairlead_motion(0.04)
     with pytest.raises(ValueError, match="non-finite position or velocity for the ship end"):
         fast.tick(0.04, ship=(p, np.array([0.0, np.nan, 0.0])))
@@ -85,7 +85,7 @@ def test_tick_rejects_bad_input_and_leaves_the_solver_unchanged():
     with pytest.raises(ValueError, match="before the current time"):
         fast.tick(0.01, ship=(p, v))
     assert fast.time == 0.02
-    np.testing.assert_array_equal(fast.U, before)
+    np.testing.assert_array_equal(fast.ws.U, before)
     out = fast.tick(0.04, ship=(p, v))  # and it goes on
     assert out.count > 0 and np.all(np.isfinite(out.loads))
 

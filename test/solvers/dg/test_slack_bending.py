@@ -45,8 +45,8 @@ def solver(law="bilinear", EI=2620.0, zeta_b=0.0, N=3, P=4, damping="explicit", 
 
 def fold_point(s, e=1, j=2):
     """Arc coordinate of Gauss point j of element e."""
-    x, _ = gauss_legendre(s.V.shape[0])
-    return s.s_edges[e] + 0.5 * (x[j] + 1.0) * s.h[e]
+    x, _ = gauss_legendre(s.ws.V.shape[0])
+    return s.s_edges[e] + 0.5 * (x[j] + 1.0) * s.ws.h[e]
 
 
 def fold(mu, s_f):
@@ -61,7 +61,7 @@ def fold(mu, s_f):
 
 def rhs(s):
     s._evaluate()
-    return s._dU[:, :, 3:6].copy(), s._wq[:, :, Y.W_TV:Y.W_TV + 3].copy()
+    return s.ws.dU[:, :, 3:6].copy(), s.ws.wq[:, :, Y.W_TV:Y.W_TV + 3].copy()
 
 
 @pytest.mark.parametrize("compression", ["none", "buckling"])
@@ -83,7 +83,7 @@ def test_bending_force_is_continuous_as_a_chord_passes_through_zero(law, compres
     # where slack the tension vector is the capped compression T(l) q / l (physics/constitutive.py: at most the
     # Euler load pc of the mesh's shortest wave, fading as -pc q / l_y where buckled) plus the bending shear;
     # the shear stays of the size of the mean line's bending (16.5 N measured on this state), not ~1/l^3
-    wq = s._wq
+    wq = s.ws.wq
     slack = wq[:, :, Y.W_L] < 1.0  # (the mu = 1e-3 state; the same points are slack for +-1e-9)
     assert slack.sum() >= 5
     pc = compression_cap(s.law.code, cap_stiffness(s.config.cable), 4, H)
@@ -113,9 +113,9 @@ def test_taut_cable_is_pe2020_bit_for_bit(zeta_b, damping):
     for law in ("bilinear", "linear"):
         s = solver(law=law, zeta_b=zeta_b, damping=damping)
         taut_state(s)
-        s._end_vel = np.zeros((2, 3))
+        s.ws.ends[:, 3:6] = np.zeros((2, 3))
         runs[law] = rhs(s)
-        assert s._wq[:, :, Y.W_L].min() >= 1.0
+        assert s.ws.wq[:, :, Y.W_L].min() >= 1.0
     assert np.array_equal(runs["bilinear"][0], runs["linear"][0])
     assert np.array_equal(runs["bilinear"][1], runs["linear"][1])
 

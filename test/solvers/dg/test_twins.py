@@ -48,8 +48,8 @@ def cable_solver(N=3, P=4, EI=0.0, law="bilinear", kinds=("prescribed", "free"),
     s.set_shape(lambda x: (1.0 + 0.012 * np.sin(0.4 * x + a[0]))[:, None]
                 * np.stack([0.6 * np.cos(0.05 * a[1] * x), 0.6 * np.sin(0.05 * a[1] * x), -0.8 + 0 * x], 1),
                 velocity=lambda x: np.stack([np.sin(0.2 * x), 0.3 * np.cos(a[2] * x), 0.1 + 0 * x], 1))
-    s.U += 1e-3 * rng.standard_normal(s.U.shape)
-    s._end_vel = rng.standard_normal((2, 3))
+    s.ws.U += 1e-3 * rng.standard_normal(s.ws.U.shape)
+    s.ws.ends[:, 3:6] = rng.standard_normal((2, 3))
     return s
 
 
@@ -59,10 +59,10 @@ CASES = [dict(N=3, P=4), dict(N=2, P=4, EI=50.0), dict(N=5, P=2, kinds=("prescri
 
 def scalar_momentum(s):
     """dv/dt of kernels.momentum_rate on the element-wise path (scratch too short for soa.py)."""
-    dU = s._dU.copy()
-    tmp = s._tmp[:TMP_HEAD].copy()
-    momentum_rate(s.U, s.ra, s.prm, s.iprm, s.h, s.V, s.Pj, s.D, s.Lf, s.Iq, s.cz, s.cx, s.cy, s._wq, s._wm, s._tr,
-                  s._fl, s._rs, tmp, dU)
+    dU = s.ws.dU.copy()
+    tmp = s.ws.tmp[:TMP_HEAD].copy()
+    momentum_rate(s.ws.U, s.ws.ra, s.ws.prm, s.ws.iprm, s.ws.h, s.ws.V, s.ws.Pj, s.ws.D, s.ws.Lf, s.ws.Iq, s.ws.cz, s.ws.cx, s.ws.cy, s.ws.wq, s.ws.wm, s.ws.trc,
+                  s.ws.fl, s.ws.rs, tmp, dU)
     return dU[:, :, 3:6]
 
 
@@ -70,26 +70,26 @@ def scalar_momentum(s):
 @pytest.mark.parametrize("relax", [0.0, 0.7])
 def test_soa_momentum_equals_the_elementwise_path_bit_for_bit(case, relax):
     s = cable_solver(**case)
-    s.prm[Y.P_RELAX] = relax
-    assert soa_momentum_applies(s.iprm, s.V, s._tmp) == (s.N >= SOA_MIN_ELEMENTS)  # the dispatch rule
+    s.ws.prm[Y.P_RELAX] = relax
+    assert soa_momentum_applies(s.ws.iprm, s.ws.V, s.ws.tmp) == (s.N >= SOA_MIN_ELEMENTS)  # the dispatch rule
     s._evaluate()  # fills the work arrays step 5 reads
-    dU = s._dU.copy()
-    momentum_rate_soa(s.prm, s.iprm, s.h, s.V, s.Pj, s.D, s.Lf, s._wq, s._wm, s._tr, s._fl, s._tmp, dU)
+    dU = s.ws.dU.copy()
+    momentum_rate_soa(s.ws.prm, s.ws.iprm, s.ws.h, s.ws.V, s.ws.Pj, s.ws.D, s.ws.Lf, s.ws.wq, s.ws.wm, s.ws.trc, s.ws.fl, s.ws.tmp, dU)
     assert np.array_equal(scalar_momentum(s), dU[:, :, 3:6])
-    assert np.array_equal(s._dU[:, :, 3:6], dU[:, :, 3:6])  # whichever path the evaluation took
+    assert np.array_equal(s.ws.dU[:, :, 3:6], dU[:, :, 3:6])  # whichever path the evaluation took
 
 
 def numpy_momentum(s):
     """PE2020 Eq. 23 (strong form, modal) for dv/dt from the tension vector's modes, traces and fluxes
     left by the evaluation, plus Eq. 13, 14, 17 per Gauss point, written with numpy."""
-    p, g0 = s.prm, s.prm[Y.P_GAMMA0]
+    p, g0 = s.ws.prm, s.ws.prm[Y.P_GAMMA0]
     out = np.zeros((s.N, s.P + 1, 3))
     for e in range(s.N):
-        f = s._wm[e, :, Y.M_TV:Y.M_TV + 3]  # modes of T i + T_s
-        jump_r = s._fl[e + 1, Y.F_V:Y.F_V + 3] - s._tr[e, 1, Y.T_TV:Y.T_TV + 3]
-        jump_l = s._fl[e, Y.F_V:Y.F_V + 3] - s._tr[e, 0, Y.T_TV:Y.T_TV + 3]
-        dT = (2.0 / s.h[e]) * (np.triu(s.D, 1) @ f) + (np.outer(s.Lf[1], jump_r) - np.outer(s.Lf[0], jump_l)) / s.h[e]
-        wq = s._wq[e]
+        f = s.ws.wm[e, :, Y.M_TV:Y.M_TV + 3]  # modes of T i + T_s
+        jump_r = s.ws.fl[e + 1, Y.F_V:Y.F_V + 3] - s.ws.trc[e, 1, Y.T_TV:Y.T_TV + 3]
+        jump_l = s.ws.fl[e, Y.F_V:Y.F_V + 3] - s.ws.trc[e, 0, Y.T_TV:Y.T_TV + 3]
+        dT = (2.0 / s.ws.h[e]) * (np.triu(s.ws.D, 1) @ f) + (np.outer(s.ws.Lf[1], jump_r) - np.outer(s.ws.Lf[0], jump_l)) / s.ws.h[e]
+        wq = s.ws.wq[e]
         i, l, v = wq[:, Y.W_I:Y.W_I + 3], wq[:, Y.W_L], wq[:, Y.W_V:Y.W_V + 3]
         w = -v / g0  # still water: relative flow = -cable velocity
         wt = np.sum(w * i, axis=1)
@@ -97,17 +97,17 @@ def numpy_momentum(s):
         pre = p[Y.P_HALF_RHO_D] * np.sqrt(l)
         drag = pre[:, None] * (p[Y.P_CDT] * (np.abs(wt) * wt)[:, None] * i
                                + p[Y.P_CDN] * np.linalg.norm(wn, axis=1)[:, None] * wn)
-        F = s.V @ dT + drag + np.array([0.0, 0.0, p[Y.P_FBZ]])
+        F = s.ws.V @ dT + drag + np.array([0.0, 0.0, p[Y.P_FBZ]])
         Ft = np.sum(F * i, axis=1)[:, None] * i
         acc = g0 / (g0 + p[Y.P_MT]) * Ft + g0 / (g0 + p[Y.P_MN]) * (F - Ft) - p[Y.P_RELAX] * v
-        out[e] = s.Pj @ acc
+        out[e] = s.ws.Pj @ acc
     return out
 
 
 @pytest.mark.parametrize("case", CASES)
 def test_elementwise_momentum_matches_a_numpy_transcription(case):
     s = cable_solver(**case)
-    s.prm[Y.P_RELAX] = 0.3
+    s.ws.prm[Y.P_RELAX] = 0.3
     s._evaluate()
     fast, plain = scalar_momentum(s), numpy_momentum(s)
     # same terms summed in a different order: round-off of the largest term (EA-sized tension
@@ -119,13 +119,13 @@ def test_elementwise_momentum_matches_a_numpy_transcription(case):
 @pytest.mark.parametrize("N, P, EI", [(3, 4, 0.0), (2, 3, 0.0), (3, 4, 2000.0)])
 def test_written_out_tension_and_wave_speed_equal_their_composition(law, N, P, EI):
     s = cable_solver(N=N, P=P, law=law, EI=EI)
-    s.iprm[Y.I_BENDING] = 0  # W_TV = T i alone (the cap depends on EI and P, not on this switch)
+    s.ws.iprm[Y.I_BENDING] = 0  # W_TV = T i alone (the cap depends on EI and P, not on this switch)
     s._evaluate()
-    code, EA, zeta = s.law.code, s.prm[Y.P_EA], s.prm[Y.P_ZETA]
-    wq = s._wq
+    code, EA, zeta = s.law.code, s.ws.prm[Y.P_EA], s.ws.prm[Y.P_ZETA]
+    wq = s.ws.wq
     eps = wq[:, :, Y.W_L] - 1.0
     assert eps.min() < 0.0 < eps.max()  # slack and taut points
-    pc = [compression_cap(code, cap_stiffness(s.config.cable), P, h) for h in s.h]
+    pc = [compression_cap(code, cap_stiffness(s.config.cable), P, h) for h in s.ws.h]
     if EI > 0.0 and law != "linear":  # strained compression and buckled points are both visited
         bk = np.array([[buckled(code, eps[e, j], EA, s.law.tab_eps, s.law.tab_T, pc[e])
                         for j in range(wq.shape[1])] for e in range(N)])
@@ -133,10 +133,10 @@ def test_written_out_tension_and_wave_speed_equal_their_composition(law, N, P, E
     T = np.array([[axial_tension(code, eps[e, j], wq[e, j, Y.W_EDOT], EA, zeta, s.law.tab_eps, s.law.tab_T, pc[e])
                    for j in range(wq.shape[1])] for e in range(N)])
     assert np.array_equal(wq[:, :, Y.W_TV:Y.W_TV + 3], T[:, :, None] * wq[:, :, Y.W_I:Y.W_I + 3])
-    q = s._tr[:, :, Y.T_Q:Y.T_Q + 3]
-    lam = np.array([[local_speed(s.prm, code, *q[e, side], s.law.tab_eps, s.law.tab_T, pc[e]) for side in range(2)]
+    q = s.ws.trc[:, :, Y.T_Q:Y.T_Q + 3]
+    lam = np.array([[local_speed(s.ws.prm, code, *q[e, side], s.law.tab_eps, s.law.tab_T, pc[e]) for side in range(2)]
                     for e in range(N)])
-    assert np.array_equal(s._tr[:, :, Y.T_LAM], lam)
+    assert np.array_equal(s.ws.trc[:, :, Y.T_LAM], lam)
 
 
 def plain_clip(flux, q, pc=0.0):
@@ -172,11 +172,11 @@ def evaluate(s, fdamp, implicit):
     from tether_sim.solvers.dg.stepper import dg_evaluate
     from tether_sim.solvers.dg.workspace import views
 
-    prm = s._prm_step
-    prm[:] = s.prm
+    prm = s.ws.prm_step
+    prm[:] = s.ws.prm
     prm[Y.P_ZETA] = prm[Y.P_ZETAB] = 0.0
-    dg_evaluate(s.time, views(s.ws), prm, s._iprm_step, fdamp, implicit)
-    return s._dU.copy(), s._endf.copy()
+    dg_evaluate(s.time, views(s.ws), prm, s.ws.iprm_step, fdamp, implicit)
+    return s.ws.dU.copy(), s.ws.endf.copy()
 
 
 @pytest.mark.parametrize("kinds", [("prescribed", "body"), ("prescribed", "free"), ("fixed", "clamped")])
@@ -185,16 +185,16 @@ def test_clip_end_fluxes_is_the_clip_of_the_total_end_flux(kinds):
     explicit scheme's rule), and its difference to dg_rhs's own flux is lifted into the end element."""
     s = cable_solver(N=3, P=3, kinds=kinds, damping="implicit", EI=10.0 if "clamped" in kinds else 0.0)
     rng = np.random.default_rng(7)
-    g0 = s.prm[Y.P_GAMMA0]
-    ct = g0 / (g0 + s.prm[Y.P_MT])
-    cn = g0 / (g0 + s.prm[Y.P_MN])
+    g0 = s.ws.prm[Y.P_GAMMA0]
+    ct = g0 / (g0 + s.ws.prm[Y.P_MT])
+    cn = g0 / (g0 + s.ws.prm[Y.P_MN])
     clipped = 0
     for trial in range(12):
         fdamp = np.zeros((2, 4))
         fdamp[:, 0:3] = rng.standard_normal((2, 3)) * 3e3
         fdamp[:, 3] = rng.standard_normal(2)
         dU0, endf0 = evaluate(s, fdamp, False)
-        fl, tr, vbc = s._fl.copy(), s._tr.copy(), s._vbc.copy()
+        fl, tr, vbc = s.ws.fl.copy(), s.ws.trc.copy(), s.ws.vbc.copy()
         dU1, endf1 = evaluate(s, fdamp, True)
         want_dU, want_endf = dU0.copy(), endf0.copy()
         want_endf[:, 0:3] += fdamp[:, 0:3]
@@ -205,18 +205,18 @@ def test_clip_end_fluxes_is_the_clip_of_the_total_end_flux(kinds):
             e, k, sgn = end * (s.N - 1), end * s.N, 1.0 if end == 0 else -1.0  # sgn = -n
             q = tr[e, end, Y.T_Q:Y.T_Q + 3]
             i = q / np.linalg.norm(q)
-            lam = max(tr[e, end, Y.T_LAM], s.prm[Y.P_LAMBDA_BC])
+            lam = max(tr[e, end, Y.T_LAM], s.ws.prm[Y.P_LAMBDA_BC])
             elastic = tr[e, end, Y.T_TV:Y.T_TV + 3] - sgn * lam * (g0 * vbc[end, 3:6] - tr[e, end, Y.T_V:Y.T_V + 3])
-            pc = compression_cap(s.law.code, cap_stiffness(s.config.cable), s.P, s.h[e])  # > 0 with bending (clamped case)
+            pc = compression_cap(s.law.code, cap_stiffness(s.config.cable), s.P, s.ws.h[e])  # > 0 with bending (clamped case)
             total = plain_clip(elastic + sgn * fdamp[end, 0:3], q, pc)
             clipped += int(not np.array_equal(total, elastic + sgn * fdamp[end, 0:3]))
             d = total - fl[k, Y.F_V:Y.F_V + 3] - sgn * fdamp[end, 0:3]
             want_endf[end, 0:3] += sgn * d
             want_endf[end, 3] += d @ i
-            lift = (-sgn / s.h[e]) * (s.V @ s.Lf[end])[:, None] * d[None, :]  # strong-form lift at the points
-            ip = s._wq[e, :, Y.W_I:Y.W_I + 3]
+            lift = (-sgn / s.ws.h[e]) * (s.ws.V @ s.ws.Lf[end])[:, None] * d[None, :]  # strong-form lift at the points
+            ip = s.ws.wq[e, :, Y.W_I:Y.W_I + 3]
             par = np.sum(lift * ip, axis=1)[:, None] * ip
-            want_dU[e, :, 3:6] += s.Pj @ (ct * par + cn * (lift - par))
+            want_dU[e, :, 3:6] += s.ws.Pj @ (ct * par + cn * (lift - par))
             # the end force the bodies and outputs see is -n times the clipped total flux
             assert np.allclose(endf1[end, 0:3], sgn * total, rtol=1e-12, atol=1e-9)
         scale = np.max(np.abs(want_dU))
@@ -234,14 +234,14 @@ def test_clip_set_marks_exactly_the_points_whose_total_tension_would_push(law, E
 
     s = cable_solver(N=4, P=3, law=law, damping="implicit", EI=EI)
     dw = s._damp
-    damping_geometry(s.U, s.V, dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
+    damping_geometry(s.ws.U, s.ws.V, dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
     wp = dw.wp
     rng = np.random.default_rng(11)
     wp[:, :, DL.WP_E0] = rng.standard_normal(wp.shape[:2]) * 20.0  # strain rates of either sign
     Z0 = wp[:, :, DL.WP_Z].copy()
     n = clip_set(dw.idp, dw.dprm, wp, s.law.tab_eps, s.law.tab_T)
     zeta = dw.dprm[DL.DP_ZETA]
-    pc = np.array([compression_cap(s.law.code, cap_stiffness(s.config.cable), 3, h) for h in s.h])[:, None] + 0.0 * wp[:, :, DL.WP_L]
+    pc = np.array([compression_cap(s.law.code, cap_stiffness(s.config.cable), 3, h) for h in s.ws.h])[:, None] + 0.0 * wp[:, :, DL.WP_L]
     assert np.array_equal(wp[:, :, DL.WP_PC], pc) and (law == "linear" or (pc > 0).all() == (EI > 0))
     eps = wp[:, :, DL.WP_L] - 1.0
     tel = np.vectorize(lambda x, c: elastic_tension(s.law.code, x, s.law.EA, s.law.tab_eps, s.law.tab_T, c))(eps, pc)

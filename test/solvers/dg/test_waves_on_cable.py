@@ -88,7 +88,7 @@ def reference(comps, times, b):
 
 def test_wave_and_current_loads_and_the_wetted_part_follow_the_wave(run):
     config, solver, comps, res = run
-    nq = solver.V.shape[0]
+    nq = solver.ws.V.shape[0]
     b = max(0.5 * config.environment.surface_smoothing, 0.5 * (L / 6) / nq * (1 + STRAIN))  # kernels.momentum_rate
     late = res["t"] > 6.0  # after the start transient (the wave is switched on at t = 0)
     t = res["t"][late]

@@ -27,7 +27,7 @@ _DEPENDENCIES = (
 
 # modules without compiled code or constants the kernels read (editing them keeps the cache)
 _PYTHON_ONLY = ("__init__.py", "cache.py", "solver.py", "stepping.py", "outputs.py", "inputs.py", "winch_driver.py",
-                "equilibrium.py")
+                "equilibrium.py", "parameters.py")
 
 
 def drop_stale_kernel_cache() -> int:

@@ -26,7 +26,7 @@ COUPLING = 4  # elements on each side an element's right-hand side depends on (b
 
 def _residual(solver):
     solver._evaluate()
-    return solver._dU.copy()
+    return solver.ws.dU.copy()
 
 
 def _jacobian(solver, U0, R0, scale):
@@ -40,8 +40,8 @@ def _jacobian(solver, U0, R0, scale):
         for l in range(nm):
             for c in range(nc):
                 d = 1e-7 * scale[c]
-                solver.U[:] = U0
-                solver.U[els, l, c] += d
+                solver.ws.U[:] = U0
+                solver.ws.U[els, l, c] += d
                 dR = (_residual(solver) - R0) / d
                 for e in els:
                     lo, hi = max(0, e - COUPLING), min(N, e + COUPLING + 1)
@@ -50,7 +50,7 @@ def _jacobian(solver, U0, R0, scale):
                     rows.append(idx[lo:hi][nz])
                     cols.append(np.full(nz[0].size, idx[e, l, c]))
                     vals.append(blk[nz])
-    solver.U[:] = U0
+    solver.ws.U[:] = U0
     n = idx.size
     return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)), idx
 
@@ -78,10 +78,10 @@ def polish_equilibrium(solver, chord, max_iter=6, tol=1e-12):
     N = solver.N
     g0 = solver.config.cable.gamma0
     scale = np.array([1.0, 1.0, 1.0, g0, g0, g0])
-    U_start = solver.U.copy()
-    h = solver.h
+    U_start = solver.ws.U.copy()
+    h = solver.ws.h
     for it in range(max_iter + 1):
-        U0 = solver.U.copy()
+        U0 = solver.ws.U.copy()
         R0 = _residual(solver)
         con = np.sum(h[:, None] * U0[:, 0, 0:3], axis=0) - chord
         J, idx = _jacobian(solver, U0, R0, scale)
@@ -96,10 +96,10 @@ def polish_equilibrium(solver, chord, max_iter=6, tol=1e-12):
         dx = _solve(J.tocsr(), rhs, np.tile(scale, J.shape[0] // 6))
         if not np.all(np.isfinite(dx)):
             break
-        solver.U[:] = U0 + dx.reshape(U0.shape)
+        solver.ws.U[:] = U0 + dx.reshape(U0.shape)
         if np.max(np.abs(dx.reshape(U0.shape)[:, :, 0:3])) < tol:
             solver._outputs_valid = False
             return it + 1
-    solver.U[:] = U_start
+    solver.ws.U[:] = U_start
     solver._outputs_valid = False
     return -1

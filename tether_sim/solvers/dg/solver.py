@@ -6,6 +6,12 @@ anchor end s_a (the ship end unless only the vehicle end is held), whose positio
 boundary flux velocity v_hat / gamma0 in the same Runge-Kutta stages and is set exactly to the
 prescribed position of a held end after every substep. Because the DG update conserves
 int q ds up to the boundary fluxes, r(L) - r(0) follows v_hat(L) - v_hat(0) to round-off.
+
+The solver is a thin driver: every array lives in the workspace ``ws`` (workspace.py, one slot per
+array: ``ws.U``, ``ws.prm``, ``ws.endf`` ...), the work is done by functions of the workspace
+(stepping.py: stepping and drains; outputs.py: sampled state, end loads, bodies; winch_driver.py:
+the winch) and the compiled calls behind them (tick.py). The driver itself keeps the configuration,
+the mesh (N, P, L, s_edges), the clock and whether the output evaluation is current.
 """
 
 import math
@@ -16,22 +22,20 @@ import numpy as np
 from tether_sim.errors import UnstableTimeStepError
 from tether_sim.numerics.operators import element_operators, project_function
 from tether_sim.physics.bodies import BODY_STATE_SIZE, initial_body_state, pack_body_params, submerged_weight
-from tether_sim.physics.constitutive import TensionLaw, cap_stiffness
-from tether_sim.physics.end_conditions import KIND_CODES, anchor_end, end_kind, held_in_place
-from tether_sim.physics.hydrodynamics import (
-    added_mass_per_length, air_weight_per_length, current_table, net_weight_per_length,
-)
+from tether_sim.physics.constitutive import TensionLaw
+from tether_sim.physics.end_conditions import end_kind, held_in_place
+from tether_sim.physics.hydrodynamics import added_mass_per_length, current_table
 from tether_sim.physics.statics import solve_static
-from tether_sim.physics.waves import wave_components
+from tether_sim.solvers.base import TickOutput, end_index
 from tether_sim.solvers.dg import layout as Y
+from tether_sim.solvers.dg import outputs, stepping, winch_driver
 from tether_sim.solvers.dg.damping_layout import MODE_AXIAL, MODE_EXPLICIT, MODE_GENERAL
 from tether_sim.solvers.dg.equilibrium import polish_equilibrium
 from tether_sim.solvers.dg.implicit_damping import DampingWork
-from tether_sim.solvers.dg.outputs import OutputsMixin
+from tether_sim.solvers.dg.parameters import end_data, parameters, with_waves
 from tether_sim.solvers.dg.soa import TMP_HEAD, soa_scratch_size
-from tether_sim.solvers.dg.stepping import SteppingMixin
-from tether_sim.solvers.dg.tick import TG_SET
-from tether_sim.solvers.dg.winch_driver import WinchMixin
+from tether_sim.solvers.dg.tick import EN_P, EN_V, TG_SET
+from tether_sim.solvers.dg.timestep import config_stable_dt
 from tether_sim.solvers.dg.workspace import Workspace
 from tether_sim.solvers.work import mesh_sizes
 
@@ -41,8 +45,12 @@ from tether_sim.solvers.work import mesh_sizes
 RELAX_CHUNK_WALL = 0.2  # s
 RELAX_FIRST_CHUNK = 200
 
+# the implicit damping's arrays in the workspace: slot -> attribute of DampingWork
+_DAMPING_SLOTS = dict(idp="idp", dprm="dprm", blk="blk", bvec="bvec", wp="wp", wd="wd", band="band", vec="vec",
+                      dtmp="tmp", fdamp="fdamp")
 
-class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
+
+class DGCableSolver:
     """Discontinuous Galerkin cable solver [PE2020 Sec. 2-3]; see docs/dg_solver.md."""
 
     name = "dg"
@@ -55,52 +63,46 @@ class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
         self.law = TensionLaw(cab)
         self.N, self.P = int(opt.n_elements), int(opt.order)
         self.L = float(cab.length)
-        self.h = self._element_sizes(opt)
-        self.s_edges = np.concatenate(([0.0], np.cumsum(self.h)))
+        h = self._element_sizes(opt)
+        self.s_edges = np.concatenate(([0.0], np.cumsum(h)))
         self.ops = element_operators(self.P, int(opt.quad_points) or None)
+        cz, cx, cy = current_table(env)
+        prm, iprm = parameters(cab, env, opt, self.law, (self.N, self.P, self.ops.vandermonde.shape[0]), self.kinds,
+                                cz.size)
+        self.winch_end, hw = winch_driver.setup(config, self.ends, self.kinds, prm, iprm, h, self.L)
+        self.winch_enabled = self.winch_end is not None
+        prm = with_waves(config, cab, env, prm, iprm)
+        self._damp, prm_step, iprm_step = self._damping(cab, env, opt, h, prm, iprm)
+        N, nm, nq = self.N, self.P + 1, self.ops.vandermonde.shape[0]
         o = self.ops
-        self.V, self.Pj, self.D, self.Lf, self.Tr, self.Iq = o.vandermonde, o.projection, o.derivative, o.lift, o.trace, o.integral
-        self.cz, self.cx, self.cy = current_table(env)
-        self.prm, self.iprm = self._parameters(cab, env, opt)
-        self._setup_winch(config)  # winch_driver.py (a moving end of the domain, winch.py)
-        self.prm = self._with_waves(config, cab, env, self.prm, self.iprm)
-        self.bc = np.zeros((2, Y.N_BC))
-        for e, ec in enumerate((config.ship_end, config.vehicle_end)):
-            self.bc[e, Y.B_P0:Y.B_P0 + 3] = ec.position
-            self.bc[e, Y.B_P1:Y.B_P1 + 3] = ec.position
-            self.bc[e, Y.B_F:Y.B_F + 3] = ec.force
-            self.bc[e, Y.B_M:Y.B_M + 3] = ec.moment
-            d = np.asarray(ec.direction, float)
-            nd = np.linalg.norm(d)
-            if self.ends[e].direction == "held" and nd == 0.0:
-                raise ValueError(f"{('ship_end', 'vehicle_end')[e]}.direction: must be a nonzero vector")
-            self.bc[e, Y.B_DIR:Y.B_DIR + 3] = d / nd if nd > 0 else d
-        N, nm, nq = self.N, self.P + 1, self.V.shape[0]
-        self.U = np.zeros((N, nm, 6))
-        self.ra = np.zeros(3)
-        self._U0, self._ra0, self._dU, self._dra = np.zeros_like(self.U), np.zeros(3), np.zeros_like(self.U), np.zeros(3)
-        self._wq = np.zeros((N, nq, Y.NWQ))
-        self._wm = np.zeros((N, nm, Y.NWM))
-        self._tr = np.zeros((N, 2, Y.NTR))
-        self._fl = np.zeros((N + 1, Y.NFL))
-        self._rs = np.zeros((N, 3))
-        self._tmp = np.zeros(TMP_HEAD + soa_scratch_size(N, nm, nq))  # + scratch of soa.py
-        self._vbc = np.zeros((2, 6))
-        self._endf = np.zeros((2, Y.N_ENDF))
-        self._buf = np.zeros((int(opt.tension_buffer), 3))
-        self._cnt = np.zeros(1, dtype=np.int64)
-        self._out = np.zeros(2)
+        bp = pack_body_params(config.body, env)
+        ends = np.zeros((2, 6))
+        ends[0, 0:3], ends[1, 0:3] = config.ship_end.position, config.vehicle_end.position
+        cap = int(opt.tension_buffer)
+        arrays = dict(
+            U=np.zeros((N, nm, 6)), ra=np.zeros(3), prm_step=prm_step, iprm_step=iprm_step, h=h,
+            V=o.vandermonde, Pj=o.projection, D=o.derivative, Lf=o.lift, Tr=o.trace, Iq=o.integral,
+            tab_eps=self.law.tab_eps, tab_T=self.law.tab_T, cz=cz, cx=cx, cy=cy,
+            bc=end_data(config, self.ends), vbc=np.zeros((2, 6)),
+            wq=np.zeros((N, nq, Y.NWQ)), wm=np.zeros((N, nm, Y.NWM)), trc=np.zeros((N, 2, Y.NTR)),
+            fl=np.zeros((N + 1, Y.NFL)), rs=np.zeros((N, 3)),
+            tmp=np.zeros(TMP_HEAD + soa_scratch_size(N, nm, nq)),  # + scratch of soa.py
+            dU=np.zeros((N, nm, 6)), dra=np.zeros(3), endf=np.zeros((2, Y.N_ENDF)),
+            bs=np.zeros((2, BODY_STATE_SIZE)), bp=np.stack([bp, bp]), dbs=np.zeros((2, BODY_STATE_SIZE)),
+            bs0=np.zeros((2, BODY_STATE_SIZE)), U0=np.zeros((N, nm, 6)), ra0=np.zeros(3),
+            buf=np.zeros((cap, 3)), cnt=np.zeros(1, dtype=np.int64), out=np.zeros(2),
+            hw=hw, prm=prm, iprm=iprm, ends=ends, target=np.zeros((2, 7)), no_fdamp=np.zeros((2, 4)),
+            drained=np.zeros(1, dtype=np.int64), drain=np.zeros((3, cap)), fresh=np.zeros(2, dtype=np.int64),
+            snap=np.zeros(N * nm * 6 + prm.size + 2 * Y.N_BC + 2 * 6 + N), snap_i=np.zeros(iprm.size, dtype=np.int64),
+        )
+        arrays.update({slot: getattr(self._damp, a) for slot, a in _DAMPING_SLOTS.items()})
+        self.ws = Workspace(arrays)
+        for slot, a in _DAMPING_SLOTS.items():  # the damping's arrays become views of the workspace
+            setattr(self._damp, a, getattr(self.ws, slot))
         self._tick_in = np.zeros((2, 6))  # tick(): targets of the driven ends, tick.node_tick's tin
-        self._plans = {}
+        self._plans = {}  # sampling plans (outputs.plan)
         self._outputs_valid = False  # the output work arrays hold the evaluation at the current state
         self._want_outputs = False  # outputs were asked for: the tick evaluates them (tick.py)
-        self._bs = np.zeros((2, BODY_STATE_SIZE))
-        self._bs0 = np.zeros((2, BODY_STATE_SIZE))
-        self._dbs = np.zeros((2, BODY_STATE_SIZE))
-        bp = pack_body_params(config.body, env)
-        self._bp = np.ascontiguousarray(np.stack([bp, bp]))
-        self._setup_damping(cab, env, opt)
-        self._build_workspace(config)
         self.time = 0.0
         self.q_penalty_form = "tension" if opt.q_penalty_jump == "tension" else "strain"
         self.equilibrium_iterations = 0  # Newton iterations of the discrete static equilibrium (-1: failed)
@@ -120,133 +122,24 @@ class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
             raise ValueError(f"dg.element_lengths: need {self.N} positive weights (dg.n_elements), got {wts.size}")
         return mesh_sizes(self.L, self.N, wts)
 
-    def _parameters(self, cab, env, opt):
-        prm = np.zeros(Y.N_PRM)
-        prm[Y.P_GAMMA0] = cab.gamma0
-        prm[Y.P_EA] = cab.EA
-        prm[Y.P_ZETA] = cab.damping
-        mt, mn = added_mass_per_length(cab, env)
-        prm[Y.P_MT], prm[Y.P_MN] = mt, mn
-        prm[Y.P_FBZ] = -net_weight_per_length(cab, env)
-        prm[Y.P_HALF_RHO_D] = 0.5 * env.fluid_density * cab.diameter
-        prm[Y.P_CDT], prm[Y.P_CDN] = cab.Cdt, cab.Cdn
-        prm[Y.P_ZG] = env.seabed_z
-        kd = env.seabed_stiffness * cab.diameter
-        prm[Y.P_KD] = kd
-        prm[Y.P_CCRIT] = 2.0 * math.sqrt(kd * cab.gamma0)
-        prm[Y.P_SBZETA] = env.seabed_damping
-        prm[Y.P_MU] = env.seabed_friction
-        prm[Y.P_VMU] = env.seabed_friction_speed
-        prm[Y.P_EI] = cab.EI
-        prm[Y.P_EIC] = cap_stiffness(cab)
-        prm[Y.P_ZETAB] = cab.bending_damping
-        prm[Y.P_BETA] = opt.beta
-        prm[Y.P_TORQUE] = cab.torque
-        prm[Y.P_LAMBDA_FLOOR] = opt.lambda_floor
-        prm[Y.P_LAMBDA_BC] = math.sqrt(self.law.max_slope() / cab.gamma0)
-        prm[Y.P_QPEN] = opt.q_penalty if opt.q_penalty_jump != "tension" else 0.0  # auto: _choose_q_penalty
-        prm[Y.P_QPENT] = opt.q_penalty if opt.q_penalty_jump == "tension" else 0.0
-        prm[Y.P_FBZ_AIR] = -air_weight_per_length(cab, env)
-        prm[Y.P_HALF_RHO_D_AIR] = 0.5 * env.air_density * cab.diameter
-        prm[Y.P_CDT_AIR], prm[Y.P_CDN_AIR] = env.air_Cdt, env.air_Cdn
-        prm[Y.P_SURF_B] = 0.5 * env.surface_smoothing
-        ip = np.zeros(Y.N_IPRM, dtype=np.int64)
-        ip[Y.I_N], ip[Y.I_P], ip[Y.I_Q] = self.N, self.P, self.V.shape[0]
-        ip[Y.I_LAW] = self.law.code
-        ip[Y.I_SEABED] = int(env.seabed)
-        ip[Y.I_CURRENT] = int(self.cz.size > 0)
-        ip[Y.I_BENDING] = int(cab.EI > 0.0 or cab.bending_damping > 0.0 or cab.torque != 0.0)
-        ip[Y.I_BENDDAMP] = int(cab.bending_damping > 0.0)
-        ip[Y.I_AXDAMP] = int(cab.damping > 0.0 or cab.bending_damping > 0.0)
-        ip[Y.I_KIND0], ip[Y.I_KIND1] = KIND_CODES[self.kinds[0]], KIND_CODES[self.kinds[1]]
-        ip[Y.I_ANCHOR] = anchor_end(self.kinds)
-        ip[Y.I_SURFACE] = int(env.free_surface)
-        ip[Y.I_NEEDPOS] = int(env.seabed or self.cz.size > 0 or env.free_surface)
-        return prm, ip
-
-    def _with_waves(self, config, cab, env, prm, ip):
-        """prm with the wave components appended (layout.py), the Froude-Krylov mass and the depth
-        below which the wave kinematics are negligible (< 1e-4 of their surface value: skipped)."""
-        comps = wave_components(config)
-        n = int(np.asarray(comps.amp).size)
-        ip[Y.I_NWAVE] = n
-        prm[Y.P_RHO_AH] = env.fluid_density * cab.area  # Froude-Krylov on the displaced volume (docs/waves.md)
-        prm[Y.P_WAVE_DEPTH] = float(comps.depth)
-        prm[Y.P_WAVE_STRETCH] = float(comps.stretch)
-        prm[Y.P_WAVE_ZCUT] = math.inf
-        if n == 0:
-            return prm
-        ip[Y.I_NEEDPOS] = 1
-        amp = np.abs(np.asarray(comps.amp, float))
-        kmin = float(np.min(np.asarray(comps.k, float)))
-        zcut = -float(amp.sum()) - math.log(1e4) / kmin if kmin > 0.0 else -math.inf
-        if math.isfinite(comps.depth) and kmin * comps.depth < math.log(1e4):
-            zcut = -math.inf  # shallow for its longest component: the kinematics reach the bottom
-        prm[Y.P_WAVE_ZCUT] = zcut
-        tail = [np.asarray(getattr(comps, f), float) for f in ("amp", "omega", "k", "cos_dir", "sin_dir", "phase")]
-        return np.ascontiguousarray(np.concatenate([prm] + tail))
-
-    def _setup_damping(self, cab, env, opt):
-        """dg.damping = implicit: the stepper gets prm/iprm without the damping terms (E of the
-        splitting) and the implicit damping work arrays; outputs keep the full prm/iprm."""
+    def _damping(self, cab, env, opt, h, prm, iprm):
+        """(DampingWork, prm_step, iprm_step). dg.damping = implicit: the stepper gets prm/iprm without
+        the damping terms (E of the splitting) and the implicit damping work arrays; outputs keep the
+        full prm/iprm."""
         mode = MODE_EXPLICIT
         if opt.damping == "implicit" and (cab.damping > 0.0 or cab.bending_damping > 0.0):
             mode = MODE_GENERAL if cab.bending_damping > 0.0 else MODE_AXIAL
         mt, mn = added_mass_per_length(cab, env)
-        self._damp = DampingWork(mode, self.ops, self.h, self.kinds, cab, cab.gamma0, mt, mn, opt.beta,
-                                 self.law.code, (self.iprm[Y.I_KIND0], self.iprm[Y.I_KIND1]),
-                                 max(self.prm[Y.P_LAMBDA_BC], self.prm[Y.P_LAMBDA_FLOOR]))
-        self._prm_step, self._iprm_step = self.prm.copy(), self.iprm.copy()
+        damp = DampingWork(mode, self.ops, h, self.kinds, cab, cab.gamma0, mt, mn, opt.beta, self.law.code,
+                           (iprm[Y.I_KIND0], iprm[Y.I_KIND1]), max(prm[Y.P_LAMBDA_BC], prm[Y.P_LAMBDA_FLOOR]))
+        prm_step, iprm_step = prm.copy(), iprm.copy()
         if mode != MODE_EXPLICIT:
-            self._iprm_step[Y.I_AXDAMP] = self._iprm_step[Y.I_BENDDAMP] = 0
-            self._iprm_step[Y.I_BENDING] = int(cab.EI > 0.0 or cab.torque != 0.0)
-        self._no_fdamp = np.zeros((2, 4))
-
-    def _build_workspace(self, config):
-        """Move every array of the compiled code into the arenas of workspace.py (the attributes
-        become views of them) so that one call with three array arguments runs a tick."""
-        dw = self._damp
-        ends = np.zeros((2, 6))
-        ends[0, 0:3], ends[1, 0:3] = config.ship_end.position, config.vehicle_end.position
-        own = dict(U="U", ra="ra", prm_step="_prm_step", iprm_step="_iprm_step", h="h", V="V", Pj="Pj", D="D",
-                   Lf="Lf", Tr="Tr", Iq="Iq", cz="cz", cx="cx", cy="cy", bc="bc", vbc="_vbc", wq="_wq", wm="_wm",
-                   trc="_tr", fl="_fl", rs="_rs", tmp="_tmp", dU="_dU", dra="_dra", endf="_endf", bs="_bs",
-                   bp="_bp", dbs="_dbs", bs0="_bs0", U0="_U0", ra0="_ra0", buf="_buf", cnt="_cnt", out="_out",
-                   prm="prm", iprm="iprm", no_fdamp="_no_fdamp", hw="_hw")
-        damp = dict(idp="idp", dprm="dprm", blk="blk", bvec="bvec", wp="wp", wd="wd", band="band", vec="vec",
-                    dtmp="tmp", fdamp="fdamp")
-        arrays = {slot: getattr(self, a) for slot, a in own.items()}
-        arrays.update({slot: getattr(dw, a) for slot, a in damp.items()})
-        arrays.update(tab_eps=self.law.tab_eps, tab_T=self.law.tab_T, ends=ends, target=np.zeros((2, 7)),
-                      drained=np.zeros(1, dtype=np.int64), drain=np.zeros((3, self._buf.shape[0])),
-                      fresh=np.zeros(2, dtype=np.int64),
-                      snap=np.zeros(self.U.size + self.prm.size + self.bc.size + self._vbc.size + self.h.size),
-                      snap_i=np.zeros(self.iprm.size, dtype=np.int64))
-        self.ws = ws = Workspace(arrays)
-        for slot, a in own.items():
-            setattr(self, a, getattr(ws, slot))
-        for slot, a in damp.items():
-            setattr(dw, a, getattr(ws, slot))
-
-    @property
-    def _end_pos(self):
-        """(2, 3) view: position of each end at the solver time (driven ends; start of the others)."""
-        return self.ws.ends[:, 0:3]
-
-    @_end_pos.setter
-    def _end_pos(self, value):
-        self.ws.ends[:, 0:3] = np.asarray(value, float)
-
-    @property
-    def _end_vel(self):
-        """(2, 3) view: velocity of each driven end at the solver time."""
-        return self.ws.ends[:, 3:6]
-
-    @_end_vel.setter
-    def _end_vel(self, value):
-        self.ws.ends[:, 3:6] = np.asarray(value, float)
+            iprm_step[Y.I_AXDAMP] = iprm_step[Y.I_BENDDAMP] = 0
+            iprm_step[Y.I_BENDING] = int(cab.EI > 0.0 or cab.torque != 0.0)
+        return damp, prm_step, iprm_step
 
     def _set_initial_state(self, config):
+        ws = self.ws
         kind = config.initial.kind
         shape = None
         body_load = np.array([0.0, 0.0, -submerged_weight(config.body, config.environment)])
@@ -258,35 +151,50 @@ class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
             except RuntimeError:
                 shape = None  # fall back to dynamic relaxation from the straight line
         if shape is not None:
-            tangent, origin = shape.tangent, shape.position(np.array([0.0]))[0]
+            tangent = shape.tangent
             end_pos = shape.position(np.array([0.0, self.L]))
         else:
             for e in range(2):
                 if self.ends[e].position == "body":
-                    self._end_pos[e] = initial_body_state(config.body)[0:3] + np.asarray(config.body.attachment, float)
-            A, B = self._end_pos
+                    ws.ends[e, EN_P:EN_P + 3] = (initial_body_state(config.body)[0:3]
+                                                 + np.asarray(config.body.attachment, float))
+            A, B = ws.ends[:, EN_P:EN_P + 3]
             q = (B - A) / self.L
             tangent = (lambda s, q=q: np.repeat(q[None, :], np.atleast_1d(s).size, axis=0))
-            origin, end_pos = A, np.array([A, B])
+            end_pos = np.array([A, B])
         for e in range(self.N):
-            self.U[e, :, 0:3] = project_function(self.P, tangent, self.s_edges[e], self.s_edges[e + 1])
-        self.U[:, :, 3:6] = 0.0
-        a = self.iprm[Y.I_ANCHOR]
-        self.ra[:] = end_pos[a]
+            ws.U[e, :, 0:3] = project_function(self.P, tangent, self.s_edges[e], self.s_edges[e + 1])
+        ws.U[:, :, 3:6] = 0.0
+        ws.ra[:] = end_pos[ws.iprm[Y.I_ANCHOR]]
         for e in range(2):
             if self.ends[e].position in ("cable", "body"):
-                self._end_pos[e] = end_pos[e].copy()
+                ws.ends[e, EN_P:EN_P + 3] = end_pos[e]
             if self.ends[e].position == "body":
-                self._bs[e] = initial_body_state(config.body, attachment_world=end_pos[e])
+                ws.bs[e] = initial_body_state(config.body, attachment_world=end_pos[e])
         if shape is not None and self.config.dg.q_penalty_jump == "auto":
             self._choose_q_penalty(shape)
         if shape is not None and all(held_in_place(k) for k in self.kinds):
             self.equilibrium_iterations = polish_equilibrium(self, end_pos[1] - end_pos[0])
+        self.start_warning = self._start_mismatch(shape) if shape is not None else ""
         relax = config.initial.relax_time
         if kind == "relax" or (kind == "static" and shape is None):
             relax = relax if relax > 0 else self._default_relax_time()
         if relax > 0:
             self.relax(relax)
+
+    def _start_mismatch(self, shape) -> str:
+        """A sentence when the mesh cannot hold the static shape, else "": the projected state's tension
+        exceeds the shape's by more than half its largest tension (and 1 N) somewhere. A slack cable whose
+        static shape has a kink (a light tether in a current, its slack streaming past an end and doubling
+        back) projects onto too few elements with kN spikes that no relaxation removes."""
+        s = np.linspace(0.0, self.L, 8 * self.N * (self.P + 1) + 1)
+        dg, ref = self.state(s).tension, shape.tension(s)
+        k = int(np.argmax(dg - ref))
+        if dg[k] - ref[k] <= max(0.5 * float(np.max(ref)), 1.0):
+            return ""
+        return (f"the mesh (N = {self.N}, P = {self.P}) cannot hold the static shape: its starting tension is "
+                f"{dg[k]:.4g} N at s = {s[k]:.1f} m where the static shape has {ref[k]:.4g} N (largest "
+                f"{float(np.max(ref)):.4g} N; a kink in a slack cable?): refine dg.n_elements")
 
     def _relax_in_chunks(self, t):
         """advance_to(t) in compiled calls of about RELAX_CHUNK_WALL s each (a signal is handled between
@@ -308,22 +216,23 @@ class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
         ratio = self.law.max_slope() / max(t_min, 1e-300)
         self.q_penalty_form = "tension" if ratio > self.config.dg.q_penalty_auto_ratio else "strain"
         if self.q_penalty_form == "tension":
-            for p in (self.prm, self._prm_step):
+            for p in (self.ws.prm, self.ws.prm_step):
                 p[Y.P_QPENT], p[Y.P_QPEN] = self.config.dg.q_penalty, 0.0
 
     def set_shape(self, tangent, velocity=None, origin=None):
         """Replace the state: q = tangent(s) (n, 3) = dr/ds and cable velocity velocity(s) (n, 3) (m/s),
         both L2-projected on the modes; origin (3,) = r(0) (default: the current r(0))."""
+        ws = self.ws
         r0 = self.positions_at(np.array([0.0]))[0] if origin is None else np.asarray(origin, float)
         g0 = self.config.cable.gamma0
         for e in range(self.N):
             a, b = self.s_edges[e], self.s_edges[e + 1]
-            self.U[e, :, 0:3] = project_function(self.P, tangent, a, b)
-            self.U[e, :, 3:6] = 0.0 if velocity is None else g0 * project_function(self.P, velocity, a, b)
-        if self.iprm[Y.I_ANCHOR] == 0:
-            self.ra[:] = r0
+            ws.U[e, :, 0:3] = project_function(self.P, tangent, a, b)
+            ws.U[e, :, 3:6] = 0.0 if velocity is None else g0 * project_function(self.P, velocity, a, b)
+        if ws.iprm[Y.I_ANCHOR] == 0:
+            ws.ra[:] = r0
         else:
-            self.ra[:] = r0 + np.sum(self.h[:, None] * self.U[:, 0, 0:3], axis=0)
+            ws.ra[:] = r0 + np.sum(ws.h[:, None] * ws.U[:, 0, 0:3], axis=0)
 
     def _default_relax_time(self):
         """Ten decay times of the automatic relaxation damping (or 5 pendulum periods)."""
@@ -350,34 +259,197 @@ class DGCableSolver(SteppingMixin, OutputsMixin, WinchMixin):
         The momentum is kept (not zeroed): at a discrete DG equilibrium v balances the
         Lax-Friedrichs penalty on the small jumps of q, and zeroing it would leave a spurious
         strain rate (and damping tension zeta * deps/dt) at restart."""
-        self.prm[Y.P_RELAX] = self.relax_rate()
+        ws = self.ws
+        ws.prm[Y.P_RELAX] = self.relax_rate()
         t0 = self.time
-        saved = self.ws.ends.copy()
+        saved = ws.ends.copy()
         try:
             self._relax_in_chunks(t0 + duration)
         finally:
-            self.prm[Y.P_RELAX] = 0.0
+            ws.prm[Y.P_RELAX] = 0.0
         self.time = t0
-        self._bs[:, 7:13] = 0.0  # bodies start at rest (their velocity was damped anyway)
+        ws.bs[:, 7:13] = 0.0  # bodies start at rest (their velocity was damped anyway)
         for e in range(2):
             if self.ends[e].kinematic:
-                self.ws.ends[e] = saved[e]
+                ws.ends[e] = saved[e]
         self._outputs_valid = False
         self.drain_end_tensions()
 
     def snapshot(self):
-        return dict(time=self.time, U=self.U.copy(), ra=self.ra.copy(), bc=self.bc.copy(), bodies=self._bs.copy(),
-                    end_pos=[p.copy() for p in self._end_pos], end_vel=[v.copy() for v in self._end_vel],
-                    **self._winch_snapshot())
+        ws = self.ws
+        return dict(time=self.time, U=ws.U.copy(), ra=ws.ra.copy(), bc=ws.bc.copy(), bodies=ws.bs.copy(),
+                    end_pos=[p.copy() for p in ws.ends[:, EN_P:EN_P + 3]],
+                    end_vel=[v.copy() for v in ws.ends[:, EN_V:EN_V + 3]], **winch_driver.snapshot(ws, self.winch_enabled))
 
     def restore(self, snap) -> None:
+        ws = self.ws
         self.time = snap["time"]
-        self.U[...] = snap["U"]
-        self.ra[:] = snap["ra"]
-        self.bc[...] = snap["bc"]
-        self._bs[...] = snap["bodies"]
-        self._end_pos = snap["end_pos"]
-        self._end_vel = snap["end_vel"]
-        self.ws.target[:, TG_SET] = 0.0
-        self._winch_restore(snap)
+        ws.U[...] = snap["U"]
+        ws.ra[:] = snap["ra"]
+        ws.bc[...] = snap["bc"]
+        ws.bs[...] = snap["bodies"]
+        ws.ends[:, EN_P:EN_P + 3] = np.asarray(snap["end_pos"], float)
+        ws.ends[:, EN_V:EN_V + 3] = np.asarray(snap["end_vel"], float)
+        ws.target[:, TG_SET] = 0.0
+        if winch_driver.restore(ws, snap):
+            self._winch_sync()
         self._outputs_valid = False
+
+    # ------------------------------------------------------------------ time step and ends (stepping.py)
+    def stable_time_step(self, h=None) -> float:
+        """Automatic substep = dg.cfl x the stability limit of docs/dg_solver.md (element sizes h)."""
+        return config_stable_dt(self.config, self.ws.h if h is None else h, self.law.max_slope(),
+                                self._damp.mode != MODE_EXPLICIT)
+
+    def _substep(self):
+        return self.fixed_dt if self.fixed_dt > 0 else self._dt_rule
+
+    def set_end_motion(self, end, position, velocity) -> None:
+        """Target position/velocity of a prescribed end at the target time of the next advance_to."""
+        e = end_index(end)
+        if self.ends[e].position != "motion":
+            raise ValueError(f"set_end_motion: the {end} end is {self.kinds[e]!r}, not 'prescribed'")
+        stepping.set_target(self.ws, e, end, position, velocity)
+
+    def set_end_load(self, end, force, moment=(0.0, 0.0, 0.0)) -> None:
+        """Point force (and moment) applied on a force end (held until changed)."""
+        e = end_index(end)
+        if self.ends[e].load != "applied":
+            raise ValueError(f"set_end_load: the {end} end is {self.kinds[e]!r}, not 'force'")
+        stepping.set_load(self.ws, e, end, force, moment)
+        self._outputs_valid = False
+
+    def _substeps_to(self, t, what):
+        """(substeps, their size) for an interval to time t, equal and stable (advance_to's rule)."""
+        span = stepping.span_to(self.time, t, what)
+        if span <= 0.0:
+            return 0, 0.0
+        return stepping.substeps(span, (self._winch_substep(span) if self.winch_enabled else None) or self._substep())
+
+    def _run(self, nsteps, dt, t_end):
+        """One compiled call: driven ends, nsteps substeps of dt, end bookkeeping and, when outputs are
+        being read, their evaluation at t_end (stepping.run)."""
+        self._outputs_valid = False
+        winch = self._winch_moving()
+        stepping.run(self.ws, self.time, t_end, nsteps, dt, self._want_outputs)
+        self.time = t_end
+        if winch:
+            self._winch_sync()
+        self._outputs_valid = self._want_outputs
+        return nsteps
+
+    def advance_to(self, t) -> int:
+        """Advance to time t in equal stable substeps (compiled loop); returns the substep count."""
+        t = float(t)
+        n, dt = self._substeps_to(t, "advance_to")
+        return self._run(n, dt, t) if n else 0
+
+    def tick(self, t, ship=None, vehicle=None, drain=True) -> TickOutput:
+        """One node tick in one compiled call (tick.node_tick): the targets of the driven ends given as
+        (position, velocity), advance_to(t), the drain of the end tensions and the end loads; the
+        result's arrays are views, valid until the next call (base.py's contract)."""
+        t = float(t)
+        ws, tin = self.ws, self._tick_in
+        mask = stepping.tick_inputs(tin, ship, vehicle, self.ends, self.kinds)
+        n, dt = self._substeps_to(t, "tick")
+        if n == 0:  # nothing to step: the composition (targets kept for the next interval)
+            for e in range(2):
+                if mask >> e & 1:
+                    stepping.set_target(ws, e, ("ship", "vehicle")[e], tin[e, 0:3], tin[e, 3:6])
+            count = stepping.drain_count(ws) if drain else 0
+            self._evaluate_outputs()
+            return TickOutput(count, ws.drain, ws.endf, 0)
+        self._outputs_valid = False
+        winch = self._winch_moving()
+        r = stepping.run_tick(ws, tin, mask, self.time, t, n, dt, drain)
+        self.time = t
+        if winch:
+            self._winch_sync()
+        self._want_outputs = self._outputs_valid = True
+        return TickOutput(r, ws.drain, ws.endf, n)
+
+    def step(self, dt) -> None:
+        """One substep of size dt (UnstableTimeStepError above the stability limit)."""
+        limit = self._dt_rule / self.config.dg.cfl
+        if self._winch_moving() and dt > 0:
+            limit = min(limit, self._winch_limit(float(dt)))
+        if dt <= 0 or dt > limit:
+            raise UnstableTimeStepError(f"step: dt = {dt:g} s outside (0, {limit:g}] s (stability limit)")
+        self._run(1, float(dt), self.time + float(dt))
+
+    def drain_end_tensions(self):
+        """(t, T_ship, T_vehicle) at the start of every substep since the last call (newest cap kept)."""
+        return stepping.drain(self.ws)
+
+    # ------------------------------------------------------------------ outputs (outputs.py)
+    def _evaluate(self):
+        """A full right-hand-side evaluation at the current state (dU, endf, work arrays)."""
+        self._outputs_valid = False
+        stepping.evaluate(self.ws, self.time)
+
+    def _evaluate_outputs(self):
+        """What the outputs (state(), end_forces(), body_state()) read of a right-hand-side evaluation
+        at the current state (end loads, modal work channels; sampling.evaluate_outputs). Done once
+        per state: by the tick itself once outputs have been asked for (a node asking for all three
+        per tick pays for one evaluation, inside the tick's compiled call), else here."""
+        self._want_outputs = True
+        if not self._outputs_valid:
+            stepping.evaluate_outputs(self.ws, self.time)
+            self._outputs_valid = True
+
+    def positions_at(self, arc_lengths):
+        """r(s) (n, 3) from the anchor and int q ds."""
+        return outputs.positions_at(self.ws, self.P, self.s_edges, self.L, arc_lengths)
+
+    def state(self, arc_lengths=None):
+        """Position, velocity, strain, tension, curvature and bending moment at arc lengths s
+        (one compiled sampling kernel, sampling.py)."""
+        self._evaluate_outputs()
+        plan = outputs.plan(self._plans, arc_lengths, self.s_edges, self.ws.h, self.P, self.L,
+                            self.config.node.output_points)
+        return outputs.sampled_state(self.ws, plan, self.law, self.config.cable.gamma0, self.time, self._substep())
+
+    def end_forces(self):
+        """Force (and moment) BY the cable ON each end: -n T_hat at the boundary fluxes."""
+        self._evaluate_outputs()
+        return outputs.end_forces(self.ws)
+
+    def body_state(self, end):
+        """State of the rigid body at a "body" end (None for other kinds)."""
+        e = end_index(end)
+        if self.ends[e].position != "body":
+            return None
+        self._evaluate_outputs()
+        return outputs.body_state(self.ws, e)
+
+    # ------------------------------------------------------------------ winch (winch_driver.py)
+    @property
+    def unstretched_length(self) -> float:
+        """L(t): unstretched length of cable in the domain (m)."""
+        return float(self.ws.prm[Y.P_WL])
+
+    @property
+    def pay_out_rate(self) -> float:
+        """dL/dt reached at the current time (m/s)."""
+        return float(self.ws.prm[Y.P_WR0])
+
+    def set_pay_out_rate(self, rate: float) -> None:
+        """Rate dL/dt (m/s, > 0 pays out) reached by a linear ramp over the next advance_to, then held."""
+        winch_driver.set_rate(self.ws, self.winch_enabled, rate)
+
+    def _winch_moving(self) -> bool:
+        return winch_driver.moving(self.ws, self.winch_enabled)
+
+    def _winch_limit(self, span):
+        return winch_driver.limit(self.ws, self.winch_enabled, span, self.P, self.config.dg.cfl, self.stable_time_step)
+
+    def _winch_substep(self, span):
+        return winch_driver.substep(self.ws, self.winch_enabled, span, self.P, self.config.dg.cfl, self.fixed_dt,
+                                    self.stable_time_step)
+
+    def _winch_sync(self):
+        """After a moving interval: length, element edges, sampling plans and time step follow L."""
+        self.L = float(self.ws.prm[Y.P_WL])
+        self.s_edges = np.concatenate(([0.0], np.cumsum(self.ws.h)))
+        self._plans.clear()
+        self._dt_rule = self.stable_time_step()

@@ -36,7 +36,7 @@ penalty lets axial waves ring (~0.4 s period, +-80 kN at 50 m depth).
 stepped every 0.1 s with the velocity of the next interval, as MoorDyn's test does), for the same
 metrics: a second code on the reference.
 
-Usage: PYTHONPATH=. python benchmarks/chain_cases.py [--solver hybrid|dg] [--moordyn] [--segments N] [--order P]
+Usage: PYTHONPATH=. python benchmarks/studies/chain_cases.py [--solver hybrid|dg] [--moordyn] [--segments N] [--order P]
        [--elements N] [--cases WD0050:A1 ...] [--friction-speed V] [--plot DIR]
 """
 
@@ -48,11 +48,11 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from tether_sim.network.moordyn import network_spec, read_deck, static_point_forces  # noqa: E402
 
-DATA = Path(__file__).resolve().parents[1] / "test" / "data" / "moordyn"
+DATA = Path(__file__).resolve().parents[2] / "test" / "data" / "moordyn"
 DEPTHS = ("WD0050", "WD0200", "WD0600")
 MOTIONS = ("A1", "A2")
 STATIC_FAIR = {"WD0050": 991.6e3, "WD0200": 2065.4e3, "WD0600": 5232.6e3}  # N
@@ -146,7 +146,7 @@ def run_moordyn(depth, name, t_end=20.0):
     import moordyn
 
     from benchmarks.bench_moordyn import c_stdout_silenced
-    from benchmarks.moordyn_decks import _without_file_ic
+    from benchmarks.studies.moordyn_decks import _without_file_ic
 
     tm, xm = motion(name)
     keep = tm <= t_end + 0.1 + 1e-9

@@ -3,7 +3,7 @@ single-line DG solver (cage integrated inside its Runge-Kutta stages, ``vehicle_
 as a one-line network (cage stepped by the network's kick-drift-kick at the coupling step), on the
 ROPOS fairlead orbit; prints the first snap peak at the ship and at the cage of each.
 
-Usage: PYTHONPATH=. python benchmarks/network_vs_single_line.py [--couplings 0.02 0.005 0.00125]
+Usage: PYTHONPATH=. python benchmarks/studies/network_vs_single_line.py [--couplings 0.02 0.005 0.00125]
        [--mesh 2 4] [--cfl 0.8] [--duration 10]
 """
 
@@ -15,10 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from benchmarks import ropos_case as rc  # noqa: E402
-from benchmarks.network_vs_moordyn import network_tree  # noqa: E402
+from benchmarks.studies.network_vs_moordyn import network_tree  # noqa: E402
 from tether_sim.network.solver import NetworkSolver  # noqa: E402
 from tether_sim.network.spec import parse_network  # noqa: E402
 from tether_sim.solvers.factory import build_solver  # noqa: E402

@@ -15,7 +15,7 @@ warning with its reason.
 - MoorDyn v2: segment ladder ``--md`` for the excursion tether (tether 80 segments), and
   ``--md-coupling`` (the vehicle force is sampled once per coupling step).
 
-Usage: PYTHONPATH=. python benchmarks/network_excursion_spike.py [--dg 6 3 10 4 20 4] [--dg-cfl 0.8] [--hybrid 30 60]
+Usage: PYTHONPATH=. python benchmarks/studies/network_excursion_spike.py [--dg 6 3 10 4 20 4] [--dg-cfl 0.8] [--hybrid 30 60]
        [--hybrid-dt 0.005 0.001]
        [--md 30 60 120] [--duration 4.5] [--json out/excursion_spike.json] [--figure docs/figures/excursion_spike.png]
 """
@@ -29,9 +29,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
-from benchmarks import network_vs_moordyn as nm  # noqa: E402
+from benchmarks.studies import network_vs_moordyn as nm  # noqa: E402
 from benchmarks import ropos_case as rc  # noqa: E402
 from tether_sim.physics.snap import NumericalSnapWarning, SnapConfig, SnapDetector, SnapEvent  # noqa: E402
 

@@ -16,7 +16,7 @@ the ship and at the cage, the excursion tether's force on the vehicle (largest |
 the r.m.s. difference of |F| over the run against MoorDyn, relative to MoorDyn's largest), the
 cage heave. Writes a JSON and a figure.
 
-Usage: PYTHONPATH=. python benchmarks/network_vs_moordyn.py [--duration 12] [--tick 0.005]
+Usage: PYTHONPATH=. python benchmarks/studies/network_vs_moordyn.py [--duration 12] [--tick 0.005]
        [--coupling 0.005] [--solvers dg hybrid] [--json out/network_vs_moordyn.json]
        [--figure docs/figures/network_vs_moordyn.png]
 """
@@ -33,9 +33,10 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from benchmarks import ropos_case as rc  # noqa: E402
+from benchmarks.bench_moordyn import c_stdout_silenced  # noqa: E402
 from tether_sim.physics.cable import CableProperties  # noqa: E402
 
 LENGTH = 200.0
@@ -133,7 +134,7 @@ def moordyn_input(dt):
         return f"{name} {d['diam']:.8g} {d['mass']:.8g} {d['EA']:.8g} {d['BA']:.8g} 0 {d['Cd']:.8g} {d['Ca']:.8g} {d['CdAx']:.8g} {d['CaAx']:.8g}"
 
     return f"""--------------------- MoorDyn Input File ------------------------------------
-ROPOS tether, cage and excursion tether (tether_sim benchmarks/network_vs_moordyn.py)
+ROPOS tether, cage and excursion tether (tether_sim benchmarks/studies/network_vs_moordyn.py)
 ---------------------- LINE TYPES -----------------------------------------------------
 TypeName  Diam  Mass/m  EA  BA/-zeta  EI  Cd  Ca  CdAx  CaAx
 (name) (m) (kg/m) (N) (N-s/-) (N-m^2) (-) (-) (-) (-)
@@ -184,18 +185,10 @@ def run_moordyn(duration, coupling):
     path = Path(tempfile.mkdtemp(prefix="md_net_")) / "network.txt"
     path.write_text(moordyn_input(dt))
     veh = vehicle_position()
-    sys.stdout.flush()
-    saved, devnull = os.dup(1), os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(devnull, 1)
+    with c_stdout_silenced():  # MoorDyn's console banner and log
         system = moordyn.Create(str(path))
         p0, v0 = rc.fairlead_motion(0.0)
         err = moordyn.Init(system, list(p0) + list(veh), list(v0) + [0.0, 0.0, 0.0])
-    finally:
-        sys.stdout.flush()
-        os.dup2(saved, 1)
-        os.close(saved)
-        os.close(devnull)
     if err != 0:
         raise RuntimeError(f"MoorDyn Init failed with code {err}")
     line = moordyn.GetLine(system, 1)

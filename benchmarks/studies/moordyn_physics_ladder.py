@@ -20,7 +20,7 @@ and the largest tension in each window between consecutive ``--humps`` times (de
 8.30 s: the paper case's first snap has two humps of nearly equal height, and which one is the
 larger changes with the mesh, so the peak alone can jump by the difference of the humps).
 
-Usage: PYTHONPATH=. python benchmarks/moordyn_physics_ladder.py [--variants paper no-damping ...]
+Usage: PYTHONPATH=. python benchmarks/studies/moordyn_physics_ladder.py [--variants paper no-damping ...]
        [--dg 2:4 4:4 8:4] [--moordyn 40 80 160] [--duration 10] [--json out/moordyn_physics_ladder.json]
 """
 
@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from benchmarks import bench_moordyn as bm  # noqa: E402
 from benchmarks import drive  # noqa: E402

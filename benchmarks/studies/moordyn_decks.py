@@ -8,7 +8,7 @@ physics/statics.py, tether_sim.network.moordyn.static_point_forces) against pip 
 its initial-condition solve, then GetPointForce of the point). MoorDyn's stored initial conditions
 (the fileIC option) are dropped, so it starts from its own catenary.
 
-Usage: PYTHONPATH=. python benchmarks/moordyn_decks.py [--decks DIR]
+Usage: PYTHONPATH=. python benchmarks/studies/moordyn_decks.py [--decks DIR]
 """
 
 import argparse
@@ -18,13 +18,13 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from benchmarks.bench_moordyn import c_stdout_silenced  # noqa: E402
 from tether_sim.errors import ConfigError  # noqa: E402
 from tether_sim.network.moordyn import network_spec, read_deck, static_point_forces  # noqa: E402
 
-DECKS = Path(__file__).resolve().parents[1] / "test" / "data" / "moordyn" / "decks"
+DECKS = Path(__file__).resolve().parents[2] / "test" / "data" / "moordyn" / "decks"
 
 
 def deck_files(root=DECKS):

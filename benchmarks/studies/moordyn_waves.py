@@ -25,14 +25,13 @@ s = L / (2N) against it). MoorDyn is run on a segment ladder, ours on a DG mesh 
 segment ladder; the reference is MoorDyn's finest. MoorDyn is also run once without the axial
 Froude-Krylov part (PE2020 Eq. 13's form), which shows what that term does to the answer.
 
-Usage: PYTHONPATH=. python benchmarks/moordyn_waves.py [--duration 42] [--segments 20 40 80 160]
+Usage: PYTHONPATH=. python benchmarks/studies/moordyn_waves.py [--duration 42] [--segments 20 40 80 160]
        [--dg-elements 4 8 16] [--hybrid-segments 20 40 80] [--figure docs/figures/moordyn_waves.png]
 The cheap version is test/solvers/test_waves_vs_moordyn.py.
 """
 
 import argparse
 import math
-import os
 import sys
 import tempfile
 import time
@@ -40,8 +39,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
+from benchmarks.bench_moordyn import c_stdout_silenced  # noqa: E402
 from tether_sim.physics import waves  # noqa: E402
 from tether_sim.scenarios import harness  # noqa: E402
 
@@ -78,7 +78,7 @@ def run_ours(solver, duration, step=0.02, arc_lengths=None, **extra):
 
 def moordyn_input(n_segments, dt):
     return f"""--------------------- MoorDyn Input File ------------------------------------
-tether_sim benchmarks/moordyn_waves.py: submerged line in a regular wave, external wave kinematics
+tether_sim benchmarks/studies/moordyn_waves.py: submerged line in a regular wave, external wave kinematics
 ---------------------- LINE TYPES -----------------------------------------------------
 TypeName  Diam  Mass/m  EA  BA/-zeta  EI  Cd  Ca  CdAx  CaAx
 (name) (m) (kg/m) (N) (N-s/-) (N-m^2) (-) (-) (-) (-)
@@ -110,21 +110,6 @@ RK2 tScheme
 """
 
 
-def _quiet(fn, *args):
-    """Call fn with the C-level stdout sent to /dev/null (MoorDyn's console banner)."""
-    sys.stdout.flush()
-    saved = os.dup(1)
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(devnull, 1)
-        return fn(*args)
-    finally:
-        sys.stdout.flush()
-        os.dup2(saved, 1)
-        os.close(saved)
-        os.close(devnull)
-
-
 def run_moordyn(duration, n_segments=40, coupling_step=0.01, dt=None, workdir=None, axial_fk=True):
     """MoorDyn v2 with our wave kinematics at its nodes, sampled every coupling step.
 
@@ -144,10 +129,13 @@ def run_moordyn(duration, n_segments=40, coupling_step=0.01, dt=None, workdir=No
     workdir = Path(workdir or tempfile.mkdtemp(prefix="md_waves_"))
     path = workdir / f"waves_N{n_segments}.txt"
     path.write_text(moordyn_input(n_segments, dt))
-    system = _quiet(moordyn.Create, str(path))
+    with c_stdout_silenced():  # MoorDyn prints its console banner to the C-level stdout
+        system = moordyn.Create(str(path))
     comps = waves.wave_components(harness.make_config(flat()))
     try:
-        if _quiet(moordyn.Init, system, [], []) != 0:
+        with c_stdout_silenced():
+            err = moordyn.Init(system, [], [])
+        if err != 0:
             raise RuntimeError("MoorDyn Init failed")
         moordyn.ExternalWaveKinInit(system)
         line = moordyn.GetLine(system, 1)
