@@ -98,21 +98,36 @@ def clip_compression(fl, tr, k, e, side, pc):
     faster than the upwind term allows produces slack, not compression; with bending the cable pushes
     up to the Euler load of the mesh's shortest wave, as inside the cable.
     """
+    i0, i1, i2, ok = trace_tangent(tr, e, side)
+    if ok:
+        fl[k, F_V], fl[k, F_V + 1], fl[k, F_V + 2] = axial_clip(fl[k, F_V], fl[k, F_V + 1], fl[k, F_V + 2],
+                                                                i0, i1, i2, pc)
+
+
+@jit_inline
+def trace_tangent(tr, e, side):
+    """(i = q / |q| of element e's trace at side, whether |q| > 1e-300): the direction of a boundary flux's
+    axial part."""
     q0 = tr[e, side, T_Q]
     q1 = tr[e, side, T_Q + 1]
     q2 = tr[e, side, T_Q + 2]
     lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
     if lq <= 1e-300:
-        return
-    i0 = q0 / lq
-    i1 = q1 / lq
-    i2 = q2 / lq
-    a = fl[k, F_V] * i0 + fl[k, F_V + 1] * i1 + fl[k, F_V + 2] * i2
+        return 0.0, 0.0, 0.0, False
+    return q0 / lq, q1 / lq, q2 / lq, True
+
+
+@jit_inline
+def axial_clip(t0, t1, t2, i0, i1, i2, pc):
+    """The vector t with its component along the unit vector i raised to -pc when below (a cable that
+    cannot push beyond its compression cap pc): t - min(t.i + pc, 0) i."""
+    a = t0 * i0 + t1 * i1 + t2 * i2
     if a < -pc:
         d = a + pc
-        fl[k, F_V] -= d * i0
-        fl[k, F_V + 1] -= d * i1
-        fl[k, F_V + 2] -= d * i2
+        t0 -= d * i0
+        t1 -= d * i1
+        t2 -= d * i2
+    return t0, t1, t2
 
 
 @jit_inline
