@@ -331,7 +331,7 @@ class TetherSimNode(Node):
         if report.dropped > 0:
             self._period["resyncs"] += 1
             log.warning(f"{report.dropped:.3f} s behind the clock (beyond node.max_lag): re-synchronised to the newest "
-                        "inputs, cable state kept, ends blended, snap detection suspended across the gap")
+                        "inputs, cable state kept, ends blended; snap events across the gap are marked degraded")
         for end, duration, reason in report.blends:
             self._log_throttled(("blend", end), "warning", f"{end} end blended onto its pose input over {duration:.2f} s ({reason})")
         if report.degraded and report.lag > 0.0:  # (a capped tick within 1.5 periods is on time: not degraded, not logged)
