@@ -11,87 +11,22 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import yaml
 
 pytest.importorskip("rclpy")
 pytest.importorskip("tether_sim_msgs")
 pytest.importorskip("mujoco")
 
-import rclpy  # noqa: E402
 from geometry_msgs.msg import PoseStamped, WrenchStamped  # noqa: E402
-from rclpy.executors import SingleThreadedExecutor  # noqa: E402
-from sim_harness import overrides  # noqa: E402
-from tether_sim_msgs.msg import TetherState  # noqa: E402
 
+from tether_sim.ros.closed_loop import ClosedLoop  # noqa: E402
 from tether_sim.ros.convert import time_msg  # noqa: E402
-from tether_sim.ros.sim_node import TetherSimNode  # noqa: E402
-from tether_sim.ros.vehicle_node import VehicleNode  # noqa: E402
-from tether_sim.vehicle.model import BLUEROV2_HEAVY  # noqa: E402
-from tether_sim.vehicle.sim import StationKeeper, VehicleSim  # noqa: E402
 
 pytestmark = pytest.mark.ros
 
-ROOT = Path(__file__).resolve().parents[2]
+PARAMS = Path(__file__).resolve().parents[2] / "config" / "light_tether_vehicle.yaml"
 ANCHOR = (0.0, 0.0, -2.0)  # as in the file
 ATTACH = (-0.2, 0.0, 0.0)  # tether attachment in the vehicle frame (the rear of the frame)
 L = 40.0
-
-
-def flatten(tree, prefix=""):
-    out = {}
-    for k, v in tree.items():
-        out.update(flatten(v, f"{prefix}{k}.") if isinstance(v, dict) else {f"{prefix}{k}": v})
-    return out
-
-
-def tether_params(**extra):
-    """The shipped closed-loop file (config/light_tether_vehicle.yaml), never capped on wall time."""
-    tree = yaml.safe_load((ROOT / "config" / "light_tether_vehicle.yaml").read_text())
-    flat = flatten(tree["/**/tether_sim"]["ros__parameters"])
-    flat.update({"node.tick_budget": 1.0e6, **extra})
-    return {k: tuple(v) if isinstance(v, list) else v for k, v in flat.items()}
-
-
-class Loop:
-    """The two nodes in one executor; ``run(seconds)`` ticks the vehicle and waits for each state."""
-
-    def __init__(self, start, setpoint, current=(0.0, 0.0, 0.0), flat=None, tether=True):
-        self.context = rclpy.Context()
-        rclpy.init(context=self.context)
-        self.sim = VehicleSim(BLUEROV2_HEAVY, position=start, dt=0.005, current=current)
-        self.vehicle = VehicleNode(self.sim, StationKeeper(BLUEROV2_HEAVY), setpoint, rate=50.0, clock=True,
-                                   timer=False, context=self.context)
-        self.vehicle.publish()  # the first pose and /clock before the tether node starts
-        self.tether = (TetherSimNode(context=self.context, parameter_overrides=overrides(flat or tether_params()))
-                       if tether else None)
-        self.probe = rclpy.create_node("probe", context=self.context)
-        self.states, self.wrenches = [], []
-        self.probe.create_subscription(TetherState, "/tether/state", self.states.append, 1000)
-        self.probe.create_subscription(WrenchStamped, "/tether/vehicle_wrench", self.wrenches.append, 1000)
-        self.executor = SingleThreadedExecutor(context=self.context)
-        for n in (self.vehicle, self.tether, self.probe):
-            if n is not None:
-                self.executor.add_node(n)
-        self.trace = []  # (t, position, applied tether wrench (6,), stamp of the wrench message it came from)
-
-    def run(self, seconds):
-        for _ in range(int(round(seconds * 50))):
-            n = len(self.states)
-            used = None if self.vehicle.wrench is None else self.vehicle.wrench[0]  # the wrench this tick applies
-            self.vehicle.tick()
-            for _ in range(40):
-                self.executor.spin_once(timeout_sec=0.002)
-                if len(self.states) > n and self.vehicle.wrench is not None and len(self.wrenches) >= len(self.states):
-                    break
-            self.executor.spin_once(timeout_sec=0.0)
-            self.trace.append((self.sim.time, self.sim.position, self.vehicle.applied.copy(), used))
-
-    def close(self):
-        self.executor.shutdown()
-        for n in (self.vehicle, self.tether, self.probe):
-            if n is not None:
-                n.destroy_node()
-        rclpy.shutdown(context=self.context)
 
 
 @pytest.fixture
@@ -99,7 +34,7 @@ def loop():
     made = []
 
     def factory(*args, **kwargs):
-        made.append(Loop(*args, **kwargs))
+        made.append(ClosedLoop(*args, params_file=PARAMS, **kwargs))
         return made[-1]
 
     yield factory
