@@ -19,7 +19,7 @@ ROOT = Path(__file__).resolve().parents[1]
 COLCON = ROOT / ".venv" / "colcon" / "bin" / "colcon"
 PREFIX = Path(sys.prefix)  # the venv: ament_cmake, rosidl and the message wheels
 SCRIPTS = {"tether-sim", "tether-sim-offline", "tether-sim-record", "tether-sim-replay", "tether-sim-report",
-           "tether-sim-study", "tether-sim-recover", "tether-sim-poses"}
+           "tether-sim-study", "tether-sim-recover", "tether-sim-poses", "tether-sim-vehicle", "tether-sim-rov-demo"}
 
 pytestmark = pytest.mark.skipif(not COLCON.is_file(), reason=f"colcon is not installed ({COLCON}; `make setup` installs it)")
 

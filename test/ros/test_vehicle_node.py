@@ -11,83 +11,22 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import yaml
 
 pytest.importorskip("rclpy")
 pytest.importorskip("tether_sim_msgs")
 pytest.importorskip("mujoco")
 
-import rclpy  # noqa: E402
 from geometry_msgs.msg import PoseStamped, WrenchStamped  # noqa: E402
-from rclpy.executors import SingleThreadedExecutor  # noqa: E402
-from sim_harness import overrides  # noqa: E402
-from tether_sim_msgs.msg import TetherState  # noqa: E402
 
+from tether_sim.ros.closed_loop import ClosedLoop  # noqa: E402
 from tether_sim.ros.convert import time_msg  # noqa: E402
-from tether_sim.ros.sim_node import TetherSimNode  # noqa: E402
-from tether_sim.ros.vehicle_node import VehicleNode  # noqa: E402
-from tether_sim.vehicle.model import BLUEROV2_HEAVY  # noqa: E402
-from tether_sim.vehicle.sim import StationKeeper, VehicleSim  # noqa: E402
 
 pytestmark = pytest.mark.ros
 
-ROOT = Path(__file__).resolve().parents[2]
+PARAMS = Path(__file__).resolve().parents[2] / "config" / "light_tether_vehicle.yaml"
 ANCHOR = (0.0, 0.0, -2.0)  # as in the file
 ATTACH = (-0.2, 0.0, 0.0)  # tether attachment in the vehicle frame (the rear of the frame)
 L = 40.0
-
-
-def flatten(tree, prefix=""):
-    out = {}
-    for k, v in tree.items():
-        out.update(flatten(v, f"{prefix}{k}.") if isinstance(v, dict) else {f"{prefix}{k}": v})
-    return out
-
-
-def tether_params(**extra):
-    """The shipped closed-loop file (config/light_tether_vehicle.yaml), never capped on wall time."""
-    tree = yaml.safe_load((ROOT / "config" / "light_tether_vehicle.yaml").read_text())
-    flat = flatten(tree["/**/tether_sim"]["ros__parameters"])
-    flat.update({"node.tick_budget": 1.0e6, **extra})
-    return {k: tuple(v) if isinstance(v, list) else v for k, v in flat.items()}
-
-
-class Loop:
-    """The two nodes in one executor; ``run(seconds)`` ticks the vehicle and waits for each state."""
-
-    def __init__(self, start, setpoint, current=(0.0, 0.0, 0.0), flat=None):
-        self.context = rclpy.Context()
-        rclpy.init(context=self.context)
-        self.sim = VehicleSim(BLUEROV2_HEAVY, position=start, dt=0.005, current=current)
-        self.vehicle = VehicleNode(self.sim, StationKeeper(BLUEROV2_HEAVY), setpoint, rate=50.0, clock=True,
-                                   timer=False, context=self.context)
-        self.vehicle.publish()  # the first pose and /clock before the tether node starts
-        self.tether = TetherSimNode(context=self.context, parameter_overrides=overrides(flat or tether_params()))
-        self.probe = rclpy.create_node("probe", context=self.context)
-        self.states, self.wrenches = [], []
-        self.probe.create_subscription(TetherState, "/tether/state", self.states.append, 1000)
-        self.probe.create_subscription(WrenchStamped, "/tether/vehicle_wrench", self.wrenches.append, 1000)
-        self.executor = SingleThreadedExecutor(context=self.context)
-        for n in (self.vehicle, self.tether, self.probe):
-            self.executor.add_node(n)
-        self.trace = []  # (t, position, applied tether wrench (6,), last received wrench (6,) or None)
-
-    def run(self, seconds):
-        for _ in range(int(round(seconds * 50))):
-            n = len(self.states)
-            self.vehicle.tick()
-            for _ in range(40):
-                self.executor.spin_once(timeout_sec=0.002)
-                if len(self.states) > n and self.vehicle.wrench is not None and len(self.wrenches) >= len(self.states):
-                    break
-            self.executor.spin_once(timeout_sec=0.0)
-            self.trace.append((self.sim.time, self.sim.position, self.vehicle.applied.copy()))
-
-    def close(self):
-        self.executor.shutdown()
-        for n in (self.vehicle, self.tether, self.probe):
-            n.destroy_node()
-        rclpy.shutdown(context=self.context)
 
 
 @pytest.fixture
@@ -95,7 +34,7 @@ def loop():
     made = []
 
     def factory(*args, **kwargs):
-        made.append(Loop(*args, **kwargs))
+        made.append(ClosedLoop(*args, params_file=PARAMS, **kwargs))
         return made[-1]
 
     yield factory
@@ -110,13 +49,13 @@ def test_the_tether_force_reaches_the_vehicle_and_a_taut_tether_pulls_it_back(lo
     setpoint = (45.0, 0.0, -2.0)
     lp = loop(start=(36.0, 0.0, -2.0), setpoint=setpoint)
     lp.run(20.0)
-    t, p, applied = lp.trace[-1]
+    t, p, applied, used = lp.trace[-1]
     assert np.all(np.isfinite(p))
-    last = lp.wrenches[-1]
+    # the vehicle applies the wrench it received: the message it held when it stepped, as it is
+    last = next(w for w in reversed(lp.wrenches) if abs(w.header.stamp.sec + 1e-9 * w.header.stamp.nanosec - used) < 1e-9)
     f_msg = np.array([last.wrench.force.x, last.wrench.force.y, last.wrench.force.z])
     assert last.header.frame_id == "rov/base_link"
-    # the vehicle applies the wrench it received (the newest at its last step: at most one tick older)
-    assert np.linalg.norm(applied[:3] - f_msg) <= 0.05 * np.linalg.norm(f_msg) + 1e-9
+    assert np.array_equal(applied[:3], f_msg)
     # taut: the vehicle is as far as the tether reaches, and the tether pulls it toward the anchor
     attach_world = p + lp.sim.rotation() @ np.array(ATTACH)
     chord = np.linalg.norm(attach_world - np.array(ANCHOR))
@@ -143,7 +82,7 @@ def test_bad_arguments_are_refused_with_the_reason(args, says, capsys):
 
 
 def test_a_wrench_in_the_wrong_frame_or_not_finite_is_rejected_and_an_old_one_stops_acting(loop):
-    lp = loop(start=(36.0, 0.0, -2.0), setpoint=(36.0, 0.0, -2.0))
+    lp = loop(start=(36.0, 0.0, -2.0), setpoint=(36.0, 0.0, -2.0), tether=False)
     node = lp.vehicle
     msg = WrenchStamped()
     msg.header.stamp, msg.header.frame_id = time_msg(node.sim.time), "map"
@@ -161,7 +100,7 @@ def test_a_wrench_in_the_wrong_frame_or_not_finite_is_rejected_and_an_old_one_st
 def test_an_unstable_vehicle_simulation_stops_publishing(loop):
     """A tether wrench of 1e12 N makes MuJoCo's state blow up (and MuJoCo would reset it to the start):
     the node says so and publishes no more poses, rather than a vehicle back at its start."""
-    lp = loop(start=(36.0, 0.0, -2.0), setpoint=(36.0, 0.0, -2.0))
+    lp = loop(start=(36.0, 0.0, -2.0), setpoint=(36.0, 0.0, -2.0), tether=False)
     node = lp.vehicle
     poses = []
     lp.probe.create_subscription(PoseStamped, "/vehicle/pose", poses.append, 100)

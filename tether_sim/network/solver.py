@@ -46,7 +46,13 @@ def _hermite(p0, v0, p1, v1, T, tau):
     x = tau / T
     h00, h10, h01, h11 = 2 * x**3 - 3 * x**2 + 1, x**3 - 2 * x**2 + x, -2 * x**3 + 3 * x**2, x**3 - x**2
     d00, d10, d01, d11 = (6 * x**2 - 6 * x) / T, 3 * x**2 - 4 * x + 1, (-6 * x**2 + 6 * x) / T, 3 * x**2 - 2 * x
-    return h00 * p0 + h10 * T * v0 + h01 * p1 + h11 * T * v1, d00 * p0 + d10 * v0 + d01 * p1 + d11 * v1
+    a, b = h10 * T, h11 * T  # on plain floats, in numpy's order of the vector expressions (the same bits)
+    p, v = [], []
+    for c in range(3):
+        q0, w0, q1, w1 = float(p0[c]), float(v0[c]), float(p1[c]), float(v1[c])
+        p.append(h00 * q0 + a * w0 + h01 * q1 + b * w1)
+        v.append(d00 * q0 + d10 * w0 + d01 * q1 + d11 * w1)
+    return np.array(p), np.array(v)
 
 
 class _Point:

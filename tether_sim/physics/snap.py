@@ -210,6 +210,7 @@ def snap_guard(config, element_length: float) -> SnapGuard:
 (_MODE, _SLACK_START, _MIN_T, _EXIT_T, _PEAK, _PEAK_T, _RETENSION_T, _PREV_T, _PREV_TENSION, _HAS_PREV,
  _PEAK_EXIT, _DROP_T, _DROP_Y, _DROP_MIN) = range(14)
 _N_STATE = 14
+_TIME_COLUMNS = [_SLACK_START, _EXIT_T, _PEAK_T, _RETENSION_T, _PREV_T, _PEAK_EXIT, _DROP_T]  # (shift_time)
 # _DROP_T: within a re-tensioning window, when the tension first fell back below the slack threshold after
 # the window's running maximum (NaN while it has not); _DROP_Y the sample there, _DROP_MIN the least since.
 _TAUT, _SLACK, _RISING = 0.0, 1.0, 2.0
@@ -482,6 +483,15 @@ class SnapDetector:
                                     rise_time=event.rise_time, crossing_time=self.guard.crossing_time,
                                     relative_speed=speed, static_tension=event.static_tension,
                                     slack_start=event.slack_start, reason=reason)
+
+    def shift_time(self, dt: float) -> None:
+        """Move the time axis of everything held (slack starts, crossings, peaks, the last sample,
+        rejected re-tensionings) ``dt`` s later: the samples that follow come on a clock that skipped
+        ``dt`` s the cable did not live through (a node's re-synchronisation), and a slack period
+        open across the skip keeps its simulated duration."""
+        dt = float(dt)
+        self._state[:, _TIME_COLUMNS] += dt  # (NaN stays NaN)
+        self._rejected = [replace(w, time=w.time + dt, slack_start=w.slack_start + dt) for w in self._rejected]
 
     def flush(self) -> list:
         """Close every open re-tensioning window now (end of a run) and return those snap events."""

@@ -330,7 +330,8 @@ def event_outputs(events, driver) -> list:
         if isinstance(ev, NumericalSnapWarning):
             continue
         if isinstance(ev, SnapEvent):
-            out.append(("/tether/snap_events", snap_event(ev, frame, driver.degraded, driver.lag)))
+            degraded = driver.degraded or driver.bridged(ev)
+            out.append(("/tether/snap_events", snap_event(ev, frame, degraded, driver.lag)))
         else:
             static = driver.static_by_location.get(ev.location, 0.0)
             out.append(("/tether/slack_warnings", slack_warning(ev, frame, static)))

@@ -34,9 +34,15 @@ simulation never squeezes motion in time and never invents a snap from a discont
    static equilibrium at the current end positions); the anchor moves so the lost time is skipped
    and the ends are blended onto the stream; the error is reported.
 6. The end tensions of every substep go through the streaming snap detector, except across a
-   discontinuity (re-synchronisation, recovery, restart, clock jump) or an end blend: detection is
-   suspended from the discontinuity until the blend ends and then restarts with a fresh detector,
-   so no snap can be made of dropped time, a restart or a bridging blend (reported).
+   discontinuity of the cable state or its clock (recovery, restart, clock jump) or an input's
+   blend (lost, resumed, revised): detection is suspended from the discontinuity until the blend
+   ends and then restarts with a fresh detector, so no snap can be made of a restart or a bridging
+   blend (reported). A re-synchronisation keeps the cable state and its simulated time: detection
+   goes on across it, the detectors' clock skipping the dropped time with the anchor (a slack
+   period keeps its simulated duration), and an event whose slack or re-tensioning overlaps the
+   skip or the blend after it is published as degraded. (Suspending there lost real snaps: a node
+   behind re-synchronises every few seconds and was blind to a snap whose slack began before a
+   re-synchronisation, publishing its peak, 4.7 x static, as a degraded state with no event.)
 """
 
 import time as wallclock
@@ -53,6 +59,7 @@ from tether_sim.ros.end_commands import BLEND_ACCELERATION, BLEND_MIN_TIME, Blen
 from tether_sim.solvers.base import relative_end_speed
 from tether_sim.solvers.factory import build_solver
 
+MAX_BRIDGES = 16  # re-synchronisations remembered for marking the events that overlap them (bridged)
 
 @dataclass
 class TickReport:
@@ -94,6 +101,7 @@ class SimulationDriver(EndCommands, BodyFrame):
         self._blends = {}  # end -> Blend
         self._hold_at = {}  # end -> rest point of an end held after a clock jump, until its input resumes
         self._suspended_until = None  # clock time until which snap detection is suspended
+        self._bridges = []  # (clock start, end) of the latest re-synchronisations and their blends (bridged)
         self._pending = TickReport(stamp=0.0)  # what a (re)start did, reported by the next tick
         self.anchor = 0.0
         self.last_now = None
@@ -151,6 +159,7 @@ class SimulationDriver(EndCommands, BodyFrame):
         self.static_by_location = dict(zip(END_NAMES, self.static_tensions))
         self.span_arc = np.array([s for s in self.config.snap.monitor_arc_lengths if 0.0 < s < L], float)
         self.span_detector = None
+        self._bridges = []
         if self.span_arc.size:
             names = [f"span s={s:g} m" for s in self.span_arc]
             if not hasattr(self, "_span_static") or len(self._span_static) != len(names):
@@ -243,15 +252,28 @@ class SimulationDriver(EndCommands, BodyFrame):
 
     def _resync(self, now, lag, report):
         """Lag beyond max_lag: jump the simulated instant to ``now`` keeping the cable state, and
-        blend every prescribed end from its current state onto its stream (module doc, 2)."""
+        blend every prescribed end from its current state onto its stream (module doc, 2). Snap
+        detection goes on across it (module doc, 6): the detectors' clock skips ``lag`` with the
+        anchor, and the skip and the blends are recorded so that an event overlapping them is
+        published as degraded (:meth:`bridged`)."""
         report.dropped = lag
         self.dropped_total += lag
         self.resyncs += 1
         self.anchor += lag
         self._blends.clear()
-        for end in self._end_state:
-            self._start_blend(end, now, "re-synchronised", report)
-        self._suspend_detection(now)
+        duration = max([self._start_blend(end, now, "re-synchronised", report, suspend=False)
+                        for end in self._end_state] + [0.0])
+        for detector in (self.detector, self.span_detector):
+            if detector is not None:
+                detector.shift_time(lag)
+        self._bridges = [(a + lag, b + lag) for a, b in self._bridges[-(MAX_BRIDGES - 1):]] + [(now, now + duration)]
+
+    def bridged(self, event) -> bool:
+        """True when a detector event's slack period or re-tensioning overlaps a re-synchronisation
+        or the blend after it (its tension history ran across skipped clock time, its ends were
+        bridged onto their inputs): published with ``degraded``."""
+        start = getattr(event, "slack_start", event.time)
+        return any(start - 1e-9 <= b and a <= event.time + 1e-9 for a, b in self._bridges)
 
     def _chunk_substeps(self, steps_done, wall0):
         """Substeps the next chunk may take (0: stop): the cap, then the wall budget at the measured
@@ -308,8 +330,8 @@ class SimulationDriver(EndCommands, BodyFrame):
         """Feed the snap detectors, unless detection is suspended (module doc, 6)."""
         times, t_ship, t_vehicle = self.solver.drain_end_tensions()
         if self._suspended_until is not None:
-            if self.stamp < self._suspended_until or self._blends:
-                return
+            if self.stamp < self._suspended_until or any(b.suspends for b in self._blends.values()):
+                return  # (a re-synchronisation's blend does not hold it: a node behind would never detect)
             self._suspended_until = None
             self._build_detector()  # fresh: nothing carries across the discontinuity
             keep = np.asarray(times) + self.anchor >= self.stamp - 1e-12

@@ -35,6 +35,7 @@ class Blend:
     p0: np.ndarray
     v0: np.ndarray
     reason: str
+    suspends: bool = True  # snap detection is suspended while it runs (not after a re-synchronisation)
 
     def command(self, t, p_s, v_s):
         """(position, velocity, finished) at clock time ``t`` given the stream's (p_s, v_s)."""
@@ -112,21 +113,24 @@ class EndCommands:
         p, v = src.attachment_at(clock_time)
         return np.asarray(p, float), np.asarray(v, float)
 
-    def _start_blend(self, end, t, reason, report, probe=None):
+    def _start_blend(self, end, t, reason, report, probe=None, suspend=True):
         """Blend ``end`` from its current commanded state at clock time ``t`` onto its source
-        (sized by the offset to the source at ``probe``, default ``t``)."""
+        (sized by the offset to the source at ``probe``, default ``t``); ``suspend``: snap detection
+        is suspended until the blend ends. Returns the blend's duration (0: none needed)."""
         if end not in self._end_state or self.sources.get(end) is None:
-            return
+            return 0.0
         p0, v0 = self._end_state[end]  # the end's state at t: where the blend starts
         p_s, v_s = self.end_target(end, t if probe is None else probe)
         ahead = p0 + v0 * (0.0 if probe is None else probe - t)  # the held trajectory at the probe (sizing only)
         distance, speed_change = np.linalg.norm(p_s - ahead), np.linalg.norm(v_s - v0)
         if distance < 1e-9 and speed_change < 1e-9:
-            return  # already on the stream
+            return 0.0  # already on the stream
         duration = blend_time(distance, speed_change, self.config.node.max_end_speed)
-        self._blends[end] = Blend(t, duration, p0.copy(), v0.copy(), reason)
+        self._blends[end] = Blend(t, duration, p0.copy(), v0.copy(), reason, suspend)
         report.blends.append((end, duration, reason))
-        self._suspend_detection(t + duration)
+        if suspend:
+            self._suspend_detection(t + duration)
+        return duration
 
     def _command(self, end, t, report):
         """(position, velocity) commanded for ``end`` at clock time ``t`` (blends applied); starts a

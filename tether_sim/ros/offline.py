@@ -149,6 +149,8 @@ def run_offline(config, output, *, duration=None, input_path=None, topics=None, 
         announce(line)
     wall0, cpu0 = wallclock.perf_counter(), wallclock.process_time()
     driver.start(t0)  # (the numba compile and the static solve: before the file exists, so a signal stops at once)
+    if getattr(driver.solver, "start_warning", ""):
+        print(f"tether-sim-offline: warning: {driver.solver.start_warning}", file=sys.stderr)
     if stop is not None:
         stop.graceful = True  # from here on a signal only asks the loop below to end and close the file
     done = 0

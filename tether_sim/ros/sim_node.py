@@ -293,6 +293,8 @@ class TetherSimNode(Node):
             self._publish_description()
             self.get_logger().info(f"{self.config.solver} solver started; static end tensions "
                                    f"{self.driver.static_tensions[0]:.1f} N (ship), {self.driver.static_tensions[1]:.1f} N (vehicle)")
+            if getattr(self.driver.solver, "start_warning", ""):
+                self.get_logger().warning(self.driver.solver.start_warning)
         try:
             report = self.driver.tick(now)
             self._handle_report(now, report)
@@ -329,7 +331,7 @@ class TetherSimNode(Node):
         if report.dropped > 0:
             self._period["resyncs"] += 1
             log.warning(f"{report.dropped:.3f} s behind the clock (beyond node.max_lag): re-synchronised to the newest "
-                        "inputs, cable state kept, ends blended, snap detection suspended across the gap")
+                        "inputs, cable state kept, ends blended; snap events across the gap are marked degraded")
         for end, duration, reason in report.blends:
             self._log_throttled(("blend", end), "warning", f"{end} end blended onto its pose input over {duration:.2f} s ({reason})")
         if report.degraded and report.lag > 0.0:  # (a capped tick within 1.5 periods is on time: not degraded, not logged)

@@ -128,28 +128,46 @@ def clip_compression(fl, tr, k, e, side, pc, shear):
     shear component is work done at the end on the cable with no sign (docs/dg_solver.md, "Slack with
     bending").
     """
+    i0, i1, i2, ok = trace_tangent(tr, e, side)
+    if not ok:
+        return
+    if not shear:
+        fl[k, F_V], fl[k, F_V + 1], fl[k, F_V + 2] = axial_clip(fl[k, F_V], fl[k, F_V + 1], fl[k, F_V + 2],
+                                                                i0, i1, i2, pc)
+        return
+    s0 = tr[e, side, T_TS]
+    s1 = tr[e, side, T_TS + 1]
+    s2 = tr[e, side, T_TS + 2]
+    t0, t1, t2 = axial_clip(fl[k, F_V] - s0, fl[k, F_V + 1] - s1, fl[k, F_V + 2] - s2, i0, i1, i2, pc)
+    fl[k, F_V] = t0 + s0
+    fl[k, F_V + 1] = t1 + s1
+    fl[k, F_V + 2] = t2 + s2
+
+
+@jit_inline
+def trace_tangent(tr, e, side):
+    """(i = q / |q| of element e's trace at side, whether |q| > 1e-300): the direction of a boundary flux's
+    axial part."""
     q0 = tr[e, side, T_Q]
     q1 = tr[e, side, T_Q + 1]
     q2 = tr[e, side, T_Q + 2]
     lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
     if lq <= 1e-300:
-        return
-    i0 = q0 / lq
-    i1 = q1 / lq
-    i2 = q2 / lq
-    f0 = fl[k, F_V]
-    f1 = fl[k, F_V + 1]
-    f2 = fl[k, F_V + 2]
-    if shear:
-        f0 -= tr[e, side, T_TS]
-        f1 -= tr[e, side, T_TS + 1]
-        f2 -= tr[e, side, T_TS + 2]
-    a = f0 * i0 + f1 * i1 + f2 * i2
+        return 0.0, 0.0, 0.0, False
+    return q0 / lq, q1 / lq, q2 / lq, True
+
+
+@jit_inline
+def axial_clip(t0, t1, t2, i0, i1, i2, pc):
+    """The vector t with its component along the unit vector i raised to -pc when below (a cable that
+    cannot push beyond its compression cap pc): t - min(t.i + pc, 0) i."""
+    a = t0 * i0 + t1 * i1 + t2 * i2
     if a < -pc:
         d = a + pc
-        fl[k, F_V] -= d * i0
-        fl[k, F_V + 1] -= d * i1
-        fl[k, F_V + 2] -= d * i2
+        t0 -= d * i0
+        t1 -= d * i1
+        t2 -= d * i2
+    return t0, t1, t2
 
 
 @jit_inline

@@ -22,6 +22,7 @@ import numpy as np
 from tether_sim.errors import UnstableTimeStepError
 from tether_sim.numerics.operators import element_operators, project_function
 from tether_sim.physics.bodies import BODY_STATE_SIZE, initial_body_state, pack_body_params, submerged_weight
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.constitutive import TensionLaw
 from tether_sim.physics.end_conditions import end_kind, held_in_place
 from tether_sim.physics.hydrodynamics import added_mass_per_length, current_table
@@ -175,11 +176,28 @@ class DGCableSolver:
             self._choose_q_penalty(shape)
         if shape is not None and all(held_in_place(k) for k in self.kinds):
             self.equilibrium_iterations = polish_equilibrium(self, end_pos[1] - end_pos[0])
+        self.start_warning = self._start_mismatch(shape) if shape is not None else ""
         relax = config.initial.relax_time
         if kind == "relax" or (kind == "static" and shape is None):
             relax = relax if relax > 0 else self._default_relax_time()
         if relax > 0:
             self.relax(relax)
+
+    def _start_mismatch(self, shape) -> str:
+        """A sentence when the mesh cannot hold the static shape, else "": the projected state's tension
+        exceeds the shape's by more than half its largest tension (and 1 N) somewhere. A slack cable whose
+        static shape has a kink (a light tether in a current, its slack streaming past an end and doubling
+        back) projects onto too few elements with kN spikes that no relaxation removes."""
+        s = np.linspace(0.0, self.L, 8 * self.N * (self.P + 1) + 1)
+        want = self._want_outputs
+        dg, ref = self.state(s).tension, shape.tension(s)
+        self._want_outputs = want  # a check at the start, not a reader of outputs: the ticks need not evaluate them
+        k = int(np.argmax(dg - ref))
+        if dg[k] - ref[k] <= max(0.5 * float(np.max(ref)), 1.0):
+            return ""
+        return (f"the mesh (N = {self.N}, P = {self.P}) cannot hold the static shape: its starting tension is "
+                f"{dg[k]:.4g} N at s = {s[k]:.1f} m where the static shape has {ref[k]:.4g} N (largest "
+                f"{float(np.max(ref)):.4g} N; a kink in a slack cable?): refine dg.n_elements")
 
     def _relax_in_chunks(self, t):
         """advance_to(t) in compiled calls of about RELAX_CHUNK_WALL s each (a signal is handled between
@@ -340,7 +358,7 @@ class DGCableSolver:
         if n == 0:  # nothing to step: the composition (targets kept for the next interval)
             for e in range(2):
                 if mask >> e & 1:
-                    stepping.set_target(ws, e, ("ship", "vehicle")[e], tin[e, 0:3], tin[e, 3:6])
+                    stepping.set_target(ws, e, END_NAMES[e], tin[e, 0:3], tin[e, 3:6])
             count = stepping.drain_count(ws) if drain else 0
             self._evaluate_outputs()
             return TickOutput(count, ws.drain, ws.endf, 0)

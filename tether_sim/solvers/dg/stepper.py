@@ -18,11 +18,12 @@ from tether_sim.physics.constitutive import LAW_LINEAR, compression_cap
 from tether_sim.physics.end_conditions import has_body, is_kinematic
 from tether_sim.physics.hydrodynamics import added_mass_rate, current_at
 from tether_sim.solvers.dg.damping_layout import MODE_EXPLICIT
+from tether_sim.solvers.dg.fluxes import axial_clip, trace_tangent
 from tether_sim.solvers.dg.implicit_damping import damping_step
 from tether_sim.solvers.dg.kernels import dg_rhs, hermite_end
 from tether_sim.solvers.dg.layout import (
     E_F, E_T, F_V, I_ANCHOR, I_BENDING, I_CURRENT, I_KIND0, I_LAW, I_N, I_P, I_SURFACE, P_EIC, P_GAMMA0, P_LAMBDA_BC,
-    P_MN, P_MT, P_RELAX, P_TIME, P_WL, T_LAM, T_Q, T_TS, T_TV, T_V, W_I, W_WET,
+    P_MN, P_MT, P_RELAX, P_TIME, P_WL, T_LAM, T_TS, T_TV, T_V, W_I, W_WET,
 )
 from tether_sim.solvers.dg.workspace import (
     X_BAND, X_BC, X_BLK, X_BP, X_BS, X_BS0, X_BUF, X_BVEC, X_CNT, X_CX, X_CY, X_CZ, X_D, X_DBS, X_DPRM, X_DRA, X_DTMP,
@@ -95,7 +96,8 @@ def dg_evaluate(t, A, prm, iprm, fdamp, implicit, internal=True):
 
 @jit
 def clip_end_fluxes(prm, iprm, h, V, Pj, Lf, vbc, wq, tr, fl, dU, endf, fdamp):
-    """Velocity-end flux of a law without compression with implicit damping (fluxes.clip_compression).
+    """Velocity-end flux of a law without compression with implicit damping (fluxes.clip_compression's
+    axial clip, fluxes.axial_clip, applied to the sum of the fluxes).
 
     The explicit scheme clips the axial part of T_hat = T+ + T_d+ + n lambda (gamma0 v_BC - v+) at 0.
     With the damping split off, dg_rhs clipped only the elastic part and the damping step applied
@@ -113,27 +115,23 @@ def clip_end_fluxes(prm, iprm, h, V, Pj, Lf, vbc, wq, tr, fl, dU, endf, fdamp):
         k = end * N
         sgn = 1.0 if end == 0 else -1.0  # -n
         lam = max(tr[e, end, T_LAM], prm[P_LAMBDA_BC])
-        q0 = tr[e, end, T_Q]
-        q1 = tr[e, end, T_Q + 1]
-        q2 = tr[e, end, T_Q + 2]
-        lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
-        if lq <= 1e-300:
+        i0, i1, i2, ok = trace_tangent(tr, e, end)
+        if not ok:
             continue
-        i0 = q0 / lq
-        i1 = q1 / lq
-        i2 = q2 / lq
         tot0 = tr[e, end, T_TV] - sgn * lam * (g0 * vbc[end, 3] - tr[e, end, T_V]) + sgn * fdamp[end, 0]
         tot1 = tr[e, end, T_TV + 1] - sgn * lam * (g0 * vbc[end, 4] - tr[e, end, T_V + 1]) + sgn * fdamp[end, 1]
         tot2 = tr[e, end, T_TV + 2] - sgn * lam * (g0 * vbc[end, 5] - tr[e, end, T_V + 2]) + sgn * fdamp[end, 2]
-        a = tot0 * i0 + tot1 * i1 + tot2 * i2
-        if iprm[I_BENDING] != 0:  # the clip leaves the bending shear out (fluxes.clip_compression)
-            a -= tr[e, end, T_TS] * i0 + tr[e, end, T_TS + 1] * i1 + tr[e, end, T_TS + 2] * i2
         pc = compression_cap(iprm[I_LAW], prm[P_EIC], iprm[I_P], h[e])
-        if a < -pc:
-            d = a + pc
-            tot0 -= d * i0
-            tot1 -= d * i1
-            tot2 -= d * i2
+        if iprm[I_BENDING] != 0:  # the clip leaves the bending shear out (fluxes.clip_compression)
+            s0 = tr[e, end, T_TS]
+            s1 = tr[e, end, T_TS + 1]
+            s2 = tr[e, end, T_TS + 2]
+            tot0, tot1, tot2 = axial_clip(tot0 - s0, tot1 - s1, tot2 - s2, i0, i1, i2, pc)
+            tot0 += s0
+            tot1 += s1
+            tot2 += s2
+        else:
+            tot0, tot1, tot2 = axial_clip(tot0, tot1, tot2, i0, i1, i2, pc)
         d0 = tot0 - fl[k, F_V] - sgn * fdamp[end, 0]
         d1 = tot1 - fl[k, F_V + 1] - sgn * fdamp[end, 1]
         d2 = tot2 - fl[k, F_V + 2] - sgn * fdamp[end, 2]
@@ -204,6 +202,11 @@ def dg_advance(nsteps, t0, dt, reuse, A):
             for c in range(bs.shape[1]):
                 bs0[end, c] = bs[end, c]
         Ls = prm[P_WL]
+        # SSP-RK3 [PE2020 Eq. 31-33] on u = (U, ra, body states), L the right-hand side (dg_evaluate):
+        #   stage 0:  u1      = u_n + dt L(u_n, t_n)                          (a, b, c) = (0, 1, 0)
+        #   stage 1:  u2      = 3/4 u_n + 1/4 (u1 + dt L(u1, t_n + dt))       (3/4, 1/4, 1)
+        #   stage 2:  u_{n+1} = 1/3 u_n + 2/3 (u2 + dt L(u2, t_n + dt/2))     (1/3, 2/3, 1/2)
+        # i.e. u <- a u_n + b (u + dt L(u, t_n + c dt)) with (a, b, c) = SSPRK3_STAGES[stage]
         for stage in range(3):
             a, b, cs = SSPRK3_STAGES[stage]
             ts = t + cs * dt

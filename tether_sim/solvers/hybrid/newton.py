@@ -10,6 +10,7 @@ from scipy.sparse.linalg import splu
 from tether_sim.solvers.hybrid import zoning
 from tether_sim.solvers.hybrid.assembly import assemble_jacobian, assemble_residual
 from tether_sim.solvers.hybrid.layout import CAT_T, CAT_V, ROD_F
+from tether_sim.solvers.hybrid.newton_band import STAGNATION
 
 LINE_SEARCH_HALVINGS = 6
 MAX_TURN = 0.3  # rad, largest tangent change per Newton iteration
@@ -54,9 +55,10 @@ class NewtonMixin:
             if fresh:
                 lam = self._line_search(Y, dx, lam, rs, R, args)
             Y[ch.idx_node, ch.idx_slot] -= lam * dx
-            err = float(np.max(np.abs(dx) / scale)) / self.opt.newton_tolerance
-            # converged, or stagnating at round-off within 1000x of the tolerance
-            if lam == 1.0 and (err <= 1.0 or (err <= 1e3 and err >= 0.5 * err_prev)):
+            tol = self.opt.newton_tolerance
+            err = float(np.max(np.abs(dx) / scale)) / tol
+            # converged, or stagnating at round-off: within 1000x of the tolerance and STAGNATION of the scale
+            if lam == 1.0 and (err <= 1.0 or (err <= 1e3 and err * tol <= STAGNATION and err >= 0.5 * err_prev)):
                 break
             err_prev = err
         else:

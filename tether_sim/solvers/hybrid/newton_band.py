@@ -14,6 +14,10 @@ from tether_sim.solvers.hybrid.assembly import assemble_residual
 from tether_sim.solvers.hybrid.jacobian import assemble_band_jacobian, scale_band_rows
 
 LINE_SEARCH_HALVINGS = 6  # as newton.LINE_SEARCH_HALVINGS
+# largest update (relative to its variable's scale) the stopping test takes for stagnation at round-off
+# when the tolerance itself is not met: 1000 x the default newton_tolerance. As a multiple of a loose
+# tolerance (1e-3) a stagnating iteration was accepted 5 scales away from the converged step.
+STAGNATION = 1e-6
 FAIL_RESIDUAL, FAIL_SINGULAR, FAIL_UPDATE, FAIL_ITERATIONS = -1, -2, -3, -4
 
 
@@ -174,7 +178,7 @@ def newton_band(ch, kl, ku, low, last, tangent, scale, Y, Yn, Ytn, Ln, rn, s, P,
             Y[idx_node[i], idx_slot[i]] -= lam * dx[i]
             err = max(err, abs(dx[i]) / scale[i])
         err /= tol
-        if lam == 1.0 and (err <= 1.0 or (err <= 1e3 and err >= 0.5 * err_prev)):
+        if lam == 1.0 and (err <= 1.0 or (err <= 1e3 and err * tol <= STAGNATION and err >= 0.5 * err_prev)):
             return it
         err_prev = err
     return FAIL_ITERATIONS
