@@ -250,8 +250,9 @@ def bending_mesh_warning(length, n_elements, order, EI, element_lengths=(), damp
                                     "dg.damping implicit" if implicit else "") if x)
     return (f"{what} on a DG node spacing of {spacing:.3g} m (h / P): below {FINE_MESH_SPACING:g} m slack phases can "
             f"show one-step end-tension events (rejected by the snap guard; ROPOS 200 m slack-snap case, explicit damping: "
-            f"clean at 2.5 m; at 1.25 m one such event of 0.4-2.8 MN with cable.compression none, the snaps after it "
-            f"up to 23 % off, and one with buckling at bending factor 1; docs/dg_solver.md \"Slack with bending\"): check numerical warnings, or use a coarser mesh")
+            f"clean at 2.5 m; at 1.25 m with cable.compression none one such event of 238 kN at the cage at bending "
+            f"factor 100, the ship snap within 0.2 % of 2.5 m, and one with buckling at bending factor 1; "
+            f"docs/dg_solver.md \"Slack with bending\"): check numerical warnings, or use a coarser mesh")
 
 
 def mesh_summary(n_elements, order, cfl, resolution, snap_tolerance) -> str:

@@ -11,6 +11,8 @@
 Marked ``jit_off``: `make test` runs them again with the kernels as plain Python.
 """
 
+import os
+
 import numpy as np
 import pytest
 
@@ -82,7 +84,9 @@ def test_bending_force_is_continuous_as_a_chord_passes_through_zero(law, compres
     assert np.max(np.abs(ta - tb)) <= 1e-6 * np.max(np.abs(tc))
     # where slack the tension vector is the capped compression T(l) q / l (physics/constitutive.py: at most the
     # Euler load pc of the mesh's shortest wave, fading as -pc q / l_y where buckled) plus the bending shear;
-    # the shear stays of the size of the mean line's bending (16.5 N measured on this state), not ~1/l^3
+    # the shear stays of the size of the bending of b = 2 q / (1 + l^2) (ldg.py): -J d/ds(EI b'') with J = 2 I and
+    # b_y = 2 u / (1 + u^2) at the fold (u = (s - s_f) / H), |d3 b_y / ds3| = 12 / H^3: 2 x 12 EI / H^3 = 63 N per
+    # component, 105 N measured on this state; the stretched form grows as 1/l^3
     wq = s.ws.wq
     slack = wq[:, :, Y.W_L] < 1.0  # (the mu = 1e-3 state; the same points are slack for +-1e-9)
     assert slack.sum() >= 5
@@ -96,7 +100,7 @@ def test_bending_force_is_continuous_as_a_chord_passes_through_zero(law, compres
         assert np.all(T[slack] == 0.0)
     shear = tc - T[:, :, None] * wq[:, :, Y.W_I:Y.W_I + 3]
     print("largest shear force where slack (N):", np.max(np.abs(shear[slack])))
-    assert np.max(np.abs(shear[slack])) <= 10.0 * 2620.0 / H**3
+    assert np.max(np.abs(shear[slack])) <= 50.0 * 2620.0 / H**3
 
 
 def taut_state(s):
@@ -168,3 +172,95 @@ def test_compression_cap_is_the_euler_load_of_the_shortest_resolved_wave():
     assert compression_cap(LAW_BILINEAR, EI, P, h) == pytest.approx(EI * (2 * np.pi / wavelength) ** 2, rel=1e-14)
     assert compression_cap(LAW_TABLE, EI, P, h) == compression_cap(LAW_BILINEAR, EI, P, h)
     assert compression_cap(LAW_LINEAR, EI, P, h) == 0.0 and compression_cap(LAW_BILINEAR, 0.0, P, h) == 0.0
+
+
+def energy_solver(kinds, EI=262000.0, N=4, h=1.25):
+    """A cable in vacuum (no weight, drag, added mass or material damping) with the bending factor 100 of
+    PE2020 Sec. 6.2 on the node spacing h / P = 0.31 m: the only forces are the elastic tension and bending."""
+    cab = CableProperties(length=N * h, EA=4.55e7, gamma0=3.01, diameter=0.03, density=7153.0, EI=EI,
+                          compression="none", damping=0.0, material="bilinear", Cdn=0.0, Cdt=0.0, Cmn=0.0, Cmt=0.0)
+    cfg = SimConfig(cable=cab, environment=Environment(g=0.0, fluid_density=1025.0),
+                    ship_end=EndCondition(kind=kinds[0], position=(0, 0, 0)),
+                    vehicle_end=EndCondition(kind=kinds[1], position=(0.0, 0, -N * h)),
+                    dg=DGOptions(n_elements=N, order=4, damping="explicit", q_penalty_jump="strain"),
+                    initial=InitialState(kind="straight"))
+    return DGCableSolver(cfg)
+
+
+def cable_energy(s):
+    """Kinetic + bending (EI |kappa|^2 / 2, kappa the LDG derivative of the bending tangent) + elastic energy (J)."""
+    s._evaluate()
+    wq = s.ws.wq
+    x, wg = gauss_legendre(s.ws.V.shape[0])
+    w = wg[None, :] * s.ws.h[:, None] / 2.0
+    cab = s.config.cable
+    kin = np.sum(w * np.sum(wq[:, :, Y.W_V:Y.W_V + 3] ** 2, axis=2)) / (2.0 * cab.gamma0)
+    bend = 0.5 * cab.EI * np.sum(w * np.sum(wq[:, :, Y.W_KAP:Y.W_KAP + 3] ** 2, axis=2))
+    el = 0.5 * cab.EA * np.sum(w * np.maximum(wq[:, :, Y.W_L] - 1.0, 0.0) ** 2)
+    return kin + bend + el
+
+
+def wavy(stretch):
+    """A curved line whose chord is stretch x (1 .. 1.06): slack everywhere for 0.7, partly taut for 0.97."""
+    return lambda x: stretch * np.stack([0.05 + 0.3 * np.sin(0.6 * x), 0 * x, -1 + 0 * x], 1)
+
+
+def moving(x):
+    return np.stack([0.3 * np.cos(0.4 * x), 0 * x, 0.2 * np.sin(x)], 1)
+
+
+@pytest.mark.parametrize("kinds", [("free", "free"), ("fixed", "fixed"), ("prescribed", "free")])
+@pytest.mark.parametrize("stretch", [0.7, 0.97])
+def test_bending_of_a_short_chord_is_the_gradient_of_its_energy(kinds, stretch):
+    """Where the chord is short the bending shear is -J^T d/ds(EI kappa), the gradient of int EI |b'|^2 / 2 with the
+    bending tangent b = 2 q / (1 + l^2) (ldg.py): with free ends the semi-discrete energy is conserved to round-off,
+    at velocity ends the upwind term and the clip only take energy out (the clip leaves the bending shear alone).
+    The earlier short-chord form b x tau, b = q, was not an energy gradient: it fed energy into transverse
+    waves where the chord varies (an effective compression EI b.b''), the fold at the cage of the PE2020 Sec. 6.2
+    case on fine meshes."""
+    s = energy_solver(kinds)
+    s.set_shape(wavy(stretch), moving, origin=np.zeros(3))
+    s.ws.ends[:, 3:6] = np.zeros((2, 3))
+    U0 = s.ws.U.copy()
+    s._evaluate()
+    dU = s.ws.dU.copy()
+    slack = s.ws.wq[:, :, Y.W_L] < 1.0
+    assert slack.all() if stretch == 0.7 else (slack.any() and not slack.all())
+    d = 1e-6
+    s.ws.U[...] = U0 + d * dU
+    ep = cable_energy(s)
+    s.ws.U[...] = U0 - d * dU
+    em = cable_energy(s)
+    rate = (ep - em) / (2 * d)
+    s.ws.U[...] = U0
+    # the scale: the power of the bending shear alone
+    x, wg = gauss_legendre(s.ws.V.shape[0])
+    s._evaluate()
+    qdot = np.einsum('jk,ekc->ejc', s.ws.V, dU[:, :, 0:3])
+    power = np.sum(wg[None, :] * s.ws.h[:, None] / 2 * np.sum(s.ws.wq[:, :, Y.W_TS:Y.W_TS + 3] * qdot, axis=2))
+    print(kinds, stretch, "dE/dt", rate, "bending power", power)
+    assert abs(power) > 1e3
+    if kinds == ("free", "free") and stretch == 0.7:
+        assert abs(rate) <= 1e-6 * abs(power)
+    else:
+        assert rate <= 1e-6 * abs(power)
+
+
+@pytest.mark.skipif(os.environ.get("NUMBA_DISABLE_JIT") == "1", reason="16 000 substeps: compiled only")
+def test_slack_cable_piling_up_on_a_fixed_end_gains_no_energy():
+    """Slack material running at 3 m/s onto a fixed end (the cable above a slower cage in the slack phase of the
+    Sec. 6.2 case): the chord collapses at the end and the material folds there. The energy never exceeds its
+    initial value. (The earlier short-chord form with the clip of the whole end flux, on this cable at rest with
+    its chord at 0.7 against a fixed end: the energy grew by a factor 86 within 10 ms, 2026-11-27.)"""
+    s = energy_solver(("free", "fixed"))
+    s.set_shape(lambda x: np.stack([0.05 + 0.3 * np.sin(0.6 * x), 0 * x, -1 + 0 * x], 1),
+                lambda x: np.stack([0 * x, 0 * x, -3.0 + 0 * x], 1), origin=np.zeros(3))
+    e0 = cable_energy(s)
+    worst, lmin = 0.0, 1.0
+    for k in range(1, 41):
+        s.advance_to(0.0025 * k)
+        worst = max(worst, cable_energy(s) / e0)
+        lmin = min(lmin, s.ws.wq[:, :, Y.W_L].min())
+    print("largest E / E0", worst, "shortest chord", lmin)
+    assert lmin < 0.8  # the chord did collapse at the end
+    assert worst <= 1.0 + 1e-3

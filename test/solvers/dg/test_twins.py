@@ -149,22 +149,29 @@ def plain_clip(flux, q, pc=0.0):
     return flux - (a + pc) * i if a < -pc else flux.copy()
 
 
+@pytest.mark.parametrize("shear", [False, True])
 @pytest.mark.parametrize("pc", [0.0, 3e3])
-def test_clip_compression_removes_exactly_the_compressive_axial_part(pc):
+def test_clip_compression_removes_exactly_the_compressive_axial_part(pc, shear):
+    """... of the flux without the bending shear trace T_TS when shear (a velocity end of a cable with bending)."""
     rng = np.random.default_rng(3)
     for trial in range(200):
         fl = np.zeros((3, Y.NFL))
         tr = np.zeros((2, 2, Y.NTR))
         fl[:, Y.F_V:Y.F_V + 3] = rng.standard_normal((3, 3)) * 1e4
         tr[:, :, Y.T_Q:Y.T_Q + 3] = rng.standard_normal((2, 2, 3)) * (0.0 if trial % 50 == 0 else 1.0)
+        tr[:, :, Y.T_TS:Y.T_TS + 3] = rng.standard_normal((2, 2, 3)) * 1e4
         k, e, side = trial % 3, trial % 2, (trial // 2) % 2
-        want = plain_clip(fl[k, Y.F_V:Y.F_V + 3], tr[e, side, Y.T_Q:Y.T_Q + 3], pc)
-        clip_compression(fl, tr, k, e, side, pc)
+        ts = tr[e, side, Y.T_TS:Y.T_TS + 3] if shear else np.zeros(3)
+        want = ts + plain_clip(fl[k, Y.F_V:Y.F_V + 3] - ts, tr[e, side, Y.T_Q:Y.T_Q + 3], pc)
+        if not shear or np.linalg.norm(tr[e, side, Y.T_Q:Y.T_Q + 3]) == 0:
+            want = plain_clip(fl[k, Y.F_V:Y.F_V + 3], tr[e, side, Y.T_Q:Y.T_Q + 3], pc) if not shear else \
+                fl[k, Y.F_V:Y.F_V + 3].copy()
+        clip_compression(fl, tr, k, e, side, pc, shear)
         # same formula, the axial component recomputed by numpy's dot: a few ulps of |T_hat|
         assert np.allclose(fl[k, Y.F_V:Y.F_V + 3], want, rtol=0, atol=1e-15 * 1e4 * 10)
         q = tr[e, side, Y.T_Q:Y.T_Q + 3]
-        if np.linalg.norm(q) > 0:
-            assert fl[k, Y.F_V:Y.F_V + 3] @ q / np.linalg.norm(q) >= -pc - 1e-10  # never below -pc after
+        if np.linalg.norm(q) > 0:  # never below -pc after (the flux without the shear)
+            assert (fl[k, Y.F_V:Y.F_V + 3] - ts) @ q / np.linalg.norm(q) >= -pc - 1e-10
 
 
 def evaluate(s, fdamp, implicit):
@@ -208,7 +215,8 @@ def test_clip_end_fluxes_is_the_clip_of_the_total_end_flux(kinds):
             lam = max(tr[e, end, Y.T_LAM], s.ws.prm[Y.P_LAMBDA_BC])
             elastic = tr[e, end, Y.T_TV:Y.T_TV + 3] - sgn * lam * (g0 * vbc[end, 3:6] - tr[e, end, Y.T_V:Y.T_V + 3])
             pc = compression_cap(s.law.code, cap_stiffness(s.config.cable), s.P, s.ws.h[e])  # > 0 with bending (clamped case)
-            total = plain_clip(elastic + sgn * fdamp[end, 0:3], q, pc)
+            ts = tr[e, end, Y.T_TS:Y.T_TS + 3] if s.config.cable.EI > 0 else np.zeros(3)  # the clip leaves it out
+            total = ts + plain_clip(elastic + sgn * fdamp[end, 0:3] - ts, q, pc)
             clipped += int(not np.array_equal(total, elastic + sgn * fdamp[end, 0:3]))
             d = total - fl[k, Y.F_V:Y.F_V + 3] - sgn * fdamp[end, 0:3]
             want_endf[end, 0:3] += sgn * d

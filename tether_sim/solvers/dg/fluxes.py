@@ -7,7 +7,7 @@ from tether_sim.numerics.jit import jit, jit_inline
 from tether_sim.physics.end_conditions import is_kinematic
 from tether_sim.solvers.dg.layout import (
     E_F, E_M, E_T, E_VHAT, F_MS, F_NU, F_Q, F_V, I_AXDAMP, I_KIND0, I_KIND1, I_N, P_GAMMA0, P_QPEN,
-    P_QPENT, T_LAM, T_Q, T_TE, T_V, W_TE,
+    P_QPENT, T_LAM, T_Q, T_TE, T_TS, T_V, W_TE, W_TS,
 )
 
 
@@ -90,18 +90,58 @@ def tension_jump_penalty(prm, iprm, h, Pj, Tr, Lf, wq, tr, fl, dU):
 
 
 @jit_inline
-def clip_compression(fl, tr, k, e, side, pc):
+def shear_traces(Pj, Tr, wq, tr, e, side):
+    """tr[e, side, T_TS]: the trace of the L2 projection of the bending shear W_TS of element e."""
+    nm = Pj.shape[0]
+    nq = Pj.shape[1]
+    s0 = 0.0
+    s1 = 0.0
+    s2 = 0.0
+    for k in range(nm):
+        a0 = 0.0
+        a1 = 0.0
+        a2 = 0.0
+        for j in range(nq):
+            p = Pj[k, j]
+            a0 += p * wq[e, j, W_TS]
+            a1 += p * wq[e, j, W_TS + 1]
+            a2 += p * wq[e, j, W_TS + 2]
+        t = Tr[side, k]
+        s0 += t * a0
+        s1 += t * a1
+        s2 += t * a2
+    tr[e, side, T_TS] = s0
+    tr[e, side, T_TS + 1] = s1
+    tr[e, side, T_TS + 2] = s2
+
+
+@jit_inline
+def clip_compression(fl, tr, k, e, side, pc, shear):
     """Clip the axial part of the boundary flux T_hat at -pc (laws without compression; pc the element's
     compression cap, physics/constitutive.py: 0 without bending).
 
     The Riemann solution of a cable that cannot push has T* >= 0: a boundary moving into the cable
     faster than the upwind term allows produces slack, not compression; with bending the cable pushes
-    up to the Euler load of the mesh's shortest wave, as inside the cable.
+    up to the Euler load of the mesh's shortest wave, as inside the cable. shear (a cable with bending):
+    the clip acts on the flux without the bending shear trace tr[e, side, T_TS] (shear_traces), which a
+    moment-free end transmits whole: the law bounds the axial tension, not the shear, and a clip of a
+    shear component is work done at the end on the cable with no sign (docs/dg_solver.md, "Slack with
+    bending").
     """
     i0, i1, i2, ok = trace_tangent(tr, e, side)
-    if ok:
+    if not ok:
+        return
+    if not shear:
         fl[k, F_V], fl[k, F_V + 1], fl[k, F_V + 2] = axial_clip(fl[k, F_V], fl[k, F_V + 1], fl[k, F_V + 2],
                                                                 i0, i1, i2, pc)
+        return
+    s0 = tr[e, side, T_TS]
+    s1 = tr[e, side, T_TS + 1]
+    s2 = tr[e, side, T_TS + 2]
+    t0, t1, t2 = axial_clip(fl[k, F_V] - s0, fl[k, F_V + 1] - s1, fl[k, F_V + 2] - s2, i0, i1, i2, pc)
+    fl[k, F_V] = t0 + s0
+    fl[k, F_V + 1] = t1 + s1
+    fl[k, F_V + 2] = t2 + s2
 
 
 @jit_inline

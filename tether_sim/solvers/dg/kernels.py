@@ -47,7 +47,7 @@ from tether_sim.solvers.dg.layout import (
     T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TE, W_TV, W_V, W_WET,
 )
 from tether_sim.solvers.dg.fluxes import (
-    clip_compression, end_outputs, interface_fluxes, tension_jump_penalty, velocity_fluxes,
+    clip_compression, end_outputs, interface_fluxes, shear_traces, tension_jump_penalty, velocity_fluxes,
 )
 from tether_sim.solvers.dg.ldg import ldg_shear_force
 from tether_sim.solvers.dg.soa import momentum_rate_soa, soa_momentum_applies
@@ -152,8 +152,16 @@ def internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, 
         else:  # n = +1
             fl[N, F_V + c] = tr[N - 1, 1, T_TV + c] + lam1 * (g0 * vbc[1, 3 + c] - tr[N - 1, 1, T_V + c])
     if law != LAW_LINEAR:
-        clip_compression(fl, tr, 0, 0, 0, compression_cap(law, prm[P_EIC], iprm[I_P], h[0]))
-        clip_compression(fl, tr, N, N - 1, 1, compression_cap(law, prm[P_EIC], iprm[I_P], h[N - 1]))
+        # at a velocity end the clip leaves the bending shear trace out (fluxes.clip_compression); a force
+        # end's flux is the applied force alone
+        shear0 = iprm[I_BENDING] != 0 and is_kinematic(k0)
+        shear1 = iprm[I_BENDING] != 0 and is_kinematic(k1)
+        if shear0:
+            shear_traces(Pj, Tr, wq, tr, 0, 0)
+        if shear1:
+            shear_traces(Pj, Tr, wq, tr, N - 1, 1)
+        clip_compression(fl, tr, 0, 0, 0, compression_cap(law, prm[P_EIC], iprm[I_P], h[0]), shear0)
+        clip_compression(fl, tr, N, N - 1, 1, compression_cap(law, prm[P_EIC], iprm[I_P], h[N - 1]), shear1)
     end_outputs(N, tr, fl, endf, k0, k1, bc)
 
 

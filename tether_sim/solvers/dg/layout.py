@@ -107,7 +107,7 @@ define(globals(), "wq", [
     ("W_TV", 3, "T i + T_s", "N", "tension vector"),
     ("W_R", 3, "r", "m", "position (with current, seabed or free surface)"),
     ("W_ACC", 3, "dv/dt", "N/m", "momentum rate"),
-    ("W_B", 3, "b", "-", "bending tangent q / max(l, 1): i where taut, q where the chord is short (ldg.py)"),
+    ("W_B", 3, "b", "-", "bending tangent: i where taut, 2 q / (1 + l^2) where the chord is short (ldg.py)"),
     ("W_IDOT", 3, "db/dt", "1/s", "bending tangent rate (bending damping)"),
     ("W_KAP", 3, "kappa", "1/m", "di/ds"),
     ("W_KDOT", 3, "dkappa/dt", "1/(m s)", "d(di/dt)/ds"),
@@ -116,6 +116,8 @@ define(globals(), "wq", [
     ("W_NUS", 3, "d(v/gamma0)/ds", "1/s", "velocity gradient with central fluxes (damping strain rate)"),
     ("W_WET", 1, "phi", "-", "wetted fraction (free surface on)"),
     ("W_TE", 3, "T(eps) i", "N", "elastic tension vector (no damping, no bending; q-equation penalty)"),
+    ("W_SY", 3, "d(EI kappa + zeta_b dkappa/dt)/ds", "N", "bending shear of the short-chord form (ldg.py)"),
+    ("W_TS", 3, "T_s", "N", "bending shear force (the part of W_TV from bending; ldg.py)"),
 ], "NWQ")
 
 define(globals(), "wm", [
@@ -128,6 +130,8 @@ define(globals(), "wm", [
     ("M_MS", 3, "M*", "N m", "M / l^2"),
     ("M_TAU", 3, "tau", "N", "dM*/ds"),
     ("M_NUS", 3, "d(v/gamma0)/ds", "1/s", "velocity gradient with central fluxes"),
+    ("M_SX", 3, "EI kappa + zeta_b dkappa/dt", "N m", "bending moment vector of the short-chord form (ldg.py)"),
+    ("M_SY", 3, "d(EI kappa + zeta_b dkappa/dt)/ds", "N", "its strong derivative"),
 ], "NWM")
 
 define(globals(), "tr", [
@@ -139,6 +143,8 @@ define(globals(), "tr", [
     ("T_MS", 3, "M*", "N m", "trace of M*"),
     ("T_LAM", 1, "lambda", "m/s", "local wave speed [Eq. 25]"),
     ("T_TE", 3, "T(eps) i", "N", "trace of the projected elastic tension vector (q-equation penalty)"),
+    ("T_SX", 3, "EI kappa + zeta_b dkappa/dt", "N m", "trace of M_SX"),
+    ("T_TS", 3, "T_s", "N", "trace of the projected bending shear (end elements; the no-compression clip leaves it out)"),
 ], "NTR")
 
 define(globals(), "fl", [
@@ -148,6 +154,7 @@ define(globals(), "fl", [
     ("F_IDOT", 3, "i_hat-dot", "1/s", "LDG flux of the tangent rate [Eq. 27]"),
     ("F_MS", 3, "M*_hat", "N m", "LDG flux of M* [Eq. 28, 30]"),
     ("F_NU", 3, "v_hat / gamma0 (central)", "m/s", "central velocity flux (damping strain rate)"),
+    ("F_SX", 3, "(EI kappa + zeta_b dkappa/dt)_hat", "N m", "LDG flux of M_SX (bias -beta, as M*)"),
 ], "NFL")
 
 define(globals(), "endf", [

@@ -22,8 +22,8 @@ from tether_sim.solvers.dg.fluxes import axial_clip, trace_tangent
 from tether_sim.solvers.dg.implicit_damping import damping_step
 from tether_sim.solvers.dg.kernels import dg_rhs, hermite_end
 from tether_sim.solvers.dg.layout import (
-    E_F, E_T, F_V, I_ANCHOR, I_CURRENT, I_KIND0, I_LAW, I_N, I_P, I_SURFACE, P_EIC, P_GAMMA0, P_LAMBDA_BC, P_MN,
-    P_MT, P_RELAX, P_TIME, P_WL, T_LAM, T_TV, T_V, W_I, W_WET,
+    E_F, E_T, F_V, I_ANCHOR, I_BENDING, I_CURRENT, I_KIND0, I_LAW, I_N, I_P, I_SURFACE, P_EIC, P_GAMMA0, P_LAMBDA_BC,
+    P_MN, P_MT, P_RELAX, P_TIME, P_WL, T_LAM, T_TS, T_TV, T_V, W_I, W_WET,
 )
 from tether_sim.solvers.dg.workspace import (
     X_BAND, X_BC, X_BLK, X_BP, X_BS, X_BS0, X_BUF, X_BVEC, X_CNT, X_CX, X_CY, X_CZ, X_D, X_DBS, X_DPRM, X_DRA, X_DTMP,
@@ -122,7 +122,16 @@ def clip_end_fluxes(prm, iprm, h, V, Pj, Lf, vbc, wq, tr, fl, dU, endf, fdamp):
         tot1 = tr[e, end, T_TV + 1] - sgn * lam * (g0 * vbc[end, 4] - tr[e, end, T_V + 1]) + sgn * fdamp[end, 1]
         tot2 = tr[e, end, T_TV + 2] - sgn * lam * (g0 * vbc[end, 5] - tr[e, end, T_V + 2]) + sgn * fdamp[end, 2]
         pc = compression_cap(iprm[I_LAW], prm[P_EIC], iprm[I_P], h[e])
-        tot0, tot1, tot2 = axial_clip(tot0, tot1, tot2, i0, i1, i2, pc)
+        if iprm[I_BENDING] != 0:  # the clip leaves the bending shear out (fluxes.clip_compression)
+            s0 = tr[e, end, T_TS]
+            s1 = tr[e, end, T_TS + 1]
+            s2 = tr[e, end, T_TS + 2]
+            tot0, tot1, tot2 = axial_clip(tot0 - s0, tot1 - s1, tot2 - s2, i0, i1, i2, pc)
+            tot0 += s0
+            tot1 += s1
+            tot2 += s2
+        else:
+            tot0, tot1, tot2 = axial_clip(tot0, tot1, tot2, i0, i1, i2, pc)
         d0 = tot0 - fl[k, F_V] - sgn * fdamp[end, 0]
         d1 = tot1 - fl[k, F_V + 1] - sgn * fdamp[end, 1]
         d2 = tot2 - fl[k, F_V + 2] - sgn * fdamp[end, 2]
