@@ -12,7 +12,8 @@ pytest.importorskip("mujoco")
 from dataclasses import replace  # noqa: E402
 
 from tether_sim.vehicle.model import BLUEROV2_HEAVY, restoring_wrench  # noqa: E402
-from tether_sim.vehicle.sim import StationKeeper, VehicleSim, quat_to_matrix  # noqa: E402
+from tether_sim.numerics.rotations import quaternion_matrix  # noqa: E402
+from tether_sim.vehicle.sim import StationKeeper, VehicleSim  # noqa: E402
 
 RHO, G = 1025.0, 9.81
 NEUTRAL = replace(BLUEROV2_HEAVY, volume=BLUEROV2_HEAVY.mass / RHO, cob=(0.0, 0.0, 0.0))
@@ -28,7 +29,7 @@ def test_a_body_frame_tether_force_accelerates_the_vehicle_along_its_world_image
     w, z = sim.data.qpos[3], sim.data.qpos[6]  # yaw 90 deg, then roll 30 deg about the body x axis
     qr = np.array([math.cos(roll / 2), math.sin(roll / 2), 0.0, 0.0])
     sim.data.qpos[3:7] = [w * qr[0], w * qr[1], z * qr[1], z * qr[0]]
-    R = quat_to_matrix(sim.orientation)
+    R = quaternion_matrix(sim.orientation)
     f = np.array([12.0, -5.0, 8.0])
     sim.step(np.zeros(8), tether_force=f)
     a_world = sim.data.qvel[0:3] / sim.dt

@@ -302,9 +302,11 @@ def _touchdown(A, B, length, w, law, zg, sink, eh, dh):
     if parts(H_lo)[2] > dh:
         raise RuntimeError("static catenary: more cable than the span on the seabed (slack; no unique shape)")
     H_hi = w * length
-    while sum(parts(H_hi)[:2]) < length and parts(H_hi)[2] < dh:
+    shA, shB, span = parts(H_hi)
+    while shA + shB < length and span < dh:
         H_hi *= 2.0
-    if sum(parts(H_hi)[:2]) > length:  # the lying part vanishes before the span is reached: H_hi at that point
+        shA, shB, span = parts(H_hi)
+    if shA + shB > length:  # the lying part vanishes before the span is reached: H_hi at that point
         H_hi = brentq(lambda H: sum(parts(H)[:2]) - length, H_lo, H_hi, xtol=1e-14 * H_hi, rtol=1e-15)
         if parts(H_hi)[2] < dh:
             raise RuntimeError("static catenary with touchdown: the cable cannot reach the span lying")

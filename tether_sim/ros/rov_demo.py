@@ -21,6 +21,7 @@ import sys
 import time
 from pathlib import Path
 
+from tether_sim.ros.main_job import _terminate
 from tether_sim.ros.processes import ProcessGroup, StepFailed, claim_domain_id, command_for, isolated_env
 
 REPO = Path(__file__).resolve().parents[2]
@@ -156,7 +157,7 @@ def main(argv=None) -> int:
         say(f"FAILED: {exc}")
         return 1
     group = ProcessGroup(isolated_env(domain), out / "logs", root)
-    old = signal.signal(signal.SIGTERM, lambda *_: (_ for _ in ()).throw(KeyboardInterrupt()))
+    old = signal.signal(signal.SIGTERM, _terminate)  # stop the children on SIGTERM too, as make run does
     try:
         run(root, mcap, args, group)
         say(f"recorded {mcap} ({mcap.stat().st_size / 1e6:.1f} MB); writing the report ...")

@@ -73,11 +73,6 @@ BLUEROV2_HEAVY = VehicleModel(
 MODELS = {"bluerov2_heavy": BLUEROV2_HEAVY}
 
 
-def skew(a) -> np.ndarray:
-    x, y, z = a
-    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-
-
 def hydrodynamic_wrench(model: VehicleModel, nu_r) -> np.ndarray:
     """-(C_A(nu_r) + D(nu_r)) nu_r (6,), body frame: damping and the added mass's Coriolis terms
     (Fossen 2011 Eq. 6.43 with M_A diagonal: C_A = [[0, -S(A1 v)], [-S(A1 v), -S(A2 w)]])."""

@@ -22,6 +22,7 @@ import math
 import mujoco
 import numpy as np
 
+from tether_sim.numerics.rotations import quaternion_matrix
 from tether_sim.vehicle.model import hydrodynamic_wrench, restoring_wrench
 
 _XML = """<mujoco>
@@ -42,14 +43,6 @@ _UNSTABLE = (mujoco.mjtWarning.mjWARN_BADQACC, mujoco.mjtWarning.mjWARN_BADQVEL,
 
 class VehicleDiverged(RuntimeError):
     """MuJoCo found the vehicle's state non-finite or huge (and would reset it to the start)."""
-
-
-def quat_to_matrix(q) -> np.ndarray:
-    """Body-to-world rotation of a unit quaternion (x, y, z, w)."""
-    x, y, z, w = q
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
 
 
 class VehicleSim:
@@ -87,27 +80,27 @@ class VehicleSim:
         return np.array([x, y, z, w]) / math.sqrt(w * w + x * x + y * y + z * z)
 
     def rotation(self) -> np.ndarray:
-        return quat_to_matrix(self.orientation)
+        return quaternion_matrix(self.orientation)
 
-    def body_velocity(self) -> np.ndarray:
+    def body_velocity(self, R=None) -> np.ndarray:
         """nu = (u, v, w, p, q, r) in the body frame (MuJoCo's free joint: linear in the world,
-        angular in the body frame)."""
-        R = self.rotation()
+        angular in the body frame); R: the rotation, if the caller has it."""
+        R = self.rotation() if R is None else R
         return np.concatenate([R.T @ self.data.qvel[0:3], self.data.qvel[3:6]])
 
-    def loads(self, thrust, tether_force, tether_torque) -> np.ndarray:
+    def loads(self, thrust, tether_force, tether_torque, R=None) -> np.ndarray:
         """tau (6,), the total body wrench about the centre of gravity (module docstring)."""
-        R = self.rotation()
-        nu = self.body_velocity()
+        R = self.rotation() if R is None else R
+        nu = self.body_velocity(R)
         nu_r = nu - np.concatenate([R.T @ self.current, np.zeros(3)])
         tau = hydrodynamic_wrench(self.model, nu_r) + restoring_wrench(self.model, R, self.rho, self.g)
         tau = tau + self.B @ np.asarray(thrust, float)
         return tau + np.concatenate([np.asarray(tether_force, float), np.asarray(tether_torque, float)])
 
     def step(self, thrust, tether_force=(0.0, 0.0, 0.0), tether_torque=(0.0, 0.0, 0.0)):
-        tau = self.loads(thrust, tether_force, tether_torque)
-        self.last_tau = tau
         R = self.rotation()
+        tau = self.loads(thrust, tether_force, tether_torque, R)
+        self.last_tau = tau
         applied = self.scale * tau  # M_RB (M_RB + M_A)^-1 tau
         self.data.xfrc_applied[1, 0:3] = R @ applied[0:3]  # world frame, at the body's centre of mass
         self.data.xfrc_applied[1, 3:6] = R @ applied[3:6]
@@ -152,9 +145,9 @@ class StationKeeper:
         self.reach = model.thrust_limit * np.abs(model.thrust_matrix()).sum(axis=1)
 
     def thrust(self, sim, setpoint, yaw, dt) -> np.ndarray:
-        R = sim.rotation()
         q = sim.orientation
-        nu = sim.body_velocity()
+        R = quaternion_matrix(q)
+        nu = sim.body_velocity(R)
         e_world = np.asarray(setpoint, float) - sim.position
         roll = math.atan2(2 * (q[3] * q[0] + q[1] * q[2]), 1 - 2 * (q[0] ** 2 + q[1] ** 2))
         pitch = math.asin(max(-1.0, min(1.0, 2 * (q[3] * q[1] - q[2] * q[0]))))
