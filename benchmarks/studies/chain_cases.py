@@ -137,10 +137,26 @@ def run(spec, name, t_end=20.0):
     return np.array(out_t), np.array(fair), np.array(anch), time.perf_counter() - wall
 
 
-def run_moordyn(depth, name, t_end=20.0):
+def with_segments(text, n_segments):
+    """The deck text with every line's NumSegs set to ``n_segments`` (MoorDyn picks its step from the
+    deck's CFL, so the step follows the mesh)."""
+    out, in_lines = [], False
+    for line in text.splitlines():
+        tok = line.split()
+        if line.startswith("---"):
+            in_lines = "LINES" in line.upper()
+        elif in_lines and len(tok) >= 6 and tok[0].isdigit():
+            tok[5] = str(int(n_segments))
+            line = "  ".join(tok)
+        out.append(line)
+    return "\n".join(out) + "\n"
+
+
+def run_moordyn(depth, name, t_end=20.0, n_segments=None):
     """The same drive through pip moordyn (the deck as MoorDyn's test runs it, its stored initial state
-    dropped): (t, fairlead force |F| (N), anchor tension (N)) every 0.1 s, wall time (s). The anchor
-    value is MoorDyn's GetFASTtens anchor tension (its fixed points report no force)."""
+    dropped; ``n_segments`` replaces the deck's NumSegs): (t, fairlead force |F| (N), anchor tension (N))
+    every 0.1 s, wall time (s). The anchor value is MoorDyn's GetFASTtens anchor tension (its fixed points
+    report no force)."""
     import tempfile
 
     import moordyn
@@ -153,7 +169,8 @@ def run_moordyn(depth, name, t_end=20.0):
     tm, xm = tm[keep], xm[keep]
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / f"{depth}_Chain.txt"
-        path.write_text(_without_file_ic((DATA / "decks" / f"{depth}_Chain.txt").read_text()))
+        text = _without_file_ic((DATA / "decks" / f"{depth}_Chain.txt").read_text())
+        path.write_text(text if n_segments is None else with_segments(text, n_segments))
         with c_stdout_silenced():
             system = moordyn.Create(str(path))
             moordyn.Init(system, list(xm[0]), [0.0, 0.0, 0.0])
@@ -194,7 +211,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--solver", default="dg", choices=("dg", "hybrid"),
                     help="default dg (the hybrid does not start on these decks: docs/moordyn.md)")
-    ap.add_argument("--segments", type=int, default=None, help="hybrid segments (default: the deck's NumSegs)")
+    ap.add_argument("--segments", type=int, default=None, help="hybrid (or with --moordyn, MoorDyn's) segments (default: the deck's NumSegs)")
     ap.add_argument("--order", type=int, default=4)
     ap.add_argument("--elements", type=int, default=None, help="DG elements (default ceil(NumSegs / order))")
     ap.add_argument("--time-step", type=float, default=None, help="hybrid.time_step (s)")
@@ -228,7 +245,7 @@ def main(argv=None):
                          args.friction)
         sf, sa = static_tensions(spec)
         if args.moordyn:
-            t, fair, anch, wall = run_moordyn(depth, name, args.t_end)
+            t, fair, anch, wall = run_moordyn(depth, name, args.t_end, args.segments)
             sf, sa = fair[0], anch[0]
         else:
             t, fair, anch, wall = run(spec, name, args.t_end)
