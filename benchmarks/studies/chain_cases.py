@@ -225,6 +225,9 @@ def main(argv=None):
     ap.add_argument("--cases", nargs="*", default=[f"{d}:{m}" for d in DEPTHS for m in MOTIONS])
     ap.add_argument("--plot", default=None, help="directory for a PNG per case")
     ap.add_argument("--moordyn", action="store_true", help="run pip moordyn instead of our solver (same metrics)")
+    ap.add_argument("--versus-moordyn", type=int, default=None, metavar="SEGMENTS",
+                    help="also run pip moordyn with SEGMENTS segments and print the largest difference of the two "
+                         "codes' fairlead tensions, sample by sample over 0 <= t <= t_end")
     args = ap.parse_args(argv)
     extra = {}
     if args.time_step:
@@ -256,6 +259,15 @@ def main(argv=None):
               f"| {100 * m['pointwise']:.2f} % | {m['at']:.1f} | {100 * m['moordyn']:.2f} % "
               f"| {m['range_ours'][0] / 1e3:.0f}-{m['range_ours'][1] / 1e3:.0f} "
               f"| {m['range_ref'][0] / 1e3:.0f}-{m['range_ref'][1] / 1e3:.0f} | {wall:.1f} |", flush=True)
+        if args.versus_moordyn:
+            tm, fm, _, _ = run_moordyn(depth, name, args.t_end, args.versus_moordyn)
+            keep = (tm >= 0.0) & (tm <= args.t_end + 1e-9)
+            ours_m = np.interp(tm[keep], t, fair)
+            d = np.abs(ours_m - fm[keep]) / fm[keep]
+            k = int(np.argmax(d))
+            print(f"  against pip moordyn with {args.versus_moordyn} segments: largest difference {100 * d[k]:.2f} % "
+                  f"at t = {tm[keep][k]:.1f} s (mean {100 * d.mean():.2f} %); moordyn's range "
+                  f"{fm[keep].min() / 1e3:.0f}-{fm[keep].max() / 1e3:.0f} kN", flush=True)
         if args.plot:
             import matplotlib
             matplotlib.use("Agg")
