@@ -39,3 +39,13 @@ def test_fairlead_tension_within_5_percent_at_every_sample():
     # the motion is seen: the tension swings over the reference's range, within 3 % at both ends
     lo, hi = m["range_ours"]
     assert lo == pytest.approx(m["range_ref"][0], rel=0.03) and hi == pytest.approx(m["range_ref"][1], rel=0.03)
+
+
+def test_auto_q_penalty_takes_the_tension_jump_on_the_shallow_chain():
+    """The 50 m chain deck as converted (dg.q_penalty_jump auto): its static EA / T_min is 1990, above the
+    lowest ratio at which Eq. 24 was measured unstable (1.5e3), so auto takes the tension-jump penalty
+    (with Eq. 24 the 5 m heave's troughs ring: 27.1 % from the reference against 14.9 %)."""
+    from tether_sim.network.solver import NetworkSolver
+
+    net = NetworkSolver(cc.case_spec("WD0050", "dg"))
+    assert net.line("line1").q_penalty_form == "tension"
