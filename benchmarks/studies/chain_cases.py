@@ -211,7 +211,7 @@ def compare(depth, name, t, fair, anch, t_end=20.0):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--solver", default="dg", choices=("dg", "hybrid"),
-                    help="default dg (the hybrid does not start on these decks: docs/moordyn.md)")
+                    help="default dg (the tables); hybrid: docs/moordyn.md")
     ap.add_argument("--segments", type=int, default=None, help="hybrid (or with --moordyn, MoorDyn's) segments (default: the deck's NumSegs)")
     ap.add_argument("--order", type=int, default=4)
     ap.add_argument("--elements", type=int, default=None, help="DG elements (default ceil(NumSegs / order))")
