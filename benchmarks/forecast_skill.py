@@ -4,7 +4,8 @@ For each live file (default: the 1730 m and 200 m ROPOS files) and each ship-mot
 the run is simulated as the offline runner does (driver + forecast service, inline, on the run's tick
 grid) and every forecast is scored against the snaps the run reports (tether_sim.forecast.skill): a
 snap is warned when a forecast with probability >= 0.5 stamped >= ``--lead`` s before it predicted it
-within +-1.5 s; a false alarm is such a forecast with no snap within +-1.5 s of its predicted time.
+within +-1.5 s; a false alarm is such a forecast with no snap within +-1.5 s of its predicted time. Every
+figure is also given at the alarm threshold ``--warn-probability`` (forecast.warn_probability, 0.75).
 
 The sea (both files): JONSWAP Hs, Tp (``--hs``, ``--tp``), gamma 3.3, waves from 15 deg off the port
 bow, 40 frequencies, short-crested (cos-2s, s = 6, ``--directions`` 5) or long-crested (1), seeds ``--seeds``; the fairlead on
@@ -293,6 +294,8 @@ def main(argv=None) -> int:
     ap.add_argument("--no-cable-waves", dest="cable_waves", action="store_false",
                     help="the waves move the ship (RAO) but do not act on the cable (cheaper: no wave kinematics "
                          "at the quadrature points; the members never perturb the cable's waves anyway)")
+    ap.add_argument("--warn-probability", type=float, default=0.75,
+                    help="the alarm threshold scored beside the 0.5 of the definition (forecast.warn_probability)")
     ap.add_argument("--json", default=None, help="write every number here (after every run)")
     ap.add_argument("--dump", action="store_true", help="--json also lists every warning (p >= 0.5), every forecast with its members' snaps, every snap and slack start")
     ap.add_argument("--rescore", nargs="+", default=None, metavar="JSON",
@@ -329,10 +332,10 @@ def main(argv=None) -> int:
                                             for src, fc in forecasts.items()}})
             for source in args.sources:
                 fc = forecasts[source]
-                for lead in (5.0, 3.0):
+                for lead, threshold in [(5.0, 0.5), (3.0, 0.5), (5.0, args.warn_probability), (3.0, args.warn_probability)]:
                     for end in ("ship", "vehicle"):
-                        s = score(fc, snaps, end, lead=lead, until=sim)
-                        row = {"file": path, "source": source, "seed": seed, "end": end, "lead": lead,
+                        s = score(fc, snaps, end, lead=lead, until=sim, threshold=threshold)
+                        row = {"file": path, "source": source, "seed": seed, "end": end, "lead": lead, "threshold": threshold,
                                "minutes": args.minutes, "snaps": s.snaps, "warned": s.warned,
                                "warnings": s.warnings, "false_alarms": s.false_alarms,
                                "episodes": s.false_alarm_episodes, "forecast_minutes": s.minutes,
@@ -340,7 +343,7 @@ def main(argv=None) -> int:
                                "wall_s": wall, "lookahead_wall_s": look[source], "forecasts": len(fc) // 2,
                                "degraded": sum(f.degraded for f in fc) // 2}
                         rows.append(row)
-                        print(f"{Path(path).stem:12s} {source:9s} seed {seed} {end:7s} lead {lead:g} s: "
+                        print(f"{Path(path).stem:12s} {source:9s} seed {seed} {end:7s} p >= {threshold:g} lead {lead:g} s: "
                               f"{s.warned}/{s.snaps} snaps warned, {s.warnings} warnings, {s.false_alarms} false alarms "
                               f"({s.false_alarms_per_10min:.2f}/10 min, {s.episodes_per_10min:.2f} episodes/10 min); "
                               f"run wall {wall:.0f} s (this source's look-ahead {look[source]:.0f} s)", flush=True)
@@ -348,14 +351,14 @@ def main(argv=None) -> int:
                 Path(args.json).parent.mkdir(parents=True, exist_ok=True)
                 Path(args.json).write_text(json.dumps({"args": vars(args), "rows": rows, "runs": dumps}, indent=1))
     print("\ntotals (all seeds):")
-    keys = sorted({(r["file"], r["source"], r["end"], r["lead"]) for r in rows})
+    keys = sorted({(r["file"], r["source"], r["end"], r["threshold"], r["lead"]) for r in rows})
     for key in keys:
-        sel = [r for r in rows if (r["file"], r["source"], r["end"], r["lead"]) == key]
+        sel = [r for r in rows if (r["file"], r["source"], r["end"], r["threshold"], r["lead"]) == key]
         snaps, warned = sum(r["snaps"] for r in sel), sum(r["warned"] for r in sel)
         minutes = sum(r["forecast_minutes"] for r in sel)
         fa, ep = sum(r["false_alarms"] for r in sel), sum(r["episodes"] for r in sel)
         frac = f"{100.0 * warned / snaps:.0f} %" if snaps else "-"
-        print(f"  {Path(key[0]).stem:12s} {key[1]:9s} {key[2]:7s} lead {key[3]:g} s: {warned}/{snaps} warned ({frac}), "
+        print(f"  {Path(key[0]).stem:12s} {key[1]:9s} {key[2]:7s} p >= {key[3]:g} lead {key[4]:g} s: {warned}/{snaps} warned ({frac}), "
               f"{10 * fa / max(minutes, 1e-9):.2f} false alarms/10 min ({10 * ep / max(minutes, 1e-9):.2f} episodes), "
               f"{minutes:.1f} min scored")
     return 0
