@@ -197,10 +197,11 @@ def near_misses(paths, tolerance=1.5, before=6.0) -> int:
         for run in doc["runs"]:
             t, tensions, slack, level = truth_tensions(run["file"], run["seed"], doc["args"])
             end_time = doc["args"]["minutes"] * 60.0
+            horizon = doc["args"]["horizon"]
             for source, fc in run["forecasts"].items():
                 classes, last = {}, {}
                 print(f"\n{Path(run['file']).stem} {source} seed {run['seed']}: false-alarm episodes against the run's tension")
-                for end, stamp, p, tts, members, _ in fc:
+                for end, stamp, p, tts, members, _, *troughs in fc:
                     pred = stamp + tts
                     if not p >= 0.5 or pred > end_time - tolerance or any(
                             e == end and abs(pred - x) <= tolerance for e, x in run["snaps"]):
@@ -224,8 +225,41 @@ def near_misses(paths, tolerance=1.5, before=6.0) -> int:
                     classes[kind] = classes.get(kind, 0) + 1
                     print(f"  {end:7s} stamp {stamp:6.1f} p {p:.3f} predicted {pred:7.2f} s: run's peak {peak / level[end]:.2f} x the snap "
                           f"level, least tension in the {before:g} s before {trough / slack[end]:.2f} x the slack level: {kind}")
+                    if troughs and troughs[0]:
+                        horizon_trough = T[(t > stamp) & (t <= stamp + horizon)].min()
+                        print(f"          least tension within the horizon / slack level: run {horizon_trough / slack[end]:.2f}, "
+                              f"members " + " ".join(f"{x / slack[end]:.2f}" for x in sorted(troughs[0])))
                 print("  episodes: " + ", ".join(f"{n} {k}" for k, n in sorted(classes.items())))
+                ranks(fc, t, tensions, slack, horizon, end_time)
     return 0
+
+
+def ranks(fc, t, tensions, slack, horizon, end_time):
+    """The ensemble's spread against the run, per end: for every forecast with members' troughs (the least
+    end tension of each member within the horizon) and a horizon inside the run, the rank of the run's own
+    trough among the members' (a rank histogram: flat when the run is as likely anywhere in the ensemble
+    as a member, U-shaped when the ensemble is too narrow, peaked in the middle when it is too wide), and,
+    near the slack level (the run's trough within 2 x it), the fraction of members on the other side of it
+    from the run."""
+    for end in ("ship", "vehicle"):
+        hist, wrong, near = None, [], 0
+        for e, stamp, p, tts, members, _, *troughs in fc:
+            if e != end or not troughs or not troughs[0] or stamp + horizon > end_time:
+                continue
+            m = np.asarray(troughs[0], float)
+            truth = tensions[end][(t > stamp) & (t <= stamp + horizon)].min()
+            if hist is None:
+                hist = np.zeros(m.size + 1, int)
+            if m.size + 1 == hist.size:
+                hist[int(np.sum(m < truth))] += 1
+            if truth < 2.0 * slack[end]:
+                near += 1
+                wrong.append(float(np.mean((m < slack[end]) != (truth < slack[end]))))
+        if hist is None:
+            continue
+        print(f"  {end}: rank of the run's least tension within the horizon among the members' (0: below all): "
+              + " ".join(str(int(x)) for x in hist) + f"; {near} forecasts with the run's trough below 2 x the slack level: "
+              f"{100 * np.mean(wrong) if wrong else float('nan'):.0f} % of their members on the other side of the slack level")
 
 
 def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0)) -> int:
@@ -243,7 +277,7 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0)) -> int:
                 runs.append((run["file"], source, run["seed"], doc["args"]["minutes"] * 60.0, run["snaps"],
                              [SimpleNamespace(end=e, stamp=st, probability=p, time_to_snap=t, members=m,
                                               horizon=doc["args"]["horizon"], member_snaps=ms)
-                              for e, st, p, t, m, ms in fc]))
+                              for e, st, p, t, m, ms, *_ in fc]))
     old = lambda f: (float(np.median([t for t, _ in f.member_snaps])) - f.stamp if f.member_snaps else math.nan)  # noqa: E731
     for key in sorted({(r[0], r[1]) for r in runs}):
         sel = [r for r in runs if (r[0], r[1]) == key]
@@ -328,7 +362,7 @@ def main(argv=None) -> int:
                                            for src, fc in forecasts.items()},
                               # every forecast with its members' snaps (reliability, other thresholds)
                               "forecasts": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.members,
-                                                   f.member_snaps) for f in fc]
+                                                   f.member_snaps, f.member_troughs) for f in fc]
                                             for src, fc in forecasts.items()}})
             for source in args.sources:
                 fc = forecasts[source]
