@@ -226,7 +226,7 @@ def near_misses(paths, tolerance=1.5, before=6.0) -> int:
                     print(f"  {end:7s} stamp {stamp:6.1f} p {p:.3f} predicted {pred:7.2f} s: run's peak {peak / level[end]:.2f} x the snap "
                           f"level, least tension in the {before:g} s before {trough / slack[end]:.2f} x the slack level: {kind}")
                     if troughs and troughs[0]:
-                        horizon_trough = T[(t > stamp) & (t <= stamp + horizon)].min()
+                        horizon_trough = T[(t > stamp - 1e-9) & (t < stamp + horizon - 1e-9)].min()
                         print(f"          least tension within the horizon / slack level: run {horizon_trough / slack[end]:.2f}, "
                               f"members " + " ".join(f"{x / slack[end]:.2f}" for x in sorted(troughs[0])))
                 print("  episodes: " + ", ".join(f"{n} {k}" for k, n in sorted(classes.items())))
@@ -247,7 +247,7 @@ def ranks(fc, t, tensions, slack, horizon, end_time):
             if e != end or not troughs or not troughs[0] or stamp + horizon > end_time:
                 continue
             m = np.asarray(troughs[0], float)
-            truth = tensions[end][(t > stamp) & (t <= stamp + horizon)].min()
+            truth = tensions[end][(t > stamp - 1e-9) & (t < stamp + horizon - 1e-9)].min()
             if hist is None:
                 hist = np.zeros(m.size + 1, int)
             if m.size + 1 == hist.size:

@@ -242,7 +242,7 @@ def test_exact_forecast_member_trough_is_the_runs_least_tension_within_the_horiz
     for f in forecasts:
         if f.stamp + f.horizon > duration:
             continue
-        inside = (t > f.stamp + 1e-9) & (t <= f.stamp + f.horizon + 1e-9)
+        inside = (t > f.stamp - 1e-9) & (t < f.stamp + f.horizon - 1e-9)  # a sample's time: its substep's start
         assert len(f.member_troughs) == 1
         assert f.member_troughs[0] == pytest.approx(tension[f.end][inside].min(), rel=1e-9, abs=1e-6)
         checked += 1

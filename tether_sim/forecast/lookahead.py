@@ -78,7 +78,7 @@ class EndForecast:
     degraded: bool = False
     reason: str = ""
     member_snaps: list = field(default_factory=list)  # (time s clock, peak N) of each member that snaps
-    member_troughs: list = field(default_factory=list)  # N, each finished member's least end tension within the horizon
+    member_troughs: list = field(default_factory=list)  # N, each finished member's least end tension in [stamp, stamp + horizon)
 
 
 class LookAhead:
@@ -147,7 +147,7 @@ class LookAhead:
             if out.count:
                 tensions = np.column_stack([out.ship_tension, out.vehicle_tension])
                 clock = out.times + request.anchor
-                inside = clock <= end_clock + 1e-9
+                inside = clock < end_clock - 1e-9  # the horizon [issued, issued + horizon) of the samples' times
                 if inside.any():
                     for j, end in enumerate(END_NAMES):
                         trough[end] = min(trough[end], float(tensions[inside, j].min()))
