@@ -4,7 +4,8 @@ For each live file (default: the 1730 m and 200 m ROPOS files) and each ship-mot
 the run is simulated as the offline runner does (driver + forecast service, inline, on the run's tick
 grid) and every forecast is scored against the snaps the run reports (tether_sim.forecast.skill): a
 snap is warned when a forecast with probability >= 0.5 stamped >= ``--lead`` s before it predicted it
-within +-1.5 s; a false alarm is such a forecast with no snap within +-1.5 s of its predicted time.
+within +-1.5 s; a false alarm is such a forecast with no snap within +-1.5 s of its predicted time. Every
+figure is also given at the alarm threshold ``--warn-probability`` (forecast.warn_probability, 0.75).
 
 The sea (both files): JONSWAP Hs, Tp (``--hs``, ``--tp``), gamma 3.3, waves from 15 deg off the port
 bow, 40 frequencies, short-crested (cos-2s, s = 6, ``--directions`` 5) or long-crested (1), seeds ``--seeds``; the fairlead on
@@ -196,10 +197,11 @@ def near_misses(paths, tolerance=1.5, before=6.0) -> int:
         for run in doc["runs"]:
             t, tensions, slack, level = truth_tensions(run["file"], run["seed"], doc["args"])
             end_time = doc["args"]["minutes"] * 60.0
+            horizon = doc["args"]["horizon"]
             for source, fc in run["forecasts"].items():
                 classes, last = {}, {}
                 print(f"\n{Path(run['file']).stem} {source} seed {run['seed']}: false-alarm episodes against the run's tension")
-                for end, stamp, p, tts, members, _ in fc:
+                for end, stamp, p, tts, members, _, *troughs in fc:
                     pred = stamp + tts
                     if not p >= 0.5 or pred > end_time - tolerance or any(
                             e == end and abs(pred - x) <= tolerance for e, x in run["snaps"]):
@@ -223,8 +225,41 @@ def near_misses(paths, tolerance=1.5, before=6.0) -> int:
                     classes[kind] = classes.get(kind, 0) + 1
                     print(f"  {end:7s} stamp {stamp:6.1f} p {p:.3f} predicted {pred:7.2f} s: run's peak {peak / level[end]:.2f} x the snap "
                           f"level, least tension in the {before:g} s before {trough / slack[end]:.2f} x the slack level: {kind}")
+                    if troughs and troughs[0]:
+                        horizon_trough = T[(t > stamp - 1e-9) & (t < stamp + horizon - 1e-9)].min()
+                        print(f"          least tension within the horizon / slack level: run {horizon_trough / slack[end]:.2f}, "
+                              f"members " + " ".join(f"{x / slack[end]:.2f}" for x in sorted(troughs[0])))
                 print("  episodes: " + ", ".join(f"{n} {k}" for k, n in sorted(classes.items())))
+                ranks(fc, t, tensions, slack, horizon, end_time)
     return 0
+
+
+def ranks(fc, t, tensions, slack, horizon, end_time):
+    """The ensemble's spread against the run, per end: for every forecast with members' troughs (the least
+    end tension of each member within the horizon) and a horizon inside the run, the rank of the run's own
+    trough among the members' (a rank histogram: flat when the run is as likely anywhere in the ensemble
+    as a member, U-shaped when the ensemble is too narrow, peaked in the middle when it is too wide), and,
+    near the slack level (the run's trough within 2 x it), the fraction of members on the other side of it
+    from the run."""
+    for end in ("ship", "vehicle"):
+        hist, wrong, near = None, [], 0
+        for e, stamp, p, tts, members, _, *troughs in fc:
+            if e != end or not troughs or not troughs[0] or stamp + horizon > end_time:
+                continue
+            m = np.asarray(troughs[0], float)
+            truth = tensions[end][(t > stamp - 1e-9) & (t < stamp + horizon - 1e-9)].min()
+            if hist is None:
+                hist = np.zeros(m.size + 1, int)
+            if m.size + 1 == hist.size:
+                hist[int(np.sum(m < truth))] += 1
+            if truth < 2.0 * slack[end]:
+                near += 1
+                wrong.append(float(np.mean((m < slack[end]) != (truth < slack[end]))))
+        if hist is None:
+            continue
+        print(f"  {end}: rank of the run's least tension within the horizon among the members' (0: below all): "
+              + " ".join(str(int(x)) for x in hist) + f"; {near} forecasts with the run's trough below 2 x the slack level: "
+              f"{100 * np.mean(wrong) if wrong else float('nan'):.0f} % of their members on the other side of the slack level")
 
 
 def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0)) -> int:
@@ -242,7 +277,7 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0)) -> int:
                 runs.append((run["file"], source, run["seed"], doc["args"]["minutes"] * 60.0, run["snaps"],
                              [SimpleNamespace(end=e, stamp=st, probability=p, time_to_snap=t, members=m,
                                               horizon=doc["args"]["horizon"], member_snaps=ms)
-                              for e, st, p, t, m, ms in fc]))
+                              for e, st, p, t, m, ms, *_ in fc]))
     old = lambda f: (float(np.median([t for t, _ in f.member_snaps])) - f.stamp if f.member_snaps else math.nan)  # noqa: E731
     for key in sorted({(r[0], r[1]) for r in runs}):
         sel = [r for r in runs if (r[0], r[1]) == key]
@@ -293,6 +328,8 @@ def main(argv=None) -> int:
     ap.add_argument("--no-cable-waves", dest="cable_waves", action="store_false",
                     help="the waves move the ship (RAO) but do not act on the cable (cheaper: no wave kinematics "
                          "at the quadrature points; the members never perturb the cable's waves anyway)")
+    ap.add_argument("--warn-probability", type=float, default=0.75,
+                    help="the alarm threshold scored beside the 0.5 of the definition (forecast.warn_probability)")
     ap.add_argument("--json", default=None, help="write every number here (after every run)")
     ap.add_argument("--dump", action="store_true", help="--json also lists every warning (p >= 0.5), every forecast with its members' snaps, every snap and slack start")
     ap.add_argument("--rescore", nargs="+", default=None, metavar="JSON",
@@ -325,14 +362,14 @@ def main(argv=None) -> int:
                                            for src, fc in forecasts.items()},
                               # every forecast with its members' snaps (reliability, other thresholds)
                               "forecasts": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.members,
-                                                   f.member_snaps) for f in fc]
+                                                   f.member_snaps, f.member_troughs) for f in fc]
                                             for src, fc in forecasts.items()}})
             for source in args.sources:
                 fc = forecasts[source]
-                for lead in (5.0, 3.0):
+                for lead, threshold in [(5.0, 0.5), (3.0, 0.5), (5.0, args.warn_probability), (3.0, args.warn_probability)]:
                     for end in ("ship", "vehicle"):
-                        s = score(fc, snaps, end, lead=lead, until=sim)
-                        row = {"file": path, "source": source, "seed": seed, "end": end, "lead": lead,
+                        s = score(fc, snaps, end, lead=lead, until=sim, threshold=threshold)
+                        row = {"file": path, "source": source, "seed": seed, "end": end, "lead": lead, "threshold": threshold,
                                "minutes": args.minutes, "snaps": s.snaps, "warned": s.warned,
                                "warnings": s.warnings, "false_alarms": s.false_alarms,
                                "episodes": s.false_alarm_episodes, "forecast_minutes": s.minutes,
@@ -340,7 +377,7 @@ def main(argv=None) -> int:
                                "wall_s": wall, "lookahead_wall_s": look[source], "forecasts": len(fc) // 2,
                                "degraded": sum(f.degraded for f in fc) // 2}
                         rows.append(row)
-                        print(f"{Path(path).stem:12s} {source:9s} seed {seed} {end:7s} lead {lead:g} s: "
+                        print(f"{Path(path).stem:12s} {source:9s} seed {seed} {end:7s} p >= {threshold:g} lead {lead:g} s: "
                               f"{s.warned}/{s.snaps} snaps warned, {s.warnings} warnings, {s.false_alarms} false alarms "
                               f"({s.false_alarms_per_10min:.2f}/10 min, {s.episodes_per_10min:.2f} episodes/10 min); "
                               f"run wall {wall:.0f} s (this source's look-ahead {look[source]:.0f} s)", flush=True)
@@ -348,14 +385,14 @@ def main(argv=None) -> int:
                 Path(args.json).parent.mkdir(parents=True, exist_ok=True)
                 Path(args.json).write_text(json.dumps({"args": vars(args), "rows": rows, "runs": dumps}, indent=1))
     print("\ntotals (all seeds):")
-    keys = sorted({(r["file"], r["source"], r["end"], r["lead"]) for r in rows})
+    keys = sorted({(r["file"], r["source"], r["end"], r["threshold"], r["lead"]) for r in rows})
     for key in keys:
-        sel = [r for r in rows if (r["file"], r["source"], r["end"], r["lead"]) == key]
+        sel = [r for r in rows if (r["file"], r["source"], r["end"], r["threshold"], r["lead"]) == key]
         snaps, warned = sum(r["snaps"] for r in sel), sum(r["warned"] for r in sel)
         minutes = sum(r["forecast_minutes"] for r in sel)
         fa, ep = sum(r["false_alarms"] for r in sel), sum(r["episodes"] for r in sel)
         frac = f"{100.0 * warned / snaps:.0f} %" if snaps else "-"
-        print(f"  {Path(key[0]).stem:12s} {key[1]:9s} {key[2]:7s} lead {key[3]:g} s: {warned}/{snaps} warned ({frac}), "
+        print(f"  {Path(key[0]).stem:12s} {key[1]:9s} {key[2]:7s} p >= {key[3]:g} lead {key[4]:g} s: {warned}/{snaps} warned ({frac}), "
               f"{10 * fa / max(minutes, 1e-9):.2f} false alarms/10 min ({10 * ep / max(minutes, 1e-9):.2f} episodes), "
               f"{minutes:.1f} min scored")
     return 0

@@ -229,6 +229,23 @@ def moordyn_line_type(cable=None):
     }
 
 
+def moordyn_options(dt, scheme, depth, wave_kin=0, cfl=1000, tmax_ic=120, thresh_ic="1e-4", digits=8):
+    """The OPTIONS section of a MoorDyn v2 input file as the comparisons here use it (one place for all).
+
+    Output files and the log are off (``disableOutput``, ``writeLog 0``); the initial condition is MoorDyn's
+    own dynamic relaxation (``dtIC`` 1 s, up to ``tmax_ic`` s, until the fairlead tensions change by less than
+    ``thresh_ic``); ``cfl`` None leaves MoorDyn's own CFL rule at its default. ``digits`` significant digits
+    for dt and the depth.
+    """
+    f = f".{digits}g"
+    rows = ["0 writeLog", f"{dt:{f}} dtM"]
+    if cfl is not None:
+        rows.append(f"{cfl} CFL")
+    rows += [f"{scheme} tScheme", f"{G} g", f"{RHO_F} rho", f"{depth:{f}} WtrDpth", f"{wave_kin} WaveKin",
+             "0 Currents", "1 disableOutput", "1 disableOutTime", "1.0 dtIC", f"{tmax_ic} TmaxIC", f"{thresh_ic} threshIC"]
+    return "---------------------- OPTIONS --------------------------------------------------------\n" + "\n".join(rows) + "\n"
+
+
 def moordyn_input(length, n_segments, dt, alpha=0.0, scheme="RK2"):
     """Text of a MoorDyn v2 input file for the ROPOS case.
 
@@ -266,22 +283,7 @@ ID Attachment X Y Z Mass Volume CdA Ca
 ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs
 (#) (name) (ID) (ID) (m) (-) (-)
 1 tether 1 2 {length:.8g} {int(n_segments)} -
----------------------- OPTIONS --------------------------------------------------------
-0 writeLog
-{dt:.8g} dtM
-1000 CFL
-{scheme} tScheme
-{G} g
-{RHO_F} rho
-{depth:.8g} WtrDpth
-0 WaveKin
-0 Currents
-1 disableOutput
-1 disableOutTime
-1.0 dtIC
-120 TmaxIC
-1e-4 threshIC
-------------------------- need this line ----------------------------------------------
+{moordyn_options(dt, scheme, depth)}------------------------- need this line ----------------------------------------------
 """
 
 

@@ -12,7 +12,7 @@ stamp, a wrong frame, a 3 s dropout, a 1 s flood at 1 kHz. This process publishe
 /diagnostics (on a line-network file, config/ropos_tms.yaml: to /tether/<line>/state and
 /tether/<line>/snap_events of every line, and it holds the other driven points, the vehicle, at their
 configured positions on /<point>/pose; the faults go to the ship's pose), samples the node's resident memory every 10 s, and prints / writes
-(``summary.txt``, ``soak.png``): memory at start and end (and its slope), interval between states
+(``summary.txt``, ``soak.png``, ``soak.npz``: every line's end tensions, degraded flag and lag per state): memory at start and end (and its slope), interval between states
 (median, p99, max), lag and degraded share, non-finite values received (must be 0), snap events
 (must be 0), rejected inputs by reason. Exit code 1 when a non-finite value or a snap event came,
 or the node died.
@@ -71,6 +71,7 @@ class Soak:
         self.node, self.PoseStamped = node, PoseStamped
         self.pub = node.create_publisher(PoseStamped, "/ship/pose", qos_profile_sensor_data)
         self.states, self.snaps, self.nonfinite, self.diag, self.health = [], [], 0, None, []
+        self.ends = {}  # line -> [(stamp, s = 0 end tension, s = L end tension, degraded, lag)] (soak.npz)
         lines, self.held = network if network is not None else ([None], {})
         self.held_pubs = {n: node.create_publisher(PoseStamped, f"/{n}/pose", qos_profile_sensor_data)
                           for n in self.held}
@@ -89,6 +90,8 @@ class Soak:
         if not all(map(math.isfinite, values)):
             self.nonfinite += 1
         self.state_counts[line] += 1
+        stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
+        self.ends.setdefault(line, []).append((stamp, msg.ship_end_tension, msg.vehicle_end_tension, msg.degraded, msg.lag))
         if first:
             self.states.append((time.monotonic(), msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec,
                                 msg.lag, msg.degraded, msg.ship_end_tension))
@@ -210,9 +213,14 @@ def report(args, out, soak, memory, fault_log, died) -> int:
              f"node RSS (MB): at 1 min {steady[0, 1] if len(steady) else math.nan:.0f}, end "
              f"{mem[-1, 1] if len(mem) else math.nan:.0f}, slope after 1 min {slope:.2f} MB/h",
              health_line(soak.health),
+             *[f"snap event on {ln} at its {m.end} end: peak {m.peak_tension:.1f} N ({m.amplification:.2f} x static "
+               f"{m.static_tension:.1f} N), stamp {m.header.stamp.sec + 1e-9 * m.header.stamp.nanosec:.3f} s, slack "
+               f"{m.slack_duration:.3f} s (min {m.min_tension:.1f} N), rise {1e3 * m.rise_time:.1f} ms, degraded {m.degraded}"
+               for ln, m in soak.snaps],
              f"faults injected: {len(fault_log)} ({', '.join(sorted(set(k for _, k in fault_log)))})",
              "last diagnostics: " + repr(soak.diag)]
     text = "\n".join(lines)
+    np.savez(out / "soak.npz", **{f"ends_{ln}": np.array(rows, float) for ln, rows in soak.ends.items()})
     print(text)
     (out / "summary.txt").write_text(text + "\n")
     import matplotlib

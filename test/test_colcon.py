@@ -56,6 +56,22 @@ def colcon(ws: Path, *args, timeout=60) -> str:
     return done.stdout
 
 
+DEBIAN_COLCON = Path("/usr/bin/colcon")  # Debian's packages (apt install colcon python3-colcon-ros ...)
+
+
+@pytest.mark.skipif(not DEBIAN_COLCON.is_file(), reason="Debian's colcon is not installed (/usr/bin/colcon)")
+def test_debians_colcon_lists_both_packages_messages_first(workspace):
+    """The same layout through the distribution's colcon (a different colcon-core and colcon-ros than the
+    venv's): both packages, the messages first."""
+    env = dict(os.environ, COLCON_HOME=str(workspace / ".colcon-debian"), COLCON_LOG_PATH=str(workspace / "log-debian"))
+    done = subprocess.run([str(DEBIAN_COLCON), "list", "--topological-order"], cwd=workspace, env=env,
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr[-3000:]
+    listed = [line.split("\t") for line in done.stdout.splitlines()]
+    assert [(name, kind) for name, _, kind in listed] == [("tether_sim_msgs", "(ros.ament_cmake)"),
+                                                          ("tether_sim", "(ros.ament_python)")]
+
+
 def test_readme_block_makes_the_link(workspace):
     readme = (ROOT / "README.md").read_text()
     assert "ln -s tether_sim/msg_defs tether_sim_msgs" in readme

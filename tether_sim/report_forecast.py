@@ -31,30 +31,43 @@ def load_forecasts(path, t0: float) -> list | None:
     return out
 
 
+def warn_probability(run) -> float:
+    """The run's alarm threshold (``forecast.warn_probability`` of its recorded parameters; the
+    default when the recording does not carry it)."""
+    from tether_sim.forecast.config import ForecastConfig
+
+    text = run.parameters.get("forecast.warn_probability", "")
+    try:
+        return float(text)
+    except ValueError:
+        return ForecastConfig.warn_probability
+
+
 def plot_forecast(run, path: Path) -> Path:
     """Per end: forecast probability against the stamp; the snaps that happened as vertical lines;
-    each warning (p >= 0.5) also as a dot at its predicted snap time."""
+    each warning (p >= the run's ``forecast.warn_probability``) also as a dot at its predicted snap time."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    warn_p = warn_probability(run)
     fig, axes = plt.subplots(2, 1, figsize=(11, 5.5), sharex=True)
     for ax, end in zip(axes, END_NAMES):
         fc = [f for f in run.forecast if f.end == end]
         t = np.array([f.stamp for f in fc])
         p = np.array([f.probability for f in fc])
         ax.step(t, p, where="post", color="C0", lw=1.2, label="forecast probability (at its stamp)")
-        warn = [(f.stamp + f.time_to_snap) for f in fc if f.probability >= 0.5]
+        warn = [(f.stamp + f.time_to_snap) for f in fc if f.probability >= warn_p]
         if warn:
             ax.plot(warn, np.full(len(warn), 1.04), "v", color="C1", ms=4, alpha=0.6,
-                    label="predicted snap time of a warning (p >= 0.5)")
+                    label=f"predicted snap time of a warning (p >= {warn_p:g})")
         degraded = [f.stamp for f in fc if f.degraded]
         if degraded:
             ax.plot(degraded, np.full(len(degraded), -0.04), "s", color="0.6", ms=3, label="degraded forecast")
         for i, s in enumerate(e for e in run.snaps if e["end"] == end):
             ax.axvline(s["t_peak"], color="C3", lw=1.0, alpha=0.8, label="snap that happened" if i == 0 else None)
-        ax.axhline(0.5, color="0.5", lw=0.6, ls=":")
+        ax.axhline(warn_p, color="0.5", lw=0.6, ls=":")
         ax.set_ylim(-0.1, 1.1)
         ax.set_ylabel(f"{end}: P(snap)")
         ax.legend(loc="upper left", fontsize=7, ncol=2)
@@ -82,19 +95,24 @@ def forecast_markdown(run) -> list:
     fc = run.forecast
     sources = sorted({f.source for f in fc})
     degraded = sum(f.degraded for f in fc)
+    warn_p = warn_probability(run)
+    thresholds = sorted({0.5, warn_p})
     lines = ["", "## Snap forecast", "",
              f"{len(fc)} forecasts (horizon {fc[0].horizon:g} s, {max(f.members for f in fc)} members, source "
              f"{', '.join(sources)}); {degraded} degraded. A snap is warned when a forecast with probability "
-             ">= 0.5 stamped >= 5 s before it predicted it within +-1.5 s; a false alarm is such a forecast "
-             "with no snap within +-1.5 s of its predicted time (an episode: consecutive ones predicting the "
-             "same instant).", "",
-             "| end | snaps scored | warned >= 5 s ahead | warnings | false alarms | per 10 min | episodes per 10 min |",
-             "|---|---|---|---|---|---|---|"]
+             "at least the threshold stamped >= 5 s before it predicted it within +-1.5 s; a false alarm is such "
+             "a forecast with no snap within +-1.5 s of its predicted time (an episode: consecutive ones "
+             f"predicting the same instant). Threshold 0.5: any forecast that makes a snap more likely than not; "
+             f"{warn_p:g}: the run's alarm (`forecast.warn_probability`, what /diagnostics warns at).", "",
+             "| end | threshold | snaps scored | warned >= 5 s ahead | warnings | false alarms | per 10 min | episodes per 10 min |",
+             "|---|---|---|---|---|---|---|---|"]
     for end in END_NAMES:
-        s = score(fc, snaps, end, until=float(run.t[-1]))
-        frac = f"{s.warned} ({100 * s.warned_fraction:.0f} %)" if s.snaps else "-"
-        lines.append(f"| {end} | {s.snaps} | {frac} | {s.warnings} | {s.false_alarms} | "
-                     f"{s.false_alarms_per_10min:.1f} | {s.episodes_per_10min:.1f} |")
+        for threshold in thresholds:
+            s = score(fc, snaps, end, until=float(run.t[-1]), threshold=threshold)
+            frac = f"{s.warned} ({100 * s.warned_fraction:.0f} %)" if s.snaps else "-"
+            alarm = " (alarm)" if threshold == warn_p else ""
+            lines.append(f"| {end} | {threshold:g}{alarm} | {s.snaps} | {frac} | {s.warnings} | {s.false_alarms} | "
+                         f"{s.false_alarms_per_10min:.1f} | {s.episodes_per_10min:.1f} |")
     reasons = sorted({f.reason for f in fc if f.degraded})
     if reasons:
         lines += ["", "Degraded because: " + "; ".join(reasons[:5]) + ("; ..." if len(reasons) > 5 else "") + "."]

@@ -28,9 +28,10 @@ Metrics against the reference at every sample 0 <= t <= 20 s:
 DG settings (docs/verification.md "Chain with seabed friction against OrcaFlex"): the deck's mesh
 (P = 4, N = ceil(NumSegs / 4): 11, 19, 43 elements, about 9 m between nodes), explicit material
 damping (the deck's BA = -1 with 10 m segments: 8.1 MN s in all three), dg.q_penalty_jump tension. The automatic choice
-would take the strain penalty of PE2020 Eq. 24: the static EA / T_min is 1990, just below
-dg.q_penalty_auto_ratio 2000, and in the tension troughs of the 5 m heave (EA / T ~ 4500) that
-penalty lets axial waves ring (~0.4 s period, +-80 kN at 50 m depth).
+takes the same at 50 m (static EA / T_min 1990, above dg.q_penalty_auto_ratio 1500; with the
+strain penalty of PE2020 Eq. 24, as auto chose before 2026-11-27 at its old threshold 2000, the troughs
+of the 5 m heave (EA / T ~ 4500) ring: ~0.4 s period, +-80 kN, 27.1 % at the worst sample) and Eq. 24
+at 200 and 600 m (ratios ~1.2e3 and ~5e2; at 200 m, 5 m heave: 14.78 % against 14.95 %).
 
 ``--moordyn`` runs pip moordyn on the same deck and motion instead (its fairlead force GetPointForce,
 stepped every 0.1 s with the velocity of the next interval, as MoorDyn's test does), for the same
@@ -137,10 +138,26 @@ def run(spec, name, t_end=20.0):
     return np.array(out_t), np.array(fair), np.array(anch), time.perf_counter() - wall
 
 
-def run_moordyn(depth, name, t_end=20.0):
+def with_segments(text, n_segments):
+    """The deck text with every line's NumSegs set to ``n_segments`` (MoorDyn picks its step from the
+    deck's CFL, so the step follows the mesh)."""
+    out, in_lines = [], False
+    for line in text.splitlines():
+        tok = line.split()
+        if line.startswith("---"):
+            in_lines = "LINES" in line.upper()
+        elif in_lines and len(tok) >= 6 and tok[0].isdigit():
+            tok[5] = str(int(n_segments))
+            line = "  ".join(tok)
+        out.append(line)
+    return "\n".join(out) + "\n"
+
+
+def run_moordyn(depth, name, t_end=20.0, n_segments=None):
     """The same drive through pip moordyn (the deck as MoorDyn's test runs it, its stored initial state
-    dropped): (t, fairlead force |F| (N), anchor tension (N)) every 0.1 s, wall time (s). The anchor
-    value is MoorDyn's GetFASTtens anchor tension (its fixed points report no force)."""
+    dropped; ``n_segments`` replaces the deck's NumSegs): (t, fairlead force |F| (N), anchor tension (N))
+    every 0.1 s, wall time (s). The anchor value is MoorDyn's GetFASTtens anchor tension (its fixed points
+    report no force)."""
     import tempfile
 
     import moordyn
@@ -153,7 +170,8 @@ def run_moordyn(depth, name, t_end=20.0):
     tm, xm = tm[keep], xm[keep]
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / f"{depth}_Chain.txt"
-        path.write_text(_without_file_ic((DATA / "decks" / f"{depth}_Chain.txt").read_text()))
+        text = _without_file_ic((DATA / "decks" / f"{depth}_Chain.txt").read_text())
+        path.write_text(text if n_segments is None else with_segments(text, n_segments))
         with c_stdout_silenced():
             system = moordyn.Create(str(path))
             moordyn.Init(system, list(xm[0]), [0.0, 0.0, 0.0])
@@ -193,21 +211,24 @@ def compare(depth, name, t, fair, anch, t_end=20.0):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--solver", default="dg", choices=("dg", "hybrid"),
-                    help="default dg (the hybrid does not start on these decks: docs/moordyn.md)")
-    ap.add_argument("--segments", type=int, default=None, help="hybrid segments (default: the deck's NumSegs)")
+                    help="default dg (the tables); hybrid: docs/moordyn.md")
+    ap.add_argument("--segments", type=int, default=None, help="hybrid (or with --moordyn, MoorDyn's) segments (default: the deck's NumSegs)")
     ap.add_argument("--order", type=int, default=4)
     ap.add_argument("--elements", type=int, default=None, help="DG elements (default ceil(NumSegs / order))")
     ap.add_argument("--time-step", type=float, default=None, help="hybrid.time_step (s)")
     ap.add_argument("--damping", default=None, choices=("explicit", "implicit"), help="dg.damping")
     ap.add_argument("--cfl", type=float, default=None, help="dg.cfl")
     ap.add_argument("--q-penalty-jump", default="tension", choices=("auto", "tension", "strain"),
-                    help="dg.q_penalty_jump (default tension: auto takes strain here, module doc)")
+                    help="dg.q_penalty_jump (default tension as in the tables; auto: module doc)")
     ap.add_argument("--t-end", type=float, default=20.0, help="last compared time (s; the reference ends at 20 s)")
     ap.add_argument("--friction", type=float, default=None, help="environment.seabed_friction (default: the deck's)")
     ap.add_argument("--friction-speed", type=float, default=None, help="environment.seabed_friction_speed (m/s)")
     ap.add_argument("--cases", nargs="*", default=[f"{d}:{m}" for d in DEPTHS for m in MOTIONS])
     ap.add_argument("--plot", default=None, help="directory for a PNG per case")
     ap.add_argument("--moordyn", action="store_true", help="run pip moordyn instead of our solver (same metrics)")
+    ap.add_argument("--versus-moordyn", type=int, default=None, metavar="SEGMENTS",
+                    help="also run pip moordyn with SEGMENTS segments and print the largest difference of the two "
+                         "codes' fairlead tensions, sample by sample over 0 <= t <= t_end")
     args = ap.parse_args(argv)
     extra = {}
     if args.time_step:
@@ -228,7 +249,7 @@ def main(argv=None):
                          args.friction)
         sf, sa = static_tensions(spec)
         if args.moordyn:
-            t, fair, anch, wall = run_moordyn(depth, name, args.t_end)
+            t, fair, anch, wall = run_moordyn(depth, name, args.t_end, args.segments)
             sf, sa = fair[0], anch[0]
         else:
             t, fair, anch, wall = run(spec, name, args.t_end)
@@ -239,6 +260,15 @@ def main(argv=None):
               f"| {100 * m['pointwise']:.2f} % | {m['at']:.1f} | {100 * m['moordyn']:.2f} % "
               f"| {m['range_ours'][0] / 1e3:.0f}-{m['range_ours'][1] / 1e3:.0f} "
               f"| {m['range_ref'][0] / 1e3:.0f}-{m['range_ref'][1] / 1e3:.0f} | {wall:.1f} |", flush=True)
+        if args.versus_moordyn:
+            tm, fm, _, _ = run_moordyn(depth, name, args.t_end, args.versus_moordyn)
+            keep = (tm >= 0.0) & (tm <= args.t_end + 1e-9)
+            ours_m = np.interp(tm[keep], t, fair)
+            d = np.abs(ours_m - fm[keep]) / fm[keep]
+            k = int(np.argmax(d))
+            print(f"  against pip moordyn with {args.versus_moordyn} segments: largest difference {100 * d[k]:.2f} % "
+                  f"at t = {tm[keep][k]:.1f} s (mean {100 * d.mean():.2f} %); moordyn's range "
+                  f"{fm[keep].min() / 1e3:.0f}-{fm[keep].max() / 1e3:.0f} kN", flush=True)
         if args.plot:
             import matplotlib
             matplotlib.use("Agg")

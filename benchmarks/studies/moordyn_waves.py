@@ -41,6 +41,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
+from benchmarks import ropos_case as rc  # noqa: E402
 from benchmarks.bench_moordyn import c_stdout_silenced  # noqa: E402
 from tether_sim.physics import waves  # noqa: E402
 from tether_sim.scenarios import harness  # noqa: E402
@@ -92,21 +93,7 @@ ID Attachment X Y Z Mass Volume CdA Ca
 ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs
 (#) (name) (ID) (ID) (m) (-) (-)
 1 line 1 2 {L:.10g} {int(n_segments)} -
----------------------- OPTIONS --------------------------------------------------------
-0 writeLog
-{dt:.10g} dtM
-RK2 tScheme
-{G} g
-{RHO} rho
-200 WtrDpth
-1 WaveKin
-0 Currents
-1 disableOutput
-1 disableOutTime
-1.0 dtIC
-200 TmaxIC
-1e-5 threshIC
-------------------------- need this line ----------------------------------------------
+{rc.moordyn_options(dt, "RK2", 200, wave_kin=1, cfl=None, tmax_ic=200, thresh_ic="1e-5", digits=10)}------------------------- need this line ----------------------------------------------
 """
 
 

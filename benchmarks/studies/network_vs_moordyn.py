@@ -156,22 +156,7 @@ ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs
 (#) (name) (ID) (ID) (m) (-) (-)
 1 tether 1 2 {LENGTH:.8g} {MD_SEGMENTS[0]} -
 2 excursion 3 4 {EXCURSION.length:.8g} {MD_SEGMENTS[1]} -
----------------------- OPTIONS --------------------------------------------------------
-0 writeLog
-{dt:.8g} dtM
-1000 CFL
-{MD_SCHEME[0]} tScheme
-{rc.G} g
-{rc.RHO_F} rho
-{LENGTH + 500.0:.8g} WtrDpth
-0 WaveKin
-0 Currents
-1 disableOutput
-1 disableOutTime
-1.0 dtIC
-200 TmaxIC
-1e-5 threshIC
-------------------------- need this line ----------------------------------------------
+{rc.moordyn_options(dt, MD_SCHEME[0], LENGTH + 500.0, tmax_ic=200, thresh_ic="1e-5")}------------------------- need this line ----------------------------------------------
 """
 
 

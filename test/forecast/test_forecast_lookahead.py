@@ -213,3 +213,37 @@ def test_forecast_with_a_winch_is_refused():
     cfg = replace(cfg, winch=replace(cfg.winch, enabled=True))
     with pytest.raises(ValueError, match="winch.enabled"):
         ForecastService(cfg)
+
+
+def test_exact_forecast_member_trough_is_the_runs_least_tension_within_the_horizon():
+    """Each member reports its least end tension within the horizon (the ensemble's spread against the
+    slack level, benchmarks/forecast_skill.py --near-misses); an exact forecast's is the run's own."""
+    cfg = regular_wave_case(horizon=4.0)
+    src = {"ship": MotionSource(build_motion(cfg.motion, np.asarray(cfg.ship_end.position, float), wave_components(cfg)))}
+    driver = SimulationDriver(cfg, src, start_blend=False)
+    service = ForecastService(cfg)
+    driver.start(0.0)
+    samples, drain = [], driver.solver.drain_end_tensions
+
+    def recording_drain():
+        out = drain()
+        samples.append((np.asarray(out[0]) + driver.anchor, np.asarray(out[1]), np.asarray(out[2])))
+        return out
+
+    driver.solver.drain_end_tensions = recording_drain
+    duration, forecasts = 12.0, []
+    for k in range(1, int(duration * RATE) + 1):
+        driver.tick(k / RATE)
+        service.observe(driver, clock_origin=0.0, tick_index=k)
+        forecasts += service.poll()
+    t = np.concatenate([a for a, _, _ in samples])
+    tension = {"ship": np.concatenate([b for _, b, _ in samples]), "vehicle": np.concatenate([c for _, _, c in samples])}
+    checked = 0
+    for f in forecasts:
+        if f.stamp + f.horizon > duration:
+            continue
+        inside = (t > f.stamp - 1e-9) & (t < f.stamp + f.horizon - 1e-9)  # a sample's time: its substep's start
+        assert len(f.member_troughs) == 1
+        assert f.member_troughs[0] == pytest.approx(tension[f.end][inside].min(), rel=1e-9, abs=1e-6)
+        checked += 1
+    assert checked >= 6

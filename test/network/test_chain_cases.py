@@ -12,6 +12,7 @@ docs/verification.md "Chain with seabed friction against OrcaFlex".
   Measured 3.30 %. Run time ~10 s.
 """
 
+import numpy as np
 import pytest
 
 from benchmarks.studies import chain_cases as cc
@@ -39,3 +40,24 @@ def test_fairlead_tension_within_5_percent_at_every_sample():
     # the motion is seen: the tension swings over the reference's range, within 3 % at both ends
     lo, hi = m["range_ours"]
     assert lo == pytest.approx(m["range_ref"][0], rel=0.03) and hi == pytest.approx(m["range_ref"][1], rel=0.03)
+
+
+def test_auto_q_penalty_takes_the_tension_jump_on_the_shallow_chain():
+    """The 50 m chain deck as converted (dg.q_penalty_jump auto): its static EA / T_min is 1990, above the
+    lowest ratio at which Eq. 24 was measured unstable (1.5e3), so auto takes the tension-jump penalty
+    (with Eq. 24 the 5 m heave's troughs ring: 27.1 % from the reference against 14.9 %)."""
+    from tether_sim.network.solver import NetworkSolver
+
+    net = NetworkSolver(cc.case_spec("WD0050", "dg"))
+    assert net.line("line1").q_penalty_form == "tension"
+
+
+def test_the_hybrid_solver_starts_on_the_chain_deck():
+    """Both ends held, a seabed with friction 0.5: the hybrid solver starts from the static catenary with its
+    touchdown (a circular arc through the seabed made its relaxation's Newton fail at t = 0.125 s) and
+    relaxes to the same fairlead force as the statics, within the 2 % the static comparison asks."""
+    from tether_sim.network.solver import NetworkSolver
+
+    net = NetworkSolver(cc.case_spec("WD0050", "hybrid"))
+    f, _, _ = net.end_load("line1", "ship")
+    assert np.linalg.norm(f[:3]) == pytest.approx(cc.STATIC_FAIR["WD0050"], rel=0.02)

@@ -6,6 +6,7 @@ import pytest
 
 from tether_sim.config import SimConfig
 from tether_sim.network.spec import parse_network
+from tether_sim.physics.snap import SnapEvent
 from tether_sim.ros.network_driver import NetworkDriver, line_snap_guard
 
 UMB = dict(length=200.0, EA=45.5e6, gamma0=3.01, density=7153.0, diameter=0.03, damping=45500.0,
@@ -52,6 +53,8 @@ def test_guard_counts_the_body_mass_on_body_ends(spec):
 
 
 def test_clock_inputs_resync_blend_and_failure(spec):
+    from tether_sim.ros import network_outputs as outputs
+
     node = SimConfig().node
     d = NetworkDriver(spec, node, {"ship": Heave()})
     d.start(10.0)
@@ -64,18 +67,21 @@ def test_clock_inputs_resync_blend_and_failure(spec):
     assert d.stamp == pytest.approx(now - node.input_delay)
     assert d.net.points["ship"].pos[2] == pytest.approx(0.5 * np.sin(d.stamp), abs=1e-9)  # follows its input
     assert not any(r.events.values())
-    # 3 s late (beyond node.max_lag): the gap is skipped, the ship point is blended onto its input
+    # 3 s late (beyond node.max_lag): the gap is skipped, the ship point catches up with its input
     held = d.net.points["ship"].pos.copy()
     now += 3.0
     r = d.tick(now)
-    assert r.dropped == pytest.approx(3.0, abs=0.03) and d.resyncs == 1 and d.degraded and "ship" in d.blends
+    assert r.dropped == pytest.approx(3.0, abs=0.03) and d.resyncs == 1 and d.degraded and d.catchup.active("ship")
     assert d.stamp == pytest.approx(now - node.input_delay)
     step = np.linalg.norm(d.net.points["ship"].pos - held)
     assert step < 0.5 * node.max_end_speed * 0.02  # no jump onto the input
-    while d.blends or d.degraded:
+    while d.catchup or d.degraded:
         now += 0.02
         r = d.tick(now)
-        assert not r.events
+        for line, evs in r.events.items():  # detection runs on (this excursion tether snaps in the heave
+            # without any skip too, 231 N at 0.9 s); what overlaps the catch-up is published degraded
+            msgs = outputs.event_outputs(d, node, line, [e for e in evs if isinstance(e, SnapEvent)])
+            assert all(m.degraded for _, m in msgs)
     assert d.net.points["ship"].pos[2] == pytest.approx(0.5 * np.sin(d.stamp), abs=1e-9)
     # a line solver failing (e.g. a hybrid Newton failure) stops the run with its reason, for good
     def fail(*a, **k):
@@ -84,6 +90,63 @@ def test_clock_inputs_resync_blend_and_failure(spec):
     r = d.tick(now + 0.02)
     assert "Newton failed" in r.error and "Newton failed" in d.failed and not r.advanced
     assert not d.tick(now + 0.04).advanced
+
+
+class Circle:
+    """The ship's fairlead on the PE2020 circle (radius 2 m, 0.2 Hz, in x-z), ramped in over 1 s, as a
+    function of the network's own time (like the node's RAO ship): a re-synchronisation moves the clock,
+    not the motion the lines feel."""
+
+    has_data = True
+
+    def __init__(self, driver, a=2.0, f=0.2):
+        self.d, self.a, self.w = driver, a, 2 * np.pi * f
+
+    def attachment_at(self, t):
+        tau = t - self.d.anchor
+        u = min(max(tau, 0.0), 1.0)
+        r, dr = u * u * (3 - 2 * u), 6 * u * (1 - u)
+        x, z = np.sin(self.w * tau), np.cos(self.w * tau) - 1
+        dx, dz = self.w * np.cos(self.w * tau), -self.w * np.sin(self.w * tau)
+        return self.a * r * np.array([x, 0, z]), self.a * np.array([dr * x + r * dx, 0.0, dr * z + r * dz])
+
+
+def test_a_resynchronisation_in_a_slack_period_keeps_its_snap(spec):
+    """The umbilical goes slack at 0.18 s (cage end) and 0.20 s (ship end) under the circling fairlead
+    and snaps at 2.9 s: 206 kN at the cage end, 215 kN at the ship (4.8 and 4.5 x static). A 1.5 s stall
+    of the clock at 2.0 s makes the driver re-synchronise in the slack period. The network driver used
+    to restart detection with fresh detectors after the skip's blend: the slack period was dropped and
+    both snaps went unreported. Now, as the single-line driver (one code path, tether_sim/ros/bridging.py),
+    detection goes on across the skip: both snaps are published, degraded, with their slack period's
+    start moved by the skipped clock time, and no second slack warning."""
+    from tether_sim.physics.snap import SlackStarted
+    from tether_sim.ros import network_outputs as outputs
+
+    node = SimConfig().node
+    d = NetworkDriver(spec, node)
+    d.sources["ship"] = Circle(d)
+    d.start(0.0)
+    events, k, stalled = [], 0, False
+    while k / 50.0 < 6.5:
+        k += 1
+        if not stalled and k / 50.0 >= 2.0:
+            k += 75  # 1.5 s of clock
+            stalled = True
+        r = d.tick(k / 50.0)
+        for line, evs in r.events.items():
+            msgs = dict(zip([id(e) for e in evs if isinstance(e, (SnapEvent, SlackStarted))],
+                            [m for _, m in outputs.event_outputs(d, node, line, evs)]))
+            events += [(ev, msgs.get(id(ev))) for ev in evs]
+    assert d.resyncs == 1 and d.dropped_total == pytest.approx(1.5 - 0.02 - node.input_delay + 0.2, abs=0.05)
+    snaps = sorted([(ev, m) for ev, m in events if isinstance(ev, SnapEvent) and ev.location.startswith("umbilical")],
+                   key=lambda x: x[0].location)
+    assert [ev.location for ev, _ in snaps] == ["umbilical/ship", "umbilical/vehicle"]
+    slack = {ev.location: ev.time for ev, _ in events if isinstance(ev, SlackStarted) and ev.location.startswith("umbilical")
+             and ev.time < min(e.time for e, _ in snaps)}
+    assert sorted(slack) == ["umbilical/ship", "umbilical/vehicle"]  # one slack warning per end
+    for ev, msg in snaps:
+        assert ev.amplification > 3.0 and ev.slack_start == pytest.approx(slack[ev.location] + d.dropped_total)
+        assert d.bridged(ev) and msg.degraded and msg.peak_tension == ev.peak_tension
 
 
 def test_settle_quiet_is_the_tension_range_against_half_a_newton_and_five_percent():

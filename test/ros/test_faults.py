@@ -281,3 +281,45 @@ def test_an_extrapolation_overtaken_by_late_samples_is_blended_not_stepped():
     # the jittered pose stays a knot (20 ms from the next): the Hermite through it reaches 0.41 m/s
     # and the end tensions 0.94-1.25 x static (measured); before: 0.78 m/s for 0.18 s, then slack
     assert_nothing_happened(events, speed, tensions, max_speed=0.45, spread=0.3)
+
+
+def test_resynchronisations_faster_than_blends_finish_keep_the_end_on_its_input():
+    """A node that re-synchronises again before the blend of the last one has ended: each skip adds a
+    decaying offset that ends on its own (tether_sim/ros/bridging.py). Before, each re-synchronisation
+    restarted one blend whose held trajectory carried the end's velocity on until its weight grew (a
+    blend takes 7.5 dv / a, 15 s for 1 m/s): on this elastic string (fixed far end, 100 m, EA 1 MN)
+    with the ship input 1.5 m at 0.1 Hz and a 1.2 s stall every 1.5 s the end coasted to x = -3.1 and
+    +3.6 m in 40 s, beyond anything its input does. Now it stays within the input's range widened by
+    the input's travel over one skip (0.94 m/s x 1.2 s), and once the stalls stop it is back on its
+    input, exactly, within the longest offset (7.5 x 1.9 m/s / 0.5 m/s^2 = 28.5 s)."""
+    from test_driver import ElasticString, make_config
+
+    amp, omega, stall = 1.5, 2 * math.pi * 0.1, 1.2
+    inp = EndPoseInput("ship", history_span=5.0)
+    fed = [0]
+
+    def feed(now):
+        while fed[0] / RATE <= now:
+            t = fed[0] / RATE
+            assert inp.add_pose(t, (amp * math.sin(omega * t), 0.0, 0.0), (0, 0, 0, 1)) is None
+            fed[0] += 1
+
+    feed(0.0)
+    driver = SimulationDriver(make_config(max_lag=1.0), {"ship": inp}, solver_factory=ElasticString)
+    driver.start(0.0)
+    k, next_stall, rows = 0, 1.5, []
+    while k / RATE < 75.0:
+        k += 1
+        if k / RATE >= next_stall and k / RATE < 30.0:
+            k += int(round(stall * RATE))
+            next_stall = k / RATE + 1.5
+        now = k / RATE
+        feed(now)
+        report = driver.tick(now)
+        x = driver.solver.ends["ship"][0]
+        rows.append((now, x, abs(x - amp * math.sin(omega * driver.stamp)), report.degraded))
+    rows = np.array(rows)
+    assert driver.resyncs >= 10
+    assert np.max(np.abs(rows[:, 1])) <= amp + amp * omega * stall
+    settled = rows[rows[:, 0] > 30.0 + 30.0]
+    assert np.max(settled[:, 2]) < 1e-9 and not np.any(settled[:, 3])  # on its input, not degraded

@@ -106,3 +106,30 @@ def test_node_rejects_bad_external_forecasts_with_the_reason_and_degrades():
         assert "wrong frame" in values(st)["external last rejection"]
     finally:
         h.close()
+
+
+def test_status_warns_at_the_alarm_threshold_not_below():
+    """/diagnostics warns of a snap only at forecast.warn_probability and above (a forecast at p 0.625
+    with the default 0.75 is no alarm; at 0.75 it is, and a lowered threshold warns at 0.5)."""
+    from dataclasses import replace
+    from types import SimpleNamespace
+
+    from diagnostic_msgs.msg import DiagnosticStatus
+
+    from tether_sim.config import SimConfig
+    from tether_sim.forecast.lookahead import EndForecast
+    from tether_sim.ros.forecast_io import status as forecast_status
+
+    def service(p, warn=None):
+        cfg = SimConfig()
+        if warn is not None:
+            cfg = replace(cfg, forecast=replace(cfg.forecast, warn_probability=warn))
+        f = EndForecast(stamp=10.0, end="vehicle", horizon=15.0, probability=p, time_to_snap=7.0,
+                        time_to_snap_std=0.2, predicted_peak=9e4, members=8, source="known_sea")
+        return SimpleNamespace(config=cfg, last=[f], last_status="ok", diagnostics=lambda: {},
+                               external=SimpleNamespace(rejected=0, last_reason=""))
+
+    assert forecast_status(service(0.625), "n").level == DiagnosticStatus.OK
+    st = forecast_status(service(0.75), "n")
+    assert st.level == DiagnosticStatus.WARN and "snap at vehicle likely (p = 0.75 >= 0.75) in 7.0 s" in st.message
+    assert forecast_status(service(0.5, warn=0.5), "n").level == DiagnosticStatus.WARN

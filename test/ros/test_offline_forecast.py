@@ -54,6 +54,8 @@ def test_offline_run_writes_forecasts_that_match_its_snaps_and_the_report_scores
     assert (tmp_path / "figures" / "snap_forecast.png").is_file()
     md = result["markdown"]
     assert "## Snap forecast" in md
-    row = next(line for line in md.splitlines() if line.startswith("| vehicle | ") and "%" in line)
-    cells = [c.strip() for c in row.strip("|").split("|")]
-    assert cells[2].endswith("(100 %)") and cells[4] == "0"  # every scored snap warned, no false alarm
+    rows = [[c.strip() for c in line.strip("|").split("|")] for line in md.splitlines()
+            if line.startswith("| vehicle | ") and "%" in line]
+    assert [r[1] for r in rows] == ["0.5", "0.75 (alarm)"]  # the definition's threshold and the run's alarm
+    for cells in rows:
+        assert cells[3].endswith("(100 %)") and cells[5] == "0"  # every scored snap warned, no false alarm

@@ -14,6 +14,9 @@ second slack warning), and a node behind the clock, re-synchronising every few s
    the dropped clock time, and marked degraded (their slack ran across the skip).
 2. The ship on a pose input: the re-synchronisation blends the end onto its input; the snap that
    ends the slack is published, marked degraded.
+3. The ship's input drops out during the slack period: the end is blended to rest ("input lost")
+   and back ("input resumed"); detection goes on across both blends (it used to be suspended from
+   the blend's start and restarted fresh after it, dropping the slack period and its snap).
 """
 
 from pathlib import Path
@@ -37,7 +40,7 @@ def _config():
     return load_config(ROOT / "config" / "ropos_L200_hybrid.yaml", {"motion.ramp_time": 1.0, "hybrid.time_step": 0.02})
 
 
-def _run(cfg, source, stall_at=None, end=5.0):
+def _run(cfg, source, stall_at=None, end=5.0, dropout=None):
     """Tick at RATE until clock ``end`` (plus the stall); ([(event, its message, tick report)], reports, driver)."""
     motion = build_motion(cfg.motion, np.asarray(cfg.ship_end.position, float))
     box = {}
@@ -49,7 +52,8 @@ def _run(cfg, source, stall_at=None, end=5.0):
         def feed(now):  # 50 Hz poses of the circle, each arriving when the clock reaches its stamp
             while fed[0] / 50.0 <= now:
                 t = fed[0] / 50.0
-                assert src.add_pose(t, motion.at(t)[0], (0, 0, 0, 1)) is None
+                if dropout is None or not dropout[0] <= t < dropout[1]:
+                    assert src.add_pose(t, motion.at(t)[0], (0, 0, 0, 1)) is None
                 fed[0] += 1
 
         feed(0.0)
@@ -101,8 +105,12 @@ def test_a_resynchronisation_in_a_slack_period_keeps_its_snap():
 
 
 def test_a_snap_during_a_resynchronisation_blend_is_published_degraded():
+    """The ship on its pose input re-synchronised at 3.0 s: it keeps its motion and catches up with the
+    input over 62 s (a velocity change of 4.6 m/s at 0.5 m/s^2); the slack that began at 0.87 s ends
+    below the snap level, the next one (5.5 s) in snaps at 8.2 s (2.5 and 2.4 x static), published
+    degraded (until 2026-11-27 the end coasted straight on and snapped at 3.5 s, also degraded)."""
     cfg = _config()
-    events, reports, driver = _run(cfg, "pose input", stall_at=3.0)
+    events, reports, driver = _run(cfg, "pose input", stall_at=3.0, end=8.0)
     assert driver.resyncs == 1
     resync_report = next(r for r in reports if r.dropped > 0.0)
     assert [b[2] for b in resync_report.blends] == ["re-synchronised"]
@@ -112,3 +120,24 @@ def test_a_snap_during_a_resynchronisation_blend_is_published_degraded():
         assert ev.amplification > 2.0
         assert driver.bridged(ev) and msg.degraded and msg.peak_tension == ev.peak_tension
 
+
+
+def test_an_input_dropout_in_a_slack_period_keeps_its_snap():
+    """The ship's poses stop at 2.9 s (slack since 0.87 s) and come back at 4.2 s: beyond
+    node.max_extrapolation the end is blended to rest, and onto the stream when it resumes. The
+    re-tensioning at 3.6 s happens during that blend: 190 kN at the cage end and 197 kN at the ship
+    (4.4 and 4.1 x static; the ship no longer on its circle, so less than the 261 / 271 kN without the
+    dropout). Before, the blend suspended detection and a fresh detector started after it: both snaps
+    went unreported."""
+    cfg = _config()
+    events, reports, driver = _run(cfg, "pose input", end=5.0, dropout=(2.9, 4.2))
+    blends = [b[2] for r in reports for b in r.blends]
+    assert "input lost" in blends and "input resumed" in blends and driver.resyncs == 0
+    snaps = _snaps(events)
+    assert [ev.location for ev, _ in snaps] == ["ship", "vehicle"]
+    for ev, msg in snaps:
+        assert ev.amplification > 3.0 and ev.slack_start < 1.0  # the slack period that began at 0.87 s
+        assert driver.bridged(ev) and msg.degraded and msg.peak_tension == ev.peak_tension
+    first_snap = min(ev.time for ev, _ in snaps)
+    slack = [ev.location for ev, _, _ in events if isinstance(ev, SlackStarted) and ev.time < first_snap]
+    assert sorted(slack) == ["ship", "vehicle"]

@@ -23,4 +23,5 @@ class ForecastConfig:
     ar_sample_period: float = param(0.5, unit="s", doc="poses: sampling period of the autoregressive model (the pose history is resampled to it)", min=0.02, max=5.0)
     ar_window: float = param(300.0, unit="s", doc="poses: length of pose history the model is fitted on (at least 4 x order x sample period needed)", min=5.0, max=7200.0)
     external_max_age: float = param(2.0, unit="s", doc="external: a forecast whose header stamp is older than this at the time of use is stale (rejected)", min=0.0, max=600.0)
+    warn_probability: float = param(0.75, doc="the alarm: /diagnostics warns of a snap, and the report and the skill benchmark count a warning, when a forecast's probability is at least this (the message carries the probability itself); 0.75 was chosen on the skill benchmark's tuning seeds, where p 0.5-0.625 forecasts verified 38 % and most false alarms were of them (docs/forecast.md)", min=0.05, max=1.0)
     seed: int = param(0, doc="seed of the ensemble perturbations (forecast k uses seed + k)", min=0, max=2**31 - 1)

@@ -78,6 +78,7 @@ class EndForecast:
     degraded: bool = False
     reason: str = ""
     member_snaps: list = field(default_factory=list)  # (time s clock, peak N) of each member that snaps
+    member_troughs: list = field(default_factory=list)  # N, each finished member's least end tension in [stamp, stamp + horizon)
 
 
 class LookAhead:
@@ -109,16 +110,19 @@ class LookAhead:
                 predicted_peak=float(np.median(peaks)) if snaps else math.nan,
                 members=n, source=request.source, degraded=bool(reasons) or n == 0,
                 reason="; ".join(reasons) if reasons else ("" if n else "no member finished"),
-                member_snaps=[(float(t), float(p)) for t, p in snaps]))
+                member_snaps=[(float(t), float(p)) for t, p in snaps],
+                member_troughs=[r["trough"][end] for r in finished]))
         return out
 
     def _member(self, request, motion):
-        """{end: (clock time, peak) of the first snap within the horizon, or None}; None on divergence."""
+        """{end: (clock time, peak) of the first snap within the horizon, or None, "trough": {end: least
+        tension within the horizon}}; None on divergence."""
         solver = self.solver
         solver.restore(request.snapshot)
         solver.drain_end_tensions()
         detector = copy.deepcopy(request.detector)
         first = {end: None for end in END_NAMES}
+        trough = {end: math.inf for end in END_NAMES}
         end_clock = request.issued + request.horizon
         t0 = request.solver_time
         n_ticks = max(1, int(math.ceil(request.horizon / request.tick - 1e-9)))
@@ -141,13 +145,18 @@ class LookAhead:
             except SolverDivergedError:
                 return None
             if out.count:
-                events = detector.update(out.times + request.anchor,
-                                         np.column_stack([out.ship_tension, out.vehicle_tension]),
-                                         relative_end_speed(solver, self.config.cable.length))
+                tensions = np.column_stack([out.ship_tension, out.vehicle_tension])
+                clock = out.times + request.anchor
+                inside = clock < end_clock - 1e-9  # the horizon [issued, issued + horizon) of the samples' times
+                if inside.any():
+                    for j, end in enumerate(END_NAMES):
+                        trough[end] = min(trough[end], float(tensions[inside, j].min()))
+                events = detector.update(clock, tensions, relative_end_speed(solver, self.config.cable.length))
                 for ev in events:
                     if (isinstance(ev, SnapEvent) and first[ev.location] is None
                             and request.issued - 1e-9 <= ev.time <= end_clock + 1e-9):
                         first[ev.location] = (ev.time, ev.peak_tension)
+        first["trough"] = trough
         return first
 
 

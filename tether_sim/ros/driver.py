@@ -12,8 +12,10 @@ simulation never squeezes motion in time and never invents a snap from a discont
    history evaluated at the simulated instant (never at the clock), outputs carry the simulated
    instant as stamp, and ``lag`` / ``degraded`` say how late they are. Only when the lag exceeds
    ``node.max_lag`` does the driver re-synchronise: the anchor moves so that the simulated instant
-   is the newest input time, the cable keeps its current state, and every prescribed end is blended
-   (C1, see 4) from its current position and velocity onto the pose stream (reported).
+   is the newest input time, the cable keeps its current state, and every prescribed end keeps its
+   commanded motion and catches up with its stream by a decaying offset that ends on its own
+   (tether_sim/ros/bridging.py; running blends keep their progress), so that re-synchronisations
+   faster than blends finish cannot let an end coast away (reported).
 3. Each tick steps in chunks: at most ``node.max_substeps_per_tick`` substeps, and (node only) no
    more than fit in ``wall_budget`` seconds of wall time at the measured cost per substep; while
    that cost is unknown (the first tick) one substep is taken and timed first, so the first ticks
@@ -34,10 +36,12 @@ simulation never squeezes motion in time and never invents a snap from a discont
    static equilibrium at the current end positions); the anchor moves so the lost time is skipped
    and the ends are blended onto the stream; the error is reported.
 6. The end tensions of every substep go through the streaming snap detector, except across a
-   discontinuity of the cable state or its clock (recovery, restart, clock jump) or an input's
-   blend (lost, resumed, revised): detection is suspended from the discontinuity until the blend
-   ends and then restarts with a fresh detector, so no snap can be made of a restart or a bridging
-   blend (reported). A re-synchronisation keeps the cable state and its simulated time: detection
+   discontinuity of the cable state or its clock (recovery, restart, clock jump, the start-up
+   blend): detection is suspended from the discontinuity until the blend ends and then restarts
+   with a fresh detector, so no snap can be made of a restart (reported). An input's blend (lost,
+   resumed, revised) keeps the cable state and its clock: detection goes on across it and an event
+   overlapping it is published as degraded (a dropout during a slack period used to lose its snap).
+   A re-synchronisation keeps the cable state and its simulated time: detection
    goes on across it, the detectors' clock skipping the dropped time with the anchor (a slack
    period keeps its simulated duration), and an event whose slack or re-tensioning overlaps the
    skip or the blend after it is published as degraded. (Suspending there lost real snaps: a node
@@ -55,11 +59,10 @@ from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.snap import NumericalSnapWarning, SnapDetector, SnapEvent, SlackStarted, snap_guard
 from tether_sim.ros import winch_link
 from tether_sim.ros.body_frame import BodyFrame
+from tether_sim.ros.bridging import Bridges, CatchUp, shift_detectors
 from tether_sim.ros.end_commands import BLEND_ACCELERATION, BLEND_MIN_TIME, Blend, EndCommands, MotionSource, blend_time
 from tether_sim.solvers.base import relative_end_speed
 from tether_sim.solvers.factory import build_solver
-
-MAX_BRIDGES = 16  # re-synchronisations remembered for marking the events that overlap them (bridged)
 
 @dataclass
 class TickReport:
@@ -101,7 +104,8 @@ class SimulationDriver(EndCommands, BodyFrame):
         self._blends = {}  # end -> Blend
         self._hold_at = {}  # end -> rest point of an end held after a clock jump, until its input resumes
         self._suspended_until = None  # clock time until which snap detection is suspended
-        self._bridges = []  # (clock start, end) of the latest re-synchronisations and their blends (bridged)
+        self.catchup = CatchUp()  # per end: the offsets re-synchronisations added (tether_sim/ros/bridging.py)
+        self.bridges = Bridges()  # clock spans of the latest re-synchronisations and input blends (bridged)
         self._pending = TickReport(stamp=0.0)  # what a (re)start did, reported by the next tick
         self.anchor = 0.0
         self.last_now = None
@@ -159,7 +163,7 @@ class SimulationDriver(EndCommands, BodyFrame):
         self.static_by_location = dict(zip(END_NAMES, self.static_tensions))
         self.span_arc = np.array([s for s in self.config.snap.monitor_arc_lengths if 0.0 < s < L], float)
         self.span_detector = None
-        self._bridges = []
+        self.bridges.clear()
         if self.span_arc.size:
             names = [f"span s={s:g} m" for s in self.span_arc]
             if not hasattr(self, "_span_static") or len(self._span_static) != len(names):
@@ -202,6 +206,7 @@ class SimulationDriver(EndCommands, BodyFrame):
         if self.last_now is not None and now < self.last_now:
             report.clock_jump = True
             self.anchor = now - self.solver.time
+            self.catchup.clear()  # (absorbed into the holds below: they start from the commanded state)
             for end, src in self.sources.items():
                 if hasattr(src, "reset"):
                     src.reset()
@@ -242,38 +247,46 @@ class SimulationDriver(EndCommands, BodyFrame):
     def _finish(self, now, report):
         report.stamp = self.stamp
         self.lag = report.lag = max(0.0, now - report.stamp)
-        report.blending = bool(self._blends)
+        report.blending = bool(self._blends) or bool(self.catchup)
         period = 1.0 / max(self.config.node.output_rate, 1e-9)
-        report.degraded = (report.lag > 1.5 * period or bool(self._blends) or self._suspended_until is not None
+        report.degraded = (report.lag > 1.5 * period or report.blending or self._suspended_until is not None
                            or report.dropped > 0.0 or report.error is not None or report.restart is not None
                            or report.clock_jump or bool(self._hold_at))
         self.degraded = report.degraded
         return report
 
     def _resync(self, now, lag, report):
-        """Lag beyond max_lag: jump the simulated instant to ``now`` keeping the cable state, and
-        blend every prescribed end from its current state onto its stream (module doc, 2). Snap
-        detection goes on across it (module doc, 6): the detectors' clock skips ``lag`` with the
-        anchor, and the skip and the blends are recorded so that an event overlapping them is
-        published as degraded (:meth:`bridged`)."""
+        """Lag beyond max_lag: jump the simulated instant to ``now`` keeping the cable state; every
+        prescribed end keeps its commanded motion and catches up with its input by a decaying offset
+        (tether_sim/ros/bridging.py), running blends keep their progress. Snap detection goes on
+        across it (module doc, 6): the detectors' clock skips ``lag`` with the anchor, and the skip
+        and the catch-up are recorded so that an event overlapping them is published as degraded
+        (:meth:`bridged`)."""
         report.dropped = lag
         self.dropped_total += lag
         self.resyncs += 1
         self.anchor += lag
-        self._blends.clear()
-        duration = max([self._start_blend(end, now, "re-synchronised", report, suspend=False)
-                        for end in self._end_state] + [0.0])
-        for detector in (self.detector, self.span_detector):
-            if detector is not None:
-                detector.shift_time(lag)
-        self._bridges = [(a + lag, b + lag) for a, b in self._bridges[-(MAX_BRIDGES - 1):]] + [(now, now + duration)]
+        for blend in self._blends.values():
+            blend.t0 += lag
+        self.catchup.shift(lag)
+        if self._suspended_until is not None:
+            self._suspended_until += lag
+        duration = 0.0
+        for end, (p_before, v_before) in self._end_state.items():
+            p_after, v_after = self._commanded(end, now, drop=False)
+            T = self.catchup.add(end, now, p_before - p_after, v_before - v_after, self.config.node.max_end_speed)
+            if T > 0.0:
+                report.blends.append((end, T, "re-synchronised"))
+            duration = max(duration, T)
+        shift_detectors((self.detector, self.span_detector), lag)
+        self.bridges.shift(lag)
+        self.bridges.add(now, now + duration)
 
     def bridged(self, event) -> bool:
-        """True when a detector event's slack period or re-tensioning overlaps a re-synchronisation
-        or the blend after it (its tension history ran across skipped clock time, its ends were
-        bridged onto their inputs): published with ``degraded``."""
-        start = getattr(event, "slack_start", event.time)
-        return any(start - 1e-9 <= b and a <= event.time + 1e-9 for a, b in self._bridges)
+        """True when a detector event's slack period or re-tensioning overlaps a re-synchronisation,
+        the catch-up after it or an input blend (its tension history ran across skipped clock time,
+        its ends were bridged onto their inputs): published with ``degraded``."""
+        return self.bridges.covers(event)
 
     def _chunk_substeps(self, steps_done, wall0):
         """Substeps the next chunk may take (0: stop): the cap, then the wall budget at the measured
@@ -373,6 +386,7 @@ class SimulationDriver(EndCommands, BodyFrame):
         self.last_recovery = None
         report.error = message
         self._blends.clear()
+        self.catchup.clear()
         if self._snapshot is not None and not self._snapshot_failed:
             state, ends = self._snapshot
             self.solver.restore(state)
@@ -395,6 +409,7 @@ class SimulationDriver(EndCommands, BodyFrame):
         self.solver.drain_end_tensions()
         self.anchor = now - self.solver.time
         self._blends.clear()
+        self.catchup.clear()
         self._suspended_until = None
         self._end_state = {end: (np.asarray(getattr(self._solver_config, f"{end}_end").position, float), np.zeros(3))
                            for end in END_NAMES if self._prescribed(end)}

@@ -40,10 +40,16 @@ class Blend:
     def command(self, t, p_s, v_s):
         """(position, velocity, finished) at clock time ``t`` given the stream's (p_s, v_s)."""
         tau = t - self.t0
-        u = min(max(tau / self.duration, 0.0), 1.0)
         h, dh = self.p0 + self.v0 * tau, self.v0
-        w, dw = u ** 3 * (10.0 + u * (6.0 * u - 15.0)), 30.0 * (u * (1.0 - u)) ** 2 / self.duration
-        return h + w * (p_s - h), dh + w * (v_s - dh) + dw * (p_s - h), u >= 1.0
+        w, dw, finished = quintic(tau, self.duration)
+        return h + w * (p_s - h), dh + w * (v_s - dh) + dw * (p_s - h), finished
+
+
+def quintic(tau, duration):
+    """(w, dw/dt, finished) of the blend weight ``w = 10u^3 - 15u^4 + 6u^5``, ``u = tau / duration``
+    clipped to [0, 1]."""
+    u = min(max(tau / duration, 0.0), 1.0)
+    return u ** 3 * (10.0 + u * (6.0 * u - 15.0)), 30.0 * (u * (1.0 - u)) ** 2 / duration, u >= 1.0
 
 
 def blend_time(distance, speed_change, max_end_speed):
@@ -115,8 +121,10 @@ class EndCommands:
 
     def _start_blend(self, end, t, reason, report, probe=None, suspend=True):
         """Blend ``end`` from its current commanded state at clock time ``t`` onto its source
-        (sized by the offset to the source at ``probe``, default ``t``); ``suspend``: snap detection
-        is suspended until the blend ends. Returns the blend's duration (0: none needed)."""
+        (sized by the offset to the source at ``probe``, default ``t``; it replaces the end's blend and
+        catch-up offsets, which its start includes); ``suspend``: snap detection is suspended until
+        the blend ends, else it goes on and the blend is recorded as a bridge (an event overlapping it
+        is published as degraded). Returns the blend's duration (0: none needed)."""
         if end not in self._end_state or self.sources.get(end) is None:
             return 0.0
         p0, v0 = self._end_state[end]  # the end's state at t: where the blend starts
@@ -127,9 +135,12 @@ class EndCommands:
             return 0.0  # already on the stream
         duration = blend_time(distance, speed_change, self.config.node.max_end_speed)
         self._blends[end] = Blend(t, duration, p0.copy(), v0.copy(), reason, suspend)
+        self.catchup.clear(end)
         report.blends.append((end, duration, reason))
         if suspend:
             self._suspend_detection(t + duration)
+        else:
+            self.bridges.add(t, t + duration)
         return duration
 
     def _command(self, end, t, report):
@@ -140,20 +151,31 @@ class EndCommands:
             (hasattr(src, "is_held") and src.is_held(t))
         was_held = self._held.get(end, False)
         if was_held != held and (not held or self._has_data(end)):  # (replaces a running blend)
-            if not held and self._hold_at.pop(end, None) is not None and not self._hold_at:
+            after_jump = not held and self._hold_at.pop(end, None) is not None
+            if after_jump and not self._hold_at:
                 self._suspended_until = None  # resumed after a clock jump: suspended until this blend ends
-            # resumed: blend onto the stream; lost: blend from the motion to rest at the held point
-            self._start_blend(end, self.anchor + self.solver.time, "input lost" if held else "input resumed", report, t)
+            # resumed: blend onto the stream; lost: blend from the motion to rest at the held point. The
+            # cable state and its clock run on through both: snap detection goes on (a slack period is
+            # not dropped), the blend is a bridge; only the resume after a clock jump (the detector's
+            # clock broke there) keeps detection suspended until its blend ends
+            self._start_blend(end, self.anchor + self.solver.time, "input lost" if held else "input resumed", report, t,
+                              suspend=after_jump)
         self._held[end] = held
-        if not held and end not in self._blends and end in self._end_state and hasattr(src, "is_held"):
+        if (not held and end not in self._blends and not self.catchup.active(end) and end in self._end_state
+                and hasattr(src, "is_held")):
             self._blend_if_revised(end, t, report)
+        return self._commanded(end, t)
+
+    def _commanded(self, end, t, drop=True):
+        """(position, velocity) of ``end`` at clock time ``t``: its source, its blend, the catch-up
+        offsets of re-synchronisations (tether_sim/ros/bridging.py); ``drop``: finished ones are removed."""
         p, v = self.end_target(end, t)
         blend = self._blends.get(end)
         if blend is not None:
             p, v, finished = blend.command(t, p, v)
-            if finished:
+            if finished and drop:
                 del self._blends[end]
-        return p, v
+        return self.catchup.apply(end, t, p, v, drop)
 
     def _blend_if_revised(self, end, t, report):
         """A pose input's stream can change where it was already followed: the end was extrapolated
@@ -166,7 +188,7 @@ class EndCommands:
             return  # (a flood shortened the history: the stream before its oldest sample is a placeholder)
         p_stream = self.end_target(end, t0)[0]
         if float(np.linalg.norm(p_stream - self._end_state[end][0])) > REVISION_TOLERANCE:
-            self._start_blend(end, t0, "input revised", report, t)
+            self._start_blend(end, t0, "input revised", report, t, suspend=False)
 
     def _suspend_detection(self, until):
         self._suspended_until = until if self._suspended_until is None else max(self._suspended_until, until)
@@ -184,5 +206,6 @@ class EndCommands:
             if held is not None and np.linalg.norm(position - held) > reach + 1e-6:
                 report.restart = f"{end} end's first pose is {np.linalg.norm(position - held):.3g} m from its placeholder"
                 self._blends.pop(end, None)
+                self.catchup.clear(end)
                 return True
         return False

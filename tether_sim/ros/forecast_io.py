@@ -20,7 +20,6 @@ from tether_sim.ros import convert
 
 TOPICS = {"/tether/snap_forecast": ("tether_sim_msgs/msg/SnapForecast", "reliable")}
 INPUT_TOPIC = "/tether/ship_motion_forecast"
-WARN_PROBABILITY = 0.5  # the status warns when a snap is this likely within the horizon
 
 
 def forecast_message(f, frame_id: str) -> SnapForecast:
@@ -45,12 +44,14 @@ def path_arrays(msg: Path):
 
 
 def status(service, name: str) -> DiagnosticStatus:
-    """The ``snap forecast`` diagnostics status: WARN when a snap is likely within the horizon, when the
-    forecast is degraded, or external forecasts were rejected; the values of the service."""
+    """The ``snap forecast`` diagnostics status: WARN when a snap is likely within the horizon (probability
+    at least ``forecast.warn_probability``, the alarm), when the forecast is degraded, or external
+    forecasts were rejected; the values of the service."""
     problems, level = [], DiagnosticStatus.OK
+    warn = service.config.forecast.warn_probability
     for f in service.last:
-        if f.probability >= WARN_PROBABILITY:
-            problems.append(f"snap at {f.end} likely (p = {f.probability:.2f}) in {f.time_to_snap:.1f} s, "
+        if f.probability >= warn:
+            problems.append(f"snap at {f.end} likely (p = {f.probability:.2f} >= {warn:g}) in {f.time_to_snap:.1f} s, "
                             f"peak {f.predicted_peak:.0f} N")
     if service.last and service.last[0].degraded:
         problems.append(f"degraded: {service.last[0].reason}")

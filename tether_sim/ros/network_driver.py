@@ -3,11 +3,14 @@ single-line node's counterpart is tether_sim/ros/driver.py).
 
 - Clock: the network's time 0 is the clock time ``anchor``; each tick advances it to the clock
   minus ``node.input_delay`` so that the driven points' pose inputs are interpolated (as the
-  single-line node does). A tick further behind than ``node.max_lag`` re-synchronises: the skipped
-  span is not simulated (the anchor moves), each driven point is blended from its held trajectory
-  onto its input (the single-line node's C2 blend, ``end_commands.Blend``), and snap detection
-  restarts with fresh detectors once the blends end (no snap is built from the gap or the bridge);
-  the outputs are marked degraded meanwhile.
+  single-line node does). A tick further behind than ``node.max_lag`` re-synchronises as the
+  single-line node does, with the same code (tether_sim/ros/bridging.py): the skipped span is not
+  simulated (the anchor moves), the lines and bodies keep their state, each driven point keeps its
+  commanded motion and catches up with its input by a decaying offset (``CatchUp``), and snap
+  detection goes on across the skip (the detectors' clock skips with the anchor, a slack period
+  open across it keeps its simulated duration); an event whose slack or re-tensioning overlaps the
+  skip or the catch-up after it is published as degraded (:meth:`NetworkDriver.bridged`). The
+  outputs are marked degraded while a point catches up.
 - Start: the network statics at the driven points' current positions; a DG line whose discrete
   equilibrium polish failed settles with the points held before the clock starts, at least
   ``SETTLE_TIME`` and then until two consecutive 1 s chunks are quiet (:func:`settle_quiet`), at
@@ -23,7 +26,6 @@ single-line node's counterpart is tether_sim/ros/driver.py).
   happen); there is no silent recovery of a network yet.
 """
 
-import math
 import time
 from dataclasses import dataclass, field, replace
 
@@ -33,7 +35,7 @@ from tether_sim.network.solver import NetworkSolver
 from tether_sim.network.spec import NetworkSpec, PointSpec
 from tether_sim.physics.boundary import END_NAMES, EndCondition
 from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapDetector, SnapEvent, snap_guard
-from tether_sim.ros.end_commands import Blend, blend_time
+from tether_sim.ros.bridging import Bridges, CatchUp, shift_detectors
 from tether_sim.solvers.base import relative_end_speed
 
 SETTLE_TIME = 3.0  # s: the least simulated time a network with an unpolished DG line settles before its clock starts
@@ -117,8 +119,8 @@ class NetworkDriver:
         self.slack = {}
         self.real_time_factor = 0.0
         self.lag = 0.0
-        self._suspend_before = -math.inf
-        self.blends = {}  # point -> Blend after a re-synchronisation
+        self.catchup = CatchUp()  # point -> the offsets re-synchronisations added
+        self.bridges = Bridges()  # clock spans of the latest re-synchronisations (bridged)
 
     @property
     def stamp(self) -> float:
@@ -145,6 +147,7 @@ class NetworkDriver:
         if self.net is not None and not self.failed and all(
                 np.allclose(p.position, self.spec.points[n].position, rtol=0.0, atol=1e-9) for n, p in spec.points.items()):
             self.anchor = t0 - self.net.time  # built at these positions and at rest (warm-up): keep it
+            self.catchup.clear()
             self._build_detectors()
             return
         self.spec = spec
@@ -160,6 +163,7 @@ class NetworkDriver:
                 out = self.net.tick(min(self.net.time + SETTLE_CHUNK, SETTLE_MAX))
                 quiet = quiet + 1 if all(settle_quiet(out[n]["samples"]) for n in self.settled) else 0
         self.anchor = t0 - self.net.time
+        self.catchup.clear()
         self._build_detectors()
 
     def _build_detectors(self, static=True):
@@ -176,20 +180,42 @@ class NetworkDriver:
                                                 line_snap_guard(self.spec, name, solver))
             for e in END_NAMES:
                 self.slack[f"{name}/{e}"] = False
+        self.bridges.clear()
 
-    def _start_blends(self, target):
-        """After a skip: each driven point goes from its held trajectory onto its input at ``target``."""
-        end = target
+    def _target(self, name, t, drop=True):
+        """(position, velocity) commanded for driven point ``name`` at clock time ``t`` (its input
+        with the catch-up offsets; None without input data)."""
+        src = self.sources.get(name)
+        if src is None or not src.has_data:
+            return None
+        pos, vel = src.attachment_at(t)
+        return self.catchup.apply(name, t, np.asarray(pos, float), np.asarray(vel, float), drop)
+
+    def _resync(self, target, skip, report):
+        """Skip ``skip`` s of clock (module doc): the network keeps its state, each driven point its
+        commanded motion (a decaying offset onto its input), the detectors run on with their clock
+        shifted; the skip and the catch-up are recorded as a bridge."""
+        self.anchor += skip
+        report.dropped = skip
+        self.dropped_total += skip
+        self.resyncs += 1
+        self.catchup.shift(skip)
+        duration = 0.0
         for name in self.driven_points():
-            src = self.sources.get(name)
-            if src is None or not src.has_data:
+            after = self._target(name, target, drop=False)
+            if after is None:
                 continue
-            p = self.net.points[name]
-            p_s, v_s = src.attachment_at(target)
-            T = blend_time(np.linalg.norm(p_s - p.pos), np.linalg.norm(v_s - p.vel), self.node.max_end_speed)
-            self.blends[name] = Blend(self.stamp, T, p.pos.copy(), p.vel.copy(), "re-synchronisation")
-            end = max(end, self.stamp + T)
-        self._suspend_before = end
+            p = self.net.points[name]  # its commanded state at the network's time (the clock before the skip)
+            duration = max(duration, self.catchup.add(name, self.stamp, p.pos - after[0], p.vel - after[1],
+                                                      self.node.max_end_speed))
+        shift_detectors(self.detectors.values(), skip)
+        self.bridges.shift(skip)
+        self.bridges.add(self.stamp, self.stamp + duration)
+
+    def bridged(self, event) -> bool:
+        """True when a detector event's slack period or re-tensioning overlaps a re-synchronisation or
+        the catch-up after it: published with ``degraded``."""
+        return self.bridges.covers(event)
 
     def tick(self, now: float) -> NetworkTickReport:
         report = NetworkTickReport()
@@ -199,27 +225,13 @@ class NetworkDriver:
         behind = target - self.stamp
         if behind <= 0.0:
             return report
-        if behind > self.node.max_lag:  # re-synchronise: skip to the inputs' present
-            skip = behind - 1.0 / self.node.output_rate
-            self.anchor += skip
-            report.dropped = skip
-            self.dropped_total += skip
-            self.resyncs += 1
-            self._start_blends(target)
+        if behind > self.node.max_lag:  # re-synchronise: skip to the inputs' present (one output period left to step)
+            self._resync(target, behind - 1.0 / self.node.output_rate, report)
         for name in self.driven_points():
-            src = self.sources.get(name)
-            if src is not None and src.has_data:
-                pos, vel = src.attachment_at(target)
-                blend = self.blends.get(name)
-                if blend is not None:
-                    pos, vel, done = blend.command(target, pos, vel)
-                    if done:
-                        del self.blends[name]
-                self.net.set_point_motion(name, pos, vel)
-        if self._suspend_before > -math.inf and not self.blends and self.stamp >= self._suspend_before:
-            self._build_detectors(static=False)  # fresh past the gap and the bridge
-            self._suspend_before = -math.inf
-        self.degraded = bool(self.blends) or self._suspend_before > -math.inf
+            command = self._target(name, target)
+            if command is not None:
+                self.net.set_point_motion(name, *command)
+        self.degraded = bool(self.catchup)
         wall0 = time.perf_counter()
         sim0 = self.net.time
         try:
@@ -237,8 +249,6 @@ class NetworkDriver:
             s = o["samples"]
             if s.shape[1] == 0:
                 continue
-            if self._suspend_before > -math.inf:
-                continue  # re-synchronising: no detection across the gap and the blend
             times = s[0] + self.anchor
             speed = relative_end_speed(self.net.lines[name], self.spec.lines[name].config.cable.length)
             events = self.detectors[name].update(times, np.column_stack([s[1], s[2]]), speed)

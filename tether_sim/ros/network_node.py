@@ -163,7 +163,7 @@ class NetworkSimNode(Node):
         if report.dropped > 0:
             self._period["resyncs"] += 1
             self.get_logger().warning(f"{report.dropped:.3f} s behind the clock (beyond node.max_lag): skipped, "
-                                      "snap detection restarted past the gap")
+                                      "lines kept, points caught up with their inputs; snap events across the gap are marked degraded")
         for line, events in report.events.items():
             self._publish_events(line, events)
         if report.advanced and d.stamp > self._last_output:

@@ -169,8 +169,8 @@ def event_outputs(driver, node, line, events) -> list:
         end = ev.location.rsplit("/", 1)[-1]
         ev = replace(ev, location=end)
         if isinstance(ev, SnapEvent):
-            out.append((f"/tether/{line}/snap_events", convert.snap_event(ev, node.world_frame, driver.degraded,
-                                                                          driver.lag)))
+            degraded = driver.degraded or driver.bridged(ev)  # (its slack ran across a re-synchronisation)
+            out.append((f"/tether/{line}/snap_events", convert.snap_event(ev, node.world_frame, degraded, driver.lag)))
         else:
             static = driver.static_tensions[line][END_NAMES.index(end)]
             out.append((f"/tether/{line}/slack_warnings", convert.slack_warning(ev, node.world_frame, static)))

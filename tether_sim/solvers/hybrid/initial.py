@@ -9,6 +9,7 @@ import numpy as np
 
 from tether_sim.numerics.rotations import frame_with_tangent
 from tether_sim.physics.bodies import initial_body_state, submerged_weight
+from tether_sim.physics.statics import solve_static
 from tether_sim.solvers.hybrid import zoning
 from tether_sim.solvers.hybrid.layout import CAT_EPS, CAT_T, CAT_TAN, CAT_V, N_SLOTS, ROD_OMEGA
 from tether_sim.solvers.hybrid.state_io import convert_state, reconstruct_positions
@@ -48,7 +49,9 @@ class InitialStateMixin:
         chord = p1 - p0
         dist = float(np.linalg.norm(chord))
         d = chord / dist if dist > 1e-12 else np.array([0.0, 0.0, -1.0])
-        tangents, T_grid = self._initial_shape(d, dist)
+        tangents, T_grid = self._static_shape() if cfg.initial.kind == "static" else (None, None)
+        if tangents is None:
+            tangents, T_grid = self._initial_shape(d, dist)
         target = self._initial_zones(0.5 * (T_grid[1:] + T_grid[:-1]))
         self.zones = np.full(self.n_seg, zoning.CATENARY)  # built as catenary, then converted
         self._set_chain()
@@ -80,6 +83,21 @@ class InitialStateMixin:
         relax = cfg.initial.relax_time if kind == "relax" else (self.opt.static_relax_time if kind == "static" else 0.0)
         if relax > 0.0:
             self._relax(relax)
+
+    def _static_shape(self):
+        """Tangents and tensions on the grid from the static catenary (physics/statics.py: elastic, with a
+        seabed touchdown) when both ends are held in place, else (None, None). The circular arc of
+        _initial_shape knows no seabed: a chain from a fairlead to an anchor on the bottom started as an arc
+        lies metres into the seabed, and its contact and friction forces stop the relaxation's Newton."""
+        if not (self._velocity_end(0) and self._velocity_end(1)):
+            return None, None
+        try:
+            shape = solve_static(self.config)
+        except RuntimeError:
+            return None, None
+        t = np.asarray(shape.tangent(self.s_grid), dtype=float)
+        t /= np.linalg.norm(t, axis=1)[:, None]
+        return t, np.maximum(np.asarray(shape.tension(self.s_grid), dtype=float), 1e-3 * self.net_weight * self.length)
 
     def _initial_shape(self, d, dist):
         """Tangents and tensions on the grid: straight (stretched) if the chord is >= L, else a circular
