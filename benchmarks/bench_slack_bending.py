@@ -2,8 +2,9 @@
 
 Real time per CPU second of the solver alone (50 Hz ticks through ``advance_to`` with the fairlead's
 circular orbit of motion.kind circle, a = 2 m, ramped over 5 s, as the node feeds it; compile and the first tick untimed), for alpha = 0, 1
-(EI = alpha * 2.62 kN m^2) and dg.damping = explicit / implicit, all in one process so the figures
-compare as ratios on a shared machine. The window starts after the orbit's ramp (5 s) and covers the
+(EI = alpha * 2.62 kN m^2), dg.damping = explicit / implicit and, with bending, dg.bending_multirate
+false / true (K: the multirate's macro step in substeps), all in one process so the figures compare as
+ratios on a shared machine. The window starts after the orbit's ramp (5 s) and covers the
 slack and snap of the first full period.
 
     PYTHONPATH=. python benchmarks/bench_slack_bending.py [--start 5] [--seconds 10] [--alphas 0 1]
@@ -22,8 +23,8 @@ from tether_sim.physics.motion import build_motion  # noqa: E402
 from tether_sim.solvers.factory import build_solver  # noqa: E402
 
 
-def run(alpha, damping, start, seconds, N=20, rate=50.0):
-    cfg = case_config(200.0, 0.2, alpha, N, 12, {"dg.damping": damping})
+def run(alpha, damping, start, seconds, N=20, rate=50.0, multirate=True):
+    cfg = case_config(200.0, 0.2, alpha, N, 12, {"dg.damping": damping, "dg.bending_multirate": multirate})
     motion = build_motion(cfg.motion, cfg.ship_end.position)
     s = build_solver(cfg)
     t0 = s.time
@@ -41,7 +42,7 @@ def run(alpha, damping, start, seconds, N=20, rate=50.0):
             cpu += time.process_time() - c0
             steps += n or 0
         s.drain_end_tensions()
-    return seconds / cpu, steps / seconds
+    return seconds / cpu, steps / seconds, s.bending_multirate_k
 
 
 def main(argv=None):
@@ -55,9 +56,11 @@ def main(argv=None):
           f"window {args.start:g}-{args.start + args.seconds:g} s")
     for alpha in args.alphas:
         for damping in ("explicit", "implicit"):
-            rt, per_s = run(alpha, damping, args.start, args.seconds, N=args.n)
-            print(f"alpha {alpha:g} dg.damping {damping:8s}: {rt:6.2f} x real time per CPU s, {per_s:7.0f} substeps/s",
-                  flush=True)
+            for multirate in ((False, True) if alpha > 0 else (True,)):
+                rt, per_s, k = run(alpha, damping, args.start, args.seconds, N=args.n, multirate=multirate)
+                mr = f"multirate {'on, K = ' + str(k) if multirate else 'off':14s}" if alpha > 0 else " " * 24
+                print(f"alpha {alpha:g} dg.damping {damping:8s} {mr}: {rt:6.2f} x real time per CPU s, "
+                      f"{per_s:7.0f} substeps/s", flush=True)
     print(f"# load {os.getloadavg()[0]:.1f} at the end")
 
 

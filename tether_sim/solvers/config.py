@@ -23,6 +23,7 @@ class DGOptions:
     q_penalty_auto_ratio: float = param(1500.0, doc="dg.q_penalty_jump auto: EA / T_min of the static state above which the tension-jump penalty is used (Eq. 24 measured unstable from 1.5e3 on curved cables, stable on ROPOS at 1.06e3)", min=1.0, max=1e12)
     quad_points: int = param(0, doc="Gauss points per element; 0 = automatic (3P+1)//2 + 1 (see docs/dg_solver.md)", min=0, max=64)
     damping: str = param("explicit", doc="material damping terms (axial zeta, bending zeta_b): explicit (in the SSP-RK3 step, whose substep they limit as h^-2 / h^-4) or implicit (Strang splitting with an L-stable SDIRK2 step of the damping, substep set by the waves only; docs/dg_solver.md)", choices=("explicit", "implicit"))
+    bending_multirate: bool = param(True, doc="bending (EI > 0, no bending damping or torque): evaluate the nested LDG of the bending shear every K substeps and extrapolate it quadratically in between, K from a stability and accuracy rule (docs/dg_solver.md \"Bending multirate\"); false = at every Runge-Kutta stage, as PE2020")
     tension_buffer: int = param(65536, doc="capacity of the per-substep end-tension ring buffer (drain_end_tensions)", min=16, max=100000000)
 
 

@@ -43,8 +43,8 @@ from tether_sim.solvers.dg.layout import (
     I_ANCHOR, I_AXDAMP, I_BENDING, I_CURRENT, I_KIND0, I_KIND1, I_LAW, I_N, I_NEEDPOS, I_P, I_NWAVE, I_SEABED, I_SURFACE,
     M_DT, M_NUS, M_TV, P_CCRIT, P_CDN, P_CDN_AIR, P_CDT, P_CDT_AIR, P_EA, P_FBZ, P_FBZ_AIR, P_GAMMA0,
     P_HALF_RHO_D, P_HALF_RHO_D_AIR, P_RHO_AH, P_SURF_B, P_TIME, P_WAVE_DEPTH, P_WAVE_STRETCH, P_WAVE_ZCUT, N_PRM,
-    P_EI, P_EIC, P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_QPENT, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
-    T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TE, W_TV, W_V, W_WET,
+    P_BMR, P_BMR_W, P_EI, P_EIC, P_KD, P_LAMBDA_BC, P_LAMBDA_FLOOR, P_MN, P_MT, P_MU, P_QPENT, P_RELAX, P_SBZETA, P_VMU, P_ZETA, P_ZG, T_LAM, T_Q,
+    T_TV, T_V, W_ACC, W_EDOT, W_I, W_L, W_NUS, W_Q, W_R, W_TE, W_TS, W_TSH, W_TV, W_V, W_WET,
 )
 from tether_sim.solvers.dg.fluxes import (
     clip_compression, end_outputs, interface_fluxes, shear_traces, tension_jump_penalty, velocity_fluxes,
@@ -333,11 +333,30 @@ def tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, tab_eps, tab_T, bc, vbc, w
         if not bending:
             _project_tension(Pj, Tr, wq, wm, tr, e, nm, nq)
     if bending:
-        ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, bc, wq, wm, tr, fl)
+        if prm[P_BMR] != 0.0:  # bending multirate: T_s extrapolated from the records (stepper.py)
+            held_shear_force(prm, wq, N, nq)
+        else:
+            ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, bc, wq, wm, tr, fl)
         for e in range(N):
             _project_tension(Pj, Tr, wq, wm, tr, e, nm, nq)
     if qtens:
         tension_jump_penalty(prm, iprm, h, Pj, Tr, Lf, wq, tr, fl, dU)
+
+
+@jit_inline
+def held_shear_force(prm, wq, N, nq):
+    """T_s = sum_k w_k R_k (W_TS) added to the tension vector W_TV: the bending shear extrapolated from
+    the records R_k (W_TSH) of the last three nested-LDG evaluations with the weights w_k (P_BMR_W) that
+    the stepper set for this stage's time (stepper.py, bending multirate)."""
+    w0 = prm[P_BMR_W]
+    w1 = prm[P_BMR_W + 1]
+    w2 = prm[P_BMR_W + 2]
+    for e in range(N):
+        for j in range(nq):
+            for c in range(3):
+                t = w0 * wq[e, j, W_TSH + c] + w1 * wq[e, j, W_TSH + 3 + c] + w2 * wq[e, j, W_TSH + 6 + c]
+                wq[e, j, W_TS + c] = t
+                wq[e, j, W_TV + c] += t
 
 
 @jit_inline

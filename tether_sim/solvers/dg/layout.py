@@ -60,6 +60,8 @@ define(globals(), "prm", [
     ("P_WAVE_DEPTH", 1, "h", "m", "water depth of the wave kinematics (inf: deep water)"),
     ("P_WAVE_ZCUT", 1, "z_cut", "m", "below this height the wave kinematics are < 1e-4 of their surface value and skipped"),
     ("P_WAVE_STRETCH", 1, "-", "-", "stretching code of the wave kinematics (physics/waves.py STRETCHINGS index)"),
+    ("P_BMR", 1, "-", "-", "bending multirate: 1 = this stage takes T_s from the records W_TSH (stepper.py), 0 = the nested LDG"),
+    ("P_BMR_W", 3, "-", "-", "weights of the three records W_TSH in the extrapolated T_s (quadratic Lagrange, stepper.py)"),
 ], "N_PRM")
 
 define(globals(), "iprm", [
@@ -79,6 +81,7 @@ define(globals(), "iprm", [
     ("I_SURFACE", 1, "-", "-", "free surface on (wetted fraction per Gauss point)"),
     ("I_WINCH", 1, "-", "-", "winch end + 1 (0: no winch, 1: ship end s = 0, 2: vehicle end s = L)"),
     ("I_NWAVE", 1, "n_w", "-", "wave components; their arrays follow N_PRM in prm (amp, omega, k, cos, sin, phase: n_w each)"),
+    ("I_BMR_K", 1, "K", "-", "bending multirate: the nested LDG every K substeps, T_s extrapolated between (0, 1: every stage; stepper.py)"),
 ], "N_IPRM")
 
 define(globals(), "bc", [
@@ -118,6 +121,7 @@ define(globals(), "wq", [
     ("W_TE", 3, "T(eps) i", "N", "elastic tension vector (no damping, no bending; q-equation penalty)"),
     ("W_SY", 3, "d(EI kappa + zeta_b dkappa/dt)/ds", "N", "bending shear of the short-chord form (ldg.py)"),
     ("W_TS", 3, "T_s", "N", "bending shear force (the part of W_TV from bending; ldg.py)"),
+    ("W_TSH", 9, "T_s records", "N", "bending multirate: T_s of the last three nested-LDG evaluations (stepper.py)"),
 ], "NWQ")
 
 define(globals(), "wm", [

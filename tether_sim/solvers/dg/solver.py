@@ -36,7 +36,7 @@ from tether_sim.solvers.dg.implicit_damping import DampingWork
 from tether_sim.solvers.dg.parameters import end_data, parameters, with_waves
 from tether_sim.solvers.dg.soa import TMP_HEAD, soa_scratch_size
 from tether_sim.solvers.dg.tick import EN_P, EN_V, TG_SET
-from tether_sim.solvers.dg.timestep import config_stable_dt
+from tether_sim.solvers.dg.timestep import bending_multirate_steps, config_stable_dt
 from tether_sim.solvers.dg.workspace import Workspace
 from tether_sim.solvers.work import mesh_sizes
 
@@ -114,6 +114,7 @@ class DGCableSolver:
                 f"dg.fixed_time_step = {self.fixed_dt:g} s exceeds the stability limit "
                 f"{self._dt_rule / opt.cfl:g} s (cfl = 1; automatic step with dg.cfl = {opt.cfl:g} "
                 f"would be {self._dt_rule:g} s): reduce it, or use fewer elements / a lower order")
+        self._set_bending_multirate()
         self._set_initial_state(config)
 
     # ------------------------------------------------------------------ set-up
@@ -138,6 +139,17 @@ class DGCableSolver:
             iprm_step[Y.I_AXDAMP] = iprm_step[Y.I_BENDDAMP] = 0
             iprm_step[Y.I_BENDING] = int(cab.EI > 0.0 or cab.torque != 0.0)
         return damp, prm_step, iprm_step
+
+    def _set_bending_multirate(self):
+        """iprm[I_BMR_K] (both parameter sets; the outputs never extrapolate): the nested LDG every K substeps
+        (timestep.bending_multirate_steps); 1 when dg.bending_multirate is off or with a winch (h changes)."""
+        cab = self.config.cable
+        k = 1
+        if self.config.dg.bending_multirate and not self.winch_enabled:
+            k = bending_multirate_steps(self.ws.h, self.P, cab.gamma0, cab.EI, cab.bending_damping, cab.torque,
+                                        self._substep())
+        self.bending_multirate_k = k
+        self.ws.iprm[Y.I_BMR_K] = self.ws.iprm_step[Y.I_BMR_K] = k
 
     def _set_initial_state(self, config):
         ws = self.ws

@@ -2,6 +2,15 @@
 rigid bodies at "body" ends (Table 1 last row: v_hat = v_RB at P, the body feels -n T_hat at P),
 with the per-substep end-tension ring buffer. The loop itself allocates nothing.
 
+Bending multirate (iprm[I_BMR_K] = K > 1, timestep.bending_multirate_steps): the nested LDG of the
+bending shear T_s (ldg.py, the costliest part of a right-hand side with bending) runs at stage 0 of the
+substeps 0, K, 2K, ... of each call, whose T_s are recorded (wq W_TSH, three slots); from the third record
+on, every other stage takes T_s = the quadratic through the last three records at the stage time
+(kernels.held_shear_force), the rest of the right-hand side evaluated as always. On a bending mode of
+frequency w that is the third-order Adams-Bashforth method on the macro step H = K dt, stable for
+w H <= 0.72; K keeps w_max H <= 0.25. The first 2K substeps of a call evaluate T_s at every stage (no
+record outlives the call: restore, set_shape or relax between calls cannot leave a stale one).
+
 With ``dg.damping: implicit`` the loop is the Strang splitting D(dt/2) E(dt) D(dt/2) (consecutive
 half steps merged into one D(dt)): E is the SSP-RK3 step of the right-hand side without the
 damping terms (the caller passes prm/iprm with zeta = zeta_b = 0), D the implicit damping step of
@@ -22,8 +31,8 @@ from tether_sim.solvers.dg.fluxes import axial_clip, trace_tangent
 from tether_sim.solvers.dg.implicit_damping import damping_step
 from tether_sim.solvers.dg.kernels import dg_rhs, hermite_end
 from tether_sim.solvers.dg.layout import (
-    E_F, E_T, F_V, I_ANCHOR, I_BENDING, I_CURRENT, I_KIND0, I_LAW, I_N, I_P, I_SURFACE, P_EIC, P_GAMMA0, P_LAMBDA_BC,
-    P_MN, P_MT, P_RELAX, P_TIME, P_WL, T_LAM, T_TS, T_TV, T_V, W_I, W_WET,
+    E_F, E_T, F_V, I_ANCHOR, I_BENDING, I_BMR_K, I_CURRENT, I_KIND0, I_LAW, I_N, I_P, I_SURFACE, P_BMR, P_BMR_W,
+    P_EIC, P_GAMMA0, P_LAMBDA_BC, P_MN, P_MT, P_RELAX, P_TIME, P_WL, T_LAM, T_TS, T_TV, T_V, W_I, W_TS, W_TSH, W_WET,
 )
 from tether_sim.solvers.dg.workspace import (
     X_BAND, X_BC, X_BLK, X_BP, X_BS, X_BS0, X_BUF, X_BVEC, X_CNT, X_CX, X_CY, X_CZ, X_D, X_DBS, X_DPRM, X_DRA, X_DTMP,
@@ -192,6 +201,14 @@ def dg_advance(nsteps, t0, dt, reuse, A):
     kinematic_anchor = is_kinematic(kind_a)
     out[0] = 0.0
     out[1] = STATUS_OK
+    # bending multirate (module docstring): records of T_s at stage 0 of substeps 0, K, 2K, ... of this
+    # call (slot = record count mod 3, times r0..r2); from the third record on the other stages extrapolate
+    K = iprm[I_BMR_K] if iprm[I_BENDING] != 0 else 0
+    wq = A[X_WQ]
+    nrec = 0
+    r0 = 0.0
+    r1 = 0.0
+    r2 = 0.0
     for n in range(nsteps):
         t = t0 + n * dt
         for i in range(nu):
@@ -213,7 +230,21 @@ def dg_advance(nsteps, t0, dt, reuse, A):
             if winch:
                 winch_stage(prm, hw, h, ts, t0, t1)
             internal = not reuse or n > 0 or stage > 0
+            record = K > 1 and stage == 0 and n % K == 0
+            if K > 1 and nrec >= 3 and not record:
+                _extrapolation_weights(prm, ts, r0, r1, r2)
             dg_evaluate(ts, A, prm, iprm, fdamp, implicit, internal)
+            prm[P_BMR] = 0.0
+            if record:
+                slot = nrec % 3
+                _record_shear(wq, slot)
+                if slot == 0:
+                    r0 = ts
+                elif slot == 1:
+                    r1 = ts
+                else:
+                    r2 = ts
+                nrec += 1
             if stage == 0:
                 slot = cnt[0] % cap
                 buf[slot, 0] = t
@@ -250,6 +281,25 @@ def dg_advance(nsteps, t0, dt, reuse, A):
             out[1] = STATUS_DIVERGED
             return
         out[0] = n + 1
+
+
+@jit_inline
+def _extrapolation_weights(prm, t, r0, r1, r2):
+    """prm[P_BMR_W + k]: the quadratic Lagrange weights at time t of the records at r0, r1, r2; P_BMR = 1."""
+    prm[P_BMR_W] = (t - r1) * (t - r2) / ((r0 - r1) * (r0 - r2))
+    prm[P_BMR_W + 1] = (t - r0) * (t - r2) / ((r1 - r0) * (r1 - r2))
+    prm[P_BMR_W + 2] = (t - r0) * (t - r1) / ((r2 - r0) * (r2 - r1))
+    prm[P_BMR] = 1.0
+
+
+@jit_inline
+def _record_shear(wq, slot):
+    """Record slot (0-2) of W_TSH = the bending shear W_TS of the evaluation just made."""
+    o = W_TSH + 3 * slot
+    for e in range(wq.shape[0]):
+        for j in range(wq.shape[1]):
+            for c in range(3):
+                wq[e, j, o + c] = wq[e, j, W_TS + c]
 
 
 @jit_inline

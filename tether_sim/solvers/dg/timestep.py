@@ -13,6 +13,8 @@ in docs/dg_solver.md) so that dt is at the SSP-RK3 stability boundary for a stra
 the solver then multiplies by the safety factor dg.cfl (default 0.5).
 """
 
+import math
+
 import numpy as np
 
 from tether_sim.numerics.integrators import SSPRK3_IMAG_LIMIT
@@ -65,3 +67,28 @@ def config_stable_dt(config, h, max_slope, implicit_damping) -> float:
     kd = env.seabed_stiffness * cab.diameter if env.seabed else 0.0
     return opt.cfl * stable_dt(h, int(opt.order), max_slope, cab.gamma0, cab.damping, cab.EI, cab.bending_damping,
                                opt.lambda_floor, kd, env.seabed_damping, implicit_damping)
+
+
+# Bending multirate (stepper.py): the nested LDG every K substeps, the bending shear T_s extrapolated
+# quadratically from its last three evaluations in between. For a bending mode of frequency w that is
+# the third-order Adams-Bashforth method on the macro step H = K dt, stable on the imaginary axis for
+# w H <= 0.72 (its stability region holds [-0.72i, 0.72i]; the second-order extrapolation would not:
+# |rho| = 1 + (w H)^4 / 4 per step). The rule keeps w H <= BENDING_MULTIRATE_WH for the largest bending
+# frequency of the mesh, w_max = sqrt(3) C_P sqrt(EI / gamma0) / h^2 (the imaginary-axis limit of SSP-RK3
+# times the measured rate of the bending term, the taut straight cable) times SHORT_CHORD_STIFFENING = 2
+# (the short-chord tangent b = 2 q / (1 + l^2) of a slack part has |db/dq| <= 2: four times the
+# stiffness, twice the frequency; ldg.py), and H <= BENDING_MULTIRATE_MAX_H for accuracy.
+BENDING_MULTIRATE_WH = 0.25
+BENDING_MULTIRATE_MAX_H = 1e-3  # s
+SHORT_CHORD_STIFFENING = 2.0
+
+
+def bending_multirate_steps(h, P, gamma0, EI, zeta_b, torque, dt):
+    """K of the bending multirate for substep dt on element sizes h (1: the nested LDG at every stage).
+    1 without bending stiffness, with bending damping (a stiff real eigenvalue ~ h^-4) or a torque."""
+    if EI <= 0.0 or zeta_b > 0.0 or torque != 0.0 or dt <= 0.0:
+        return 1
+    hmin = float(np.min(np.asarray(h, float)))
+    w = SHORT_CHORD_STIFFENING * SSPRK3_IMAG_LIMIT * _coef(_C, P, 4) * (EI / gamma0) ** 0.5 / hmin**2
+    H = min(BENDING_MULTIRATE_WH / w, BENDING_MULTIRATE_MAX_H)
+    return max(1, int(math.floor(H / dt * (1.0 + 1e-12))))

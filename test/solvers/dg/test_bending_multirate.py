@@ -1,0 +1,111 @@
+"""Bending multirate (solvers/dg/stepper.py, timestep.bending_multirate_steps): the nested LDG of the bending
+shear every K substeps, T_s extrapolated quadratically from its last three evaluations in between.
+
+- The rule: K = 1 (every stage) without bending stiffness, with bending damping or a torque; otherwise the macro
+  step K dt keeps w_max K dt <= 0.25 (AB3 is stable on the imaginary axis up to 0.72) and K dt <= 1 ms.
+- A slack, curved cable in vacuum with free ends (its bending energy exchanged with kinetic energy, nothing
+  else but the elastic tension): with the multirate the motion follows the every-stage solution and the
+  energy never grows (the second-order extrapolation would feed the bending modes: |rho| = 1 + (w H)^4 / 4).
+- dg.bending_multirate false is the every-stage stepper bit for bit.
+
+Marked ``jit_off``: `make test` runs them again with the kernels as plain Python (shorter runs there).
+"""
+
+import os
+
+import numpy as np
+import pytest
+
+from tether_sim.config import SimConfig
+from tether_sim.numerics.quadrature import gauss_legendre
+from tether_sim.physics.boundary import EndCondition
+from tether_sim.physics.cable import CableProperties
+from tether_sim.physics.environment import Environment
+from tether_sim.solvers.config import DGOptions, InitialState
+from tether_sim.solvers.dg import layout as Y
+from tether_sim.solvers.dg.solver import DGCableSolver
+from tether_sim.solvers.dg.timestep import (
+    BENDING_MULTIRATE_MAX_H, BENDING_MULTIRATE_WH, SHORT_CHORD_STIFFENING, _C, bending_multirate_steps,
+)
+
+pytestmark = pytest.mark.jit_off
+
+JIT_OFF = os.environ.get("NUMBA_DISABLE_JIT") == "1"
+
+
+def solver(multirate, EI=2620.0, N=4, h=10.0, **cable):
+    """The ROPOS tether's EA and gamma0 with bending factor 1 on the Sec. 6.2 element size, in vacuum (no
+    weight, drag, added mass or material damping), free ends."""
+    args = dict(length=N * h, EA=4.55e7, gamma0=3.01, diameter=0.03, density=7153.0, EI=EI, compression="none",
+                damping=0.0, material="bilinear", Cdn=0.0, Cdt=0.0, Cmn=0.0, Cmt=0.0)
+    args.update(cable)
+    cfg = SimConfig(cable=CableProperties(**args), environment=Environment(g=0.0, fluid_density=1025.0),
+                    ship_end=EndCondition(kind="free", position=(0, 0, 0)),
+                    vehicle_end=EndCondition(kind="free", position=(0.0, 0, -N * h)),
+                    dg=DGOptions(n_elements=N, order=4, q_penalty_jump="strain", bending_multirate=multirate),
+                    initial=InitialState(kind="straight"))
+    return DGCableSolver(cfg)
+
+
+def start(s):
+    """A slack (chord 0.9), curved line bent at the scale of an element, at rest."""
+    s.set_shape(lambda x: 0.9 * np.stack([0.4 * np.sin(0.3 * x), 0 * x, -np.sqrt(1 - (0.4 * np.sin(0.3 * x)) ** 2)], 1),
+                origin=np.zeros(3))
+
+
+def energy(s):
+    """Kinetic + bending (EI |kappa|^2 / 2 of the LDG curvature) + elastic energy (J)."""
+    s._evaluate()
+    wq = s.ws.wq
+    _, wg = gauss_legendre(s.ws.V.shape[0])
+    w = wg[None, :] * s.ws.h[:, None] / 2.0
+    cab = s.config.cable
+    kin = np.sum(w * np.sum(wq[:, :, Y.W_V:Y.W_V + 3] ** 2, axis=2)) / (2.0 * cab.gamma0)
+    bend = 0.5 * cab.EI * np.sum(w * np.sum(wq[:, :, Y.W_KAP:Y.W_KAP + 3] ** 2, axis=2))
+    return kin + bend + 0.5 * cab.EA * np.sum(w * np.maximum(wq[:, :, Y.W_L] - 1.0, 0.0) ** 2)
+
+
+def test_rule():
+    h, P, g0, EI = np.full(20, 10.0), 4, 3.01, 2620.0
+    dt = 1.8e-5
+    K = bending_multirate_steps(h, P, g0, EI, 0.0, 0.0, dt)
+    w = SHORT_CHORD_STIFFENING * 3**0.5 * _C[P] * (EI / g0) ** 0.5 / 10.0**2
+    assert K > 1
+    assert w * K * dt <= BENDING_MULTIRATE_WH * (1 + 1e-9) and K * dt <= BENDING_MULTIRATE_MAX_H * (1 + 1e-9)
+    assert w * (K + 1) * dt > BENDING_MULTIRATE_WH or (K + 1) * dt > BENDING_MULTIRATE_MAX_H  # the largest such K
+    for args in ((0.0, 0.0, 0.0), (EI, 10.0, 0.0), (EI, 0.0, 5.0)):  # no EI, bending damping, torque
+        assert bending_multirate_steps(h, P, g0, args[0], args[1], args[2], dt) == 1
+    assert bending_multirate_steps(h, P, g0, 100 * EI, 0.0, 0.0, 1e-3) == 1  # stiff bending: every stage
+
+
+def test_off_is_the_every_stage_stepper_bit_for_bit():
+    a, b = solver(False), solver(True)
+    assert a.bending_multirate_k == 1 and b.bending_multirate_k > 1
+    b.ws.iprm_step[Y.I_BMR_K] = b.ws.iprm[Y.I_BMR_K] = 1  # the same solver with K = 1
+    for s in (a, b):
+        start(s)
+        s.advance_to(0.01)
+    assert np.array_equal(a.ws.U, b.ws.U)
+
+
+def test_multirate_follows_the_every_stage_solution_and_gains_no_energy():
+    T = 0.03 if JIT_OFF else 0.5  # 0.5 s: 4600 substeps, about 10 bending periods of the element-scale modes
+    arc = np.linspace(0.0, 40.0, 41)
+    runs = {}
+    for multirate in (False, True):
+        s = solver(multirate)
+        start(s)
+        x_start = s.positions_at(arc)
+        e0 = energy(s)
+        worst = 0.0
+        for k in range(1, 11):
+            s.advance_to(T * k / 10)
+            worst = max(worst, energy(s) / e0)
+        runs[multirate] = (s.positions_at(arc), worst, s.bending_multirate_k, np.max(np.abs(s.positions_at(arc) - x_start)))
+    (x0, w0, _, moved), (x1, w1, k1, _) = runs[False], runs[True]
+    diff = np.max(np.abs(x1 - x0))
+    print("K", k1, "E max / E0 every stage", w0, "multirate", w1, "moved", moved, "m; largest difference", diff, "m")
+    assert k1 > 1
+    assert moved > (1e-4 if JIT_OFF else 0.05)  # the line did move
+    assert w1 <= 1.0 + 1e-4  # no energy gained
+    assert diff <= 1e-3 * moved
