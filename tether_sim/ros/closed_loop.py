@@ -30,14 +30,15 @@ def tether_parameters(path, **extra) -> list:
 
 
 class ClosedLoop:
-    """The two nodes in one executor (module docstring); ``tether=False``: the vehicle alone."""
+    """The two nodes in one executor (module docstring); ``tether=False``: the vehicle alone; ``keeper``: a
+    StationKeeper other than the default one."""
 
     def __init__(self, start, setpoint, params_file=None, current=(0.0, 0.0, 0.0), tether=True, model=BLUEROV2_HEAVY,
-                 **extra):
+                 keeper=None, **extra):
         self.context = rclpy.Context()
         rclpy.init(context=self.context)
         self.sim = VehicleSim(model, position=start, dt=0.005, current=current)
-        self.vehicle = VehicleNode(self.sim, StationKeeper(model), setpoint, rate=50.0, clock=True, timer=False,
+        self.vehicle = VehicleNode(self.sim, keeper or StationKeeper(model), setpoint, rate=50.0, clock=True, timer=False,
                                    context=self.context)
         self.vehicle.publish()  # the first pose and /clock before the tether node starts
         self.tether = (TetherSimNode(context=self.context, parameter_overrides=tether_parameters(params_file, **extra))
