@@ -10,4 +10,5 @@ cfl safety (``dg_cfl_study``), held arcs and the q-equation penalty (``hybrid_he
 (``moordyn_waves``; docs/waves.md), where the two codes differ on the ROPOS snap
 (``moordyn_physics_ladder``), line networks (``network_vs_moordyn``, ``network_excursion_spike``,
 ``network_vs_single_line``; docs/network.md); the vehicle in the loop: the input delay and the
-station-keeping thrust in a current (``vehicle_loop_delay``, ``vehicle_tether_drag``; docs/coupling.md)."""
+station-keeping thrust in a current (``vehicle_loop_delay``, ``vehicle_tether_drag``), on the TMS excursion tether (``vehicle_on_tms``;
+docs/coupling.md)."""

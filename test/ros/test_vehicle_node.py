@@ -119,3 +119,30 @@ def test_the_demo_refuses_bad_arguments(args, says, capsys):
 
     assert main(args) == 2
     assert says in capsys.readouterr().err
+
+
+def test_the_vehicle_flies_on_the_tms_excursion_tether():
+    """config/ropos_tms.yaml (ship, 1730 m tether, cage, 30 m excursion tether to the vehicle) in the loop: the
+    network node follows the MuJoCo vehicle's pose, every tick publishes the lines' states, and the vehicle
+    applies the excursion tether's wrench as published (vehicle frame); told to move 5 m away from the cage
+    it moves that way against the tether, and the mean force on it has a part pulling it back toward the cage."""
+    tms = Path(__file__).resolve().parents[2] / "config" / "ropos_tms.yaml"
+    start = np.array([20.0, 0.0, -1751.0]) - np.array(ATTACH)  # the file's vehicle point, the attachment behind
+    lp = ClosedLoop(tuple(start), tuple(start + [5.0, 0.0, 0.0]), params_file=tms, **{"node.input_delay": 0.0})
+    try:
+        lp.run(4.0)
+        assert not lp.vehicle.failed and len(lp.states) >= 140  # states from ~1 s (the node's start), then
+        stamps = np.array([m.header.stamp.sec + 1e-9 * m.header.stamp.nanosec for m in lp.states[-100:]])
+        assert np.allclose(np.diff(stamps), 0.02, atol=1e-6)  # one per 50 Hz tick
+        t, p, applied, used = lp.trace[-1]
+        last = next(w for w in reversed(lp.wrenches)
+                    if abs(w.header.stamp.sec + 1e-9 * w.header.stamp.nanosec - used) < 1e-9)
+        f_msg = np.array([last.wrench.force.x, last.wrench.force.y, last.wrench.force.z])
+        assert np.array_equal(applied[:3], f_msg)
+        assert p[0] > start[0] + 0.5  # it flies out, away from the cage
+        forces = np.array([x[2][:3] for x in lp.trace[-100:]])
+        cage = np.array([0.0, 0.0, -1734.4 - 2.1])  # the cage's lower attachment in the file, near enough
+        toward = (cage - p) / np.linalg.norm(cage - p)
+        assert np.all(np.isfinite(forces)) and float(np.mean(forces @ toward)) > 0.0
+    finally:
+        lp.close()

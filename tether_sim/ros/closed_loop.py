@@ -15,6 +15,8 @@ from rclpy.parameter import Parameter
 from tether_sim_msgs.msg import TetherState
 
 from tether_sim.io.params import read_param_file
+from tether_sim.network.params import file_is_network
+from tether_sim.ros.network_node import NetworkSimNode
 from tether_sim.ros.sim_node import TetherSimNode
 from tether_sim.ros.vehicle_node import VehicleNode
 from tether_sim.vehicle.model import BLUEROV2_HEAVY
@@ -41,17 +43,28 @@ class ClosedLoop:
         self.vehicle = VehicleNode(self.sim, keeper or StationKeeper(model), setpoint, rate=50.0, clock=True, timer=False,
                                    context=self.context)
         self.vehicle.publish()  # the first pose and /clock before the tether node starts
-        self.tether = (TetherSimNode(context=self.context, parameter_overrides=tether_parameters(params_file, **extra))
-                       if tether else None)
+        self.tether = self._tether_node(params_file, extra) if tether else None
         self.probe = rclpy.create_node("probe", context=self.context)
         self.states, self.wrenches = [], []
-        self.probe.create_subscription(TetherState, "/tether/state", self.states.append, 1000)
+        # the tick is done when its state arrives: a network publishes one per line (the first line's is waited for)
+        state_topic = (f"/tether/{next(iter(self.tether.spec.lines))}/state" if isinstance(self.tether, NetworkSimNode)
+                       else "/tether/state")
+        self.probe.create_subscription(TetherState, state_topic, self.states.append, 1000)
         self.probe.create_subscription(WrenchStamped, "/tether/vehicle_wrench", self.wrenches.append, 1000)
         self.executor = SingleThreadedExecutor(context=self.context)
         for n in (self.vehicle, self.tether, self.probe):
             if n is not None:
                 self.executor.add_node(n)
         self.trace = []  # (t, position, applied tether wrench (6,), stamp of the wrench message it came from)
+
+    def _tether_node(self, params_file, extra):
+        """tether-sim's node for the file: a line network's node for a network file (docs/network.md), else
+        the single-line node; in sim time, never capped on the wall clock."""
+        if params_file is not None and file_is_network(params_file):
+            return NetworkSimNode(files=[str(params_file)], overrides={"node.tick_budget": 1.0e6, **extra},
+                                  context=self.context,
+                                  parameter_overrides=[Parameter("use_sim_time", Parameter.Type.BOOL, True)])
+        return TetherSimNode(context=self.context, parameter_overrides=tether_parameters(params_file, **extra))
 
     def run(self, seconds):
         for _ in range(int(round(seconds * 50))):

@@ -76,6 +76,37 @@ def test_damping_operator_is_the_damping_part_of_the_rhs(k0, k1, zeta_b, beta):
     np.testing.assert_allclose(dw.fdamp, end_full - end_el, atol=1e-10 * np.abs(end_full).max())
 
 
+@pytest.mark.parametrize("k0, k1", [("prescribed", "free"), ("clamped", "fixed"), ("fixed", "force")])
+@pytest.mark.jit_off
+def test_bending_damping_of_short_chords_is_the_rhs_energy_form(k0, k1):
+    """A law without compression (cable.compression none) on a state whose chords run from 0.55 to 1.2 (short
+    and taut points in every element): the implicit damping operator's bending damping is the explicit
+    right-hand side's, whose short-chord shear is the gradient form -J d/ds(zeta_b d/ds(J dq/dt)) of ldg.py
+    (before 2026-11-27 the damping step kept b = q there: the difference was of the force's own size)."""
+    flat = dict(curved_flat(k0, k1, 0.7, law="bilinear"), **{"cable.compression": "none", "cable.damping": 0.0})
+    _, s = harness.make_solver(flat)
+    s.set_shape(lambda x: (0.875 + 0.325 * np.sin(1.3 * x))[:, None]
+                * np.stack([np.cos(0.1 * x), np.sin(0.1 * x), 0.05 * np.cos(0.3 * x)], 1),
+                velocity=lambda x: np.stack([np.sin(x), 0.3 * np.cos(2 * x), 0.1 * x], 1))
+    s.ws.U += 1e-3 * np.random.default_rng(4).standard_normal(s.ws.U.shape)
+    s.ws.ends[:, 3:6] = [np.array([0.3, -0.2, 0.1]), np.array([-0.1, 0.25, 0.05])]
+    s._evaluate()
+    wl = s.ws.wq[:, :, Y.W_L]
+    assert wl.min() < 0.7 and wl.max() > 1.1 and ((wl < 1.0).any(axis=1) & (wl > 1.0).any(axis=1)).sum() >= 3
+    full, end_full = evaluate(s, s.ws.prm, s.ws.iprm)
+    prm = s.ws.prm.copy()
+    prm[Y.P_ZETA] = prm[Y.P_ZETAB] = 0.0
+    elastic, end_el = evaluate(s, prm, s.ws.iprm_step)
+    dw = s._damp
+    DO.damping_geometry(s.ws.U, s.ws.V, dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
+    DO.damping_force(s.ws.U, 3, True, s.ws.vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, s.ws.Pj, dw.wp, dw.wd, DL.WD_F)
+    DO.end_damping_forces(dw.idp, dw.dprm, dw.bvec, s.ws.U, s.ws.Tr, dw.wp, dw.fdamp)
+    ref = full - elastic
+    assert np.abs(ref).max() > 1.0
+    np.testing.assert_allclose(dw.wd[:, :, 0:3], ref, atol=1e-10 * np.abs(ref).max())
+    np.testing.assert_allclose(dw.fdamp, end_full - end_el, atol=1e-10 * max(np.abs(end_full).max(), 1.0))
+
+
 @pytest.mark.parametrize("k0, k1, law, zeta_b, mode", [("prescribed", "fixed", "linear", 0.0, DL.MODE_AXIAL),
                                                         ("prescribed", "fixed", "bilinear", 0.0, DL.MODE_AXIAL),
                                                         ("prescribed", "free", "bilinear", 0.0, DL.MODE_GENERAL),

@@ -186,25 +186,32 @@ def axial_tension_points(wp, c_e, with_const):
 
 @jit
 def bending_shear_points(blk, idp, dprm, wp, c_e):
-    """Add the bending-damping shear (1/l_b) b x tau, tau = d/ds(zeta_b b x kdot / l_b^2), to WP_TV, with
-    the bending tangent b = q / l_b, l_b = max(l, l_f) of ldg.py (b = i where taut, q where the chord is short)."""
+    """Add the bending-damping shear to WP_TV with the bending tangent b of ldg.py: where taut (l >= l_f)
+    PE2020's (1/l) b x tau, tau = d/ds(zeta_b b x kdot / l^2), b = i; where the chord is short b = g q,
+    g = 2 / (1 + l^2), db/dt = J dq/dt and the shear -J Y, Y = d/ds(zeta_b kdot), J = g I + g' l i i^T
+    (ldg.py's energy form; Y with the fluxes of M*, as ldg._short_chord_shear)."""
     N, nq = wp.shape[0], wp.shape[1]
     zb = dprm[DP_ZETAB]
     floor = chord_floor(idp[ID_LAW])
+    short = False
     for e in range(N):
         for j in range(nq):
             l = wp[e, j, WP_L]
-            il = 1.0 / l if l >= floor else 0.0
-            for c in range(3):
-                if l >= floor:
+            if l >= floor:
+                il = 1.0 / l
+                for c in range(3):
                     wp[e, j, WP_IDOT + c] = (wp[e, j, WP_NUS + c] - wp[e, j, WP_I + c] * wp[e, j, c_e]) * il
-                else:
-                    wp[e, j, WP_IDOT + c] = wp[e, j, WP_NUS + c]
+            else:  # db/dt = g dq/dt + g' l (i . dq/dt) i, i . dq/dt = the strain rate
+                short = True
+                g = 2.0 / (1.0 + l * l)
+                gl = -4.0 * l * l / ((1.0 + l * l) * (1.0 + l * l))
+                for c in range(3):
+                    wp[e, j, WP_IDOT + c] = g * wp[e, j, WP_NUS + c] + gl * wp[e, j, c_e] * wp[e, j, WP_I + c]
     apply_block_op(blk, OP_KDOT, 1, nq, wp, WP_IDOT, 1.0, wp, WP_KDOT)
     for e in range(N):
         for j in range(nq):
             l = wp[e, j, WP_L]
-            f = 1.0 if l >= floor else l  # b = i f
+            f = 1.0 if l >= floor else 2.0 * l / (1.0 + l * l)  # |b|
             i0 = wp[e, j, WP_I] * f
             i1 = wp[e, j, WP_I + 1] * f
             i2 = wp[e, j, WP_I + 2] * f
@@ -220,17 +227,42 @@ def bending_shear_points(blk, idp, dprm, wp, c_e):
     for e in range(N):
         for j in range(nq):
             l = wp[e, j, WP_L]
-            f = 1.0 if l >= floor else l
-            il = 1.0 / max(l, floor)
-            i0 = wp[e, j, WP_I] * f
-            i1 = wp[e, j, WP_I + 1] * f
-            i2 = wp[e, j, WP_I + 2] * f
+            if l < floor:
+                continue
+            il = 1.0 / l
+            i0 = wp[e, j, WP_I]
+            i1 = wp[e, j, WP_I + 1]
+            i2 = wp[e, j, WP_I + 2]
             t0 = wp[e, j, WP_TAU]
             t1 = wp[e, j, WP_TAU + 1]
             t2 = wp[e, j, WP_TAU + 2]
             wp[e, j, WP_TV] += (i1 * t2 - i2 * t1) * il
             wp[e, j, WP_TV + 1] += (i2 * t0 - i0 * t2) * il
             wp[e, j, WP_TV + 2] += (i0 * t1 - i1 * t0) * il
+    if not short:
+        return
+    for e in range(N):  # X = zeta_b kdot into WP_MB, Y = dX/ds into WP_TAU (the same operator as tau)
+        for j in range(nq):
+            for c in range(3):
+                wp[e, j, WP_MB + c] = zb * wp[e, j, WP_KDOT + c]
+    apply_block_op(blk, OP_TAU, 1, nq, wp, WP_MB, 1.0, wp, WP_TAU)
+    for e in range(N):
+        for j in range(nq):
+            l = wp[e, j, WP_L]
+            if l >= floor:
+                continue
+            g = 2.0 / (1.0 + l * l)
+            gl = -4.0 * l * l / ((1.0 + l * l) * (1.0 + l * l))
+            y0 = wp[e, j, WP_TAU]
+            y1 = wp[e, j, WP_TAU + 1]
+            y2 = wp[e, j, WP_TAU + 2]
+            i0 = wp[e, j, WP_I]
+            i1 = wp[e, j, WP_I + 1]
+            i2 = wp[e, j, WP_I + 2]
+            a = gl * (i0 * y0 + i1 * y1 + i2 * y2)
+            wp[e, j, WP_TV] -= g * y0 + a * i0
+            wp[e, j, WP_TV + 1] -= g * y1 + a * i1
+            wp[e, j, WP_TV + 2] -= g * y2 + a * i2
 
 
 @jit
