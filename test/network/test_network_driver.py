@@ -183,3 +183,58 @@ def test_tms_excursion_tether_is_at_rest_when_the_clock_starts():
     assert s.shape[1] > 100
     for row in s[1:3]:
         assert np.max(np.abs(row - np.median(row))) < 2.0
+
+
+def _tms_excursion_detector():
+    """The snap detector of config/ropos_tms.yaml's excursion tether, as the network driver builds it
+    (absolute thresholds: slack below 10 N, re-tensioned above 100 N, a snap from 1 kN; the guard with
+    the cage's mass, 3 elements of 10 m: the axial wave crosses one in 7.1 ms)."""
+    from pathlib import Path
+    from types import SimpleNamespace
+
+    from tether_sim.network.params import load_network_files
+    from tether_sim.physics.snap import SnapDetector
+
+    tms, _ = load_network_files([Path(__file__).resolve().parents[2] / "config" / "ropos_tms.yaml"])
+    line = tms.lines["excursion"]
+    guard = line_snap_guard(tms, "excursion", SimpleNamespace(h=np.full(3, 10.0)))
+    assert guard.crossing_time == pytest.approx(10.0 / np.sqrt(2.0e6 / 1.01))
+    return SnapDetector(line.config.snap, ["excursion/ship", "excursion/vehicle"], [5.9, 2.4], [0.0, 30.0], guard)
+
+
+def _pulse_trace(rise, jump, dt=1.0 / 3100.0):
+    """The excursion tether's cage-end tension at its substep: at rest (3 N, slack), then above the
+    slack level at 20 N from 0.5 s (below the re-tension level), a pulse at 0.7 s: a step of ``jump`` N
+    in one substep, a linear rise to 1.1 kN over ``rise`` s, a fall to 20 N over 8 ms; slack again from
+    1.0 s. The cage end's neighbour (s = L) stays at rest."""
+    t = np.arange(0.0, 3.0, dt)
+    y = np.where(t < 0.5, 3.0, np.where(t < 1.0, 20.0, 3.0))
+    on = (t >= 0.7) & (t < 0.7 + rise)
+    y[on] = jump + (1100.0 - jump) * (t[on] - 0.7) / rise
+    off = (t >= 0.7 + rise) & (t < 0.7 + rise + 0.008)
+    y[off] = 1100.0 - 1080.0 * (t[off] - 0.7 - rise) / 0.008
+    return t, np.column_stack([y, np.full_like(y, 2.4)])
+
+
+def test_an_excursion_pulse_from_above_the_slack_level_is_numerical_not_a_snap():
+    """The numerical pulses of the TMS file's slack excursion tether (its DG slack end: a step of ~200 N
+    in one substep, to 0.2-0.8 kN within 3-8 ms, measured offline on the node's start-up sequence of the
+    30 s soak) start where the tension already stands above the slack level (10 N) after an earlier
+    disturbance. The guard measured the rise from the last crossing of the slack level: 200 ms before
+    here, long enough for the element-crossing check and a large bound (k t_r), so a pulse reaching
+    1.1 kN was published as a snap (186 x static). The rise the guard checks is now the front's, from
+    the last crossing of the re-tension level (100 N): 4.2 ms, shorter than the 7.1 ms an element
+    crossing needs: a numerical warning. A physical front of the same peak rising over 20 ms from
+    the same state is still a snap."""
+    from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent
+
+    numerical = _tms_excursion_detector()
+    events = numerical.update(*_pulse_trace(rise=0.0042, jump=196.0), relative_speed=0.3)
+    assert not [e for e in events if isinstance(e, SnapEvent)]
+    warnings = [e for e in events if isinstance(e, NumericalSnapWarning)]
+    assert len(warnings) == 1 and warnings[0].location == "excursion/ship" and warnings[0].tension_peak == pytest.approx(1100.0, rel=5e-3)
+    assert "crossing" in warnings[0].reason
+    physical = _tms_excursion_detector()
+    events = physical.update(*_pulse_trace(rise=0.020, jump=20.0), relative_speed=0.5)
+    snaps = [e for e in events if isinstance(e, SnapEvent)]
+    assert len(snaps) == 1 and snaps[0].peak_tension == pytest.approx(1100.0, rel=5e-3)

@@ -159,22 +159,31 @@ class SnapGuard:
         return (rejected_rise_start <= rise_start <= rejected.time + 2.0 * self.travel_time
                 and exit_time >= rejected.slack_start)
 
-    def check(self, event: "SnapEvent", speed: float):
-        """None when ``event`` is plausible, else the :class:`NumericalSnapWarning` replacing it."""
+    def check(self, event: "SnapEvent", speed: float, front_time: float | None = None):
+        """None when ``event`` is plausible, else the :class:`NumericalSnapWarning` replacing it.
+
+        The rise checked (and in the bound's ``k t_r``) is the front's: from the last upward crossing of
+        the re-tension level before the peak (``front_time``, from the detector) when that is shorter
+        than ``event.rise_time`` (from the slack level): a tension that left slack earlier and stood
+        between the two levels must not lend its waiting time to a front that then rose in one step."""
         if self.margin <= 0.0:
             return None
-        bound = self.bound(event.static_tension, speed, event.rise_time)
+        rise = event.rise_time
+        if front_time is not None and math.isfinite(front_time) and 0.0 <= front_time < rise:
+            rise = front_time
+        bound = self.bound(event.static_tension, speed, rise)
         reasons = []
         if event.peak_tension > bound:
             reasons.append(f"peak {event.peak_tension / 1e3:.4g} kN above the impedance/energy bound "
                            f"{bound / 1e3:.4g} kN (relative end speed {speed:.3g} m/s)")
-        if event.rise_time < self.crossing_time:
-            reasons.append(f"rise {event.rise_time * 1e3:.3g} ms shorter than the axial wave's crossing "
+        if rise < self.crossing_time:
+            origin = "" if rise == event.rise_time else " from the re-tension level"
+            reasons.append(f"rise{origin} {rise * 1e3:.3g} ms shorter than the axial wave's crossing "
                            f"of an element ({self.crossing_time * 1e3:.3g} ms)")
         if not reasons:
             return None
         return NumericalSnapWarning(time=event.time, location=event.location, arc_length=event.arc_length,
-                                    tension_peak=event.peak_tension, bound=bound, rise_time=event.rise_time,
+                                    tension_peak=event.peak_tension, bound=bound, rise_time=rise,
                                     crossing_time=self.crossing_time, relative_speed=speed,
                                     static_tension=event.static_tension, slack_start=event.slack_start,
                                     reason="; ".join(reasons))
@@ -208,15 +217,17 @@ def snap_guard(config, element_length: float) -> SnapGuard:
 
 # Per-location machine state columns.
 (_MODE, _SLACK_START, _MIN_T, _EXIT_T, _PEAK, _PEAK_T, _RETENSION_T, _PREV_T, _PREV_TENSION, _HAS_PREV,
- _PEAK_EXIT, _DROP_T, _DROP_Y, _DROP_MIN) = range(14)
-_N_STATE = 14
-_TIME_COLUMNS = [_SLACK_START, _EXIT_T, _PEAK_T, _RETENSION_T, _PREV_T, _PEAK_EXIT, _DROP_T]  # (shift_time)
+ _PEAK_EXIT, _DROP_T, _DROP_Y, _DROP_MIN, _FRONT_T, _PEAK_FRONT) = range(16)
+_N_STATE = 16
+_TIME_COLUMNS = [_SLACK_START, _EXIT_T, _PEAK_T, _RETENSION_T, _PREV_T, _PEAK_EXIT, _DROP_T, _FRONT_T, _PEAK_FRONT]  # (shift_time)
+# _FRONT_T: the last upward crossing of the re-tension level (the start of the front now rising); _PEAK_FRONT
+# its value at the running maximum (the guard's rise: SnapGuard.check).
 # _DROP_T: within a re-tensioning window, when the tension first fell back below the slack threshold after
 # the window's running maximum (NaN while it has not); _DROP_Y the sample there, _DROP_MIN the least since.
 _TAUT, _SLACK, _RISING = 0.0, 1.0, 2.0
 # Event rows: kind (0 slack, 1 snap), location, time, tension/peak, min, slack_start, exit time,
-# start of the re-tensioning holding the peak.
-_N_EVENT = 8
+# start of the re-tensioning holding the peak, start of the front holding the peak (re-tension level).
+_N_EVENT = 9
 
 
 @jit
@@ -228,7 +239,7 @@ def _crossing_time(t0, y0, t1, y1, level):
 
 
 @jit
-def _emit(events, n, kind, loc, time, value, min_t, start, exit_t, rise_start):
+def _emit(events, n, kind, loc, time, value, min_t, start, exit_t, rise_start, front_start):
     events[n, 0] = kind
     events[n, 1] = loc
     events[n, 2] = time
@@ -237,6 +248,7 @@ def _emit(events, n, kind, loc, time, value, min_t, start, exit_t, rise_start):
     events[n, 5] = start
     events[n, 6] = exit_t
     events[n, 7] = rise_start
+    events[n, 8] = front_start
     return n + 1
 
 
@@ -272,10 +284,13 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                     s[_MIN_T] = y
                 if has_prev and y0 < lo <= y:
                     s[_EXIT_T] = _crossing_time(t0, y0, t, y, lo)
+                if has_prev and y0 <= hi < y:
+                    s[_FRONT_T] = _crossing_time(t0, y0, t, y, hi)
                 if y > s[_PEAK]:
                     s[_PEAK] = y
                     s[_PEAK_T] = t
                     s[_PEAK_EXIT] = s[_EXIT_T]
+                    s[_PEAK_FRONT] = s[_FRONT_T]
                     s[_DROP_T] = np.nan
                 if np.isnan(s[_DROP_T]):
                     if has_prev and y0 >= lo > y:
@@ -301,7 +316,7 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                     exit_t = s[_PEAK_EXIT] if split else s[_EXIT_T]
                     if s[_PEAK] >= snap_level and exit_t - s[_SLACK_START] >= min_duration:
                         n_ev = _emit(events, n_ev, 1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START],
-                                     exit_t, s[_PEAK_EXIT])
+                                     exit_t, s[_PEAK_EXIT], s[_PEAK_FRONT])
                     # the slack period before what follows began where the tension fell back below the
                     # slack threshold after the peak (not at the window's end: a rejected one-step spike in
                     # a long slack period must not shorten the slack before the real re-tensioning)
@@ -310,12 +325,13 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                         s[_SLACK_START] = s[_DROP_T]
                         s[_MIN_T] = s[_DROP_MIN]
                         n_ev = _emit(events, n_ev, 0.0, j, s[_DROP_T], s[_DROP_Y], s[_DROP_Y], s[_DROP_T],
-                                     s[_DROP_T], s[_DROP_T])
+                                     s[_DROP_T], s[_DROP_T], s[_DROP_T])
                     if split:
                         s[_RETENSION_T] = t
                         s[_PEAK] = y
                         s[_PEAK_T] = t
                         s[_PEAK_EXIT] = s[_EXIT_T]
+                        s[_PEAK_FRONT] = s[_FRONT_T]
                         s[_DROP_T] = np.nan
                     elif dropped and y < lo:
                         s[_MODE] = _SLACK
@@ -334,7 +350,7 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                     s[_MIN_T] = y
                     s[_EXIT_T] = tc
                     s[_PEAK] = -np.inf
-                    n_ev = _emit(events, n_ev, 0.0, j, tc, y, y, tc, tc, tc)
+                    n_ev = _emit(events, n_ev, 0.0, j, tc, y, y, tc, tc, tc, tc)
             elif mode == _SLACK:
                 if y < s[_MIN_T]:
                     s[_MIN_T] = y
@@ -344,10 +360,12 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                     s[_MODE] = _RISING
                     s[_RETENSION_T] = t
                     s[_DROP_T] = np.nan
+                    s[_FRONT_T] = _crossing_time(t0, y0, t, y, hi) if has_prev and y0 <= hi else t
                     if y > s[_PEAK]:
                         s[_PEAK] = y
                         s[_PEAK_T] = t
                         s[_PEAK_EXIT] = s[_EXIT_T]
+                        s[_PEAK_FRONT] = s[_FRONT_T]
             s[_PREV_T] = t
             s[_PREV_TENSION] = y
             s[_HAS_PREV] = 1.0
@@ -448,12 +466,13 @@ class SnapDetector:
                                              float(self.config.peak_window), float(self.config.min_slack_duration),
                                              self._events)
             for row in self._events[:n_ev]:
-                out.append(self._guarded(self._event(row), speed))
+                out.append(self._guarded(self._event(row), speed, float(row[2] - row[8])))
         return out
 
-    def _guarded(self, event, speed):
-        """A snap event checked by the guard (a NumericalSnapWarning if it fails); a slack start resets
-        the location's speed record to this chunk's speed (kept when no speed was given)."""
+    def _guarded(self, event, speed, front_time=None):
+        """A snap event checked by the guard (a NumericalSnapWarning if it fails; ``front_time``: its
+        rise from the re-tension level, :meth:`SnapGuard.check`); a slack start resets the location's
+        speed record to this chunk's speed (kept when no speed was given)."""
         j = self.locations.index(event.location)
         if isinstance(event, SlackStarted):
             if speed is not None:
@@ -461,7 +480,7 @@ class SnapDetector:
             return event
         if self.guard is None:
             return event
-        warning = self.guard.check(event, float(self._speed[j]))
+        warning = self.guard.check(event, float(self._speed[j]), front_time)
         if warning is None:
             origin = next((w for w in self._rejected if self.guard.same_episode(event, w)), None)
             if origin is not None:
@@ -500,7 +519,8 @@ class SnapDetector:
             s = self._state[j]
             if s[_EXIT_T] - s[_SLACK_START] >= self.config.min_slack_duration and s[_PEAK] >= self._thresholds[j, 2]:
                 out.append(self._guarded(self._event(np.array([1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START],
-                                                               s[_EXIT_T], s[_PEAK_EXIT]])), None))
+                                                               s[_EXIT_T], s[_PEAK_EXIT], s[_PEAK_FRONT]])), None,
+                                         float(s[_PEAK_T] - s[_PEAK_FRONT])))
             s[_MODE] = _TAUT
         return out
 
