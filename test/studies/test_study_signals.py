@@ -53,7 +53,7 @@ def test_a_signal_keeps_finished_cases_and_says_what_was_dropped(tmp_path, sig, 
                             env={**os.environ, "PYTHONUNBUFFERED": "1"})
     err = []
     try:
-        deadline = time.monotonic() + 300.0  # two spawned workers import and load the numba cache
+        deadline = time.monotonic() + 900.0  # two spawned workers import and load the numba cache (minutes at load 12)
         for line in proc.stderr:  # progress lines: wait for the first finished case
             err.append(line)
             if line.startswith("[study] 1/2 cases") or time.monotonic() > deadline:
