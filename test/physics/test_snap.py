@@ -220,3 +220,17 @@ def test_bad_input_is_rejected_clearly():
         det.update(np.zeros(3), np.zeros((3, 2)))
     with pytest.raises(ValueError, match="non-finite"):
         det.update(np.zeros(2), np.array([[1.0], [np.nan]]))
+
+
+def test_slack_now_clears_when_a_slack_period_ends_without_a_snap():
+    """The diagnostics' slack flag is the state now: a slack period that re-tensions gently (no snap event,
+    so no event would clear an event-latched flag) leaves the location not slack."""
+    knots = [(0, STATIC), (1, STATIC), (2, 0), (3, 0), (5, 0.9 * STATIC), (10, 0.9 * STATIC)]
+    t = np.arange(0.0, 8.0, DT)
+    y = piecewise(t, knots)[:, None]
+    det = SnapDetector(SnapConfig(), ["vehicle"], [STATIC], [200.0])
+    during = det.update(t[t < 2.5], y[t < 2.5])
+    assert [type(e) for e in during] == [SlackStarted] and det.slack_now() == {"vehicle": True}
+    after = det.update(t[t >= 2.5], y[t >= 2.5]) + det.flush()
+    assert not any(isinstance(e, SnapEvent) for e in after)
+    assert det.slack_now() == {"vehicle": False}

@@ -434,6 +434,11 @@ class SnapDetector:
         """(n_loc,) bool: the location is slack now."""
         return self._state[:, _MODE] == _SLACK
 
+    def slack_now(self) -> dict:
+        """{location: bool}: slack now (the diagnostics' flag: it clears when the tension is back above the
+        re-tension level, snap or not)."""
+        return dict(zip(self.locations, (bool(x) for x in self.is_slack())))
+
     def is_rising(self) -> np.ndarray:
         """(n_loc,) bool: a re-tensioning window is open at the location (its snap event is pending)."""
         return self._state[:, _MODE] == _RISING

@@ -362,8 +362,9 @@ class SimulationDriver(EndCommands, BodyFrame):
             report.events += self.span_detector.update(np.array([self.stamp]), np.asarray(tension, float).reshape(1, -1),
                                                        speed)
         self.count_numerical(report.events)
-        for ev in report.events:
-            self.slack[ev.location] = isinstance(ev, SlackStarted)
+        self.slack.update(self.detector.slack_now())  # the state now, not the last event (a slack period can
+        if self.span_detector is not None:           # end without a snap: no event clears it)
+            self.slack.update(self.span_detector.slack_now())
 
     def count_numerical(self, events) -> None:
         """Count the snap guard's rejections among ``events`` (diagnostics, report)."""

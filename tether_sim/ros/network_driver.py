@@ -34,7 +34,7 @@ import numpy as np
 from tether_sim.network.solver import NetworkSolver
 from tether_sim.network.spec import NetworkSpec, PointSpec
 from tether_sim.physics.boundary import END_NAMES, EndCondition
-from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapDetector, SnapEvent, snap_guard
+from tether_sim.physics.snap import NumericalSnapWarning, SnapDetector, SnapEvent, snap_guard
 from tether_sim.ros.bridging import Bridges, CatchUp, shift_detectors
 from tether_sim.solvers.base import relative_end_speed
 
@@ -258,9 +258,7 @@ class NetworkDriver:
                     self.last_numerical_snap = f"{ev.location} t = {ev.time:.3f} s: {ev.reason}"
                 elif isinstance(ev, SnapEvent):
                     self.snaps += 1
-                    self.slack[ev.location] = False
-                elif isinstance(ev, SlackStarted):
-                    self.slack[ev.location] = True
+            self.slack.update(self.detectors[name].slack_now())  # the state now (a slack period can end without a snap)
             if events:
                 report.events[name] = events
         return report
