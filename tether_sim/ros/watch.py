@@ -76,6 +76,11 @@ def main(argv=None) -> int:
             rclpy.spin_once(node, timeout_sec=0.2)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
+    except Exception:
+        if rclpy.ok():
+            raise
+        # Ctrl-C between rclpy.ok() and spin_once's wait: rclpy's handler has shut the context down and the
+        # wait cannot be set up (rclpy raises RCLError "context is not valid"): a stop, not an error
     finally:
         node.destroy_node()
         if rclpy.ok():
