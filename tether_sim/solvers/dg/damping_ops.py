@@ -13,6 +13,7 @@ from tether_sim.solvers.dg.damping_layout import (
     OP_G, OP_KDOT, OP_TAU, WP_E0, WP_I, WP_IDOT, WP_KDOT, WP_L, WP_MB, WP_NUS, WP_PC, WP_R, WP_TAU, WP_TC, WP_TV,
     WP_X, WP_Z,
 )
+from tether_sim.solvers.dg.ldg import short_chord_jt, short_chord_map
 
 
 @jit
@@ -203,8 +204,7 @@ def bending_shear_points(blk, idp, dprm, wp, c_e):
                     wp[e, j, WP_IDOT + c] = (wp[e, j, WP_NUS + c] - wp[e, j, WP_I + c] * wp[e, j, c_e]) * il
             else:  # db/dt = g dq/dt + g' l (i . dq/dt) i, i . dq/dt = the strain rate
                 short = True
-                g = 2.0 / (1.0 + l * l)
-                gl = -4.0 * l * l / ((1.0 + l * l) * (1.0 + l * l))
+                g, gl = short_chord_map(l)
                 for c in range(3):
                     wp[e, j, WP_IDOT + c] = g * wp[e, j, WP_NUS + c] + gl * wp[e, j, c_e] * wp[e, j, WP_I + c]
     apply_block_op(blk, OP_KDOT, 1, nq, wp, WP_IDOT, 1.0, wp, WP_KDOT)
@@ -251,18 +251,11 @@ def bending_shear_points(blk, idp, dprm, wp, c_e):
             l = wp[e, j, WP_L]
             if l >= floor:
                 continue
-            g = 2.0 / (1.0 + l * l)
-            gl = -4.0 * l * l / ((1.0 + l * l) * (1.0 + l * l))
-            y0 = wp[e, j, WP_TAU]
-            y1 = wp[e, j, WP_TAU + 1]
-            y2 = wp[e, j, WP_TAU + 2]
-            i0 = wp[e, j, WP_I]
-            i1 = wp[e, j, WP_I + 1]
-            i2 = wp[e, j, WP_I + 2]
-            a = gl * (i0 * y0 + i1 * y1 + i2 * y2)
-            wp[e, j, WP_TV] -= g * y0 + a * i0
-            wp[e, j, WP_TV + 1] -= g * y1 + a * i1
-            wp[e, j, WP_TV + 2] -= g * y2 + a * i2
+            u0, u1, u2 = short_chord_jt(l, wp[e, j, WP_I], wp[e, j, WP_I + 1], wp[e, j, WP_I + 2],
+                                        wp[e, j, WP_TAU], wp[e, j, WP_TAU + 1], wp[e, j, WP_TAU + 2])
+            wp[e, j, WP_TV] -= u0
+            wp[e, j, WP_TV + 1] -= u1
+            wp[e, j, WP_TV + 2] -= u2
 
 
 @jit

@@ -68,6 +68,23 @@ def _ldg_fluxes(fl, tr, N, c_fl, c_tr, bias):
 
 
 @jit_inline
+def short_chord_map(l):
+    """(g, l g'(l)) of the short-chord bending tangent b = g(l) q, g = 2 / (1 + l^2) (module docstring):
+    db/dt = J dq/dt with J = g I + l g'(l) i i^T."""
+    g = 2.0 / (1.0 + l * l)
+    return g, -4.0 * l * l / ((1.0 + l * l) * (1.0 + l * l))
+
+
+@jit_inline
+def short_chord_jt(l, i0, i1, i2, y0, y1, y2):
+    """J^T y = g y + l g'(l) (i . y) i for the short-chord map (J symmetric): the bending shear there is
+    -J^T Y with Y = d/ds(EI b_s) (module docstring)."""
+    g, gl = short_chord_map(l)
+    a = gl * (i0 * y0 + i1 * y1 + i2 * y2)
+    return g * y0 + a * i0, g * y1 + a * i1, g * y2 + a * i2
+
+
+@jit_inline
 def bending_tangent(wq, e, j, floor):
     """The bending tangent b at Gauss point j of element e into wq[e, j, W_B]: the unit tangent i where
     l >= floor (floor = constitutive.chord_floor(law)), b = g(l) q with g = 2 / (1 + l^2) where the chord is
@@ -76,8 +93,7 @@ def bending_tangent(wq, e, j, floor):
         for c in range(3):
             wq[e, j, W_B + c] = wq[e, j, W_I + c]
         return False
-    l = wq[e, j, W_L]
-    g = 2.0 / (1.0 + l * l)
+    g, _ = short_chord_map(wq[e, j, W_L])
     for c in range(3):
         wq[e, j, W_B + c] = g * wq[e, j, W_Q + c]
     return True
@@ -110,8 +126,7 @@ def ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, bc, wq, wm, tr, fl):
                     for c in range(3):
                         wq[e, j, W_IDOT + c] = (wq[e, j, W_NUS + c] - wq[e, j, W_B + c] * wq[e, j, W_EDOT]) / l
                 else:  # db/dt = J dq/dt, J = g I + g' l i i^T; i . dq/dt = deps/dt
-                    g = 2.0 / (1.0 + l * l)
-                    gl = -4.0 * l * l / ((1.0 + l * l) * (1.0 + l * l))
+                    g, gl = short_chord_map(l)
                     for c in range(3):
                         wq[e, j, W_IDOT + c] = g * wq[e, j, W_NUS + c] + gl * wq[e, j, W_EDOT] * wq[e, j, W_I + c]
             project_points(Pj, wq, e, W_IDOT, wm, M_IDOT, 3)
@@ -178,18 +193,11 @@ def ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, bc, wq, wm, tr, fl):
         for j in range(nq):
             l = wq[e, j, W_L]
             if l < floor:  # short chord: T_s = -J^T Y, J = g I + g' l i i^T (module docstring)
-                g = 2.0 / (1.0 + l * l)
-                gl = -4.0 * l * l / ((1.0 + l * l) * (1.0 + l * l))
-                y0 = wq[e, j, W_SY]
-                y1 = wq[e, j, W_SY + 1]
-                y2 = wq[e, j, W_SY + 2]
-                i0 = wq[e, j, W_I]
-                i1 = wq[e, j, W_I + 1]
-                i2 = wq[e, j, W_I + 2]
-                a = gl * (i0 * y0 + i1 * y1 + i2 * y2)
-                t0 = -(g * y0 + a * i0)
-                t1 = -(g * y1 + a * i1)
-                t2 = -(g * y2 + a * i2)
+                u0, u1, u2 = short_chord_jt(l, wq[e, j, W_I], wq[e, j, W_I + 1], wq[e, j, W_I + 2],
+                                            wq[e, j, W_SY], wq[e, j, W_SY + 1], wq[e, j, W_SY + 2])
+                t0 = -u0
+                t1 = -u1
+                t2 = -u2
             else:
                 il = 1.0 / l
                 i0 = wq[e, j, W_B]
