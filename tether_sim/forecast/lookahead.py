@@ -151,8 +151,9 @@ class LookAhead:
                 clock = out.times + request.anchor
                 inside = clock < end_clock - 1e-9  # the horizon [issued, issued + horizon) of the samples' times
                 if inside.any():
+                    least = (tensions if inside.all() else tensions[inside]).min(axis=0)
                     for j, end in enumerate(END_NAMES):
-                        trough[end] = min(trough[end], float(tensions[inside, j].min()))
+                        trough[end] = min(trough[end], float(least[j]))
                 events = detector.update(clock, tensions, relative_end_speed(solver, self.config.cable.length))
                 for ev in events:
                     if (isinstance(ev, SnapEvent) and first[ev.location] is None
