@@ -44,7 +44,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from tether_sim.forecast.service import ForecastService  # noqa: E402
-from tether_sim.forecast.skill import reliability, score  # noqa: E402
+from tether_sim.forecast.skill import fraction_interval, rate_interval, reliability, score  # noqa: E402
 from tether_sim.io.params import load_config  # noqa: E402
 from tether_sim.physics.motion import build_motion  # noqa: E402
 from tether_sim.physics.snap import SlackStarted, SnapEvent  # noqa: E402
@@ -346,16 +346,20 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0)) -> int:
                     f.end == end and f.probability >= min(thresholds) for r in sel for f in r[5]):
                 continue  # no snap and no warning at this end
             for threshold, timing in [(t, None) for t in thresholds] + [(0.5, old)]:
-                tot = np.zeros(5)
+                tot = np.zeros(6)
                 for _, _, _, until, snaps, fc in sel:
                     if timing is not None:
                         fc = [SimpleNamespace(**{**vars(f), "time_to_snap": timing(f)}) for f in fc]
                     sc = score(fc, snaps, end, threshold=threshold, until=until)
                     sc3 = score(fc, snaps, end, threshold=threshold, until=until, lead=3.0)
-                    tot += (sc.snaps, sc.warned, sc3.warned, sc.false_alarms, sc.minutes)
+                    tot += (sc.snaps, sc.warned, sc3.warned, sc.false_alarms, sc.minutes, sc.false_alarm_episodes)
                 how = " (snap time as before 2026-11-27: median over the snapping members)" if timing else ""
-                print(f"  {end:7s} p >= {threshold:5.3f}: {tot[1]:.0f}/{tot[0]:.0f} warned >= 5 s ({tot[2]:.0f} >= 3 s), "
-                      f"{tot[3]:.0f} false alarms = {10 * tot[3] / max(tot[4], 1e-9):.2f} / 10 min ({tot[4]:.1f} min scored){how}")
+                w_lo, _ = fraction_interval(int(tot[1]), int(tot[0]))
+                e_lo, e_hi = rate_interval(int(tot[5]), tot[4])
+                print(f"  {end:7s} p >= {threshold:5.3f}: {tot[1]:.0f}/{tot[0]:.0f} warned >= 5 s ({tot[2]:.0f} >= 3 s; "
+                      f"95 % lower bound {100 * w_lo:.0f} %), {tot[3]:.0f} false alarms = {10 * tot[3] / max(tot[4], 1e-9):.2f} / 10 min, "
+                      f"{tot[5]:.0f} episodes = {10 * tot[5] / max(tot[4], 1e-9):.2f} / 10 min (95 % interval {e_lo:.2f}-{e_hi:.2f}) "
+                      f"({tot[4]:.1f} min scored){how}")
             bins = [reliability(fc, snaps, end, until=until) for _, _, _, until, snaps, fc in sel]
             print(f"  {end} reliability (probability bin: forecasts, mean probability, observed frequency of a snap within the horizon):")
             for i in range(len(bins[0])):
