@@ -12,7 +12,8 @@ t = 2 s at 50 Hz, then from that state:
 
 ``--baseline DIR`` loads another checkout's ``tether_sim`` (e.g. a worktree of main) under the name
 ``tether_sim_base`` (a copy in a temporary directory with the imports renamed, kept per content of the
-checkout's sources, so a changed checkout is copied again) and times it in the same process, interleaved, so that the ratio does not depend on the machine's load.
+checkout's sources, so a changed checkout is copied again) and times it in the same process,
+interleaved, so that the ratio does not depend on the machine's load.
 
 ``--hybrid``: the hybrid solver's node tick instead (ROPOS L = 200 m); ``--solver-tick FILE``: the same for
 the solver of FILE (solver.tick + state() per 50 Hz tick, the call a coupled program makes; solver_ticks).
