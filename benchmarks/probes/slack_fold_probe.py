@@ -9,6 +9,9 @@ cable near the cage (docs/dg_solver.md, "Slack with bending").
     PYTHONPATH=. python benchmarks/probes/slack_fold_probe.py fine SNAP T0 T1     # one substep at a time: the cage
                                                                                   # end trace (q, v, T+, flux)
     PYTHONPATH=. python benchmarks/probes/slack_fold_probe.py gauss SNAP T0 T1    # the last two elements' Gauss points
+    PYTHONPATH=. python benchmarks/probes/slack_fold_probe.py switch SNAP T0 T1   # one substep at a time: the cage
+                    # element's outer Gauss point (chord, strain rate, zeta * strain rate) and its strain rate split
+                    # into the lifted end slip (v_BC - v+, the central flux of the strain-rate gradient) and the rest
     env: LL (200), FF (0.2), AL (alpha, 100), NN (N, 40), EXTRA (a dict of further overrides), TAG
 """
 import ast
@@ -107,6 +110,20 @@ elif mode in ("fine", "gauss"):  # restore, tick to T1, then one substep at a ti
             T = np.linalg.norm(wq[e, :, Y.W_TV:Y.W_TV + 3], axis=1)
             print(f"  e{e} l {wq[e, :, Y.W_L].round(4)}\n      edot {wq[e, :, Y.W_EDOT].round(3)}\n      |TV| {T.round(0)}"
                   f"\n      vz {wq[e, :, Y.W_V + 2].round(2)}")
+elif mode == "switch":  # Eq. 22's Kelvin-Voigt switch at the cage end, one substep at a time
+    restore(sys.argv[2])
+    for _ in ticks(float(sys.argv[3])):
+        pass
+    s.drain_end_tensions()
+    ws, g0, zeta = s.ws, cfg.cable.gamma0, cfg.cable.damping
+    e = ws.trc.shape[0] - 1
+    lift = (ws.V @ ws.Lf[1]) / ws.h[e]  # the lift of a unit end jump of v / gamma0 onto the Gauss points (1/m)
+    for Tcage in substeps(float(sys.argv[4])):
+        slip = ws.vbc[1, 3:6] - ws.trc[e, 1, Y.T_V:Y.T_V + 3] / g0
+        lifted = lift[-1] * (ws.wq[e, -1, Y.W_I:Y.W_I + 3] @ slip)
+        ed = ws.wq[e, -1, Y.W_EDOT]
+        print(f"{s.time:.7f} Tcage {Tcage:9.0f} l {ws.wq[e, -1, Y.W_L]:.6f} edot {ed:6.3f} zeta*edot {zeta * ed:8.0f} "
+              f"| slip {np.round(slip, 3)} lifted {lifted:6.3f} own {ed - lifted:6.3f}")
 elif mode == "trace":  # from 0 or a snapshot; per tick after T0: largest cable speed, shortest chord, end tensions
     restore(sys.argv[2])
     T0 = float(sys.argv[3])
@@ -120,4 +137,4 @@ elif mode == "trace":  # from 0 or a snapshot; per tick after T0: largest cable 
                   f"{wl.min():.3f} at e{np.unravel_index(np.argmin(wl), wl.shape)[0]} | slack pts {(wl < 1).sum()} | "
                   f"Tship {a.max():9.0f} Tcage {b.max():9.0f}", flush=True)
 else:
-    sys.exit(f"unknown mode {mode!r}: save, trace, steps, fine or gauss")
+    sys.exit(f"unknown mode {mode!r}: save, trace, steps, fine, gauss or switch")

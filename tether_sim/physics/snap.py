@@ -17,13 +17,16 @@ tension samples [DNV-RP-H103 slack criterion; PE2020 Sec. 6]:
                            three thresholds in N instead, for a line slack by design.)
                            Dips back below the slack threshold inside the window (chatter, a weak
                            first re-tension) belong to the same slack period: no new warning, and
-                           the slack period ends at the last upward crossing. If, when the window
-                           closes, the tension has fallen back below the slack threshold after the
-                           peak and is still slack (or re-tensioning again), a new slack period
-                           began where it fell (a :class:`SlackStarted` with that time), and the
-                           re-tensioning that ends it gets its own window: a one-step spike early in
-                           a long slack period does not hide, or shorten, the slack before the real
-                           snap.
+                           the slack period ends at the last upward crossing. When the tension has
+                           fallen back below the slack threshold after the window's peak, what
+                           follows is kept apart: a re-tensioning that rises above the re-tension
+                           level again after that drop is followed with its own running maximum,
+                           and when the window closes it gets its own window (a smaller real snap
+                           after a one-step spike is not swallowed by the spike's larger peak). A
+                           closed re-tensioning that reached the snap level ended its slack period:
+                           a new one began where the tension fell (a :class:`SlackStarted` with that
+                           time); one that did not is merged into the slack period. A third rise
+                           after two drops closes the window at once (its peak is final).
 
 A plausibility guard (:class:`SnapGuard`, docs/snap_guard.md) checks every snap event against
 what the cable's axial impedance, the system's kinetic energy and the relative end speed allow,
@@ -31,6 +34,10 @@ and against the shortest rise the discretisation can carry (the axial wave cross
 An event that fails it is returned as a :class:`NumericalSnapWarning` instead of a
 :class:`SnapEvent`: reported, never published as a snap; so is a re-tensioning at another location
 that carries the front of a rejected one in the same slack episode (:meth:`SnapGuard.same_episode`).
+A rejected re-tensioning did not end its slack period: the slack period the kernel restarted after
+it is merged back (start, least tension, relative speed record), so the real re-tensioning that
+ends it later is measured, and judged, over the whole slack period (the kernel stops after each
+sample that closed a snap event, so the guard rules on it before the samples that follow).
 
 Slack duration runs from the downward crossing of the slack threshold to the last upward crossing
 of it (linear interpolation between samples); the rise time runs from the upward crossing that
@@ -217,16 +224,25 @@ def snap_guard(config, element_length: float) -> SnapGuard:
 
 # Per-location machine state columns.
 (_MODE, _SLACK_START, _MIN_T, _EXIT_T, _PEAK, _PEAK_T, _RETENSION_T, _PREV_T, _PREV_TENSION, _HAS_PREV,
- _PEAK_EXIT, _DROP_T, _DROP_Y, _DROP_MIN, _FRONT_T, _PEAK_FRONT) = range(16)
-_N_STATE = 16
-_TIME_COLUMNS = [_SLACK_START, _EXIT_T, _PEAK_T, _RETENSION_T, _PREV_T, _PEAK_EXIT, _DROP_T, _FRONT_T, _PEAK_FRONT]  # (shift_time)
+ _PEAK_EXIT, _DROP_T, _DROP_Y, _DROP_MIN, _FRONT_T, _PEAK_FRONT,
+ _NEXT_RET, _NEXT_PEAK, _NEXT_PEAK_T, _NEXT_PEAK_EXIT, _NEXT_PEAK_FRONT, _NEXT_DROP_T, _NEXT_DROP_Y,
+ _NEXT_DROP_MIN) = range(24)
+_N_STATE = 24
+_TIME_COLUMNS = [_SLACK_START, _EXIT_T, _PEAK_T, _RETENSION_T, _PREV_T, _PEAK_EXIT, _DROP_T, _FRONT_T, _PEAK_FRONT,
+                 _NEXT_RET, _NEXT_PEAK_T, _NEXT_PEAK_EXIT, _NEXT_PEAK_FRONT, _NEXT_DROP_T]  # (shift_time)
 # _FRONT_T: the last upward crossing of the re-tension level (the start of the front now rising); _PEAK_FRONT
 # its value at the running maximum (the guard's rise: SnapGuard.check).
 # _DROP_T: within a re-tensioning window, when the tension first fell back below the slack threshold after
-# the window's running maximum (NaN while it has not); _DROP_Y the sample there, _DROP_MIN the least since.
+# the window's running maximum (NaN while it has not); _DROP_Y the sample there, _DROP_MIN the least since
+# (until a next re-tensioning begins).
+# _NEXT_*: after that drop, the re-tensioning that rose above the re-tension level again (_NEXT_RET its start,
+# NaN while none), with its own running maximum (time, slack exit and front at it) and its own drop: kept
+# beside the window's larger earlier peak so that it gets its own window when that one closes (a one-step
+# spike early in a slack period must not swallow the smaller real snap that follows it).
 _TAUT, _SLACK, _RISING = 0.0, 1.0, 2.0
-# Event rows: kind (0 slack, 1 snap), location, time, tension/peak, min, slack_start, exit time,
-# start of the re-tensioning holding the peak, start of the front holding the peak (re-tension level).
+# Event rows: kind (0 slack started, 1 snap, 2 slack restarted where the tension fell back after a closed
+# re-tensioning), location, time, tension/peak, min, slack_start, exit time, start of the re-tensioning
+# holding the peak, start of the front holding the peak (re-tension level).
 _N_EVENT = 9
 
 
@@ -253,10 +269,68 @@ def _emit(events, n, kind, loc, time, value, min_t, start, exit_t, rise_start, f
 
 
 @jit
-def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_duration, events):
-    """Advance every location's state machine over samples ``start..``; stop when ``events`` is full.
+def _start_next(s, t, y):
+    """The re-tensioning rising above the re-tension level at (t, y) after the window's drop."""
+    s[_NEXT_RET] = t
+    s[_NEXT_PEAK] = y
+    s[_NEXT_PEAK_T] = t
+    s[_NEXT_PEAK_EXIT] = s[_EXIT_T]
+    s[_NEXT_PEAK_FRONT] = s[_FRONT_T]
+    s[_NEXT_DROP_T] = np.nan
 
-    times (k,), tensions (k, n_loc), st (n_loc, 11) state, thresholds (n_loc, 3) = (slack, re-tension,
+
+@jit
+def _close_window(s, j, y, lo, snap_level, min_duration, events, n_ev):
+    """Close location ``j``'s re-tensioning window (current sample ``y``): emit its snap event when its peak
+    reaches ``snap_level`` and the slack before it lasted ``min_duration``, then set what follows. Returns the
+    number of event rows."""
+    reached = s[_PEAK] >= snap_level
+    if reached and s[_PEAK_EXIT] - s[_SLACK_START] >= min_duration:
+        n_ev = _emit(events, n_ev, 1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START], s[_PEAK_EXIT],
+                     s[_PEAK_EXIT], s[_PEAK_FRONT])
+    if np.isnan(s[_DROP_T]):  # taut since the peak
+        s[_MODE] = _TAUT
+        return n_ev
+    # The tension fell back below the slack level after the peak. A re-tensioning that reached the snap level
+    # ended the slack period: a new one began where it fell (row kind 2; SnapDetector.update merges it back
+    # into the old one when the guard rejects the re-tensioning). A weaker one is merged into the slack period.
+    if reached:
+        s[_SLACK_START] = s[_DROP_T]
+        s[_MIN_T] = s[_DROP_MIN]
+        n_ev = _emit(events, n_ev, 2.0, j, s[_DROP_T], s[_DROP_Y], s[_DROP_Y], s[_DROP_T], s[_DROP_T], s[_DROP_T],
+                     s[_DROP_T])
+    if not np.isnan(s[_NEXT_RET]):  # what rose again after the drop gets its own window, from its own start
+        s[_MODE] = _RISING
+        s[_RETENSION_T] = s[_NEXT_RET]
+        s[_PEAK] = s[_NEXT_PEAK]
+        s[_PEAK_T] = s[_NEXT_PEAK_T]
+        s[_PEAK_EXIT] = s[_NEXT_PEAK_EXIT]
+        s[_PEAK_FRONT] = s[_NEXT_PEAK_FRONT]
+        s[_DROP_T] = s[_NEXT_DROP_T]
+        s[_DROP_Y] = s[_NEXT_DROP_Y]
+        s[_DROP_MIN] = s[_NEXT_DROP_MIN]
+        s[_NEXT_RET] = np.nan
+    else:  # slack now (or between the slack and re-tension levels: not re-tensioned yet)
+        s[_MODE] = _SLACK
+        s[_PEAK] = -np.inf
+        if y < lo:
+            s[_EXIT_T] = s[_SLACK_START]
+    return n_ev
+
+
+@jit
+def snap_detector_close(st, j, thresholds, min_duration, events):
+    """Close location ``j``'s open window at its last sample (end of a run); returns the number of event rows."""
+    s = st[j]
+    return _close_window(s, j, s[_PREV_TENSION], thresholds[j, 0], thresholds[j, 2], min_duration, events, 0)
+
+
+@jit
+def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_duration, events):
+    """Advance every location's state machine over samples ``start..``; stop when ``events`` is full, or after
+    a sample that closed a snap event (so that the guard can rule on it before the samples that follow).
+
+    times (k,), tensions (k, n_loc), st (n_loc, _N_STATE) state, thresholds (n_loc, 3) = (slack, re-tension,
     snap level). Returns (next sample index, number of event rows written).
     """
     n_ev = 0
@@ -267,6 +341,7 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
         if n_ev + 2 * n_loc > cap:
             break
         t = times[i]
+        snapped = False
         for j in range(n_loc):
             y = tensions[i, j]
             lo = thresholds[j, 0]
@@ -286,62 +361,57 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                     s[_EXIT_T] = _crossing_time(t0, y0, t, y, lo)
                 if has_prev and y0 <= hi < y:
                     s[_FRONT_T] = _crossing_time(t0, y0, t, y, hi)
-                if y > s[_PEAK]:
+                third = False
+                if y > s[_PEAK]:  # a larger stage: whatever rose after a drop belongs to it
                     s[_PEAK] = y
                     s[_PEAK_T] = t
                     s[_PEAK_EXIT] = s[_EXIT_T]
                     s[_PEAK_FRONT] = s[_FRONT_T]
                     s[_DROP_T] = np.nan
-                if np.isnan(s[_DROP_T]):
+                    s[_NEXT_RET] = np.nan
+                elif np.isnan(s[_DROP_T]):
                     if has_prev and y0 >= lo > y:
                         s[_DROP_T] = _crossing_time(t0, y0, t, y, lo)
                         s[_DROP_Y] = y
                         s[_DROP_MIN] = y
-                elif y < s[_DROP_MIN]:
-                    s[_DROP_MIN] = y
+                elif np.isnan(s[_NEXT_RET]):
+                    if y < s[_DROP_MIN]:
+                        s[_DROP_MIN] = y
+                    if y > hi:
+                        _start_next(s, t, y)
+                elif y > s[_NEXT_PEAK]:
+                    s[_NEXT_PEAK] = y
+                    s[_NEXT_PEAK_T] = t
+                    s[_NEXT_PEAK_EXIT] = s[_EXIT_T]
+                    s[_NEXT_PEAK_FRONT] = s[_FRONT_T]
+                    s[_NEXT_DROP_T] = np.nan
+                elif np.isnan(s[_NEXT_DROP_T]):
+                    if has_prev and y0 >= lo > y:
+                        s[_NEXT_DROP_T] = _crossing_time(t0, y0, t, y, lo)
+                        s[_NEXT_DROP_Y] = y
+                        s[_NEXT_DROP_MIN] = y
+                else:
+                    if y < s[_NEXT_DROP_MIN]:
+                        s[_NEXT_DROP_MIN] = y
+                    # a third re-tensioning: the window's peak is final (two drops into slack behind it)
+                    third = y > hi
                 elapsed = t - s[_RETENSION_T]
                 # Close once the window has passed and the running maximum lies behind the current sample;
                 # while the tension has stayed out of slack since that maximum, only once the maximum is a
                 # whole window old (no larger tension for a window after it): a re-tensioning that rises in
                 # stages (a heavy end taken up step by step, one step per axial round trip of the cable,
                 # with small dips between them) is one event whose peak is its largest stage. A tension
-                # back in slack after the maximum closes as before (the split below). At most 10 windows.
-                if (elapsed >= peak_window and s[_PEAK_T] < t
-                        and (t - s[_PEAK_T] >= peak_window or not np.isnan(s[_DROP_T]))) \
+                # back in slack after the maximum closes at the window's end, and what rose again after
+                # that drop continues in its own window (_close_window). At most 10 windows.
+                if third or (elapsed >= peak_window and s[_PEAK_T] < t
+                             and (t - s[_PEAK_T] >= peak_window or not np.isnan(s[_DROP_T]))) \
                         or elapsed >= 10.0 * peak_window:
-                    # after its peak the tension went slack again and is re-tensioning now: that rise gets
-                    # its own window in the same slack episode (a one-step numerical spike early in the
-                    # window must not hide the real snap that follows it)
-                    split = s[_EXIT_T] > s[_PEAK_EXIT] and y >= lo
-                    exit_t = s[_PEAK_EXIT] if split else s[_EXIT_T]
-                    if s[_PEAK] >= snap_level and exit_t - s[_SLACK_START] >= min_duration:
-                        n_ev = _emit(events, n_ev, 1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START],
-                                     exit_t, s[_PEAK_EXIT], s[_PEAK_FRONT])
-                    # the slack period before what follows began where the tension fell back below the
-                    # slack threshold after the peak (not at the window's end: a rejected one-step spike in
-                    # a long slack period must not shorten the slack before the real re-tensioning)
-                    dropped = not np.isnan(s[_DROP_T])
-                    if dropped and (split or y < lo):
-                        s[_SLACK_START] = s[_DROP_T]
-                        s[_MIN_T] = s[_DROP_MIN]
-                        n_ev = _emit(events, n_ev, 0.0, j, s[_DROP_T], s[_DROP_Y], s[_DROP_Y], s[_DROP_T],
-                                     s[_DROP_T], s[_DROP_T], s[_DROP_T])
-                    if split:
-                        s[_RETENSION_T] = t
-                        s[_PEAK] = y
-                        s[_PEAK_T] = t
-                        s[_PEAK_EXIT] = s[_EXIT_T]
-                        s[_PEAK_FRONT] = s[_FRONT_T]
-                        s[_DROP_T] = np.nan
-                    elif dropped and y < lo:
-                        s[_MODE] = _SLACK
-                        s[_EXIT_T] = s[_SLACK_START]
-                        s[_PEAK] = -np.inf
-                        s[_DROP_T] = np.nan
-                        mode = _SLACK
-                    else:
-                        s[_MODE] = _TAUT
-                        mode = _TAUT
+                    n0 = n_ev
+                    n_ev = _close_window(s, j, y, lo, snap_level, min_duration, events, n_ev)
+                    snapped = snapped or (n_ev > n0 and events[n0, 0] == 1.0)
+                    if third:
+                        _start_next(s, t, y)
+                    mode = s[_MODE]
             if mode == _TAUT:
                 if y < lo:
                     tc = _crossing_time(t0, y0, t, y, lo) if has_prev and y0 >= lo else t
@@ -360,6 +430,7 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                     s[_MODE] = _RISING
                     s[_RETENSION_T] = t
                     s[_DROP_T] = np.nan
+                    s[_NEXT_RET] = np.nan
                     s[_FRONT_T] = _crossing_time(t0, y0, t, y, hi) if has_prev and y0 <= hi else t
                     if y > s[_PEAK]:
                         s[_PEAK] = y
@@ -370,6 +441,8 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
             s[_PREV_TENSION] = y
             s[_HAS_PREV] = 1.0
         i += 1
+        if snapped:
+            break
     return i, n_ev
 
 
@@ -470,8 +543,30 @@ class SnapDetector:
             start, n_ev = snap_detector_step(times, tensions, start, self._state, self._thresholds,
                                              float(self.config.peak_window), float(self.config.min_slack_duration),
                                              self._events)
-            for row in self._events[:n_ev]:
-                out.append(self._guarded(self._event(row), speed, float(row[2] - row[8])))
+            out += self._rows(n_ev, speed)
+        return out
+
+    def _rows(self, n_ev, speed):
+        """The events of the first ``n_ev`` rows of the kernel's event table, each snap guarded. A rejected
+        re-tensioning did not end its slack period: the slack the kernel restarted where the tension fell back
+        after it (a row of kind 2, emitted with it) is merged back into the slack period before it (its start
+        and least tension; the relative speed since that start is kept), so that the real re-tensioning that
+        ends it later is measured over the whole slack period."""
+        out = []
+        merged = {}
+        for row in self._events[:n_ev]:
+            j = int(row[1])
+            if row[0] == 2.0 and j in merged:
+                rejected = merged.pop(j)
+                s = self._state[j]
+                s[_SLACK_START] = rejected.slack_start
+                s[_MIN_T] = min(s[_MIN_T], rejected.min_tension)
+                continue
+            event = self._event(row)
+            checked = self._guarded(event, speed, float(row[2] - row[8]))
+            if isinstance(checked, NumericalSnapWarning):
+                merged[j] = event
+            out.append(checked)
         return out
 
     def _guarded(self, event, speed, front_time=None):
@@ -518,20 +613,21 @@ class SnapDetector:
         self._rejected = [replace(w, time=w.time + dt, slack_start=w.slack_start + dt) for w in self._rejected]
 
     def flush(self) -> list:
-        """Close every open re-tensioning window now (end of a run) and return those snap events."""
+        """Close every open re-tensioning window now (end of a run) and return those snap events (a window
+        holding a second re-tensioning after a drop into slack closes as two)."""
         out = []
-        for j in np.nonzero(self._state[:, _MODE] == _RISING)[0]:
-            s = self._state[j]
-            if s[_EXIT_T] - s[_SLACK_START] >= self.config.min_slack_duration and s[_PEAK] >= self._thresholds[j, 2]:
-                out.append(self._guarded(self._event(np.array([1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START],
-                                                               s[_EXIT_T], s[_PEAK_EXIT], s[_PEAK_FRONT]])), None,
-                                         float(s[_PEAK_T] - s[_PEAK_FRONT])))
-            s[_MODE] = _TAUT
+        for j in range(len(self.locations)):
+            for _ in range(3):
+                if self._state[j, _MODE] != _RISING:
+                    break
+                n_ev = snap_detector_close(self._state, j, self._thresholds, float(self.config.min_slack_duration),
+                                           self._events)
+                out += self._rows(n_ev, None)
         return out
 
     def _event(self, row):
         j = int(row[1])
-        if row[0] == 0.0:
+        if row[0] != 1.0:
             return SlackStarted(time=float(row[2]), location=self.locations[j], arc_length=float(self.arc_lengths[j]),
                                 tension=float(row[3]), threshold=float(self._thresholds[j, 0]))
         static = float(self.static_tensions[j])

@@ -1,0 +1,105 @@
+"""One case of benchmarks/studies/slack_bending_ladder.py through the tether-sim-offline code path, recording
+what its end snap detector is fed (every substep's end tensions, the relative end speed of every tick) and the
+solver's state at chosen times, so that the detector can be replayed and the solver probed from a checkpoint
+without running the case again (docs/dg_solver.md, "Slack with bending").
+
+    PYTHONPATH=. python benchmarks/probes/slack_record.py OUT.npz [--save-at 7.5 ...]
+    env: LL (200), FF (0.2), AL (alpha, 100), NN (N, 40), PERIODS (1.9), EXTRA (a dict of further overrides)
+
+OUT.npz holds ``times`` (k,), ``tensions`` (k, 2: ship, cage), ``chunk`` (k,: the detector call each sample was
+fed in), ``speed`` (one per call), ``static`` (2,) and the run's events as text; the states go to
+OUT_<t>.pkl (``Solver.snapshot()``, restored by benchmarks/probes/slack_fold_probe.py with TAG/SNAP).
+``replay(OUT.npz, config)`` feeds the recorded samples to a fresh detector of the current code.
+"""
+import argparse
+import ast
+import os
+import pickle
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+
+
+def case():
+    from benchmarks.studies.slack_bending_ladder import case_config
+
+    L, f = float(os.environ.get("LL", 200)), float(os.environ.get("FF", 0.2))
+    alpha, N = float(os.environ.get("AL", 100)), int(os.environ.get("NN", 40))
+    return case_config(L, f, alpha, N, float(os.environ.get("PERIODS", 1.9)), ast.literal_eval(os.environ.get("EXTRA", "{}")))
+
+
+def replay(path, config=None, guard_element=None):
+    """The events of a fresh end detector (the current code) fed the recorded samples of ``path`` as the run fed
+    them (same calls, same speeds)."""
+    from tether_sim.physics.snap import SnapDetector, snap_guard
+
+    config = config or case()
+    d = np.load(path)
+    h = guard_element or config.cable.length / config.dg.n_elements
+    det = SnapDetector(config.snap, ["ship", "vehicle"], list(d["static"]), [0.0, config.cable.length],
+                       snap_guard(config, h))
+    out = []
+    for k, speed in enumerate(d["speed"]):
+        sel = d["chunk"] == k
+        if sel.any():
+            out += det.update(d["times"][sel], d["tensions"][sel], speed)
+    return out + det.flush()
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("out", type=Path)
+    ap.add_argument("--save-at", type=float, nargs="*", default=[])
+    args = ap.parse_args()
+    from tether_sim.physics import snap
+    from tether_sim.ros import driver as drv
+    from tether_sim.ros.offline import run_offline
+
+    config = case()
+    rec = {"times": [], "tensions": [], "chunk": [], "speed": [], "static": None}
+    update = snap.SnapDetector.update
+
+    def recording_update(self, times, tensions, relative_speed=None):
+        if self.locations == ["ship", "vehicle"]:
+            rec["static"] = self.static_tensions.copy()
+            k = len(rec["speed"])
+            rec["speed"].append(np.nan if relative_speed is None else float(relative_speed))
+            rec["times"].append(np.array(times, float).reshape(-1))
+            rec["tensions"].append(np.array(tensions, float).reshape(-1, 2))
+            rec["chunk"].append(np.full(len(rec["times"][-1]), k))
+        return update(self, times, tensions, relative_speed)
+
+    pending = sorted(args.save_at)
+    tick = drv.SimulationDriver.tick
+    cpu0 = time.process_time()
+
+    def saving_tick(self, now):
+        report = tick(self, now)
+        while pending and self.solver.time >= pending[0] - 1e-9:
+            t = pending.pop(0)
+            path = args.out.with_name(f"{args.out.stem}_{t:g}.pkl")
+            with open(path, "wb") as fh:
+                pickle.dump(self.solver.snapshot(), fh)
+            print(f"state at {self.solver.time:.4f} s -> {path} (cpu {time.process_time() - cpu0:.0f} s)", flush=True)
+        return report
+
+    snap.SnapDetector.update = recording_update
+    drv.SimulationDriver.tick = saving_tick
+    summary = run_offline(config, None, progress=False)
+    cpu = time.process_time() - cpu0
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    np.savez(args.out, times=np.concatenate(rec["times"]), tensions=np.concatenate(rec["tensions"]),
+             chunk=np.concatenate(rec["chunk"]), speed=np.array(rec["speed"]), static=rec["static"],
+             events=np.array([repr(e) for e in summary["events"]]), cpu=cpu, load=os.getloadavg()[0])
+    for e in summary["events"]:
+        if type(e).__name__ != "SlackStarted":
+            print(e)
+    print(f"cpu {cpu:.0f} s, divergences {summary['divergences']}, load {os.getloadavg()[0]:.1f}")
+
+
+if __name__ == "__main__":
+    main()
