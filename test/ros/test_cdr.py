@@ -15,7 +15,7 @@ from geometry_msgs.msg import Point, PoseStamped, Vector3, WrenchStamped  # noqa
 from nav_msgs.msg import Path  # noqa: E402
 from rclpy.serialization import deserialize_message, serialize_message  # noqa: E402
 from std_msgs.msg import ColorRGBA, Header  # noqa: E402
-from tether_sim_msgs.msg import TetherState  # noqa: E402
+from tether_sim_msgs.msg import TetherState, WinchState  # noqa: E402
 from visualization_msgs.msg import Marker  # noqa: E402
 
 from tether_sim.ros import cdr  # noqa: E402
@@ -112,6 +112,22 @@ def test_wrench_and_pose(frame):
     pose.pose.position = Point(x=1.5, y=-2.0, z=3e4)
     pose.pose.orientation.x, pose.pose.orientation.y, pose.pose.orientation.z, pose.pose.orientation.w = q.tolist()
     _check(cdr.pose_stamped(stamp, frame, f, q), pose)
+
+
+@pytest.mark.parametrize("frame", FRAMES)
+@pytest.mark.parametrize("end, mode", [("ship", "speed"), ("vehicle", "length"), ("ship", "tension"), ("a", "")])
+def test_winch_state(frame, end, mode):
+    """Strings of every length before the 8-aligned doubles; every flag pattern; the layout kept per
+    (frame, end, mode) carries each call's own values."""
+    rng = np.random.default_rng(len(frame) + 7 * len(end) + 13 * len(mode))
+    for flags in range(16):
+        stamp = (int(rng.integers(0, 2**31 - 1)), int(rng.integers(0, 10**9)))
+        values = rng.normal(size=5) * 1e3
+        bits = [bool(flags >> k & 1) for k in range(4)]
+        expected = WinchState(header=_header(stamp, frame), end=end, mode=mode, setpoint=values[0], length=values[1],
+                              speed=values[2], commanded_speed=values[3], tension=values[4], speed_limited=bits[0],
+                              acceleration_limited=bits[1], at_min_length=bits[2], at_max_length=bits[3])
+        _check(cdr.winch_state(stamp, frame, end, mode, *values, *bits), expected)
 
 
 def test_stamp_parts_rounds_to_nanoseconds_and_clamps_at_zero():

@@ -297,6 +297,40 @@ def pose_stamped(stamp: tuple, frame: str, position, orientation) -> bytes:
                                                             *(float(x) for x in orientation))
 
 
+class WinchStateEncoder(_Template):
+    """tether_sim_msgs/WinchState (msg_defs/msg/WinchState.msg) of one frame, winch end and mode."""
+
+    _VALUES = struct.Struct("<5d4B")
+
+    def __init__(self, frame: str, end: str, mode: str):
+        b = CdrBuffer()
+        self._stamp = _header_at(b, _text(frame))
+        b.string(_text(end))
+        b.string(_text(mode))
+        b.align(8)
+        at = b.offset
+        b.raw(bytes(self._VALUES.size))  # setpoint, length, speed, commanded_speed, tension; the four flags
+        self._finish(b)
+        self._values = self._at(at)
+
+    def encode(self, stamp: tuple, setpoint, length, speed, commanded_speed, tension, speed_limited,
+               acceleration_limited, at_min_length, at_max_length) -> bytes:
+        _TIME.pack_into(self.buf, self._at(self._stamp), *stamp)
+        self._VALUES.pack_into(self.buf, self._values, setpoint, length, speed, commanded_speed, tension,
+                               1 if speed_limited else 0, 1 if acceleration_limited else 0,
+                               1 if at_min_length else 0, 1 if at_max_length else 0)
+        return self.tobytes()
+
+
+def winch_state(stamp: tuple, frame: str, end: str, mode: str, setpoint: float, length: float, speed: float,
+                commanded_speed: float, tension: float, speed_limited: bool = False, acceleration_limited: bool = False,
+                at_min_length: bool = False, at_max_length: bool = False) -> bytes:
+    """tether_sim_msgs/WinchState: the winch at ``end`` in ``mode`` (the flags: which limit cut the rate)."""
+    return encoder(WinchStateEncoder, frame, end, mode).encode(
+        stamp, float(setpoint), float(length), float(speed), float(commanded_speed), float(tension),
+        bool(speed_limited), bool(acceleration_limited), bool(at_min_length), bool(at_max_length))
+
+
 _LOCAL = threading.local()  # each thread its own encoders: their buffers are written in place
 MAX_ENCODERS = 64
 

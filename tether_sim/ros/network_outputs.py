@@ -6,14 +6,13 @@ Topics (resolved names in the root namespace; docs/network.md "The node on a net
 body ``/tether/<name>_wrench``; per body ``/<body>/sim_pose`` and its transform on /tf; per winch
 ``/winch/<line>/state``; ``/diagnostics``.
 
-The periodic outputs are CDR bytes (:mod:`tether_sim.ros.cdr`), events, winch states and the
-description are message objects; a publisher takes either.
+The periodic outputs (winch states included) are CDR bytes (:mod:`tether_sim.ros.cdr`), events and
+the description are message objects; a publisher takes either.
 """
 
 from dataclasses import replace
 
 import numpy as np
-from tether_sim_msgs.msg import WinchState
 
 from tether_sim.numerics.rotations import quaternion_rotation
 from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent
@@ -104,6 +103,22 @@ def _world_to_body(R, v):
             R[2] * v[0] + R[5] * v[1] + R[8] * v[2]]
 
 
+_ARC_LENGTHS = {}
+
+
+def _output_arc_lengths(length, n):
+    """np.linspace(0, length, n), kept per (length, n) (the same array while a line's length holds; a
+    winch paying out makes new ones, the cache is then cleared now and then). Read-only: not to be changed."""
+    key = (length, n)
+    a = _ARC_LENGTHS.get(key)
+    if a is None:
+        if len(_ARC_LENGTHS) > 64:
+            _ARC_LENGTHS.clear()
+        a = _ARC_LENGTHS[key] = np.linspace(0.0, length, n)
+        a.flags.writeable = False
+    return a
+
+
 def tick_outputs(driver, node, orientation_of=lambda name: None, wanted=None, shapes=True) -> list:
     """(topic, payload) of every periodic output of the driver's current state, stamped with its
     clock time; ``orientation_of(point)``: a driven point's quaternion (None: world-aligned);
@@ -120,7 +135,7 @@ def tick_outputs(driver, node, orientation_of=lambda name: None, wanted=None, sh
         names = [f"/tether/{line}/{k}" for k in ("state", "path", "marker")]
         if shapes and any(want(t) for t in names):
             L = float(getattr(solver, "unstretched_length", spec.lines[line].config.cable.length))
-            st = solver.state(np.linspace(0.0, L, node.output_points))
+            st = solver.state(_output_arc_lengths(L, node.output_points))
             pts = np.asarray(st.position, float)
             t0, t1 = net.end_load(line, "ship")[1], net.end_load(line, "vehicle")[1]
             if want(names[0]):
@@ -150,10 +165,9 @@ def tick_outputs(driver, node, orientation_of=lambda name: None, wanted=None, sh
         transforms.append((frame(node, name), b.state[0:3], b.state[3:7]))
     for line, link in net.winches.items():
         w, end = link.winch, link.config.winch.end
-        out.append((f"/winch/{line}/state", WinchState(
-            header=convert.header(driver.stamp, world), end=end, mode=w.mode, setpoint=float(w.setpoint),
-            length=float(w.length), speed=float(w.speed), commanded_speed=float(w.commanded_speed),
-            tension=float(net.end_load(line, end)[1]), **w.flags)))
+        out.append((f"/winch/{line}/state", cdr.winch_state(
+            stamp, world, end, w.mode, w.setpoint, w.length, w.speed, w.commanded_speed,
+            net.end_load(line, end)[1], **w.flags)))
     out.append(("/tf", transforms))
     return out
 
