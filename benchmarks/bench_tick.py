@@ -11,8 +11,9 @@ t = 2 s at 50 Hz, then from that state:
   call, bookkeeping, the output evaluation and sampling, Python).
 
 ``--baseline DIR`` loads another checkout's ``tether_sim`` (e.g. a worktree of main) under the name
-``tether_sim_base`` (a copy in a temporary directory with the imports renamed) and times it in the
-same process, interleaved, so that the ratio does not depend on the machine's load.
+``tether_sim_base`` (a copy in a temporary directory with the imports renamed, kept per content of the
+checkout's sources, so a changed checkout is copied again) and times it in the same process,
+interleaved, so that the ratio does not depend on the machine's load.
 
 ``--hybrid``: the hybrid solver's node tick instead (ROPOS L = 200 m); ``--solver-tick FILE``: the same for
 the solver of FILE (solver.tick + state() per 50 Hz tick, the call a coupled program makes; solver_ticks).
@@ -41,12 +42,25 @@ CASES = ((200.0, 2, 0.0), (200.0, 2, 1.0), (1730.0, 3, 0.0), (1730.0, 3, 1.0), (
 def load_baseline(root, with_ros=False):
     """(tether_sim package, ropos_case module) of another checkout, renamed to tether_sim_base
     (``with_ros``: its tether_sim.ros too, for the node)."""
-    key = hashlib.sha1(f"{Path(root).resolve()}{'+ros' if with_ros else ''}".encode()).hexdigest()[:10]
-    tmp = Path(tempfile.gettempdir()) / f"tether_sim_base_{key}"  # kept: its numba cache survives runs
+    key = _source_digest(root, with_ros)
+    tmp = Path(tempfile.gettempdir()) / f"tether_sim_base_{key}"  # kept per content: its numba cache survives runs
     if not (tmp / "ropos_case_base.py").exists():
         _copy_renamed(root, tmp, with_ros)
     sys.path.insert(0, str(tmp))
     return importlib.import_module("tether_sim_base.solvers.factory"), importlib.import_module("ropos_case_base")
+
+
+def _source_digest(root, with_ros=False):
+    """A digest of the checkout's sources that the copy holds (tether_sim/, its ros/ when asked, ropos_case.py):
+    the copy is made again whenever the other checkout changes, never taken stale from an earlier run."""
+    root = Path(root)
+    h = hashlib.sha1(b"+ros" if with_ros else b"")
+    files = sorted(p for p in (root / "tether_sim").rglob("*.py")
+                   if "__pycache__" not in p.parts and (with_ros or "ros" not in p.relative_to(root).parts[1:2]))
+    for path in files + [root / "benchmarks" / "ropos_case.py"]:
+        h.update(str(path.relative_to(root)).encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()[:12]
 
 
 def _copy_renamed(root, tmp, with_ros=False):

@@ -10,8 +10,14 @@ substep), the bursts above 200 N (samples more than 50 ms apart start a new one)
 detectors reported (snaps, numerical warnings with the largest), the mean end tensions, and the
 median over the ticks of |median of the tick's samples - the first mesh's| (the slow force).
 
+``--save F.npz`` keeps the first mesh's end tensions (every substep) and per-tick medians;
+``--compare F.npz`` sets that saved run as the reference of the medians (another code version on
+the same drive: the slow force before / after a change of the solver) and prints, per end, the
+largest tension and the 99.9th percentile of both runs and the median and 99th percentile of the
+per-tick |median difference|.
+
 Usage: PYTHONPATH=. python benchmarks/excursion_rattle.py [--duration 40] [--delay 0]
-       [--meshes 6:3:0.5 12:3:0.5 3:3:0.8] [--params config/ropos_tms.yaml]
+       [--meshes 6:3:0.5 12:3:0.5 3:3:0.8] [--params config/ropos_tms.yaml] [--save F.npz] [--compare F.npz]
 """
 
 import argparse
@@ -93,10 +99,19 @@ def main(argv=None):
     ap.add_argument("--delay", type=float, default=0.0)
     ap.add_argument("--meshes", nargs="+", default=["6:3:0.5", "12:3:0.5", "3:3:0.8"])
     ap.add_argument("--params", default=str(Path(__file__).resolve().parents[1] / "config" / "ropos_tms.yaml"))
+    ap.add_argument("--save", help="keep the first mesh's samples and per-tick medians in this .npz")
+    ap.add_argument("--compare", help="a --save file: the reference of the per-tick medians")
     args = ap.parse_args(argv)
     print(f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}; "
           f"{args.duration:g} s, first tick {args.delay:g} s late")
     ref = None
+    if args.compare:
+        z = np.load(args.compare)
+        ref = {int(k): tuple(v) for k, v in zip(z["ticks"], z["medians"])}
+        saved = z["samples"]
+        print(f"reference {args.compare}: largest tension cage end {saved[1].max():.0f} N, vehicle end "
+              f"{saved[2].max():.0f} N; 99.9th percentile {np.percentile(saved[1], 99.9):.1f} / "
+              f"{np.percentile(saved[2], 99.9):.1f} N; mean {saved[1].mean():.2f} / {saved[2].mean():.2f} N")
     for m in args.meshes:
         n, order, cfl = m.split(":")
         path = with_mesh(args.params, int(n), int(order), float(cfl))
@@ -114,13 +129,20 @@ def main(argv=None):
                 f"warnings {len(warn)}"
                 + (f" (largest {max(w.tension_peak for w in warn):.0f} N)" if warn else "")
                 + f"; mean end tensions {s[1].mean():.2f} / {s[2].mean():.2f} N")
+        line += (f"; 99.9th percentile {np.percentile(s[1], 99.9):.1f} / {np.percentile(s[2], 99.9):.1f} N")
+        if args.save and m == args.meshes[0]:
+            keys = sorted(r["medians"])
+            np.savez_compressed(args.save, samples=s, ticks=np.array(keys),
+                                medians=np.array([r["medians"][k] for k in keys]))
         if ref is None:
             ref = r["medians"]
         else:
             common = sorted(set(ref) & set(r["medians"]))
-            d = np.array([np.subtract(r["medians"][k], ref[k]) for k in common])
-            line += (f"; per-tick medians against the first mesh: median |difference| {np.median(np.abs(d[:, 0])):.2f} / "
-                     f"{np.median(np.abs(d[:, 1])):.2f} N")
+            d = np.abs(np.array([np.subtract(r["medians"][k], ref[k]) for k in common]))
+            what = "the saved run" if args.compare else "the first mesh"
+            line += (f"; per-tick medians against {what}: median |difference| {np.median(d[:, 0]):.2f} / "
+                     f"{np.median(d[:, 1]):.2f} N, 99th percentile {np.percentile(d[:, 0], 99):.2f} / "
+                     f"{np.percentile(d[:, 1], 99):.2f} N")
         print(line, flush=True)
     return 0
 

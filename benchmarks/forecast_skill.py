@@ -44,7 +44,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from tether_sim.forecast.service import ForecastService  # noqa: E402
-from tether_sim.forecast.skill import reliability, score  # noqa: E402
+from tether_sim.forecast.skill import fraction_interval, rate_interval, reliability, score  # noqa: E402
 from tether_sim.io.params import load_config  # noqa: E402
 from tether_sim.physics.motion import build_motion  # noqa: E402
 from tether_sim.physics.snap import SlackStarted, SnapEvent  # noqa: E402
@@ -83,20 +83,78 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
     snaps, slacks = [], []
     forecasts = {name: [] for name in services}
     look = {name: 0.0 for name in services}
+    cpu = {"truth run": 0.0, **{f"look-ahead {name}": 0.0 for name in services}}
     wall0 = time.perf_counter()
     for k in range(1, int(round(minutes * 60.0 * rate)) + 1):
+        c0 = time.thread_time()
         report = driver.tick(k / rate)
         snaps += [(e.location, e.time) for e in report.events if isinstance(e, SnapEvent)]
         slacks += [(e.location, e.time) for e in report.events if isinstance(e, SlackStarted)]
+        cpu["truth run"] += time.thread_time() - c0
         for name, service in services.items():
+            c0 = time.thread_time()
             done = service.completed
             service.observe(driver, clock_origin=0.0, tick_index=k)
             if service.completed > done:
                 look[name] += service.last_wall
             forecasts[name] += service.poll()
+            cpu[f"look-ahead {name}"] += time.thread_time() - c0
     snaps += [(e.location, e.time) for e in driver.detector.flush()]
     run_case.slacks = slacks  # slack periods begun (for --dump)
+    run_case.cpu = cpu  # CPU s of this thread: the truth run, each source's forecasts (tick side and look-ahead)
     return snaps, forecasts, time.perf_counter() - wall0, look, driver.solver.time
+
+
+class CpuSplit:
+    """``--cpu-split``: where the look-aheads spend their CPU (thread CPU s): the members' ship motion, the
+    solver's ticks, the relative end speed for the snap guard, the snap detector, and the rest (building
+    the members, copying the state, the loop itself). Wraps those calls while a look-ahead runs (the truth
+    run's own calls are not counted); the wrappers cost a few per cent."""
+
+    def __init__(self):
+        import tether_sim.forecast.lookahead as la
+        from tether_sim.physics.snap import SnapDetector
+
+        self.cpu = {"motion": 0.0, "solver tick": 0.0, "relative end speed": 0.0, "snap detector": 0.0, "look-ahead total": 0.0}
+        self.active = False
+        split = self
+
+        def timed(fn, key):
+            def wrapper(*a, **kw):
+                if not split.active:
+                    return fn(*a, **kw)
+                c0 = time.thread_time()
+                try:
+                    return fn(*a, **kw)
+                finally:
+                    split.cpu[key] += time.thread_time() - c0
+            return wrapper
+
+        run = la.LookAhead.run
+
+        def timed_run(engine, request):
+            if not getattr(engine, "_split_wrapped", False):
+                engine.solver.tick = timed(engine.solver.tick, "solver tick")
+                engine._split_wrapped = True
+            split.active = True
+            c0 = time.thread_time()
+            try:
+                return run(engine, request)
+            finally:
+                split.cpu["look-ahead total"] += time.thread_time() - c0
+                split.active = False
+
+        la.LookAhead.run = timed_run
+        la._ShipPlan.at = timed(la._ShipPlan.at, "motion")
+        la.relative_end_speed = timed(la.relative_end_speed, "relative end speed")
+        SnapDetector.update = timed(SnapDetector.update, "snap detector")
+
+    def report(self):
+        total = self.cpu["look-ahead total"]
+        parts = {k: v for k, v in self.cpu.items() if k != "look-ahead total"}
+        parts["rest"] = total - sum(parts.values())
+        return f"look-ahead CPU {total:.1f} s: " + ", ".join(f"{k} {v:.1f} s ({100 * v / max(total, 1e-9):.0f} %)"
+                                                              for k, v in parts.items())
 
 
 def truth_tensions(path, seed, dumped_args):
@@ -288,16 +346,20 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0)) -> int:
                     f.end == end and f.probability >= min(thresholds) for r in sel for f in r[5]):
                 continue  # no snap and no warning at this end
             for threshold, timing in [(t, None) for t in thresholds] + [(0.5, old)]:
-                tot = np.zeros(5)
+                tot = np.zeros(6)
                 for _, _, _, until, snaps, fc in sel:
                     if timing is not None:
                         fc = [SimpleNamespace(**{**vars(f), "time_to_snap": timing(f)}) for f in fc]
                     sc = score(fc, snaps, end, threshold=threshold, until=until)
                     sc3 = score(fc, snaps, end, threshold=threshold, until=until, lead=3.0)
-                    tot += (sc.snaps, sc.warned, sc3.warned, sc.false_alarms, sc.minutes)
+                    tot += (sc.snaps, sc.warned, sc3.warned, sc.false_alarms, sc.minutes, sc.false_alarm_episodes)
                 how = " (snap time as before 2026-11-27: median over the snapping members)" if timing else ""
-                print(f"  {end:7s} p >= {threshold:5.3f}: {tot[1]:.0f}/{tot[0]:.0f} warned >= 5 s ({tot[2]:.0f} >= 3 s), "
-                      f"{tot[3]:.0f} false alarms = {10 * tot[3] / max(tot[4], 1e-9):.2f} / 10 min ({tot[4]:.1f} min scored){how}")
+                w_lo, _ = fraction_interval(int(tot[1]), int(tot[0]))
+                e_lo, e_hi = rate_interval(int(tot[5]), tot[4])
+                print(f"  {end:7s} p >= {threshold:5.3f}: {tot[1]:.0f}/{tot[0]:.0f} warned >= 5 s ({tot[2]:.0f} >= 3 s; "
+                      f"95 % lower bound {100 * w_lo:.0f} %), {tot[3]:.0f} false alarms = {10 * tot[3] / max(tot[4], 1e-9):.2f} / 10 min, "
+                      f"{tot[5]:.0f} episodes = {10 * tot[5] / max(tot[4], 1e-9):.2f} / 10 min (95 % interval {e_lo:.2f}-{e_hi:.2f}) "
+                      f"({tot[4]:.1f} min scored){how}")
             bins = [reliability(fc, snaps, end, until=until) for _, _, _, until, snaps, fc in sel]
             print(f"  {end} reliability (probability bin: forecasts, mean probability, observed frequency of a snap within the horizon):")
             for i in range(len(bins[0])):
@@ -342,12 +404,16 @@ def main(argv=None) -> int:
                          "(as before 2026-11-27) instead of the sea's covariance, for comparison")
     ap.add_argument("--motion-error", action="store_true",
                     help="run no cable: the known sea's members against the truth, fairlead motion only, by lead time")
+    ap.add_argument("--cpu-split", action="store_true",
+                    help="also print where the look-aheads spend their CPU (members' motion, solver, relative end speed, "
+                         "snap detector, rest)")
     args = ap.parse_args(argv)
+    split = CpuSplit() if args.cpu_split else None
     if args.motion_error:
         return motion_error(args)
     if args.rescore:
         return near_misses(args.rescore) if args.near_misses else rescore(args.rescore)
-    rows, dumps = [], []
+    rows, dumps, costs = [], [], []
     print(f"forecast skill: Hs {args.hs:g} m, Tp {args.tp:g} s, {args.directions} direction(s), horizon {args.horizon:g} s, {args.members} members, "
           f"{args.rate:g} forecasts/s, sea_error {args.sea_error:g}, nominal error {args.nominal_error:g}, "
           f"waves on the cable: {'yes' if args.cable_waves else 'no'}, members conditioned by {'the exponential fade' if args.fade else 'the covariance'}", flush=True)
@@ -355,6 +421,8 @@ def main(argv=None) -> int:
         for seed in args.seeds:
             cfgs = [case_config(path, source, seed, args) for source in args.sources]
             snaps, forecasts, wall, look, sim = run_case(cfgs, args.minutes, args.nominal_error, args.cable_waves, not args.fade)
+            cpu = dict(run_case.cpu)
+            c_score = time.thread_time()
             if args.dump:
                 dumps.append({"file": path, "seed": seed, "snaps": snaps, "slack_starts": run_case.slacks,
                               "warnings": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.time_to_snap_std,
@@ -381,9 +449,15 @@ def main(argv=None) -> int:
                               f"{s.warned}/{s.snaps} snaps warned, {s.warnings} warnings, {s.false_alarms} false alarms "
                               f"({s.false_alarms_per_10min:.2f}/10 min, {s.episodes_per_10min:.2f} episodes/10 min); "
                               f"run wall {wall:.0f} s (this source's look-ahead {look[source]:.0f} s)", flush=True)
+            cpu["scoring"] = time.thread_time() - c_score
+            print(f"{Path(path).stem} seed {seed}: CPU s (this thread) " + ", ".join(f"{k} {v:.1f}" for k, v in cpu.items()),
+                  flush=True)
+            if split is not None:
+                print(f"{Path(path).stem} seed {seed} (cumulative): {split.report()}", flush=True)
+            costs.append({"file": path, "seed": seed, "cpu_s": cpu, "split": dict(split.cpu) if split else None})
             if args.json:  # after every run, so an interrupted study keeps what finished
                 Path(args.json).parent.mkdir(parents=True, exist_ok=True)
-                Path(args.json).write_text(json.dumps({"args": vars(args), "rows": rows, "runs": dumps}, indent=1))
+                Path(args.json).write_text(json.dumps({"args": vars(args), "rows": rows, "runs": dumps, "cpu": costs}, indent=1))
     print("\ntotals (all seeds):")
     keys = sorted({(r["file"], r["source"], r["end"], r["threshold"], r["lead"]) for r in rows})
     for key in keys:

@@ -132,3 +132,26 @@ def test_moordyn_bending_rungs_table():
     assert "2.000 %" in lines[2] and "0.000 %" in lines[2]  # EI=0 2 % off, EI* on its reference
     assert "-0.980 %" in lines[2] and "+1.000 %" in lines[3]  # 101/102 - 1, 101/100 - 1
     assert lines[3].count("(ref)") == 2
+
+
+def test_baseline_copy_follows_the_other_checkout(tmp_path):
+    """The same-process comparisons (regression_vs_baseline.py, bench_tick.py, bench_vs_moordyn.py) import another
+    checkout through a renamed copy kept between runs for its numba cache: the copy is keyed by the sources'
+    content, so a changed checkout is copied again, never compared from a stale copy of an earlier state."""
+    from benchmarks.bench_tick import _source_digest
+    root = tmp_path / "checkout"
+    (root / "tether_sim" / "ros").mkdir(parents=True)
+    (root / "benchmarks").mkdir()
+    (root / "tether_sim" / "kernels.py").write_text("A = 1\n")
+    (root / "tether_sim" / "ros" / "node.py").write_text("B = 1\n")
+    (root / "benchmarks" / "ropos_case.py").write_text("C = 1\n")
+    d0, d0_ros = _source_digest(root), _source_digest(root, with_ros=True)
+    assert d0 != d0_ros
+    (root / "tether_sim" / "ros" / "node.py").write_text("B = 2\n")
+    assert _source_digest(root) == d0 and _source_digest(root, with_ros=True) != d0_ros
+    (root / "tether_sim" / "kernels.py").write_text("A = 2\n")
+    assert _source_digest(root) != d0
+    (root / "tether_sim" / "kernels.py").write_text("A = 1\n")
+    assert _source_digest(root) == d0
+    (root / "benchmarks" / "ropos_case.py").write_text("C = 2\n")
+    assert _source_digest(root) != d0

@@ -121,6 +121,23 @@ def test_ensemble_members_spread_and_the_probability_counts_them():
     assert any(f.time_to_snap_std > 0.0 for f in vehicle if len(f.member_snaps) > 1)
 
 
+@pytest.mark.parametrize("condition_time", [0.0, 2.0])
+def test_members_evaluated_a_horizon_at_once_give_the_forecasts_of_tick_by_tick(monkeypatch, condition_time):
+    """The look-ahead evaluates a member's ship motion over the horizon at once where the member can
+    (``at_many``); the forecasts are those of the tick-by-tick ``at`` (the plain twin), bit for bit."""
+    from tether_sim.forecast.ship_forecast import ConditionedMember, MotionMember
+
+    cfg = regular_wave_case(members=4, sea_error=0.1, condition_time=condition_time)
+    fast = run(cfg, duration=8.0)[1]
+    monkeypatch.delattr(MotionMember, "at_many")
+    monkeypatch.delattr(ConditionedMember, "at_many")
+    plain = run(cfg, duration=8.0)[1]
+    key = lambda f: (f.stamp, f.end, f.probability, f.time_to_snap, f.predicted_peak, f.member_snaps, f.member_troughs)  # noqa: E731
+    assert len(fast) == len(plain) >= 4
+    assert [repr(key(f)) for f in fast] == [repr(key(f)) for f in plain]
+    assert any(f.member_snaps for f in fast)
+
+
 def test_ensemble_time_to_snap_counts_the_members_that_do_not_snap():
     """Five of eight members snap at 10..12 s: the ensemble's median snap time is 11.75 s (the 4th and
     5th of all eight), not 11 s (the median of the five, which ignores the three that snap later);

@@ -1,5 +1,6 @@
 """Scoring of snap forecasts (tether_sim.forecast.skill): the definitions of docs/forecast.md."""
 
+import math
 from types import SimpleNamespace as F
 
 import pytest
@@ -57,3 +58,20 @@ def test_reliability_bins_the_probability_against_the_snaps_within_each_horizon(
     assert bins[0].observed == 0.5 and bins[0].mean_probability == pytest.approx(0.05)
     assert bins[2].observed == 0.5 and bins[4].observed == 1.0
     assert bins[1].observed != bins[1].observed  # empty: NaN
+
+
+def test_interval_bounds_of_few_events_are_the_exact_poisson_and_binomial_ones():
+    from tether_sim.forecast.skill import fraction_interval, rate_interval
+
+    # no event in 10 min: the upper 97.5 % Poisson bound is -ln(0.025) = 3.689 events
+    low, high = rate_interval(0, 10.0)
+    assert low == 0.0 and abs(high - (-math.log(0.025))) < 1e-9
+    # one event: the lower bound solves P(N >= 1) = 0.025, 1 - exp(-m) = 0.025
+    low, _ = rate_interval(1, 10.0)
+    assert abs(low - (-math.log(0.975))) < 1e-9
+    assert rate_interval(3, 20.0)[1] == rate_interval(3, 10.0)[1] / 2.0  # per 10 min
+    # all of n warned: the lower bound solves p^n = 0.025
+    low, high = fraction_interval(7, 7)
+    assert abs(low - 0.025 ** (1 / 7)) < 1e-9 and high == 1.0
+    low, high = fraction_interval(0, 4)
+    assert low == 0.0 and abs(high - (1.0 - 0.025 ** (1 / 4))) < 1e-9

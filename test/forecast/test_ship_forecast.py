@@ -278,3 +278,30 @@ def test_external_members_start_at_the_forecast_and_scale_the_displacement():
     # sampling: std(a^2) = sqrt(exp(4 s^2) - 1) = 0.63, over 4000 draws 0.01
     assert np.mean(sq) == pytest.approx(1.0, abs=0.035)
     assert np.allclose(members[0].at(25.0)[1], 0.0)  # held at rest after the forecast ends
+
+
+def test_members_evaluated_a_horizon_at_once_are_the_same_numbers_as_tick_by_tick():
+    """``at_many`` (the look-ahead evaluates a member's horizon at once) gives the numbers of ``at``
+    bit for bit, for every kind of member: a known sea's members (nominal, perturbed, conditioned through
+    the covariance and by the fade alone) and the pose predictor's spline members (before and after their
+    last sample)."""
+    cfg = SimConfig(motion=MotionConfig(kind="rao", rao_path="config/rao_support_vessel_80m.txt",
+                                        rao_lever_arm=(-35.0, 0.0, 5.0), ramp_time=5.0),
+                    waves=WaveConfig(kind="jonswap", Hs=3.0, Tp=9.0, n_frequencies=10, n_directions=3, spreading=6.0, seed=2))
+    truth = build_motion(cfg.motion, np.zeros(3), wave_components(cfg))
+    t0 = 40.0
+    p0, v0 = truth.at(t0)[:2]
+    ts = np.array([(0.0 + (400 + k) / 10.0) - 0.25 for k in range(1, 160)])
+    for covariance in (True, False):
+        members = perturbed_members(perturb_motion(truth, component_spread(0.1), np.random.default_rng(1)), 0.25, 4, 0.1,
+                                    np.random.default_rng(2), True, (t0, p0, v0, 2.0), True, covariance=covariance)
+        members.append(MotionMember(truth, 0.25))
+        for m in members:
+            P, V = m.at_many(ts)
+            assert np.array_equal(P, np.array([m.at(t)[0] for t in ts])) and np.array_equal(V, np.array([m.at(t)[1] for t in ts]))
+    hist_t = np.arange(0.0, 60.0, 0.1)
+    hist_p = np.array([truth.at(t)[0] for t in hist_t])
+    for m in ARShipPredictor(8, 0.5, 40.0).members(hist_t, hist_p, hist_t[-1], 10.0, 3, np.random.default_rng(3)):
+        ts = np.arange(hist_t[-1], m.t_end + 2.0, 0.1)
+        P, V = m.at_many(ts)
+        assert np.array_equal(P, np.array([m.at(t)[0] for t in ts])) and np.array_equal(V, np.array([m.at(t)[1] for t in ts]))

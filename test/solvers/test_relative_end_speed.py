@@ -51,3 +51,31 @@ def test_rigid_rotation_of_the_body():
     solver = FakeSolver(position=np.array([[0.0, 0.0, 100.0], [2.0, 0.0, 0.0]]),
                         velocity=np.array([[1.0, 0.0, 0.0], [9.0, 9.0, 9.0]]), body=body)  # (the cable's end trace is ignored)
     assert abs(relative_end_speed(solver, 100.0) - np.sqrt(2.0)) < 1e-15
+
+
+def test_dg_end_kinematics_are_the_state_and_body_state_numbers():
+    """The DG solver's lean path (end_kinematics: the cable's ends and the bodies without the rest of
+    the state) gives relative_end_speed the numbers of state() and body_state(), bit for bit: the 1730 m
+    live file (a body at the vehicle end) after its ship end was moved."""
+    from tether_sim.io.params import load_config
+    from tether_sim.solvers.factory import build_solver
+
+    solver = build_solver(load_config("config/ropos_L1730.yaml"))
+    p0 = np.array(solver.state(np.array([0.0])).position[0], float)
+    for k in range(1, 6):
+        t = 0.1 * k
+        solver.tick(t, ship=(p0 + np.array([0.0, 0.0, 0.5 * np.sin(t)]), np.array([0.0, 0.0, 0.5 * np.cos(t)])))
+
+    class StateOnly:  # the same solver seen through state() and body_state() only
+        unstretched_length = solver.unstretched_length
+        state, body_state = solver.state, solver.body_state
+
+    L = solver.unstretched_length
+    pos, vel, bodies = solver.end_kinematics(np.array([0.0, L]))
+    state = solver.state(np.array([0.0, L]))
+    assert np.array_equal(pos, state.position) and np.array_equal(vel, state.velocity)
+    body = solver.body_state("vehicle")
+    assert bodies[0] is None and solver.body_state("ship") is None
+    assert all(np.array_equal(a, b) for a, b in zip(bodies[1], (body.position, body.velocity, body.angular_velocity)))
+    speed = relative_end_speed(solver, 1730.0)
+    assert speed == relative_end_speed(StateOnly(), 1730.0) and speed > 0.0

@@ -131,14 +131,16 @@ class LookAhead:
         origin = request.issued if request.clock_origin is None else request.clock_origin
         index = 0 if request.clock_origin is None else request.tick_index
         rate = 1.0 / request.tick
+        # the driver's expression for its tick targets (now = origin + k / rate; target = now - anchor)
+        targets = [(origin + (index + k) / rate) - request.anchor for k in range(1, n_ticks + extra + 1)]
+        ship_motion = _ShipPlan(motion, targets, n_ticks) if self.prescribed["ship"] else None
         for k in range(1, n_ticks + extra + 1):
             if k > n_ticks and not _window_open(detector, first):
                 break
-            # the driver's expression for its tick targets (now = origin + k / rate; target = now - anchor)
-            t = (origin + (index + k) / rate) - request.anchor
+            t = targets[k - 1]
             if t <= solver.time:
                 continue
-            ship = motion.at(t) if self.prescribed["ship"] else None
+            ship = ship_motion.at(k - 1) if ship_motion is not None else None
             veh = _eased(vehicle, t - t0) if vehicle is not None else None
             try:
                 out = solver.tick(t, ship=ship, vehicle=veh)
@@ -149,8 +151,9 @@ class LookAhead:
                 clock = out.times + request.anchor
                 inside = clock < end_clock - 1e-9  # the horizon [issued, issued + horizon) of the samples' times
                 if inside.any():
+                    least = (tensions if inside.all() else tensions[inside]).min(axis=0)
                     for j, end in enumerate(END_NAMES):
-                        trough[end] = min(trough[end], float(tensions[inside, j].min()))
+                        trough[end] = min(trough[end], float(least[j]))
                 events = detector.update(clock, tensions, relative_end_speed(solver, self.config.cable.length))
                 for ev in events:
                     if (isinstance(ev, SnapEvent) and first[ev.location] is None
@@ -158,6 +161,30 @@ class LookAhead:
                         first[ev.location] = (ev.time, ev.peak_tension)
         first["trough"] = trough
         return first
+
+
+class _ShipPlan:
+    """A member's ship motion at the look-ahead's tick targets, evaluated a horizon at a time where the
+    member can (``at_many``: the same numbers as ``at`` one tick at a time, fewer interpreter calls);
+    the ticks after the horizon, stepped only to close a re-tensioning window, are evaluated when first
+    needed."""
+
+    def __init__(self, motion, targets, n_first):
+        self.motion, self.targets, self.n_first = motion, targets, n_first
+        self.many = getattr(motion, "at_many", None)
+        self.p = self.v = None
+        self.done = 0
+
+    def at(self, i):
+        if self.many is None:
+            return self.motion.at(self.targets[i])
+        while i >= self.done:
+            upto = self.n_first if self.done < self.n_first else len(self.targets)
+            p, v = self.many(np.asarray(self.targets[self.done:upto], float))
+            self.p = p if self.p is None else np.concatenate([self.p, p])
+            self.v = v if self.v is None else np.concatenate([self.v, v])
+            self.done = upto
+        return self.p[i], self.v[i]
 
 
 def ensemble_median_time(times, members):

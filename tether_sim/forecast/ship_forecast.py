@@ -69,10 +69,22 @@ class MotionMember:
 
     def __init__(self, motion, offset=0.0):
         self.motion, self.offset = motion, float(offset)
+        # position and velocity only where the generator can skip the acceleration (the same numbers)
+        pv = getattr(motion, "position_velocity", None)
+        self._pv = pv if pv is not None else (lambda t: motion.at(t)[:2])
 
     def at(self, t):
-        p, v = self.motion.at(t + self.offset)[:2]
+        p, v = self._pv(t + self.offset)
         return np.asarray(p, float), np.asarray(v, float)
+
+    def at_many(self, ts):
+        """(positions (k, 3), velocities (k, 3)) at the solver times ``ts``: the numbers of :meth:`at`."""
+        many = getattr(self.motion, "position_velocity_many", None)
+        ts = np.asarray(ts, float).reshape(-1) + self.offset
+        if many is not None:
+            return many(ts)
+        out = [self._pv(float(t)) for t in ts]
+        return (np.array([o[0] for o in out], float).reshape(-1, 3), np.array([o[1] for o in out], float).reshape(-1, 3))
 
 
 def perturb_motion(motion, spread: float, rng):
@@ -191,6 +203,27 @@ class ConditionedMember:
         c = (self.dp + self.b * tau) * e
         return p + c, v + self.b * e - c / self.T
 
+    def at_many(self, ts):
+        """(positions (k, 3), velocities (k, 3)) at the solver times ``ts``: the numbers of :meth:`at`
+        (the same operations element for element; math.exp as there)."""
+        ts = np.asarray(ts, float).reshape(-1)
+        many = getattr(self.member, "at_many", None)
+        if many is not None:
+            p, v = many(ts)
+        else:
+            out = [self.member.at(float(t)) for t in ts]
+            p, v = np.array([o[0] for o in out], float), np.array([o[1] for o in out], float)
+        tau = np.array([max(float(t) - self.t0, 0.0) for t in ts])
+        if self.g is not None:
+            phase = np.exp((-1j * self.omega)[None, :] * tau[:, None])  # (k, n)
+            corr = np.real(np.matmul((self.g[None, :] * phase)[:, None, :], self.w)[:, 0, :])  # per time (n,) @ (n, 6)
+            p, v = p + corr[:, :3], v + corr[:, 3:]
+        if self.T <= 0.0:
+            return p, v
+        e = np.array([math.exp(-x / self.T) for x in tau])[:, None]
+        c = (self.dp + self.b * tau[:, None]) * e
+        return p + c, v + self.b * e - c / self.T
+
 
 class SplineMember:
     """A member from samples of the fairlead position: a cubic spline, velocity its derivative; held
@@ -205,6 +238,16 @@ class SplineMember:
         if t >= self.t_end:
             return self.p_end.copy(), np.zeros(3)
         return self.spline(t), self.spline(t, 1)
+
+    def at_many(self, ts):
+        """(positions (k, 3), velocities (k, 3)) at the times ``ts``: the numbers of :meth:`at`."""
+        ts = np.asarray(ts, float).reshape(-1)
+        p, v = np.empty((ts.size, 3)), np.zeros((ts.size, 3))
+        held = ts >= self.t_end
+        p[held] = self.p_end
+        if not held.all():
+            p[~held], v[~held] = self.spline(ts[~held]), self.spline(ts[~held], 1)
+        return p, v
 
 
 class ARShipPredictor:

@@ -95,3 +95,31 @@ def reliability(forecasts, snaps, end, *, edges=(0.0, 0.125, 0.375, 0.625, 0.875
         out.append(ReliabilityBin(low, high, n, sum(f.probability for f in sel) / n if n else float("nan"),
                                   sum(hits) / n if n else float("nan")))
     return out
+
+
+def rate_interval(count: int, minutes: float, confidence: float = 0.95):
+    """Two-sided ``confidence`` interval (exact Poisson, Garwood) of an event rate per 10 min from
+    ``count`` events in ``minutes``: few events bound the rate only loosely (0 events in 10 min: up to
+    3.7 per 10 min at 95 %). The events must be independent: count false-alarm episodes, not the
+    consecutive forecasts that repeat one mistake."""
+    from scipy.stats import chi2
+
+    if minutes <= 0:
+        return float("nan"), float("nan")
+    a = 1.0 - confidence
+    low = 0.5 * chi2.ppf(a / 2.0, 2 * count) if count > 0 else 0.0
+    high = 0.5 * chi2.ppf(1.0 - a / 2.0, 2 * count + 2)
+    return 10.0 * low / minutes, 10.0 * high / minutes
+
+
+def fraction_interval(successes: int, trials: int, confidence: float = 0.95):
+    """Two-sided ``confidence`` interval (exact binomial, Clopper-Pearson) of a fraction from
+    ``successes`` of ``trials`` (7 of 7 warned: the fraction is >= 59 % at 95 %, two-sided)."""
+    from scipy.stats import beta
+
+    if trials <= 0:
+        return float("nan"), float("nan")
+    a = 1.0 - confidence
+    low = beta.ppf(a / 2.0, successes, trials - successes + 1) if successes > 0 else 0.0
+    high = beta.ppf(1.0 - a / 2.0, successes + 1, trials - successes) if successes < trials else 1.0
+    return float(low), float(high)

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tether_sim.paths import resolve_data_path
-from tether_sim.physics.ship_motion import ShipResponse, fairlead_offset, read_rao_table
+from tether_sim.physics.ship_motion import ShipResponse, fairlead_offset, fairlead_position_velocity_many, read_rao_table
 from tether_sim.spec import param
 
 MOTION_KINDS = ("none", "circle", "heave", "sines", "record", "rao")
@@ -75,6 +75,32 @@ class _Offset:
         d, dd, ddd = self.offset(float(t))
         r, dr, ddr = ramp(float(t), self.ramp_time)
         return self.origin + r * d, r * dd + dr * d, r * ddd + 2.0 * dr * dd + ddr * d
+
+    def position_velocity(self, t: float):
+        """World (position, velocity) at time t: the first two of :meth:`at`, the same numbers, without
+        computing the acceleration where the generator can skip it (a forecast's members command
+        position and velocity only)."""
+        d, dd = self.offset_pv(float(t))
+        r, dr, _ = ramp(float(t), self.ramp_time)
+        return self.origin + r * d, r * dd + dr * d
+
+    def offset_pv(self, t):
+        """(d, d') of :meth:`offset` (generators that can skip d'' override this)."""
+        return self.offset(t)[:2]
+
+    def position_velocity_many(self, ts):
+        """(positions (k, 3), velocities (k, 3)) of :meth:`position_velocity` at the times ``ts`` (k,),
+        the same numbers (generators that can evaluate many times at once override ``offset_pv_many``)."""
+        ts = np.asarray(ts, float).reshape(-1)
+        d, dd = self.offset_pv_many(ts)
+        ramps = [ramp(float(t), self.ramp_time) for t in ts]
+        r = np.array([x[0] for x in ramps])[:, None]
+        dr = np.array([x[1] for x in ramps])[:, None]
+        return self.origin + r * d, r * dd + dr * d
+
+    def offset_pv_many(self, ts):
+        out = [self.offset_pv(float(t)) for t in ts]
+        return np.array([o[0] for o in out], float).reshape(-1, 3), np.array([o[1] for o in out], float).reshape(-1, 3)
 
 
 class StillMotion(_Offset):
@@ -167,6 +193,12 @@ class RaoMotion(_Offset):
 
     def offset(self, t):
         return fairlead_offset(self.response, self.lever, t)
+
+    def offset_pv(self, t):
+        return fairlead_offset(self.response, self.lever, t, acceleration=False)[:2]
+
+    def offset_pv_many(self, ts):
+        return fairlead_position_velocity_many(self.response, self.lever, ts)
 
 
 def read_pose_record(path, topic="/ship/pose"):

@@ -139,6 +139,7 @@ class ShipResponse:
     def __init__(self, table: RaoTable, waves, reference, heading_deg):
         self.reference = np.asarray(reference, float).reshape(3)
         self.heading = math.radians(float(heading_deg))
+        self.rz0 = _rot(2, self.heading)  # the mean heading's rotation (the same numbers on every call)
         keep = waves.amp > 0.0
         amp, om, k = waves.amp[keep], waves.omega[keep], waves.k[keep]
         cb, sb, phi = waves.cos_dir[keep], waves.sin_dir[keep], waves.phase[keep]
@@ -152,13 +153,64 @@ class ShipResponse:
             self.coef[n] = amp[n] * r_amp
             self.theta0[n] = psi - r_phase  # DOF j: coef cos(theta0 - omega t)
 
-    def dofs(self, t: float):
-        """(q, q', q'') (6,) each: surge, sway, heave [m], roll, pitch, yaw [rad] and their rates."""
+    def dofs(self, t: float, acceleration: bool = True):
+        """(q, q', q'') (6,) each: surge, sway, heave [m], roll, pitch, yaw [rad] and their rates;
+        ``acceleration=False``: q'' is None (not computed; q and q' are the same numbers)."""
         arg = self.theta0 - self.omega[:, None] * t
         c, s = np.cos(arg), np.sin(arg)
         w = self.omega
         q = w @ (self.coef * s)  # (n,) @ (n, 6)
-        return (self.coef * c).sum(0), q, -(w * w) @ (self.coef * c)
+        cc = self.coef * c
+        return cc.sum(0), q, (-(w * w) @ cc if acceleration else None)
+
+
+def _cross_many(a, b):
+    """Row-wise a x b for (k, 3) arrays, element for element the operations of :func:`_cross`."""
+    return np.stack([a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1], a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2],
+                     a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]], axis=1)
+
+
+def _rot_many(axis, angles):
+    """(k, 3, 3) rotation matrices of :func:`_rot` for the angles (k,) (math.cos and math.sin, as there:
+    numpy's vectorised ones may differ in the last bit)."""
+    c = np.array([math.cos(a) for a in angles])
+    s = np.array([math.sin(a) for a in angles])
+    out = np.zeros((angles.size, 3, 3))
+    i, j = [(1, 2), (0, 2), (0, 1)][axis]
+    out[:, axis, axis] = 1.0
+    out[:, i, i], out[:, j, j] = c, c
+    if axis == 1:
+        out[:, 0, 2], out[:, 2, 0] = s, -s
+    else:
+        out[:, i, j], out[:, j, i] = -s, s
+    return out
+
+
+def fairlead_position_velocity_many(response: ShipResponse, lever, ts):
+    """(positions (k, 3), velocities (k, 3)) of :func:`fairlead_offset` at the times ``ts`` (k,) in one
+    pass: the same floating-point operations element for element (elementwise ufuncs, and the same
+    matrix products per time: numpy's stacked matmul multiplies slice by slice), so the numbers are
+    those of k calls (checked bit for bit in test/physics/test_ship_motion.py); a forecast's members
+    evaluate a whole horizon at once with it."""
+    ts = np.asarray(ts, float).reshape(-1)
+    k = ts.size
+    arg = response.theta0[None, :, :] - response.omega[None, :, None] * ts[:, None, None]  # (k, n, 6)
+    c, s = np.cos(arg), np.sin(arg)
+    w = response.omega
+    qd = np.matmul(w, response.coef[None] * s)  # (k, 6): per slice (n,) @ (n, 6)
+    q = (response.coef[None] * c).sum(1)
+    roll, pitch, yaw = q[:, 3], q[:, 4], q[:, 5]
+    rd, pd, yd = qd[:, 3], qd[:, 4], qd[:, 5]
+    Rz = _rot_many(2, yaw)
+    Rzy = np.matmul(Rz, _rot_many(1, pitch))
+    R = np.matmul(Rzy, _rot_many(0, roll))
+    ez = np.array([0.0, 0.0, 1.0])
+    ey_r, ex_r = Rz[:, :, 1], Rzy[:, :, 0]
+    wv = (yd[:, None] * ez + pd[:, None] * ey_r) + rd[:, None] * ex_r
+    r = np.matmul(R, lever)
+    pos = np.matmul(response.rz0, (q[:, :3] + r - lever)[:, :, None])[:, :, 0]
+    vel = np.matmul(response.rz0, (qd[:, :3] + _cross_many(wv, r))[:, :, None])[:, :, 0]
+    return pos, vel
 
 
 def _cross(a, b):
@@ -168,26 +220,34 @@ def _cross(a, b):
 
 def lever_arm_kinematics(q, qd, qdd, lever):
     """(R r, w, w') for rotations (roll, pitch, yaw) = q[3:] composed R = Rz Ry Rx, Euler rates qd[3:],
-    qdd[3:]; w and w' are the angular velocity and acceleration in the mean ship axes."""
+    qdd[3:]; w and w' are the angular velocity and acceleration in the mean ship axes (``qdd`` None:
+    w' is None, not computed)."""
     roll, pitch, yaw = q[3:]
     rd, pd, yd = qd[3:]
-    rdd, pdd, ydd = qdd[3:]
-    Rz, Rzy = _rot(2, yaw), _rot(2, yaw) @ _rot(1, pitch)
+    Rz = _rot(2, yaw)
+    Rzy = Rz @ _rot(1, pitch)
     R = Rzy @ _rot(0, roll)
     ez = np.array([0.0, 0.0, 1.0])
     ey_r, ex_r = Rz[:, 1], Rzy[:, 0]
     w_zy = yd * ez + pd * ey_r
     w = w_zy + rd * ex_r
+    if qdd is None:
+        return R @ lever, w, None
+    rdd, pdd, ydd = qdd[3:]
     dw = ydd * ez + pdd * ey_r + pd * _cross(yd * ez, ey_r) + rdd * ex_r + rd * _cross(w_zy, ex_r)
     return R @ lever, w, dw
 
 
-def fairlead_offset(response: ShipResponse, lever, t):
-    """Fairlead (offset from its mean position, velocity, acceleration) in world axes at time t."""
-    q, qd, qdd = response.dofs(t)
+def fairlead_offset(response: ShipResponse, lever, t, acceleration: bool = True):
+    """Fairlead (offset from its mean position, velocity, acceleration) in world axes at time t;
+    ``acceleration=False``: the acceleration is None, not computed (a forecast's members command
+    position and velocity only; the other two are the same numbers)."""
+    q, qd, qdd = response.dofs(t, acceleration)
     r, w, dw = lever_arm_kinematics(q, qd, qdd, lever)
-    Rz0 = _rot(2, response.heading)
+    Rz0 = response.rz0
     pos = Rz0 @ (q[:3] + r - lever)
     vel = Rz0 @ (qd[:3] + _cross(w, r))
+    if not acceleration:
+        return pos, vel, None
     acc = Rz0 @ (qdd[:3] + _cross(dw, r) + _cross(w, _cross(w, r)))
     return pos, vel, acc

@@ -178,15 +178,21 @@ def relative_end_speed(solver, length: float) -> float:
     not with the cable's end trace, which a collapsed end element can corrupt; other ends with the
     cable's end velocity (at a prescribed or fixed end its boundary motion)."""
     L = float(getattr(solver, "unstretched_length", length))
-    state = solver.state(np.array([0.0, L]))
-    v = np.array(state.velocity, float)
-    for j, end in enumerate(END_NAMES):
-        body = solver.body_state(end)
+    kinematics = getattr(solver, "end_kinematics", None)
+    if kinematics is not None:  # the same numbers without the rest of the state (DG)
+        position, velocity, bodies = kinematics(np.array([0.0, L]))
+    else:
+        state = solver.state(np.array([0.0, L]))
+        position, velocity = state.position, state.velocity
+        bodies = tuple((b.position, b.velocity, b.angular_velocity) if b is not None else None
+                       for b in (solver.body_state(end) for end in END_NAMES))
+    v = np.array(velocity, float)
+    for j, body in enumerate(bodies):
         if body is not None:  # v + omega x arm in plain floats (np.cross costs ~15 us on 3-vectors; same operations)
-            (px, py, pz), (bx, by, bz) = (float(c) for c in state.position[j]), (float(c) for c in body.position)
+            (px, py, pz), (bx, by, bz) = (float(c) for c in position[j]), (float(c) for c in body[0])
             ax, ay, az = px - bx, py - by, pz - bz
-            wx, wy, wz = (float(c) for c in body.angular_velocity)
-            ux, uy, uz = (float(c) for c in body.velocity)
+            wx, wy, wz = (float(c) for c in body[2])
+            ux, uy, uz = (float(c) for c in body[1])
             v[j] = (ux + (wy * az - wz * ay), uy + (wz * ax - wx * az), uz + (wx * ay - wy * ax))
     d = v[0] - v[1]
     return math.sqrt(float(d.dot(d)))  # = np.linalg.norm(d), which computes sqrt(d.dot(d))

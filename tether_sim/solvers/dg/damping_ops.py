@@ -13,6 +13,7 @@ from tether_sim.solvers.dg.damping_layout import (
     OP_G, OP_KDOT, OP_TAU, WP_E0, WP_I, WP_IDOT, WP_KDOT, WP_L, WP_MB, WP_NUS, WP_PC, WP_R, WP_TAU, WP_TC, WP_TV,
     WP_X, WP_Z,
 )
+from tether_sim.solvers.dg.fluxes import unit_tangent
 from tether_sim.solvers.dg.ldg import short_chord_jt, short_chord_map
 
 
@@ -96,12 +97,9 @@ def release_ends(U, vbc, idp, dprm, bvec, Tr, wp, tab_eps, tab_T):
             q0 += Tr[end, k] * U[e, k, 0]
             q1 += Tr[end, k] * U[e, k, 1]
             q2 += Tr[end, k] * U[e, k, 2]
-        lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
-        if lq <= 1e-300:
+        i0, i1, i2, ok = unit_tangent(q0, q1, q2)
+        if not ok:
             continue
-        i0 = q0 / lq
-        i1 = q1 / lq
-        i2 = q2 / lq
         a_el = 0.0
         a_d = 0.0
         for j in range(nq):

@@ -148,9 +148,13 @@ def clip_compression(fl, tr, k, e, side, pc, shear):
 def trace_tangent(tr, e, side):
     """(i = q / |q| of element e's trace at side, whether |q| > 1e-300): the direction of a boundary flux's
     axial part."""
-    q0 = tr[e, side, T_Q]
-    q1 = tr[e, side, T_Q + 1]
-    q2 = tr[e, side, T_Q + 2]
+    return unit_tangent(tr[e, side, T_Q], tr[e, side, T_Q + 1], tr[e, side, T_Q + 2])
+
+
+@jit_inline
+def unit_tangent(q0, q1, q2):
+    """(q / |q|, whether |q| > 1e-300): the unit tangent of a trace q, the direction in which a law without
+    compression clips an end's axial flux (here and in the implicit damping's released ends)."""
     lq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2)
     if lq <= 1e-300:
         return 0.0, 0.0, 0.0, False

@@ -70,6 +70,15 @@ def sampled_state(ws, plan, law, gamma0, time, time_step) -> SolverState:
                        time_step=time_step, extra=extra)
 
 
+def sampled_kinematics(ws, plan, law, gamma0):
+    """(positions (n, 3), velocities (n, 3)) at the plan's arc lengths: those of :func:`sampled_state`
+    (the same kernel), without building the rest of the state."""
+    o = np.empty((NS, plan.s.size))
+    sample_state(ws.U, ws.ra, ws.wm, ws.h, ws.iprm, gamma0, law.code, law.EA, law.zeta, ws.prm[Y.P_EIC],
+                 law.tab_eps, law.tab_T, plan.elem, plan.phi, plan.iphi, plan.starts, o)
+    return o[S_POS:S_POS + 3].T, o[S_VEL:S_VEL + 3].T
+
+
 def end_forces(ws) -> EndForces:
     """Force (and moment) BY the cable ON each end: -n T_hat at the boundary fluxes (the endf slot)."""
     f = ws.endf

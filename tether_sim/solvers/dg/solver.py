@@ -429,6 +429,19 @@ class DGCableSolver:
         self._evaluate_outputs()
         return outputs.end_forces(self.ws)
 
+    def end_kinematics(self, arc_lengths):
+        """What the snap guard's relative end speed reads (base.relative_end_speed): the cable's
+        (positions, velocities) (n, 3) at ``arc_lengths`` and, per end, the body's (position, velocity,
+        angular velocity) or None: the numbers of state() and body_state(), without the rest of the
+        sampled state or the bodies' accelerations (a look-ahead asks every tick)."""
+        self._evaluate_outputs()
+        plan = outputs.plan(self._plans, arc_lengths, self.s_edges, self.ws.h, self.P, self.L,
+                            self.config.node.output_points)
+        pos, vel = outputs.sampled_kinematics(self.ws, plan, self.law, self.config.cable.gamma0)
+        bodies = tuple((b[0:3], b[7:10], b[10:13]) if kind.position == "body" else None
+                       for b, kind in zip(self.ws.bs, self.ends))
+        return pos, vel, bodies
+
     def body_state(self, end):
         """State of the rigid body at a "body" end (None for other kinds)."""
         e = end_index(end)
