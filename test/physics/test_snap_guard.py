@@ -202,7 +202,7 @@ def test_one_slack_episode_one_verdict_a_front_after_a_rejected_one_is_not_a_sna
     assert [type(e) for e in _two_ends(1.05, 1.6)] == [NumericalSnapWarning, SnapEvent]
 
 
-def _spike_then_snap(spike, gap, peak=210e3, decay=150e3, dt=1e-4, chunk=200):
+def _spike_then_snap(spike, gap, peak=210e3, decay=150e3, dt=1e-4, chunk=200, t_end=6.0):
     """Cage tension (static 43 kN): slack (500 N) from 0.5 s, a one-sample numerical spike of ``spike`` N at
     1.2 s, then the real re-tensioning starting ``gap`` s later, rising over 0.3 s to ``peak`` and falling at
     ``decay`` N/s back into slack; fed in chunks of ``chunk`` samples with a relative end speed of 2 m/s. Returns
@@ -210,7 +210,7 @@ def _spike_then_snap(spike, gap, peak=210e3, decay=150e3, dt=1e-4, chunk=200):
     c = math.sqrt(EA / GAMMA0)
     g = SnapGuard(impedance=Z, stiffness=K, mass=14797.0, crossing_time=5.0 / c, margin=1.5, travel_time=L / c)
     det = SnapDetector(SnapConfig(peak_window=1.0), ["vehicle"], [43e3], [L], g)
-    t = np.arange(0.0, 6.0, dt)
+    t = np.arange(0.0, t_end, dt)
     T = np.full(t.size, 43e3)
     T[t >= 0.5] = 500.0
     T[int(round(1.2 / dt))] = spike
@@ -274,6 +274,10 @@ def test_a_rejected_spike_larger_than_the_snap_after_it_does_not_swallow_it(gap,
     assert snap.rise_time == pytest.approx(r0 + 0.3 - exit_t, abs=2e-4)
     # one slack period before the snap, and one after it (from where it fell back below 4.3 kN)
     assert [e.time for e in slack] == [pytest.approx(0.5, abs=1e-4), pytest.approx(r0 + 0.3 + (225e3 - 4300.0) / decay, abs=2e-4)]
+    # the run ends inside the spike's window (2.2 s) with the real snap over: the flush closes both
+    events, _ = _spike_then_snap(238e3, gap, peak=225e3, decay=decay, chunk=chunk, t_end=2.15)
+    assert [type(e) for e in events] == [NumericalSnapWarning, SnapEvent]
+    assert events[1].peak_tension == pytest.approx(225e3, rel=1e-3) and events[1].slack_start == pytest.approx(0.5, abs=1e-4)
 
 
 def test_a_physical_snap_after_a_physical_snap_is_its_own_event():

@@ -175,8 +175,9 @@ def test_a_winch_range_outside_the_measured_lengths_is_refused():
 
 
 def test_fine_mesh_warning_at_the_measured_spacings():
-    """The fine-mesh caution (docs/dg_solver.md "Slack with bending"): ROPOS 200 m, P = 4 -- N = 20 (2.5 m
-    between nodes) clean, N = 40 (1.25 m) with bending a one-step event at EI* (2026-11-27), implicit damping not clean."""
+    """The fine-mesh caution (docs/dg_solver.md "Slack with bending" (6)): ROPOS 200 m, P = 4, bending factor 100 --
+    the one-step cage event of Eq. 22's damping switch grows as the node spacing shrinks (87 kN at N = 20, 2.5 m
+    between nodes; 264 kN at N = 40, 1.25 m; 2026-11-27), implicit damping at 1.25 m not clean."""
     assert res.bending_mesh_warning(200.0, 20, 4, 2620.0) == ""
     text = res.bending_mesh_warning(200.0, 40, 4, 2620.0)
     assert "1.25 m" in text and "slack" in text and "bending" in text

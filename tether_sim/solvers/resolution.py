@@ -223,13 +223,13 @@ def resolve(config, given=()):
 
 
 # Slack phases on fine meshes (docs/dg_solver.md "Slack with bending", docs/performance.md): on the ROPOS 200 m
-# slack-snap case, P = 4, node spacings h / P of 2.5 m (N = 20) give clean slack phases and snaps with or without
-# bending, explicit or implicit damping. At 1.25 m (N = 40), explicit, 2026-11-27 (compression cap): alpha = 100
-# is clean and equals N = 20 to 3e-6; alpha = 1 has the ship snap within 0.4 % / 8 ms of N = 20 but one rejected
-# one-step cage event (48 kN, the Kelvin-Voigt term switching on where a part buckled below the mesh scale
-# re-tensions; the cage snap after it is recorded: 210.1 kN against 210.5 kN at N = 20). dg.damping implicit at
-# 1.25 m was not clean even without bending (2026-11-26: numerical events of 8-11 MN, all rejected by the snap
-# guard), nor with bending factor 1 (2026-11-27: tensions of MN through the slack phase).
+# slack-snap case, P = 4, explicit, bending factor 100, cable.compression none (2026-11-27): where the cage element
+# re-tensions, Eq. 22's Kelvin-Voigt term switches on at its outermost Gauss point with the strain rate there, which
+# grows as the node spacing h / P shrinks: a one-step cage event of 87 kN at 2.5 m (N = 20) and 264 kN at 1.25 m
+# (N = 40), both rejected by the snap guard; the snaps after them agree within 0.2 % between the two meshes (ship
+# 232.1 / 232.5 kN, cage 225.1 / 225.5 kN). dg.damping implicit at 1.25 m was not clean even without bending
+# (2026-11-26: numerical events of 8-11 MN, all rejected by the snap guard), nor with bending factor 1 and the
+# compression cap (2026-11-27: tensions of MN through the slack phase).
 FINE_MESH_SPACING = 2.5  # m
 
 
@@ -248,11 +248,11 @@ def bending_mesh_warning(length, n_elements, order, EI, element_lengths=(), damp
         return ""
     what = " and ".join(x for x in (f"bending (EI {EI:g} N m^2)" if EI > 0.0 else "",
                                     "dg.damping implicit" if implicit else "") if x)
-    return (f"{what} on a DG node spacing of {spacing:.3g} m (h / P): below {FINE_MESH_SPACING:g} m slack phases can "
-            f"show one-step end-tension events (rejected by the snap guard; ROPOS 200 m slack-snap case, explicit damping: "
-            f"clean at 2.5 m; at 1.25 m with cable.compression none one such event of 238 kN at the cage at bending "
-            f"factor 100, the ship snap within 0.2 % of 2.5 m, and one with buckling at bending factor 1; "
-            f"docs/dg_solver.md \"Slack with bending\"): check numerical warnings, or use a coarser mesh")
+    return (f"{what} on a DG node spacing of {spacing:.3g} m (h / P): below {FINE_MESH_SPACING:g} m slack phases show "
+            f"larger one-step end-tension events where a slack part re-tensions (Eq. 22's damping switching on at the "
+            f"outermost Gauss point; ROPOS 200 m slack-snap case, explicit, bending factor 100: 87 kN at 2.5 m, 264 kN at "
+            f"1.25 m, rejected by the snap guard, the snaps after them within 0.2 % of each other; docs/dg_solver.md "
+            f"\"Slack with bending\" (6)): check numerical warnings; they are smaller on a coarser mesh")
 
 
 def mesh_summary(n_elements, order, cfl, resolution, snap_tolerance) -> str:
