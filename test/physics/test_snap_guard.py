@@ -109,6 +109,20 @@ def test_guard_of_the_ropos_configuration():
     assert math.isinf(snap_guard(held, 10.0).mass)
 
 
+def test_the_guard_reads_the_running_solvers_shortest_element():
+    """The crossing time is the shortest element over the axial wave speed: for the DG solver the workspace's
+    element sizes (here L / N), for the hybrid solver length / segments. (The DG solver keeps its element sizes
+    in its workspace only; a guard that looked for them on the solver took the hybrid's segment count instead and
+    made the crossing time 5x too short on the paper's mesh, letting fronts rising in 0.5-2.6 ms pass.)"""
+    from tether_sim.solvers.base import shortest_element
+    from tether_sim.solvers.factory import build_solver
+    cfg = load_config("config/ropos_L200_paper.yaml")
+    cfg = replace(cfg, dg=replace(cfg.dg, n_elements=20, resolution="manual"))
+    assert shortest_element(build_solver(cfg), cfg) == pytest.approx(200.0 / 20)
+    hyb = load_config("config/ropos_L200_hybrid.yaml")
+    assert shortest_element(build_solver(hyb), hyb) == pytest.approx(hyb.cable.length / hyb.hybrid.n_segments)
+
+
 def _run_detector(peak, rise, margin=1.5, speed=3.0, dt=1e-4):
     """A slack period (2 s), then a re-tensioning to ``peak`` over ``rise`` seconds (half sine), then static."""
     static = 43e3

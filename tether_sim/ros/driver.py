@@ -61,7 +61,7 @@ from tether_sim.ros import winch_link
 from tether_sim.ros.body_frame import BodyFrame
 from tether_sim.ros.bridging import Bridges, CatchUp, shift_detectors
 from tether_sim.ros.end_commands import BLEND_ACCELERATION, BLEND_MIN_TIME, Blend, EndCommands, MotionSource, blend_time
-from tether_sim.solvers.base import relative_end_speed
+from tether_sim.solvers.base import relative_end_speed, shortest_element
 from tether_sim.solvers.factory import build_solver
 
 @dataclass
@@ -157,7 +157,7 @@ class SimulationDriver(EndCommands, BodyFrame):
         """Ends: every substep (drained end tensions). Span points (``snap.monitor_arc_lengths``):
         sampled once per tick from the state, so their peaks are resolved at the output rate only."""
         L = self.config.cable.length
-        guard = snap_guard(self.config, self._element_length())
+        guard = snap_guard(self.config, shortest_element(self.solver, self.config))
         self.detector = SnapDetector(self.config.snap, list(END_NAMES), list(self.static_tensions), [0.0, L], guard)
         self.slack = {end: False for end in END_NAMES}
         self.static_by_location = dict(zip(END_NAMES, self.static_tensions))
@@ -171,15 +171,6 @@ class SimulationDriver(EndCommands, BodyFrame):
             self.span_detector = SnapDetector(self.config.snap, names, list(self._span_static), list(self.span_arc), guard)
             self.static_by_location.update(zip(names, self._span_static))
             self.slack.update({name: False for name in names})
-
-    def _element_length(self) -> float:
-        """The shortest element (DG) or segment (hybrid) of the running solver, m (the snap guard's
-        crossing time)."""
-        h = getattr(self.solver, "h", None)
-        if h is not None and np.size(h):
-            return float(np.min(h))
-        n = getattr(self.solver, "n_seg", None) or getattr(self.config.hybrid, "n_segments", 1)
-        return float(self.config.cable.length) / max(int(n), 1)
 
     def set_snap_config(self, snap_config) -> None:
         """Live change of the snap thresholds (slack state kept)."""

@@ -36,7 +36,7 @@ from tether_sim.network.spec import NetworkSpec, PointSpec
 from tether_sim.physics.boundary import END_NAMES, EndCondition
 from tether_sim.physics.snap import NumericalSnapWarning, SnapDetector, SnapEvent, snap_guard
 from tether_sim.ros.bridging import Bridges, CatchUp, shift_detectors
-from tether_sim.solvers.base import relative_end_speed
+from tether_sim.solvers.base import relative_end_speed, shortest_element
 
 SETTLE_TIME = 3.0  # s: the least simulated time a network with an unpolished DG line settles before its clock starts
 SETTLE_MAX = 30.0  # s: the most (the clock then starts with the lines as they are)
@@ -52,15 +52,6 @@ def settle_quiet(samples) -> bool:
         if float(np.max(row) - np.min(row)) > 0.5 + 0.05 * abs(float(np.mean(row))):
             return False
     return True
-
-
-def element_length(solver, config) -> float:
-    """Shortest element (DG) or segment (hybrid) of a line solver, m (the guard's crossing time)."""
-    h = getattr(solver, "h", None)
-    if h is not None and np.size(h):
-        return float(np.min(h))
-    n = getattr(solver, "n_seg", None) or getattr(config.hybrid, "n_segments", 1)
-    return float(config.cable.length) / max(int(n), 1)
 
 
 def line_snap_guard(spec: NetworkSpec, line: str, solver):
@@ -83,7 +74,7 @@ def line_snap_guard(spec: NetworkSpec, line: str, solver):
     gcfg = replace(ln.config, ship_end=conds[0], vehicle_end=conds[1])
     if body is not None:
         gcfg = replace(gcfg, body=body)
-    return snap_guard(gcfg, element_length(solver, ln.config))
+    return snap_guard(gcfg, shortest_element(solver, ln.config))
 
 
 @dataclass

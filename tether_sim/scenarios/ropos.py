@@ -16,7 +16,7 @@ from tether_sim.physics.bodies import submerged_weight
 from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.motion import build_motion
 from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapDetector, SnapEvent, snap_guard
-from tether_sim.solvers.base import relative_end_speed
+from tether_sim.solvers.base import relative_end_speed, shortest_element
 from tether_sim.solvers.factory import build_solver
 
 CONFIG_DIR = Path(__file__).resolve().parents[2] / "config"
@@ -131,8 +131,7 @@ def run_case(config, output_rate=200.0, sample_rate=1000.0, keep_raw=False, t_en
                         config.dg.n_elements, config.dg.order, static)
     ship_origin = np.asarray(config.ship_end.position, dtype=float)
     motion = build_motion(config.motion, ship_origin)
-    h = getattr(solver, "h", None)
-    element = float(np.min(h)) if h is not None else config.cable.length / max(int(config.hybrid.n_segments), 1)
+    element = shortest_element(solver, config)
     detector = SnapDetector(config.snap, list(END_NAMES), list(static), [0.0, config.cable.length],
                             snap_guard(config, element))
     solver.drain_end_tensions()

@@ -170,6 +170,17 @@ def end_index(end: str) -> int:
         raise ValueError(f"unknown end {end!r}; expected 'ship' or 'vehicle'") from None
 
 
+def shortest_element(solver, config) -> float:
+    """The shortest element (DG: the workspace's element sizes) or segment (hybrid: length / segments) of a running
+    solver, m: the snap guard's crossing time is this over the axial wave speed."""
+    ws = getattr(solver, "ws", None)
+    h = getattr(ws, "h", None) if ws is not None else getattr(solver, "h", None)
+    if h is not None and np.size(h):
+        return float(np.min(h))
+    n = getattr(solver, "n_seg", None) or getattr(config.hybrid, "n_segments", 1)
+    return float(config.cable.length) / max(int(n), 1)
+
+
 def relative_end_speed(solver, length: float) -> float:
     """|v(0) - v(L)|: the relative speed of the two cable ends now, m/s (the snap guard's speed;
     ``length`` is the unstretched length, a winch's current one where there is a winch).
