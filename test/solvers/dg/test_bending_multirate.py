@@ -17,7 +17,6 @@ import numpy as np
 import pytest
 
 from tether_sim.config import SimConfig
-from tether_sim.numerics.quadrature import gauss_legendre
 from tether_sim.physics.boundary import EndCondition
 from tether_sim.physics.cable import CableProperties
 from tether_sim.physics.environment import Environment
@@ -27,6 +26,8 @@ from tether_sim.solvers.dg.solver import DGCableSolver
 from tether_sim.solvers.dg.timestep import (
     BENDING_MULTIRATE_MAX_H, BENDING_MULTIRATE_WH, SHORT_CHORD_STIFFENING, _C, bending_multirate_steps,
 )
+
+from test_slack_bending import cable_energy  # the same energy, written once (test/solvers/dg on the path)
 
 pytestmark = pytest.mark.jit_off
 
@@ -51,18 +52,6 @@ def start(s):
     """A slack (chord 0.9), curved line bent at the scale of an element, at rest."""
     s.set_shape(lambda x: 0.9 * np.stack([0.4 * np.sin(0.3 * x), 0 * x, -np.sqrt(1 - (0.4 * np.sin(0.3 * x)) ** 2)], 1),
                 origin=np.zeros(3))
-
-
-def energy(s):
-    """Kinetic + bending (EI |kappa|^2 / 2 of the LDG curvature) + elastic energy (J)."""
-    s._evaluate()
-    wq = s.ws.wq
-    _, wg = gauss_legendre(s.ws.V.shape[0])
-    w = wg[None, :] * s.ws.h[:, None] / 2.0
-    cab = s.config.cable
-    kin = np.sum(w * np.sum(wq[:, :, Y.W_V:Y.W_V + 3] ** 2, axis=2)) / (2.0 * cab.gamma0)
-    bend = 0.5 * cab.EI * np.sum(w * np.sum(wq[:, :, Y.W_KAP:Y.W_KAP + 3] ** 2, axis=2))
-    return kin + bend + 0.5 * cab.EA * np.sum(w * np.maximum(wq[:, :, Y.W_L] - 1.0, 0.0) ** 2)
 
 
 def test_rule():
@@ -96,11 +85,11 @@ def test_multirate_follows_the_every_stage_solution_and_gains_no_energy():
         s = solver(multirate)
         start(s)
         x_start = s.positions_at(arc)
-        e0 = energy(s)
+        e0 = cable_energy(s)
         worst = 0.0
         for k in range(1, 11):
             s.advance_to(T * k / 10)
-            worst = max(worst, energy(s) / e0)
+            worst = max(worst, cable_energy(s) / e0)
         runs[multirate] = (s.positions_at(arc), worst, s.bending_multirate_k, np.max(np.abs(s.positions_at(arc) - x_start)))
     (x0, w0, _, moved), (x1, w1, k1, _) = runs[False], runs[True]
     diff = np.max(np.abs(x1 - x0))

@@ -54,13 +54,9 @@ def evaluate(s, prm, iprm):
     return s.ws.dU[:, :, 3:6].copy(), s.ws.endf[:, :4].copy()
 
 
-@pytest.mark.parametrize("k0, k1, zeta_b, beta", [("prescribed", "fixed", 0.0, 0.0), ("prescribed", "free", 0.0, 0.0),
-                                                  ("fixed", "force", 0.7, 0.3), ("clamped", "free", 0.7, -0.2),
-                                                  ("prescribed", "clamped", 0.5, 0.0)])
-@pytest.mark.jit_off
-def test_damping_operator_is_the_damping_part_of_the_rhs(k0, k1, zeta_b, beta):
-    s = curved_solver(k0, k1, zeta_b, beta=beta)
-    s._evaluate()
+def damping_operator_and_rhs_part(s):
+    """((force, end forces) of the implicit damping operator, (the same) of the explicit right-hand side's damping
+    part = full minus elastic-only, the full end forces) on the solver's current state."""
     full, end_full = evaluate(s, s.ws.prm, s.ws.iprm)
     prm = s.ws.prm.copy()
     prm[Y.P_ZETA] = prm[Y.P_ZETAB] = 0.0
@@ -69,11 +65,21 @@ def test_damping_operator_is_the_damping_part_of_the_rhs(k0, k1, zeta_b, beta):
     DO.damping_geometry(s.ws.U, s.ws.V, dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
     DO.damping_force(s.ws.U, 3, True, s.ws.vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, s.ws.Pj, dw.wp, dw.wd, DL.WD_F)
     DO.end_damping_forces(dw.idp, dw.dprm, dw.bvec, s.ws.U, s.ws.Tr, dw.wp, dw.fdamp)
-    ref = full - elastic
+    return (dw.wd[:, :, 0:3], dw.fdamp), (full - elastic, end_full - end_el), end_full
+
+
+@pytest.mark.parametrize("k0, k1, zeta_b, beta", [("prescribed", "fixed", 0.0, 0.0), ("prescribed", "free", 0.0, 0.0),
+                                                  ("fixed", "force", 0.7, 0.3), ("clamped", "free", 0.7, -0.2),
+                                                  ("prescribed", "clamped", 0.5, 0.0)])
+@pytest.mark.jit_off
+def test_damping_operator_is_the_damping_part_of_the_rhs(k0, k1, zeta_b, beta):
+    s = curved_solver(k0, k1, zeta_b, beta=beta)
+    s._evaluate()
+    (force, end_force), (ref, end_ref), end_full = damping_operator_and_rhs_part(s)
     assert np.abs(ref).max() > 50.0  # the damping force is large here, so the comparison means something
     # round-off of sums of ~1e3-sized terms: 1e-10 relative
-    np.testing.assert_allclose(dw.wd[:, :, 0:3], ref, atol=1e-10 * np.abs(ref).max())
-    np.testing.assert_allclose(dw.fdamp, end_full - end_el, atol=1e-10 * np.abs(end_full).max())
+    np.testing.assert_allclose(force, ref, atol=1e-10 * np.abs(ref).max())
+    np.testing.assert_allclose(end_force, end_ref, atol=1e-10 * np.abs(end_full).max())
 
 
 @pytest.mark.parametrize("k0, k1", [("prescribed", "free"), ("clamped", "fixed"), ("fixed", "force")])
@@ -93,18 +99,10 @@ def test_bending_damping_of_short_chords_is_the_rhs_energy_form(k0, k1):
     s._evaluate()
     wl = s.ws.wq[:, :, Y.W_L]
     assert wl.min() < 0.7 and wl.max() > 1.1 and ((wl < 1.0).any(axis=1) & (wl > 1.0).any(axis=1)).sum() >= 3
-    full, end_full = evaluate(s, s.ws.prm, s.ws.iprm)
-    prm = s.ws.prm.copy()
-    prm[Y.P_ZETA] = prm[Y.P_ZETAB] = 0.0
-    elastic, end_el = evaluate(s, prm, s.ws.iprm_step)
-    dw = s._damp
-    DO.damping_geometry(s.ws.U, s.ws.V, dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
-    DO.damping_force(s.ws.U, 3, True, s.ws.vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, s.ws.Pj, dw.wp, dw.wd, DL.WD_F)
-    DO.end_damping_forces(dw.idp, dw.dprm, dw.bvec, s.ws.U, s.ws.Tr, dw.wp, dw.fdamp)
-    ref = full - elastic
+    (force, end_force), (ref, end_ref), end_full = damping_operator_and_rhs_part(s)
     assert np.abs(ref).max() > 1.0
-    np.testing.assert_allclose(dw.wd[:, :, 0:3], ref, atol=1e-10 * np.abs(ref).max())
-    np.testing.assert_allclose(dw.fdamp, end_full - end_el, atol=1e-10 * max(np.abs(end_full).max(), 1.0))
+    np.testing.assert_allclose(force, ref, atol=1e-10 * np.abs(ref).max())
+    np.testing.assert_allclose(end_force, end_ref, atol=1e-10 * max(np.abs(end_full).max(), 1.0))
 
 
 @pytest.mark.parametrize("k0, k1, law, zeta_b, mode", [("prescribed", "fixed", "linear", 0.0, DL.MODE_AXIAL),
