@@ -320,22 +320,32 @@ def ranks(fc, t, tensions, slack, horizon, end_time):
               f"{100 * np.mean(wrong) if wrong else float('nan'):.0f} % of their members on the other side of the slack level")
 
 
-def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0)) -> int:
+def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1) -> int:
     """Score the forecasts of ``--dump`` JSON files again, without running anything: per file and
     source, totals over the files at each probability threshold, the reliability of the probability,
     and (threshold 0.5) the time estimate as it was before 2026-11-27, the median over the members
-    that snap only, for the same forecasts."""
+    that snap only, for the same forecasts. ``lagged`` > 1: the forecasts a service with
+    ``forecast.lagged`` = lagged publishes from the dumped ones (tether_sim.forecast.lagged)."""
     from types import SimpleNamespace
+
+    from tether_sim.forecast.lagged import lagged_series
+    from tether_sim.forecast.lookahead import EndForecast
 
     runs = []
     for path in paths:
         doc = json.loads(Path(path).read_text())
+        horizon, period = doc["args"]["horizon"], 1.0 / doc["args"]["rate"]
         for run in doc["runs"]:
             for source, fc in run["forecasts"].items():
+                raw = [EndForecast(st, e, horizon, p, t, math.nan, math.nan, m, source,
+                                   member_snaps=[tuple(x) for x in ms]) for e, st, p, t, m, ms, *_ in fc]
+                published = lagged_series(raw, lagged, period)
                 runs.append((run["file"], source, run["seed"], doc["args"]["minutes"] * 60.0, run["snaps"],
-                             [SimpleNamespace(end=e, stamp=st, probability=p, time_to_snap=t, members=m,
-                                              horizon=doc["args"]["horizon"], member_snaps=ms)
-                              for e, st, p, t, m, ms, *_ in fc]))
+                             [SimpleNamespace(end=f.end, stamp=f.stamp, probability=f.probability, time_to_snap=f.time_to_snap,
+                                              members=f.members, horizon=horizon, member_snaps=f.member_snaps)
+                              for f in published]))
+    if lagged > 1:
+        print(f"\nlagged ensemble: each forecast pooled with the {lagged - 1} before it (forecast.lagged {lagged})")
     old = lambda f: (float(np.median([t for t, _ in f.member_snaps])) - f.stamp if f.member_snaps else math.nan)  # noqa: E731
     for key in sorted({(r[0], r[1]) for r in runs}):
         sel = [r for r in runs if (r[0], r[1]) == key]
@@ -396,6 +406,9 @@ def main(argv=None) -> int:
     ap.add_argument("--dump", action="store_true", help="--json also lists every warning (p >= 0.5), every forecast with its members' snaps, every snap and slack start")
     ap.add_argument("--rescore", nargs="+", default=None, metavar="JSON",
                     help="run nothing: score the forecasts of --dump JSON files again (thresholds, reliability)")
+    ap.add_argument("--lagged", type=int, nargs="+", default=[1],
+                    help="with --rescore: score the forecasts a lagged ensemble of this many forecasts publishes "
+                         "(forecast.lagged; 1: as run); several counts: each in turn")
     ap.add_argument("--near-misses", action="store_true",
                     help="with --rescore: run each dumped sea again without forecasts and compare every false-alarm "
                          "episode with the run's own end tension (the snap level, the slack level)")
@@ -412,7 +425,11 @@ def main(argv=None) -> int:
     if args.motion_error:
         return motion_error(args)
     if args.rescore:
-        return near_misses(args.rescore) if args.near_misses else rescore(args.rescore)
+        if args.near_misses:
+            return near_misses(args.rescore)
+        for count in args.lagged:
+            rescore(args.rescore, lagged=count)
+        return 0
     rows, dumps, costs = [], [], []
     print(f"forecast skill: Hs {args.hs:g} m, Tp {args.tp:g} s, {args.directions} direction(s), horizon {args.horizon:g} s, {args.members} members, "
           f"{args.rate:g} forecasts/s, sea_error {args.sea_error:g}, nominal error {args.nominal_error:g}, "

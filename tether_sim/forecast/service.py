@@ -37,6 +37,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from tether_sim.forecast.lagged import LaggedEnsemble
 from tether_sim.forecast.lookahead import EndForecast, ForecastRequest, LookAhead
 from tether_sim.forecast.ship_forecast import (
     ARShipPredictor, MotionMember, can_perturb, component_spread, external_members, perturb_motion, perturbed_members,
@@ -138,7 +139,8 @@ class ForecastService:
         self.issued = self.skipped = self.completed = 0
         self.last_wall = 0.0  # wall time of the last look-ahead, s
         self.last_status = "waiting for the first forecast"
-        self.last = []  # the newest EndForecasts
+        self.last = []  # the newest EndForecasts (as published: pooled when forecast.lagged > 1)
+        self._lagged = LaggedEnsemble(fc.lagged, self.period)
         self._engine = None
         self._results = []
         self._lock = threading.Lock()
@@ -262,6 +264,7 @@ class ForecastService:
                                    request.source, True, reason) for end in END_NAMES]
         else:
             results = self._engine.run(request)
+        results = [self._lagged(f) for f in results]
         self.last_wall = wallclock.perf_counter() - wall0
         self.last_status = results[0].reason or "ok"
         with self._lock:
