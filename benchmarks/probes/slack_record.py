@@ -5,6 +5,7 @@ without running the case again (docs/dg_solver.md, "Slack with bending").
 
     PYTHONPATH=. python benchmarks/probes/slack_record.py OUT.npz [--save-at 7.5 ...]
     env: LL (200), FF (0.2), AL (alpha, 100), NN (N, 40), PERIODS (1.9), EXTRA (a dict of further overrides)
+    --ladder DIR: also append the run's rows to a slack_bending_ladder.py output folder (its tables read them)
 
 OUT.npz holds ``times`` (k,), ``tensions`` (k, 2: ship, cage), ``chunk`` (k,: the detector call each sample was
 fed in), ``speed`` (one per call), ``static`` (2,) and the run's events as text; the states go to
@@ -24,12 +25,16 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 
+def case_key():
+    """(L, f, alpha, N, periods) of the case the environment names."""
+    return (float(os.environ.get("LL", 200)), float(os.environ.get("FF", 0.2)), float(os.environ.get("AL", 100)),
+            int(os.environ.get("NN", 40)), float(os.environ.get("PERIODS", 1.9)))
+
+
 def case():
     from benchmarks.studies.slack_bending_ladder import case_config
 
-    L, f = float(os.environ.get("LL", 200)), float(os.environ.get("FF", 0.2))
-    alpha, N = float(os.environ.get("AL", 100)), int(os.environ.get("NN", 40))
-    return case_config(L, f, alpha, N, float(os.environ.get("PERIODS", 1.9)), ast.literal_eval(os.environ.get("EXTRA", "{}")))
+    return case_config(*case_key(), ast.literal_eval(os.environ.get("EXTRA", "{}")))
 
 
 def replay(path, config=None, guard_element=None):
@@ -54,6 +59,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("out", type=Path)
     ap.add_argument("--save-at", type=float, nargs="*", default=[])
+    ap.add_argument("--ladder", type=Path, help="also append the run's rows to this slack_bending_ladder.py output folder")
     args = ap.parse_args()
     from tether_sim.physics import snap
     from tether_sim.ros import driver as drv
@@ -94,7 +100,12 @@ def main():
     args.out.parent.mkdir(parents=True, exist_ok=True)
     np.savez(args.out, times=np.concatenate(rec["times"]), tensions=np.concatenate(rec["tensions"]),
              chunk=np.concatenate(rec["chunk"]), speed=np.array(rec["speed"]), static=rec["static"],
-             events=np.array([repr(e) for e in summary["events"]]), cpu=cpu, load=os.getloadavg()[0])
+             events=np.array([repr(e) for e in summary["events"]]), cpu=cpu, load=os.getloadavg()[0],
+             divergences=int(summary["divergences"]), duration=float(summary["duration"]))
+    if args.ladder:
+        from benchmarks.studies.slack_bending_ladder import append_case, case_rows
+
+        append_case(args.ladder, *case_rows(*case_key(), summary, cpu))
     for e in summary["events"]:
         if type(e).__name__ != "SlackStarted":
             print(e)

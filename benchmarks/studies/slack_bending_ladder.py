@@ -47,14 +47,23 @@ def case_config(L, f, alpha, N, periods, extra=None):
 def run_case(L, f, alpha, N, periods, extra=None):
     """One run; returns (run row, event rows)."""
     from tether_sim.ros.offline import run_offline
-    from tether_sim.studies.stats import event_rows
 
-    row = {"L": L, "f": f, "alpha": alpha, "N": N, "periods": periods, "status": "failed", "error": ""}
-    events = []
     cpu0 = time.process_time()
     try:
-        config = case_config(L, f, alpha, N, periods, extra)
-        summary = run_offline(config, None, progress=False)
+        summary, error = run_offline(case_config(L, f, alpha, N, periods, extra), None, progress=False), ""
+    except Exception as exc:  # noqa: BLE001 - a failed run is a row of the table
+        summary, error = None, f"{type(exc).__name__}: {exc}"
+    return case_rows(L, f, alpha, N, periods, summary, time.process_time() - cpu0, error)
+
+
+def case_rows(L, f, alpha, N, periods, summary, cpu, error=""):
+    """(run row, event rows) of one run from its ``run_offline`` summary (None: the run failed with ``error``);
+    also used by benchmarks/probes/slack_record.py (``--ladder``), so a recorded run is a row of the ladder."""
+    from tether_sim.studies.stats import event_rows
+
+    row = {"L": L, "f": f, "alpha": alpha, "N": N, "periods": periods, "status": "failed", "error": error}
+    events = []
+    if summary is not None:
         rows = event_rows(summary["events"])
         snaps = [e for e in rows if e["kind"] == "snap"]
         ship = [e["peak_N"] for e in snaps if e["location"] == "ship"]
@@ -64,12 +73,16 @@ def run_case(L, f, alpha, N, periods, extra=None):
                    max_snap_ship_N=max(ship, default=0.0), max_snap_vehicle_N=max(veh, default=0.0),
                    sim_s=float(summary["duration"]))
         events = [{"L": L, "f": f, "alpha": alpha, "N": N, **{k: e.get(k, "") for k in EVENT_FIELDS[4:]}} for e in rows]
-    except Exception as exc:  # noqa: BLE001 - a failed run is a row of the table
-        row["error"] = f"{type(exc).__name__}: {exc}"
-    cpu = time.process_time() - cpu0
     row.update(cpu_s=cpu, cpu_per_sim_s=cpu / row["sim_s"] if row.get("sim_s") else "", load=os.getloadavg()[0],
                date=time.strftime("%Y-%m-%d"), commit=_commit())
     return row, events
+
+
+def append_case(out, row, events):
+    """Append one run's rows to the ladder's CSVs in ``out``."""
+    out.mkdir(parents=True, exist_ok=True)
+    _append(out / "runs.csv", RUN_FIELDS, [row])
+    _append(out / "events.csv", EVENT_FIELDS, events)
 
 
 def _commit():
@@ -129,13 +142,74 @@ def compare(outs, coarse=40, fine=80, peak_tol=0.02, time_tol=0.010):
                 missing += 1
             worst_dp, worst_dt = max(worst_dp, dp), max(worst_dt, dt)
         extra = len(b) - (len(a) - missing)
+        # the acceptance: both runs finished without divergence and every coarse snap is matched; a numerical
+        # warning is an event the snap guard kept out of the snaps (counted in its own column, not a failure)
         ok = (missing == 0 and run["status"] == fine_run["status"] == "ok" and int(run["divergences"] or 0) == 0
-              and int(fine_run["divergences"] or 0) == 0 and int(run["n_numerical"] or 0) == 0
-              and int(fine_run["n_numerical"] or 0) == 0)
+              and int(fine_run["divergences"] or 0) == 0)
         table.append({"L": L, "f": f, "alpha": alpha, "snaps_coarse": len(a), "snaps_fine": len(b),
                       "unmatched": missing, "extra_fine": extra, "worst_peak_rel": worst_dp, "worst_dt_s": worst_dt,
                       "numerical": f"{run['n_numerical']}/{fine_run['n_numerical']}", "ok": ok})
     return table
+
+
+def event_table(outs, meshes=(20, 40, 80), window=0.05):
+    """Every event of every case across the meshes: per (L, f, alpha), the events of one end and kind (snap or
+    numerical, i.e. rejected by the snap guard) whose times lie within ``window`` s of the first of them form one
+    row, with each mesh's time, peak, rise time (and for a rejected one its bound) and the change from each mesh to
+    the next. Returns (case runs, rows)."""
+    runs, events = {}, {}
+    for out in ([outs] if isinstance(outs, Path) else outs):
+        runs.update({_key(r): r for r in _read(out / "runs.csv")})
+        for e in _read(out / "events.csv"):
+            events.setdefault(_key(e), []).append(e)
+    cases = sorted({k[:3] for k in runs})
+    rows = []
+    for case in cases:
+        have = [N for N in meshes if case + (N,) in runs]
+        span = min(float(runs[case + (N,)]["sim_s"] or 0.0) for N in have) - 1.0 if have else 0.0
+        pool = sorted(((e["location"], e["kind"], float(e["time_s"]), int(N), e) for N in have
+                       for e in events.get(case + (N,), []) if float(e["time_s"]) <= span), key=lambda x: x[:3])
+        groups = []
+        for loc, kind, t, N, e in pool:
+            g = groups[-1] if groups else None
+            if g is None or (g["location"], g["kind"]) != (loc, kind) or t - g["t0"] > window or N in g["by_mesh"]:
+                g = {"location": loc, "kind": kind, "t0": t, "by_mesh": {}}
+                groups.append(g)
+            g["by_mesh"][N] = e
+        for g in sorted(groups, key=lambda g: (g["kind"] != "snap", g["t0"], g["location"])):
+            rows.append({"case": case, "meshes": have, **g})
+    return runs, rows
+
+
+def print_event_table(outs, meshes=(20, 40, 80)):
+    runs, rows = event_table(outs, meshes)
+    for case in sorted({k[:3] for k in runs}):
+        have = [N for N in meshes if case + (N,) in runs]
+        print(f"\nL {case[0]:g} m, f {case[1]:g} Hz, alpha {case[2]:g}: " + "; ".join(
+            f"N {N}: {runs[case + (N,)]['status']}, divergences {runs[case + (N,)].get('divergences', '')}, "
+            f"{float(runs[case + (N,)]['sim_s'] or 0):.2f} s simulated, {float(runs[case + (N,)]['cpu_s']):.0f} CPU s "
+            f"(load {float(runs[case + (N,)]['load']):.1f})" for N in have))
+        print("end | verdict | " + " | ".join(f"N {N}: time s, peak kN, rise ms" for N in have)
+              + " | " + " | ".join(f"{a}->{b}: peak %, dt ms" for a, b in zip(have, have[1:])))
+        for r in (r for r in rows if r["case"] == case):
+            cells = []
+            for N in have:
+                e = r["by_mesh"].get(N)
+                if e is None:
+                    cells.append("none")
+                    continue
+                cell = f"{float(e['time_s']):.4f}, {float(e['peak_N']) / 1e3:.2f}, {float(e['rise_time_s']) * 1e3:.3g}"
+                if r["kind"] != "snap":
+                    cell += f" (bound {float(e['bound_N']) / 1e3:.4g} kN)"
+                cells.append(cell)
+            diffs = []
+            for a, b in zip(have, have[1:]):
+                ea, eb = r["by_mesh"].get(a), r["by_mesh"].get(b)
+                diffs.append("-" if ea is None or eb is None else
+                             f"{(float(eb['peak_N']) / float(ea['peak_N']) - 1) * 100:+.2f}, "
+                             f"{(float(eb['time_s']) - float(ea['time_s'])) * 1e3:+.1f}")
+            verdict = "snap" if r["kind"] == "snap" else "rejected"
+            print(f"{r['location']} | {verdict} | " + " | ".join(cells) + " | " + " | ".join(diffs))
 
 
 def main(argv=None):
@@ -151,6 +225,8 @@ def main(argv=None):
                     help="further parameter overrides for every run, e.g. dg.damping=implicit (cheaper, but not clean "
                          "in slack phases at N = 40: docs/dg_solver.md \"Slack with bending\")")
     ap.add_argument("--compare", action="store_true", help="only print the N = 40 / 80 comparison table")
+    ap.add_argument("--events", action="store_true",
+                    help="with --compare: also print every event of every case on every mesh (time, peak, rise, verdict)")
     ap.add_argument("--peak-tol", type=float, default=0.02)
     ap.add_argument("--time-tol", type=float, default=0.010)
     args = ap.parse_args(argv)
@@ -167,13 +243,14 @@ def main(argv=None):
                         if (L, f, alpha, N) in done:
                             continue
                         row, events = run_case(L, f, alpha, N, args.periods, extra)
-                        _append(args.out / "runs.csv", RUN_FIELDS, [row])
-                        _append(args.out / "events.csv", EVENT_FIELDS, events)
+                        append_case(args.out, row, events)
                         print(" ".join(f"{k}={row.get(k, '')}" for k in RUN_FIELDS[:16]), flush=True)
     print("L f alpha | snaps N40 N80 | unmatched extra | worst peak rel | worst dt s | numerical | ok")
     for r in compare([args.out, *args.also], peak_tol=args.peak_tol, time_tol=args.time_tol):
         print(f"{r['L']:g} {r['f']:g} {r['alpha']:g} | {r['snaps_coarse']} {r['snaps_fine']} | {r['unmatched']} "
               f"{r['extra_fine']} | {r['worst_peak_rel']:.4f} | {r['worst_dt_s']:.4f} | {r['numerical']} | {r['ok']}")
+    if args.events:
+        print_event_table([args.out, *args.also], tuple(args.meshes))
 
 
 if __name__ == "__main__":

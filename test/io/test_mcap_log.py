@@ -190,6 +190,25 @@ def test_round_trip_with_three_readers(tmp_path, prefix, typestore):
     assert not info.topics["/ship/pose"].latched and info.rosbag2_metadata["message_count"] == len(messages)
 
 
+def test_direct_chunk_append_writes_the_bytes_of_the_mcap_writer(tmp_path, prefix, typestore, monkeypatch):
+    """The writer appends each Message record to the open chunk itself (one struct pack, its own index
+    and time bookkeeping); the file is byte for byte the one mcap's Writer.add_message writes, over
+    several chunks (a chunk of 1 kB) with log times out of order (the description first, stamped
+    earlier than the message before it)."""
+    import tether_sim.io.mcap_log as mcap_log
+
+    messages = make_messages(typestore, n=60)
+    messages.insert(5, messages.pop(0))  # an earlier log time after later ones
+    (tmp_path / "fast").mkdir()
+    (tmp_path / "slow").mkdir()  # the same file name: the rosbag2 metadata record holds it
+    fast = write_file(tmp_path / "fast" / "run.mcap", prefix, messages, chunk_size=1024)
+    monkeypatch.setattr(mcap_log._ChunkAppender, "of", classmethod(lambda cls, writer, size: None))
+    slow = write_file(tmp_path / "slow" / "run.mcap", prefix, messages, chunk_size=1024)
+    with open(fast, "rb") as handle:
+        assert len(SeekingReader(handle, validate_crcs=True).get_summary().chunk_indexes) > 5
+    assert fast.read_bytes() == slow.read_bytes()
+
+
 def test_writer_rejects_bad_input(tmp_path, prefix, typestore):
     writer = RosMcapWriter(tmp_path / "bad.mcap", msg_search_path=[prefix])
     with pytest.raises(ValueError, match="absolute"):
