@@ -209,6 +209,35 @@ def test_direct_chunk_append_writes_the_bytes_of_the_mcap_writer(tmp_path, prefi
     assert fast.read_bytes() == slow.read_bytes()
 
 
+def test_write_many_is_write_one_message_after_the_other(tmp_path, prefix, typestore):
+    """A tick's outputs written in one call (one stamp) make the file that write() makes with them one
+    after the other (a memoryview payload taken as its bytes); an unknown topic or a short payload is
+    refused as write() refuses it."""
+    messages = make_messages(typestore, n=30)
+    paths = []
+    for name in ("one", "many"):
+        (tmp_path / name).mkdir()
+        path = tmp_path / name / "run.mcap"
+        with RosMcapWriter(path, msg_search_path=[prefix], chunk_size=2048) as writer:
+            for topic, type_name, *_ in messages:
+                writer.add_topic(topic, type_name, QOS_OF[topic])
+            for k in range(0, len(messages), 3):
+                group = [(m[0], memoryview(m[4]) if k % 2 else m[4]) for m in messages[k:k + 3]]
+                t = messages[k][2]
+                if name == "one":
+                    for topic, cdr in group:
+                        writer.write(topic, cdr, t, t)
+                else:
+                    writer.write_many(group, t)
+            if name == "many":
+                with pytest.raises(KeyError, match="/nowhere"):
+                    writer.write_many([("/nowhere", messages[0][4])], t)
+                with pytest.raises(ValueError, match="4-byte"):
+                    writer.write_many([(messages[0][0], b"\x00\x01")], t)
+        paths.append(path)
+    assert paths[0].read_bytes() == paths[1].read_bytes()
+
+
 def test_writer_rejects_bad_input(tmp_path, prefix, typestore):
     writer = RosMcapWriter(tmp_path / "bad.mcap", msg_search_path=[prefix])
     with pytest.raises(ValueError, match="absolute"):

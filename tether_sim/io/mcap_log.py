@@ -233,6 +233,42 @@ class RosMcapWriter:
                 time.monotonic() - self._last_flush >= self._flush_interval:
             self.flush()
 
+    def write_many(self, messages, log_time_ns: int) -> None:
+        """``write(topic, cdr, log_time_ns)`` for each (topic, cdr) of ``messages``, in order: the
+        outputs of one tick, all stamped ``log_time_ns`` (log time = publish time), the per-call
+        checks and bookkeeping done once. The file is the same as through ``write`` (test)."""
+        self._check_open()
+        t = int(log_time_ns)
+        if t < 0:
+            raise ValueError(f"negative timestamp ({t})")
+        append = self._append
+        if append is None:
+            for topic, cdr in messages:
+                self.write(topic, cdr, t, t)
+            return
+        topics = self._topics
+        written = False
+        for topic, cdr in messages:
+            info = topics.get(topic)
+            if info is None:
+                raise KeyError(f"topic {topic} was not added to {self.path} (call add_topic first)")
+            if type(cdr) is not bytes:
+                if not isinstance(cdr, (bytes, bytearray, memoryview)):
+                    raise ValueError(f"{topic}: CDR payload must be bytes with a 4-byte encapsulation header")
+                cdr = bytes(cdr)
+            if len(cdr) < 4:
+                raise ValueError(f"{topic}: CDR payload must be bytes with a 4-byte encapsulation header")
+            info["seq"] = seq = info["seq"] + 1
+            info["count"] += 1
+            append.add(info["channel"], t, cdr, t, seq & 0xFFFFFFFF)
+            written = True
+        if written:
+            self._t_min = t if self._t_min is None else min(self._t_min, t)
+            self._t_max = max(self._t_max, t)
+        if self._flush_interval is not None and \
+                time.monotonic() - self._last_flush >= self._flush_interval:
+            self.flush()
+
     def flush(self) -> None:
         """Close the open chunk (if it holds messages) and hand it to the OS."""
         self._check_open()
