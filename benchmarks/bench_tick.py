@@ -13,7 +13,8 @@ t = 2 s at 50 Hz, then from that state:
 ``--baseline DIR`` loads another checkout's ``tether_sim`` (e.g. a worktree of main) under the name
 ``tether_sim_base`` (a copy in a temporary directory with the imports renamed, kept per content of the
 checkout's sources, so a changed checkout is copied again) and times it in the same process,
-interleaved, so that the ratio does not depend on the machine's load.
+interleaved block by block (base, new, then new, base), so that the ratio does not depend on the
+machine's load.
 
 ``--hybrid``: the hybrid solver's node tick instead (ROPOS L = 200 m); ``--solver-tick FILE``: the same for
 the solver of FILE (solver.tick + state() per 50 Hz tick, the call a coupled program makes; solver_ticks).
@@ -92,25 +93,23 @@ def prepared(factory, rc, length, n, alpha, t_warm=2.0):
     return sol
 
 
-def measure(sol, rc, steps, repeat, ticks=25):
-    """(us per substep, us per tick, substeps per tick)."""
+def timed_blocks(sol, rc, steps, ticks=25):
+    """(substep block, tick block, substeps per tick, reset) of a prepared solver: two callables that
+    each restore the same state and do the same work every call, the substeps a tick takes, and a
+    callable that puts the solver back in that state."""
     snap = sol.snapshot()
     dt = sol._substep()
     t1 = sol.time + steps * dt
     target = rc.fairlead_motion(t1)
+    t0 = sol.time
+    motions = [rc.fairlead_motion(t0 + (k + 1) / 50.0) for k in range(ticks)]
+    counts = []
 
-    def block():
+    def substeps():
         sol.restore(snap)
         sol.set_end_motion("ship", *target)
         sol.advance_to(t1)
         sol.drain_end_tensions()
-
-    sub = best_of(block, repeat) / steps
-    sol.restore(snap)
-    sol.drain_end_tensions()
-    t0 = sol.time
-    motions = [rc.fairlead_motion(t0 + (k + 1) / 50.0) for k in range(ticks)]
-    counts = []
 
     def run_ticks():
         sol.restore(snap)
@@ -122,9 +121,32 @@ def measure(sol, rc, steps, repeat, ticks=25):
             sol.end_forces()
             sol.body_state("vehicle")
 
-    tick = best_of(run_ticks, repeat) / ticks
-    sol.restore(snap)
-    return 1e6 * sub, 1e6 * tick, float(np.mean(counts))
+    def reset():
+        sol.restore(snap)
+        sol.drain_end_tensions()
+
+    run_ticks()
+    nsub = float(np.mean(counts))
+    reset()
+    return substeps, run_ticks, nsub, reset
+
+
+def measure_trees(sols, steps, repeat, ticks=25):
+    """{tree: (us per substep, us per tick, substeps per tick)} for prepared solvers {tree: (sol, rc)}.
+    The trees take turns within every repeat (base, new, then new, base on the next), so a change of
+    the machine's load during the run falls on both alike; best of ``repeat`` per tree."""
+    blocks = {name: timed_blocks(sol, rc, steps, ticks) for name, (sol, rc) in sols.items()}
+    best = {name: [np.inf, np.inf] for name in sols}
+    order = list(sols)
+    for r in range(repeat):
+        for which in (0, 1):  # 0: substep blocks, 1: tick blocks
+            for name in (order if r % 2 == 0 else order[::-1]):
+                c = time.thread_time()
+                blocks[name][which]()
+                best[name][which] = min(best[name][which], time.thread_time() - c)
+    for block in blocks.values():
+        block[3]()
+    return {name: (1e6 * best[name][0] / steps, 1e6 * best[name][1] / ticks, blocks[name][2]) for name in sols}
 
 
 def split(sol, rc, repeat, n=200):
@@ -231,10 +253,8 @@ def main(argv=None):
     print(f"bench_tick {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}; "
           f"thread CPU, best of {args.repeat}; P = 4, cage body, 50 Hz ticks", flush=True)
     for length, n, alpha in cases:
-        row = {}
-        for name, fac, mod in trees:
-            sol = prepared(fac, mod, length, n, alpha)
-            row[name] = measure(sol, mod, args.steps, args.repeat)
+        sols = {name: (prepared(fac, mod, length, n, alpha), mod) for name, fac, mod in trees}
+        row = measure_trees(sols, args.steps, args.repeat)
         line = f"  L={length:6.0f} N={n:2d} alpha={alpha:g}:"
         for name, (sub, tick, nsub) in row.items():
             line += f" | {name}: substep {sub:6.2f} us, tick {tick:7.1f} us ({nsub:.1f} substeps), " \

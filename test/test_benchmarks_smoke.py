@@ -155,3 +155,18 @@ def test_baseline_copy_follows_the_other_checkout(tmp_path):
     assert _source_digest(root) == d0
     (root / "benchmarks" / "ropos_case.py").write_text("C = 2\n")
     assert _source_digest(root) != d0
+
+
+def test_bench_tick_trees_take_turns_on_the_same_work():
+    """bench_tick.measure_trees times every tree's blocks in turn within each repeat; two solvers of the
+    same tree do the same work (same substeps per tick) and each block restores its start state, so a
+    block leaves the solver where it found it (no timing asserted)."""
+    from benchmarks import bench_tick
+    from tether_sim.solvers import factory
+    sols = {name: (bench_tick.prepared(factory, rc, 1730.0, 3, 0.0, t_warm=0.1), rc) for name in ("base", "new")}
+    t0 = {name: sol.time for name, (sol, _) in sols.items()}
+    row = bench_tick.measure_trees(sols, steps=20, repeat=2, ticks=3)
+    assert set(row) == {"base", "new"}
+    assert row["base"][2] == row["new"][2] > 0  # substeps per tick
+    assert all(np.isfinite(v[0]) and np.isfinite(v[1]) for v in row.values())
+    assert all(sols[name][0].time == t0[name] for name in sols)

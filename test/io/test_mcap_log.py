@@ -190,6 +190,54 @@ def test_round_trip_with_three_readers(tmp_path, prefix, typestore):
     assert not info.topics["/ship/pose"].latched and info.rosbag2_metadata["message_count"] == len(messages)
 
 
+def test_direct_chunk_append_writes_the_bytes_of_the_mcap_writer(tmp_path, prefix, typestore, monkeypatch):
+    """The writer appends each Message record to the open chunk itself (one struct pack, its own index
+    and time bookkeeping); the file is byte for byte the one mcap's Writer.add_message writes, over
+    several chunks (a chunk of 1 kB) with log times out of order (the description first, stamped
+    earlier than the message before it)."""
+    import tether_sim.io.mcap_log as mcap_log
+
+    messages = make_messages(typestore, n=60)
+    messages.insert(5, messages.pop(0))  # an earlier log time after later ones
+    (tmp_path / "fast").mkdir()
+    (tmp_path / "slow").mkdir()  # the same file name: the rosbag2 metadata record holds it
+    fast = write_file(tmp_path / "fast" / "run.mcap", prefix, messages, chunk_size=1024)
+    monkeypatch.setattr(mcap_log._ChunkAppender, "of", classmethod(lambda cls, writer, size: None))
+    slow = write_file(tmp_path / "slow" / "run.mcap", prefix, messages, chunk_size=1024)
+    with open(fast, "rb") as handle:
+        assert len(SeekingReader(handle, validate_crcs=True).get_summary().chunk_indexes) > 5
+    assert fast.read_bytes() == slow.read_bytes()
+
+
+def test_write_many_is_write_one_message_after_the_other(tmp_path, prefix, typestore):
+    """A tick's outputs written in one call (one stamp) make the file that write() makes with them one
+    after the other (a memoryview payload taken as its bytes); an unknown topic or a short payload is
+    refused as write() refuses it."""
+    messages = make_messages(typestore, n=30)
+    paths = []
+    for name in ("one", "many"):
+        (tmp_path / name).mkdir()
+        path = tmp_path / name / "run.mcap"
+        with RosMcapWriter(path, msg_search_path=[prefix], chunk_size=2048) as writer:
+            for topic, type_name, *_ in messages:
+                writer.add_topic(topic, type_name, QOS_OF[topic])
+            for k in range(0, len(messages), 3):
+                group = [(m[0], memoryview(m[4]) if k % 2 else m[4]) for m in messages[k:k + 3]]
+                t = messages[k][2]
+                if name == "one":
+                    for topic, cdr in group:
+                        writer.write(topic, cdr, t, t)
+                else:
+                    writer.write_many(group, t)
+            if name == "many":
+                with pytest.raises(KeyError, match="/nowhere"):
+                    writer.write_many([("/nowhere", messages[0][4])], t)
+                with pytest.raises(ValueError, match="4-byte"):
+                    writer.write_many([(messages[0][0], b"\x00\x01")], t)
+        paths.append(path)
+    assert paths[0].read_bytes() == paths[1].read_bytes()
+
+
 def test_writer_rejects_bad_input(tmp_path, prefix, typestore):
     writer = RosMcapWriter(tmp_path / "bad.mcap", msg_search_path=[prefix])
     with pytest.raises(ValueError, match="absolute"):

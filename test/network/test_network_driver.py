@@ -167,8 +167,8 @@ def test_settle_quiet_is_the_tension_range_against_half_a_newton_and_five_percen
 def test_tms_excursion_tether_is_at_rest_when_the_clock_starts():
     """The TMS file's excursion tether (its static polish fails: it starts off its discrete equilibrium
     and rings) has settled before the clock starts: over the first two seconds with the points held
-    its end tensions (2.4 and 5.7 N) stay within 2 N of their median (blips of ~1 N remain on its
-    coarse mesh); three seconds of settling were not enough there: up to 54 N at the vehicle end and
+    its end tensions (3.9 and 9.5 N) stay within 2 N of their median (0.24 N measured; blips of ~1 N with the
+    representative values before); three seconds of settling were not enough there: up to 54 N at the vehicle end and
     118 N at the cage end in those two seconds."""
     from pathlib import Path
 
@@ -188,7 +188,7 @@ def test_tms_excursion_tether_is_at_rest_when_the_clock_starts():
 def _tms_excursion_detector():
     """The snap detector of config/ropos_tms.yaml's excursion tether, as the network driver builds it
     (absolute thresholds: slack below 10 N, re-tensioned above 100 N, a snap from 1 kN; the guard with
-    the cage's mass, 3 elements of 10 m: the axial wave crosses one in 7.1 ms)."""
+    the cage's mass, 3 elements of 10 m: the axial wave crosses one in 8.9 ms)."""
     from pathlib import Path
     from types import SimpleNamespace
 
@@ -198,8 +198,8 @@ def _tms_excursion_detector():
     tms, _ = load_network_files([Path(__file__).resolve().parents[2] / "config" / "ropos_tms.yaml"])
     line = tms.lines["excursion"]
     guard = line_snap_guard(tms, "excursion", SimpleNamespace(h=np.full(3, 10.0)))
-    assert guard.crossing_time == pytest.approx(10.0 / np.sqrt(2.0e6 / 1.01))
-    return SnapDetector(line.config.snap, ["excursion/ship", "excursion/vehicle"], [5.9, 2.4], [0.0, 30.0], guard)
+    assert guard.crossing_time == pytest.approx(10.0 / np.sqrt(2.0e6 / 1.59))
+    return SnapDetector(line.config.snap, ["excursion/ship", "excursion/vehicle"], [4.1, 9.6], [0.0, 30.0], guard)
 
 
 def _pulse_trace(rise, jump, dt=1.0 / 3100.0):
@@ -223,7 +223,7 @@ def test_an_excursion_pulse_from_above_the_slack_level_is_numerical_not_a_snap()
     disturbance. The guard measured the rise from the last crossing of the slack level: 200 ms before
     here, long enough for the element-crossing check and a large bound (k t_r), so a pulse reaching
     1.1 kN was published as a snap (186 x static). The rise the guard checks is now the front's, from
-    the last crossing of the re-tension level (100 N): 4.2 ms, shorter than the 7.1 ms an element
+    the last crossing of the re-tension level (100 N): 4.2 ms, shorter than the 8.9 ms an element
     crossing needs: a numerical warning. A physical front of the same peak rising over 20 ms from
     the same state is still a snap."""
     from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent

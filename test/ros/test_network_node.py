@@ -117,7 +117,8 @@ def test_tms_node_publishes_both_lines_the_vehicle_wrench_and_the_cage(tms):
         frames = {tr.child_frame_id for m in r["/tf"] for tr in m.transforms}
         assert "cage/base_link" in frames
     # the excursion tether's force on the vehicle: its end tension along the line, back toward the cage
-    # (at -x; the slack line sags below the vehicle, so it also pulls down there), none sideways
+    # (at -x; the buoyant line, -40 kg/km in water, arches above the vehicle, so it also pulls up there),
+    # none sideways
     wrenches = {(m.header.stamp.sec, m.header.stamp.nanosec): m for m in r["/tether/vehicle_wrench"]}
     exc = [m for m in r["/tether/excursion/state"] if (m.header.stamp.sec, m.header.stamp.nanosec) in wrenches][-1]
     w = wrenches[(exc.header.stamp.sec, exc.header.stamp.nanosec)]  # the same instant
@@ -126,7 +127,7 @@ def test_tms_node_publishes_both_lines_the_vehicle_wrench_and_the_cage(tms):
     # |F| against the axial T: strain-scale, plus the end flux's transverse part on the slack line (its
     # penalty on the end's transverse velocity mismatch: 10 mN is Z = 1.4 kN s/m times 7 um/s of ringing)
     assert np.linalg.norm(f) == pytest.approx(exc.vehicle_end_tension, rel=1e-4, abs=0.01)
-    assert f[0] < 0.0 and f[2] < 0.0 and abs(f[1]) < 1e-6 * np.linalg.norm(f)
+    assert f[0] < 0.0 and f[2] > 0.0 and abs(f[1]) < 1e-6 * np.linalg.norm(f)
     # the cage's wrench: both lines on it balance its wet weight (at rest, within 1 %)
     cw = r["/tether/cage_wrench"][-1].wrench.force
     assert cw.z == pytest.approx(cage_wet, rel=1e-2)

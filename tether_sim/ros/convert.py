@@ -187,7 +187,8 @@ def tension_colours(tension, scale: float) -> np.ndarray:
         d = tension / scale
         d *= 2.0
         d -= 1.0
-        np.clip(d, -1.0, 1.0, out=d)
+        np.maximum(d, -1.0, out=d)  # np.clip's values (NaN kept) without its Python wrapper
+        np.minimum(d, 1.0, out=d)
     else:
         d = np.full(tension.shape, -1.0)
     rgba = np.empty((d.size, 4))

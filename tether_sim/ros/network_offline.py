@@ -89,12 +89,14 @@ class _Writer:
         d = self.driver
         sec, nanosec = cdr.stamp_parts(d.stamp)
         t = sec + 1e-9 * nanosec
+        batch = []
         for topic, payload in outputs.tick_outputs(d, self.node, orientation_of, None, self.shape_gate.due(d.stamp)):
             if topic == "/tf":
                 if self.tf and payload:
-                    self._put("/tf", tf_out.tf_message_cdr(d.stamp, self.node.world_frame, payload), t)
+                    batch.append(("/tf", tf_out.tf_message_cdr(d.stamp, self.node.world_frame, payload)))
             else:
-                self._put(topic, payload, t)
+                batch.append((topic, payload if isinstance(payload, (bytes, bytearray)) else serialize_message(payload)))
+        self.writer.write_many(batch, int(round(t * 1e9)))  # as _put, one message after the other
 
     def diagnostics(self, now, sources):
         d = self.driver

@@ -117,6 +117,9 @@ class _NoMcap:
     def write(self, *args, **kwargs):
         return None
 
+    def write_many(self, *args, **kwargs):
+        return None
+
 
 def run_offline(config, output, *, duration=None, input_path=None, topics=None, progress=True,
                 solver_factory=build_solver, stop=None, announce=None) -> dict:

@@ -15,10 +15,12 @@
 import numpy as np
 import pytest
 
+from tether_sim.numerics.banded import band_solve
 from tether_sim.physics.hydrodynamics import added_mass_per_length
 from tether_sim.scenarios import harness
 from tether_sim.solvers.dg import damping_layout as DL
 from tether_sim.solvers.dg import damping_ops as DO
+from tether_sim.solvers.dg import damping_update as DU
 from tether_sim.solvers.dg import implicit_damping as ID
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.stepper import dg_evaluate
@@ -118,7 +120,8 @@ def test_implicit_step_equals_dense_sdirk2(k0, k1, law, zeta_b, mode):
     dw = ID.DampingWork(mode, s.ops, s.ws.h, s.kinds, cab, cab.gamma0, *added_mass_per_length(cab, env), 0.0,
                         s.law.code, (s.ws.iprm[Y.I_KIND0], s.ws.iprm[Y.I_KIND1]), s._damp.dprm[DL.DP_LAMBDA])
     U0, hs = s.ws.U.copy(), 0.05
-    args = (s.ws.V, s.ws.Pj, s.ws.Tr, s.law.tab_eps, s.law.tab_T, dw.wp, dw.wd, dw.band, dw.vec, dw.tmp, dw.fdamp)
+    args = (s.ws.V, s.ws.Pj, s.ws.Tr, s.law.tab_eps, s.law.tab_T, dw.wp, dw.wd, dw.band, dw.vec, dw.tmp, dw.wood,
+            dw.fdamp)
     ID.damping_step(hs, s.ws.U, s.ws.vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, *args)
     # dense reference with the same frozen geometry, clip set and released ends
     DO.damping_geometry(U0, s.ws.V, dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
@@ -150,6 +153,78 @@ def test_implicit_step_equals_dense_sdirk2(k0, k1, law, zeta_b, mode):
     assert np.abs(v1 - v0).max() > 0.1
     np.testing.assert_allclose(s.ws.U[:, :, 3:6].ravel(), v1, atol=1e-11 * np.abs(v1).max())  # round-off
     np.testing.assert_array_equal(s.ws.U[:, :, 0:3], U0[:, :, 0:3])  # q untouched
+
+
+def axial_work_at_start(s, vbc):
+    """MODE_AXIAL work arrays with the frozen geometry, start strain rates, clip set and released ends of s."""
+    s.ws.vbc[:] = vbc
+    cab, env = s.config.cable, s.config.environment
+    dw = ID.DampingWork(DL.MODE_AXIAL, s.ops, s.ws.h, s.kinds, cab, cab.gamma0, *added_mass_per_length(cab, env), 0.0,
+                        s.law.code, (s.ws.iprm[Y.I_KIND0], s.ws.iprm[Y.I_KIND1]), s._damp.dprm[DL.DP_LAMBDA])
+    DO.damping_geometry(s.ws.U, s.ws.V, dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
+    DO.strain_rates(s.ws.U, 3, True, s.ws.vbc, dw.blk, dw.bvec, dw.wp, DL.WP_E0)
+    DO.clip_set(dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
+    released = DO.release_ends(s.ws.U, s.ws.vbc, dw.idp, dw.dprm, dw.bvec, s.ws.Tr, dw.wp, s.law.tab_eps, s.law.tab_T)
+    return dw, released
+
+
+def solve_with(dw, s, gh, rhs, fresh):
+    """(I - gh K) x = rhs for the present Z: with a new LU (fresh) or with the stored LU and its low-rank update."""
+    kl, n = dw.idp[DL.ID_KL], len(rhs)
+    if fresh:
+        ID._refactor(dw.blk, dw.bvec, dw.idp, dw.dprm, dw.wp, gh, dw.band, kl, dw.tmp, dw.vec)
+    else:
+        assert DU.update_columns(gh, s.ws.Pj, s.ws.vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, dw.wp, dw.wd, dw.band, kl,
+                                 dw.wood)
+    dw.vec[0, :n] = rhs
+    DU.update_solve(dw.band, n, kl, dw.vec, 0, dw.wood, dw.idp)
+    return dw.vec[0, :n].copy()
+
+
+@pytest.mark.parametrize("released", [False, True])
+@pytest.mark.jit_off
+def test_low_rank_update_equals_a_fresh_factorisation(released):
+    """The strain-rate LU with the Woodbury update for 1..8 points whose Z changed since it was factored (clip
+    switching on and off, points added one at a time and carried, then some switched back) solves the same system
+    as a new assembly and factorisation, to round-off; a ninth changed point asks for a refactor."""
+    s = curved_solver("prescribed", "fixed", 0.0, law="bilinear")
+    vbc = 3.0 * np.random.default_rng(2).standard_normal((2, 6))
+    if released:
+        vbc[0, 3], vbc[1, 3] = 8.0, -8.0  # ends pushed into the cable: both ends released
+    dw, nrel = axial_work_at_start(s, vbc)
+    assert nrel == (2 if released else 0)
+    N, nq = dw.wp.shape[:2]
+    n, gh = N * nq, DL.GAMMA_SDIRK * 0.05
+    zeta = dw.dprm[DL.DP_ZETA]
+    twin, _ = axial_work_at_start(s, vbc)  # the same state, refactored every time
+    ID._refactor(dw.blk, dw.bvec, dw.idp, dw.dprm, dw.wp, gh, dw.band, dw.idp[DL.ID_KL], dw.tmp, dw.vec)
+    rng = np.random.default_rng(5)
+    # points on both sides of the clip, in the end elements (released fluxes) and inside
+    order = [(0, 0), (N - 1, nq - 1), (2, 1), (3, 2), (0, nq - 1), (4, 0), (N - 1, 0), (1, 3), (5, 2)]
+    flips = []
+    for k, (e, j) in enumerate(order[:8]):
+        for w in (dw, twin):
+            w.wp[e, j, DL.WP_Z] = 0.0 if w.wp[e, j, DL.WP_Z] > 0.0 else zeta
+        flips.append((e, j))
+        rhs = rng.standard_normal(n)
+        ref = solve_with(twin, s, gh, rhs, fresh=True)
+        x = solve_with(dw, s, gh, rhs, fresh=False)
+        assert dw.idp[DL.ID_NCH] == k + 1
+        np.testing.assert_allclose(x, ref, atol=1e-12 * np.abs(ref).max())
+        dw.vec[0, :n] = rhs  # without the update the stored LU solves another system
+        band_solve(dw.band, n, dw.idp[DL.ID_KL], dw.vec, 0)
+        assert np.abs(dw.vec[0, :n] - ref).max() > 1e-6 * np.abs(ref).max()
+    for e, j in flips[1:6:2]:  # three points switch back: their columns dropped, the others carried
+        dw.wp[e, j, DL.WP_Z] = twin.wp[e, j, DL.WP_Z] = dw.wp[e, j, DL.WP_ZF]
+    rhs = rng.standard_normal(n)
+    ref = solve_with(twin, s, gh, rhs, fresh=True)
+    x = solve_with(dw, s, gh, rhs, fresh=False)
+    assert dw.idp[DL.ID_NCH] == 5
+    np.testing.assert_allclose(x, ref, atol=1e-12 * np.abs(ref).max())
+    for e, j in flips[1:6:2] + [order[8]]:  # nine changed points: too many
+        dw.wp[e, j, DL.WP_Z] = 0.0 if dw.wp[e, j, DL.WP_Z] > 0.0 else zeta
+    assert not DU.update_columns(gh, s.ws.Pj, s.ws.vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, dw.wp, dw.wd, dw.band,
+                                 dw.idp[DL.ID_KL], dw.wood)
 
 
 # ---------------------------------------------------------------- damped axial vibration (closed form)

@@ -47,9 +47,17 @@ define(globals(), "idp", [
     ("ID_REL0", 2, "-", "-", "velocity end released for this step, per end (no-compression clip active)"),
     ("ID_LU_AGE", 1, "-", "-", "steps since the strain-rate LU was computed (-1: none)"),
     ("ID_RELF0", 2, "-", "-", "released flags when it was computed"),
+    ("ID_NCH", 1, "k", "-", "points whose Z differs from the LU's, carried by the low-rank update (damping_update.py)"),
+    ("ID_CH0", 8, "p", "-", "their point indices e Q + j (at most MAX_CHANGED)"),
+    ("ID_PV0", 8, "-", "-", "row permutation of the capacitance matrix's LU"),
+    ("ID_NSTEPS", 1, "-", "-", "strain-rate steps taken (counter, for benchmarks)"),
+    ("ID_NFACT", 1, "-", "-", "of which with a new LU (counter)"),
+    ("ID_NUPD", 1, "-", "-", "of which with the low-rank update of changed points (counter)"),
 ], "N_ID")
 LU_MAX_AGE = 64  # refactor at least this often
 LU_TOL = 1e-4  # defect correction accepted if |correction| <= LU_TOL |solution|
+MAX_CHANGED = 8  # more points with a changed Z than this: refactor instead of the low-rank update
+PIVOT_MIN = 1e-8  # a capacitance pivot below this (the updated matrix near singular there): refactor
 
 define(globals(), "wp", [
     ("WP_I", 3, "i", "-", "frozen tangent"),
@@ -80,6 +88,14 @@ define(globals(), "wd", [
     ("WD_Y", 3, "v_1", "kg/s", "SDIRK stage value, modal (MODE_GENERAL)"),
     ("WD_P", 3, "p", "kg/s or N/m", "probe vector (matrix assembly) or rate of the constant clip tension, modal"),
 ], "NWD")
+
+# rows of the low-rank update's array (wood, (WOOD_ROWS, max(N Q, MAX_CHANGED))): A_LU^-1 u_p of each carried
+# point, the LU of the capacitance matrix I + E^T W, the Z change each column was made for, a k-vector of scratch
+WOOD_W = 0
+WOOD_C = MAX_CHANGED
+WOOD_DZ = 2 * MAX_CHANGED
+WOOD_Z = 2 * MAX_CHANGED + 1
+WOOD_ROWS = 2 * MAX_CHANGED + 2
 
 # boundary vectors bvec[...]: 0/1 = gradient lift of v_BC at s = 0 / L, 2/3 = trace of the projection
 N_BVEC = 4

@@ -28,8 +28,9 @@ Two linear-algebra paths (docs/dg_solver.md):
 
 Both use a banded LU without pivoting (the matrix is I plus a dissipative operator times dt). The
 strain-rate LU is reused across steps (defect correction with K applied matrix-free; refactored
-when the step size, active set or released ends change, after LU_MAX_AGE steps, or when the
-correction exceeds LU_TOL).
+when the step size or released ends change, after LU_MAX_AGE steps, or when the correction exceeds
+LU_TOL). A change of Z at up to MAX_CHANGED points (the clip switching) is a change of as many
+columns: carried by a low-rank update of the stored LU (damping_update.py) instead of a refactor.
 Boundary conditions: velocity ends (prescribed, fixed, clamped, body) supply v_BC in G, their
 damping tension flux is the interior trace (axially replaced by a constant when the end is
 released, release_ends); force ends (free, force) carry no damping flux (the prescribed force is
@@ -44,14 +45,15 @@ from tether_sim.numerics.jit import jit
 from tether_sim.physics.constitutive import cap_stiffness, compression_cap
 from tether_sim.solvers.dg.damping_layout import (
     DP_AN, DP_AT, DP_EA, DP_G0, DP_LAMBDA, DP_LU_H, DP_ZETA, DP_ZETAB, GAMMA_SDIRK, ID_KIND0, ID_KIND1, ID_KL, ID_LAW,
-    ID_LU_AGE, ID_MODE, ID_REACH, ID_REL0, ID_RELF0, LU_MAX_AGE, LU_TOL, MODE_AXIAL, MODE_GENERAL, N_DP, N_ID, NWD,
-    NWP, OP_DIV, OP_GP, OP_H, WD_F, WD_K1, WD_P, WD_Y, WP_BC0, WP_E0, WP_E1, WP_E2, WP_I, WP_KX, WP_KY, WP_PC, WP_TC, WP_TV,
-    WP_X, WP_Z, WP_ZF, DP_IP0, build_operators,
+    ID_LU_AGE, ID_MODE, ID_NCH, ID_NFACT, ID_NSTEPS, ID_NUPD, ID_REACH, ID_REL0, ID_RELF0, LU_MAX_AGE, LU_TOL,
+    MAX_CHANGED, MODE_AXIAL, MODE_GENERAL, N_DP, N_ID, NWD, NWP, OP_DIV, OP_GP, OP_H, WD_F, WD_K1, WD_P, WD_Y, WOOD_ROWS, WP_BC0, WP_E0, WP_E1, WP_E2, WP_I,
+    WP_KX, WP_KY, WP_PC, WP_TC, WP_TV, WP_X, WP_Z, WP_ZF, DP_IP0, build_operators,
 )
 from tether_sim.solvers.dg.damping_ops import (
     axial_tension_points, clip_set, damping_force, damping_geometry, end_damping_forces, release_ends,
     strain_rates, tension_divergence,
 )
+from tether_sim.solvers.dg.damping_update import update_columns, update_solve
 
 
 class DampingWork:
@@ -86,6 +88,7 @@ class DampingWork:
         self.band = np.zeros((n, 2 * kl + 1))
         self.vec = np.zeros((4, max(n, kl + 1)))
         self.tmp = np.zeros((2, N, 3, nq, nq))
+        self.wood = np.zeros((WOOD_ROWS, max(n, MAX_CHANGED)))
         self.fdamp = np.zeros((2, 4))
 
 
@@ -184,7 +187,7 @@ def release_correction(blk, bvec, dprm, wp, gh, A, kl, end):
 
 
 @jit
-def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, tmp, fdamp):
+def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, tmp, wood, fdamp):
     """SDIRK2 step of size hs of dv/dt = f_d(v) = C (Z e(v) + T_c) (axial damping only), solved for
     the strain rates e at the points (see module doc; T_c: clip_set)."""
     N, nq = wp.shape[0], wp.shape[1]
@@ -207,24 +210,32 @@ def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, 
             for j in range(nq):
                 wp[e, j, WP_BC0] = 0.0
     gh = g * hs
-    exact = not _lu_valid(idp, dprm, wp, gh)
+    exact = not _lu_valid(idp, dprm, gh)
+    if not exact and not update_columns(gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, wood):
+        exact = True
     if exact:
         _refactor(blk, bvec, idp, dprm, wp, gh, band, kl, tmp, vec)
     _rhs_stage1(wp, gh, vec)
-    if not _stage_solve(0, exact, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec):
+    if not _stage_solve(0, exact, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec, wood):
         exact = True
         _refactor(blk, bvec, idp, dprm, wp, gh, band, kl, tmp, vec)
         _rhs_stage1(wp, gh, vec)
-        _stage_solve(0, True, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec)
+        _stage_solve(0, True, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec, wood)
     for e in range(N):
         for j in range(nq):
             wp[e, j, WP_E1] = vec[0, e * nq + j]
     _rhs_stage2(wp, hs, g, vec)
-    if not _stage_solve(1, exact, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec):
+    if not _stage_solve(1, exact, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec, wood):
+        exact = True
         _refactor(blk, bvec, idp, dprm, wp, gh, band, kl, tmp, vec)
         _rhs_stage2(wp, hs, g, vec)
-        _stage_solve(1, True, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec)
+        _stage_solve(1, True, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec, wood)
     idp[ID_LU_AGE] += 1
+    idp[ID_NSTEPS] += 1
+    if exact:
+        idp[ID_NFACT] += 1
+    elif idp[ID_NCH] > 0:
+        idp[ID_NUPD] += 1
     for e in range(N):
         for j in range(nq):
             wp[e, j, WP_E2] = vec[1, e * nq + j]
@@ -240,18 +251,12 @@ def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, 
 
 
 @jit
-def _lu_valid(idp, dprm, wp, gh):
-    """The stored LU was built for this step size, active set and released ends, recently enough."""
+def _lu_valid(idp, dprm, gh):
+    """The stored LU was built for this step size and released ends, recently enough (a changed active
+    set is the low-rank update's: damping_update.update_columns)."""
     if idp[ID_LU_AGE] < 0 or idp[ID_LU_AGE] >= LU_MAX_AGE or dprm[DP_LU_H] != gh:
         return False
-    if idp[ID_REL0] != idp[ID_RELF0] or idp[ID_REL0 + 1] != idp[ID_RELF0 + 1]:
-        return False
-    N, nq = wp.shape[0], wp.shape[1]
-    for e in range(N):
-        for j in range(nq):
-            if wp[e, j, WP_Z] != wp[e, j, WP_ZF]:
-                return False
-    return True
+    return idp[ID_REL0] == idp[ID_RELF0] and idp[ID_REL0 + 1] == idp[ID_RELF0 + 1]
 
 
 @jit
@@ -264,6 +269,7 @@ def _refactor(blk, bvec, idp, dprm, wp, gh, band, kl, tmp, vec):
     idp[ID_RELF0] = idp[ID_REL0]
     idp[ID_RELF0 + 1] = idp[ID_REL0 + 1]
     idp[ID_LU_AGE] = 0
+    idp[ID_NCH] = 0
     for e in range(N):
         for j in range(nq):
             wp[e, j, WP_ZF] = wp[e, j, WP_Z]
@@ -289,15 +295,16 @@ def _rhs_stage2(wp, hs, g, vec):
 
 
 @jit
-def _stage_solve(col, exact, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec):
-    """vec[col]: right-hand side -> solution of (I - gh K) x = rhs with the stored LU. If that LU is
-    not exact for the present geometry, one defect correction with K applied matrix-free (K x =
-    i . G Pj AM Div(Z x i)); returns False when the correction exceeds LU_TOL of the solution."""
+def _stage_solve(col, exact, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec, wood):
+    """vec[col]: right-hand side -> solution of (I - gh K) x = rhs with the stored LU (and its low-rank
+    update). If that LU is not exact for the present geometry, one defect correction with K applied
+    matrix-free (K x = i . G Pj AM Div(Z x i)); returns False when the correction exceeds LU_TOL of the
+    solution."""
     N, nq = wp.shape[0], wp.shape[1]
     n = N * nq
     for r in range(n):
         vec[3, r] = vec[col, r]
-    band_solve(band, n, kl, vec, col)
+    update_solve(band, n, kl, vec, col, wood, idp)
     if exact:
         return True
     for e in range(N):
@@ -310,7 +317,7 @@ def _stage_solve(col, exact, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl
         for j in range(nq):
             r = e * nq + j
             vec[3, r] = vec[3, r] - vec[col, r] + gh * wp[e, j, WP_KY]
-    band_solve(band, n, kl, vec, 3)
+    update_solve(band, n, kl, vec, 3, wood, idp)
     nd = 0.0
     nx = 0.0
     for r in range(n):
@@ -389,10 +396,10 @@ def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp
 
 
 @jit
-def damping_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, tmp, fdamp):
+def damping_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, tmp, wood, fdamp):
     """One implicit step of size hs of the damping terms (nothing in explicit mode)."""
     mode = idp[ID_MODE]
     if mode == MODE_AXIAL:
-        axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, tmp, fdamp)
+        axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, tmp, wood, fdamp)
     elif mode == MODE_GENERAL:
         general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, fdamp)

@@ -48,7 +48,7 @@ RELAX_FIRST_CHUNK = 200
 
 # the implicit damping's arrays in the workspace: slot -> attribute of DampingWork
 _DAMPING_SLOTS = dict(idp="idp", dprm="dprm", blk="blk", bvec="bvec", wp="wp", wd="wd", band="band", vec="vec",
-                      dtmp="tmp", fdamp="fdamp")
+                      dtmp="tmp", dwood="wood", fdamp="fdamp")
 
 
 class DGCableSolver:

@@ -36,7 +36,7 @@ from tether_sim.solvers.dg.layout import (
 )
 from tether_sim.solvers.dg.workspace import (
     X_BAND, X_BC, X_BLK, X_BP, X_BS, X_BS0, X_BUF, X_BVEC, X_CNT, X_CX, X_CY, X_CZ, X_D, X_DBS, X_DPRM, X_DRA, X_DTMP,
-    X_DU, X_ENDF, X_FDAMP, X_FL, X_H, X_HW, X_IDP, X_IPRM_STEP, X_IQ, X_LF, X_OUT, X_PJ, X_PRM_STEP, X_RA, X_RA0, X_RS,
+    X_DWOOD, X_DU, X_ENDF, X_FDAMP, X_FL, X_H, X_HW, X_IDP, X_IPRM_STEP, X_IQ, X_LF, X_OUT, X_PJ, X_PRM_STEP, X_RA, X_RA0, X_RS,
     X_TAB_EPS, X_TAB_T, X_TMP, X_TR, X_TRC, X_U, X_U0, X_V, X_VBC, X_VEC, X_WD, X_WM, X_WP, X_WQ,
 )
 from tether_sim.solvers.dg.winch import (
@@ -306,4 +306,5 @@ def _record_shear(wq, slot):
 def _damping(dt, A):
     """implicit_damping.damping_step of dt on the workspace's arrays (D of the splitting)."""
     damping_step(dt, A[X_U], A[X_VBC], A[X_IDP], A[X_DPRM], A[X_BLK], A[X_BVEC], A[X_V], A[X_PJ], A[X_TR],
-                 A[X_TAB_EPS], A[X_TAB_T], A[X_WP], A[X_WD], A[X_BAND], A[X_VEC], A[X_DTMP], A[X_FDAMP])
+                 A[X_TAB_EPS], A[X_TAB_T], A[X_WP], A[X_WD], A[X_BAND], A[X_VEC], A[X_DTMP], A[X_DWOOD],
+                 A[X_FDAMP])

@@ -74,6 +74,7 @@ SLOTS = (
     ("band", "f", 2, "banded matrix"),
     ("vec", "f", 2, "banded right-hand side"),
     ("dtmp", "f", 5, "damping scratch"),
+    ("dwood", "f", 2, "low-rank update of the damping LU (damping_update.py)"),
     ("fdamp", "f", 2, "damping end forces and tensions (2, 4)"),
     ("hw", "f", 1, "element sizes / length (winch.py)"),
     # the driver's slots: full parameters, driven-end state and targets

@@ -1,0 +1,182 @@
+"""Where a substep of the PE2020 Sec. 6.2 case goes (L = 200 m, N = 20, P = 4, alpha as given, dg.damping and
+dg.bending_multirate as given; the fairlead orbit of bench_slack_bending.py), measured in one process:
+
+1. the Python side: cProfile of the 50 Hz advance_to loop over the window (what is not one compiled call);
+2. the implicit damping step's paths over the window (counters idp ID_NSTEPS / ID_NFACT / ID_NUPD: steps,
+   new factorisations, low-rank updates);
+3. the compiled side, per kernel, at states sampled through the window (each kernel repeated --reps times in a
+   compiled loop on the solver's workspace, CPU time): a right-hand side with the nested LDG, one with the bending
+   shear extrapolated (the multirate's other stages), the damping step with a new LU, with the stored LU
+   (defect correction) and the LU's assembly + factorisation alone; and the whole substep (dg_advance of one
+   substep) for the sum.
+
+Usage: PYTHONPATH=. python benchmarks/probes/profile_slack_step.py [--alpha 1] [--damping implicit]
+       [--start 5] [--seconds 3] [--samples 6] [--reps 2000]
+"""
+
+import argparse
+import cProfile
+import io
+import os
+import pstats
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from numba import njit
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+
+from benchmarks.bench_slack_bending import tree  # noqa: E402
+from benchmarks.studies.slack_bending_ladder import EI_STAR  # noqa: E402
+from tether_sim.numerics.banded import band_factor  # noqa: E402
+from tether_sim.solvers.dg import damping_layout as DL  # noqa: E402
+from tether_sim.solvers.dg import layout as Y  # noqa: E402
+from tether_sim.solvers.dg.implicit_damping import assemble_axial  # noqa: E402
+from tether_sim.solvers.dg.stepper import _damping, dg_advance, dg_evaluate  # noqa: E402
+from tether_sim.solvers.dg.workspace import (  # noqa: E402
+    X_BAND, X_BLK, X_BVEC, X_DPRM, X_DTMP, X_FDAMP, X_IDP, X_IPRM_STEP, X_PRM_STEP, X_U, X_VEC, X_WP, bind,
+)
+
+
+@njit
+def _rhs(F, I, S, n, t, extrapolated):
+    A = bind(F, I, S)
+    prm = A[X_PRM_STEP]
+    for _ in range(n):
+        if extrapolated:
+            prm[Y.P_BMR] = 1.0
+        dg_evaluate(t, A, prm, A[X_IPRM_STEP], A[X_FDAMP], True, True)
+    prm[Y.P_BMR] = 0.0
+
+
+@njit
+def _damp(F, I, S, n, dt, U0, fresh):
+    A = bind(F, I, S)
+    U = A[X_U]
+    idp = A[X_IDP]
+    for _ in range(n):
+        U[:] = U0
+        if fresh:
+            idp[DL.ID_LU_AGE] = -1
+        else:
+            idp[DL.ID_LU_AGE] = 1
+        _damping(dt, A)
+
+
+@njit
+def _factor(F, I, S, n, gh):
+    A = bind(F, I, S)
+    band, idp = A[X_BAND], A[X_IDP]
+    kl = idp[DL.ID_KL]
+    wp = A[X_WP]
+    for _ in range(n):
+        assemble_axial(A[X_BLK], A[X_BVEC], idp, A[X_DPRM], wp, gh, band, kl, A[X_DTMP])
+        band_factor(band, wp.shape[0] * wp.shape[1], kl, A[X_VEC][2])
+
+
+@njit
+def _substep(F, I, S, n, t, dt, F0, I0):
+    for _ in range(n):
+        F[:] = F0
+        I[:] = I0
+        A = bind(F, I, S)
+        dg_advance(1, t, dt, False, A)
+
+
+def kernel_times(s, reps):
+    ws = s.ws
+    F0, I0 = ws.F.copy(), ws.I.copy()
+    dt = s._substep()
+    row = {}
+    args = (ws.F, ws.I, ws.spec)
+    for name, fn, extra in (("rhs, nested LDG", _rhs, (s.time, False)), ("rhs, shear extrapolated", _rhs, (s.time, True)),
+                            ("damping step, new LU", _damp, (dt, ws.U.copy(), True)),
+                            ("damping step, stored LU", _damp, (dt, ws.U.copy(), False)),
+                            ("assembly + factorisation", _factor, (DL.GAMMA_SDIRK * dt,))):
+        fn(*args, 2, *extra)  # compile
+        ws.F[:] = F0
+        ws.I[:] = I0
+        c = time.process_time()
+        fn(*args, reps, *extra)
+        row[name] = 1e6 * (time.process_time() - c) / reps
+        ws.F[:] = F0
+        ws.I[:] = I0
+    _substep(*args, 2, s.time, dt, F0, I0)
+    c = time.process_time()
+    _substep(*args, reps, s.time, dt, F0, I0)
+    row["whole substep (copy included)"] = 1e6 * (time.process_time() - c) / reps
+    ws.F[:] = F0
+    ws.I[:] = I0
+    return row
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--alpha", type=float, default=1.0)
+    ap.add_argument("--damping", default="implicit")
+    ap.add_argument("--multirate", default="on", choices=["on", "off"])
+    ap.add_argument("--start", type=float, default=5.0)
+    ap.add_argument("--seconds", type=float, default=3.0)
+    ap.add_argument("--samples", type=int, default=6)
+    ap.add_argument("--reps", type=int, default=2000)
+    args = ap.parse_args(argv)
+    load_config, build_motion, build_solver = tree("tether_sim")
+    overrides = {"cable.EI": args.alpha * EI_STAR, "motion.kind": "circle", "motion.amplitude": 2.0,
+                 "motion.frequency": 0.2, "motion.ramp_time": 5.0, "duration": 60.0, "dg.n_elements": 20,
+                 "dg.order": 4, "dg.damping": args.damping, "dg.bending_multirate": args.multirate == "on"}
+    cfg = load_config(ROOT / "config" / "ropos_L200_paper.yaml", overrides)
+    motion = build_motion(cfg.motion, cfg.ship_end.position)
+    s = build_solver(cfg)
+    print(f"# {time.strftime('%Y-%m-%d %H:%M')} load {os.getloadavg()[0]:.1f}; alpha {args.alpha:g}, "
+          f"dg.damping {args.damping}, multirate {args.multirate} (K = {s.bending_multirate_k}), window "
+          f"{args.start:g}-{args.start + args.seconds:g} s", flush=True)
+    rate, t0 = 50.0, s.time
+    k = 0
+
+    def tick():
+        nonlocal k
+        k += 1
+        p, v, _ = motion.at(k / rate)
+        s.set_end_motion("ship", p, v)
+        n = s.advance_to(t0 + k / rate)
+        s.drain_end_tensions()
+        return n or 0
+
+    while k / rate < args.start - 1e-9:
+        tick()
+    idp = s.ws.idp
+    c0 = [int(idp[DL.ID_NSTEPS]), int(idp[DL.ID_NFACT]), int(idp[DL.ID_NUPD])]
+    marks = set(np.linspace(0, int(args.seconds * rate) - 1, args.samples).astype(int))
+    prof = cProfile.Profile()
+    rows, steps, cpu = [], 0, 0.0
+    for i in range(int(args.seconds * rate)):
+        if i in marks:
+            rows.append(kernel_times(s, args.reps))
+        c = time.process_time()
+        prof.enable()
+        steps += tick()
+        prof.disable()
+        cpu += time.process_time() - c
+    c1 = [int(idp[DL.ID_NSTEPS]), int(idp[DL.ID_NFACT]), int(idp[DL.ID_NUPD])]
+    d = [b - a for a, b in zip(c0, c1)]
+    print(f"window: {args.seconds / cpu:.3f} x real time per CPU s, {steps / args.seconds:.0f} substeps/s, "
+          f"{1e6 * cpu / steps:.1f} us per substep (profiler on)")
+    if d[0]:
+        print(f"damping steps {d[0]}: new LU {d[1]} ({100 * d[1] / d[0]:.1f} %), low-rank update {d[2]} "
+              f"({100 * d[2] / d[0]:.1f} %), stored LU as it was {d[0] - d[1] - d[2]}")
+    print("per call, us (median over the samples; min-max):")
+    for name in rows[0]:
+        v = np.array([r[name] for r in rows])
+        print(f"  {name:32s} {np.median(v):8.2f}  ({v.min():.2f}-{v.max():.2f})")
+    out = io.StringIO()
+    pstats.Stats(prof, stream=out).sort_stats("tottime").print_stats(12)
+    print("Python side (cProfile, by own time):")
+    print("\n".join(out.getvalue().splitlines()[:30]))
+    print(f"# load {os.getloadavg()[0]:.1f} at the end")
+
+
+if __name__ == "__main__":
+    main()
