@@ -20,7 +20,9 @@ arguments (elementops, fluxes, dg_rhs, internal_forces, momentum_rate, the LDG, 
 a compiled call passes every array as ~7-9 machine words, ~50-70 ns for 30 arrays (measured
 2026-11-25), which added up to ~20 % of a tick; inlined, the 1730 m tick went 16.9 -> 13.2 us,
 bit-identical. Big functions called once per stage stay calls (tension_scalar inlined measured
-no difference; dg_evaluate, called three times per substep, stays a call).
+no difference). dg_evaluate, called three times per substep, is inlined too since it takes the
+whole workspace (one tuple of ~55 arrays, passed by value to a call): inlined, the tick of the
+small live meshes went 0.89-0.98x (bench_tick.py against the call, 2026-11-27, load 0.1-1).
 Inlining the small physics helpers too (drag, added mass, constitutive law, end-condition table,
 body rotations) measured slower (0.76 against 0.57 ms/s at 1730 m): they stay ``jit``.
 

@@ -58,7 +58,7 @@ def fill_end_kinematics(bc, iprm, t, vbc, bs, bp):
             hermite_end(bc, end, t, vbc[end])
 
 
-@jit
+@jit_inline
 def dg_evaluate(t, A, prm, iprm, fdamp, implicit, internal=True):
     """One right-hand-side evaluation at time t (cable and bodies; also used for outputs) on the
     workspace A (workspace.bind) with the parameters prm, iprm (the stepper's or the full ones).
