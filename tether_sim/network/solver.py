@@ -32,6 +32,7 @@ from tether_sim.network.body import NetworkBody
 from tether_sim.network.body_kernels import BP_DRAG, BP_INERTIA, BP_MASS, BP_ROT_DAMPING, BP_WET, N_BP, kdk_close, kdk_open
 from tether_sim.network.spec import line_end_condition
 from tether_sim.network.statics import solve_network_statics
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.constitutive import TensionLaw
 from tether_sim.physics.hydrodynamics import current_at, current_table
 from tether_sim.solvers.base import LOAD_F, LOAD_M, LOAD_T
@@ -167,11 +168,15 @@ class NetworkSolver:
 
     # ------------------------------------------------------------------ loads
     def _body_loads(self, name):
-        b = self.bodies[name]
-        ends = self.spec.ends_on(name)
-        F = np.array([self._loads[e.line][0 if e.end == "ship" else 1, LOAD_F:LOAD_F + 3] for e in ends])
-        M = np.array([self._loads[e.line][0 if e.end == "ship" else 1, LOAD_M:LOAD_M + 3] for e in ends])
+        rows = self.load_rows(name)
+        F = np.array([r[LOAD_F:LOAD_F + 3] for r in rows]).reshape(-1, 3)
+        M = np.array([r[LOAD_M:LOAD_M + 3] for r in rows]).reshape(-1, 3)
         return F, M
+
+    def load_rows(self, name):
+        """The load row (plain floats, columns LOAD_*) of every line end on point or body ``name``,
+        in the order of spec.end_rows(name): what the outputs sum, without numpy on 3-vectors."""
+        return [self._loads[line][row].tolist() for line, row in self.spec.end_rows(name)]
 
     def _fluid_velocity(self, body):
         cz, cx, cy = self._current
@@ -190,8 +195,7 @@ class NetworkSolver:
         prm[BP_DRAG:BP_DRAG + 3] = b.drag
         prm[BP_WET] = b.wet_weight
         index = {n: i for i, n in enumerate(self.lines)}
-        rows = np.array([[index[e.line], 0 if e.end == "ship" else 1] for e in self.spec.ends_on(name)],
-                        dtype=np.int64).reshape(-1, 2)
+        rows = np.array([[index[line], row] for line, row in self.spec.end_rows(name)], dtype=np.int64).reshape(-1, 2)
         return prm, rows, np.zeros((3, 13)), np.zeros((len(rows), 6))
 
     # ------------------------------------------------------------------ stepping
@@ -258,8 +262,13 @@ class NetworkSolver:
     # ------------------------------------------------------------------ outputs
     def end_load(self, line, end):
         """(force (3,), axial tension, moment (3,)) by the line on its end 'ship' or 'vehicle'."""
-        row = self._loads[line][0 if end == "ship" else 1]
+        row = self._loads[line][END_NAMES.index(end)]
         return row[LOAD_F:LOAD_F + 3].copy(), float(row[LOAD_T]), row[LOAD_M:LOAD_M + 3].copy()
+
+    def end_tensions(self, line):
+        """(axial tension at s = 0, at s = L) of ``line`` as floats (end_load's tension, without its copies)."""
+        ends = self._loads[line]
+        return float(ends[0, LOAD_T]), float(ends[1, LOAD_T])
 
     def snapshot(self):
         return dict(time=self.time, lines={n: s.snapshot() for n, s in self.lines.items()},
