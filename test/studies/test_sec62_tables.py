@@ -49,9 +49,12 @@ def test_rejected_events_are_never_snaps(cases):
 def test_shift_against_alpha_0_pairs_nearest_snaps(cases):
     lines = alpha_shift_table(cases)
     ship = next(x for x in lines if x.startswith("| 200 | 0.2 | 100 | ship |")).split(" | ")
-    assert ship[4] == "2 / 2"
+    assert ship[4] == "-93.7, +0.31"  # the first snaps: 93.7 ms apart (one wave round trip), +0.31 %
+    assert ship[5] == "2 / 2"
     # peak time shifts -93.7 ms and +2.0 ms, their median -45.85 ms
-    assert ship[5] == "-45.8 [-93.7, +2.0]"
-    assert ship[7].startswith("+0.17 [+0.04, +0.31]")  # +0.31 % and +0.04 %
+    assert ship[6] == "-45.8 [-93.7, +2.0]"
+    assert ship[8].startswith("+0.17 [+0.04, +0.31]")  # +0.31 % and +0.04 %
     cage = next(x for x in lines if x.startswith("| 200 | 0.2 | 100 | cage |")).split(" | ")
-    assert cage[4] == "1 / 1" and cage[5] == "+2.3 [+2.3, +2.3]"
+    assert cage[5] == "1 / 1" and cage[6] == "+2.3 [+2.3, +2.3]"
+    # a pair further apart than the window (0.05 periods: 0.25 s here) is not the same re-tensioning
+    assert alpha_shift_table(cases, window=0.01)[2].split(" | ")[5] == "1 / 2"
