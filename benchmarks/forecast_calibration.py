@@ -21,7 +21,7 @@ the run over the forecast's horizon [stamp, stamp + horizon):
 
 Usage (the tuning seeds' figures of docs/forecast.md, "Calibration of the members' slack"):
 
-    .venv/bin/python benchmarks/forecast_calibration.py out/forecast_skill/tune13_L1730_s21-23.json
+    .venv/bin/python benchmarks/forecast_calibration.py out/forecast_skill/tune12_L1730_s21-23.json
 """
 
 import argparse

@@ -247,10 +247,11 @@ def motion_error(args) -> int:
     return 0
 
 
-def near_misses(paths, tolerance=1.5, before=6.0) -> int:
+def near_misses(paths, tolerance=1.5, before=6.0, margin=0.0) -> int:
     """Every false-alarm episode of --dump files against the run's own end tension (the run again,
     without forecasts): the largest tension within +-``tolerance`` of the predicted time, the least in
-    the ``before`` s before it, and what the snap detector made of it."""
+    the ``before`` s before it, and what the snap detector made of it; ``margin`` > 0: of the forecasts
+    with forecast.slack_margin = margin (with_margin)."""
     for path in paths:
         doc = json.loads(Path(path).read_text())
         for run in doc["runs"]:
@@ -258,8 +259,13 @@ def near_misses(paths, tolerance=1.5, before=6.0) -> int:
             end_time = doc["args"]["minutes"] * 60.0
             horizon = doc["args"]["horizon"]
             for source, fc in run["forecasts"].items():
+                if margin > 0.0:
+                    levels = run_slack_levels(run, doc["args"])
+                    fc = [[g.end, g.stamp, g.probability, g.time_to_snap, g.members, g.member_snaps, *f[6:]]
+                          for f, g in ((f, with_margin(f, horizon, source, levels, margin)) for f in fc)]
                 classes, last = {}, {}
-                print(f"\n{Path(run['file']).stem} {source} seed {run['seed']}: false-alarm episodes against the run's tension")
+                print(f"\n{Path(run['file']).stem} {source} seed {run['seed']}: false-alarm episodes against the run's tension"
+                      + (f" (slack margin {margin:g})" if margin > 0.0 else ""))
                 for end, stamp, p, tts, members, _, *troughs in fc:
                     pred = stamp + tts
                     if not p >= 0.5 or pred > end_time - tolerance or any(
@@ -288,6 +294,10 @@ def near_misses(paths, tolerance=1.5, before=6.0) -> int:
                         horizon_trough = T[(t > stamp - 1e-9) & (t < stamp + horizon - 1e-9)].min()
                         print(f"          least tension within the horizon / slack level: run {horizon_trough / slack[end]:.2f}, "
                               f"members " + " ".join(f"{x / slack[end]:.2f}" for x in sorted(troughs[0])))
+                    if len(troughs) > 1 and troughs[1]:
+                        deep = sorted(x / slack[end] for x in troughs[1] if x is not None and not math.isnan(x))
+                        print("          snapping members' least tension before the snap / slack level (as run): "
+                              + " ".join(f"{x:.2f}" for x in deep))
                 print("  episodes: " + ", ".join(f"{n} {k}" for k, n in sorted(classes.items())))
                 ranks(fc, t, tensions, slack, horizon, end_time)
     return 0
@@ -470,7 +480,9 @@ def main(argv=None) -> int:
         return motion_error(args)
     if args.rescore:
         if args.near_misses:
-            return near_misses(args.rescore)
+            for margin in args.slack_margin:
+                near_misses(args.rescore, margin=margin)
+            return 0
         for margin in args.slack_margin:
             for count in args.lagged:
                 rescore(args.rescore, lagged=count, margin=margin)

@@ -49,8 +49,7 @@ def _hermite(p0, v0, p1, v1, T, tau):
     d00, d10, d01, d11 = (6 * x**2 - 6 * x) / T, 3 * x**2 - 4 * x + 1, (-6 * x**2 + 6 * x) / T, 3 * x**2 - 2 * x
     a, b = h10 * T, h11 * T  # on plain floats, in numpy's order of the vector expressions (the same bits)
     p, v = [], []
-    for c in range(3):
-        q0, w0, q1, w1 = float(p0[c]), float(v0[c]), float(p1[c]), float(v1[c])
+    for q0, w0, q1, w1 in zip(p0.tolist(), v0.tolist(), p1.tolist(), v1.tolist()):
         p.append(h00 * q0 + a * w0 + h01 * q1 + b * w1)
         v.append(d00 * q0 + d10 * w0 + d01 * q1 + d11 * w1)
     return np.array(p), np.array(v)
@@ -107,6 +106,11 @@ class NetworkSolver:
         for n in self.bodies:
             for k, e in enumerate(spec.ends_on(n)):
                 self._where[(e.line, e.end)] = (n, k)
+        # per line, its ends that move: (end, body, attachment index, None) or (end, None, 0, driven point)
+        self._moving_ends = {name: [(e.end, *self._where[(name, e.end)], None) if e.kind == "body" else
+                                    (e.end, None, 0, self.points[e.target]) for e in line.ends
+                                    if e.kind == "body" or (e.kind == "point" and self.points[e.target].spec.kind == "prescribed")]
+                             for name, line in spec.lines.items()}
         self.statics_residual = None
         if statics and self.bodies:
             self._statics, self.statics_residual = solve_network_statics(spec, self.bodies)
@@ -221,7 +225,8 @@ class NetworkSolver:
         self.time = t
         out = {}
         for k in self.lines:
-            s = np.concatenate(chunks[k], axis=1) if chunks[k] else np.zeros((3, 0))
+            c = chunks[k]  # (one chunk, a copy made for it, is the tick's samples as it is)
+            s = c[0] if len(c) == 1 else np.concatenate(c, axis=1) if c else np.zeros((3, 0))
             if drain:
                 out[k] = {"samples": s, "loads": self._loads[k].copy()}
             else:
@@ -242,13 +247,8 @@ class NetworkSolver:
                 p.pos, p.vel = _hermite(p.p0, p.v0, p.p1, p.v1, p.t1 - p.t0, t_new - p.t0)
         for name, solver in self.lines.items():
             motion = {}
-            for e in self.spec.lines[name].ends:
-                if e.kind == "body":
-                    bn, k = self._where[(name, e.end)]
-                    motion[e.end] = (targets[bn][k, 0:3], targets[bn][k, 3:6])
-                elif e.kind == "point" and self.points[e.target].spec.kind == "prescribed":
-                    p = self.points[e.target]
-                    motion[e.end] = (p.pos, p.vel)
+            for end, body, k, p in self._moving_ends[name]:
+                motion[end] = (targets[body][k, 0:3], targets[body][k, 3:6]) if body is not None else (p.pos, p.vel)
             out = solver.tick(t_new, ship=motion.get("ship"), vehicle=motion.get("vehicle"), drain=True)
             self._loads[name][:] = out.loads[:, :7]
             if out.count:
