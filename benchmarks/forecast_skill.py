@@ -101,6 +101,7 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
             cpu[f"look-ahead {name}"] += time.thread_time() - c0
     snaps += [(e.location, e.time) for e in driver.detector.flush()]
     run_case.slacks = slacks  # slack periods begun (for --dump)
+    run_case.slack_levels = dict(zip(driver.detector.locations, (float(x) for x in driver.detector.thresholds)))
     run_case.cpu = cpu  # CPU s of this thread: the truth run, each source's forecasts (tick side and look-ahead)
     return snaps, forecasts, time.perf_counter() - wall0, look, driver.solver.time
 
@@ -246,10 +247,11 @@ def motion_error(args) -> int:
     return 0
 
 
-def near_misses(paths, tolerance=1.5, before=6.0) -> int:
+def near_misses(paths, tolerance=1.5, before=6.0, margin=0.0) -> int:
     """Every false-alarm episode of --dump files against the run's own end tension (the run again,
     without forecasts): the largest tension within +-``tolerance`` of the predicted time, the least in
-    the ``before`` s before it, and what the snap detector made of it."""
+    the ``before`` s before it, and what the snap detector made of it; ``margin`` > 0: of the forecasts
+    with forecast.slack_margin = margin (with_margin)."""
     for path in paths:
         doc = json.loads(Path(path).read_text())
         for run in doc["runs"]:
@@ -257,8 +259,13 @@ def near_misses(paths, tolerance=1.5, before=6.0) -> int:
             end_time = doc["args"]["minutes"] * 60.0
             horizon = doc["args"]["horizon"]
             for source, fc in run["forecasts"].items():
+                if margin > 0.0:
+                    levels = run_slack_levels(run, doc["args"])
+                    fc = [[g.end, g.stamp, g.probability, g.time_to_snap, g.members, g.member_snaps, *f[6:]]
+                          for f, g in ((f, with_margin(f, horizon, source, levels, margin)) for f in fc)]
                 classes, last = {}, {}
-                print(f"\n{Path(run['file']).stem} {source} seed {run['seed']}: false-alarm episodes against the run's tension")
+                print(f"\n{Path(run['file']).stem} {source} seed {run['seed']}: false-alarm episodes against the run's tension"
+                      + (f" (slack margin {margin:g})" if margin > 0.0 else ""))
                 for end, stamp, p, tts, members, _, *troughs in fc:
                     pred = stamp + tts
                     if not p >= 0.5 or pred > end_time - tolerance or any(
@@ -287,6 +294,10 @@ def near_misses(paths, tolerance=1.5, before=6.0) -> int:
                         horizon_trough = T[(t > stamp - 1e-9) & (t < stamp + horizon - 1e-9)].min()
                         print(f"          least tension within the horizon / slack level: run {horizon_trough / slack[end]:.2f}, "
                               f"members " + " ".join(f"{x / slack[end]:.2f}" for x in sorted(troughs[0])))
+                    if len(troughs) > 1 and troughs[1]:
+                        deep = sorted(x / slack[end] for x in troughs[1] if x is not None and not math.isnan(x))
+                        print("          snapping members' least tension before the snap / slack level (as run): "
+                              + " ".join(f"{x:.2f}" for x in deep))
                 print("  episodes: " + ", ".join(f"{n} {k}" for k, n in sorted(classes.items())))
                 ranks(fc, t, tensions, slack, horizon, end_time)
     return 0
@@ -320,7 +331,41 @@ def ranks(fc, t, tensions, slack, horizon, end_time):
               f"{100 * np.mean(wrong) if wrong else float('nan'):.0f} % of their members on the other side of the slack level")
 
 
-def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1) -> int:
+def run_slack_levels(run, dumped_args):
+    """{end: slack level N} of a dumped run (kept in dumps from 2026-11-28 on; else the run's detector at
+    its start, the same numbers: no winch in these runs)."""
+    if "slack_levels" in run:
+        return run["slack_levels"]
+    args = argparse.Namespace(**dumped_args)
+    cfg = case_config(run["file"], "known_sea", run["seed"], args)
+    src = {"ship": MotionSource(build_motion(cfg.motion, np.asarray(cfg.ship_end.position, float), wave_components(cfg)))}
+    driver = SimulationDriver(replace(cfg, waves=replace(cfg.waves, kind="none")), src, start_blend=False)
+    driver.start(0.0)
+    return dict(zip(driver.detector.locations, (float(x) for x in driver.detector.thresholds)))
+
+
+def with_margin(entry, horizon, source, slack, margin):
+    """The EndForecast of a dumped forecast ``entry`` with ``forecast.slack_margin`` = ``margin``
+    (tether_sim.forecast.lookahead.deep_snaps): exact from the members' depths before their snaps;
+    for dumps without them (before 2026-11-28), approximated: the snapping members taken to be those
+    with the least troughs within the horizon, each trough standing for its depth."""
+    from tether_sim.forecast.lookahead import deep_snaps, summarise
+
+    e, st, p, t, m, ms, *extra = entry
+    snaps = [tuple(x) for x in ms]
+    troughs = extra[0] if extra else []
+    depths = extra[1] if len(extra) > 1 else None
+    at_stamp = bool(extra[2]) if len(extra) > 2 else False
+    if margin > 0.0 and m > 0 and not at_stamp:
+        if depths is not None:
+            snaps = deep_snaps(snaps, [math.nan if x is None else float(x) for x in depths], slack[e], margin)
+        else:
+            least = sorted(troughs)[:len(snaps)]
+            snaps = snaps[:sum(x < (1.0 - margin) * slack[e] for x in least)]
+    return summarise(st, e, horizon, snaps, m, source)
+
+
+def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0.0) -> int:
     """Score the forecasts of ``--dump`` JSON files again, without running anything: per file and
     source, totals over the files at each probability threshold, the reliability of the probability,
     and (threshold 0.5) the time estimate as it was before 2026-11-27, the median over the members
@@ -336,14 +381,21 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1) -> int:
         doc = json.loads(Path(path).read_text())
         horizon, period = doc["args"]["horizon"], 1.0 / doc["args"]["rate"]
         for run in doc["runs"]:
+            slack = run_slack_levels(run, doc["args"]) if margin > 0.0 else None
             for source, fc in run["forecasts"].items():
-                raw = [EndForecast(st, e, horizon, p, t, math.nan, math.nan, m, source,
-                                   member_snaps=[tuple(x) for x in ms]) for e, st, p, t, m, ms, *_ in fc]
+                if margin > 0.0:
+                    raw = [with_margin(f, horizon, source, slack, margin) for f in fc]
+                else:
+                    raw = [EndForecast(st, e, horizon, p, t, math.nan, math.nan, m, source,
+                                       member_snaps=[tuple(x) for x in ms]) for e, st, p, t, m, ms, *_ in fc]
                 published = lagged_series(raw, lagged, period)
                 runs.append((run["file"], source, run["seed"], doc["args"]["minutes"] * 60.0, run["snaps"],
                              [SimpleNamespace(end=f.end, stamp=f.stamp, probability=f.probability, time_to_snap=f.time_to_snap,
                                               members=f.members, horizon=horizon, member_snaps=f.member_snaps)
                               for f in published]))
+    if margin > 0.0:
+        print(f"\nslack margin {margin:g}: a member's snap counts when its least tension before it lay below "
+              f"{1.0 - margin:g} x the slack level (forecast.slack_margin)")
     if lagged > 1:
         print(f"\nlagged ensemble: each forecast pooled with the {lagged - 1} before it (forecast.lagged {lagged})")
     old = lambda f: (float(np.median([t for t, _ in f.member_snaps])) - f.stamp if f.member_snaps else math.nan)  # noqa: E731
@@ -409,6 +461,8 @@ def main(argv=None) -> int:
     ap.add_argument("--lagged", type=int, nargs="+", default=[1],
                     help="with --rescore: score the forecasts a lagged ensemble of this many forecasts publishes "
                          "(forecast.lagged; 1: as run); several counts: each in turn")
+    ap.add_argument("--slack-margin", type=float, nargs="+", default=[0.0],
+                    help="with --rescore: score the forecasts with forecast.slack_margin = this (0: as run); several: each in turn")
     ap.add_argument("--near-misses", action="store_true",
                     help="with --rescore: run each dumped sea again without forecasts and compare every false-alarm "
                          "episode with the run's own end tension (the snap level, the slack level)")
@@ -426,9 +480,12 @@ def main(argv=None) -> int:
         return motion_error(args)
     if args.rescore:
         if args.near_misses:
-            return near_misses(args.rescore)
-        for count in args.lagged:
-            rescore(args.rescore, lagged=count)
+            for margin in args.slack_margin:
+                near_misses(args.rescore, margin=margin)
+            return 0
+        for margin in args.slack_margin:
+            for count in args.lagged:
+                rescore(args.rescore, lagged=count, margin=margin)
         return 0
     rows, dumps, costs = [], [], []
     print(f"forecast skill: Hs {args.hs:g} m, Tp {args.tp:g} s, {args.directions} direction(s), horizon {args.horizon:g} s, {args.members} members, "
@@ -442,12 +499,13 @@ def main(argv=None) -> int:
             c_score = time.thread_time()
             if args.dump:
                 dumps.append({"file": path, "seed": seed, "snaps": snaps, "slack_starts": run_case.slacks,
+                              "slack_levels": run_case.slack_levels,
                               "warnings": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.time_to_snap_std,
                                                   f.predicted_peak) for f in fc if f.probability >= 0.5]
                                            for src, fc in forecasts.items()},
                               # every forecast with its members' snaps (reliability, other thresholds)
                               "forecasts": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.members,
-                                                   f.member_snaps, f.member_troughs) for f in fc]
+                                                   f.member_snaps, f.member_troughs, f.member_slack_depths, f.slack_at_stamp) for f in fc]
                                             for src, fc in forecasts.items()}})
             for source in args.sources:
                 fc = forecasts[source]

@@ -3,7 +3,10 @@
 ``python -m tether_sim.warm`` is the warm-up stage of ``tools/setup_env.sh``: it builds each solver
 variant the shipped configurations use, takes two substeps and calls every output the node and the
 offline runner use (state at the output points, end forces, body states, substep end tensions and
-the snap detector), one *kernel group* at a time with its progress printed. numba compiles each
+the snap detector), one *kernel group* at a time with its progress printed. A line-network file
+(config/ropos_tms.yaml) is run as its node runs it (:func:`exercise_network`): the network statics,
+the settling, coupling steps with the bodies' compiled kicks, each line's winch paying out, every
+line's state at the output points and its snap detector. numba compiles each
 kernel on its first call and caches the machine code next to the source (``__pycache__/*.nbi``,
 ``*.nbc``); the cache is keyed on the source files, so the set-up reruns this stage whenever a
 source file of ``tether_sim`` changes (a warm run takes a few seconds: every kernel is a cache
@@ -14,7 +17,8 @@ while the calling (main) thread waits, says what it is doing when the work takes
 cache load, and returns at once when asked to stop (SIGINT/SIGTERM), so a node started with a cold
 cache can be stopped while it compiles.
 
-No ROS here: this module is below ``tether_sim.ros`` (test/test_layering.py).
+No ROS here: nothing imports rclpy or a message package (the line-network group drives
+``tether_sim.ros.network_driver``, which imports neither; test/test_layering.py).
 """
 
 from __future__ import annotations
@@ -31,12 +35,17 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[1]
 # (name, parameter file): one per solver variant with kernels of its own. The node and `make run`
 # use the first; the others are the bending (LDG), implicit-damping and hybrid code paths that the
-# scenarios, the test suite and the other shipped configurations reach.
+# scenarios, the test suite and the other shipped configurations reach, and the line network.
+# test/test_warm_coverage.py fails when a shipped configuration's start compiles a kernel these leave out.
 GROUPS = (
     ("DG solver with a cage (make run, the ROPOS live configurations)", "config/ropos_validation.yaml"),
     ("DG solver with bending (LDG) and clamped/force ends", "config/cantilever.yaml"),
     ("DG solver with implicit damping", "config/koh_swinging_cable.yaml"),
     ("hybrid rod-catenary solver", "config/ropos_L200_hybrid.yaml"),
+    ("hybrid rod with bending and torsion (frames along the rod)", "config/goyal_perkins.yaml"),
+    ("dynamic-relaxation statics (the ROV demo)", "config/rov_demo.yaml"),
+    ("line network: main tether and excursion tether on the cage, bodies, winches (the TMS file)",
+     "config/ropos_tms.yaml"),
 )
 # what a cold start costs, measured (docs/node.md "Stepping policy"): said to the user while waiting
 COLD_COMPILE_NOTE = ("about 1.5 min on an idle 2-core machine, ~10 min at load 10; "
@@ -85,15 +94,54 @@ def exercise(config, solver_factory=None) -> None:
     detector.update(np.asarray(times, float), np.column_stack([t_ship, t_vehicle]))
 
 
+def exercise_network(path, ticks: int = 4) -> None:
+    """Run the line-network file ``path`` as the network node and the offline runner do: the
+    driver's start (statics, settling, detectors), ``ticks`` output periods with every winch paying
+    out from the second on (a command's first tick must not compile), each line's state at the
+    output points (a read-only array, as the outputs pass it: numba compiles read-only arrays
+    separately)."""
+    from tether_sim.network.params import load_network_files
+    from tether_sim.ros.network_driver import NetworkDriver
+
+    spec, cfg = load_network_files([path])
+    node = cfg.node
+    driver = NetworkDriver(spec, node)
+    driver.start(0.0)
+    now, period = 0.0, 1.0 / node.output_rate
+    for k in range(ticks):
+        if k == 1:
+            for line, link in driver.net.winches.items():
+                driver.net.command_winch(line, "speed", 0.5 * link.config.winch.max_speed, "topic")
+        now += period
+        report = driver.tick(now)
+        if report.error:
+            raise RuntimeError(f"{path}: {report.error}")
+    for line, solver in driver.net.lines.items():
+        length = float(getattr(solver, "unstretched_length", spec.lines[line].config.cable.length))
+        at = np.linspace(0.0, length, node.output_points)
+        at.flags.writeable = False
+        solver.state(at)
+
+
+def warm_group(params, root: Path = REPO) -> None:
+    """Exercise one group's parameter file (a line network or a single line)."""
+    from tether_sim.io.params import load_config
+    from tether_sim.network.params import file_is_network
+
+    path = root / params
+    if file_is_network(path):
+        exercise_network(path)
+    else:
+        exercise(load_config(path))
+
+
 def warm_groups(groups=GROUPS, root: Path = REPO, out=print) -> float:
     """Run :func:`exercise` for each group, printing progress; returns the total wall time."""
-    from tether_sim.io.params import load_config
-
     t_all = time.perf_counter()
     for k, (name, params) in enumerate(groups, 1):
         t0 = time.perf_counter()
         out(f"[warm-up {k}/{len(groups)}] {name} ({params}) ...")
-        exercise(load_config(root / params))
+        warm_group(params, root)
         out(f"[warm-up {k}/{len(groups)}] done in {time.perf_counter() - t0:.1f} s")
     return time.perf_counter() - t_all
 

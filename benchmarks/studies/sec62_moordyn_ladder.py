@@ -31,8 +31,9 @@ FIELDS = ("L", "f", "alpha", "segments", "dt", "ship_peak_N", "ship_time_s", "ca
 COUPLING_STEP = 0.005  # s: MoorDyn sampled every 5 ms (finer sampling moves the peaks by <= 0.04 %, docs/network.md)
 
 
-def run(L, f, alpha, n_segments, periods, workdir):
-    """One MoorDyn run; returns the CSV row."""
+def run(L, f, alpha, n_segments, periods, workdir, series=None):
+    """One MoorDyn run; returns the CSV row (and with ``series``, a folder, saves its end tensions there as
+    L<L>_f<f>_a<alpha>_N<segments>.npz: t, ship, cage)."""
     import moordyn
 
     from benchmarks import ropos_case as rc
@@ -63,6 +64,9 @@ def run(L, f, alpha, n_segments, periods, workdir):
     finally:
         moordyn.Close(system)
     times, ship, cage = np.asarray(times), np.asarray(ship), np.asarray(cage)
+    if series is not None:
+        Path(series).mkdir(parents=True, exist_ok=True)
+        np.savez(Path(series) / f"L{L:g}_f{f:g}_a{alpha:g}_N{n_segments}.npz", t=times, ship=ship, cage=cage)
     window = times >= 1.0 / f
     i = int(np.argmax(np.where(window, ship, -1.0)))
     j = int(np.argmax(np.where(window, cage, -1.0)))
@@ -79,6 +83,7 @@ def main(argv=None):
     ap.add_argument("--segments", type=int, nargs="+", default=[40, 80, 160])
     ap.add_argument("--periods", type=float, default=1.9)
     ap.add_argument("--out", type=Path, default=Path("out/sec62_moordyn"))
+    ap.add_argument("--series", action="store_true", help="also save each run's end tensions in --out/series")
     args = ap.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
     csv_path = args.out / "runs.csv"
@@ -92,7 +97,7 @@ def main(argv=None):
             for f in args.freqs:
                 for alpha in args.alphas:
                     for n in args.segments:
-                        row = run(L, f, alpha, n, args.periods, work)
+                        row = run(L, f, alpha, n, args.periods, work, args.out / "series" if args.series else None)
                         writer.writerow(row)
                         fh.flush()
                         print(f"L {L:g} f {f:g} alpha {alpha:g} N {n}: ship {row['ship_peak_N'] / 1e3:.1f} kN at "

@@ -11,6 +11,7 @@ time, and prints the table that docs/dg_solver.md quotes.
 
 Usage: PYTHONPATH=. python benchmarks/studies/slack_bending_ladder.py --lengths 200 500 --freqs 0.2 0.25
        --alphas 0 1 10 100 --meshes 20 40 80 --periods 12 --out out/slack_ladder [--set dg.damping=explicit] [--compare]
+       (--compare --coarse 20 --fine 40: the same check one rung lower)
 """
 
 import argparse
@@ -227,6 +228,8 @@ def main(argv=None):
     ap.add_argument("--compare", action="store_true", help="only print the N = 40 / 80 comparison table")
     ap.add_argument("--events", action="store_true",
                     help="with --compare: also print every event of every case on every mesh (time, peak, rise, verdict)")
+    ap.add_argument("--coarse", type=int, default=40, help="--compare: the mesh whose snaps must be on --fine")
+    ap.add_argument("--fine", type=int, default=80)
     ap.add_argument("--peak-tol", type=float, default=0.02)
     ap.add_argument("--time-tol", type=float, default=0.010)
     args = ap.parse_args(argv)
@@ -245,8 +248,8 @@ def main(argv=None):
                         row, events = run_case(L, f, alpha, N, args.periods, extra)
                         append_case(args.out, row, events)
                         print(" ".join(f"{k}={row.get(k, '')}" for k in RUN_FIELDS[:16]), flush=True)
-    print("L f alpha | snaps N40 N80 | unmatched extra | worst peak rel | worst dt s | numerical | ok")
-    for r in compare([args.out, *args.also], peak_tol=args.peak_tol, time_tol=args.time_tol):
+    print(f"L f alpha | snaps N{args.coarse} N{args.fine} | unmatched extra | worst peak rel | worst dt s | numerical | ok")
+    for r in compare([args.out, *args.also], args.coarse, args.fine, peak_tol=args.peak_tol, time_tol=args.time_tol):
         print(f"{r['L']:g} {r['f']:g} {r['alpha']:g} | {r['snaps_coarse']} {r['snaps_fine']} | {r['unmatched']} "
               f"{r['extra_fine']} | {r['worst_peak_rel']:.4f} | {r['worst_dt_s']:.4f} | {r['numerical']} | {r['ok']}")
     if args.events:

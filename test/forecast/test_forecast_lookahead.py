@@ -264,3 +264,67 @@ def test_exact_forecast_member_trough_is_the_runs_least_tension_within_the_horiz
         assert f.member_troughs[0] == pytest.approx(tension[f.end][inside].min(), rel=1e-9, abs=1e-6)
         checked += 1
     assert checked >= 6
+
+
+def test_exact_forecast_member_depth_is_the_runs_least_tension_before_the_snap_and_the_margin_keeps_deep_slack():
+    """Each snapping member reports its least end tension from the stamp to its snap's peak
+    (member_slack_depths, NaN without a snap); an exact forecast's is the run's own. With
+    forecast.slack_margin a member's snap counts only when that depth lies below (1 - margin) x the
+    slack level (unless the end was already slack at the stamp): the same forecasts as the margin
+    applied to the raw ones (deep_snaps); the regular wave's snaps, after a deep slack, are kept."""
+    from tether_sim.forecast.lookahead import deep_snaps
+
+    results = {}
+    for margin in (0.0, 0.5):
+        cfg = regular_wave_case(horizon=4.0, slack_margin=margin)
+        src = {"ship": MotionSource(build_motion(cfg.motion, np.asarray(cfg.ship_end.position, float), wave_components(cfg)))}
+        driver = SimulationDriver(cfg, src, start_blend=False)
+        service = ForecastService(cfg)
+        driver.start(0.0)
+        samples, drain = [], driver.solver.drain_end_tensions
+
+        def recording_drain(drain=drain, samples=samples, driver=driver):
+            out = drain()
+            samples.append((np.asarray(out[0]) + driver.anchor, np.asarray(out[1]), np.asarray(out[2])))
+            return out
+
+        driver.solver.drain_end_tensions = recording_drain
+        forecasts = []
+        for k in range(1, int(12.0 * RATE) + 1):
+            driver.tick(k / RATE)
+            service.observe(driver, clock_origin=0.0, tick_index=k)
+            forecasts += service.poll()
+        slack = dict(zip(driver.detector.locations, driver.detector.thresholds))
+        results[margin] = (forecasts, samples, slack)
+    raw, samples, slack = results[0.0]
+    t = np.concatenate([a for a, _, _ in samples])
+    tension = {"ship": np.concatenate([b for _, b, _ in samples]), "vehicle": np.concatenate([c for _, _, c in samples])}
+    snapping = 0
+    for f in raw:
+        (depth,) = f.member_slack_depths
+        if not f.member_snaps:
+            assert math.isnan(depth)
+            continue
+        (peak_time, _), = f.member_snaps
+        before = (t > f.stamp - 1e-9) & (t <= peak_time + 1e-12)
+        assert depth == pytest.approx(tension[f.end][before].min(), rel=1e-9, abs=1e-6)
+        snapping += 1
+    assert snapping >= 4
+    kept = 0
+    for f, g in zip(raw, results[0.5][0]):
+        assert (f.stamp, f.end, f.member_troughs) == (g.stamp, g.end, g.member_troughs)
+        expected = f.member_snaps if f.slack_at_stamp else deep_snaps(f.member_snaps, f.member_slack_depths, slack[f.end], 0.5)
+        assert g.member_snaps == expected and g.probability == len(expected)
+        kept += bool(f.member_snaps and expected)
+    assert kept >= 1  # the regular wave's snaps follow a deep slack (the cage's end tension near zero)
+
+
+def test_deep_snaps_counts_the_members_below_the_margin():
+    from tether_sim.forecast.lookahead import deep_snaps
+
+    snaps = [(1.0, 10.0), (2.0, 11.0), (3.0, 12.0)]
+    depths = [0.0, math.nan, 80.0, 69.0, math.nan]  # per finished member; NaN: no snap
+    assert deep_snaps(snaps, depths, 100.0, 0.3) == [(1.0, 10.0), (3.0, 12.0)]
+    assert deep_snaps(snaps, depths, 100.0, 0.0) == snaps
+    with pytest.raises(ValueError):
+        deep_snaps(snaps, depths[:2], 100.0, 0.3)

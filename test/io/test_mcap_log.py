@@ -209,6 +209,37 @@ def test_direct_chunk_append_writes_the_bytes_of_the_mcap_writer(tmp_path, prefi
     assert fast.read_bytes() == slow.read_bytes()
 
 
+def test_chunks_are_zstd_level_1_and_other_writers_keep_their_level(tmp_path, prefix, typestore):
+    """Every chunk is compressed at zstd level 1 (mcap's C++ writer's default level, the CPU of
+    level 3 roughly halved); mcap's own Writer, used outside RosMcapWriter, still compresses at its
+    level 3 (the level is set only while this writer closes a chunk)."""
+    import io
+
+    import mcap.writer
+    import zstandard
+    from mcap.records import Chunk
+    from mcap.stream_reader import StreamReader
+
+    path = write_file(tmp_path / "run.mcap", prefix, make_messages(typestore, n=80), chunk_size=1024)
+    chunks = [r for r in StreamReader(io.BytesIO(path.read_bytes()), emit_chunks=True).records if isinstance(r, Chunk)]
+    assert len(chunks) > 3
+    for chunk in chunks:
+        raw = zstandard.ZstdDecompressor().decompress(chunk.data, max_output_size=chunk.uncompressed_size)
+        assert chunk.compression == "zstd" and chunk.data == zstandard.compress(raw, level=1)
+        assert chunk.data != zstandard.compress(raw, level=3)  # (the check tells the levels apart here)
+    assert mcap.writer.zstandard is zstandard
+    out = io.BytesIO()
+    plain = mcap.writer.Writer(out)
+    plain.start()
+    channel = plain.register_channel("/x", "cdr", 0)
+    for k in range(50):
+        plain.add_message(channel, k, bytes(range(200)) * (k % 7 + 1), k)
+    plain.finish()
+    (chunk,) = [r for r in StreamReader(io.BytesIO(out.getvalue()), emit_chunks=True).records if isinstance(r, Chunk)]
+    raw = zstandard.ZstdDecompressor().decompress(chunk.data, max_output_size=chunk.uncompressed_size)
+    assert chunk.data == zstandard.compress(raw, level=3)
+
+
 def test_write_many_is_write_one_message_after_the_other(tmp_path, prefix, typestore):
     """A tick's outputs written in one call (one stamp) make the file that write() makes with them one
     after the other (a memoryview payload taken as its bytes); an unknown topic or a short payload is

@@ -43,6 +43,20 @@ def test_pe2020_sec62_has_the_papers_48_cases():
     assert (cfg.cable.length, cfg.cable.EI, cfg.motion.frequency) == (1730.0, 262e3, 0.25)
 
 
+def test_pe2020_sec62_N40_is_the_long_lengths_on_a_finer_mesh():
+    """The 24 cases at L = 975 and 1730 m of pe2020_sec62.yaml, each resolved the same but on N = 40 elements."""
+    main = {tuple(c.variables.values()): c for c in load_study(STUDIES / "pe2020_sec62.yaml").cases()}
+    cases = load_study(STUDIES / "pe2020_sec62_N40.yaml").cases()
+    assert len(cases) == 24
+    assert {c.variables["L"] for c in cases} == {975, 1730}
+    for c in cases:
+        twin = main[tuple(c.variables.values())]
+        assert c.base == twin.base
+        assert {k: v for k, v in c.overrides.items() if k != "dg.n_elements"} == twin.overrides
+        cfg = load_config(c.base, c.overrides)
+        assert (cfg.dg.n_elements, cfg.dg.order) == (40, 4)
+
+
 @pytest.mark.parametrize("name, n", [("heave_sweep.yaml", 30), ("heave_irregular_seeds.yaml", 20)])
 def test_shipped_studies_load(name, n):
     cases = load_study(STUDIES / name).cases()

@@ -79,6 +79,8 @@ class EndForecast:
     reason: str = ""
     member_snaps: list = field(default_factory=list)  # (time s clock, peak N) of each member that snaps
     member_troughs: list = field(default_factory=list)  # N, each finished member's least end tension in [stamp, stamp + horizon)
+    member_slack_depths: list = field(default_factory=list)  # N, each finished member's least end tension from the stamp to its snap's peak (NaN: no snap)
+    slack_at_stamp: bool = False  # the end was slack or re-tensioning (the run's detector) at the stamp
 
 
 class LookAhead:
@@ -96,33 +98,33 @@ class LookAhead:
         reasons = [request.degraded] if request.degraded else []
         if len(finished) < len(results):
             reasons.append(f"{len(results) - len(finished)} of {len(results)} members diverged")
+        margin = getattr(getattr(self.config, "forecast", None), "slack_margin", 0.0)
+        slack = dict(zip(request.detector.locations, request.detector.thresholds))
+        # a slack already under way at the stamp is the run's own, not forecast: no correction for it
+        observed = dict(zip(request.detector.locations, request.detector.is_slack() | request.detector.is_rising()))
         out = []
         for end in END_NAMES:
+            depths = [r["depth"][end] for r in finished]
             snaps = [r[end] for r in finished if r[end] is not None]
-            n = len(finished)
-            times = np.array([t for t, _ in snaps]) - request.issued
-            peaks = np.array([p for _, p in snaps])
-            out.append(EndForecast(
-                stamp=request.issued, end=end, horizon=request.horizon,
-                probability=len(snaps) / n if n else math.nan,
-                time_to_snap=ensemble_median_time(times, n),
-                time_to_snap_std=float(times.std()) if snaps else math.nan,
-                predicted_peak=float(np.median(peaks)) if snaps else math.nan,
-                members=n, source=request.source, degraded=bool(reasons) or n == 0,
-                reason="; ".join(reasons) if reasons else ("" if n else "no member finished"),
-                member_snaps=[(float(t), float(p)) for t, p in snaps],
-                member_troughs=[r["trough"][end] for r in finished]))
+            if margin > 0.0 and not observed[end]:
+                snaps = deep_snaps(snaps, depths, slack[end], margin)
+            out.append(summarise(request.issued, end, request.horizon, snaps, len(finished), request.source,
+                                 reasons, member_troughs=[r["trough"][end] for r in finished], member_slack_depths=depths,
+                                 slack_at_stamp=bool(observed[end])))
         return out
 
     def _member(self, request, motion):
         """{end: (clock time, peak) of the first snap within the horizon, or None, "trough": {end: least
-        tension within the horizon}}; None on divergence."""
+        tension within the horizon}, "depth": {end: least tension from the stamp to that snap's peak, NaN
+        without one}}; None on divergence."""
         solver = self.solver
         solver.restore(request.snapshot)
         solver.drain_end_tensions()
         detector = copy.deepcopy(request.detector)
         first = {end: None for end in END_NAMES}
         trough = {end: math.inf for end in END_NAMES}
+        depth = {end: math.nan for end in END_NAMES}
+        history = []  # (clock times, tensions) of every tick so far (for the depth before a snap)
         end_clock = request.issued + request.horizon
         t0 = request.solver_time
         n_ticks = max(1, int(math.ceil(request.horizon / request.tick - 1e-9)))
@@ -154,12 +156,15 @@ class LookAhead:
                     least = (tensions if inside.all() else tensions[inside]).min(axis=0)
                     for j, end in enumerate(END_NAMES):
                         trough[end] = min(trough[end], float(least[j]))
+                history.append((clock, tensions))
                 events = detector.update(clock, tensions, relative_end_speed(solver, self.config.cable.length))
                 for ev in events:
                     if (isinstance(ev, SnapEvent) and first[ev.location] is None
                             and request.issued - 1e-9 <= ev.time <= end_clock + 1e-9):
                         first[ev.location] = (ev.time, ev.peak_tension)
+                        depth[ev.location] = _least_before(history, END_NAMES.index(ev.location), ev.time)
         first["trough"] = trough
+        first["depth"] = depth
         return first
 
 
@@ -187,6 +192,33 @@ class _ShipPlan:
         return self.p[i], self.v[i]
 
 
+def summarise(stamp, end, horizon, snaps, n, source, reasons=(), **members):
+    """The EndForecast of ``n`` finished members of which those in ``snaps`` ((clock time, peak) each)
+    snap at ``end`` within the horizon (module doc: probability, whole-ensemble median time, median peak)."""
+    times = np.array([t for t, _ in snaps]) - stamp
+    peaks = np.array([p for _, p in snaps])
+    return EndForecast(
+        stamp=stamp, end=end, horizon=horizon,
+        probability=len(snaps) / n if n else math.nan,
+        time_to_snap=ensemble_median_time(times, n),
+        time_to_snap_std=float(times.std()) if snaps else math.nan,
+        predicted_peak=float(np.median(peaks)) if snaps else math.nan,
+        members=n, source=source, degraded=bool(reasons) or n == 0,
+        reason="; ".join(reasons) if reasons else ("" if n else "no member finished"),
+        member_snaps=[(float(t), float(p)) for t, p in snaps], **members)
+
+
+def deep_snaps(snaps, depths, slack_level, margin):
+    """The snaps (one per snapping member, in member order) of the members whose least tension before
+    the snap (``depths``: every finished member's, NaN for those without a snap) lies below (1 -
+    ``margin``) x ``slack_level``: ``forecast.slack_margin``, the members' slack corrected for their
+    measured bias against the run (docs/forecast.md, "Calibration of the members' slack")."""
+    deep = [d for d in depths if not math.isnan(d)]
+    if len(deep) != len(snaps):
+        raise ValueError(f"{len(snaps)} member snaps but {len(deep)} depths before a snap")
+    return [s for s, d in zip(snaps, deep) if d < (1.0 - margin) * slack_level]
+
+
 def ensemble_median_time(times, members):
     """Median snap time of the whole ensemble of ``members`` members, of which those with a snap
     within the horizon snapped at ``times`` and the others later (after the horizon, or never): NaN
@@ -200,6 +232,16 @@ def ensemble_median_time(times, members):
     if 2 * k == members:
         return float(times[-1])
     return float(np.median(np.concatenate([times, np.full(members - k, math.inf)])))
+
+
+def _least_before(history, column, until):
+    """The least tension of ``column`` over the samples of ``history`` at clock times <= ``until``."""
+    least = math.inf
+    for clock, tensions in history:
+        upto = clock <= until + 1e-12
+        if upto.any():
+            least = min(least, float(tensions[upto, column].min()))
+    return least
 
 
 def _window_open(detector, first):

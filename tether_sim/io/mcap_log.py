@@ -4,7 +4,8 @@ Layout [ros2-conventions 1.7]: header profile ``ros2``; one ``ros2msg`` schema p
 from the ``.msg`` files (:mod:`tether_sim.io.msg_definitions`); channels with ``cdr`` encoding and
 metadata ``offered_qos_profiles`` (metadata-v9 YAML, lower-case enums) and ``topic_type_hash``
 (RIHS01); message data = the CDR bytes as given (4-byte encapsulation header included); zstd
-chunks with CRCs; the ``rosbag2`` metadata record (``serialized_metadata`` = BagMetadata v9 YAML)
+chunks with CRCs (zstd level 1, the level of mcap's C++ writer by default, which rosbag2's MCAP storage
+uses; :func:`_zstd_level`); the ``rosbag2`` metadata record (``serialized_metadata`` = BagMetadata v9 YAML)
 written at close. Every byte the MCAP writer emits goes straight to the OS (no user-space buffer),
 and a chunk is closed when it is full or ``flush_interval_s`` has passed, so a process killed
 mid-write leaves a file whose complete chunks still read (:func:`iter_raw` scans such files).
@@ -14,10 +15,14 @@ from __future__ import annotations
 
 import os
 import struct
+import threading
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
+import mcap.writer as _mcap_writer
 import yaml
+from mcap.opcode import Opcode
 from mcap.records import MessageIndex
 from mcap.writer import CompressionType, Writer
 
@@ -79,6 +84,52 @@ _OP_MESSAGE = 0x05
 _MESSAGE_FIELDS = 22  # bytes of the record after its length, before the data
 
 
+class _MessageIndex(MessageIndex):
+    """mcap's MessageIndex record (channel id, byte length of the pairs, (log time, offset) pairs)
+    with its pairs packed in one call: mcap's ``write`` packs each number alone (two calls per
+    message when the chunk closes). The same bytes (test/io/test_mcap_log.py)."""
+
+    def write(self, stream):
+        n = len(self.records)
+        stream.start_record(Opcode.MESSAGE_INDEX)
+        stream.write(struct.pack(f"<HI{2 * n}Q", self.channel_id, 16 * n, *(x for pair in self.records for x in pair)))
+        stream.finish_record()
+
+
+ZSTD_LEVEL = 1  # mcap's C++ writer: CompressionLevel::Default is zstd level 1 (mcap's Python writer: 3)
+
+
+class _Zstd:
+    """What mcap's Python writer calls to compress a chunk (``zstandard.compress(data)``, zstd's
+    default level 3), at :data:`ZSTD_LEVEL`: about half the CPU of level 3 on this writer's chunks,
+    the file a little larger (docs/network.md, "The output cost: chunk compression")."""
+
+    def __init__(self, zstandard, level):
+        self._zstandard, self.level = zstandard, level
+
+    def compress(self, data):
+        return self._zstandard.compress(data, level=self.level)
+
+
+_SWAP = threading.Lock()
+
+
+@contextmanager
+def _zstd_level():
+    """Within: mcap's writer compresses chunks at :data:`ZSTD_LEVEL` (its module's ``zstandard`` is
+    stood in for, under a lock, and put back after). A no-op when that writer has no such name."""
+    module = getattr(_mcap_writer, "zstandard", None)
+    if module is None or isinstance(module, _Zstd):
+        yield
+        return
+    with _SWAP:
+        _mcap_writer.zstandard = _Zstd(module, ZSTD_LEVEL)
+        try:
+            yield
+        finally:
+            _mcap_writer.zstandard = module
+
+
 class _ChunkAppender:
     """What ``mcap.writer.Writer.add_message`` does with chunking on, in one ``struct`` pack: the
     file's statistics, the open chunk's time range and message index, and the Message record
@@ -124,14 +175,15 @@ class _ChunkAppender:
         buf = ch.record_writer._buffer
         index = ch.message_indices.get(channel)
         if index is None:
-            index = ch.message_indices[channel] = MessageIndex(channel_id=channel, records=[])
+            index = ch.message_indices[channel] = _MessageIndex(channel_id=channel, records=[])
         index.records.append((log_time, buf.tell()))
         ch.num_messages += 1
         buf.write(_MESSAGE_RECORD.pack(_OP_MESSAGE, _MESSAGE_FIELDS + len(data), channel, sequence, log_time,
                                        publish_time))
         buf.write(data)
         if buf.tell() > self.chunk_size:
-            self.finalize()
+            with _zstd_level():
+                self.finalize()
 
 
 class RosMcapWriter:
@@ -191,15 +243,17 @@ class RosMcapWriter:
             offered_qos_profiles = [qos_profile(*QOS_PRESETS[qos])]
         if type_name not in self._schemas:
             encoding, text = self._definitions.schema(type_name)
-            self._schemas[type_name] = self._writer.register_schema(
-                name=type_name, encoding=encoding, data=text.encode("utf-8"))
+            with _zstd_level():  # (a schema or channel record may close the chunk)
+                self._schemas[type_name] = self._writer.register_schema(
+                    name=type_name, encoding=encoding, data=text.encode("utf-8"))
         if type_hash is None:
             type_hash = self._definitions.type_hash(type_name)
         metadata = {"offered_qos_profiles": _dump_yaml(list(offered_qos_profiles)),
                     "topic_type_hash": type_hash}
-        channel = self._writer.register_channel(topic=topic, message_encoding="cdr",
-                                                schema_id=self._schemas[type_name],
-                                                metadata=metadata)
+        with _zstd_level():
+            channel = self._writer.register_channel(topic=topic, message_encoding="cdr",
+                                                    schema_id=self._schemas[type_name],
+                                                    metadata=metadata)
         self._topics[topic] = {"type": type_name, "channel": channel, "count": 0, "seq": 0,
                                "qos": list(offered_qos_profiles), "hash": type_hash}
         return channel
@@ -226,9 +280,10 @@ class RosMcapWriter:
                 cdr = cdr.tobytes()
             self._append.add(info["channel"], log_time_ns, cdr, publish_time_ns, info["seq"] & 0xFFFFFFFF)
         else:
-            self._writer.add_message(channel_id=info["channel"], log_time=log_time_ns,
-                                     data=bytes(cdr), publish_time=publish_time_ns,
-                                     sequence=info["seq"] & 0xFFFFFFFF)
+            with _zstd_level():
+                self._writer.add_message(channel_id=info["channel"], log_time=log_time_ns,
+                                         data=bytes(cdr), publish_time=publish_time_ns,
+                                         sequence=info["seq"] & 0xFFFFFFFF)
         if self._flush_interval is not None and \
                 time.monotonic() - self._last_flush >= self._flush_interval:
             self.flush()
@@ -272,7 +327,8 @@ class RosMcapWriter:
     def flush(self) -> None:
         """Close the open chunk (if it holds messages) and hand it to the OS."""
         self._check_open()
-        self._writer.flush()
+        with _zstd_level():
+            self._writer.flush()
         self._last_flush = time.monotonic()
 
     def bag_metadata(self) -> dict:
@@ -311,7 +367,8 @@ class RosMcapWriter:
         self.closed = True
         try:
             self._writer.add_metadata("rosbag2", {"serialized_metadata": _dump_yaml(self.bag_metadata())})
-            self._writer.finish()
+            with _zstd_level():
+                self._writer.finish()
         finally:
             self._file.close()
 

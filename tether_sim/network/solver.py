@@ -32,6 +32,7 @@ from tether_sim.network.body import NetworkBody
 from tether_sim.network.body_kernels import BP_DRAG, BP_INERTIA, BP_MASS, BP_ROT_DAMPING, BP_WET, N_BP, kdk_close, kdk_open
 from tether_sim.network.spec import line_end_condition
 from tether_sim.network.statics import solve_network_statics
+from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.constitutive import TensionLaw
 from tether_sim.physics.hydrodynamics import current_at, current_table
 from tether_sim.solvers.base import LOAD_F, LOAD_M, LOAD_T
@@ -48,8 +49,7 @@ def _hermite(p0, v0, p1, v1, T, tau):
     d00, d10, d01, d11 = (6 * x**2 - 6 * x) / T, 3 * x**2 - 4 * x + 1, (-6 * x**2 + 6 * x) / T, 3 * x**2 - 2 * x
     a, b = h10 * T, h11 * T  # on plain floats, in numpy's order of the vector expressions (the same bits)
     p, v = [], []
-    for c in range(3):
-        q0, w0, q1, w1 = float(p0[c]), float(v0[c]), float(p1[c]), float(v1[c])
+    for q0, w0, q1, w1 in zip(p0.tolist(), v0.tolist(), p1.tolist(), v1.tolist()):
         p.append(h00 * q0 + a * w0 + h01 * q1 + b * w1)
         v.append(d00 * q0 + d10 * w0 + d01 * q1 + d11 * w1)
     return np.array(p), np.array(v)
@@ -106,6 +106,11 @@ class NetworkSolver:
         for n in self.bodies:
             for k, e in enumerate(spec.ends_on(n)):
                 self._where[(e.line, e.end)] = (n, k)
+        # per line, its ends that move: (end, body, attachment index, None) or (end, None, 0, driven point)
+        self._moving_ends = {name: [(e.end, *self._where[(name, e.end)], None) if e.kind == "body" else
+                                    (e.end, None, 0, self.points[e.target]) for e in line.ends
+                                    if e.kind == "body" or (e.kind == "point" and self.points[e.target].spec.kind == "prescribed")]
+                             for name, line in spec.lines.items()}
         self.statics_residual = None
         if statics and self.bodies:
             self._statics, self.statics_residual = solve_network_statics(spec, self.bodies)
@@ -167,11 +172,15 @@ class NetworkSolver:
 
     # ------------------------------------------------------------------ loads
     def _body_loads(self, name):
-        b = self.bodies[name]
-        ends = self.spec.ends_on(name)
-        F = np.array([self._loads[e.line][0 if e.end == "ship" else 1, LOAD_F:LOAD_F + 3] for e in ends])
-        M = np.array([self._loads[e.line][0 if e.end == "ship" else 1, LOAD_M:LOAD_M + 3] for e in ends])
+        rows = self.load_rows(name)
+        F = np.array([r[LOAD_F:LOAD_F + 3] for r in rows]).reshape(-1, 3)
+        M = np.array([r[LOAD_M:LOAD_M + 3] for r in rows]).reshape(-1, 3)
         return F, M
+
+    def load_rows(self, name):
+        """The load row (plain floats, columns LOAD_*) of every line end on point or body ``name``,
+        in the order of spec.end_rows(name): what the outputs sum, without numpy on 3-vectors."""
+        return [self._loads[line][row].tolist() for line, row in self.spec.end_rows(name)]
 
     def _fluid_velocity(self, body):
         cz, cx, cy = self._current
@@ -190,8 +199,7 @@ class NetworkSolver:
         prm[BP_DRAG:BP_DRAG + 3] = b.drag
         prm[BP_WET] = b.wet_weight
         index = {n: i for i, n in enumerate(self.lines)}
-        rows = np.array([[index[e.line], 0 if e.end == "ship" else 1] for e in self.spec.ends_on(name)],
-                        dtype=np.int64).reshape(-1, 2)
+        rows = np.array([[index[line], row] for line, row in self.spec.end_rows(name)], dtype=np.int64).reshape(-1, 2)
         return prm, rows, np.zeros((3, 13)), np.zeros((len(rows), 6))
 
     # ------------------------------------------------------------------ stepping
@@ -217,7 +225,8 @@ class NetworkSolver:
         self.time = t
         out = {}
         for k in self.lines:
-            s = np.concatenate(chunks[k], axis=1) if chunks[k] else np.zeros((3, 0))
+            c = chunks[k]  # (one chunk, a copy made for it, is the tick's samples as it is)
+            s = c[0] if len(c) == 1 else np.concatenate(c, axis=1) if c else np.zeros((3, 0))
             if drain:
                 out[k] = {"samples": s, "loads": self._loads[k].copy()}
             else:
@@ -238,13 +247,8 @@ class NetworkSolver:
                 p.pos, p.vel = _hermite(p.p0, p.v0, p.p1, p.v1, p.t1 - p.t0, t_new - p.t0)
         for name, solver in self.lines.items():
             motion = {}
-            for e in self.spec.lines[name].ends:
-                if e.kind == "body":
-                    bn, k = self._where[(name, e.end)]
-                    motion[e.end] = (targets[bn][k, 0:3], targets[bn][k, 3:6])
-                elif e.kind == "point" and self.points[e.target].spec.kind == "prescribed":
-                    p = self.points[e.target]
-                    motion[e.end] = (p.pos, p.vel)
+            for end, body, k, p in self._moving_ends[name]:
+                motion[end] = (targets[body][k, 0:3], targets[body][k, 3:6]) if body is not None else (p.pos, p.vel)
             out = solver.tick(t_new, ship=motion.get("ship"), vehicle=motion.get("vehicle"), drain=True)
             self._loads[name][:] = out.loads[:, :7]
             if out.count:
@@ -258,8 +262,13 @@ class NetworkSolver:
     # ------------------------------------------------------------------ outputs
     def end_load(self, line, end):
         """(force (3,), axial tension, moment (3,)) by the line on its end 'ship' or 'vehicle'."""
-        row = self._loads[line][0 if end == "ship" else 1]
+        row = self._loads[line][END_NAMES.index(end)]
         return row[LOAD_F:LOAD_F + 3].copy(), float(row[LOAD_T]), row[LOAD_M:LOAD_M + 3].copy()
+
+    def end_tensions(self, line):
+        """(axial tension at s = 0, at s = L) of ``line`` as floats (end_load's tension, without its copies)."""
+        ends = self._loads[line]
+        return float(ends[0, LOAD_T]), float(ends[1, LOAD_T])
 
     def snapshot(self):
         return dict(time=self.time, lines={n: s.snapshot() for n, s in self.lines.items()},

@@ -28,6 +28,7 @@ end cannot be written; two lines ending on one point or body may each have one (
 import difflib
 import math
 from dataclasses import dataclass, replace
+from functools import cached_property
 
 from tether_sim.config import SimConfig
 from tether_sim.errors import ConfigError
@@ -60,6 +61,11 @@ class EndSpec:
     attachment: tuple = (0.0, 0.0, 0.0)  # body frame (body ends)
 
     @property
+    def row(self):
+        """Its row in the line's end tables (0: s = 0, the ship end; 1: s = L)."""
+        return END_NAMES.index(self.end)
+
+    @property
     def key(self):
         return f"network.lines.{self.line}.{'from' if self.end == 'ship' else 'to'}"
 
@@ -86,8 +92,25 @@ class NetworkSpec:
     environment: object
 
     def ends_on(self, target):
-        """Every EndSpec attached to the point or body ``target``."""
-        return [e for ln in self.lines.values() for e in ln.ends if e.target == target]
+        """Every EndSpec attached to the point or body ``target`` (a list, in line order)."""
+        return list(self._ends_by_target.get(target, ()))
+
+    def end_rows(self, target):
+        """(line, row) of every line end on the point or body ``target`` (row: EndSpec.row), in line order."""
+        return self._end_rows_by_target.get(target, ())
+
+    @cached_property
+    def _ends_by_target(self):
+        # built once per spec (a spec does not change once built; frozen fields, so a cache is safe)
+        table = {}
+        for ln in self.lines.values():
+            for e in ln.ends:
+                table.setdefault(e.target, []).append(e)
+        return {t: tuple(ends) for t, ends in table.items()}
+
+    @cached_property
+    def _end_rows_by_target(self):
+        return {t: tuple((e.line, e.row) for e in ends) for t, ends in self._ends_by_target.items()}
 
 
 def _mapping(value, key):

@@ -76,7 +76,7 @@ class NetworkStatics:
         res, scale = {}, {}
         for name, b in self.bodies.items():
             ends = self.spec.ends_on(name)
-            forces = np.array([sh[e.line][2][0 if e.end == "ship" else 1] for e in ends])
+            forces = np.array([sh[e.line][2][e.row] for e in ends])
             F, M, fl, fw, _ = b.loads(forces, np.zeros_like(forces), state=states[name])
             res[name] = np.concatenate([F, M])
             lever = float(np.max(np.linalg.norm(b.attachments, axis=1))) or 1.0

@@ -223,11 +223,15 @@ def snap_guard(config, element_length: float) -> SnapGuard:
 
 
 # Per-location machine state columns.
-(_MODE, _SLACK_START, _MIN_T, _EXIT_T, _PEAK, _PEAK_T, _RETENSION_T, _PREV_T, _PREV_TENSION, _HAS_PREV,
- _PEAK_EXIT, _DROP_T, _DROP_Y, _DROP_MIN, _FRONT_T, _PEAK_FRONT,
- _NEXT_RET, _NEXT_PEAK, _NEXT_PEAK_T, _NEXT_PEAK_EXIT, _NEXT_PEAK_FRONT, _NEXT_DROP_T, _NEXT_DROP_Y,
- _NEXT_DROP_MIN) = range(24)
+(_MODE, _SLACK_START, _MIN_T, _EXIT_T, _RETENSION_T, _PREV_T, _PREV_TENSION, _HAS_PREV, _FRONT_T, _NEXT_RET,
+ # a stage of a re-tensioning window: its running maximum (tension, time, slack exit and front at it) and its
+ # drop back into slack (time, tension there, least since); the window's own stage, then the next one's, in
+ # the same order (_NEXT: the offset between the two; _stage_peak / _stage_drop serve both)
+ _PEAK, _PEAK_T, _PEAK_EXIT, _PEAK_FRONT, _DROP_T, _DROP_Y, _DROP_MIN,
+ _NEXT_PEAK, _NEXT_PEAK_T, _NEXT_PEAK_EXIT, _NEXT_PEAK_FRONT, _NEXT_DROP_T, _NEXT_DROP_Y, _NEXT_DROP_MIN) = range(24)
 _N_STATE = 24
+_STAGE_SIZE = _NEXT_PEAK - _PEAK  # the columns of one stage
+_NEXT = _STAGE_SIZE  # offset of the next stage's columns from the window's
 _TIME_COLUMNS = [_SLACK_START, _EXIT_T, _PEAK_T, _RETENSION_T, _PREV_T, _PEAK_EXIT, _DROP_T, _FRONT_T, _PEAK_FRONT,
                  _NEXT_RET, _NEXT_PEAK_T, _NEXT_PEAK_EXIT, _NEXT_PEAK_FRONT, _NEXT_DROP_T]  # (shift_time)
 # _FRONT_T: the last upward crossing of the re-tension level (the start of the front now rising); _PEAK_FRONT
@@ -269,14 +273,30 @@ def _emit(events, n, kind, loc, time, value, min_t, start, exit_t, rise_start, f
 
 
 @jit
+def _stage_peak(s, o, t, y):
+    """A larger maximum (t, y) of the stage at column offset ``o`` (0: the window's, _NEXT: the next one's):
+    whatever rose after a drop belongs to it, so its drop is forgotten."""
+    s[_PEAK + o] = y
+    s[_PEAK_T + o] = t
+    s[_PEAK_EXIT + o] = s[_EXIT_T]
+    s[_PEAK_FRONT + o] = s[_FRONT_T]
+    s[_DROP_T + o] = np.nan
+
+
+@jit
+def _stage_drop(s, o, has_prev, t0, y0, t, y, lo):
+    """Watch the stage at offset ``o`` for its first fall below the slack level ``lo`` after its maximum."""
+    if has_prev and y0 >= lo > y:
+        s[_DROP_T + o] = _crossing_time(t0, y0, t, y, lo)
+        s[_DROP_Y + o] = y
+        s[_DROP_MIN + o] = y
+
+
+@jit
 def _start_next(s, t, y):
     """The re-tensioning rising above the re-tension level at (t, y) after the window's drop."""
     s[_NEXT_RET] = t
-    s[_NEXT_PEAK] = y
-    s[_NEXT_PEAK_T] = t
-    s[_NEXT_PEAK_EXIT] = s[_EXIT_T]
-    s[_NEXT_PEAK_FRONT] = s[_FRONT_T]
-    s[_NEXT_DROP_T] = np.nan
+    _stage_peak(s, _NEXT, t, y)
 
 
 @jit
@@ -302,13 +322,8 @@ def _close_window(s, j, y, lo, snap_level, min_duration, events, n_ev):
     if not np.isnan(s[_NEXT_RET]):  # what rose again after the drop gets its own window, from its own start
         s[_MODE] = _RISING
         s[_RETENSION_T] = s[_NEXT_RET]
-        s[_PEAK] = s[_NEXT_PEAK]
-        s[_PEAK_T] = s[_NEXT_PEAK_T]
-        s[_PEAK_EXIT] = s[_NEXT_PEAK_EXIT]
-        s[_PEAK_FRONT] = s[_NEXT_PEAK_FRONT]
-        s[_DROP_T] = s[_NEXT_DROP_T]
-        s[_DROP_Y] = s[_NEXT_DROP_Y]
-        s[_DROP_MIN] = s[_NEXT_DROP_MIN]
+        for k in range(_STAGE_SIZE):  # the next stage becomes the window's
+            s[_PEAK + k] = s[_PEAK + _NEXT + k]
         s[_NEXT_RET] = np.nan
     else:  # slack now (or between the slack and re-tension levels: not re-tensioned yet)
         s[_MODE] = _SLACK
@@ -363,33 +378,19 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                     s[_FRONT_T] = _crossing_time(t0, y0, t, y, hi)
                 third = False
                 if y > s[_PEAK]:  # a larger stage: whatever rose after a drop belongs to it
-                    s[_PEAK] = y
-                    s[_PEAK_T] = t
-                    s[_PEAK_EXIT] = s[_EXIT_T]
-                    s[_PEAK_FRONT] = s[_FRONT_T]
-                    s[_DROP_T] = np.nan
+                    _stage_peak(s, 0, t, y)
                     s[_NEXT_RET] = np.nan
                 elif np.isnan(s[_DROP_T]):
-                    if has_prev and y0 >= lo > y:
-                        s[_DROP_T] = _crossing_time(t0, y0, t, y, lo)
-                        s[_DROP_Y] = y
-                        s[_DROP_MIN] = y
+                    _stage_drop(s, 0, has_prev, t0, y0, t, y, lo)
                 elif np.isnan(s[_NEXT_RET]):
                     if y < s[_DROP_MIN]:
                         s[_DROP_MIN] = y
                     if y > hi:
                         _start_next(s, t, y)
                 elif y > s[_NEXT_PEAK]:
-                    s[_NEXT_PEAK] = y
-                    s[_NEXT_PEAK_T] = t
-                    s[_NEXT_PEAK_EXIT] = s[_EXIT_T]
-                    s[_NEXT_PEAK_FRONT] = s[_FRONT_T]
-                    s[_NEXT_DROP_T] = np.nan
+                    _stage_peak(s, _NEXT, t, y)
                 elif np.isnan(s[_NEXT_DROP_T]):
-                    if has_prev and y0 >= lo > y:
-                        s[_NEXT_DROP_T] = _crossing_time(t0, y0, t, y, lo)
-                        s[_NEXT_DROP_Y] = y
-                        s[_NEXT_DROP_MIN] = y
+                    _stage_drop(s, _NEXT, has_prev, t0, y0, t, y, lo)
                 else:
                     if y < s[_NEXT_DROP_MIN]:
                         s[_NEXT_DROP_MIN] = y
@@ -528,10 +529,12 @@ class SnapDetector:
             tensions = tensions.reshape(-1, 1)
         if tensions.shape != (times.size, len(self.locations)):
             raise ValueError(f"snap detector: tensions must have shape ({times.size}, {len(self.locations)}), got {tensions.shape}")
-        if not (np.all(np.isfinite(times)) and np.all(np.isfinite(tensions))):
+        if not (np.isfinite(times).all() and np.isfinite(tensions).all()):  # (the methods: np.all's wrapper costs ~3 us)
             raise ValueError("snap detector: non-finite time or tension sample")
         speed = None
-        if relative_speed is not None:
+        if type(relative_speed) is float:  # one number (the drivers'): what the line below makes of it
+            speed = abs(relative_speed)
+        elif relative_speed is not None:
             speed = float(np.max(np.abs(np.asarray(relative_speed, dtype=np.float64)), initial=0.0))
             if not math.isfinite(speed):
                 raise ValueError("snap detector: non-finite relative end speed")

@@ -242,7 +242,7 @@ class NetworkDriver:
                 continue
             times = s[0] + self.anchor
             speed = relative_end_speed(self.net.lines[name], self.spec.lines[name].config.cable.length)
-            events = self.detectors[name].update(times, np.column_stack([s[1], s[2]]), speed)
+            events = self.detectors[name].update(times, s[1:3].T, speed)  # (k, 2): the detector makes it contiguous
             for ev in events:
                 if isinstance(ev, NumericalSnapWarning):
                     self.numerical_snaps += 1

@@ -18,7 +18,7 @@ from tether_sim.numerics.rotations import quaternion_rotation
 from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent
 from tether_sim.ros import cdr, convert
 from tether_sim.physics.boundary import END_NAMES
-from tether_sim.solvers.base import LOAD_F, LOAD_M, LOAD_T
+from tether_sim.solvers.base import LOAD_F, LOAD_M
 
 _plain_rotation = getattr(quaternion_rotation, "py_func", quaternion_rotation)  # no compiled call from Python
 
@@ -58,29 +58,12 @@ def frame(node, name):
     return node.body_frame(name) if name in END_NAMES else f"{node.frame_prefix}{name}/base_link"
 
 
-_ENDS = {}
-
-
-def _ends_on(spec, name):
-    """(line, row) of every line end on point or body ``name`` (row 0: the line's ship end), kept per
-    network (a spec does not change once built)."""
-    key = (id(spec), name)
-    found = _ENDS.get(key)
-    if found is None or found[0] is not spec:
-        if len(_ENDS) > 64:
-            _ENDS.clear()
-        found = _ENDS[key] = (spec, tuple((e.line, 0 if e.end == "ship" else 1) for e in spec.ends_on(name)))
-    return found[1]
-
-
 def point_wrench(driver, node, name, orientation=None):
     """Force and torque by the lines on point ``name`` in its body frame (``orientation``: its pose
     input's quaternion x, y, z, w; None: world-aligned, as a fixed point or before the first pose),
     torque about the frame origin."""
-    loads = driver.net._loads
     F, M = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]  # plain floats: numpy costs ~1 us per operation on 3-vectors
-    for line, i in _ends_on(driver.spec, name):
-        row = loads[line][i].tolist()
+    for row in driver.net.load_rows(name):
         for c in range(3):
             F[c] += row[LOAD_F + c]
             M[c] += row[LOAD_M + c]
@@ -95,8 +78,7 @@ def point_wrench(driver, node, name, orientation=None):
 def body_wrench(net, name):
     """Force and moment about the CoG by the lines on body ``name``, in its body frame."""
     b = net.bodies[name]
-    loads = net._loads
-    rows = [loads[line][i].tolist() for line, i in _ends_on(net.spec, name)]  # net._body_loads's rows
+    rows = net.load_rows(name)
     R = _rotation(b.state[3:7])
     force, moment = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
     for a, row in zip(b.attachments.tolist(), rows):
@@ -154,8 +136,7 @@ def tick_outputs(driver, node, orientation_of=lambda name: None, wanted=None, sh
             L = float(getattr(solver, "unstretched_length", spec.lines[line].config.cable.length))
             st = solver.state(_output_arc_lengths(L, node.output_points))
             pts = np.asarray(st.position, float)
-            ends = net._loads[line]
-            t0, t1 = float(ends[0, LOAD_T]), float(ends[1, LOAD_T])  # net.end_load's tensions
+            t0, t1 = net.end_tensions(line)
             if want(names[0]):
                 out.append((names[0], cdr.tether_state(
                     stamp, world, solver.name, st.arc_length, pts, st.velocity, st.tension, st.curvature,
@@ -185,7 +166,7 @@ def tick_outputs(driver, node, orientation_of=lambda name: None, wanted=None, sh
         w, end = link.winch, link.config.winch.end
         out.append((f"/winch/{line}/state", cdr.winch_state(
             stamp, world, end, w.mode, w.setpoint, w.length, w.speed, w.commanded_speed,
-            float(net._loads[line][0 if end == "ship" else 1, LOAD_T]), **w.flags)))
+            net.end_tensions(line)[END_NAMES.index(end)], **w.flags)))
     out.append(("/tf", transforms))
     return out
 

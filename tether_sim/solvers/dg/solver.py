@@ -429,6 +429,11 @@ class DGCableSolver:
         self._evaluate_outputs()
         return outputs.end_forces(self.ws)
 
+    def end_tension(self, end):
+        """Axial tension at end 'ship' or 'vehicle' (end_forces()'s, without building them: the winch asks every tick)."""
+        self._evaluate_outputs()
+        return float(self.ws.endf[end_index(end), Y.E_T])
+
     def end_kinematics(self, arc_lengths):
         """What the snap guard's relative end speed reads (base.relative_end_speed): the cable's
         (positions, velocities) (n, 3) at ``arc_lengths`` and, per end, the body's (position, velocity,
