@@ -3,7 +3,7 @@ dg.bending_multirate as given; the fairlead orbit of bench_slack_bending.py), me
 
 1. the Python side: cProfile of the 50 Hz advance_to loop over the window (what is not one compiled call);
 2. the implicit damping step's paths over the window (counters idp ID_NSTEPS / ID_NFACT / ID_NUPD: steps,
-   new factorisations, low-rank updates);
+   new factorisations, low-rank updates; ID_NWHY: the new factorisations by reason);
 3. the compiled side, per kernel, at states sampled through the window (each kernel repeated --reps times in a
    compiled loop on the solver's workspace, CPU time): a right-hand side with the nested LDG, one with the bending
    shear extrapolated (the multirate's other stages), the damping step with a new LU, with the stored LU
@@ -147,7 +147,8 @@ def main(argv=None):
     while k / rate < args.start - 1e-9:
         tick()
     idp = s.ws.idp
-    c0 = [int(idp[DL.ID_NSTEPS]), int(idp[DL.ID_NFACT]), int(idp[DL.ID_NUPD])]
+    counters = [DL.ID_NSTEPS, DL.ID_NFACT, DL.ID_NUPD] + [DL.ID_NWHY + w for w in range(5)]
+    c0 = [int(idp[c]) for c in counters]
     marks = set(np.linspace(0, int(args.seconds * rate) - 1, args.samples).astype(int))
     prof = cProfile.Profile()
     rows, steps, cpu = [], 0, 0.0
@@ -159,13 +160,15 @@ def main(argv=None):
         steps += tick()
         prof.disable()
         cpu += time.process_time() - c
-    c1 = [int(idp[DL.ID_NSTEPS]), int(idp[DL.ID_NFACT]), int(idp[DL.ID_NUPD])]
+    c1 = [int(idp[c]) for c in counters]
     d = [b - a for a, b in zip(c0, c1)]
     print(f"window: {args.seconds / cpu:.3f} x real time per CPU s, {steps / args.seconds:.0f} substeps/s, "
           f"{1e6 * cpu / steps:.1f} us per substep (profiler on)")
     if d[0]:
         print(f"damping steps {d[0]}: new LU {d[1]} ({100 * d[1] / d[0]:.1f} %), low-rank update {d[2]} "
               f"({100 * d[2] / d[0]:.1f} %), stored LU as it was {d[0] - d[1] - d[2]}")
+        why = ("none kept for the step size", "released ends", "age", "update refused", "correction above tol")
+        print("new LUs by reason: " + ", ".join(f"{w} {n}" for w, n in zip(why, d[3:])))
     print("per call, us (median over the samples; min-max):")
     for name in rows[0]:
         v = np.array([r[name] for r in rows])

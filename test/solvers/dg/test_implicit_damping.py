@@ -227,6 +227,52 @@ def test_low_rank_update_equals_a_fresh_factorisation(released):
                                  dw.idp[DL.ID_KL], dw.wood)
 
 
+@pytest.mark.jit_off
+def test_one_lu_per_step_size_and_released_ends():
+    """The splitting's step sizes alternate (D(dt/2), D(dt), ..., D(dt/2)): the LU of each is parked while the
+    other is used and comes back as it was, with its low-rank update (checked against fresh factorisations); a
+    sequence of steps takes one LU per step size and gives the steps of a new LU every step, to round-off."""
+    s = curved_solver("prescribed", "fixed", 0.0, law="bilinear")
+    vbc = 3.0 * np.random.default_rng(2).standard_normal((2, 6))
+    dw, _ = axial_work_at_start(s, vbc)
+    twin, _ = axial_work_at_start(s, vbc)
+    N, nq = dw.wp.shape[:2]
+    n = N * nq
+    rhs = np.random.default_rng(3).standard_normal(n)
+    half, full = 0.5 * DL.GAMMA_SDIRK * 0.05, DL.GAMMA_SDIRK * 0.05
+    solved = {}
+    for gh in (half, full):
+        DU.select_lu(dw.idp, dw.dprm, dw.wp, dw.band, dw.wood, gh)
+        assert dw.idp[DL.ID_LU_AGE] == -1  # nothing kept for it yet
+        solved[gh] = solve_with(dw, s, gh, rhs, fresh=True)
+    e, j = 2, 1  # a point switches: the low-rank update of the active LU, then of the other one
+    dw.wp[e, j, DL.WP_Z] = twin.wp[e, j, DL.WP_Z] = 0.0 if dw.wp[e, j, DL.WP_Z] > 0.0 else dw.dprm[DL.DP_ZETA]
+    for gh in (full, half, full):
+        DU.select_lu(dw.idp, dw.dprm, dw.wp, dw.band, dw.wood, gh)
+        assert dw.dprm[DL.DP_LU_H] == gh and dw.idp[DL.ID_LU_AGE] == 0
+        x = solve_with(dw, s, gh, rhs, fresh=False)
+        assert dw.idp[DL.ID_NCH] == 1
+        ref = solve_with(twin, s, gh, rhs, fresh=True)
+        np.testing.assert_allclose(x, ref, atol=1e-12 * np.abs(ref).max())
+        assert np.abs(x - solved[gh]).max() > 1e-9 * np.abs(ref).max()  # the switch matters
+    # whole steps (linear law: no clip, no released end): D leaves q, so the geometry, unchanged
+    runs = []
+    for fresh in (False, True):
+        s2 = curved_solver("prescribed", "fixed", 0.0)
+        dw2 = s2._damp
+        args = (s2.ws.V, s2.ws.Pj, s2.ws.Tr, s2.law.tab_eps, s2.law.tab_T, dw2.wp, dw2.wd, dw2.band, dw2.vec, dw2.tmp,
+                dw2.wood, dw2.fdamp)
+        f0 = dw2.idp[DL.ID_NFACT]
+        for hs in (0.025, 0.05, 0.05, 0.025, 0.025, 0.05, 0.05):
+            if fresh:
+                dw2.idp[DL.ID_LU_AGE] = -1
+            ID.damping_step(hs, s2.ws.U, s2.ws.vbc, dw2.idp, dw2.dprm, dw2.blk, dw2.bvec, *args)
+        assert dw2.idp[DL.ID_NFACT] - f0 == (7 if fresh else 2)
+        runs.append(s2.ws.U.copy())
+    assert np.abs(runs[1][:, :, 3:6] - curved_solver("prescribed", "fixed", 0.0).ws.U[:, :, 3:6]).max() > 0.1
+    np.testing.assert_allclose(runs[0], runs[1], rtol=0, atol=1e-12 * np.abs(runs[1]).max())
+
+
 # ---------------------------------------------------------------- damped axial vibration (closed form)
 L, EA, GAMMA0, ZETA, EPS0, AMP = 1.0, 100.0, 1.0, 5.0, 0.05, 1e-3
 

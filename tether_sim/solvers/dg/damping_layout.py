@@ -23,6 +23,11 @@ OP_TAU = 4  # M* at points -> tau at points (flux bias -beta)
 OP_H = 5  # GP Div (reach 2)
 N_OP = 6
 
+# strain-rate LUs kept (damping_update.select_lu): the active one and LU_SLOTS - 1 parked, one per step size and
+# released ends (the splitting's half and merged steps; an end released for a step or not)
+LU_SLOTS = 4
+LU_INTS = 20  # the ints describing an LU: ID_LU_AGE, ID_RELF0 (2), ID_NCH, ID_CH0 (8), ID_PV0 (8)
+
 # The columns of the implicit damping step's arrays, named once (solvers/columns.py; layout.py has the rest)
 define(globals(), "dprm", [
     ("DP_ZETA", 1, "zeta", "N s", "axial material damping"),
@@ -35,6 +40,7 @@ define(globals(), "dprm", [
     ("DP_TC0", 6, "-a_el i+", "N", "constant damping flux of released ends, 3 per end (runtime, release_ends)"),
     ("DP_IP0", 6, "i+", "-", "trace tangent of released ends, 3 per end (runtime)"),
     ("DP_LU_H", 1, "gamma h", "s", "gamma dt of the stored LU"),
+    ("DP_PARK_H", LU_SLOTS - 1, "gamma h", "s", "gamma dt of the parked LUs (damping_update.select_lu)"),
 ], "N_DP")
 
 define(globals(), "idp", [
@@ -53,7 +59,14 @@ define(globals(), "idp", [
     ("ID_NSTEPS", 1, "-", "-", "strain-rate steps taken (counter, for benchmarks)"),
     ("ID_NFACT", 1, "-", "-", "of which with a new LU (counter)"),
     ("ID_NUPD", 1, "-", "-", "of which with the low-rank update of changed points (counter)"),
+    ("ID_NWHY", 5, "-", "-", "new LUs by reason WHY_* (counters)"),
+    ("ID_PARK0", (LU_SLOTS - 1) * LU_INTS, "-", "-", "the parked LUs' ID_LU_AGE .. ID_PV0, LU_INTS each"),
 ], "N_ID")
+assert ID_PV0 + 8 - ID_LU_AGE == LU_INTS
+# why a step computed a new LU (counters ID_NWHY + WHY_*): none for this step size (none yet, or the step size
+# changed and no parked LU is for it), released ends changed, LU_MAX_AGE reached, the low-rank update
+# refused (more than MAX_CHANGED points or a small pivot), a stage's defect correction above LU_TOL
+WHY_STEP, WHY_ENDS, WHY_AGE, WHY_POINTS, WHY_TOL = range(5)
 LU_MAX_AGE = 64  # refactor at least this often
 LU_TOL = 1e-4  # defect correction accepted if |correction| <= LU_TOL |solution|
 MAX_CHANGED = 8  # more points with a changed Z than this: refactor instead of the low-rank update
@@ -78,6 +91,7 @@ define(globals(), "wp", [
     ("WP_BC0", 1, "e_c", "1/s", "strain rate caused by that constant force"),
     ("WP_PC", 1, "p_c", "N", "compression cap of the point's element (constitutive.compression_cap; set once: h is fixed)"),
     ("WP_ZF", 1, "Z_LU", "N s", "Z when the strain-rate LU was computed"),
+    ("WP_ZP", LU_SLOTS - 1, "Z_LU'", "N s", "the same for the parked LUs"),
     ("WP_KX", 1, "x", "1/s", "K x (defect correction): input"),
     ("WP_KY", 1, "K x", "1/s^2", "and output"),
 ], "NWP")
@@ -89,8 +103,9 @@ define(globals(), "wd", [
     ("WD_P", 3, "p", "kg/s or N/m", "probe vector (matrix assembly) or rate of the constant clip tension, modal"),
 ], "NWD")
 
-# rows of the low-rank update's array (wood, (WOOD_ROWS, max(N Q, MAX_CHANGED))): A_LU^-1 u_p of each carried
-# point, the LU of the capacitance matrix I + E^T W, the Z change each column was made for, a k-vector of scratch
+# rows of the low-rank update's array (wood, (2 WOOD_ROWS, max(N Q, MAX_CHANGED))): A_LU^-1 u_p of each carried
+# point, the LU of the capacitance matrix I + E^T W, the Z change each column was made for, a k-vector of scratch;
+# rows s WOOD_ROWS.. the same for the parked LU s = 1 .. LU_SLOTS - 1
 WOOD_W = 0
 WOOD_C = MAX_CHANGED
 WOOD_DZ = 2 * MAX_CHANGED

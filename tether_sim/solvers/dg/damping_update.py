@@ -16,12 +16,22 @@ changed) instead of a new assembly and factorisation of the whole band. More tha
 or a pivot of C below PIVOT_MIN (the updated matrix near singular in those columns), and the caller
 refactors. The geometry (i, l) still drifts from the LU's as in the plain reuse: the stage solve keeps
 its defect correction with the present K, so the update is a better preconditioner, not a new answer.
+
+Up to LU_SLOTS LUs are kept, one per step size and released ends (select_lu): the splitting's half
+steps D(dt/2) at both ends of a call take gamma dt / 2, the merged steps between them gamma dt, and a
+velocity end released for a step (release_ends) or not changes K by a rank-one term in its end elements.
+Each change refactored before (three step-size changes per call; in the slack phases of the PE2020
+Sec. 6.2 case an end's release switches every few steps). The LUs not in use are parked (band rows s N Q..,
+wood rows s WOOD_ROWS.., WP_ZP + s - 1, the ints ID_PARK0 + (s - 1) LU_INTS.., DP_PARK_H + s - 1) and
+swap_lu exchanges one with the active LU. Every LU ages with the steps (age_lus): a parked one comes back
+only while younger than LU_MAX_AGE steps, with the same defect correction as the active one.
 """
 
 from tether_sim.numerics.banded import band_solve
 from tether_sim.numerics.jit import jit
 from tether_sim.solvers.dg.damping_layout import (
-    ID_CH0, ID_NCH, ID_PV0, MAX_CHANGED, PIVOT_MIN, WD_P, WOOD_C, WOOD_DZ, WOOD_W, WOOD_Z, WP_KX, WP_KY, WP_Z, WP_ZF,
+    DP_LU_H, DP_PARK_H, ID_CH0, ID_LU_AGE, ID_NCH, ID_PARK0, ID_PV0, ID_REL0, ID_RELF0, LU_INTS, LU_SLOTS, MAX_CHANGED,
+    PIVOT_MIN, WD_P, WOOD_C, WOOD_DZ, WOOD_ROWS, WOOD_W, WOOD_Z, WP_KX, WP_KY, WP_Z, WP_ZF, WP_ZP,
 )
 from tether_sim.solvers.dg.damping_ops import axial_tension_points, strain_rates, tension_divergence
 
@@ -147,3 +157,76 @@ def update_solve(band, n, kl, x, col, wood, idp):
         for b in range(k):
             s -= wood[WOOD_W + b, r] * wood[WOOD_Z, b]
         x[col, r] = s
+
+
+
+@jit
+def _matches(idp, dprm, gh, age, h, rel):
+    """A stored LU (its age, gamma h and released flags at idp[rel], idp[rel + 1]) is for this step."""
+    return age >= 0 and h == gh and idp[rel] == idp[ID_REL0] and idp[rel + 1] == idp[ID_REL0 + 1]
+
+
+@jit
+def select_lu(idp, dprm, wp, band, wood, gh):
+    """Make the active LU the one kept for this step size and these released ends (idp ID_REL0) if any;
+    otherwise the active one is parked in place of an empty or the oldest parked one, which becomes the
+    active one to be refactored. Returns the parked slot swapped in (0: none)."""
+    if idp[ID_LU_AGE] < 0 or _matches(idp, dprm, gh, idp[ID_LU_AGE], dprm[DP_LU_H], ID_RELF0):
+        return 0
+    best = 0
+    oldest = -1
+    for s in range(1, LU_SLOTS):
+        o = ID_PARK0 + (s - 1) * LU_INTS
+        age = idp[o]
+        if _matches(idp, dprm, gh, age, dprm[DP_PARK_H + s - 1], o + ID_RELF0 - ID_LU_AGE):
+            best = s
+            break
+        if age < 0:
+            age = 1 << 40  # an empty slot is taken first
+        if age > oldest:
+            oldest = age
+            best = s
+    swap_lu(idp, dprm, wp, band, wood, best)
+    return best
+
+
+@jit
+def swap_lu(idp, dprm, wp, band, wood, s):
+    """Exchange the active LU (band rows 0..n-1, wood rows 0..WOOD_ROWS-1, WP_ZF, idp ID_LU_AGE.. and DP_LU_H)
+    with the parked one s >= 1 (band rows s n.., wood rows s WOOD_ROWS.., WP_ZP + s - 1, ID_PARK0 + (s - 1) LU_INTS..,
+    DP_PARK_H + s - 1); n = N Q."""
+    N, nq = wp.shape[0], wp.shape[1]
+    n = N * nq
+    for r in range(n):
+        for c in range(band.shape[1]):
+            t = band[r, c]
+            band[r, c] = band[s * n + r, c]
+            band[s * n + r, c] = t
+    for r in range(WOOD_ROWS):
+        for c in range(wood.shape[1]):
+            t = wood[r, c]
+            wood[r, c] = wood[s * WOOD_ROWS + r, c]
+            wood[s * WOOD_ROWS + r, c] = t
+    for e in range(N):
+        for j in range(nq):
+            t = wp[e, j, WP_ZF]
+            wp[e, j, WP_ZF] = wp[e, j, WP_ZP + s - 1]
+            wp[e, j, WP_ZP + s - 1] = t
+    o = ID_PARK0 + (s - 1) * LU_INTS
+    for a in range(LU_INTS):
+        ti = idp[ID_LU_AGE + a]
+        idp[ID_LU_AGE + a] = idp[o + a]
+        idp[o + a] = ti
+    t = dprm[DP_LU_H]
+    dprm[DP_LU_H] = dprm[DP_PARK_H + s - 1]
+    dprm[DP_PARK_H + s - 1] = t
+
+
+@jit
+def age_lus(idp):
+    """One step more for the active and every parked LU (the geometry drifts from all of them)."""
+    idp[ID_LU_AGE] += 1
+    for s in range(1, LU_SLOTS):
+        o = ID_PARK0 + (s - 1) * LU_INTS
+        if idp[o] >= 0:
+            idp[o] += 1

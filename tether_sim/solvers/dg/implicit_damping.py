@@ -28,8 +28,8 @@ Two linear-algebra paths (docs/dg_solver.md):
 
 Both use a banded LU without pivoting (the matrix is I plus a dissipative operator times dt). The
 strain-rate LU is reused across steps (defect correction with K applied matrix-free; refactored
-when the step size or released ends change, after LU_MAX_AGE steps, or when the correction exceeds
-LU_TOL). A change of Z at up to MAX_CHANGED points (the clip switching) is a change of as many
+after LU_MAX_AGE steps or when the correction exceeds LU_TOL; one LU is kept per step size and released
+ends, damping_update.select_lu). A change of Z at up to MAX_CHANGED points (the clip switching) is a change of as many
 columns: carried by a low-rank update of the stored LU (damping_update.py) instead of a refactor.
 Boundary conditions: velocity ends (prescribed, fixed, clamped, body) supply v_BC in G, their
 damping tension flux is the interior trace (axially replaced by a constant when the end is
@@ -45,7 +45,8 @@ from tether_sim.numerics.jit import jit
 from tether_sim.physics.constitutive import cap_stiffness, compression_cap
 from tether_sim.solvers.dg.damping_layout import (
     DP_AN, DP_AT, DP_EA, DP_G0, DP_LAMBDA, DP_LU_H, DP_ZETA, DP_ZETAB, GAMMA_SDIRK, ID_KIND0, ID_KIND1, ID_KL, ID_LAW,
-    ID_LU_AGE, ID_MODE, ID_NCH, ID_NFACT, ID_NSTEPS, ID_NUPD, ID_REACH, ID_REL0, ID_RELF0, LU_MAX_AGE, LU_TOL,
+    ID_LU_AGE, ID_MODE, ID_NCH, ID_NFACT, ID_NSTEPS, ID_NUPD, ID_NWHY, ID_PARK0, ID_REACH, ID_REL0, ID_RELF0,
+    LU_INTS, LU_MAX_AGE, LU_SLOTS, LU_TOL, WHY_AGE, WHY_ENDS, WHY_POINTS, WHY_STEP, WHY_TOL,
     MAX_CHANGED, MODE_AXIAL, MODE_GENERAL, N_DP, N_ID, NWD, NWP, OP_DIV, OP_GP, OP_H, WD_F, WD_K1, WD_P, WD_Y, WOOD_ROWS, WP_BC0, WP_E0, WP_E1, WP_E2, WP_I,
     WP_KX, WP_KY, WP_PC, WP_TC, WP_TV, WP_X, WP_Z, WP_ZF, DP_IP0, build_operators,
 )
@@ -53,7 +54,7 @@ from tether_sim.solvers.dg.damping_ops import (
     axial_tension_points, clip_set, damping_force, damping_geometry, end_damping_forces, release_ends,
     strain_rates, tension_divergence,
 )
-from tether_sim.solvers.dg.damping_update import update_columns, update_solve
+from tether_sim.solvers.dg.damping_update import age_lus, select_lu, update_columns, update_solve
 
 
 class DampingWork:
@@ -81,14 +82,16 @@ class DampingWork:
         self.idp[ID_KIND0], self.idp[ID_KIND1] = kind_codes
         self.idp[ID_REACH], self.idp[ID_KL] = reach, kl
         self.idp[ID_LU_AGE] = -1
+        for s in range(LU_SLOTS - 1):  # no parked LU (its age)
+            self.idp[ID_PARK0 + s * LU_INTS] = -1
         self.wp = np.zeros((N, nq, NWP))
         for e in range(N):  # (a winch, which would change h, is refused with implicit damping: winch_driver.py)
             self.wp[e, :, WP_PC] = compression_cap(law_code, cap_stiffness(cable), nm - 1, h[e])
         self.wd = np.zeros((N, nm, NWD))
-        self.band = np.zeros((n, 2 * kl + 1))
+        self.band = np.zeros((LU_SLOTS * n if mode == MODE_AXIAL else n, 2 * kl + 1))  # (the parked LUs below row n)
         self.vec = np.zeros((4, max(n, kl + 1)))
         self.tmp = np.zeros((2, N, 3, nq, nq))
-        self.wood = np.zeros((WOOD_ROWS, max(n, MAX_CHANGED)))
+        self.wood = np.zeros((LU_SLOTS * WOOD_ROWS, max(n, MAX_CHANGED)))
         self.fdamp = np.zeros((2, 4))
 
 
@@ -110,7 +113,7 @@ def assemble_axial(blk, bvec, idp, dprm, wp, gh, A, kl, tmp):
     at = dprm[DP_AT]
     an = dprm[DP_AN]
     aniso = at != an
-    for r in range(A.shape[0]):
+    for r in range(N * nq):
         for c in range(A.shape[1]):
             A[r, c] = 0.0
     for e in range(N):
@@ -152,7 +155,7 @@ def assemble_axial(blk, bvec, idp, dprm, wp, gh, A, kl, tmp):
     for end in range(2):
         if idp[ID_REL0 + end] != 0:
             release_correction(blk, bvec, dprm, wp, gh, A, kl, end)
-    for r in range(A.shape[0]):
+    for r in range(N * nq):
         A[r, kl] += 1.0
 
 
@@ -210,14 +213,18 @@ def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, 
             for j in range(nq):
                 wp[e, j, WP_BC0] = 0.0
     gh = g * hs
-    exact = not _lu_valid(idp, dprm, gh)
-    if not exact and not update_columns(gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, wood):
-        exact = True
+    select_lu(idp, dprm, wp, band, wood, gh)  # the LU kept for this step size and released ends, if any
+    why = _lu_invalid(idp, dprm, gh)
+    if why < 0 and not update_columns(gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, wood):
+        why = WHY_POINTS
+    exact = why >= 0
     if exact:
+        idp[ID_NWHY + why] += 1
         _refactor(blk, bvec, idp, dprm, wp, gh, band, kl, tmp, vec)
     _rhs_stage1(wp, gh, vec)
     if not _stage_solve(0, exact, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec, wood):
         exact = True
+        idp[ID_NWHY + WHY_TOL] += 1
         _refactor(blk, bvec, idp, dprm, wp, gh, band, kl, tmp, vec)
         _rhs_stage1(wp, gh, vec)
         _stage_solve(0, True, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec, wood)
@@ -227,10 +234,11 @@ def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, 
     _rhs_stage2(wp, hs, g, vec)
     if not _stage_solve(1, exact, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec, wood):
         exact = True
+        idp[ID_NWHY + WHY_TOL] += 1
         _refactor(blk, bvec, idp, dprm, wp, gh, band, kl, tmp, vec)
         _rhs_stage2(wp, hs, g, vec)
         _stage_solve(1, True, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec, wood)
-    idp[ID_LU_AGE] += 1
+    age_lus(idp)
     idp[ID_NSTEPS] += 1
     if exact:
         idp[ID_NFACT] += 1
@@ -251,12 +259,16 @@ def axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, 
 
 
 @jit
-def _lu_valid(idp, dprm, gh):
-    """The stored LU was built for this step size and released ends, recently enough (a changed active
-    set is the low-rank update's: damping_update.update_columns)."""
-    if idp[ID_LU_AGE] < 0 or idp[ID_LU_AGE] >= LU_MAX_AGE or dprm[DP_LU_H] != gh:
-        return False
-    return idp[ID_REL0] == idp[ID_RELF0] and idp[ID_REL0 + 1] == idp[ID_RELF0 + 1]
+def _lu_invalid(idp, dprm, gh):
+    """-1 if the stored LU was built for this step size and released ends, recently enough (a changed
+    active set is the low-rank update's: damping_update.update_columns), else why not (WHY_*)."""
+    if idp[ID_LU_AGE] < 0 or dprm[DP_LU_H] != gh:
+        return WHY_STEP
+    if idp[ID_REL0] != idp[ID_RELF0] or idp[ID_REL0 + 1] != idp[ID_RELF0 + 1]:
+        return WHY_ENDS
+    if idp[ID_LU_AGE] >= LU_MAX_AGE:
+        return WHY_AGE
+    return -1
 
 
 @jit
