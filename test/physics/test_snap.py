@@ -1,5 +1,7 @@
 """Snap detector on synthetic tension signals whose events are known exactly."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -234,3 +236,12 @@ def test_slack_now_clears_when_a_slack_period_ends_without_a_snap():
     after = det.update(t[t >= 2.5], y[t >= 2.5]) + det.flush()
     assert not any(isinstance(e, SnapEvent) for e in after)
     assert det.slack_now() == {"vehicle": False}
+
+
+@pytest.mark.parametrize("speed", [math.nan, math.inf, np.array([0.5, math.nan])])
+def test_a_non_finite_relative_end_speed_is_refused_whether_one_number_or_an_array(speed):
+    # a NaN speed would make the snap guard's bound NaN, and "peak > NaN" never rejects: refused instead
+    det = SnapDetector(SnapConfig(), ["ship"], [1000.0], [0.0])
+    with pytest.raises(ValueError, match="non-finite relative end speed"):
+        det.update(np.array([0.0, 0.001]), np.array([1000.0, 1000.0]), speed)
+    assert det.update(np.array([0.002, 0.003]), np.array([1000.0, 1000.0]), 0.5) == []

@@ -532,11 +532,12 @@ class SnapDetector:
         if not (np.isfinite(times).all() and np.isfinite(tensions).all()):  # (the methods: np.all's wrapper costs ~3 us)
             raise ValueError("snap detector: non-finite time or tension sample")
         speed = None
-        if type(relative_speed) is float:  # one number (the drivers'): what the line below makes of it
-            speed = abs(relative_speed)
-        elif relative_speed is not None:
-            speed = float(np.max(np.abs(np.asarray(relative_speed, dtype=np.float64)), initial=0.0))
-            if not math.isfinite(speed):
+        if relative_speed is not None:
+            if type(relative_speed) is float:  # one number (the drivers'): what the line below makes of it
+                speed = abs(relative_speed)
+            else:
+                speed = float(np.max(np.abs(np.asarray(relative_speed, dtype=np.float64)), initial=0.0))
+            if not math.isfinite(speed):  # (a NaN would turn the guard's bound off)
                 raise ValueError("snap detector: non-finite relative end speed")
         if speed is not None:
             np.maximum(self._speed, speed, out=self._speed)
