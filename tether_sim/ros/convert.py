@@ -241,19 +241,21 @@ class OutputFrame:
 
     def state(self, arc_lengths):
         """The solver's state at ``arc_lengths`` (one sampling per distinct set of points)."""
-        key = np.asarray(arc_lengths, float).tobytes()
-        state = self._states.get(key)
-        if state is None:
-            state = self._states[key] = self.solver.state(arc_lengths)
-        return state
+        arc = np.asarray(arc_lengths, float)
+        key = arc.tobytes()
+        found = self._states.get(key)
+        if found is None:
+            found = self._states[key] = (arc, self.solver.state(arc_lengths))
+        return found[1]
 
     def end_positions(self, length: float) -> np.ndarray:
         """(2, 3) positions at s = 0 and s = ``length``: the first and last output point when a state
-        sampled here starts and ends there (the solvers sample each point on its own, so the values
-        are those of a sampling at the two points), else a sampling at the two."""
-        for state in self._states.values():
-            s = state.arc_length
-            if len(s) >= 2 and s[0] == 0.0 and s[-1] == length:
+        was sampled here at points that start and end there (the solvers sample each point on its own,
+        so the values are those of a sampling at the two points), else a sampling at the two. (The
+        points asked for are compared, not the state's arc lengths: a solver may report the last one
+        as the sum of its element lengths, 1729.9999999999998 for 1730.)"""
+        for arc, state in self._states.values():
+            if arc.ndim == 1 and len(arc) >= 2 and arc[0] == 0.0 and arc[-1] == length:
                 return np.asarray(state.position, float)[[0, -1]]
         return np.asarray(self.state(np.array([0.0, length])).position, float)
 
