@@ -3,7 +3,8 @@
 Builds the node (``TetherSimNode`` from the parameter file) of this tree and of ``--baseline`` (a
 renamed copy, as bench_tick.load_baseline) in one process, drives both by hand as
 bench_node_tick.py does (the same simulated clock, the same ship poses on the file's motion, the
-1 Hz diagnostics every output_rate ticks) with every publisher counted as subscribed, and records
+1 Hz diagnostics every output_rate ticks; no wall-clock budget per tick, so that the machine's load
+cannot cut one node's tick short) with every publisher counted as subscribed, and records
 what each publisher is handed. Per tick the two nodes' messages are compared topic by topic: equal
 bytes, else deserialized and compared field by field with the wall-clock fields set to zero
 (TetherState.real_time_factor; the /diagnostics values real_time_factor, tick_load, tick_max_ms).
@@ -37,6 +38,7 @@ class _Recorded:
         self.convert = importlib.import_module(f"{pkg}.ros.convert")
         build_motion = importlib.import_module(f"{pkg}.physics.motion").build_motion
         self.node = sim_node.TetherSimNode(where=str(params), parameter_overrides=list(overrides))
+        self.node.driver.wall_budget = None  # no tick cut short by the machine's load: both nodes step alike
         self.log, self.current = [], None
         for publisher in self.node.publishers:
             self._record(publisher)

@@ -18,6 +18,7 @@ from std_msgs.msg import Header
 from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription
 
 from tether_sim.io.params import to_flat
+from tether_sim.numerics.colour_map import tension_rgba
 from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent
 from tether_sim.ros import cdr
@@ -182,23 +183,11 @@ def tension_scale(driver) -> float:
 
 def tension_colours(tension, scale: float) -> np.ndarray:
     """(n, 4) RGBA per point: blue (slack, T <= 0) through green (T = scale / 2) to red (T >= scale),
-    linear in between: with d = 2 T / scale - 1 clipped to [-1, 1], (max(d, 0), 1 - |d|, max(-d, 0), 1)."""
-    tension = np.asarray(tension, float)
-    if scale > 0:
-        d = tension / scale
-        d *= 2.0
-        d -= 1.0
-        np.maximum(d, -1.0, out=d)  # np.clip's values (NaN kept) without its Python wrapper
-        np.minimum(d, 1.0, out=d)
-    else:
-        d = np.full(tension.shape, -1.0)
-    rgba = np.empty((d.size, 4))
-    np.maximum(d, 0.0, out=rgba[:, 0])
-    np.abs(d, out=rgba[:, 1])
-    np.subtract(1.0, rgba[:, 1], out=rgba[:, 1])
-    np.negative(d, out=d)
-    np.maximum(d, 0.0, out=rgba[:, 2])
-    rgba[:, 3] = 1.0
+    linear in between: with d = 2 T / scale - 1 clipped to [-1, 1], (max(d, 0), 1 - |d|, max(-d, 0), 1)
+    (one compiled loop: tether_sim/numerics/colour_map.py)."""
+    tension = np.ascontiguousarray(tension, dtype=float).reshape(-1)
+    rgba = np.empty((tension.size, 4))
+    tension_rgba(tension, float(scale), rgba)
     return rgba
 
 
