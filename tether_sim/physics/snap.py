@@ -28,12 +28,13 @@ tension samples [DNV-RP-H103 slack criterion; PE2020 Sec. 6]:
                            time); one that did not is merged into the slack period. A third rise
                            after two drops closes the window at once (its peak is final).
 
-A plausibility guard (:class:`SnapGuard`, docs/snap_guard.md) checks every snap event against
-what the cable's axial impedance, the system's kinetic energy and the relative end speed allow,
-and against the shortest rise the discretisation can carry (the axial wave crossing one element).
+A plausibility guard (:class:`SnapGuard`, :mod:`tether_sim.physics.snap_guard`, docs/snap_guard.md)
+checks every snap event against what the cable's axial impedance, the system's kinetic energy and
+the relative end speed allow, and against the shortest rise the discretisation can carry (the axial wave crossing one element).
 An event that fails it is returned as a :class:`NumericalSnapWarning` instead of a
 :class:`SnapEvent`: reported, never published as a snap; so is a re-tensioning at another location
-that carries the front of a rejected one in the same slack episode (:meth:`SnapGuard.same_episode`).
+that peaks when the front of a rejected one in the same slack episode arrives there
+(:meth:`SnapGuard.same_episode`).
 A rejected re-tensioning did not end its slack period: the slack period the kernel restarted after
 it is merged back (start, least tension, relative speed record), so the real re-tensioning that
 ends it later is measured, and judged, over the whole slack period (the kernel stops after each
@@ -51,6 +52,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from tether_sim.numerics.jit import jit
+from tether_sim.physics.snap_guard import KINEMATIC_END_KINDS, NumericalSnapWarning, SnapGuard, snap_guard  # noqa: F401
 from tether_sim.spec import param
 
 
@@ -96,130 +98,6 @@ class SnapEvent:
     static_tension: float
     amplification: float  # peak / static
     criterion: str
-
-
-@dataclass(frozen=True)
-class NumericalSnapWarning:
-    """A re-tensioning the plausibility guard rejected (:class:`SnapGuard`): numerical, not a snap.
-
-    ``tension_peak`` is the rejected peak (deliberately not called ``peak_tension``: nothing that
-    handles snap events takes this for one)."""
-
-    time: float
-    location: str
-    arc_length: float
-    tension_peak: float
-    bound: float  # guard_margin x the physical bound, N
-    rise_time: float
-    crossing_time: float  # axial wave crossing of the shortest element, s
-    relative_speed: float  # largest relative end speed over the slack period and the rise, m/s
-    static_tension: float
-    slack_start: float
-    reason: str
-
-
-@dataclass(frozen=True)
-class SnapGuard:
-    """Physical plausibility bound of a re-tensioning peak (derivation: docs/snap_guard.md).
-
-    For a cable of axial impedance Z = sqrt(EA gamma0), stiffness k = EA / L, between ends whose
-    relative speed stays below dv while it is slack and re-tensions (rise time t_r), and a moving
-    mass M (bodies with added mass and the cable; infinite between two kinematic ends):
-
-        T_peak <= B = margin * (2 |T_static| + dv * (2 Z + min(sqrt(k M), k t_r)))
-
-    2 Z dv: a front arresting the relative speed dv carries Z dv, doubled where it reflects at a
-    held or heavy end; sqrt(k M) dv: the kinetic energy of M relative to the other end stored as
-    stretch; k t_r dv: the stretch the ends can impose within the rise; 2 T_static: a weight taken up
-    from slack overshoots at most to twice its static value. A peak above B, or a rise shorter than
-    ``crossing_time`` (the axial wave crossing the shortest element: faster than the discretisation
-    can carry a physical front), is numerical.
-
-    One slack episode, one verdict (:meth:`same_episode`): a re-tensioning at a location whose slack
-    period overlaps a rejected re-tensioning's episode elsewhere on the cable, and that started no
-    earlier than the rejected one, carries that front and is numerical too."""
-
-    impedance: float  # N s/m
-    stiffness: float  # N/m
-    mass: float  # kg (inf: both ends kinematic)
-    crossing_time: float  # s
-    margin: float = 1.5
-    travel_time: float = 0.0  # s, the axial wave's crossing of the whole cable, L / c (the episode rule)
-
-    def bound(self, static_tension: float, speed: float, rise_time: float) -> float:
-        """The largest plausible peak (N) for a relative end speed ``speed`` and rise time ``rise_time``."""
-        energy = math.sqrt(self.stiffness * self.mass) if math.isfinite(self.mass) else math.inf
-        quasi = min(energy, self.stiffness * max(rise_time, 0.0))
-        return self.margin * (2.0 * abs(static_tension) + max(speed, 0.0) * (2.0 * self.impedance + quasi))
-
-    def same_episode(self, event: "SnapEvent", rejected: "NumericalSnapWarning") -> bool:
-        """True when ``event`` (at another location) belongs to the slack episode of the ``rejected``
-        re-tensioning and is carried by its front (docs/snap_guard.md, "One episode, one verdict"): the
-        slack periods overlap and ``event`` started its own re-tensioning no earlier than the rejected one
-        and no later than the cable's axial round trip 2 L / c after its peak (its front, and that front's
-        reflection, are in the cable until then; a re-tensioning that starts later is not that front and
-        is judged on its own)."""
-        if self.margin <= 0.0 or event.location == rejected.location:
-            return False
-        rise_start, rejected_rise_start = event.time - event.rise_time, rejected.time - rejected.rise_time
-        exit_time = event.slack_start + event.slack_duration
-        return (rejected_rise_start <= rise_start <= rejected.time + 2.0 * self.travel_time
-                and exit_time >= rejected.slack_start)
-
-    def check(self, event: "SnapEvent", speed: float, front_time: float | None = None):
-        """None when ``event`` is plausible, else the :class:`NumericalSnapWarning` replacing it.
-
-        The rise checked (and in the bound's ``k t_r``) is the front's: from the last upward crossing of
-        the re-tension level before the peak (``front_time``, from the detector) when that is shorter
-        than ``event.rise_time`` (from the slack level): a tension that left slack earlier and stood
-        between the two levels must not lend its waiting time to a front that then rose in one step."""
-        if self.margin <= 0.0:
-            return None
-        rise = event.rise_time
-        if front_time is not None and math.isfinite(front_time) and 0.0 <= front_time < rise:
-            rise = front_time
-        bound = self.bound(event.static_tension, speed, rise)
-        reasons = []
-        if event.peak_tension > bound:
-            reasons.append(f"peak {event.peak_tension / 1e3:.4g} kN above the impedance/energy bound "
-                           f"{bound / 1e3:.4g} kN (relative end speed {speed:.3g} m/s)")
-        if rise < self.crossing_time:
-            origin = "" if rise == event.rise_time else " from the re-tension level"
-            reasons.append(f"rise{origin} {rise * 1e3:.3g} ms shorter than the axial wave's crossing "
-                           f"of an element ({self.crossing_time * 1e3:.3g} ms)")
-        if not reasons:
-            return None
-        return NumericalSnapWarning(time=event.time, location=event.location, arc_length=event.arc_length,
-                                    tension_peak=event.peak_tension, bound=bound, rise_time=rise,
-                                    crossing_time=self.crossing_time, relative_speed=speed,
-                                    static_tension=event.static_tension, slack_start=event.slack_start,
-                                    reason="; ".join(reasons))
-
-
-KINEMATIC_END_KINDS = ("prescribed", "fixed", "clamped")
-
-
-def snap_guard(config, element_length: float) -> SnapGuard:
-    """The guard of a simulation ``config`` (cable, ends, body, ``snap.guard_margin``) whose shortest
-    element (DG) or segment (hybrid) is ``element_length`` m long."""
-    cab = config.cable
-    EA = float(cab.EA)
-    if cab.material == "table" and len(cab.table_strain) > 1:
-        eps = np.asarray(cab.table_strain, float)
-        ten = np.asarray(cab.table_tension, float)
-        EA = max(EA, float(np.max(np.diff(ten) / np.diff(eps))))
-    kinds = (config.ship_end.kind, config.vehicle_end.kind)
-    mass = float(cab.gamma0) * float(cab.length)
-    if all(k in KINEMATIC_END_KINDS for k in kinds):
-        mass = math.inf
-    for kind in kinds:
-        if kind == "body":
-            body = config.body
-            mass += float(body.mass) + float(np.max(body.added_mass))
-    c = math.sqrt(EA / float(cab.gamma0))
-    return SnapGuard(impedance=math.sqrt(EA * float(cab.gamma0)), stiffness=EA / float(cab.length), mass=mass,
-                     crossing_time=float(element_length) / c if c > 0 else 0.0, margin=float(config.snap.guard_margin),
-                     travel_time=float(cab.length) / c if c > 0 else 0.0)
 
 
 # Per-location machine state columns.
@@ -588,24 +466,11 @@ class SnapDetector:
         if warning is None:
             origin = next((w for w in self._rejected if self.guard.same_episode(event, w)), None)
             if origin is not None:
-                warning = self._carried(event, origin, float(self._speed[j]))
+                warning = self.guard.carried(event, origin, float(self._speed[j]))
         if warning is None:
             return event
         self._rejected = [w for w in self._rejected if w.location != event.location] + [warning]
         return warning
-
-    def _carried(self, event, origin, speed):
-        """The warning replacing ``event``, which carries the front of the rejected ``origin``."""
-        late = event.time - event.rise_time - (origin.time - origin.rise_time)
-        reason = (f"re-tensioned {late * 1e3:.3g} ms after the rejected re-tensioning at {origin.location} in the same "
-                  f"slack episode (axial round trip {2e3 * self.guard.travel_time:.3g} ms): it carries that front "
-                  f"(rejected peak {origin.tension_peak / 1e3:.4g} kN at t = {origin.time:.3f} s)")
-        return NumericalSnapWarning(time=event.time, location=event.location, arc_length=event.arc_length,
-                                    tension_peak=event.peak_tension,
-                                    bound=self.guard.bound(event.static_tension, speed, event.rise_time),
-                                    rise_time=event.rise_time, crossing_time=self.guard.crossing_time,
-                                    relative_speed=speed, static_tension=event.static_tension,
-                                    slack_start=event.slack_start, reason=reason)
 
     def shift_time(self, dt: float) -> None:
         """Move the time axis of everything held (slack starts, crossings, peaks, the last sample,
