@@ -214,6 +214,55 @@ def test_a_staged_rise_is_one_snap_at_its_largest_stage():
     assert [type(e) for e in events] == [SlackStarted]
 
 
+# The ship end of PE2020 Sec. 6.2's 500 m case (f = 0.2 Hz, alpha = 0, N = 20, P = 4; static 55.70 kN: slack below
+# 5.57 kN, re-tension above 11.14 kN, snap from 55.70 kN), t = 10-15 s, knots from the run's own end tension
+# (benchmarks/probes/slack_record.py, 2026-11-28). Slack from 10.199 s (least 0.30 kN) while the cage end is slack
+# too; at 10.69 s the ship end rises above the re-tension level to the weight of the hanging cable, 6.7-20.4 kN,
+# and stays there, never back below the slack level, for 2.3 s (the first stage, 20.43 kN at 10.921 s, 37 % of
+# static); the cage is taken up at 13.0 s and the ship re-tensions in stages to 212.11 kN at 13.837 s.
+WEAK = [(0.0, 55.70e3), (9.8, 55.70e3), (10.199, 5.57e3), (10.268, 0.30e3), (10.50, 4.35e3), (10.589, 5.57e3),
+        (10.712, 12.46e3), (10.921, 20.43e3), (11.146, 6.74e3), (11.369, 15.83e3), (11.659, 11.13e3),
+        (11.897, 18.84e3), (12.156, 14.29e3), (12.420, 20.02e3), (12.677, 15.10e3), (12.928, 18.94e3),
+        (13.0, 18.48e3), (13.25, 99.40e3), (13.339, 164.50e3), (13.50, 159.34e3), (13.587, 208.46e3),
+        (13.837, 212.11e3), (14.089, 189.61e3), (14.50, 114.53e3), (15.5, 55.70e3), (40.0, 55.70e3)]
+
+
+def test_a_weak_first_stage_that_stays_out_of_slack_does_not_hide_the_snap_after_it():
+    """A first stage that rises above the re-tension level but stays below the snap level, and does not fall
+    back into slack, is part of the slack period: the end has not left slack until it reaches the snap level,
+    so the re-tensioning that follows is this slack period's snap. (Before 2026-11-28 the window closed 1 s
+    after the weak stage's maximum, 11.92 s here, the end counted as taut, and the 212 kN snap was not seen:
+    500 m, f = 0.2 Hz, 2 snaps in 6 ship slack periods.) An end still below the snap level 10 peak windows after
+    its re-tensioning began has left slack without a snap."""
+    static = 55.70e3
+    t = np.arange(0.0, 40.0, 1e-3)
+    events = run(SnapDetector(SnapConfig(), ["ship"], [static], [0.0]), t, piecewise(t, WEAK)[:, None])
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent]
+    slack, snap = events
+    assert slack.time == pytest.approx(10.199, abs=1e-9)
+    assert snap.peak_tension == pytest.approx(212.11e3) and snap.time == pytest.approx(13.837, abs=1e-9)
+    assert snap.slack_start == pytest.approx(10.199, abs=1e-9) and snap.min_tension == pytest.approx(300.0)
+    assert snap.slack_duration == pytest.approx(10.589 - 10.199, abs=1e-9)  # to the last exit from slack
+    assert snap.rise_time == pytest.approx(13.837 - 10.589, abs=1e-9)
+    # the weak stage does not end the slack period even when the snap peaks 9.2 windows after the re-tensioning
+    late = [(a + (6.0 if a >= 12.9 else 0.0), b) for a, b in WEAK[:-1]] + [(40.0, static)]
+    late = sorted(late[:15] + [(13.5 + k, 16e3 + 2e3 * (k % 2)) for k in range(6)] + late[15:])
+    events = run(SnapDetector(SnapConfig(), ["ship"], [static], [0.0]), t, piecewise(t, late)[:, None])
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent] and events[1].time == pytest.approx(19.837, abs=1e-9)
+    assert events[1].peak_tension == pytest.approx(212.11e3) and events[1].slack_start == pytest.approx(10.199, abs=1e-9)
+    # ... but 10 windows after the re-tensioning began (10.69 + 10 s) an end that never reached the snap level has
+    # left slack without one: a rise after that is no snap (no slack period before it)
+    later = [(a + (11.0 if a >= 12.9 else 0.0), b) for a, b in WEAK[:-1]] + [(40.0, static)]
+    later = sorted(later[:15] + [(13.5 + k, 16e3 + 2e3 * (k % 2)) for k in range(10)] + later[15:])
+    events = run(SnapDetector(SnapConfig(), ["ship"], [static], [0.0]), t, piecewise(t, later)[:, None])
+    assert [type(e) for e in events] == [SlackStarted]
+    # a weak stage that then falls back into slack is merged into the slack period as before (one slack warning)
+    dip = sorted(WEAK[:14] + [(12.6, 2.0e3), (12.75, 2.0e3)] + WEAK[16:])
+    events = run(SnapDetector(SnapConfig(), ["ship"], [static], [0.0]), t, piecewise(t, dip)[:, None])
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent]
+    assert events[1].slack_start == pytest.approx(10.199, abs=1e-9) and events[1].peak_tension == pytest.approx(212.11e3)
+
+
 def test_bad_input_is_rejected_clearly():
     with pytest.raises(ValueError, match="2 locations"):
         SnapDetector(SnapConfig(), ["ship", "vehicle"], [1.0], [0.0, 1.0])

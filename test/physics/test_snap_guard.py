@@ -164,16 +164,19 @@ def test_guard_margin_zero_turns_the_guard_off():
     assert [type(e) for e in events if not type(e).__name__ == "SlackStarted"] == [SnapEvent]
 
 
-def _two_ends(ship_slack, ship_rise_start, vehicle=True, speed=0.35, dt=1e-4):
+def _two_ends(ship_slack, ship_rise_start, vehicle=True, speed=0.35, dt=1e-4, ship_rise=0.030, ship_peak=157.6e3,
+              element=100.0, t_end=5.0, min_slack=0.1, vehicle_rise=0.0033):
     """The soak's pair (docs/node.md): the vehicle end (static 43.1 kN) slack 1.00-1.20 s and back in
     3.3 ms to 112 kN (numerical: shorter than the 25.7 ms crossing of a 100 m element); the ship end
     (static 48.1 kN) slack from ``ship_slack`` and back from ``ship_rise_start`` in 30 ms to 157.6 kN
     = 3.28 x static (within the guard's bound on its own: 1.5 x (2 x 48.1 kN + dv (2 Z + k t_r)) =
-    1.5 x (96.2 + 0.35 x (23.4 + 6.8)) kN = 160.2 kN)."""
+    1.5 x (96.2 + 0.35 x (23.4 + 6.8)) kN = 160.2 kN). The vehicle's front reaches the ship L / c = 51.4 ms
+    after it left (ship peak 1.2503 s: 47.0 ms after the vehicle's peak)."""
     c = math.sqrt(EA / GAMMA0)
-    g = SnapGuard(impedance=Z, stiffness=K, mass=14797.0, crossing_time=100.0 / c, margin=1.5, travel_time=L / c)
+    g = SnapGuard(impedance=Z, stiffness=K, mass=14797.0, crossing_time=element / c, margin=1.5, travel_time=L / c,
+                  length=L)
     static = [48.1e3, 43.1e3]
-    det = SnapDetector(SnapConfig(), ["ship", "vehicle"], static, [0.0, L], g)
+    det = SnapDetector(SnapConfig(min_slack_duration=min_slack), ["ship", "vehicle"], static, [0.0, L], g)
     t = np.arange(0.0, 5.0, dt)
     T = np.tile(np.array(static), (t.size, 1))
 
@@ -185,8 +188,9 @@ def _two_ends(ship_slack, ship_rise_start, vehicle=True, speed=0.35, dt=1e-4):
         T[down, col] = peak + (static[col] - peak) * (t[down] - rise_start - rise) / 0.3
 
     if vehicle:
-        pulse(1, 1.0, 1.2, 0.0033, 112e3)
-    pulse(0, ship_slack, ship_rise_start, 0.030, 157.6e3)
+        pulse(1, 1.0, 1.2, vehicle_rise, 112e3)
+    pulse(0, ship_slack, ship_rise_start, ship_rise, ship_peak)
+    t = t[t < t_end]
     events = []
     for i in range(0, t.size, 200):  # 20 ms chunks, like ticks
         events += det.update(t[i:i + 200], T[i:i + 200], speed)
@@ -203,8 +207,27 @@ def test_one_slack_episode_one_verdict_a_front_after_a_rejected_one_is_not_a_sna
     assert isinstance(vehicle, NumericalSnapWarning) and "crossing" in vehicle.reason
     assert isinstance(ship, NumericalSnapWarning) and ship.location == "ship"
     assert "same slack episode" in ship.reason and ship.tension_peak == pytest.approx(157.6e3, rel=1e-3)
-    # the ship went slack only after the vehicle's peak, within the axial round trip (103 ms): same episode
-    assert all(isinstance(e, NumericalSnapWarning) for e in _two_ends(1.25, 1.30))
+    # the front decides by the peak, not the start: the ship's peak (1.2503 s) lies within an element crossing
+    # (25.7 ms) of the front's arrival (1.2514-1.2547 s), although its rise began 20.3 ms after the vehicle's, less
+    # than the travel time (a DG element's polynomial carries a precursor of the front across the element at once)
+    assert ship.time == pytest.approx(1.2503) and "when its front arrives" in ship.reason
+    # the ship went slack after the vehicle's peak (50 ms of slack: counted with snap.min_slack_duration 10 ms; with
+    # the default 0.1 s it is no slack period and there is no ship event at all) and peaked at 1.330 s, 75 ms after
+    # the front's arrival and 49 ms beyond its element crossing: not that front (the next arrival, after
+    # reflections at both ends, 3 L / c = 154 ms, is beyond one reflection); judged on its own: published. (The
+    # rule on the rise's start, before 2026-11-28, took it for the front: it started within the axial round trip
+    # 2 L / c after the vehicle's peak.) One that went slack after the vehicle's peak and peaks when the front
+    # arrives carries it.
+    assert [type(e) for e in _two_ends(1.25, 1.30)] == [NumericalSnapWarning]
+    assert [type(e) for e in _two_ends(1.25, 1.30, min_slack=0.01)] == [NumericalSnapWarning, SnapEvent]
+    assert [type(e) for e in _two_ends(1.21, 1.225, ship_rise=0.027, min_slack=0.01)] == [NumericalSnapWarning] * 2
+    # the edges: the front leaves between 1.2 s and 1.2033 s and arrives 51.4 ms later, +- an element crossing
+    # (25.7 ms): a ship peak at 1.2753 s carries it, one at 1.2853 s not; on 50 m elements (12.9 ms) a ship peak at
+    # 1.2203 s, before the front can have arrived (1.2385 s at the earliest), does not either
+    assert [type(e) for e in _two_ends(1.05, 1.2203, ship_rise=0.055)] == [NumericalSnapWarning] * 2
+    assert [type(e) for e in _two_ends(1.05, 1.2203, ship_rise=0.065)] == [NumericalSnapWarning, SnapEvent]
+    assert [type(e) for e in _two_ends(1.05, 1.2003, ship_rise=0.020, element=50.0)] == [NumericalSnapWarning, SnapEvent]
+    assert [type(e) for e in _two_ends(1.05, 1.2203, ship_rise=0.030, element=50.0)] == [NumericalSnapWarning] * 2
     # the ship re-tensioned first: the origin of the front, judged on its own (published)
     first, second = _two_ends(1.05, 1.15)
     assert isinstance(first, SnapEvent) and first.location == "ship" and isinstance(second, NumericalSnapWarning)
@@ -216,13 +239,28 @@ def test_one_slack_episode_one_verdict_a_front_after_a_rejected_one_is_not_a_sna
     assert [type(e) for e in _two_ends(1.05, 1.6)] == [NumericalSnapWarning, SnapEvent]
 
 
+@pytest.mark.parametrize("delay, rise, peak", [(0.031, 0.665, 324.5e3), (0.0495, 0.442, 342.9e3), (0.0558, 0.293, 269.1e3)])
+def test_a_ship_snap_that_begins_after_a_rejected_cage_spike_but_peaks_long_after_its_front_is_a_snap(delay, rise, peak):
+    """PE2020 Sec. 6.2 study (200 m, f = 0.25 Hz, N = 20: 10 m elements, crossing 2.57 ms): a one-step cage event
+    (rejected), and the ship re-tensioning ``delay`` after it over ``rise`` to ``peak`` (as measured at 27.360 s with
+    alpha = 1, 19.224 s and 35.458 s with alpha = 10). The ship's peak comes 0.32-0.70 s after the cage's, long after its front has passed
+    the ship (L / c = 51.4 ms +- 2.57 ms): the ship's own re-tensioning, a snap. (Until 2026-11-28 the rule on the
+    rise's start took each for the carried front: it began within 2 L / c after the spike.)"""
+    events = _two_ends(1.05, 1.2 + delay, speed=3.0, ship_rise=rise, ship_peak=peak, element=10.0, vehicle_rise=2e-4)
+    assert [type(e) for e in events] == [NumericalSnapWarning, SnapEvent]
+    assert events[0].location == "vehicle" and "crossing" in events[0].reason
+    assert events[1].location == "ship" and events[1].peak_tension == pytest.approx(peak, rel=1e-3)
+    assert events[1].time == pytest.approx(1.2 + delay + rise, abs=1e-4)
+
+
 def _spike_then_snap(spike, gap, peak=210e3, decay=150e3, dt=1e-4, chunk=200, t_end=6.0):
     """Cage tension (static 43 kN): slack (500 N) from 0.5 s, a one-sample numerical spike of ``spike`` N at
     1.2 s, then the real re-tensioning starting ``gap`` s later, rising over 0.3 s to ``peak`` and falling at
     ``decay`` N/s back into slack; fed in chunks of ``chunk`` samples with a relative end speed of 2 m/s. Returns
     the events other than SlackStarted, and the SlackStarted ones."""
     c = math.sqrt(EA / GAMMA0)
-    g = SnapGuard(impedance=Z, stiffness=K, mass=14797.0, crossing_time=5.0 / c, margin=1.5, travel_time=L / c)
+    g = SnapGuard(impedance=Z, stiffness=K, mass=14797.0, crossing_time=5.0 / c, margin=1.5, travel_time=L / c,
+                  length=L)
     det = SnapDetector(SnapConfig(peak_window=1.0), ["vehicle"], [43e3], [L], g)
     t = np.arange(0.0, t_end, dt)
     T = np.full(t.size, 43e3)

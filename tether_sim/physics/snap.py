@@ -27,13 +27,20 @@ tension samples [DNV-RP-H103 slack criterion; PE2020 Sec. 6]:
                            a new one began where the tension fell (a :class:`SlackStarted` with that
                            time); one that did not is merged into the slack period. A third rise
                            after two drops closes the window at once (its peak is final).
+                           Only a re-tensioning that reaches the snap level ends a slack period: a
+                           window whose maximum stays below it and that has not fallen back into
+                           slack stays open (a weak first stage, e.g. a ship end holding the hanging
+                           cable while the cage end is slack), so the re-tensioning that follows is
+                           the slack period's snap; an end still below the snap level 10 windows
+                           after its re-tensioning began has left slack without a snap (taut).
 
-A plausibility guard (:class:`SnapGuard`, docs/snap_guard.md) checks every snap event against
-what the cable's axial impedance, the system's kinetic energy and the relative end speed allow,
-and against the shortest rise the discretisation can carry (the axial wave crossing one element).
+A plausibility guard (:class:`SnapGuard`, :mod:`tether_sim.physics.snap_guard`, docs/snap_guard.md)
+checks every snap event against what the cable's axial impedance, the system's kinetic energy and
+the relative end speed allow, and against the shortest rise the discretisation can carry (the axial wave crossing one element).
 An event that fails it is returned as a :class:`NumericalSnapWarning` instead of a
 :class:`SnapEvent`: reported, never published as a snap; so is a re-tensioning at another location
-that carries the front of a rejected one in the same slack episode (:meth:`SnapGuard.same_episode`).
+that peaks when the front of a rejected one in the same slack episode arrives there
+(:meth:`SnapGuard.same_episode`).
 A rejected re-tensioning did not end its slack period: the slack period the kernel restarted after
 it is merged back (start, least tension, relative speed record), so the real re-tensioning that
 ends it later is measured, and judged, over the whole slack period (the kernel stops after each
@@ -42,7 +49,7 @@ sample that closed a snap event, so the guard rules on it before the samples tha
 Slack duration runs from the downward crossing of the slack threshold to the last upward crossing
 of it (linear interpolation between samples); the rise time runs from the upward crossing that
 started the re-tensioning holding the peak to the peak. The per-sample work is a compiled kernel
-over the whole chunk of samples.
+over the whole chunk of samples (:mod:`tether_sim.physics.snap_kernel`).
 """
 
 import math
@@ -50,7 +57,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from tether_sim.numerics.jit import jit
+from tether_sim.physics.snap_guard import KINEMATIC_END_KINDS, NumericalSnapWarning, SnapGuard, snap_guard  # noqa: F401
+from tether_sim.physics.snap_kernel import (_MIN_T, _MODE, _N_EVENT, _N_STATE, _RISING, _SLACK, _SLACK_START,
+                                            _TIME_COLUMNS, snap_detector_close, snap_detector_step)
 from tether_sim.spec import param
 
 
@@ -62,7 +71,7 @@ class SnapConfig:
     slack_threshold: float = param(0.0, unit="N", doc="absolute slack threshold; > 0 overrides slack_fraction", min=0.0, max=1e9, live=True)
     retension_fraction: float = param(0.2, doc="slack ends when tension rises above retension_fraction * static (hysteresis)", min=0.0, max=10.0, live=True)
     min_slack_duration: float = param(0.1, unit="s", doc="no snap event after a slack period shorter than this", min=0.0, max=1e4, live=True)
-    peak_window: float = param(1.0, unit="s", doc="after re-tensioning, the snap peak is the largest tension until none larger follows within this window (a staged rise is one event; at most 10 windows); keep it above the cable's axial round trip 2 L / c, the spacing of the stages", min=1e-6, max=1e4, live=True)
+    peak_window: float = param(1.0, unit="s", doc="after re-tensioning, the snap peak is the largest tension until none larger follows within this window (a staged rise is one event; one below the snap level is followed until it reaches it or falls back into slack; at most 10 windows); keep it above the cable's axial round trip 2 L / c, the spacing of the stages", min=1e-6, max=1e4, live=True)
     snap_fraction: float = param(1.0, doc="a re-tensioning is a snap only if its peak reaches snap_fraction * static; weaker ones that fall back into slack are merged into the slack period", min=0.0, max=100.0, live=True)
     retension_threshold: float = param(0.0, unit="N", doc="absolute re-tension threshold: slack ends when the tension rises above it; > 0 overrides retension_fraction (never below the slack threshold)", min=0.0, max=1e9, live=True)
     snap_threshold: float = param(0.0, unit="N", doc="absolute snap threshold: a re-tensioning is a snap only if its peak reaches it; > 0 overrides snap_fraction (for a line that hangs slack by design, e.g. an excursion tether, whose static tension is no scale)", min=0.0, max=1e9, live=True)
@@ -96,355 +105,6 @@ class SnapEvent:
     static_tension: float
     amplification: float  # peak / static
     criterion: str
-
-
-@dataclass(frozen=True)
-class NumericalSnapWarning:
-    """A re-tensioning the plausibility guard rejected (:class:`SnapGuard`): numerical, not a snap.
-
-    ``tension_peak`` is the rejected peak (deliberately not called ``peak_tension``: nothing that
-    handles snap events takes this for one)."""
-
-    time: float
-    location: str
-    arc_length: float
-    tension_peak: float
-    bound: float  # guard_margin x the physical bound, N
-    rise_time: float
-    crossing_time: float  # axial wave crossing of the shortest element, s
-    relative_speed: float  # largest relative end speed over the slack period and the rise, m/s
-    static_tension: float
-    slack_start: float
-    reason: str
-
-
-@dataclass(frozen=True)
-class SnapGuard:
-    """Physical plausibility bound of a re-tensioning peak (derivation: docs/snap_guard.md).
-
-    For a cable of axial impedance Z = sqrt(EA gamma0), stiffness k = EA / L, between ends whose
-    relative speed stays below dv while it is slack and re-tensions (rise time t_r), and a moving
-    mass M (bodies with added mass and the cable; infinite between two kinematic ends):
-
-        T_peak <= B = margin * (2 |T_static| + dv * (2 Z + min(sqrt(k M), k t_r)))
-
-    2 Z dv: a front arresting the relative speed dv carries Z dv, doubled where it reflects at a
-    held or heavy end; sqrt(k M) dv: the kinetic energy of M relative to the other end stored as
-    stretch; k t_r dv: the stretch the ends can impose within the rise; 2 T_static: a weight taken up
-    from slack overshoots at most to twice its static value. A peak above B, or a rise shorter than
-    ``crossing_time`` (the axial wave crossing the shortest element: faster than the discretisation
-    can carry a physical front), is numerical.
-
-    One slack episode, one verdict (:meth:`same_episode`): a re-tensioning at a location whose slack
-    period overlaps a rejected re-tensioning's episode elsewhere on the cable, and that started no
-    earlier than the rejected one, carries that front and is numerical too."""
-
-    impedance: float  # N s/m
-    stiffness: float  # N/m
-    mass: float  # kg (inf: both ends kinematic)
-    crossing_time: float  # s
-    margin: float = 1.5
-    travel_time: float = 0.0  # s, the axial wave's crossing of the whole cable, L / c (the episode rule)
-
-    def bound(self, static_tension: float, speed: float, rise_time: float) -> float:
-        """The largest plausible peak (N) for a relative end speed ``speed`` and rise time ``rise_time``."""
-        energy = math.sqrt(self.stiffness * self.mass) if math.isfinite(self.mass) else math.inf
-        quasi = min(energy, self.stiffness * max(rise_time, 0.0))
-        return self.margin * (2.0 * abs(static_tension) + max(speed, 0.0) * (2.0 * self.impedance + quasi))
-
-    def same_episode(self, event: "SnapEvent", rejected: "NumericalSnapWarning") -> bool:
-        """True when ``event`` (at another location) belongs to the slack episode of the ``rejected``
-        re-tensioning and is carried by its front (docs/snap_guard.md, "One episode, one verdict"): the
-        slack periods overlap and ``event`` started its own re-tensioning no earlier than the rejected one
-        and no later than the cable's axial round trip 2 L / c after its peak (its front, and that front's
-        reflection, are in the cable until then; a re-tensioning that starts later is not that front and
-        is judged on its own)."""
-        if self.margin <= 0.0 or event.location == rejected.location:
-            return False
-        rise_start, rejected_rise_start = event.time - event.rise_time, rejected.time - rejected.rise_time
-        exit_time = event.slack_start + event.slack_duration
-        return (rejected_rise_start <= rise_start <= rejected.time + 2.0 * self.travel_time
-                and exit_time >= rejected.slack_start)
-
-    def check(self, event: "SnapEvent", speed: float, front_time: float | None = None):
-        """None when ``event`` is plausible, else the :class:`NumericalSnapWarning` replacing it.
-
-        The rise checked (and in the bound's ``k t_r``) is the front's: from the last upward crossing of
-        the re-tension level before the peak (``front_time``, from the detector) when that is shorter
-        than ``event.rise_time`` (from the slack level): a tension that left slack earlier and stood
-        between the two levels must not lend its waiting time to a front that then rose in one step."""
-        if self.margin <= 0.0:
-            return None
-        rise = event.rise_time
-        if front_time is not None and math.isfinite(front_time) and 0.0 <= front_time < rise:
-            rise = front_time
-        bound = self.bound(event.static_tension, speed, rise)
-        reasons = []
-        if event.peak_tension > bound:
-            reasons.append(f"peak {event.peak_tension / 1e3:.4g} kN above the impedance/energy bound "
-                           f"{bound / 1e3:.4g} kN (relative end speed {speed:.3g} m/s)")
-        if rise < self.crossing_time:
-            origin = "" if rise == event.rise_time else " from the re-tension level"
-            reasons.append(f"rise{origin} {rise * 1e3:.3g} ms shorter than the axial wave's crossing "
-                           f"of an element ({self.crossing_time * 1e3:.3g} ms)")
-        if not reasons:
-            return None
-        return NumericalSnapWarning(time=event.time, location=event.location, arc_length=event.arc_length,
-                                    tension_peak=event.peak_tension, bound=bound, rise_time=rise,
-                                    crossing_time=self.crossing_time, relative_speed=speed,
-                                    static_tension=event.static_tension, slack_start=event.slack_start,
-                                    reason="; ".join(reasons))
-
-
-KINEMATIC_END_KINDS = ("prescribed", "fixed", "clamped")
-
-
-def snap_guard(config, element_length: float) -> SnapGuard:
-    """The guard of a simulation ``config`` (cable, ends, body, ``snap.guard_margin``) whose shortest
-    element (DG) or segment (hybrid) is ``element_length`` m long."""
-    cab = config.cable
-    EA = float(cab.EA)
-    if cab.material == "table" and len(cab.table_strain) > 1:
-        eps = np.asarray(cab.table_strain, float)
-        ten = np.asarray(cab.table_tension, float)
-        EA = max(EA, float(np.max(np.diff(ten) / np.diff(eps))))
-    kinds = (config.ship_end.kind, config.vehicle_end.kind)
-    mass = float(cab.gamma0) * float(cab.length)
-    if all(k in KINEMATIC_END_KINDS for k in kinds):
-        mass = math.inf
-    for kind in kinds:
-        if kind == "body":
-            body = config.body
-            mass += float(body.mass) + float(np.max(body.added_mass))
-    c = math.sqrt(EA / float(cab.gamma0))
-    return SnapGuard(impedance=math.sqrt(EA * float(cab.gamma0)), stiffness=EA / float(cab.length), mass=mass,
-                     crossing_time=float(element_length) / c if c > 0 else 0.0, margin=float(config.snap.guard_margin),
-                     travel_time=float(cab.length) / c if c > 0 else 0.0)
-
-
-# Per-location machine state columns.
-(_MODE, _SLACK_START, _MIN_T, _EXIT_T, _RETENSION_T, _PREV_T, _PREV_TENSION, _HAS_PREV, _FRONT_T, _NEXT_RET,
- # a stage of a re-tensioning window: its running maximum (tension, time, slack exit and front at it) and its
- # drop back into slack (time, tension there, least since); the window's own stage, then the next one's, in
- # the same order (_NEXT: the offset between the two; _stage_peak / _stage_drop serve both)
- _PEAK, _PEAK_T, _PEAK_EXIT, _PEAK_FRONT, _DROP_T, _DROP_Y, _DROP_MIN,
- _NEXT_PEAK, _NEXT_PEAK_T, _NEXT_PEAK_EXIT, _NEXT_PEAK_FRONT, _NEXT_DROP_T, _NEXT_DROP_Y, _NEXT_DROP_MIN) = range(24)
-_N_STATE = 24
-_STAGE_SIZE = _NEXT_PEAK - _PEAK  # the columns of one stage
-_NEXT = _STAGE_SIZE  # offset of the next stage's columns from the window's
-_TIME_COLUMNS = [_SLACK_START, _EXIT_T, _PEAK_T, _RETENSION_T, _PREV_T, _PEAK_EXIT, _DROP_T, _FRONT_T, _PEAK_FRONT,
-                 _NEXT_RET, _NEXT_PEAK_T, _NEXT_PEAK_EXIT, _NEXT_PEAK_FRONT, _NEXT_DROP_T]  # (shift_time)
-# _FRONT_T: the last upward crossing of the re-tension level (the start of the front now rising); _PEAK_FRONT
-# its value at the running maximum (the guard's rise: SnapGuard.check).
-# _DROP_T: within a re-tensioning window, when the tension first fell back below the slack threshold after
-# the window's running maximum (NaN while it has not); _DROP_Y the sample there, _DROP_MIN the least since
-# (until a next re-tensioning begins).
-# _NEXT_*: after that drop, the re-tensioning that rose above the re-tension level again (_NEXT_RET its start,
-# NaN while none), with its own running maximum (time, slack exit and front at it) and its own drop: kept
-# beside the window's larger earlier peak so that it gets its own window when that one closes (a one-step
-# spike early in a slack period must not swallow the smaller real snap that follows it).
-_TAUT, _SLACK, _RISING = 0.0, 1.0, 2.0
-# Event rows: kind (0 slack started, 1 snap, 2 slack restarted where the tension fell back after a closed
-# re-tensioning), location, time, tension/peak, min, slack_start, exit time, start of the re-tensioning
-# holding the peak, start of the front holding the peak (re-tension level).
-_N_EVENT = 9
-
-
-@jit
-def _crossing_time(t0, y0, t1, y1, level):
-    """Linear interpolation of the time where y crosses ``level`` between two samples."""
-    if y1 == y0:
-        return t1
-    return t0 + (level - y0) * (t1 - t0) / (y1 - y0)
-
-
-@jit
-def _emit(events, n, kind, loc, time, value, min_t, start, exit_t, rise_start, front_start):
-    events[n, 0] = kind
-    events[n, 1] = loc
-    events[n, 2] = time
-    events[n, 3] = value
-    events[n, 4] = min_t
-    events[n, 5] = start
-    events[n, 6] = exit_t
-    events[n, 7] = rise_start
-    events[n, 8] = front_start
-    return n + 1
-
-
-@jit
-def _stage_peak(s, o, t, y):
-    """A larger maximum (t, y) of the stage at column offset ``o`` (0: the window's, _NEXT: the next one's):
-    whatever rose after a drop belongs to it, so its drop is forgotten."""
-    s[_PEAK + o] = y
-    s[_PEAK_T + o] = t
-    s[_PEAK_EXIT + o] = s[_EXIT_T]
-    s[_PEAK_FRONT + o] = s[_FRONT_T]
-    s[_DROP_T + o] = np.nan
-
-
-@jit
-def _stage_drop(s, o, has_prev, t0, y0, t, y, lo):
-    """Watch the stage at offset ``o`` for its first fall below the slack level ``lo`` after its maximum."""
-    if has_prev and y0 >= lo > y:
-        s[_DROP_T + o] = _crossing_time(t0, y0, t, y, lo)
-        s[_DROP_Y + o] = y
-        s[_DROP_MIN + o] = y
-
-
-@jit
-def _start_next(s, t, y):
-    """The re-tensioning rising above the re-tension level at (t, y) after the window's drop."""
-    s[_NEXT_RET] = t
-    _stage_peak(s, _NEXT, t, y)
-
-
-@jit
-def _close_window(s, j, y, lo, snap_level, min_duration, events, n_ev):
-    """Close location ``j``'s re-tensioning window (current sample ``y``): emit its snap event when its peak
-    reaches ``snap_level`` and the slack before it lasted ``min_duration``, then set what follows. Returns the
-    number of event rows."""
-    reached = s[_PEAK] >= snap_level
-    if reached and s[_PEAK_EXIT] - s[_SLACK_START] >= min_duration:
-        n_ev = _emit(events, n_ev, 1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START], s[_PEAK_EXIT],
-                     s[_PEAK_EXIT], s[_PEAK_FRONT])
-    if np.isnan(s[_DROP_T]):  # taut since the peak
-        s[_MODE] = _TAUT
-        return n_ev
-    # The tension fell back below the slack level after the peak. A re-tensioning that reached the snap level
-    # ended the slack period: a new one began where it fell (row kind 2; SnapDetector.update merges it back
-    # into the old one when the guard rejects the re-tensioning). A weaker one is merged into the slack period.
-    if reached:
-        s[_SLACK_START] = s[_DROP_T]
-        s[_MIN_T] = s[_DROP_MIN]
-        n_ev = _emit(events, n_ev, 2.0, j, s[_DROP_T], s[_DROP_Y], s[_DROP_Y], s[_DROP_T], s[_DROP_T], s[_DROP_T],
-                     s[_DROP_T])
-    if not np.isnan(s[_NEXT_RET]):  # what rose again after the drop gets its own window, from its own start
-        s[_MODE] = _RISING
-        s[_RETENSION_T] = s[_NEXT_RET]
-        for k in range(_STAGE_SIZE):  # the next stage becomes the window's
-            s[_PEAK + k] = s[_PEAK + _NEXT + k]
-        s[_NEXT_RET] = np.nan
-    else:  # slack now (or between the slack and re-tension levels: not re-tensioned yet)
-        s[_MODE] = _SLACK
-        s[_PEAK] = -np.inf
-        if y < lo:
-            s[_EXIT_T] = s[_SLACK_START]
-    return n_ev
-
-
-@jit
-def snap_detector_close(st, j, thresholds, min_duration, events):
-    """Close location ``j``'s open window at its last sample (end of a run); returns the number of event rows."""
-    s = st[j]
-    return _close_window(s, j, s[_PREV_TENSION], thresholds[j, 0], thresholds[j, 2], min_duration, events, 0)
-
-
-@jit
-def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_duration, events):
-    """Advance every location's state machine over samples ``start..``; stop when ``events`` is full, or after
-    a sample that closed a snap event (so that the guard can rule on it before the samples that follow).
-
-    times (k,), tensions (k, n_loc), st (n_loc, _N_STATE) state, thresholds (n_loc, 3) = (slack, re-tension,
-    snap level). Returns (next sample index, number of event rows written).
-    """
-    n_ev = 0
-    cap = events.shape[0]
-    n_loc = tensions.shape[1]
-    i = start
-    while i < times.shape[0]:
-        if n_ev + 2 * n_loc > cap:
-            break
-        t = times[i]
-        snapped = False
-        for j in range(n_loc):
-            y = tensions[i, j]
-            lo = thresholds[j, 0]
-            hi = thresholds[j, 1]
-            snap_level = thresholds[j, 2]
-            s = st[j]
-            has_prev = s[_HAS_PREV] > 0.0
-            t0 = s[_PREV_T]
-            y0 = s[_PREV_TENSION]
-            mode = s[_MODE]
-            if mode == _RISING:
-                # The whole window belongs to this re-tensioning: dips back into slack (chatter,
-                # a first weak re-tension) extend the slack period instead of ending the event.
-                if y < s[_MIN_T]:
-                    s[_MIN_T] = y
-                if has_prev and y0 < lo <= y:
-                    s[_EXIT_T] = _crossing_time(t0, y0, t, y, lo)
-                if has_prev and y0 <= hi < y:
-                    s[_FRONT_T] = _crossing_time(t0, y0, t, y, hi)
-                third = False
-                if y > s[_PEAK]:  # a larger stage: whatever rose after a drop belongs to it
-                    _stage_peak(s, 0, t, y)
-                    s[_NEXT_RET] = np.nan
-                elif np.isnan(s[_DROP_T]):
-                    _stage_drop(s, 0, has_prev, t0, y0, t, y, lo)
-                elif np.isnan(s[_NEXT_RET]):
-                    if y < s[_DROP_MIN]:
-                        s[_DROP_MIN] = y
-                    if y > hi:
-                        _start_next(s, t, y)
-                elif y > s[_NEXT_PEAK]:
-                    _stage_peak(s, _NEXT, t, y)
-                elif np.isnan(s[_NEXT_DROP_T]):
-                    _stage_drop(s, _NEXT, has_prev, t0, y0, t, y, lo)
-                else:
-                    if y < s[_NEXT_DROP_MIN]:
-                        s[_NEXT_DROP_MIN] = y
-                    # a third re-tensioning: the window's peak is final (two drops into slack behind it)
-                    third = y > hi
-                elapsed = t - s[_RETENSION_T]
-                # Close once the window has passed and the running maximum lies behind the current sample;
-                # while the tension has stayed out of slack since that maximum, only once the maximum is a
-                # whole window old (no larger tension for a window after it): a re-tensioning that rises in
-                # stages (a heavy end taken up step by step, one step per axial round trip of the cable,
-                # with small dips between them) is one event whose peak is its largest stage. A tension
-                # back in slack after the maximum closes at the window's end, and what rose again after
-                # that drop continues in its own window (_close_window). At most 10 windows.
-                if third or (elapsed >= peak_window and s[_PEAK_T] < t
-                             and (t - s[_PEAK_T] >= peak_window or not np.isnan(s[_DROP_T]))) \
-                        or elapsed >= 10.0 * peak_window:
-                    n0 = n_ev
-                    n_ev = _close_window(s, j, y, lo, snap_level, min_duration, events, n_ev)
-                    snapped = snapped or (n_ev > n0 and events[n0, 0] == 1.0)
-                    if third:
-                        _start_next(s, t, y)
-                    mode = s[_MODE]
-            if mode == _TAUT:
-                if y < lo:
-                    tc = _crossing_time(t0, y0, t, y, lo) if has_prev and y0 >= lo else t
-                    s[_MODE] = _SLACK
-                    s[_SLACK_START] = tc
-                    s[_MIN_T] = y
-                    s[_EXIT_T] = tc
-                    s[_PEAK] = -np.inf
-                    n_ev = _emit(events, n_ev, 0.0, j, tc, y, y, tc, tc, tc, tc)
-            elif mode == _SLACK:
-                if y < s[_MIN_T]:
-                    s[_MIN_T] = y
-                if has_prev and y0 < lo <= y:
-                    s[_EXIT_T] = _crossing_time(t0, y0, t, y, lo)
-                if y > hi:
-                    s[_MODE] = _RISING
-                    s[_RETENSION_T] = t
-                    s[_DROP_T] = np.nan
-                    s[_NEXT_RET] = np.nan
-                    s[_FRONT_T] = _crossing_time(t0, y0, t, y, hi) if has_prev and y0 <= hi else t
-                    if y > s[_PEAK]:
-                        s[_PEAK] = y
-                        s[_PEAK_T] = t
-                        s[_PEAK_EXIT] = s[_EXIT_T]
-                        s[_PEAK_FRONT] = s[_FRONT_T]
-            s[_PREV_T] = t
-            s[_PREV_TENSION] = y
-            s[_HAS_PREV] = 1.0
-        i += 1
-        if snapped:
-            break
-    return i, n_ev
 
 
 class SnapDetector:
@@ -588,24 +248,11 @@ class SnapDetector:
         if warning is None:
             origin = next((w for w in self._rejected if self.guard.same_episode(event, w)), None)
             if origin is not None:
-                warning = self._carried(event, origin, float(self._speed[j]))
+                warning = self.guard.carried(event, origin, float(self._speed[j]))
         if warning is None:
             return event
         self._rejected = [w for w in self._rejected if w.location != event.location] + [warning]
         return warning
-
-    def _carried(self, event, origin, speed):
-        """The warning replacing ``event``, which carries the front of the rejected ``origin``."""
-        late = event.time - event.rise_time - (origin.time - origin.rise_time)
-        reason = (f"re-tensioned {late * 1e3:.3g} ms after the rejected re-tensioning at {origin.location} in the same "
-                  f"slack episode (axial round trip {2e3 * self.guard.travel_time:.3g} ms): it carries that front "
-                  f"(rejected peak {origin.tension_peak / 1e3:.4g} kN at t = {origin.time:.3f} s)")
-        return NumericalSnapWarning(time=event.time, location=event.location, arc_length=event.arc_length,
-                                    tension_peak=event.peak_tension,
-                                    bound=self.guard.bound(event.static_tension, speed, event.rise_time),
-                                    rise_time=event.rise_time, crossing_time=self.guard.crossing_time,
-                                    relative_speed=speed, static_tension=event.static_tension,
-                                    slack_start=event.slack_start, reason=reason)
 
     def shift_time(self, dt: float) -> None:
         """Move the time axis of everything held (slack starts, crossings, peaks, the last sample,
