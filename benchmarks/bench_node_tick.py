@@ -150,7 +150,7 @@ def child(params, ticks, alpha, profile, split, baseline, extra=()):
         import io
         import pstats
         s = io.StringIO()
-        pstats.Stats(prof, stream=s).sort_stats("tottime").print_stats(30)
+        pstats.Stats(prof, stream=s).sort_stats(os.environ.get("BENCH_PROFILE_SORT", "tottime")).print_stats(int(os.environ.get("BENCH_PROFILE_ROWS", "30")))
         reports[0]["profile"] = s.getvalue()
     if baseline:  # tick by tick: the two nodes' ticks k ran next to each other
         a, b = (np.array(r.pop("tick_cpu_s")) for r in reports)

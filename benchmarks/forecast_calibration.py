@@ -60,7 +60,7 @@ def collect(paths, end):
                 row = {"seed": run["seed"], "stamp": stamp, "p": p, "members": np.asarray(extra[0], float) / slack[end],
                        "run": T[inside].min() / slack[end], "slack": slack[end], "level": level[end],
                        "run_snap": any(stamp < x <= stamp + horizon for x in snaps),
-                       "depths": np.asarray(extra[1], float) / slack[end] if len(extra) > 1 else None}
+                       "depths": np.asarray(extra[1], float) / slack[end] if len(extra) > 1 and extra[1] is not None else None}
                 if p >= 0.5 and math.isfinite(tts):
                     pred = stamp + tts
                     win = (t >= pred - tol) & (t <= pred + tol)

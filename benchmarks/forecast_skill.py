@@ -158,9 +158,11 @@ class CpuSplit:
                                                               for k, v in parts.items())
 
 
-def truth_tensions(path, seed, dumped_args):
+def truth_tensions(path, seed, dumped_args, at_stamp=None):
     """The run of a --dump file again, without forecasts, recording the end tensions of every substep:
-    (times, {end: tensions}, {end: slack level N}, {end: snap level N})."""
+    (times, {end: tensions}, {end: slack level N}, {end: snap level N}); ``at_stamp`` (a dict): filled
+    with {tick index: {end: the end slack or re-tensioning after that tick}} (the run's detector, what a
+    forecast stamped at that tick reports as ``slack_at_stamp``)."""
     args = argparse.Namespace(**dumped_args)
     cfg = case_config(path, "known_sea", seed, args)
     src = {"ship": MotionSource(build_motion(cfg.motion, np.asarray(cfg.ship_end.position, float), wave_components(cfg)))}
@@ -180,6 +182,9 @@ def truth_tensions(path, seed, dumped_args):
     rate = cfg.node.output_rate
     for k in range(1, int(round(args.minutes * 60.0 * rate)) + 1):
         driver.tick(k / rate)
+        if at_stamp is not None:
+            flags = driver.detector.is_slack() | driver.detector.is_rising()
+            at_stamp[k] = {end: bool(x) for end, x in zip(driver.detector.locations, flags)}
     det, snap = driver.detector, cfg.snap
     snap_levels = (np.full(2, snap.snap_threshold) if snap.snap_threshold > 0.0
                    else snap.snap_fraction * np.abs(det.static_tensions))
@@ -331,6 +336,40 @@ def ranks(fc, t, tensions, slack, horizon, end_time):
               f"{100 * np.mean(wrong) if wrong else float('nan'):.0f} % of their members on the other side of the slack level")
 
 
+def fill_at_stamp(paths) -> int:
+    """Dumps from before 2026-11-28 lack each forecast's ``slack_at_stamp``: run each sea again without
+    forecasts, take the run's detector after the forecast's tick, and write ``<dump>_atstamp.json`` with
+    it (the members' depths, absent, left None: with_margin then approximates them). Where a dump has the
+    flags, they are checked against the rerun instead (the count of forecasts that differ is printed)."""
+    for path in paths:
+        doc = json.loads(Path(path).read_text())
+        for run in doc["runs"]:
+            flags = {}
+            truth_tensions(run["file"], run["seed"], doc["args"], at_stamp=flags)
+            cfg = case_config(run["file"], "known_sea", run["seed"], argparse.Namespace(**doc["args"]))
+            out_rate = cfg.node.output_rate
+            checked = differ = filled = 0
+            for source, fc in run["forecasts"].items():
+                for i, f in enumerate(fc):
+                    k = int(round(f[1] * out_rate))
+                    if abs(k / out_rate - f[1]) > 1e-6 or k not in flags:
+                        raise ValueError(f"forecast stamp {f[1]} s is not on the tick grid of the rerun")
+                    flag = flags[k][f[0]]
+                    if len(f) > 8:
+                        checked += 1
+                        differ += bool(f[8]) != flag
+                    else:
+                        fc[i] = list(f[:7]) + [[]] * max(0, 7 - len(f)) + [None, flag]
+                        filled += 1
+            print(f"{Path(run['file']).stem} seed {run['seed']}: at-stamp flags filled for {filled} forecasts, "
+                  f"{checked} checked against the dump ({differ} differ); "
+                  f"{sum(v for k in flags for v in flags[k].values())} end-ticks slack or re-tensioning")
+        out = Path(path).with_name(Path(path).stem + "_atstamp.json")
+        out.write_text(json.dumps(doc, indent=1))
+        print(f"written {out}")
+    return 0
+
+
 def run_slack_levels(run, dumped_args):
     """{end: slack level N} of a dumped run (kept in dumps from 2026-11-28 on; else the run's detector at
     its start, the same numbers: no winch in these runs)."""
@@ -466,6 +505,10 @@ def main(argv=None) -> int:
     ap.add_argument("--near-misses", action="store_true",
                     help="with --rescore: run each dumped sea again without forecasts and compare every false-alarm "
                          "episode with the run's own end tension (the snap level, the slack level)")
+    ap.add_argument("--fill-at-stamp", action="store_true",
+                    help="with --rescore: run each dumped sea again without forecasts and write <dump>_atstamp.json with each "
+                         "forecast's slack_at_stamp from the run's detector (dumps from before 2026-11-28 lack it); "
+                         "checks it against dumps that have it")
     ap.add_argument("--fade", action="store_true",
                     help="known_sea: condition the members on the measured ship state by the exponential fade alone "
                          "(as before 2026-11-27) instead of the sea's covariance, for comparison")
@@ -479,6 +522,8 @@ def main(argv=None) -> int:
     if args.motion_error:
         return motion_error(args)
     if args.rescore:
+        if args.fill_at_stamp:
+            return fill_at_stamp(args.rescore)
         if args.near_misses:
             for margin in args.slack_margin:
                 near_misses(args.rescore, margin=margin)

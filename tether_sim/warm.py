@@ -92,6 +92,9 @@ def exercise(config, solver_factory=None) -> None:
     static = [max(abs(float(forces.ship_tension)), 1.0), max(abs(float(forces.vehicle_tension)), 1.0)]
     detector = SnapDetector(config.snap, list(ends), static, [0.0, config.cable.length])
     detector.update(np.asarray(times, float), np.column_stack([t_ship, t_vehicle]))
+    from tether_sim.numerics.colour_map import tension_rgba
+
+    tension_rgba(np.zeros(2), 1.0, np.empty((2, 4)))  # the marker's colours (the node's outputs)
 
 
 def exercise_network(path, ticks: int = 4) -> None:

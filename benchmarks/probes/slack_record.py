@@ -37,21 +37,26 @@ def case():
     return case_config(*case_key(), ast.literal_eval(os.environ.get("EXTRA", "{}")))
 
 
-def replay(path, config=None, guard_element=None):
+def replay(path, config=None, guard_element=None, t_end=None):
     """The events of a fresh end detector (the current code) fed the recorded samples of ``path`` as the run fed
-    them (same calls, same speeds)."""
+    them (same calls, same speeds); with ``t_end`` only the calls whose samples all lie at or before it (a run
+    recorded longer, cut to the ticks of a shorter one: the explicit solver's samples up to there are the same)."""
     from tether_sim.physics.snap import SnapDetector, snap_guard
 
     config = config or case()
     d = np.load(path)
+    times, tensions, chunk, speeds = d["times"], d["tensions"], d["chunk"], d["speed"]  # each read once
     h = guard_element or config.cable.length / config.dg.n_elements
     det = SnapDetector(config.snap, ["ship", "vehicle"], list(d["static"]), [0.0, config.cable.length],
                        snap_guard(config, h))
     out = []
-    for k, speed in enumerate(d["speed"]):
-        sel = d["chunk"] == k
-        if sel.any():
-            out += det.update(d["times"][sel], d["tensions"][sel], speed)
+    bounds = np.searchsorted(chunk, np.arange(len(speeds) + 1))  # the samples are stored call by call
+    for k, speed in enumerate(speeds):
+        a, b = bounds[k], bounds[k + 1]
+        if t_end is not None and b > a and times[a:b].max() > t_end + 1e-9:
+            break
+        if b > a:
+            out += det.update(times[a:b], tensions[a:b], speed)
     return out + det.flush()
 
 

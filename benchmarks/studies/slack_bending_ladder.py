@@ -11,13 +11,15 @@ time, and prints the table that docs/dg_solver.md quotes.
 
 Usage: PYTHONPATH=. python benchmarks/studies/slack_bending_ladder.py --lengths 200 500 --freqs 0.2 0.25
        --alphas 0 1 10 100 --meshes 20 40 80 --periods 12 --out out/slack_ladder [--set dg.damping=explicit] [--compare]
-       (--compare --coarse 20 --fine 40: the same check one rung lower)
+       (--compare --coarse 20 --fine 40: the same check one rung lower; --compare --records DIR ...: the recorded
+       runs of benchmarks/probes/slack_record.py re-detected with the current snap detector first)
 """
 
 import argparse
 import csv
 import os
 import platform
+import re
 import subprocess
 import sys
 import time
@@ -111,6 +113,58 @@ def _append(path, fields, rows):
 
 def _key(r):
     return (float(r["L"]), float(r["f"]), float(r["alpha"]), int(r["N"]))
+
+
+RECORD = re.compile(r"L([0-9.]+)f([0-9.]+)a([0-9.]+)N([0-9]+)\.npz$")
+
+
+def redetect(records, out, also=()):
+    """The ladder's rows from recorded runs (benchmarks/probes/slack_record.py's ``L<L>f<f>a<alpha>N<N>.npz`` in
+    the folders ``records``, the first folder naming a run wins) with the snap detector and guard of the current
+    code, written to ``out`` (runs.csv, events.csv; replaced). The runs of one case (L, f, alpha) are cut to the
+    shortest of them, so every rung is compared over the same periods; CPU s, load, date and commit are the
+    recording run's (from the runs.csv of ``also`` or the record's own folder and its ``ladder`` sibling)."""
+    from benchmarks.probes.slack_record import replay
+    from tether_sim.studies.stats import event_rows
+
+    import numpy as np
+
+    found = {}
+    for folder in records:
+        for path in sorted(Path(folder).glob("*.npz")):
+            m = RECORD.search(path.name)
+            if m:
+                found.setdefault((float(m[1]), float(m[2]), float(m[3]), int(m[4])), path)
+    meta = {}
+    for folder in [*also, *records, *(Path(r).parent / Path(r).name.replace("rec", "ladder") for r in records)]:
+        for r in _read(Path(folder) / "runs.csv"):
+            meta.setdefault((_key(r), round(float(r["sim_s"] or 0), 6)), r)
+    out.mkdir(parents=True, exist_ok=True)
+    for name in ("runs.csv", "events.csv"):
+        (out / name).unlink(missing_ok=True)
+    durations = {}
+    for key, path in found.items():
+        durations[key] = float(np.load(path)["duration"])
+    for key, path in sorted(found.items()):
+        L, f, alpha, N = key
+        d = np.load(path)
+        cut = min(v for k, v in durations.items() if k[:3] == key[:3])
+        events = replay(path, case_config(L, f, alpha, N, cut * f), t_end=cut)
+        rows = event_rows(events)
+        snaps = [e for e in rows if e["kind"] == "snap"]
+        ship = [e["peak_N"] for e in snaps if e["location"] == "ship"]
+        veh = [e["peak_N"] for e in snaps if e["location"] != "ship"]
+        src = meta.get((key, round(durations[key], 6)), {})
+        cpu = float(d["cpu"])
+        row = {"L": L, "f": f, "alpha": alpha, "N": N, "periods": round(cut * f, 6), "status": "ok", "error": "",
+               "divergences": int(d["divergences"]), "n_snap_ship": len(ship), "n_snap_vehicle": len(veh),
+               "n_numerical": sum(e["kind"] == "numerical" for e in rows), "max_snap_ship_N": max(ship, default=0.0),
+               "max_snap_vehicle_N": max(veh, default=0.0), "sim_s": cut, "cpu_s": cpu,
+               "cpu_per_sim_s": cpu / durations[key], "load": float(d["load"]), "date": src.get("date", ""),
+               "commit": src.get("commit", "")}
+        append_case(out, row, [{"L": L, "f": f, "alpha": alpha, "N": N, **{k: e.get(k, "") for k in EVENT_FIELDS[4:]}}
+                               for e in rows])
+    return found
 
 
 def compare(outs, coarse=40, fine=80, peak_tol=0.02, time_tol=0.010):
@@ -230,11 +284,17 @@ def main(argv=None):
                     help="with --compare: also print every event of every case on every mesh (time, peak, rise, verdict)")
     ap.add_argument("--coarse", type=int, default=40, help="--compare: the mesh whose snaps must be on --fine")
     ap.add_argument("--fine", type=int, default=80)
+    ap.add_argument("--records", type=Path, nargs="*", default=[],
+                    help="with --compare: re-detect the recorded runs in these folders (slack_record.py's npz) with "
+                         "the current snap detector into --out, every case cut to its shortest rung, then compare")
     ap.add_argument("--peak-tol", type=float, default=0.02)
     ap.add_argument("--time-tol", type=float, default=0.010)
     args = ap.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
-    if not args.compare:
+    if args.compare and args.records:
+        redetect(args.records, args.out, args.also)
+        args.also = []
+    elif not args.compare:
         done = {_key(r) for r in _read(args.out / "runs.csv")}
         extra = {k: yaml.safe_load(v) for k, _, v in (item.partition("=") for item in args.set)}  # as a YAML value
         print(f"# overrides {extra}", flush=True)

@@ -328,3 +328,29 @@ def test_deep_snaps_counts_the_members_below_the_margin():
     assert deep_snaps(snaps, depths, 100.0, 0.0) == snaps
     with pytest.raises(ValueError):
         deep_snaps(snaps, depths[:2], 100.0, 0.3)
+
+
+def test_tension_history_folds_old_ticks_without_changing_the_least_tension_before_a_peak():
+    """The look-ahead's tension history keeps only the ticks within ``keep`` s of the newest sample and
+    folds the older ones into a least tension per end: the least tension up to any time inside the
+    kept span is the minimum over every sample up to it, as over the whole history."""
+    from tether_sim.forecast.lookahead import _History
+
+    rng = np.random.default_rng(3)
+    tick, substeps, keep = 0.1, 7, 1.2
+    history = _History(keep)
+    clocks, tensions = [], []
+    for k in range(200):
+        clock = k * tick + np.arange(1, substeps + 1) * tick / substeps
+        chunk = rng.uniform(-50.0, 500.0, size=(substeps, 2))
+        history.append(clock, chunk)
+        clocks.append(clock)
+        tensions.append(chunk)
+        every_t, every = np.concatenate(clocks), np.concatenate(tensions)
+        for until in (clock[-1], clock[0] - 0.5 * keep, clock[-1] - keep + 1e-9):
+            for column in (0, 1):
+                upto = every[every_t <= until + 1e-12, column]
+                assert history.least_before(column, until) == (upto.min() if upto.size else math.inf)
+    assert len(history.chunks) <= math.ceil(keep / tick) + 1  # bounded, not the whole run
+    with pytest.raises(ValueError):  # a peak before the folded ticks cannot be answered exactly
+        history.least_before(0, 0.5)

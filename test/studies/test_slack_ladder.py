@@ -69,3 +69,42 @@ def test_ladder_tables_match_events_across_meshes(tmp_path):
     kinds = sorted((r["location"], r["kind"], tuple(sorted(r["by_mesh"]))) for r in rows)
     assert kinds == [("ship", "snap", (40, 80)), ("vehicle", "numerical", (80,)), ("vehicle", "snap", (40, 80))]
     assert set(RUN_FIELDS) >= set(run(40)) and set(EVENT_FIELDS) >= set(ev(40, "snap", "ship", 0, 0))
+
+
+def test_recorded_runs_are_redetected_over_the_shortest_rung(tmp_path):
+    """``--compare --records``: recorded end tensions (benchmarks/probes/slack_record.py's npz) go through the current
+    detector again, every rung of a case cut to the shortest one's ticks. Two synthetic records of one slack-snap
+    cycle per 4 s (slack 2-3 s, a rise to 150 kN over 0.5 s, static 60 / 40 kN): N = 20 recorded for 6 s (one cycle),
+    N = 40 for 10 s (two): after the cut both rungs have one snap per end at the same time and peak, and the
+    N = 40 row covers 6 s (1.2 periods at 0.2 Hz), not its own 10 s."""
+    import numpy as np
+
+    from benchmarks.studies.slack_bending_ladder import _read, compare, redetect
+
+    static = np.array([60e3, 40e3])
+
+    def tension(t):
+        c = np.mod(t, 4.0)
+        y = np.where(c < 2.0, 1.0, np.where(c < 3.0, 0.0, np.where(c < 3.5, (c - 3.0) / 0.5 * 2.5,
+                                                                    2.5 - 1.5 * np.minimum((c - 3.5) / 0.5, 1.0))))
+        return np.outer(y, static) if np.ndim(t) else y * static
+
+    def record(N, duration):
+        ticks = np.arange(0.0, duration, 0.02)
+        times = np.concatenate([k + np.arange(1, 11) * 0.002 for k in ticks])  # 10 substeps a tick
+        chunk = np.repeat(np.arange(len(ticks)), 10)
+        np.savez(tmp_path / f"L200f0.2a100N{N}.npz", times=times, tensions=tension(times), chunk=chunk,
+                 speed=np.full(len(ticks), 3.0), static=static, events=np.array([]), cpu=1.0, load=0.0,
+                 divergences=0, duration=duration)
+
+    record(20, 6.0)
+    record(40, 10.0)
+    out = tmp_path / "ladder"
+    redetect([tmp_path], out)
+    runs = {int(r["N"]): r for r in _read(out / "runs.csv")}
+    assert float(runs[40]["sim_s"]) == 6.0 and float(runs[40]["periods"]) == pytest.approx(1.2)
+    assert (runs[40]["n_snap_ship"], runs[40]["n_snap_vehicle"]) == ("1", "1")  # the 7.5 s cycle is cut away
+    snaps = [e for e in _read(out / "events.csv") if e["kind"] == "snap"]
+    assert sorted(float(e["time_s"]) for e in snaps) == pytest.approx([3.5] * 4, abs=0.003)
+    (row,) = compare(out, coarse=20, fine=40)
+    assert row["ok"] and row["unmatched"] == 0 and row["worst_peak_rel"] < 1e-9

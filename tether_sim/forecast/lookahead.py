@@ -124,7 +124,7 @@ class LookAhead:
         first = {end: None for end in END_NAMES}
         trough = {end: math.inf for end in END_NAMES}
         depth = {end: math.nan for end in END_NAMES}
-        history = []  # (clock times, tensions) of every tick so far (for the depth before a snap)
+        history = _History(10.0 * detector.config.peak_window + 2.0 * request.tick)  # for the depth before a snap
         end_clock = request.issued + request.horizon
         t0 = request.solver_time
         n_ticks = max(1, int(math.ceil(request.horizon / request.tick - 1e-9)))
@@ -156,13 +156,14 @@ class LookAhead:
                     least = (tensions if inside.all() else tensions[inside]).min(axis=0)
                     for j, end in enumerate(END_NAMES):
                         trough[end] = min(trough[end], float(least[j]))
-                history.append((clock, tensions))
+                if any(first[end] is None for end in END_NAMES):
+                    history.append(clock, tensions)
                 events = detector.update(clock, tensions, relative_end_speed(solver, self.config.cable.length))
                 for ev in events:
                     if (isinstance(ev, SnapEvent) and first[ev.location] is None
                             and request.issued - 1e-9 <= ev.time <= end_clock + 1e-9):
                         first[ev.location] = (ev.time, ev.peak_tension)
-                        depth[ev.location] = _least_before(history, END_NAMES.index(ev.location), ev.time)
+                        depth[ev.location] = history.least_before(END_NAMES.index(ev.location), ev.time)
         first["trough"] = trough
         first["depth"] = depth
         return first
@@ -234,14 +235,38 @@ def ensemble_median_time(times, members):
     return float(np.median(np.concatenate([times, np.full(members - k, math.inf)])))
 
 
-def _least_before(history, column, until):
-    """The least tension of ``column`` over the samples of ``history`` at clock times <= ``until``."""
-    least = math.inf
-    for clock, tensions in history:
-        upto = clock <= until + 1e-12
-        if upto.any():
-            least = min(least, float(tensions[upto, column].min()))
-    return least
+class _History:
+    """The end tensions of a member's ticks, for the least tension from the stamp to a snap's peak:
+    the ticks within ``keep`` s of the newest sample kept whole, the older ones folded into a least
+    tension per end. Exact for a snap reported within ``keep`` s of its peak: the detector closes a
+    re-tensioning window at the latest 10 peak windows after it opened, and its peak lies inside it,
+    so ``keep`` = 10 peak windows and two ticks (the samples of the tick that closes it)."""
+
+    def __init__(self, keep):
+        self.keep = keep
+        self.chunks = []  # (clock times, tensions) of the recent ticks
+        self.folded = None  # least tension per end over the older ticks
+        self.folded_until = -math.inf  # clock time of the newest folded sample
+
+    def append(self, clock, tensions):
+        self.chunks.append((clock, tensions))
+        newest = clock[-1]
+        while len(self.chunks) > 1 and self.chunks[0][0][-1] < newest - self.keep:
+            old_clock, old = self.chunks.pop(0)
+            least = old.min(axis=0)
+            self.folded = least if self.folded is None else np.minimum(self.folded, least)
+            self.folded_until = float(old_clock[-1])
+
+    def least_before(self, column, until):
+        """The least tension of ``column`` over the samples at clock times <= ``until``."""
+        if until < self.folded_until:
+            raise ValueError(f"a snap peak at {until} s lies before the folded tension history ({self.folded_until} s)")
+        least = math.inf if self.folded is None else float(self.folded[column])
+        for clock, tensions in self.chunks:
+            upto = clock <= until + 1e-12
+            if upto.any():
+                least = min(least, float(tensions[upto, column].min()))
+        return least
 
 
 def _window_open(detector, first):

@@ -36,11 +36,17 @@ class BodyFrame:
         (``body``: the BodyState of a simulated body end, ``orientation``: the end's
         :meth:`end_orientation`, if the caller already has them):
         ``f = R^T F``, ``torque = r x f + R^T M`` (world force F and moment M, offset r)."""
+        f, torque = self.body_wrench_floats(end, forces, body, orientation)
+        return np.array(f), np.array(torque)
+
+    def body_wrench_floats(self, end, forces, body=None, orientation=None):
+        """:meth:`body_wrench` as two tuples of 3 floats (the same numbers, no arrays: the node's
+        tick writes them straight into its messages)."""
         q = (self.end_orientation(end, body) if orientation is None else orientation).tolist()
         f = _to_body(q, getattr(forces, f"{end}_force"))
         m = _to_body(q, getattr(forces, f"{end}_moment"))
         (rx, ry, rz), (fx, fy, fz) = self.offset(end), f
-        return np.array(f), np.array([ry * fz - rz * fy + m[0], rz * fx - rx * fz + m[1], rx * fy - ry * fx + m[2]])
+        return f, (ry * fz - rz * fy + m[0], rz * fx - rx * fz + m[1], rx * fy - ry * fx + m[2])
 
 
 def _to_body(q, v):

@@ -5,7 +5,7 @@ and the offline runner writes them into MCAP, so no Python message object is bui
 building a TetherState/Marker/Path as rclpy objects (one ``Point`` per output point, one
 ``PoseStamped`` per Path pose, each field type-checked on assignment) and converting them to C
 for serialization cost ~2 ms per 50 Hz tick (docs/node.md). Each layout (message type, frame and
-names, point count) is encoded once into a buffer (:class:`_Template`); a tick writes the stamp and
+names, point count) is encoded once into a buffer (:class:`Template`); a tick writes the stamp and
 the values in place and copies the bytes out (``benchmarks/bench_node_tick.py`` times the tick).
 
 Encoding: the ROS 2 default, plain CDR little endian (XCDR1) with the 4-byte encapsulation header
@@ -25,7 +25,7 @@ import numpy as np
 ENCAPSULATION = b"\x00\x01\x00\x00"  # CDR, little endian
 _ZEROS = bytes(8)
 _U32 = struct.Struct("<I")
-_TIME = struct.Struct("<iI")
+TIME = _TIME = struct.Struct("<iI")  # builtin_interfaces/Time
 _3I = struct.Struct("<iii")
 
 
@@ -83,7 +83,7 @@ def _text(s: str) -> bytes:
     return s.encode("utf-8")
 
 
-class _Template:
+class Template:
     """The bytes of one message layout, written once with zero values on a CdrBuffer by the
     subclass's constructor, which records the offsets of the changing fields; each encoding writes
     those in place (numpy views, ``struct.pack_into``) and copies the bytes out. Not shared between
@@ -108,7 +108,7 @@ class _Template:
         return self._out.tobytes()
 
 
-def _header_at(b: CdrBuffer, frame: bytes) -> int:
+def header_at(b: CdrBuffer, frame: bytes) -> int:
     """Writes a std_msgs/Header with a zero stamp; returns the stamp's payload offset."""
     b.align(4)
     at = b.offset
@@ -128,12 +128,12 @@ def _sequence_at(b: CdrBuffer, n: int, width: int) -> int:
     return at
 
 
-class TetherStateEncoder(_Template):
+class TetherStateEncoder(Template):
     """tether_sim_msgs/TetherState of ``n`` points in one frame from one solver (a fixed layout)."""
 
     def __init__(self, frame: str, solver_name: str, n: int):
         b = CdrBuffer()
-        self._stamp = _header_at(b, _text(frame))
+        self._stamp = header_at(b, _text(frame))
         b.string(_text(solver_name))
         offsets = [_sequence_at(b, n, width) for width in (1, 3, 3, 1, 1, 1)]
         b.align(8)
@@ -171,13 +171,13 @@ _IDENTITY_POSE = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])  # Point position
 LINE_STRIP, ADD = 4, 0  # visualization_msgs/Marker constants
 
 
-class MarkerLineStripEncoder(_Template):
+class MarkerLineStripEncoder(Template):
     """visualization_msgs/Marker LINE_STRIP (action ADD, identity pose, lifetime 0, not frame-locked)
     of ``n`` points with per-vertex colours, one frame, namespace, id, width and colour."""
 
     def __init__(self, frame: str, ns: str, marker_id: int, width: float, colour, n: int):
         b = CdrBuffer()
-        self._stamp = _header_at(b, _text(frame))
+        self._stamp = header_at(b, _text(frame))
         b.string(_text(ns))
         b.packed(_3I, 4, int(marker_id), LINE_STRIP, ADD)
         b.float64s(_IDENTITY_POSE)
@@ -221,17 +221,17 @@ def marker_line_strip(stamp: tuple, frame: str, ns: str, marker_id: int, width: 
     return enc.encode(stamp, points, colours)
 
 
-class PathEncoder(_Template):
+class PathEncoder(Template):
     """nav_msgs/Path of ``n`` poses, each a PoseStamped with the path's header and identity orientation."""
 
     def __init__(self, frame: str, n: int):
         b = CdrBuffer()
         frame_b = _text(frame)
-        stamps = [_header_at(b, frame_b)]
+        stamps = [header_at(b, frame_b)]
         b.u32(n)
         positions = []
         for _ in range(n):
-            stamps.append(_header_at(b, frame_b))
+            stamps.append(header_at(b, frame_b))
             b.align(8)
             positions.append(b.offset)
             b.float64s(_IDENTITY_POSE)
@@ -266,12 +266,12 @@ def path(stamp: tuple, frame: str, points) -> bytes:
     return encoder(PathEncoder, frame, len(points)).encode(stamp, points)
 
 
-class _StampedDoublesEncoder(_Template):
+class StampedDoublesEncoder(Template):
     """A header followed by ``count`` float64 (8-aligned): WrenchStamped (6), PoseStamped (7)."""
 
     def __init__(self, frame: str, count: int):
         b = CdrBuffer()
-        self._stamp = _header_at(b, _text(frame))
+        self._stamp = header_at(b, _text(frame))
         b.align(8)
         at = b.offset
         b.raw(bytes(8 * count))
@@ -287,24 +287,24 @@ class _StampedDoublesEncoder(_Template):
 
 def wrench_stamped(stamp: tuple, frame: str, force, torque) -> bytes:
     """geometry_msgs/WrenchStamped."""
-    return encoder(_StampedDoublesEncoder, frame, 6).encode(stamp, *(float(x) for x in force),
+    return encoder(StampedDoublesEncoder, frame, 6).encode(stamp, *(float(x) for x in force),
                                                             *(float(x) for x in torque))
 
 
 def pose_stamped(stamp: tuple, frame: str, position, orientation) -> bytes:
     """geometry_msgs/PoseStamped (orientation quaternion x, y, z, w)."""
-    return encoder(_StampedDoublesEncoder, frame, 7).encode(stamp, *(float(x) for x in position),
+    return encoder(StampedDoublesEncoder, frame, 7).encode(stamp, *(float(x) for x in position),
                                                             *(float(x) for x in orientation))
 
 
-class WinchStateEncoder(_Template):
+class WinchStateEncoder(Template):
     """tether_sim_msgs/WinchState (msg_defs/msg/WinchState.msg) of one frame, winch end and mode."""
 
     _VALUES = struct.Struct("<5d4B")
 
     def __init__(self, frame: str, end: str, mode: str):
         b = CdrBuffer()
-        self._stamp = _header_at(b, _text(frame))
+        self._stamp = header_at(b, _text(frame))
         b.string(_text(end))
         b.string(_text(mode))
         b.align(8)

@@ -8,6 +8,7 @@ rclpy message objects. Frames: cable states in the world frame (ENU); wrenches i
 """
 
 import math
+import threading
 
 import numpy as np
 from builtin_interfaces.msg import Time
@@ -17,6 +18,7 @@ from std_msgs.msg import Header
 from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription
 
 from tether_sim.io.params import to_flat
+from tether_sim.numerics.colour_map import tension_rgba
 from tether_sim.physics.boundary import END_NAMES
 from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent
 from tether_sim.ros import cdr
@@ -181,23 +183,11 @@ def tension_scale(driver) -> float:
 
 def tension_colours(tension, scale: float) -> np.ndarray:
     """(n, 4) RGBA per point: blue (slack, T <= 0) through green (T = scale / 2) to red (T >= scale),
-    linear in between: with d = 2 T / scale - 1 clipped to [-1, 1], (max(d, 0), 1 - |d|, max(-d, 0), 1)."""
-    tension = np.asarray(tension, float)
-    if scale > 0:
-        d = tension / scale
-        d *= 2.0
-        d -= 1.0
-        np.maximum(d, -1.0, out=d)  # np.clip's values (NaN kept) without its Python wrapper
-        np.minimum(d, 1.0, out=d)
-    else:
-        d = np.full(tension.shape, -1.0)
-    rgba = np.empty((d.size, 4))
-    np.maximum(d, 0.0, out=rgba[:, 0])
-    np.abs(d, out=rgba[:, 1])
-    np.subtract(1.0, rgba[:, 1], out=rgba[:, 1])
-    np.negative(d, out=d)
-    np.maximum(d, 0.0, out=rgba[:, 2])
-    rgba[:, 3] = 1.0
+    linear in between: with d = 2 T / scale - 1 clipped to [-1, 1], (max(d, 0), 1 - |d|, max(-d, 0), 1)
+    (one compiled loop: tether_sim/numerics/colour_map.py)."""
+    tension = np.ascontiguousarray(tension, dtype=float).reshape(-1)
+    rgba = np.empty((tension.size, 4))
+    tension_rgba(tension, float(scale), rgba)
     return rgba
 
 
@@ -241,19 +231,21 @@ class OutputFrame:
 
     def state(self, arc_lengths):
         """The solver's state at ``arc_lengths`` (one sampling per distinct set of points)."""
-        key = np.asarray(arc_lengths, float).tobytes()
-        state = self._states.get(key)
-        if state is None:
-            state = self._states[key] = self.solver.state(arc_lengths)
-        return state
+        arc = np.asarray(arc_lengths, float)
+        key = arc.tobytes()
+        found = self._states.get(key)
+        if found is None:
+            found = self._states[key] = (arc, self.solver.state(arc_lengths))
+        return found[1]
 
     def end_positions(self, length: float) -> np.ndarray:
         """(2, 3) positions at s = 0 and s = ``length``: the first and last output point when a state
-        sampled here starts and ends there (the solvers sample each point on its own, so the values
-        are those of a sampling at the two points), else a sampling at the two."""
-        for state in self._states.values():
-            s = state.arc_length
-            if len(s) >= 2 and s[0] == 0.0 and s[-1] == length:
+        was sampled here at points that start and end there (the solvers sample each point on its own,
+        so the values are those of a sampling at the two points), else a sampling at the two. (The
+        points asked for are compared, not the state's arc lengths: a solver may report the last one
+        as the sum of its element lengths, 1729.9999999999998 for 1730.)"""
+        for arc, state in self._states.values():
+            if arc.ndim == 1 and len(arc) >= 2 and arc[0] == 0.0 and arc[-1] == length:
                 return np.asarray(state.position, float)[[0, -1]]
         return np.asarray(self.state(np.array([0.0, length])).position, float)
 
@@ -278,6 +270,43 @@ class ShapeGate:
         return True
 
 
+class _Layout:
+    """What the periodic outputs of one driver configuration share tick after tick (built at its first
+    output, again when the configuration, the solver or the calling thread changes): topic names,
+    frames, end kinds, the colour scale and the encoders of the fixed-size messages (the shape
+    encoders are looked up by point count: a winch changes it)."""
+
+    __slots__ = ("config", "solver", "thread", "world", "solver_name", "scale", "statics", "ends")
+
+    def __init__(self, driver):
+        cfg = self.config = driver.config
+        self.solver, self.thread = driver.solver, threading.get_ident()
+        node = cfg.node
+        self.world, self.solver_name = node.world_frame, driver.solver.name
+        self.statics = driver.static_tensions
+        self.scale = tension_scale(driver)
+        self.ends = []  # (end, wrench topic, pose topic, is body, wrench encoder, pose encoder)
+        for end in END_NAMES:
+            self.ends.append((end, f"/tether/{end}_wrench", f"/{end}/sim_pose", getattr(cfg, f"{end}_end").kind == "body",
+                              cdr.encoder(cdr.StampedDoublesEncoder, node.body_frame(end), 6),
+                              cdr.encoder(cdr.StampedDoublesEncoder, self.world, 7)))
+
+    def valid(self, driver) -> bool:
+        return (driver.config is self.config and driver.solver is self.solver and driver.static_tensions is self.statics
+                and threading.get_ident() == self.thread)
+
+
+def _layout(driver) -> _Layout:
+    layout = getattr(driver, "_output_layout", None)
+    if layout is None or not layout.valid(driver):
+        layout = _Layout(driver)
+        try:
+            driver._output_layout = layout
+        except AttributeError:  # (a driver that takes no attributes: built per call)
+            pass
+    return layout
+
+
 def tick_outputs(driver, arc_lengths, wanted=None, frame=None, shapes=True) -> list:
     """(topic, serialized CDR bytes) of every periodic output of the current driver state, stamped
     with the clock time of the state (:mod:`tether_sim.ros.cdr`; no message objects per tick).
@@ -285,40 +314,49 @@ def tick_outputs(driver, arc_lengths, wanted=None, frame=None, shapes=True) -> l
     ``wanted``: only these topics (the node passes the ones with a subscriber, so nobody pays for
     a Marker or Path no one displays); None = all. ``frame``: the :class:`OutputFrame` of this state
     when other outputs (/tf) read it too. ``shapes``: False leaves out SHAPE_TOPICS (:class:`ShapeGate`)."""
-    cfg, solver = driver.config, driver.solver
+    layout = _layout(driver)
     frame = OutputFrame(driver) if frame is None else frame
-    node = cfg.node
     stamp = cdr.stamp_parts(driver.stamp)
-    world = node.world_frame
-    want = (lambda topic: True) if wanted is None else wanted.__contains__
+    world = layout.world
+    want = _ALL if wanted is None else wanted
     out = []
     forces = frame.forces()
-    if shapes and any(want(topic) for topic in SHAPE_TOPICS):
+    if shapes and ("/tether/state" in want or "/tether/marker" in want or "/tether/path" in want):
         state = frame.state(arc_lengths)
         points = np.asarray(state.position, float)
-        if want("/tether/state"):
-            out.append(("/tether/state", cdr.tether_state(
-                stamp, world, solver.name, state.arc_length, points, state.velocity, state.tension, state.curvature,
+        if "/tether/state" in want:
+            out.append(("/tether/state", cdr.encoder(cdr.TetherStateEncoder, world, layout.solver_name,
+                                                     len(state.arc_length)).encode(
+                stamp, state.arc_length, points, state.velocity, state.tension, state.curvature,
                 state.bending_moment, float(forces.ship_tension), float(forces.vehicle_tension),
                 float(state.time_step), float(driver.real_time_factor), float(driver.lag), bool(driver.degraded))))
-        if want("/tether/marker"):
-            out.append(("/tether/marker", cdr.marker_line_strip(
-                stamp, world, "tether", 0, MARKER_WIDTH, MARKER_COLOUR, points,
-                tension_colours(state.tension, tension_scale(driver)))))
-        if want("/tether/path"):
-            out.append(("/tether/path", cdr.path(stamp, world, points)))
-    for end in END_NAMES:
-        wrench_topic, pose_topic = f"/tether/{end}_wrench", f"/{end}/sim_pose"
-        is_body = getattr(cfg, f"{end}_end").kind == "body"
-        if not (want(wrench_topic) or (is_body and want(pose_topic))):
+        if "/tether/marker" in want:
+            out.append(("/tether/marker", cdr.encoder(cdr.MarkerLineStripEncoder, world, "tether", 0, MARKER_WIDTH,
+                                                      MARKER_COLOUR, len(points)).encode(
+                stamp, points, tension_colours(state.tension, layout.scale))))
+        if "/tether/path" in want:
+            out.append(("/tether/path", cdr.encoder(cdr.PathEncoder, world, len(points)).encode(stamp, points)))
+    for end, wrench_topic, pose_topic, is_body, wrench_enc, pose_enc in layout.ends:
+        wrench, pose = wrench_topic in want, is_body and pose_topic in want
+        if not (wrench or pose):
             continue
         body = frame.body(end)
-        if want(wrench_topic):
-            force, torque = driver.body_wrench(end, forces, body, frame.orientation(end))
-            out.append((wrench_topic, cdr.wrench_stamped(stamp, node.body_frame(end), force, torque)))
-        if body is not None and want(pose_topic):
-            out.append((pose_topic, cdr.pose_stamped(stamp, world, body.position, body.orientation)))
+        if wrench:
+            force, torque = driver.body_wrench_floats(end, forces, body, frame.orientation(end))
+            out.append((wrench_topic, wrench_enc.encode(stamp, *force, *torque)))
+        if body is not None and pose:
+            out.append((pose_topic, pose_enc.encode(stamp, *body.position.tolist(), *body.orientation.tolist())))
     return out
+
+
+class _Everything:
+    """A ``wanted`` that holds every topic."""
+
+    def __contains__(self, topic) -> bool:
+        return True
+
+
+_ALL = _Everything()
 
 
 def event_outputs(events, driver) -> list:

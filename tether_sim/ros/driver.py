@@ -346,8 +346,10 @@ class SimulationDriver(EndCommands, BodyFrame):
             self.static_by_location.update(zip(END_NAMES, refs))
         speed = relative_end_speed(self.solver, self.config.cable.length)
         if len(times):
-            report.events = self.detector.update(np.asarray(times) + self.anchor,
-                                                 np.column_stack([t_ship, t_vehicle]), speed)
+            tensions = np.empty((len(times), 2))  # (np.column_stack's values, without its wrapper)
+            tensions[:, 0] = t_ship
+            tensions[:, 1] = t_vehicle
+            report.events = self.detector.update(np.asarray(times) + self.anchor, tensions, speed)
         if self.span_detector is not None:
             tension = self.solver.state(self.span_arc).tension
             report.events += self.span_detector.update(np.array([self.stamp]), np.asarray(tension, float).reshape(1, -1),

@@ -167,6 +167,7 @@ class TetherSimNode(Node):
         static = [max(abs(float(forces.ship_tension)), 1.0), max(abs(float(forces.vehicle_tension)), 1.0)]
         detector = SnapDetector(self.config.snap, list(END_NAMES), static, [0.0, self.config.cable.length])
         detector.update(np.asarray(times, float), np.column_stack([t_ship, t_vehicle]))
+        convert.tension_colours(np.zeros(2), 1.0)  # the marker's colour loop (compiled)
         self.get_logger().info(f"{self.config.solver} solver warmed up in {time.perf_counter() - t0:.1f} s")
         self._check_speed(solver)
 

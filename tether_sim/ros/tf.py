@@ -59,11 +59,16 @@ def end_offset(config, end) -> tuple:
 
 def rotate(q, v) -> np.ndarray:
     """``R(q) v`` for a unit quaternion (x, y, z, w): v + 2 w (u x v) + 2 u x (u x v), u = (x, y, z)."""
+    return np.array(_rotated(q, v))
+
+
+def _rotated(q, v) -> tuple:
+    """:func:`rotate` as a tuple of floats."""
     x, y, z, w = (float(c) for c in q)
     a, b, c = (float(e) for e in v)
     tx, ty, tz = y * c - z * b, z * a - x * c, x * b - y * a  # u x v
-    return np.array([a + 2.0 * (w * tx + y * tz - z * ty), b + 2.0 * (w * ty + z * tx - x * tz),
-                     c + 2.0 * (w * tz + x * ty - y * tx)])
+    return (a + 2.0 * (w * tx + y * tz - z * ty), b + 2.0 * (w * ty + z * tx - x * tz),
+            c + 2.0 * (w * tz + x * ty - y * tx))
 
 
 def tangent_quaternion(t) -> tuple:
@@ -99,26 +104,38 @@ def static_transforms(config, stamp: float) -> list:
 
 
 def body_poses(driver, include_prescribed: bool = True, frame=None) -> list:
-    """(end, position, quaternion) of each end's body frame origin in the world frame (``frame``:
-    the :class:`~tether_sim.ros.convert.OutputFrame` of this state, if the caller has one)."""
+    """(end, position, quaternion) of each end's body frame origin in the world frame, as tuples of
+    floats (``frame``: the :class:`~tether_sim.ros.convert.OutputFrame` of this state, if the caller
+    has one)."""
     cfg = driver.config
     frame = convert.OutputFrame(driver) if frame is None else frame
     out, attach = [], None
-    for end in END_NAMES:
-        kind = getattr(cfg, f"{end}_end").kind
+    for end, kind, offset in _ends(cfg):
         if kind == "prescribed" and not include_prescribed:
             continue
         if kind == "body":
             body = frame.body(end)
             if body is not None:
-                out.append((end, np.asarray(body.position, float), np.asarray(body.orientation, float)))
+                out.append((end, tuple(body.position.tolist()), tuple(body.orientation.tolist())))
                 continue
         if attach is None:
-            attach = frame.end_positions(cfg.cable.length)
-        q = np.asarray(frame.orientation(end), float)
-        p_att = attach[0 if end == "ship" else 1]
-        out.append((end, p_att - rotate(q, end_offset(cfg, end)), q))
+            attach = frame.end_positions(cfg.cable.length).tolist()
+        q = tuple(np.asarray(frame.orientation(end), float).tolist())
+        (px, py, pz), (rx, ry, rz) = attach[0 if end == "ship" else 1], _rotated(q, offset)
+        out.append((end, (px - rx, py - ry, pz - rz), q))
     return out
+
+
+_ENDS = {}  # id(config) -> (config, [(end, kind, attachment offset)]): what body_poses reads of a configuration
+
+
+def _ends(cfg) -> list:
+    found = _ENDS.get(id(cfg))
+    if found is None or found[0] is not cfg:
+        if len(_ENDS) >= 16:
+            _ENDS.clear()
+        found = _ENDS[id(cfg)] = (cfg, [(end, getattr(cfg, f"{end}_end").kind, end_offset(cfg, end)) for end in END_NAMES])
+    return found[1]
 
 
 def tether_frames(solver, length: float, count: int) -> list:
@@ -143,19 +160,41 @@ def dynamic_transforms(driver, frame=None) -> list:
     return out
 
 
+class TfMessageEncoder(cdr.Template):
+    """tf2_msgs/TFMessage of a fixed list of child frames, all with one parent (a fixed layout:
+    encoded once, each message writes the stamps and the 7 doubles of each transform in place)."""
+
+    def __init__(self, parent: str, children: tuple):
+        b = cdr.CdrBuffer()
+        b.u32(len(children))
+        stamps, values = [], []
+        parent = parent.encode("utf-8")
+        for child in children:
+            stamps.append(cdr.header_at(b, parent))
+            b.string(child.encode("utf-8"))
+            b.align(8)
+            values.append(b.offset)
+            b.raw(bytes(_7D.size))
+        self._finish(b)
+        self._stamps = [self._at(at) for at in stamps]
+        self._values = [self._at(at) for at in values]
+
+    def encode(self, stamp: tuple, transforms) -> bytes:
+        buf = self.buf
+        for at in self._stamps:
+            cdr.TIME.pack_into(buf, at, *stamp)
+        for at, (_, p, q) in zip(self._values, transforms):
+            _7D.pack_into(buf, at, float(p[0]), float(p[1]), float(p[2]), float(q[0]), float(q[1]), float(q[2]),
+                          float(q[3]))
+        return self.tobytes()
+
+
 def tf_message_cdr(stamp: float, parent: str, transforms) -> bytes:
     """Serialized tf2_msgs/TFMessage (CDR, as :mod:`tether_sim.ros.cdr` writes the other periodic
     outputs; building TransformStamped objects cost ~1 ms per tick, measured with
     benchmarks/bench_tf.py): ``transforms`` = [(child frame, position, quaternion x y z w)]."""
-    parts = cdr.stamp_parts(stamp)
-    parent = parent.encode("utf-8")
-    b = cdr.CdrBuffer()
-    b.u32(len(transforms))
-    for child, p, q in transforms:
-        b.header(parts, parent)
-        b.string(child.encode("utf-8"))
-        b.packed(_7D, 8, float(p[0]), float(p[1]), float(p[2]), float(q[0]), float(q[1]), float(q[2]), float(q[3]))
-    return b.tobytes()
+    enc = cdr.encoder(TfMessageEncoder, parent, tuple(child for child, _, _ in transforms))
+    return enc.encode(cdr.stamp_parts(stamp), transforms)
 
 
 class TfPublisher:
