@@ -5,7 +5,7 @@ The numpy statement of the map took ~11 array calls per marker, ~25 us per 41 po
 load 3.6); this loop takes ~2 us. It does the same floating-point operations in the same order,
 with numpy's rules for NaN (kept) and for equal arguments of ``np.maximum`` / ``np.minimum`` (the
 second one is returned), so the colours are those of the numpy statement
-(test/ros/test_colour_map.py holds the two together, compiled and with NUMBA_DISABLE_JIT=1).
+(test/numerics/test_colour_map.py holds the two together, compiled and with NUMBA_DISABLE_JIT=1).
 """
 
 from tether_sim.numerics.jit import jit

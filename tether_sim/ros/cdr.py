@@ -25,7 +25,7 @@ import numpy as np
 ENCAPSULATION = b"\x00\x01\x00\x00"  # CDR, little endian
 _ZEROS = bytes(8)
 _U32 = struct.Struct("<I")
-TIME = _TIME = struct.Struct("<iI")  # builtin_interfaces/Time
+TIME = struct.Struct("<iI")  # builtin_interfaces/Time
 _3I = struct.Struct("<iii")
 
 
@@ -67,7 +67,7 @@ class CdrBuffer:
 
     def header(self, stamp: tuple, frame: bytes) -> None:
         """std_msgs/Header: builtin_interfaces/Time stamp, string frame_id."""
-        self.packed(_TIME, 4, *stamp)
+        self.packed(TIME, 4, *stamp)
         self.string(frame)
 
     def float64s(self, values) -> None:
@@ -147,7 +147,7 @@ class TetherStateEncoder(Template):
     def encode(self, stamp: tuple, arc_length, position, velocity, tension, curvature, bending_moment,
                ship_tension: float, vehicle_tension: float, time_step: float, real_time_factor: float,
                lag: float = 0.0, degraded: bool = False) -> bytes:
-        _TIME.pack_into(self.buf, self._at(self._stamp), *stamp)
+        TIME.pack_into(self.buf, self._at(self._stamp), *stamp)
         for view, values in zip(self.arrays, (arc_length, position, velocity, tension, curvature, bending_moment)):
             view[...] = values
         _5D_BOOL.pack_into(self.buf, self._scalars, ship_tension, vehicle_tension, time_step, real_time_factor, lag,
@@ -184,7 +184,7 @@ class MarkerLineStripEncoder(Template):
         b.float64s((float(width), 0.0, 0.0))  # scale
         b.align(4)
         b.raw(np.asarray(colour, dtype="<f4").tobytes())
-        b.packed(_TIME, 4, 0, 0)  # lifetime (Duration): forever
+        b.packed(TIME, 4, 0, 0)  # lifetime (Duration): forever
         b.raw(b"\x00")  # frame_locked = False
         points = _sequence_at(b, n, 3)
         b.u32(n)
@@ -206,7 +206,7 @@ class MarkerLineStripEncoder(Template):
         self.colours = np.ndarray((n, 4), dtype="<f4", buffer=self.buf, offset=self._at(colours))
 
     def encode(self, stamp: tuple, points, colours) -> bytes:
-        _TIME.pack_into(self.buf, self._at(self._stamp), *stamp)
+        TIME.pack_into(self.buf, self._at(self._stamp), *stamp)
         self.points[...] = points
         self.colours[...] = colours  # float64 -> float32: rounded as astype rounds
         return self.tobytes()
@@ -249,7 +249,7 @@ class PathEncoder(Template):
     def encode(self, stamp: tuple, points) -> bytes:
         n = self.n
         for at in self._stamps[:2]:
-            _TIME.pack_into(self.buf, at, *stamp)
+            TIME.pack_into(self.buf, at, *stamp)
         if n:
             points = np.asarray(points, float)
             self.first[0] = points[0]
@@ -280,7 +280,7 @@ class StampedDoublesEncoder(Template):
         self._fmt = struct.Struct(f"<{count}d")
 
     def encode(self, stamp: tuple, *values) -> bytes:
-        _TIME.pack_into(self.buf, self._at(self._stamp), *stamp)
+        TIME.pack_into(self.buf, self._at(self._stamp), *stamp)
         self._fmt.pack_into(self.buf, self._values, *values)
         return self.tobytes()
 
@@ -315,7 +315,7 @@ class WinchStateEncoder(Template):
 
     def encode(self, stamp: tuple, setpoint, length, speed, commanded_speed, tension, speed_limited,
                acceleration_limited, at_min_length, at_max_length) -> bytes:
-        _TIME.pack_into(self.buf, self._at(self._stamp), *stamp)
+        TIME.pack_into(self.buf, self._at(self._stamp), *stamp)
         self._VALUES.pack_into(self.buf, self._values, setpoint, length, speed, commanded_speed, tension,
                                1 if speed_limited else 0, 1 if acceleration_limited else 0,
                                1 if at_min_length else 0, 1 if at_max_length else 0)
