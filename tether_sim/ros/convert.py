@@ -270,13 +270,20 @@ class ShapeGate:
         return True
 
 
+def end_offset(config, end) -> tuple:
+    """Attachment offset in the end's body frame (as :meth:`SimulationDriver.offset`)."""
+    if getattr(config, f"{end}_end").kind == "body":
+        return tuple(config.body.attachment)
+    return tuple(getattr(config.node, f"{end}_attachment"))
+
+
 class _Layout:
     """What the periodic outputs of one driver configuration share tick after tick (built at its first
     output, again when the configuration, the solver or the calling thread changes): topic names,
-    frames, end kinds, the colour scale and the encoders of the fixed-size messages (the shape
+    frames, end kinds and attachment offsets, the colour scale and the encoders of the fixed-size messages (the shape
     encoders are looked up by point count: a winch changes it)."""
 
-    __slots__ = ("config", "solver", "thread", "world", "solver_name", "scale", "statics", "ends")
+    __slots__ = ("config", "solver", "thread", "world", "solver_name", "scale", "statics", "ends", "offsets")
 
     def __init__(self, driver):
         cfg = self.config = driver.config
@@ -285,6 +292,7 @@ class _Layout:
         self.world, self.solver_name = node.world_frame, driver.solver.name
         self.statics = driver.static_tensions
         self.scale = tension_scale(driver)
+        self.offsets = [(end, getattr(cfg, f"{end}_end").kind, end_offset(cfg, end)) for end in END_NAMES]
         self.ends = []  # (end, wrench topic, pose topic, is body, wrench encoder, pose encoder)
         for end in END_NAMES:
             self.ends.append((end, f"/tether/{end}_wrench", f"/{end}/sim_pose", getattr(cfg, f"{end}_end").kind == "body",

@@ -32,6 +32,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from tether_sim.config import NodeOptions
 from tether_sim.physics.boundary import END_NAMES
 from tether_sim.ros import cdr, convert
+from tether_sim.ros.convert import end_offset
 
 try:
     from tf2_msgs.msg import TFMessage
@@ -48,13 +49,6 @@ def attachment_frame(body_frame: str, end: str) -> str:
     """``ship/base_link`` -> ``ship/tether_sheave``, ``rov/base_link`` -> ``rov/tether_attach``;
     a frame without a ``/`` gets a suffix (``boat`` -> ``boat_tether_sheave``)."""
     return NodeOptions(**{f"{end}_frame": body_frame}).attachment_frame(end)
-
-
-def end_offset(config, end) -> tuple:
-    """Attachment offset in the end's body frame (as :meth:`SimulationDriver.offset`)."""
-    if getattr(config, f"{end}_end").kind == "body":
-        return tuple(config.body.attachment)
-    return tuple(getattr(config.node, f"{end}_attachment"))
 
 
 def rotate(q, v) -> np.ndarray:
@@ -110,7 +104,7 @@ def body_poses(driver, include_prescribed: bool = True, frame=None) -> list:
     cfg = driver.config
     frame = convert.OutputFrame(driver) if frame is None else frame
     out, attach = [], None
-    for end, kind, offset in _ends(cfg):
+    for end, kind, offset in convert._layout(driver).offsets:
         if kind == "prescribed" and not include_prescribed:
             continue
         if kind == "body":
@@ -124,18 +118,6 @@ def body_poses(driver, include_prescribed: bool = True, frame=None) -> list:
         (px, py, pz), (rx, ry, rz) = attach[0 if end == "ship" else 1], _rotated(q, offset)
         out.append((end, (px - rx, py - ry, pz - rz), q))
     return out
-
-
-_ENDS = {}  # id(config) -> (config, [(end, kind, attachment offset)]): what body_poses reads of a configuration
-
-
-def _ends(cfg) -> list:
-    found = _ENDS.get(id(cfg))
-    if found is None or found[0] is not cfg:
-        if len(_ENDS) >= 16:
-            _ENDS.clear()
-        found = _ENDS[id(cfg)] = (cfg, [(end, getattr(cfg, f"{end}_end").kind, end_offset(cfg, end)) for end in END_NAMES])
-    return found[1]
 
 
 def tether_frames(solver, length: float, count: int) -> list:
