@@ -270,13 +270,6 @@ class ShapeGate:
         return True
 
 
-def end_offset(config, end) -> tuple:
-    """Attachment offset in the end's body frame (as :meth:`SimulationDriver.offset`)."""
-    if getattr(config, f"{end}_end").kind == "body":
-        return tuple(config.body.attachment)
-    return tuple(getattr(config.node, f"{end}_attachment"))
-
-
 class _Layout:
     """What the periodic outputs of one driver configuration share tick after tick (built at its first
     output, again when the configuration, the solver or the calling thread changes): topic names,
@@ -292,10 +285,11 @@ class _Layout:
         self.world, self.solver_name = node.world_frame, driver.solver.name
         self.statics = driver.static_tensions
         self.scale = tension_scale(driver)
-        self.offsets = [(end, getattr(cfg, f"{end}_end").kind, end_offset(cfg, end)) for end in END_NAMES]
+        # (end, kind, attachment offset in the end's body frame)
+        self.offsets = [(end, getattr(cfg, f"{end}_end").kind, tuple(driver.offset(end))) for end in END_NAMES]
         self.ends = []  # (end, wrench topic, pose topic, is body, wrench encoder, pose encoder)
-        for end in END_NAMES:
-            self.ends.append((end, f"/tether/{end}_wrench", f"/{end}/sim_pose", getattr(cfg, f"{end}_end").kind == "body",
+        for end, kind, _ in self.offsets:
+            self.ends.append((end, f"/tether/{end}_wrench", f"/{end}/sim_pose", kind == "body",
                               cdr.encoder(cdr.StampedDoublesEncoder, node.body_frame(end), 6),
                               cdr.encoder(cdr.StampedDoublesEncoder, self.world, 7)))
 

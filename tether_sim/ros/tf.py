@@ -32,7 +32,6 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from tether_sim.config import NodeOptions
 from tether_sim.physics.boundary import END_NAMES
 from tether_sim.ros import cdr, convert
-from tether_sim.ros.convert import end_offset
 
 try:
     from tf2_msgs.msg import TFMessage
@@ -90,10 +89,10 @@ def transform(stamp: float, parent: str, child: str, position, quaternion=(0.0, 
     return msg
 
 
-def static_transforms(config, stamp: float) -> list:
+def static_transforms(driver, stamp: float) -> list:
     """Body frame -> attachment frame of both ends."""
-    node = config.node
-    return [transform(stamp, node.body_frame(end), node.attachment_frame(end), end_offset(config, end))
+    node = driver.config.node
+    return [transform(stamp, node.body_frame(end), node.attachment_frame(end), tuple(driver.offset(end)))
             for end in END_NAMES]
 
 
@@ -199,7 +198,7 @@ class TfPublisher:
         if not self.enabled or driver.solver is None:
             return
         if not self._static_sent:
-            self.static_pub.publish(TFMessage(transforms=static_transforms(driver.config, driver.stamp)))
+            self.static_pub.publish(TFMessage(transforms=static_transforms(driver, driver.stamp)))
             self._static_sent = True
         if self.pub.get_subscription_count() > 0:
             cfg = driver.config
