@@ -143,7 +143,7 @@ def main(argv=None) -> int:
     ap.add_argument("--directions", type=int, default=5)
     ap.add_argument("--horizon", type=float, default=15.0)
     ap.add_argument("--rate", type=float, default=0.5)
-    ap.add_argument("--command-rates", nargs="+", type=float, default=[10.0, 0.0],
+    ap.add_argument("--command-rates", nargs="*", type=float, default=[10.0, 0.0],
                     help="forecast.command_rate of the perfect members (0: the node's output rate)")
     ap.add_argument("--ranks", default=None, help="a forecast_skill.py --dump file of the same seeds")
     ap.add_argument("--npz", default=None, help="save the run's end tensions here (per seed: <npz>_s<seed>.npz)")
