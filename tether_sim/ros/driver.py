@@ -431,6 +431,11 @@ class SimulationDriver(EndCommands, BodyFrame):
         """Clock time of the current solver state."""
         return self.anchor + (self.solver.time if self.solver is not None else 0.0)
 
+    @property
+    def end_speed_limit(self) -> float:
+        """m/s: the fastest an end may be moved (``node.max_end_speed``; sizes the blends)."""
+        return self.config.node.max_end_speed
+
 
 __all__ = ["SimulationDriver", "TickReport", "MotionSource", "SnapEvent", "SlackStarted", "NumericalSnapWarning", "Blend", "blend_time",
            "BLEND_ACCELERATION", "BLEND_MIN_TIME"]

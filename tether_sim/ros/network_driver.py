@@ -16,7 +16,13 @@ single-line node's counterpart is tether_sim/ros/driver.py).
   ``SETTLE_TIME`` and then until two consecutive 1 s chunks are quiet (:func:`settle_quiet`), at
   most ``SETTLE_MAX`` (the snap detectors' static tensions are taken after it).
 - Inputs: each driven (``prescribed``) point follows its source (an ``EndPoseInput``, or anything
-  with ``has_data`` and ``attachment_at(t)``); without data it holds its configured position.
+  with ``has_data`` and ``attachment_at(t)``) as the single-line node's ends do, with the same code
+  (:class:`~tether_sim.ros.end_commands.EndCommands`): without data it holds its configured
+  position; when its input falls silent (held past its extrapolation), resumes, or is revised
+  where the point already went (samples that arrive after the tick that extrapolated them, e.g.
+  after the process stalled), the point is blended onto the stream (a C2 blend, at most
+  ``BLEND_ACCELERATION``), never stepped; the blend is a bridge (an event overlapping it is
+  published as degraded) and the outputs are degraded while it runs.
 - Snap detection: one :class:`SnapDetector` per line over its two ends, fed with every substep's
   end tensions, guarded by :func:`line_snap_guard` (the snap plausibility bound with the mass of
   the bodies the line ends on). Event locations are ``<line>/ship`` and ``<line>/vehicle`` (the
@@ -36,6 +42,7 @@ from tether_sim.network.spec import NetworkSpec, PointSpec
 from tether_sim.physics.boundary import END_NAMES, EndCondition
 from tether_sim.physics.snap import NumericalSnapWarning, SnapDetector, SnapEvent, snap_guard
 from tether_sim.ros.bridging import Bridges, CatchUp, shift_detectors
+from tether_sim.ros.end_commands import EndCommands
 from tether_sim.solvers.base import relative_end_speed, shortest_element
 
 SETTLE_TIME = 3.0  # s: the least simulated time a network with an unpolished DG line settles before its clock starts
@@ -83,10 +90,12 @@ class NetworkTickReport:
     dropped: float = 0.0  # s skipped by a re-synchronisation
     error: str = ""  # the tick failed: the simulation stopped
     advanced: bool = False
+    blends: list = field(default_factory=list)  # (point, duration, reason) of the blends started
 
 
-class NetworkDriver:
-    """Owns the NetworkSolver, the clock mapping and one snap detector per line (module doc)."""
+class NetworkDriver(EndCommands):
+    """Owns the NetworkSolver, the clock mapping and one snap detector per line (module doc); its
+    driven points' commands are :class:`~tether_sim.ros.end_commands.EndCommands`'s."""
 
     def __init__(self, spec: NetworkSpec, node_options, sources: dict | None = None, statics: bool = True,
                  settle: float = SETTLE_TIME):
@@ -111,12 +120,28 @@ class NetworkDriver:
         self.real_time_factor = 0.0
         self.lag = 0.0
         self.catchup = CatchUp()  # point -> the offsets re-synchronisations added
-        self.bridges = Bridges()  # clock spans of the latest re-synchronisations (bridged)
+        self.bridges = Bridges()  # clock spans of the latest re-synchronisations and input blends (bridged)
+        self._held = {}  # point -> the last command came from a held (silent) input
+        self._blends = {}  # point -> Blend
+        self._hold_at = {}  # (EndCommands: rest points after a clock jump; the network has none)
+        self._suspended_until = None  # (EndCommands: detection suspended after a clock jump; never here)
 
     @property
     def stamp(self) -> float:
         """Clock time of the current state."""
         return self.anchor + (self.net.time if self.net is not None else 0.0)
+
+    @property
+    def end_speed_limit(self) -> float:
+        """m/s: the fastest a driven point may be moved (``node.max_end_speed``; sizes the blends)."""
+        return self.node.max_end_speed
+
+    @property
+    def _end_state(self):
+        """point -> (position, velocity) commanded at the network's current time (EndCommands)."""
+        if self.net is None:
+            return {}
+        return {n: (self.net.points[n].pos, self.net.points[n].vel) for n in self.driven_points()}
 
     def driven_points(self):
         return [n for n, p in self.spec0.points.items() if p.kind == "prescribed"]
@@ -138,7 +163,7 @@ class NetworkDriver:
         if self.net is not None and not self.failed and all(
                 np.allclose(p.position, self.spec.points[n].position, rtol=0.0, atol=1e-9) for n, p in spec.points.items()):
             self.anchor = t0 - self.net.time  # built at these positions and at rest (warm-up): keep it
-            self.catchup.clear()
+            self._clear_commands()
             self._build_detectors()
             return
         self.spec = spec
@@ -154,7 +179,7 @@ class NetworkDriver:
                 out = self.net.tick(min(self.net.time + SETTLE_CHUNK, SETTLE_MAX))
                 quiet = quiet + 1 if all(settle_quiet(out[n]["samples"]) for n in self.settled) else 0
         self.anchor = t0 - self.net.time
-        self.catchup.clear()
+        self._clear_commands()
         self._build_detectors()
 
     def _build_detectors(self, static=True):
@@ -173,32 +198,33 @@ class NetworkDriver:
                 self.slack[f"{name}/{e}"] = False
         self.bridges.clear()
 
-    def _target(self, name, t, drop=True):
-        """(position, velocity) commanded for driven point ``name`` at clock time ``t`` (its input
-        with the catch-up offsets; None without input data)."""
-        src = self.sources.get(name)
-        if src is None or not src.has_data:
-            return None
-        pos, vel = src.attachment_at(t)
-        return self.catchup.apply(name, t, np.asarray(pos, float), np.asarray(vel, float), drop)
+    def _clear_commands(self):
+        """No catch-up offsets, blends or held inputs: the points start on their inputs."""
+        self.catchup.clear()
+        self._blends.clear()
+        self._held.clear()
 
     def _resync(self, target, skip, report):
         """Skip ``skip`` s of clock (module doc): the network keeps its state, each driven point its
         commanded motion (a decaying offset onto its input), the detectors run on with their clock
-        shifted; the skip and the catch-up are recorded as a bridge."""
+        shifted; running blends keep their progress; the skip and the catch-up are recorded as a bridge."""
         self.anchor += skip
         report.dropped = skip
         self.dropped_total += skip
         self.resyncs += 1
+        for blend in self._blends.values():
+            blend.t0 += skip
         self.catchup.shift(skip)
         duration = 0.0
         for name in self.driven_points():
-            after = self._target(name, target, drop=False)
-            if after is None:
+            if self.sources.get(name) is None:
                 continue
+            after = self._commanded(name, target, drop=False)
             p = self.net.points[name]  # its commanded state at the network's time (the clock before the skip)
-            duration = max(duration, self.catchup.add(name, self.stamp, p.pos - after[0], p.vel - after[1],
-                                                      self.node.max_end_speed))
+            T = self.catchup.add(name, self.stamp, p.pos - after[0], p.vel - after[1], self.end_speed_limit)
+            if T > 0.0:
+                report.blends.append((name, T, "re-synchronised"))
+            duration = max(duration, T)
         shift_detectors(self.detectors.values(), skip)
         self.bridges.shift(skip)
         self.bridges.add(self.stamp, self.stamp + duration)
@@ -219,10 +245,9 @@ class NetworkDriver:
         if behind > self.node.max_lag:  # re-synchronise: skip to the inputs' present (one output period left to step)
             self._resync(target, behind - 1.0 / self.node.output_rate, report)
         for name in self.driven_points():
-            command = self._target(name, target)
-            if command is not None:
-                self.net.set_point_motion(name, *command)
-        self.degraded = bool(self.catchup)
+            if self.sources.get(name) is not None:  # (a point without a source keeps its configured position)
+                self.net.set_point_motion(name, *self._command(name, target, report))
+        self.degraded = bool(self.catchup) or bool(self._blends)
         wall0 = time.perf_counter()
         sim0 = self.net.time
         try:
