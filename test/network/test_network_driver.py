@@ -294,3 +294,52 @@ def test_a_stalled_process_resumes_its_points_by_blends_not_steps(spec):
     assert step.max() < 1e-4  # no step: the position follows the velocity (trapezoid error ~ jerk dt^3)
     assert (np.abs(dv) / dt)[ticks].max() < a * w * w + BLEND_ACCELERATION * 1.25  # (the quintic's sampled peak)
     assert h[-1, 3] == 0.0 and abs(h[-1, 1] - src.attachment_at(d.stamp)[0][2]) < 1e-9  # back on the stream
+
+
+def test_a_clock_jumping_back_holds_the_points_and_runs_on(spec):
+    """A simulation clock replayed or restarted goes backwards (here from 4 s to 1 s). The network
+    driver used to wait, frozen, until the clock passed 4 s again (no tick advanced, nothing
+    published). As the single-line driver: it runs on from the next tick, the ship point is brought
+    to rest smoothly while its input (reset: its stamps were of the old clock) is silent, blended onto
+    the new poses when they come, snap detection suspended until then and restarted fresh; the
+    outputs are degraded meanwhile and the commanded motion stays C1."""
+    from tether_sim.io.inputs import EndPoseInput, knot_spacing
+    from tether_sim.ros.end_commands import BLEND_ACCELERATION
+    from tether_sim.ros.sim_node import history_span
+
+    node = SimConfig().node
+    src = EndPoseInput("ship", (0.0, 0.0, 0.0), max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
+                       max_extrapolation=node.max_extrapolation, history_span=history_span(node),
+                       min_spacing=knot_spacing(node.output_rate))
+    a, w = 0.5, 2 * np.pi * 0.2
+
+    def pose(t):
+        src.add_pose(t, (0.0, 0.0, a * np.sin(w * t)), (0.0, 0.0, 0.0, 1.0))
+
+    for k in range(51):
+        pose(k * 0.02)
+    d = NetworkDriver(spec, node, {"ship": src})
+    d.start(1.0)
+    old_detectors = d.detectors
+    p, history, jumped, reasons = d.net.points["ship"], [], [], set()
+    clock = [1.0 + k * 0.02 for k in range(1, 151)] + [1.0 + k * 0.02 for k in range(0, 400)]  # 4 s, then 1 s on
+    for i, now in enumerate(clock):
+        if i > 150 + 25 or i < 150:  # after the jump the poses resume 0.5 s later, on the new clock
+            pose(now)
+        r = d.tick(now)
+        jumped.append(r.clock_jump)
+        reasons |= {b[2] for b in r.blends}
+        assert r.advanced or r.clock_jump, f"tick {i} at {now:.2f} s did not advance"
+        assert not r.error
+        history.append((d.stamp, p.pos[2], p.vel[2], d.degraded, d._suspended_until is not None))
+    h = np.array(history)
+    assert jumped.count(True) == 1 and jumped[150]
+    assert {"clock jumped back: held until the input resumes", "input resumed"} <= reasons
+    after = h[151:]
+    assert after[0, 4] and after[0, 3]  # suspended, degraded
+    dt, dz, dv, v = np.diff(after[:, 0]), np.diff(after[:, 1]), np.diff(after[:, 2]), after[:, 2]
+    assert np.all(dt > 0.0)
+    assert np.abs(dz - 0.5 * (v[1:] + v[:-1]) * dt).max() < 1e-4  # no step
+    assert (np.abs(dv) / dt).max() < a * w * w + BLEND_ACCELERATION * 1.25
+    assert not after[-1, 3] and not after[-1, 4] and d.detectors is not old_detectors  # live again, fresh detectors
+    assert abs(after[-1, 1] - src.attachment_at(d.stamp)[0][2]) < 1e-9  # back on the stream

@@ -192,6 +192,22 @@ class EndCommands:
         if float(np.linalg.norm(p_stream - self._end_state[end][0])) > REVISION_TOLERANCE:
             self._start_blend(end, t0, "input revised", report, t, suspend=False)
 
+    def _hold_after_jump(self, end, now, report):
+        """The clock jumped back and the end's pose history is gone (its stamps are of the old
+        clock): bring the end to rest smoothly (a blend from its current motion onto a fixed point
+        ahead of it, at most BLEND_ACCELERATION) instead of stopping it dead, and suspend snap
+        detection until the input resumes and its blend back onto the stream ends (driver.py's module doc, 1)."""
+        if end not in self._end_state:
+            return
+        p0, v0 = self._end_state[end]
+        speed, limit = float(np.linalg.norm(v0)), self.end_speed_limit
+        duration = blend_time(0.5 * speed * blend_time(0.0, speed, limit), speed, limit)
+        self._hold_at[end] = p0 + 0.5 * duration * v0  # where the decelerating end comes to rest
+        reason = "clock jumped back: held until the input resumes"
+        self._blends[end] = Blend(now, duration, p0.copy(), v0.copy(), reason)
+        report.blends.append((end, duration, reason))
+        self._suspend_detection(np.inf)  # released when the input resumes (EndCommands._command)
+
     def _suspend_detection(self, until):
         self._suspended_until = until if self._suspended_until is None else max(self._suspended_until, until)
 

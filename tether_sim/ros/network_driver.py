@@ -11,6 +11,11 @@ single-line node's counterpart is tether_sim/ros/driver.py).
   open across it keeps its simulated duration); an event whose slack or re-tensioning overlaps the
   skip or the catch-up after it is published as degraded (:meth:`NetworkDriver.bridged`). The
   outputs are marked degraded while a point catches up.
+- Clock jumps back (a replayed or restarted simulation clock): as the single-line node, the network
+  keeps its state and is re-anchored, the inputs' histories are reset, each driven point is
+  brought to rest and held until its input resumes, then blended onto it; snap detection is
+  suspended meanwhile and restarts fresh (:meth:`NetworkDriver._clock_jump`). Before 2026-11-28 the
+  network waited, frozen and silent, until the clock passed the old time again.
 - Start: the network statics at the driven points' current positions; a DG line whose discrete
   equilibrium polish failed settles with the points held before the clock starts, at least
   ``SETTLE_TIME`` and then until two consecutive 1 s chunks are quiet (:func:`settle_quiet`), at
@@ -91,6 +96,7 @@ class NetworkTickReport:
     error: str = ""  # the tick failed: the simulation stopped
     advanced: bool = False
     blends: list = field(default_factory=list)  # (point, duration, reason) of the blends started
+    clock_jump: bool = False  # the clock went backwards: re-anchored, points held until their inputs resume
 
 
 class NetworkDriver(EndCommands):
@@ -123,8 +129,10 @@ class NetworkDriver(EndCommands):
         self.bridges = Bridges()  # clock spans of the latest re-synchronisations and input blends (bridged)
         self._held = {}  # point -> the last command came from a held (silent) input
         self._blends = {}  # point -> Blend
-        self._hold_at = {}  # (EndCommands: rest points after a clock jump; the network has none)
-        self._suspended_until = None  # (EndCommands: detection suspended after a clock jump; never here)
+        self._hold_at = {}  # point -> rest point of a point held after a clock jump, until its input resumes
+        self._suspended_until = None  # clock time until which snap detection is suspended (a clock jump)
+        self._last_target = None  # the clock time (minus the input delay) of the last tick
+        self._released = False  # detection resumed in this tick (after a clock jump)
 
     @property
     def stamp(self) -> float:
@@ -203,6 +211,9 @@ class NetworkDriver(EndCommands):
         self.catchup.clear()
         self._blends.clear()
         self._held.clear()
+        self._hold_at.clear()
+        self._suspended_until = None
+        self._last_target = None
 
     def _resync(self, target, skip, report):
         """Skip ``skip`` s of clock (module doc): the network keeps its state, each driven point its
@@ -234,11 +245,44 @@ class NetworkDriver(EndCommands):
         the catch-up after it: published with ``degraded``."""
         return self.bridges.covers(event)
 
+    def _clock_jump(self, target, report):
+        """The clock went backwards (a replayed or restarted simulation clock): the network keeps its
+        state and is re-anchored at ``target``; every input's history is reset (its stamps are of
+        the old clock) and each driven point is brought to rest where it goes (EndCommands'
+        ``_hold_after_jump``) until its input resumes; snap detection is suspended until then and
+        the blends back onto the inputs end, and restarts fresh (the tension history's clock broke)."""
+        report.clock_jump = True
+        self.anchor = target - self.net.time
+        self.catchup.clear()
+        for name in self.driven_points():
+            src = self.sources.get(name)
+            if src is not None and hasattr(src, "reset"):
+                src.reset()
+                self._hold_after_jump(name, target, report)
+        self._suspend_detection(target)
+        self._released = False
+
+    def _detecting(self) -> bool:
+        """False while detection is suspended (a clock jump, module doc); the tick that ends the
+        suspension rebuilds the detectors (their static tensions kept) and sets ``_released``."""
+        self._released = False
+        if self._suspended_until is None:
+            return True
+        if self.stamp < self._suspended_until or self._hold_at or any(b.suspends for b in self._blends.values()):
+            return False
+        self._suspended_until = None
+        self._build_detectors(static=False)
+        self._released = True
+        return True
+
     def tick(self, now: float) -> NetworkTickReport:
         report = NetworkTickReport()
         if self.net is None or self.failed:
             return report
         target = now - self.node.input_delay
+        if self._last_target is not None and target < self._last_target:
+            self._clock_jump(target, report)
+        self._last_target = target
         behind = target - self.stamp
         if behind <= 0.0:
             return report
@@ -247,7 +291,7 @@ class NetworkDriver(EndCommands):
         for name in self.driven_points():
             if self.sources.get(name) is not None:  # (a point without a source keeps its configured position)
                 self.net.set_point_motion(name, *self._command(name, target, report))
-        self.degraded = bool(self.catchup) or bool(self._blends)
+        self.degraded = bool(self.catchup) or bool(self._blends) or self._suspended_until is not None
         wall0 = time.perf_counter()
         sim0 = self.net.time
         try:
@@ -261,11 +305,16 @@ class NetworkDriver(EndCommands):
             self.real_time_factor = (self.net.time - sim0) / wall
         self.lag = max(0.0, now - self.node.input_delay - self.stamp)
         report.advanced = True
+        if not self._detecting():
+            return report
         for name, o in out.items():
             s = o["samples"]
+            times = s[0] + self.anchor
+            if self._released:  # (detection resumed this tick: only what follows the resume)
+                keep = times >= self.stamp - 1e-12
+                s, times = s[:, keep], times[keep]
             if s.shape[1] == 0:
                 continue
-            times = s[0] + self.anchor
             speed = relative_end_speed(self.net.lines[name], self.spec.lines[name].config.cable.length)
             events = self.detectors[name].update(times, s[1:3].T, speed)  # (k, 2): the detector makes it contiguous
             for ev in events:
