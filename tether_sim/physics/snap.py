@@ -58,8 +58,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from tether_sim.physics.snap_guard import KINEMATIC_END_KINDS, NumericalSnapWarning, SnapGuard, snap_guard  # noqa: F401
-from tether_sim.physics.snap_kernel import (_MIN_T, _MODE, _N_EVENT, _N_STATE, _RISING, _SLACK, _SLACK_START,
-                                            _TIME_COLUMNS, snap_detector_close, snap_detector_step)
+from tether_sim.physics.snap_kernel import (_MIN_T, _MODE, _N_EVENT, _N_STATE, _NEW_MAXIMUM, _PUBLISHED, _RISING, _SLACK,
+                                            _SLACK_START, _SNAP, _TIME_COLUMNS, snap_detector_close, snap_detector_step)
 from tether_sim.spec import param
 
 
@@ -174,8 +174,9 @@ class SnapDetector:
         return dict(zip(self.locations, (bool(x) for x in self.is_slack())))
 
     def is_rising(self) -> np.ndarray:
-        """(n_loc,) bool: a re-tensioning window is open at the location (its snap event is pending)."""
-        return self._state[:, _MODE] == _RISING
+        """(n_loc,) bool: a re-tensioning window is open at the location and its snap event is pending (not a
+        window whose snap is out and that is only watched for a new maximum)."""
+        return (self._state[:, _MODE] == _RISING) & (self._state[:, _PUBLISHED] == -np.inf)
 
     def update(self, times, tensions, relative_speed=None) -> list:
         """Feed samples ``times`` (k,) and ``tensions`` (k, n_loc) (time-ordered); return new events.
@@ -228,8 +229,8 @@ class SnapDetector:
                 continue
             event = self._event(row)
             checked = self._guarded(event, speed, float(row[2] - row[8]))
-            if isinstance(checked, NumericalSnapWarning):
-                merged[j] = event
+            if isinstance(checked, NumericalSnapWarning) and row[0] == _SNAP:  # (a rejected new maximum: the
+                merged[j] = event  # published snap before it ended the slack period all the same)
             out.append(checked)
         return out
 
@@ -278,7 +279,7 @@ class SnapDetector:
 
     def _event(self, row):
         j = int(row[1])
-        if row[0] != 1.0:
+        if row[0] != _SNAP and row[0] != _NEW_MAXIMUM:
             return SlackStarted(time=float(row[2]), location=self.locations[j], arc_length=float(self.arc_lengths[j]),
                                 tension=float(row[3]), threshold=float(self._thresholds[j, 0]))
         static = float(self.static_tensions[j])
