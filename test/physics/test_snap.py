@@ -1,11 +1,13 @@
 """Snap detector on synthetic tension signals whose events are known exactly."""
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapConfig, SnapDetector, SnapEvent, SnapGuard
+from tether_sim.studies.stats import end_statistics, event_rows
 
 STATIC = 1000.0
 DT = 1e-3
@@ -312,6 +314,12 @@ def test_a_larger_peak_later_in_the_same_slack_episode_is_published_as_its_new_m
         assert snap.slack_start == pytest.approx(start, abs=1e-9) and snap.min_tension == pytest.approx(1.69e3)
         assert snap.slack_duration == pytest.approx(exit_t - start, abs=1e-9)
         assert snap.rise_time == pytest.approx(snap.time - exit_t, abs=1e-9)
+    # a study table counts the episode once, at its maximum (the per-case peak, the per-event rows)
+    tap = SimpleNamespace(t_max=[210.50e3, static], t_min=[1.69e3, static])
+    row = end_statistics(events, [static, static], tap)
+    assert row["ship_n_snap"] == 1 and row["ship_snap_peak_N"] == pytest.approx(210.50e3) and row["ship_n_slack"] == 1
+    assert row["ship_slack_total_s"] == pytest.approx(exit_t - start, abs=1e-9)
+    assert [r["peak_N"] for r in event_rows(events)] == [pytest.approx(210.50e3)]
     # the same event as the detector publishes when the first stage stays under the snap level (a window whose
     # maximum is below it stays open): the new maximum does not depend on where the first stage tops out
     under = [(a, 55.0e3 if b == 57.54e3 else b) for a, b in FIRST_STAGE]

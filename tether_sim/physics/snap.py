@@ -107,6 +107,19 @@ class SnapEvent:
     criterion: str
 
 
+def episode_maxima(snaps) -> list:
+    """One :class:`SnapEvent` per slack episode, its largest: the detector publishes a later, larger peak of a slack
+    episode whose snap is out as a further event of the same location with the same ``slack_start`` (the
+    snap's new maximum); a table of snaps counts the episode once, at its maximum. In the order of the episodes'
+    first events."""
+    best = {}
+    for e in snaps:
+        key = (e.location, e.slack_start)
+        if key not in best or e.peak_tension > best[key].peak_tension:
+            best[key] = e
+    return list(best.values())
+
+
 class SnapDetector:
     """Streaming slack/snap detector over several locations (see the module docstring)."""
 
