@@ -33,6 +33,13 @@ tension samples [DNV-RP-H103 slack criterion; PE2020 Sec. 6]:
                            cable while the cage end is slack), so the re-tensioning that follows is
                            the slack period's snap; an end still below the snap level 10 windows
                            after its re-tensioning began has left slack without a snap (taut).
+                           A snap ends its slack episode only when the end is done with it: the
+                           peak is published when it is a window old (no waiting), but while the
+                           tension stays out of slack, within the same 10 windows, a later peak
+                           above the largest one published is the same snap's new maximum and is
+                           published too (a further :class:`SnapEvent` with the same
+                           ``slack_start``; a first stage just past the snap level, the end taken
+                           up fully later). Ringing after a snap decays and publishes nothing.
 
 A plausibility guard (:class:`SnapGuard`, :mod:`tether_sim.physics.snap_guard`, docs/snap_guard.md)
 checks every snap event against what the cable's axial impedance, the system's kinetic energy and
@@ -71,7 +78,7 @@ class SnapConfig:
     slack_threshold: float = param(0.0, unit="N", doc="absolute slack threshold; > 0 overrides slack_fraction", min=0.0, max=1e9, live=True)
     retension_fraction: float = param(0.2, doc="slack ends when tension rises above retension_fraction * static (hysteresis)", min=0.0, max=10.0, live=True)
     min_slack_duration: float = param(0.1, unit="s", doc="no snap event after a slack period shorter than this", min=0.0, max=1e4, live=True)
-    peak_window: float = param(1.0, unit="s", doc="after re-tensioning, the snap peak is the largest tension until none larger follows within this window (a staged rise is one event; one below the snap level is followed until it reaches it or falls back into slack; at most 10 windows); keep it above the cable's axial round trip 2 L / c, the spacing of the stages", min=1e-6, max=1e4, live=True)
+    peak_window: float = param(1.0, unit="s", doc="after re-tensioning, the snap peak is the largest tension until none larger follows within this window (a staged rise is one event; one below the snap level is followed until it reaches it or falls back into slack; a larger peak of the same episode after a published one is published as its new maximum; at most 10 windows); keep it above the cable's axial round trip 2 L / c, the spacing of the stages", min=1e-6, max=1e4, live=True)
     snap_fraction: float = param(1.0, doc="a re-tensioning is a snap only if its peak reaches snap_fraction * static; weaker ones that fall back into slack are merged into the slack period", min=0.0, max=100.0, live=True)
     retension_threshold: float = param(0.0, unit="N", doc="absolute re-tension threshold: slack ends when the tension rises above it; > 0 overrides retension_fraction (never below the slack threshold)", min=0.0, max=1e9, live=True)
     snap_threshold: float = param(0.0, unit="N", doc="absolute snap threshold: a re-tensioning is a snap only if its peak reaches it; > 0 overrides snap_fraction (for a line that hangs slack by design, e.g. an excursion tether, whose static tension is no scale)", min=0.0, max=1e9, live=True)
