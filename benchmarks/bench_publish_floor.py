@@ -62,6 +62,7 @@ def capture(params, ticks):
 def child(params, ticks, variant, capture_ticks, wait_sink):
     import numpy as np
     import rclpy
+    import rclpy.executors
     from rclpy.serialization import deserialize_message
 
     from tether_sim.ros.convert import ros_name
@@ -98,8 +99,10 @@ def child(params, ticks, variant, capture_ticks, wait_sink):
         state["k"] = k + 1
 
     node.create_timer(1.0 / 50.0, on_tick)
+    executor = rclpy.executors.SingleThreadedExecutor()  # as rclpy.spin(node) of the real node
+    executor.add_node(node)
     while state["k"] <= warm + ticks:
-        rclpy.spin_once(node, timeout_sec=1.0)
+        executor.spin_once(timeout_sec=1.0)
     ru1, wall1 = resource.getrusage(resource.RUSAGE_SELF), time.monotonic()
     ru0 = state["ru0"]
     proc_cpu = (ru1.ru_utime + ru1.ru_stime - ru0.ru_utime - ru0.ru_stime) / ticks
