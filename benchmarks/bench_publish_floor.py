@@ -15,7 +15,8 @@ Variants (``--variants``, each its own process, in turn with and without a subsc
   objects  7 publish calls of message objects (rclpy serializes them)
   one      1 publish call of the 7 payloads concatenated (what fewer calls could save at most)
   state    the state message alone (1 call, the largest payload)
-Middleware settings are the process environment: ``--env RMW_FASTRTPS_PUBLICATION_MODE=ASYNCHRONOUS``,
+``--executor events``: rclpy.experimental's EventsExecutor (C++) instead of the SingleThreadedExecutor
+that ``rclpy.spin`` uses. Middleware settings are the process environment: ``--env RMW_FASTRTPS_PUBLICATION_MODE=ASYNCHRONOUS``,
 ``--env FASTDDS_BUILTIN_TRANSPORTS=SHM`` ... (each ``--env`` set applies to every variant of its run).
 
 Usage: nice -n 19 .venv/bin/python benchmarks/bench_publish_floor.py [--params config/ropos_L1730.yaml]
@@ -59,7 +60,7 @@ def capture(params, ticks):
     return payloads
 
 
-def child(params, ticks, variant, capture_ticks, wait_sink):
+def child(params, ticks, variant, capture_ticks, wait_sink, executor_kind):
     import numpy as np
     import rclpy
     import rclpy.executors
@@ -99,7 +100,12 @@ def child(params, ticks, variant, capture_ticks, wait_sink):
         state["k"] = k + 1
 
     node.create_timer(1.0 / 50.0, on_tick)
-    executor = rclpy.executors.SingleThreadedExecutor()  # as rclpy.spin(node) of the real node
+    if executor_kind == "events":  # rclpy's C++ events executor (rclpy.experimental)
+        from rclpy.experimental import EventsExecutor
+
+        executor = EventsExecutor()
+    else:
+        executor = rclpy.executors.SingleThreadedExecutor()  # as rclpy.spin(node) of the real node
     executor.add_node(node)
     while state["k"] <= warm + ticks:
         executor.spin_once(timeout_sec=1.0)
@@ -107,7 +113,7 @@ def child(params, ticks, variant, capture_ticks, wait_sink):
     ru0 = state["ru0"]
     proc_cpu = (ru1.ru_utime + ru1.ru_stime - ru0.ru_utime - ru0.ru_stime) / ticks
     r = np.array(rows) * 1e3
-    out = {"variant": variant, "calls": len(pubs), "bytes": sum(len(d) for _, _, _, d in payloads),
+    out = {"variant": variant, "executor": executor_kind, "calls": len(pubs), "bytes": sum(len(d) for _, _, _, d in payloads),
            "sizes": {topic: len(d) for topic, _, _, d in payloads},
            "subscribed": f"{sum(p.get_subscription_count() > 0 for p, _ in pubs)}/{len(pubs)}",
            "publish_ms": [float(np.median(r[:, 0])), float(np.percentile(r[:, 0], 99))],
@@ -121,11 +127,11 @@ def child(params, ticks, variant, capture_ticks, wait_sink):
     rclpy.shutdown()
 
 
-def launch(params, ticks, variant, capture_ticks, with_sink, env_extra):
+def launch(params, ticks, variant, capture_ticks, with_sink, env_extra, executor_kind):
     env = dict(os.environ, ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", ROS_DOMAIN_ID=str(100 + os.getpid() % 100))
     env.update(env_extra)
     cmd = [sys.executable, __file__, "--child", str(params), "--ticks", str(ticks), "--variant", variant,
-           "--capture", str(capture_ticks)] + (["--wait-sink"] if with_sink else [])
+           "--capture", str(capture_ticks), "--executor", executor_kind] + (["--wait-sink"] if with_sink else [])
     sink_proc = None
     if with_sink:
         sink_proc = subprocess.Popen([sys.executable, str(ROOT / "benchmarks" / "bench_node_tick.py"), "--sink"],
@@ -154,6 +160,8 @@ def main(argv=None):
     ap.add_argument("--capture", type=int, default=150, help="ticks of the real node before its payloads are taken")
     ap.add_argument("--variants", nargs="+", default=["bytes", "objects", "one", "state"])
     ap.add_argument("--no-sink-too", action="store_true", help="each variant also without a subscriber")
+    ap.add_argument("--executor", default="single", choices=["single", "events"],
+                    help="single: rclpy's SingleThreadedExecutor (rclpy.spin, the node's); events: rclpy.experimental's")
     ap.add_argument("--env", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--json", default="out/bench_publish_floor.json")
     ap.add_argument("--child", default=None)
@@ -161,15 +169,15 @@ def main(argv=None):
     ap.add_argument("--wait-sink", action="store_true")
     args = ap.parse_args(argv)
     if args.child:
-        return child(args.child, args.ticks, args.variant, args.capture, args.wait_sink)
+        return child(args.child, args.ticks, args.variant, args.capture, args.wait_sink, args.executor)
     env_extra = dict(item.split("=", 1) for item in args.env)
     print(f"bench_publish_floor, {os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
-          f"{args.params}, {args.ticks} ticks at 50 Hz, env {env_extra or 'default'}, load average "
+          f"{args.params}, {args.ticks} ticks at 50 Hz, executor {args.executor}, env {env_extra or 'default'}, load average "
           f"{os.getloadavg()[0]:.2f}", flush=True)
     rows = []
     for variant in args.variants:
         for with_sink in ([True, False] if args.no_sink_too else [True]):
-            r = launch(args.params, args.ticks, variant, args.capture, with_sink, env_extra)
+            r = launch(args.params, args.ticks, variant, args.capture, with_sink, env_extra, args.executor)
             r["sink"] = with_sink
             rows.append(r)
             print(f"{variant:8s} {'subscriber' if with_sink else 'none      '} {r['calls']} call(s), {r['bytes']} B: "
