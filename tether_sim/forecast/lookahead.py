@@ -29,6 +29,7 @@ Times: members' motions are functions of solver time; the detector and the resul
 (``clock = anchor + solver time``), as the driver does.
 """
 
+import collections
 import copy
 import math
 from dataclasses import dataclass, field
@@ -244,7 +245,7 @@ class _History:
 
     def __init__(self, keep):
         self.keep = keep
-        self.chunks = []  # (clock times, tensions) of the recent ticks
+        self.chunks = collections.deque()  # (clock times, tensions) of the recent ticks, oldest first
         self.folded = None  # least tension per end over the older ticks
         self.folded_until = -math.inf  # clock time of the newest folded sample
 
@@ -252,7 +253,7 @@ class _History:
         self.chunks.append((clock, tensions))
         newest = clock[-1]
         while len(self.chunks) > 1 and self.chunks[0][0][-1] < newest - self.keep:
-            old_clock, old = self.chunks.pop(0)
+            old_clock, old = self.chunks.popleft()
             least = old.min(axis=0)
             self.folded = least if self.folded is None else np.minimum(self.folded, least)
             self.folded_until = float(old_clock[-1])

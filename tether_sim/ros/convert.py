@@ -273,10 +273,10 @@ class ShapeGate:
 class _Layout:
     """What the periodic outputs of one driver configuration share tick after tick (built at its first
     output, again when the configuration, the solver or the calling thread changes): topic names,
-    frames, end kinds, the colour scale and the encoders of the fixed-size messages (the shape
+    frames, end kinds and attachment offsets, the colour scale and the encoders of the fixed-size messages (the shape
     encoders are looked up by point count: a winch changes it)."""
 
-    __slots__ = ("config", "solver", "thread", "world", "solver_name", "scale", "statics", "ends")
+    __slots__ = ("config", "solver", "thread", "world", "solver_name", "scale", "statics", "ends", "offsets")
 
     def __init__(self, driver):
         cfg = self.config = driver.config
@@ -285,9 +285,11 @@ class _Layout:
         self.world, self.solver_name = node.world_frame, driver.solver.name
         self.statics = driver.static_tensions
         self.scale = tension_scale(driver)
+        # (end, kind, attachment offset in the end's body frame)
+        self.offsets = [(end, getattr(cfg, f"{end}_end").kind, tuple(driver.offset(end))) for end in END_NAMES]
         self.ends = []  # (end, wrench topic, pose topic, is body, wrench encoder, pose encoder)
-        for end in END_NAMES:
-            self.ends.append((end, f"/tether/{end}_wrench", f"/{end}/sim_pose", getattr(cfg, f"{end}_end").kind == "body",
+        for end, kind, _ in self.offsets:
+            self.ends.append((end, f"/tether/{end}_wrench", f"/{end}/sim_pose", kind == "body",
                               cdr.encoder(cdr.StampedDoublesEncoder, node.body_frame(end), 6),
                               cdr.encoder(cdr.StampedDoublesEncoder, self.world, 7)))
 

@@ -284,7 +284,7 @@ class _OfflineOutputs:
             self.writer.write(topic, data, ns, ns)
         if self.tf:
             if not self.static_written:  # once, at the first output, as the node's latched /tf_static
-                static = tf_out.TFMessage(transforms=tf_out.static_transforms(driver.config, driver.stamp))
+                static = tf_out.TFMessage(transforms=tf_out.static_transforms(driver, driver.stamp))
                 self.writer.write("/tf_static", serialize_message(static), ns, ns)
                 self.static_written = True
             self.writer.write("/tf", tf_out.tf_message_cdr(driver.stamp, driver.config.node.world_frame,

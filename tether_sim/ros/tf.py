@@ -50,13 +50,6 @@ def attachment_frame(body_frame: str, end: str) -> str:
     return NodeOptions(**{f"{end}_frame": body_frame}).attachment_frame(end)
 
 
-def end_offset(config, end) -> tuple:
-    """Attachment offset in the end's body frame (as :meth:`SimulationDriver.offset`)."""
-    if getattr(config, f"{end}_end").kind == "body":
-        return tuple(config.body.attachment)
-    return tuple(getattr(config.node, f"{end}_attachment"))
-
-
 def rotate(q, v) -> np.ndarray:
     """``R(q) v`` for a unit quaternion (x, y, z, w): v + 2 w (u x v) + 2 u x (u x v), u = (x, y, z)."""
     return np.array(_rotated(q, v))
@@ -96,10 +89,10 @@ def transform(stamp: float, parent: str, child: str, position, quaternion=(0.0, 
     return msg
 
 
-def static_transforms(config, stamp: float) -> list:
+def static_transforms(driver, stamp: float) -> list:
     """Body frame -> attachment frame of both ends."""
-    node = config.node
-    return [transform(stamp, node.body_frame(end), node.attachment_frame(end), end_offset(config, end))
+    node = driver.config.node
+    return [transform(stamp, node.body_frame(end), node.attachment_frame(end), tuple(driver.offset(end)))
             for end in END_NAMES]
 
 
@@ -110,7 +103,7 @@ def body_poses(driver, include_prescribed: bool = True, frame=None) -> list:
     cfg = driver.config
     frame = convert.OutputFrame(driver) if frame is None else frame
     out, attach = [], None
-    for end, kind, offset in _ends(cfg):
+    for end, kind, offset in convert._layout(driver).offsets:
         if kind == "prescribed" and not include_prescribed:
             continue
         if kind == "body":
@@ -124,18 +117,6 @@ def body_poses(driver, include_prescribed: bool = True, frame=None) -> list:
         (px, py, pz), (rx, ry, rz) = attach[0 if end == "ship" else 1], _rotated(q, offset)
         out.append((end, (px - rx, py - ry, pz - rz), q))
     return out
-
-
-_ENDS = {}  # id(config) -> (config, [(end, kind, attachment offset)]): what body_poses reads of a configuration
-
-
-def _ends(cfg) -> list:
-    found = _ENDS.get(id(cfg))
-    if found is None or found[0] is not cfg:
-        if len(_ENDS) >= 16:
-            _ENDS.clear()
-        found = _ENDS[id(cfg)] = (cfg, [(end, getattr(cfg, f"{end}_end").kind, end_offset(cfg, end)) for end in END_NAMES])
-    return found[1]
 
 
 def tether_frames(solver, length: float, count: int) -> list:
@@ -217,7 +198,7 @@ class TfPublisher:
         if not self.enabled or driver.solver is None:
             return
         if not self._static_sent:
-            self.static_pub.publish(TFMessage(transforms=static_transforms(driver.config, driver.stamp)))
+            self.static_pub.publish(TFMessage(transforms=static_transforms(driver, driver.stamp)))
             self._static_sent = True
         if self.pub.get_subscription_count() > 0:
             cfg = driver.config
