@@ -129,6 +129,7 @@ class NetworkDriver:
         self.catchup = CatchUp()  # point -> the offsets re-synchronisations added
         self.bridges = Bridges()  # clock spans of the latest re-synchronisations (bridged)
         self._states = {}  # line -> its state at the output points, sampled once per tick (line_state)
+        self._share_states = not getattr(node_options, "shape_rate", 0.0) > 0.0  # shapes at every output
 
     @property
     def stamp(self) -> float:
@@ -273,8 +274,11 @@ class NetworkDriver:
             if s.shape[1] == 0:
                 continue
             times = s[0] + self.anchor
-            speed = relative_end_speed(self.net.lines[name], self.spec.lines[name].config.cable.length,
-                                       self.line_state(name))
+            solver = self.net.lines[name]
+            # the output points' state serves the speed where its ends are the solver's end samples
+            # (end_bodies, DG) and the shapes go out at every output (else two end samples are cheaper)
+            shared = self.line_state(name) if self._share_states and hasattr(solver, "end_bodies") else None
+            speed = relative_end_speed(solver, self.spec.lines[name].config.cable.length, shared)
             events = self.detectors[name].update(times, s[1:3].T, speed)  # (k, 2): the detector makes it contiguous
             for ev in events:
                 if isinstance(ev, NumericalSnapWarning):
