@@ -593,7 +593,12 @@ def main(args=None):
             node = NetworkSimNode(files=files, overrides=cli_param_values(argv))
         else:
             node = TetherSimNode(where=", ".join(files) or "command-line parameters", cli_keys=cli_param_keys(argv))
-        rclpy.spin(node)
+        executor = None  # node.executor: rclpy's default (SingleThreadedExecutor) or its C++ EventsExecutor
+        if not network and node.config.node.executor == "events":
+            from rclpy.experimental import EventsExecutor
+
+            executor = EventsExecutor()
+        rclpy.spin(node, executor=executor)
         if not rclpy.ok():  # spin may also simply return when the context is shut down by a signal
             stopping = True
             _ignore_further_signals()
