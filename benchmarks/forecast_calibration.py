@@ -37,6 +37,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from forecast_skill import truth_tensions  # noqa: E402
+from tether_sim.forecast.skill import TIE_TOLERANCE, trough_rank  # noqa: E402
 
 BINS = (0.0, 0.5, 1.0, 1.5, 2.0, 3.0, 5.0, math.inf)  # ensemble mean trough / slack level
 
@@ -77,11 +78,12 @@ def report(rows, end):
         return
     n = rows[0]["members"].size
     print(f"\n{end} end: {len(rows)} forecasts, {n} members each (tensions in slack levels unless said)")
-    hist = np.zeros(n + 1, int)
+    hist = np.zeros(n + 1)
     for r in rows:
-        if r["members"].size == n:
-            hist[int(np.sum(r["members"] < r["run"]))] += 1
-    print("  rank of the run's least tension among the members' (0: below all): " + " ".join(str(x) for x in hist)
+        if r["members"].size == n:  # ties (round-off in slack, a trough at the stamp) spread over their ranks
+            hist += trough_rank(r["members"], r["run"], TIE_TOLERANCE)
+    print("  rank of the run's least tension among the members' (0: below all; ties spread over their ranks): "
+          + " ".join(f"{x:.1f}" for x in hist)
           + f"; below all {100 * hist[0] / hist.sum():.0f} %, above all {100 * hist[-1] / hist.sum():.0f} % "
           f"(calibrated: {100 / (n + 1):.0f} % each)")
     print("  ensemble mean trough bin | forecasts | bias run - mean | rms error of mean | spread (sd) | "

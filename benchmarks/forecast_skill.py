@@ -44,7 +44,9 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from tether_sim.forecast.service import ForecastService  # noqa: E402
-from tether_sim.forecast.skill import fraction_interval, rate_interval, reliability, score  # noqa: E402
+from tether_sim.forecast.skill import (  # noqa: E402
+    TIE_TOLERANCE, fraction_interval, rate_interval, reliability, score, trough_rank,
+)
 from tether_sim.io.params import load_config  # noqa: E402
 from tether_sim.physics.motion import build_motion  # noqa: E402
 from tether_sim.physics.snap import SlackStarted, SnapEvent  # noqa: E402
@@ -323,16 +325,16 @@ def ranks(fc, t, tensions, slack, horizon, end_time):
             m = np.asarray(troughs[0], float)
             truth = tensions[end][(t > stamp - 1e-9) & (t < stamp + horizon - 1e-9)].min()
             if hist is None:
-                hist = np.zeros(m.size + 1, int)
-            if m.size + 1 == hist.size:
-                hist[int(np.sum(m < truth))] += 1
+                hist = np.zeros(m.size + 1)
+            if m.size + 1 == hist.size:  # ties (round-off in slack, a trough at the stamp) spread over their ranks
+                hist += trough_rank(m, truth, TIE_TOLERANCE * slack[end])
             if truth < 2.0 * slack[end]:
                 near += 1
                 wrong.append(float(np.mean((m < slack[end]) != (truth < slack[end]))))
         if hist is None:
             continue
-        print(f"  {end}: rank of the run's least tension within the horizon among the members' (0: below all): "
-              + " ".join(str(int(x)) for x in hist) + f"; {near} forecasts with the run's trough below 2 x the slack level: "
+        print(f"  {end}: rank of the run's least tension within the horizon among the members' (0: below all; ties "
+              f"spread over their ranks): " + " ".join(f"{x:.1f}" for x in hist) + f"; {near} forecasts with the run's trough below 2 x the slack level: "
               f"{100 * np.mean(wrong) if wrong else float('nan'):.0f} % of their members on the other side of the slack level")
 
 

@@ -75,3 +75,34 @@ def test_interval_bounds_of_few_events_are_the_exact_poisson_and_binomial_ones()
     assert abs(low - 0.025 ** (1 / 7)) < 1e-9 and high == 1.0
     low, high = fraction_interval(0, 4)
     assert low == 0.0 and abs(high - (1.0 - 0.025 ** (1 / 4))) < 1e-9
+
+
+def test_trough_rank_spreads_ties_and_a_calibrated_ensemble_gives_a_flat_histogram():
+    """In slack the end tension is round-off of either sign: the run and the members tied at "zero" must
+    not all fall on rank 0 (run below every member), nor a least tension at the stamp shared by all."""
+    import numpy as np
+
+    from tether_sim.forecast.skill import trough_rank
+
+    tol = 1e-6 * 4305.6  # the 1730 m file's slack level, N
+    slack = np.array([-9.3e-12, -4.8e-12, 2.0e-13, -1.1e-11])  # members in slack: round-off
+    assert trough_rank(slack, -4.3e-12, tol).tolist() == [0.2] * 5
+    assert trough_rank([0.0, 5.0, 7.0], 3.0, tol).tolist() == [0.0, 1.0, 0.0, 0.0]
+    assert trough_rank([1.0, 1.0, 2.0], 1.0, tol).tolist() == pytest.approx([1 / 3, 1 / 3, 1 / 3, 0.0])
+    # run and 8 members exchangeable, with ties at the slack floor in a third of the draws: flat within noise
+    rng = np.random.default_rng(5)
+    hist = np.zeros(9)
+    for _ in range(9000):
+        x = rng.normal(size=9)
+        if rng.random() < 1 / 3:
+            x = np.where(x < 0.5, rng.normal(0.0, 1e-11, 9), x)  # slack: round-off
+        hist += trough_rank(x[1:], x[0], tol)
+    assert np.all(np.abs(hist / 1000.0 - 1.0) < 0.1), hist
+    strict = np.zeros(9)  # what counting "members < run" made of the same kind of draws: rank 0 inflated
+    rng = np.random.default_rng(5)
+    for _ in range(9000):
+        x = rng.normal(size=9)
+        if rng.random() < 1 / 3:
+            x = np.where(x < 0.5, 0.0, x)
+        strict[int(np.sum(x[1:] < x[0]))] += 1
+    assert strict[0] > 1.5 * strict[4]

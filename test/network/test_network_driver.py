@@ -238,3 +238,108 @@ def test_an_excursion_pulse_from_above_the_slack_level_is_numerical_not_a_snap()
     events = physical.update(*_pulse_trace(rise=0.020, jump=20.0), relative_speed=0.5)
     snaps = [e for e in events if isinstance(e, SnapEvent)]
     assert len(snaps) == 1 and snaps[0].peak_tension == pytest.approx(1100.0, rel=5e-3)
+
+
+def test_a_stalled_process_resumes_its_points_by_blends_not_steps(spec):
+    """The node process stops for 1.5 s (a busy machine). After it, the timer's tick runs before the
+    queued poses (the last five: sensor-data QoS) are taken: the ship's input is held past its
+    extrapolation then, and revised by the samples one tick later. The network driver used to command
+    the point straight onto each (here a 0.65 m step within one 20 ms tick; on the ROPOS TMS file such
+    a step slackened the tether's cage end and published a 71 kN "snap"); it now blends as the
+    single-line driver does (EndCommands): the commanded motion stays C1 (its position change over each
+    tick is the trapezoid of its velocities) and its acceleration within the stream's own (0.39 m/s^2)
+    plus BLEND_ACCELERATION, and the blends are bridges (the outputs degraded while they run)."""
+    from tether_sim.io.inputs import EndPoseInput, knot_spacing
+    from tether_sim.ros.end_commands import BLEND_ACCELERATION
+    from tether_sim.ros.sim_node import history_span
+
+    node = SimConfig().node
+    src = EndPoseInput("ship", (0.0, 0.0, 0.0), max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
+                       max_extrapolation=node.max_extrapolation, history_span=history_span(node),
+                       min_spacing=knot_spacing(node.output_rate))
+    a, w = 0.5, 2 * np.pi * 0.2  # m, rad/s: peak speed 0.63 m/s, peak acceleration 0.79 m/s^2
+
+    def pose(t):
+        src.add_pose(t, (0.0, 0.0, a * np.sin(w * t)), (0.0, 0.0, 0.0, 1.0))
+
+    for k in range(21):
+        pose(k * 0.05)
+    d = NetworkDriver(spec, node, {"ship": src})
+    d.start(1.0)
+    k, sent, blends, history = 50, 1.0, [], []
+    p = d.net.points["ship"]
+    while k < 50 * 10:
+        k += 1
+        if k == 100:  # 2 s: stopped for 1.5 s; the tick comes first, then the queued poses
+            k += 75
+            r = d.tick(k / 50.0)
+            queued = np.arange(sent + 0.05, k / 50.0 + 1e-9, 0.05)
+            for t in queued[-5:]:
+                pose(t)
+            sent = queued[-1]
+        else:
+            while sent + 0.05 <= k / 50.0 + 1e-9:
+                sent += 0.05
+                pose(sent)
+            r = d.tick(k / 50.0)
+        assert r.advanced and not r.error
+        blends += r.blends
+        history.append((d.stamp, p.pos[2], p.vel[2], d.degraded))
+    h = np.array(history)
+    assert d.resyncs == 1 and {b[2] for b in blends} >= {"input lost", "input resumed"}
+    dt, dz, dv, v = np.diff(h[:, 0]), np.diff(h[:, 1]), np.diff(h[:, 2]), h[:, 2]
+    ticks = dt < 0.03  # (not the skip itself: the network keeps its state across it, the clock moves)
+    assert ticks.sum() == len(dt) - 1
+    step = np.abs(dz - 0.5 * (v[1:] + v[:-1]) * dt)[ticks]
+    assert step.max() < 1e-4  # no step: the position follows the velocity (trapezoid error ~ jerk dt^3)
+    assert (np.abs(dv) / dt)[ticks].max() < a * w * w + BLEND_ACCELERATION * 1.25  # (the quintic's sampled peak)
+    assert h[-1, 3] == 0.0 and abs(h[-1, 1] - src.attachment_at(d.stamp)[0][2]) < 1e-9  # back on the stream
+
+
+def test_a_clock_jumping_back_holds_the_points_and_runs_on(spec):
+    """A simulation clock replayed or restarted goes backwards (here from 4 s to 1 s). The network
+    driver used to wait, frozen, until the clock passed 4 s again (no tick advanced, nothing
+    published). As the single-line driver: it runs on from the next tick, the ship point is brought
+    to rest smoothly while its input (reset: its stamps were of the old clock) is silent, blended onto
+    the new poses when they come, snap detection suspended until then and restarted fresh; the
+    outputs are degraded meanwhile and the commanded motion stays C1."""
+    from tether_sim.io.inputs import EndPoseInput, knot_spacing
+    from tether_sim.ros.end_commands import BLEND_ACCELERATION
+    from tether_sim.ros.sim_node import history_span
+
+    node = SimConfig().node
+    src = EndPoseInput("ship", (0.0, 0.0, 0.0), max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
+                       max_extrapolation=node.max_extrapolation, history_span=history_span(node),
+                       min_spacing=knot_spacing(node.output_rate))
+    a, w = 0.5, 2 * np.pi * 0.2
+
+    def pose(t):
+        src.add_pose(t, (0.0, 0.0, a * np.sin(w * t)), (0.0, 0.0, 0.0, 1.0))
+
+    for k in range(51):
+        pose(k * 0.02)
+    d = NetworkDriver(spec, node, {"ship": src})
+    d.start(1.0)
+    old_detectors = d.detectors
+    p, history, jumped, reasons = d.net.points["ship"], [], [], set()
+    clock = [1.0 + k * 0.02 for k in range(1, 151)] + [1.0 + k * 0.02 for k in range(0, 400)]  # 4 s, then 1 s on
+    for i, now in enumerate(clock):
+        if i > 150 + 25 or i < 150:  # after the jump the poses resume 0.5 s later, on the new clock
+            pose(now)
+        r = d.tick(now)
+        jumped.append(r.clock_jump)
+        reasons |= {b[2] for b in r.blends}
+        assert r.advanced or r.clock_jump, f"tick {i} at {now:.2f} s did not advance"
+        assert not r.error
+        history.append((d.stamp, p.pos[2], p.vel[2], d.degraded, d._suspended_until is not None))
+    h = np.array(history)
+    assert jumped.count(True) == 1 and jumped[150]
+    assert {"clock jumped back: held until the input resumes", "input resumed"} <= reasons
+    after = h[151:]
+    assert after[0, 4] and after[0, 3]  # suspended, degraded
+    dt, dz, dv, v = np.diff(after[:, 0]), np.diff(after[:, 1]), np.diff(after[:, 2]), after[:, 2]
+    assert np.all(dt > 0.0)
+    assert np.abs(dz - 0.5 * (v[1:] + v[:-1]) * dt).max() < 1e-4  # no step
+    assert (np.abs(dv) / dt).max() < a * w * w + BLEND_ACCELERATION * 1.25
+    assert not after[-1, 3] and not after[-1, 4] and d.detectors is not old_detectors  # live again, fresh detectors
+    assert abs(after[-1, 1] - src.attachment_at(d.stamp)[0][2]) < 1e-9  # back on the stream

@@ -15,6 +15,8 @@ after the run (less than ``tolerance`` before its end) are not scored either.
 
 from dataclasses import dataclass
 
+import numpy as np
+
 
 @dataclass
 class Skill:
@@ -123,3 +125,21 @@ def fraction_interval(successes: int, trials: int, confidence: float = 0.95):
     low = beta.ppf(a / 2.0, successes, trials - successes + 1) if successes > 0 else 0.0
     high = beta.ppf(1.0 - a / 2.0, successes + 1, trials - successes) if successes < trials else 1.0
     return float(low), float(high)
+
+
+def trough_rank(members, run, tolerance):
+    """The rank of the run's least tension ``run`` among the members' ``members`` (0: below all), for a
+    rank histogram: a fraction for each rank from the members strictly below the run to those within
+    ``tolerance`` of it, summing to 1. Ties are real here: in slack the end tension is round-off
+    (1e-11 N on the 1730 m file), and a least tension at the stamp is every member's and the run's;
+    counted as strictly below, every tie fell on rank 0, "the run slacker than every member"
+    (docs/forecast.md, "The members' bias")."""
+    m = np.asarray(members, float).reshape(-1)
+    out = np.zeros(m.size + 1)
+    below = int(np.sum(m < run - tolerance))
+    tied = int(np.sum(np.abs(m - run) <= tolerance))
+    out[below:below + tied + 1] = 1.0 / (tied + 1)
+    return out
+
+
+TIE_TOLERANCE = 1e-6  # slack levels: tensions closer than this are equal (round-off in slack is ~1e-15 slack levels)

@@ -219,22 +219,6 @@ class SimulationDriver(EndCommands, BodyFrame):
                 self._take_snapshot()
         return self._finish(now, report)
 
-    def _hold_after_jump(self, end, now, report):
-        """The clock jumped back and the end's pose history is gone (its stamps are of the old
-        clock): bring the end to rest smoothly (a blend from its current motion onto a fixed point
-        ahead of it, at most BLEND_ACCELERATION) instead of stopping it dead, and suspend snap
-        detection until the input resumes and its blend back onto the stream ends (module doc, 1)."""
-        if end not in self._end_state:
-            return
-        p0, v0 = self._end_state[end]
-        speed, limit = float(np.linalg.norm(v0)), self.config.node.max_end_speed
-        duration = blend_time(0.5 * speed * blend_time(0.0, speed, limit), speed, limit)
-        self._hold_at[end] = p0 + 0.5 * duration * v0  # where the decelerating end comes to rest
-        reason = "clock jumped back: held until the input resumes"
-        self._blends[end] = Blend(now, duration, p0.copy(), v0.copy(), reason)
-        report.blends.append((end, duration, reason))
-        self._suspend_detection(np.inf)  # released when the input resumes (EndCommands._command)
-
     def _finish(self, now, report):
         report.stamp = self.stamp
         self.lag = report.lag = max(0.0, now - report.stamp)
@@ -430,6 +414,11 @@ class SimulationDriver(EndCommands, BodyFrame):
     def stamp(self) -> float:
         """Clock time of the current solver state."""
         return self.anchor + (self.solver.time if self.solver is not None else 0.0)
+
+    @property
+    def end_speed_limit(self) -> float:
+        """m/s: the fastest an end may be moved (``node.max_end_speed``; sizes the blends)."""
+        return self.config.node.max_end_speed
 
 
 __all__ = ["SimulationDriver", "TickReport", "MotionSource", "SnapEvent", "SlackStarted", "NumericalSnapWarning", "Blend", "blend_time",

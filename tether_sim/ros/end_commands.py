@@ -8,9 +8,11 @@ and snap detection is suspended until the blend ends. An end that never had an i
 first pose lies beyond what ``node.max_end_speed`` allows restarts the solver there
 (:meth:`EndCommands._first_pose_far`).
 
-:class:`EndCommands` is a mixin of the driver: it reads and writes the driver's end state
-(``sources``, ``_end_state``, ``_held``, ``_had_input``, ``_blends``, ``_hold_at``, ``_suspended_until``,
-``anchor``, ``solver``, ``config``, ``_solver_config``) and holds none of its own. No rclpy here.
+:class:`EndCommands` is a mixin of the drivers (the single-line driver's ends, the network driver's
+driven points): it reads and writes the driver's end state (``sources``, ``_end_state``, ``_held``,
+``_blends``, ``_hold_at``, ``_suspended_until``, ``catchup``, ``bridges``, ``stamp``,
+``end_speed_limit``; the single-line driver's first-pose check also ``_had_input``, ``solver``,
+``config``, ``_solver_config``) and holds none of its own. No rclpy here.
 """
 
 import math
@@ -133,7 +135,7 @@ class EndCommands:
         distance, speed_change = np.linalg.norm(p_s - ahead), np.linalg.norm(v_s - v0)
         if distance < 1e-9 and speed_change < 1e-9:
             return 0.0  # already on the stream
-        duration = blend_time(distance, speed_change, self.config.node.max_end_speed)
+        duration = blend_time(distance, speed_change, self.end_speed_limit)
         self._blends[end] = Blend(t, duration, p0.copy(), v0.copy(), reason, suspend)
         self.catchup.clear(end)
         report.blends.append((end, duration, reason))
@@ -158,7 +160,7 @@ class EndCommands:
             # cable state and its clock run on through both: snap detection goes on (a slack period is
             # not dropped), the blend is a bridge; only the resume after a clock jump (the detector's
             # clock broke there) keeps detection suspended until its blend ends
-            self._start_blend(end, self.anchor + self.solver.time, "input lost" if held else "input resumed", report, t,
+            self._start_blend(end, self.stamp, "input lost" if held else "input resumed", report, t,
                               suspend=after_jump)
         self._held[end] = held
         if (not held and end not in self._blends and not self.catchup.active(end) and end in self._end_state
@@ -182,13 +184,29 @@ class EndCommands:
         past the newest sample (or a newest knot was replaced) and the samples that came since say
         otherwise. Where the stream at the chunk's start lies more than ``REVISION_TOLERANCE`` from the
         end's commanded position there, the end is blended onto it, not stepped within one chunk."""
-        t0 = self.anchor + self.solver.time
+        t0 = self.stamp
         covers = getattr(self.sources.get(end), "covers", None)
         if covers is not None and not covers(t0):
             return  # (a flood shortened the history: the stream before its oldest sample is a placeholder)
         p_stream = self.end_target(end, t0)[0]
         if float(np.linalg.norm(p_stream - self._end_state[end][0])) > REVISION_TOLERANCE:
             self._start_blend(end, t0, "input revised", report, t, suspend=False)
+
+    def _hold_after_jump(self, end, now, report):
+        """The clock jumped back and the end's pose history is gone (its stamps are of the old
+        clock): bring the end to rest smoothly (a blend from its current motion onto a fixed point
+        ahead of it, at most BLEND_ACCELERATION) instead of stopping it dead, and suspend snap
+        detection until the input resumes and its blend back onto the stream ends (driver.py's module doc, 1)."""
+        if end not in self._end_state:
+            return
+        p0, v0 = self._end_state[end]
+        speed, limit = float(np.linalg.norm(v0)), self.end_speed_limit
+        duration = blend_time(0.5 * speed * blend_time(0.0, speed, limit), speed, limit)
+        self._hold_at[end] = p0 + 0.5 * duration * v0  # where the decelerating end comes to rest
+        reason = "clock jumped back: held until the input resumes"
+        self._blends[end] = Blend(now, duration, p0.copy(), v0.copy(), reason)
+        report.blends.append((end, duration, reason))
+        self._suspend_detection(np.inf)  # released when the input resumes (EndCommands._command)
 
     def _suspend_detection(self, until):
         self._suspended_until = until if self._suspended_until is None else max(self._suspended_until, until)

@@ -11,12 +11,23 @@ single-line node's counterpart is tether_sim/ros/driver.py).
   open across it keeps its simulated duration); an event whose slack or re-tensioning overlaps the
   skip or the catch-up after it is published as degraded (:meth:`NetworkDriver.bridged`). The
   outputs are marked degraded while a point catches up.
+- Clock jumps back (a replayed or restarted simulation clock): as the single-line node, the network
+  keeps its state and is re-anchored, the inputs' histories are reset, each driven point is
+  brought to rest and held until its input resumes, then blended onto it; snap detection is
+  suspended meanwhile and restarts fresh (:meth:`NetworkDriver._clock_jump`). Before 2026-11-28 the
+  network waited, frozen and silent, until the clock passed the old time again.
 - Start: the network statics at the driven points' current positions; a DG line whose discrete
   equilibrium polish failed settles with the points held before the clock starts, at least
   ``SETTLE_TIME`` and then until two consecutive 1 s chunks are quiet (:func:`settle_quiet`), at
   most ``SETTLE_MAX`` (the snap detectors' static tensions are taken after it).
 - Inputs: each driven (``prescribed``) point follows its source (an ``EndPoseInput``, or anything
-  with ``has_data`` and ``attachment_at(t)``); without data it holds its configured position.
+  with ``has_data`` and ``attachment_at(t)``) as the single-line node's ends do, with the same code
+  (:class:`~tether_sim.ros.end_commands.EndCommands`): without data it holds its configured
+  position; when its input falls silent (held past its extrapolation), resumes, or is revised
+  where the point already went (samples that arrive after the tick that extrapolated them, e.g.
+  after the process stalled), the point is blended onto the stream (a C2 blend, at most
+  ``BLEND_ACCELERATION``), never stepped; the blend is a bridge (an event overlapping it is
+  published as degraded) and the outputs are degraded while it runs.
 - Snap detection: one :class:`SnapDetector` per line over its two ends, fed with every substep's
   end tensions, guarded by :func:`line_snap_guard` (the snap plausibility bound with the mass of
   the bodies the line ends on). Event locations are ``<line>/ship`` and ``<line>/vehicle`` (the
@@ -36,6 +47,7 @@ from tether_sim.network.spec import NetworkSpec, PointSpec
 from tether_sim.physics.boundary import END_NAMES, EndCondition
 from tether_sim.physics.snap import NumericalSnapWarning, SnapDetector, SnapEvent, snap_guard
 from tether_sim.ros.bridging import Bridges, CatchUp, shift_detectors
+from tether_sim.ros.end_commands import EndCommands
 from tether_sim.solvers.base import relative_end_speed, shortest_element
 
 SETTLE_TIME = 3.0  # s: the least simulated time a network with an unpolished DG line settles before its clock starts
@@ -83,10 +95,13 @@ class NetworkTickReport:
     dropped: float = 0.0  # s skipped by a re-synchronisation
     error: str = ""  # the tick failed: the simulation stopped
     advanced: bool = False
+    blends: list = field(default_factory=list)  # (point, duration, reason) of the blends started
+    clock_jump: bool = False  # the clock went backwards: re-anchored, points held until their inputs resume
 
 
-class NetworkDriver:
-    """Owns the NetworkSolver, the clock mapping and one snap detector per line (module doc)."""
+class NetworkDriver(EndCommands):
+    """Owns the NetworkSolver, the clock mapping and one snap detector per line (module doc); its
+    driven points' commands are :class:`~tether_sim.ros.end_commands.EndCommands`'s."""
 
     def __init__(self, spec: NetworkSpec, node_options, sources: dict | None = None, statics: bool = True,
                  settle: float = SETTLE_TIME):
@@ -111,12 +126,30 @@ class NetworkDriver:
         self.real_time_factor = 0.0
         self.lag = 0.0
         self.catchup = CatchUp()  # point -> the offsets re-synchronisations added
-        self.bridges = Bridges()  # clock spans of the latest re-synchronisations (bridged)
+        self.bridges = Bridges()  # clock spans of the latest re-synchronisations and input blends (bridged)
+        self._held = {}  # point -> the last command came from a held (silent) input
+        self._blends = {}  # point -> Blend
+        self._hold_at = {}  # point -> rest point of a point held after a clock jump, until its input resumes
+        self._suspended_until = None  # clock time until which snap detection is suspended (a clock jump)
+        self._last_target = None  # the clock time (minus the input delay) of the last tick
+        self._released = False  # detection resumed in this tick (after a clock jump)
 
     @property
     def stamp(self) -> float:
         """Clock time of the current state."""
         return self.anchor + (self.net.time if self.net is not None else 0.0)
+
+    @property
+    def end_speed_limit(self) -> float:
+        """m/s: the fastest a driven point may be moved (``node.max_end_speed``; sizes the blends)."""
+        return self.node.max_end_speed
+
+    @property
+    def _end_state(self):
+        """point -> (position, velocity) commanded at the network's current time (EndCommands)."""
+        if self.net is None:
+            return {}
+        return {n: (self.net.points[n].pos, self.net.points[n].vel) for n in self.driven_points()}
 
     def driven_points(self):
         return [n for n, p in self.spec0.points.items() if p.kind == "prescribed"]
@@ -138,7 +171,7 @@ class NetworkDriver:
         if self.net is not None and not self.failed and all(
                 np.allclose(p.position, self.spec.points[n].position, rtol=0.0, atol=1e-9) for n, p in spec.points.items()):
             self.anchor = t0 - self.net.time  # built at these positions and at rest (warm-up): keep it
-            self.catchup.clear()
+            self._clear_commands()
             self._build_detectors()
             return
         self.spec = spec
@@ -154,7 +187,7 @@ class NetworkDriver:
                 out = self.net.tick(min(self.net.time + SETTLE_CHUNK, SETTLE_MAX))
                 quiet = quiet + 1 if all(settle_quiet(out[n]["samples"]) for n in self.settled) else 0
         self.anchor = t0 - self.net.time
-        self.catchup.clear()
+        self._clear_commands()
         self._build_detectors()
 
     def _build_detectors(self, static=True):
@@ -173,32 +206,36 @@ class NetworkDriver:
                 self.slack[f"{name}/{e}"] = False
         self.bridges.clear()
 
-    def _target(self, name, t, drop=True):
-        """(position, velocity) commanded for driven point ``name`` at clock time ``t`` (its input
-        with the catch-up offsets; None without input data)."""
-        src = self.sources.get(name)
-        if src is None or not src.has_data:
-            return None
-        pos, vel = src.attachment_at(t)
-        return self.catchup.apply(name, t, np.asarray(pos, float), np.asarray(vel, float), drop)
+    def _clear_commands(self):
+        """No catch-up offsets, blends or held inputs: the points start on their inputs."""
+        self.catchup.clear()
+        self._blends.clear()
+        self._held.clear()
+        self._hold_at.clear()
+        self._suspended_until = None
+        self._last_target = None
 
     def _resync(self, target, skip, report):
         """Skip ``skip`` s of clock (module doc): the network keeps its state, each driven point its
         commanded motion (a decaying offset onto its input), the detectors run on with their clock
-        shifted; the skip and the catch-up are recorded as a bridge."""
+        shifted; running blends keep their progress; the skip and the catch-up are recorded as a bridge."""
         self.anchor += skip
         report.dropped = skip
         self.dropped_total += skip
         self.resyncs += 1
+        for blend in self._blends.values():
+            blend.t0 += skip
         self.catchup.shift(skip)
         duration = 0.0
         for name in self.driven_points():
-            after = self._target(name, target, drop=False)
-            if after is None:
+            if self.sources.get(name) is None:
                 continue
+            after = self._commanded(name, target, drop=False)
             p = self.net.points[name]  # its commanded state at the network's time (the clock before the skip)
-            duration = max(duration, self.catchup.add(name, self.stamp, p.pos - after[0], p.vel - after[1],
-                                                      self.node.max_end_speed))
+            T = self.catchup.add(name, self.stamp, p.pos - after[0], p.vel - after[1], self.end_speed_limit)
+            if T > 0.0:
+                report.blends.append((name, T, "re-synchronised"))
+            duration = max(duration, T)
         shift_detectors(self.detectors.values(), skip)
         self.bridges.shift(skip)
         self.bridges.add(self.stamp, self.stamp + duration)
@@ -208,21 +245,53 @@ class NetworkDriver:
         the catch-up after it: published with ``degraded``."""
         return self.bridges.covers(event)
 
+    def _clock_jump(self, target, report):
+        """The clock went backwards (a replayed or restarted simulation clock): the network keeps its
+        state and is re-anchored at ``target``; every input's history is reset (its stamps are of
+        the old clock) and each driven point is brought to rest where it goes (EndCommands'
+        ``_hold_after_jump``) until its input resumes; snap detection is suspended until then and
+        the blends back onto the inputs end, and restarts fresh (the tension history's clock broke)."""
+        report.clock_jump = True
+        self.anchor = target - self.net.time
+        self.catchup.clear()
+        for name in self.driven_points():
+            src = self.sources.get(name)
+            if src is not None and hasattr(src, "reset"):
+                src.reset()
+                self._hold_after_jump(name, target, report)
+        self._suspend_detection(target)
+        self._released = False
+
+    def _detecting(self) -> bool:
+        """False while detection is suspended (a clock jump, module doc); the tick that ends the
+        suspension rebuilds the detectors (their static tensions kept) and sets ``_released``."""
+        self._released = False
+        if self._suspended_until is None:
+            return True
+        if self.stamp < self._suspended_until or self._hold_at or any(b.suspends for b in self._blends.values()):
+            return False
+        self._suspended_until = None
+        self._build_detectors(static=False)
+        self._released = True
+        return True
+
     def tick(self, now: float) -> NetworkTickReport:
         report = NetworkTickReport()
         if self.net is None or self.failed:
             return report
         target = now - self.node.input_delay
+        if self._last_target is not None and target < self._last_target:
+            self._clock_jump(target, report)
+        self._last_target = target
         behind = target - self.stamp
         if behind <= 0.0:
             return report
         if behind > self.node.max_lag:  # re-synchronise: skip to the inputs' present (one output period left to step)
             self._resync(target, behind - 1.0 / self.node.output_rate, report)
         for name in self.driven_points():
-            command = self._target(name, target)
-            if command is not None:
-                self.net.set_point_motion(name, *command)
-        self.degraded = bool(self.catchup)
+            if self.sources.get(name) is not None:  # (a point without a source keeps its configured position)
+                self.net.set_point_motion(name, *self._command(name, target, report))
+        self.degraded = bool(self.catchup) or bool(self._blends) or self._suspended_until is not None
         wall0 = time.perf_counter()
         sim0 = self.net.time
         try:
@@ -236,11 +305,16 @@ class NetworkDriver:
             self.real_time_factor = (self.net.time - sim0) / wall
         self.lag = max(0.0, now - self.node.input_delay - self.stamp)
         report.advanced = True
+        if not self._detecting():
+            return report
         for name, o in out.items():
             s = o["samples"]
+            times = s[0] + self.anchor
+            if self._released:  # (detection resumed this tick: only what follows the resume)
+                keep = times >= self.stamp - 1e-12
+                s, times = s[:, keep], times[keep]
             if s.shape[1] == 0:
                 continue
-            times = s[0] + self.anchor
             speed = relative_end_speed(self.net.lines[name], self.spec.lines[name].config.cable.length)
             events = self.detectors[name].update(times, s[1:3].T, speed)  # (k, 2): the detector makes it contiguous
             for ev in events:

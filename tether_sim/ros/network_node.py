@@ -160,6 +160,12 @@ class NetworkSimNode(Node):
             self.get_logger().error(f"network simulation stopped: {report.error} (no further outputs; restart the node)")
             self._publish_diagnostics()
             return
+        if report.clock_jump:
+            self._last_output = -math.inf
+            self.get_logger().warning("clock jumped backwards: pose histories reset, points held until their inputs "
+                                      "resume, snap detection suspended until then; simulation continues")
+        for point, duration, reason in report.blends:
+            self._log_throttled(("blend", point), "warning", f"{point} blended onto its pose input over {duration:.2f} s ({reason})")
         if report.dropped > 0:
             self._period["resyncs"] += 1
             self.get_logger().warning(f"{report.dropped:.3f} s behind the clock (beyond node.max_lag): skipped, "
