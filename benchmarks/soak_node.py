@@ -209,10 +209,10 @@ def run(args) -> int:
         memory.append((time.monotonic() - t_start, math.nan))
         probe.destroy_node()
         rclpy.shutdown()
-    return report(args, out, soak, memory, fault_log, died)
+    return report(args, out, soak, memory, fault_log, died, cpu)
 
 
-def report(args, out, soak, memory, fault_log, died) -> int:
+def report(args, out, soak, memory, fault_log, died, cpu=()) -> int:
     arr = np.array([s[:4] for s in soak.states], float) if soak.states else np.zeros((0, 4))
     gaps = np.diff(arr[:, 0]) * 1e3 if len(arr) > 1 else np.zeros(1)
     mem = np.array([m for m in memory if math.isfinite(m[1])])
