@@ -24,7 +24,7 @@ run: setup
 # then the kernel twin tests once more with the JIT off (the kernels as plain Python; ~1 min)
 test: setup
 	TETHER_SIM_REQUIRE_ROS=1 $(PY) -m pytest -q -n $(PYTEST_WORKERS) --dist loadfile $(PYTEST_ARGS)
-	NUMBA_DISABLE_JIT=1 $(PY) -m pytest -q -p no:cacheprovider -m jit_off test/solvers/dg test/numerics/test_colour_map.py test/physics/test_waves.py test/network/test_network_dynamics.py
+	NUMBA_DISABLE_JIT=1 $(PY) -m pytest -q -p no:cacheprovider -m jit_off test/solvers/dg test/numerics/test_colour_map.py test/physics/test_waves.py test/physics/test_snap.py test/network/test_network_dynamics.py
 
 bench: setup
 	# the quick figures (a few minutes); the full ladders of BENCHMARKS.md are run by hand (commands there)

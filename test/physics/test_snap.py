@@ -1,11 +1,13 @@
 """Snap detector on synthetic tension signals whose events are known exactly."""
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
-from tether_sim.physics.snap import SlackStarted, SnapConfig, SnapDetector, SnapEvent
+from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapConfig, SnapDetector, SnapEvent, SnapGuard
+from tether_sim.studies.stats import end_statistics, event_rows
 
 STATIC = 1000.0
 DT = 1e-3
@@ -261,6 +263,94 @@ def test_a_weak_first_stage_that_stays_out_of_slack_does_not_hide_the_snap_after
     events = run(SnapDetector(SnapConfig(), ["ship"], [static], [0.0]), t, piecewise(t, dip)[:, None])
     assert [type(e) for e in events] == [SlackStarted, SnapEvent]
     assert events[1].slack_start == pytest.approx(10.199, abs=1e-9) and events[1].peak_tension == pytest.approx(212.11e3)
+
+
+# The ship end of PE2020 Sec. 6.2's 500 m case at alpha = 1 (f = 0.2 Hz, N = 20, P = 4; static 55.70 kN: slack below
+# 5.57 kN, re-tension above 11.14 kN, snap from 55.70 kN), t = 24.6-30 s, knots at the turning points of the run's own
+# end tension (`LL=500 FF=0.2 AL=1 NN=20 PERIODS=6 benchmarks/probes/slack_record.py`, 2026-11-28). Slack from 25.69 s
+# (least 1.69 kN); while the cage end is slack the ship end holds the hanging cable and rises in stages to a first
+# stage that just passes the snap level (57.54 kN = 1.03 x static at 27.151 s), sinks to 15.19 kN without going slack
+# again, and is taken up with the cage at 28.839 s: 210.50 kN, the slack period's real snap. A window (1 s) after the
+# first stage the tension is at 51.6 kN, still below it: the window closes on the first stage.
+FIRST_STAGE = [(0.0, 55.70e3), (24.6, 55.70e3), (25.134, 32.09e3), (25.251, 34.28e3), (25.773, 1.69e3),
+               (26.051, 18.43e3), (26.108, 12.65e3), (26.133, 14.73e3), (26.300, 5.63e3), (26.562, 18.65e3),
+               (26.811, 10.79e3), (26.892, 39.70e3), (27.046, 35.42e3), (27.151, 57.54e3), (27.322, 42.06e3),
+               (27.399, 53.01e3), (27.579, 27.17e3), (27.649, 33.15e3), (27.789, 15.19e3), (27.915, 27.94e3),
+               (27.986, 23.65e3), (28.1, 39.29e3), (28.15, 51.37e3), (28.2, 56.73e3), (28.3, 73.17e3),
+               (28.4, 108.51e3), (28.5, 136.45e3), (28.6, 175.23e3), (28.7, 204.78e3), (28.839, 210.50e3),
+               (29.0, 186.12e3), (29.2, 169.45e3), (29.5, 143.73e3), (29.828, 55.77e3), (30.5, 40.0e3),
+               (32.0, 55.70e3), (50.0, 55.70e3)]
+
+
+def crossing(knots, level, after=0.0, upward=False):
+    """The first time after ``after`` at which the piecewise-linear ``knots`` cross ``level`` (down, or up)."""
+    for (ta, ya), (tb, yb) in zip(knots, knots[1:]):
+        if tb > after and ((ya >= level > yb) if not upward else (ya < level <= yb)):
+            return ta + (level - ya) * (tb - ta) / (yb - ya)
+    return None
+
+
+@pytest.mark.jit_off  # `make test` also runs it with NUMBA_DISABLE_JIT=1 (the detector kernel as plain Python)
+@pytest.mark.parametrize("chunk", [1, 777, 100_000])
+def test_a_larger_peak_later_in_the_same_slack_episode_is_published_as_its_new_maximum(chunk):
+    """A first stage that just passes the snap level is published at once (live latency), but it does not end
+    the episode: while the re-tensioning window is open (until the end falls back into slack, or 10 peak windows
+    after its re-tensioning began) a later peak above the largest one published is the same snap's new maximum
+    and is published too, with the same slack period (a consumer tells the episode by its slack_start); the
+    episode's largest published peak is its snap load. (Before 2026-11-28 the window closed a window after the
+    57.54 kN stage, the end counted as taut, and the 210.50 kN re-tensioning was not published.)"""
+    static = 55.70e3
+    t = np.arange(0.0, 50.0, 1e-3)
+    y = piecewise(t, FIRST_STAGE)[:, None]
+    events = run(SnapDetector(SnapConfig(), ["ship"], [static], [0.0]), t, y, chunk)
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent, SnapEvent]
+    slack, first, larger = events
+    start = crossing(FIRST_STAGE, 0.1 * static)
+    exit_t = crossing(FIRST_STAGE, 0.1 * static, after=start, upward=True)
+    assert slack.time == pytest.approx(start, abs=1e-9)
+    assert first.peak_tension == pytest.approx(57.54e3) and first.time == pytest.approx(27.151, abs=1e-9)
+    assert larger.peak_tension == pytest.approx(210.50e3) and larger.time == pytest.approx(28.839, abs=1e-9)
+    for snap in (first, larger):  # one slack episode: the same slack period, the rise from its last exit
+        assert snap.slack_start == pytest.approx(start, abs=1e-9) and snap.min_tension == pytest.approx(1.69e3)
+        assert snap.slack_duration == pytest.approx(exit_t - start, abs=1e-9)
+        assert snap.rise_time == pytest.approx(snap.time - exit_t, abs=1e-9)
+    # a study table counts the episode once, at its maximum (the per-case peak, the per-event rows)
+    tap = SimpleNamespace(t_max=[210.50e3, static], t_min=[1.69e3, static])
+    row = end_statistics(events, [static, static], tap)
+    assert row["ship_n_snap"] == 1 and row["ship_snap_peak_N"] == pytest.approx(210.50e3) and row["ship_n_slack"] == 1
+    assert row["ship_slack_total_s"] == pytest.approx(exit_t - start, abs=1e-9)
+    assert [r["peak_N"] for r in event_rows(events)] == [pytest.approx(210.50e3)]
+    # the same event as the detector publishes when the first stage stays under the snap level (a window whose
+    # maximum is below it stays open): the new maximum does not depend on where the first stage tops out
+    under = [(a, 55.0e3 if b == 57.54e3 else b) for a, b in FIRST_STAGE]
+    events = run(SnapDetector(SnapConfig(), ["ship"], [static], [0.0]), t, piecewise(t, under)[:, None], chunk)
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent] and events[1] == larger
+    # the first event is not held back for the second: it is out a window after its peak
+    det = SnapDetector(SnapConfig(), ["ship"], [static], [0.0])
+    early = det.update(t[t < 28.2], y[t < 28.2])
+    assert [e.peak_tension for e in early if isinstance(e, SnapEvent)] == [pytest.approx(57.54e3)]
+    # ringing after the snap decays (each swing below the largest published peak): nothing more is published,
+    # nor is a larger taut peak of a later cycle once 10 windows have passed since the re-tensioning began
+    ringing = [k for k in FIRST_STAGE if k[0] <= 28.839] + [(29.1, 150e3), (29.3, 195e3), (29.5, 120e3), (29.7, 180e3), (30.0, 110e3),
+                                   (30.4, 160e3), (31.0, 100e3), (36.5, 150e3), (37.5, 260e3), (39.0, 55.70e3),
+                                   (50.0, 55.70e3)]
+    events = run(SnapDetector(SnapConfig(), ["ship"], [static], [0.0]), t, piecewise(t, ringing)[:, None], chunk)
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent, SnapEvent]
+    assert [e.peak_tension for e in events[1:]] == [pytest.approx(57.54e3), pytest.approx(210.50e3)]
+    # an end that falls back into slack after the first stage ends the episode: what follows is a new slack
+    # period with its own snap (the first stage's re-tensioning reached the snap level)
+    dip = sorted([k for k in FIRST_STAGE if not 27.6 < k[0] < 27.9] + [(27.70, 2.0e3), (27.80, 2.0e3)])
+    events = run(SnapDetector(SnapConfig(), ["ship"], [static], [0.0]), t, piecewise(t, dip)[:, None], chunk)
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent, SlackStarted, SnapEvent]
+    assert events[2].time == pytest.approx(crossing(dip, 0.1 * static, after=27.2), abs=1e-9)
+    assert events[3].slack_start == pytest.approx(events[2].time, abs=1e-9)
+    assert events[3].peak_tension == pytest.approx(210.50e3)
+    # the guard judges every published peak: with no relative end speed its bound is 1.5 x 2 x static = 167.1 kN,
+    # which passes the first stage and rejects the 210.50 kN new maximum
+    guard = SnapGuard(impedance=1e4, stiffness=1e5, mass=1e4, crossing_time=1e-3)
+    events = run(SnapDetector(SnapConfig(), ["ship"], [static], [0.0], guard), t, y, chunk)
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent, NumericalSnapWarning]
+    assert events[2].tension_peak == pytest.approx(210.50e3) and events[2].bound == pytest.approx(3.0 * static)
 
 
 def test_bad_input_is_rejected_clearly():

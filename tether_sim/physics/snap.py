@@ -33,6 +33,13 @@ tension samples [DNV-RP-H103 slack criterion; PE2020 Sec. 6]:
                            cable while the cage end is slack), so the re-tensioning that follows is
                            the slack period's snap; an end still below the snap level 10 windows
                            after its re-tensioning began has left slack without a snap (taut).
+                           A snap ends its slack episode only when the end is done with it: the
+                           peak is published when it is a window old (no waiting), but while the
+                           tension stays out of slack, within the same 10 windows, a later peak
+                           above the largest one published is the same snap's new maximum and is
+                           published too (a further :class:`SnapEvent` with the same
+                           ``slack_start``; a first stage just past the snap level, the end taken
+                           up fully later). Ringing after a snap decays and publishes nothing.
 
 A plausibility guard (:class:`SnapGuard`, :mod:`tether_sim.physics.snap_guard`, docs/snap_guard.md)
 checks every snap event against what the cable's axial impedance, the system's kinetic energy and
@@ -58,8 +65,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from tether_sim.physics.snap_guard import KINEMATIC_END_KINDS, NumericalSnapWarning, SnapGuard, snap_guard  # noqa: F401
-from tether_sim.physics.snap_kernel import (_MIN_T, _MODE, _N_EVENT, _N_STATE, _RISING, _SLACK, _SLACK_START,
-                                            _TIME_COLUMNS, snap_detector_close, snap_detector_step)
+from tether_sim.physics.snap_kernel import (_MIN_T, _MODE, _N_EVENT, _N_STATE, _NEW_MAXIMUM, _PUBLISHED, _RISING, _SLACK,
+                                            _SLACK_START, _SNAP, _TIME_COLUMNS, snap_detector_close, snap_detector_step)
 from tether_sim.spec import param
 
 
@@ -71,7 +78,7 @@ class SnapConfig:
     slack_threshold: float = param(0.0, unit="N", doc="absolute slack threshold; > 0 overrides slack_fraction", min=0.0, max=1e9, live=True)
     retension_fraction: float = param(0.2, doc="slack ends when tension rises above retension_fraction * static (hysteresis)", min=0.0, max=10.0, live=True)
     min_slack_duration: float = param(0.1, unit="s", doc="no snap event after a slack period shorter than this", min=0.0, max=1e4, live=True)
-    peak_window: float = param(1.0, unit="s", doc="after re-tensioning, the snap peak is the largest tension until none larger follows within this window (a staged rise is one event; one below the snap level is followed until it reaches it or falls back into slack; at most 10 windows); keep it above the cable's axial round trip 2 L / c, the spacing of the stages", min=1e-6, max=1e4, live=True)
+    peak_window: float = param(1.0, unit="s", doc="after re-tensioning, the snap peak is the largest tension until none larger follows within this window (a staged rise is one event; one below the snap level is followed until it reaches it or falls back into slack; a larger peak of the same episode after a published one is published as its new maximum; at most 10 windows); keep it above the cable's axial round trip 2 L / c, the spacing of the stages", min=1e-6, max=1e4, live=True)
     snap_fraction: float = param(1.0, doc="a re-tensioning is a snap only if its peak reaches snap_fraction * static; weaker ones that fall back into slack are merged into the slack period", min=0.0, max=100.0, live=True)
     retension_threshold: float = param(0.0, unit="N", doc="absolute re-tension threshold: slack ends when the tension rises above it; > 0 overrides retension_fraction (never below the slack threshold)", min=0.0, max=1e9, live=True)
     snap_threshold: float = param(0.0, unit="N", doc="absolute snap threshold: a re-tensioning is a snap only if its peak reaches it; > 0 overrides snap_fraction (for a line that hangs slack by design, e.g. an excursion tether, whose static tension is no scale)", min=0.0, max=1e9, live=True)
@@ -105,6 +112,19 @@ class SnapEvent:
     static_tension: float
     amplification: float  # peak / static
     criterion: str
+
+
+def episode_maxima(snaps) -> list:
+    """One :class:`SnapEvent` per slack episode, its largest: the detector publishes a later, larger peak of a slack
+    episode whose snap is out as a further event of the same location with the same ``slack_start`` (the
+    snap's new maximum); a table of snaps counts the episode once, at its maximum. In the order of the episodes'
+    first events."""
+    best = {}
+    for e in snaps:
+        key = (e.location, e.slack_start)
+        if key not in best or e.peak_tension > best[key].peak_tension:
+            best[key] = e
+    return list(best.values())
 
 
 class SnapDetector:
@@ -174,8 +194,9 @@ class SnapDetector:
         return dict(zip(self.locations, (bool(x) for x in self.is_slack())))
 
     def is_rising(self) -> np.ndarray:
-        """(n_loc,) bool: a re-tensioning window is open at the location (its snap event is pending)."""
-        return self._state[:, _MODE] == _RISING
+        """(n_loc,) bool: a re-tensioning window is open at the location and its snap event is pending (not a
+        window whose snap is out and that is only watched for a new maximum)."""
+        return (self._state[:, _MODE] == _RISING) & (self._state[:, _PUBLISHED] == -np.inf)
 
     def update(self, times, tensions, relative_speed=None) -> list:
         """Feed samples ``times`` (k,) and ``tensions`` (k, n_loc) (time-ordered); return new events.
@@ -228,8 +249,8 @@ class SnapDetector:
                 continue
             event = self._event(row)
             checked = self._guarded(event, speed, float(row[2] - row[8]))
-            if isinstance(checked, NumericalSnapWarning):
-                merged[j] = event
+            if isinstance(checked, NumericalSnapWarning) and row[0] == _SNAP:  # (a rejected new maximum: the
+                merged[j] = event  # published snap before it ended the slack period all the same)
             out.append(checked)
         return out
 
@@ -278,7 +299,7 @@ class SnapDetector:
 
     def _event(self, row):
         j = int(row[1])
-        if row[0] != 1.0:
+        if row[0] != _SNAP and row[0] != _NEW_MAXIMUM:
             return SlackStarted(time=float(row[2]), location=self.locations[j], arc_length=float(self.arc_lengths[j]),
                                 tension=float(row[3]), threshold=float(self._thresholds[j, 0]))
         static = float(self.static_tensions[j])

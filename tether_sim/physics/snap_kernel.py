@@ -15,8 +15,9 @@ from tether_sim.numerics.jit import jit
  # drop back into slack (time, tension there, least since); the window's own stage, then the next one's, in
  # the same order (_NEXT: the offset between the two; _stage_peak / _stage_drop serve both)
  _PEAK, _PEAK_T, _PEAK_EXIT, _PEAK_FRONT, _DROP_T, _DROP_Y, _DROP_MIN,
- _NEXT_PEAK, _NEXT_PEAK_T, _NEXT_PEAK_EXIT, _NEXT_PEAK_FRONT, _NEXT_DROP_T, _NEXT_DROP_Y, _NEXT_DROP_MIN) = range(24)
-_N_STATE = 24
+ _NEXT_PEAK, _NEXT_PEAK_T, _NEXT_PEAK_EXIT, _NEXT_PEAK_FRONT, _NEXT_DROP_T, _NEXT_DROP_Y, _NEXT_DROP_MIN,
+ _PUBLISHED) = range(25)
+_N_STATE = 25
 _STAGE_SIZE = _NEXT_PEAK - _PEAK  # the columns of one stage
 _NEXT = _STAGE_SIZE  # offset of the next stage's columns from the window's
 _TIME_COLUMNS = [_SLACK_START, _EXIT_T, _PEAK_T, _RETENSION_T, _PREV_T, _PEAK_EXIT, _DROP_T, _FRONT_T, _PEAK_FRONT,
@@ -30,11 +31,16 @@ _TIME_COLUMNS = [_SLACK_START, _EXIT_T, _PEAK_T, _RETENSION_T, _PREV_T, _PEAK_EX
 # NaN while none), with its own running maximum (time, slack exit and front at it) and its own drop: kept
 # beside the window's larger earlier peak so that it gets its own window when that one closes (a one-step
 # spike early in a slack period must not swallow the smaller real snap that follows it).
+# _PUBLISHED: the largest peak of the open re-tensioning window already emitted as a snap (-inf while none): the
+# window stays open after it, until the tension falls back into slack or 10 windows after the re-tensioning
+# began, and a later peak above it is the same snap's new maximum (an event row of kind 3).
 _TAUT, _SLACK, _RISING = 0.0, 1.0, 2.0
 # Event rows: kind (0 slack started, 1 snap, 2 slack restarted where the tension fell back after a closed
-# re-tensioning), location, time, tension/peak, min, slack_start, exit time, start of the re-tensioning
-# holding the peak, start of the front holding the peak (re-tension level).
+# re-tensioning, 3 a new maximum of a snap already emitted: same slack period, larger peak), location, time,
+# tension/peak, min, slack_start, exit time, start of the re-tensioning holding the peak, start of the front
+# holding the peak (re-tension level).
 _N_EVENT = 9
+_SNAP, _NEW_MAXIMUM = 1.0, 3.0
 
 
 @jit
@@ -87,15 +93,20 @@ def _start_next(s, t, y):
 
 
 @jit
-def _close_window(s, j, y, lo, snap_level, min_duration, events, n_ev):
+def _close_window(s, j, y, lo, snap_level, min_duration, follow, events, n_ev):
     """Close location ``j``'s re-tensioning window (current sample ``y``): emit its snap event when its peak
-    reaches ``snap_level`` and the slack before it lasted ``min_duration``, then set what follows. Returns the
-    number of event rows."""
+    reaches ``snap_level``, is above the peak already emitted from the window and the slack before it lasted
+    ``min_duration``, then set what follows (``follow``: a window that reached the snap level and is still out
+    of slack stays open for a new maximum). Returns the number of event rows."""
     reached = s[_PEAK] >= snap_level
-    if reached and s[_PEAK_EXIT] - s[_SLACK_START] >= min_duration:
-        n_ev = _emit(events, n_ev, 1.0, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START], s[_PEAK_EXIT],
+    if reached and s[_PEAK] > s[_PUBLISHED] and s[_PEAK_EXIT] - s[_SLACK_START] >= min_duration:
+        kind = _SNAP if s[_PUBLISHED] == -np.inf else _NEW_MAXIMUM
+        n_ev = _emit(events, n_ev, kind, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START], s[_PEAK_EXIT],
                      s[_PEAK_EXIT], s[_PEAK_FRONT])
     if np.isnan(s[_DROP_T]):  # taut since the peak
+        if reached and follow:  # the episode goes on: a later, larger peak is this snap's new maximum
+            s[_PUBLISHED] = s[_PEAK]
+            return n_ev
         s[_MODE] = _TAUT
         return n_ev
     # The tension fell back below the slack level after the peak. A re-tensioning that reached the snap level
@@ -112,9 +123,11 @@ def _close_window(s, j, y, lo, snap_level, min_duration, events, n_ev):
         for k in range(_STAGE_SIZE):  # the next stage becomes the window's
             s[_PEAK + k] = s[_PEAK + _NEXT + k]
         s[_NEXT_RET] = np.nan
+        s[_PUBLISHED] = -np.inf
     else:  # slack now (or between the slack and re-tension levels: not re-tensioned yet)
         s[_MODE] = _SLACK
         s[_PEAK] = -np.inf
+        s[_PUBLISHED] = -np.inf
         if y < lo:
             s[_EXIT_T] = s[_SLACK_START]
     return n_ev
@@ -124,7 +137,7 @@ def _close_window(s, j, y, lo, snap_level, min_duration, events, n_ev):
 def snap_detector_close(st, j, thresholds, min_duration, events):
     """Close location ``j``'s open window at its last sample (end of a run); returns the number of event rows."""
     s = st[j]
-    return _close_window(s, j, s[_PREV_TENSION], thresholds[j, 0], thresholds[j, 2], min_duration, events, 0)
+    return _close_window(s, j, s[_PREV_TENSION], thresholds[j, 0], thresholds[j, 2], min_duration, False, events, 0)
 
 
 @jit
@@ -195,13 +208,19 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                 # of slack (a weak first stage, e.g. the ship end holding the hanging cable while the cage
                 # end is slack), and the re-tensioning that follows is this slack period's snap. At most 10
                 # windows: an end that has not reached the snap level by then left slack without a snap.
+                # A window that reached the snap level emits its peak then (a window after it) but stays open
+                # while the tension stays out of slack, within the same 10 windows: the slack episode is not
+                # over, and a later peak above the one emitted (a first stage just past the snap level, the
+                # end taken up fully later, e.g. with the other end) is the snap's new maximum, emitted in
+                # turn; ringing after a snap decays and stays below it.
+                limit = elapsed >= 10.0 * peak_window
                 if third or (elapsed >= peak_window and s[_PEAK_T] < t
-                             and ((t - s[_PEAK_T] >= peak_window and s[_PEAK] >= snap_level)
-                                  or not np.isnan(s[_DROP_T]))) \
-                        or elapsed >= 10.0 * peak_window:
+                             and ((t - s[_PEAK_T] >= peak_window and s[_PEAK] >= snap_level
+                                   and s[_PEAK] > s[_PUBLISHED])
+                                  or not np.isnan(s[_DROP_T]))) or limit:
                     n0 = n_ev
-                    n_ev = _close_window(s, j, y, lo, snap_level, min_duration, events, n_ev)
-                    snapped = snapped or (n_ev > n0 and events[n0, 0] == 1.0)
+                    n_ev = _close_window(s, j, y, lo, snap_level, min_duration, not (third or limit), events, n_ev)
+                    snapped = snapped or (n_ev > n0 and (events[n0, 0] == _SNAP or events[n0, 0] == _NEW_MAXIMUM))
                     if third:
                         _start_next(s, t, y)
                     mode = s[_MODE]
@@ -222,6 +241,7 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                 if y > hi:
                     s[_MODE] = _RISING
                     s[_RETENSION_T] = t
+                    s[_PUBLISHED] = -np.inf
                     s[_DROP_T] = np.nan
                     s[_NEXT_RET] = np.nan
                     s[_FRONT_T] = _crossing_time(t0, y0, t, y, hi) if has_prev and y0 <= hi else t

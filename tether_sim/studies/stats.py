@@ -5,7 +5,8 @@ Per end (``ship`` at s = 0, ``vehicle`` at s = L), from the run's slack/snap eve
 tension at every solver substep:
 
 ``n_slack``          slack periods (tension fell below the detector's slack threshold)
-``n_snap``           snaps (re-tensionings after a slack period that reached the snap level)
+``n_snap``           snaps (re-tensionings after a slack period that reached the snap level; a
+                     slack episode counts once, at its largest published peak: ``episode_maxima``)
 ``snap_peak_N``      largest snap peak; ``snap_daf`` = that peak / static tension
 ``T_max_N``, ``T_min_N``  extremes over every substep; ``daf`` = T_max / static (dynamic
                      amplification factor of the run, snap or not)
@@ -27,7 +28,7 @@ which only drives the event detector).
 import math
 
 from tether_sim.physics.boundary import END_NAMES
-from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent, SlackStarted
+from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent, SlackStarted, episode_maxima
 
 DNV_SLACK_FRACTION = 0.1  # T >= 0.1 T_static <=> F_hydro <= 0.9 F_static [DNV-RP-H103 Sec. 3.4.3]
 
@@ -90,7 +91,7 @@ def end_statistics(events, static_tensions, tap) -> dict:
     row = {}
     for j, end in enumerate(END_NAMES):
         static = float(static_tensions[j])
-        snaps = [e for e in events if isinstance(e, SnapEvent) and e.location == end]
+        snaps = episode_maxima(e for e in events if isinstance(e, SnapEvent) and e.location == end)
         slacks = [e for e in events if isinstance(e, SlackStarted) and e.location == end]
         largest = max(snaps, key=lambda e: e.peak_tension, default=None)
         numerical = [e for e in events if isinstance(e, NumericalSnapWarning) and e.location == end]
@@ -116,11 +117,13 @@ def end_statistics(events, static_tensions, tap) -> dict:
 
 
 def event_rows(events) -> list:
-    """Every snap event of a run as a row (for the per-event table and exceedance of snap peaks), then
+    """Every snap of a run as a row (one per slack episode, at its largest published peak: ``episode_maxima``;
+    for the per-event table and exceedance of snap peaks), then
     every re-tensioning the snap guard rejected (``kind`` "numerical", with its ``bound_N`` and reason)."""
     rows = [{"kind": "snap", "location": e.location, "time_s": e.time, "peak_N": e.peak_tension,
              "static_N": e.static_tension, "daf": e.amplification, "slack_s": e.slack_duration,
-             "rise_time_s": e.rise_time, "min_N": e.min_tension} for e in events if isinstance(e, SnapEvent)]
+             "rise_time_s": e.rise_time, "min_N": e.min_tension}
+            for e in episode_maxima(e for e in events if isinstance(e, SnapEvent))]
     rows += [{"kind": "numerical", "location": e.location, "time_s": e.time, "peak_N": e.tension_peak,
               "static_N": e.static_tension, "bound_N": e.bound, "rise_time_s": e.rise_time, "reason": e.reason}
              for e in events if isinstance(e, NumericalSnapWarning)]
