@@ -15,7 +15,8 @@ paper's mesh; no figures recorded in BENCHMARKS.md yet), ``bench_winch`` / ``ben
 studies), ``forecast_skill`` / ``forecast_tick_load`` / ``forecast_perfect_member`` (the snap forecast: its skill, the tick with
 the look-aheads running, a member without forecast error against the run), ``bench_network`` / ``bench_tms`` (line networks), ``bench_work_estimate`` (the
 load-time work estimate), ``jitter_soak`` (the node's stepping driver under a jittery input). Bit identity: ``regression_vs_baseline`` (all shipped configurations against another checkout)
-and ``dg_regression`` (DG end tensions on the ROPOS case, ``--save`` then ``--compare``).
+and ``dg_regression`` (DG end tensions on the ROPOS case, ``--save`` then ``--compare``); the same messages:
+``compare_node_outputs`` (the node's, tick by tick) and ``compare_mcap_outputs`` (two MCAP files, field by field).
 
 Every section of BENCHMARKS.md names its script. ``studies/``: accuracy, physics and cross-code studies
 whose results are in docs/ (not timings; map in its ``__init__``). ``probes/``: one-off investigations
