@@ -120,6 +120,17 @@ class Soak:
             pub.publish(held)
 
 
+def rate_line(arr) -> str:
+    """States per second of wall time from the first to the last one received (its own count over
+    that span), and of their stamps (outputs per simulated second: a state the node never published
+    shows here)."""
+    if len(arr) < 2:
+        return "n/a"
+    wall, stamps = arr[-1, 0] - arr[0, 0], arr[-1, 1] - arr[0, 1]
+    return (f"{(len(arr) - 1) / max(wall, 1e-9):.2f} Hz over {wall:.1f} s of wall time, "
+            f"{(len(arr) - 1) / max(stamps, 1e-9):.2f} per second of stamps")
+
+
 def run(args) -> int:
     import rclpy
 
@@ -207,6 +218,7 @@ def report(args, out, soak, memory, fault_log, died) -> int:
              + (f" ({', '.join(sorted({ln for ln, _ in soak.snaps}))})" if soak.snaps else ""),
              f"interval between states (wall, ms): median {np.median(gaps):.1f}, p99 {np.percentile(gaps, 99):.1f}, "
              f"max {gaps.max():.1f}",
+             f"state rate at the subscriber: {rate_line(arr)}",
              f"lag (s): median {np.median(arr[:, 2]) if len(arr) else math.nan:.3f}, max "
              f"{arr[:, 2].max() if len(arr) else math.nan:.3f}; degraded states: "
              f"{100.0 * arr[:, 3].mean() if len(arr) else math.nan:.1f} %",
