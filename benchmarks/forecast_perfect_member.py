@@ -34,6 +34,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from forecast_skill import case_config  # noqa: E402
 from tether_sim.forecast.lookahead import LookAhead  # noqa: E402
 from tether_sim.forecast.service import ForecastService  # noqa: E402
+from tether_sim.forecast.skill import TIE_TOLERANCE, trough_rank  # noqa: E402
 from tether_sim.physics.motion import build_motion  # noqa: E402
 from tether_sim.physics.waves import wave_components  # noqa: E402
 from tether_sim.ros.driver import MotionSource, SimulationDriver  # noqa: E402
@@ -116,7 +117,8 @@ def perfect_member_errors(t, tensions, slack, records, horizon, end_time):
 
 
 def rank_histogram(dump, seed, t, tensions, slack, horizon, end_time, end="vehicle"):
-    """Rank of the run's least tension within the horizon among the dumped members' troughs (0: below all)."""
+    """Rank of the run's least tension within the horizon among the dumped members' troughs (0: below all; ties
+    spread over their ranks: tether_sim.forecast.skill.trough_rank)."""
     doc = json.loads(Path(dump).read_text())
     run = next((r for r in doc["runs"] if r["seed"] == seed), None)
     if run is None:
@@ -128,8 +130,8 @@ def rank_histogram(dump, seed, t, tensions, slack, horizon, end_time, end="vehic
         m = np.asarray(extra[0], float)
         truth = tensions[end][(t > stamp - 1e-9) & (t < stamp + horizon - 1e-9)].min()
         if hist is None:
-            hist = np.zeros(m.size + 1, int)
-        hist[int(np.sum(m < truth))] += 1
+            hist = np.zeros(m.size + 1)
+        hist += trough_rank(m, truth, TIE_TOLERANCE * slack[end])  # ties spread over their ranks
     return hist
 
 
@@ -169,7 +171,7 @@ def main(argv=None) -> int:
             hist = rank_histogram(args.ranks, seed, t, tensions, slack, args.horizon, end_time)
             if hist is not None:
                 print(f"  vehicle: rank of the run's trough among the dumped members' (0: below all): "
-                      + " ".join(str(int(x)) for x in hist), flush=True)
+                      + " ".join(f"{x:.1f}" for x in hist), flush=True)
     return 0
 
 
