@@ -11,11 +11,12 @@ at 1 %, 50 Hz), ``bench_moordyn`` (MoorDyn's ladder), ``bench_accuracy`` + ``sum
 ``bench_implicit_damping``, ``bench_free_surface``, ``bench_slack_bending`` (the PE2020 Sec. 6.2 case on the
 paper's mesh; no figures recorded in BENCHMARKS.md yet), ``bench_winch`` / ``bench_hybrid_winch`` /
 ``bench_ropos_descent`` (winch), ``bench_hybrid`` / ``bench_hybrid_jacobian`` (hybrid solver),
-``bench_node`` / ``bench_node_tick`` / ``bench_tf`` / ``soak_node`` (the ROS node), ``bench_study_throughput`` (snap-load
+``bench_node`` / ``bench_node_tick`` / ``bench_publish_floor`` (what rclpy costs a tick before the node computes) / ``bench_tf`` / ``soak_node`` (the ROS node), ``bench_study_throughput`` (snap-load
 studies), ``forecast_skill`` / ``forecast_tick_load`` / ``forecast_perfect_member`` (the snap forecast: its skill, the tick with
 the look-aheads running, a member without forecast error against the run), ``bench_network`` / ``bench_tms`` (line networks), ``bench_work_estimate`` (the
 load-time work estimate), ``jitter_soak`` (the node's stepping driver under a jittery input). Bit identity: ``regression_vs_baseline`` (all shipped configurations against another checkout)
-and ``dg_regression`` (DG end tensions on the ROPOS case, ``--save`` then ``--compare``).
+and ``dg_regression`` (DG end tensions on the ROPOS case, ``--save`` then ``--compare``); the same messages:
+``compare_node_outputs`` (the node's, tick by tick) and ``compare_mcap_outputs`` (two MCAP files, field by field).
 
 Every section of BENCHMARKS.md names its script. ``studies/``: accuracy, physics and cross-code studies
 whose results are in docs/ (not timings; map in its ``__init__``). ``probes/``: one-off investigations

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import subprocess
 import sys
 import time
@@ -38,6 +39,12 @@ def rss_mb(pid: int) -> float:
         if line.startswith("VmRSS:"):
             return int(line.split()[1]) / 1024.0
     return math.nan
+
+
+def cpu_s(pid: int) -> float:
+    """User + system CPU seconds of a process, all its threads."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def heave(t: float) -> float:
@@ -143,12 +150,13 @@ def run(args) -> int:
 
     os.environ.update(env)
     log = open(out / "node.log", "w")  # noqa: SIM115
-    node_proc = subprocess.Popen([str(REPO / ".venv/bin/tether-sim"), "--ros-args", "--params-file", args.params],
+    extra = [a for item in args.extra for a in ("-p", item)]
+    node_proc = subprocess.Popen([str(REPO / ".venv/bin/tether-sim"), "--ros-args", "--params-file", args.params, *extra],
                                  env=env, stdout=log, stderr=subprocess.STDOUT)
     rclpy.init()
     probe = rclpy.create_node("soak_probe")
     soak = Soak(probe, network_of(args.params))
-    memory, fault_log = [], []
+    memory, fault_log, cpu = [], [], []
     t_start = time.monotonic()
     end = t_start + 60.0 * args.minutes
     next_pose, next_mem, next_fault, fault_i, dropout_until = t_start, t_start, t_start + 30.0, 0, 0.0
@@ -164,6 +172,8 @@ def run(args) -> int:
             if now_wall >= next_mem:
                 next_mem += 10.0
                 memory.append((now_wall - t_start, rss_mb(node_proc.pid)))
+                if soak.states:  # the node's CPU (every thread) while it publishes states
+                    cpu.append((now_wall, cpu_s(node_proc.pid)))
             if now_wall >= next_fault:
                 next_fault += 30.0
                 kind = FAULTS[fault_i % len(FAULTS)]
@@ -199,10 +209,10 @@ def run(args) -> int:
         memory.append((time.monotonic() - t_start, math.nan))
         probe.destroy_node()
         rclpy.shutdown()
-    return report(args, out, soak, memory, fault_log, died)
+    return report(args, out, soak, memory, fault_log, died, cpu)
 
 
-def report(args, out, soak, memory, fault_log, died) -> int:
+def report(args, out, soak, memory, fault_log, died, cpu=()) -> int:
     arr = np.array([s[:4] for s in soak.states], float) if soak.states else np.zeros((0, 4))
     gaps = np.diff(arr[:, 0]) * 1e3 if len(arr) > 1 else np.zeros(1)
     mem = np.array([m for m in memory if math.isfinite(m[1])])
@@ -219,6 +229,9 @@ def report(args, out, soak, memory, fault_log, died) -> int:
              f"interval between states (wall, ms): median {np.median(gaps):.1f}, p99 {np.percentile(gaps, 99):.1f}, "
              f"max {gaps.max():.1f}",
              f"state rate at the subscriber: {rate_line(arr)}",
+             "node CPU while publishing (all threads): " + (f"{100.0 * (cpu[-1][1] - cpu[0][1]) / (cpu[-1][0] - cpu[0][0]):.1f} % "
+                                                            f"of a core over {cpu[-1][0] - cpu[0][0]:.0f} s"
+                                                            if len(cpu) > 1 else "n/a"),
              f"lag (s): median {np.median(arr[:, 2]) if len(arr) else math.nan:.3f}, max "
              f"{arr[:, 2].max() if len(arr) else math.nan:.3f}; degraded states: "
              f"{100.0 * arr[:, 3].mean() if len(arr) else math.nan:.1f} %",
@@ -278,6 +291,8 @@ def main(argv=None) -> int:
     ap.add_argument("--minutes", type=float, default=60.0)
     ap.add_argument("--params", default=str(REPO / "config" / "ropos_L200.yaml"))
     ap.add_argument("--out", default=str(REPO / "out" / "soak"))
+    ap.add_argument("-p", dest="extra", action="append", default=[], metavar="KEY:=VALUE",
+                    help="a parameter of the node, e.g. node.executor:=events")
     return run(ap.parse_args(argv))
 
 

@@ -47,6 +47,7 @@ class NodeOptions:
     future_stamp_tolerance: float = param(0.25, unit="s", doc="a pose stamped later than the node clock plus this is rejected ('stamp in the future')", min=0.0, max=1e6)
     max_input_age: float = param(2.0, unit="s", doc="a pose stamped earlier than the node clock minus this is rejected ('stamp too old')", min=0.0, max=1e6)
     snapshot_interval: float = param(1.0, unit="s", doc="simulated time between recovery snapshots (restored after a solver divergence)", min=0.0, max=1e6)
+    executor: str = param("single", doc="the executor that runs the node's timers and callbacks: single (rclpy's SingleThreadedExecutor, as rclpy.spin) or events (rclpy.experimental's EventsExecutor, in C++: ~1 ms less CPU per 50 Hz tick on a 2-core machine, BENCHMARKS.md); a line-network node always uses single", choices=("single", "events"))
     publish_tf: bool = param(True, doc="publish /tf (body frames of the ends, tether frames) and /tf_static (attachment frames)")
     tf_prescribed_ends: bool = param(True, doc="/tf also carries world -> body frame of pose-driven (prescribed) ends; false when the vehicle stack publishes those itself")
     tf_tether_frames: int = param(0, doc="frames <tf_tether_frame_prefix>/<k> on /tf at this many equally spaced points along the cable (x along the tangent)", min=0, max=1000)

@@ -337,6 +337,14 @@ def test_a_larger_peak_later_in_the_same_slack_episode_is_published_as_its_new_m
     events = run(SnapDetector(SnapConfig(), ["ship"], [static], [0.0]), t, piecewise(t, ringing)[:, None], chunk)
     assert [type(e) for e in events] == [SlackStarted, SnapEvent, SnapEvent]
     assert [e.peak_tension for e in events[1:]] == [pytest.approx(57.54e3), pytest.approx(210.50e3)]
+    # the episode's re-tensioning is over once the tension falls back below the re-tension level (11.14 kN) after
+    # the snap: the next cycle's larger peak, with no slack period before it, is no snap (975 m, 0.2 Hz, N 20 ship:
+    # 171.9 kN at 33.96 s, down to 10 kN at 35.8 s, between the slack and re-tension levels, 179.0 kN at 39.04 s)
+    cycle = [k for k in FIRST_STAGE if k[0] <= 29.5] + [(30.8, 9.0e3), (31.5, 9.5e3), (33.0, 60e3), (33.8, 230e3),
+                                                         (35.0, 55.70e3), (50.0, 55.70e3)]
+    events = run(SnapDetector(SnapConfig(), ["ship"], [static], [0.0]), t, piecewise(t, cycle)[:, None], chunk)
+    assert [type(e) for e in events] == [SlackStarted, SnapEvent, SnapEvent]
+    assert [e.peak_tension for e in events[1:]] == [pytest.approx(57.54e3), pytest.approx(210.50e3)]
     # an end that falls back into slack after the first stage ends the episode: what follows is a new slack
     # period with its own snap (the first stage's re-tensioning reached the snap level)
     dip = sorted([k for k in FIRST_STAGE if not 27.6 < k[0] < 27.9] + [(27.70, 2.0e3), (27.80, 2.0e3)])

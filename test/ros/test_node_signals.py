@@ -22,11 +22,15 @@ pytestmark = pytest.mark.ros
 ROOT = Path(__file__).resolve().parents[2]
 
 
-@pytest.mark.parametrize("sig, repeat", [(signal.SIGINT, False), (signal.SIGTERM, False), (signal.SIGINT, True)],
-                         ids=["SIGINT", "SIGTERM", "SIGINT-repeated-as-by-ros2-launch"])
-def test_running_node_stops_cleanly_with_an_account(sig, repeat):
+@pytest.mark.parametrize("sig, repeat, executor", [(signal.SIGINT, False, "single"), (signal.SIGTERM, False, "single"),
+                                                   (signal.SIGINT, True, "single"), (signal.SIGINT, False, "events"),
+                                                   (signal.SIGTERM, False, "events"), (signal.SIGINT, True, "events")],
+                         ids=["SIGINT", "SIGTERM", "SIGINT-repeated-as-by-ros2-launch", "SIGINT-events-executor",
+                              "SIGTERM-events-executor", "SIGINT-repeated-events-executor"])
+def test_running_node_stops_cleanly_with_an_account(sig, repeat, executor):
+    """(``node.executor``: rclpy's SingleThreadedExecutor or its EventsExecutor spins the node.)"""
     proc = subprocess.Popen([str(Path(sys.executable).with_name("tether-sim")), "--ros-args", "--params-file",
-                             str(ROOT / "config/ropos_L200.yaml")], cwd=ROOT, stdout=subprocess.PIPE,
+                             str(ROOT / "config/ropos_L200.yaml"), "-p", f"node.executor:={executor}"], cwd=ROOT, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
     lines = []
     try:
@@ -56,3 +60,5 @@ def test_running_node_stops_cleanly_with_an_account(sig, repeat):
     # through rclpy's handler as a shutdown ("stopped by SIGINT/SIGTERM (an rclpy shutdown)"), whichever is first
     assert len(account) == 1 and account[0].startswith("tether-sim: stopped by SIG") and sig.name in account[0], rest
     assert "0 snap event(s) published, 0 failed tick(s)" in account[0], rest  # at rest: the tether hangs still
+    ran = float(account[0].split("ran ", 1)[1].split(" s of clock time", 1)[0])
+    assert ran >= 0.5, rest  # the timer ticked for the second it was given (any executor)

@@ -212,14 +212,19 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                 # while the tension stays out of slack, within the same 10 windows: the slack episode is not
                 # over, and a later peak above the one emitted (a first stage just past the snap level, the
                 # end taken up fully later, e.g. with the other end) is the snap's new maximum, emitted in
-                # turn; ringing after a snap decays and stays below it.
+                # turn; ringing after a snap decays and stays below it. The episode's re-tensioning is over
+                # once the tension falls back below the re-tension level after a snap is out (the level that
+                # ended the slack period): a rise after that is the next cycle of the driving motion, and
+                # without a slack period before it no snap (as for a taut end).
                 limit = elapsed >= 10.0 * peak_window
+                over = s[_PUBLISHED] > -np.inf and y < hi
                 if third or (elapsed >= peak_window and s[_PEAK_T] < t
                              and ((t - s[_PEAK_T] >= peak_window and s[_PEAK] >= snap_level
                                    and s[_PEAK] > s[_PUBLISHED])
-                                  or not np.isnan(s[_DROP_T]))) or limit:
+                                  or not np.isnan(s[_DROP_T]))) or limit or over:
                     n0 = n_ev
-                    n_ev = _close_window(s, j, y, lo, snap_level, min_duration, not (third or limit), events, n_ev)
+                    n_ev = _close_window(s, j, y, lo, snap_level, min_duration, not (third or limit or over), events,
+                                         n_ev)
                     snapped = snapped or (n_ev > n0 and (events[n0, 0] == _SNAP or events[n0, 0] == _NEW_MAXIMUM))
                     if third:
                         _start_next(s, t, y)

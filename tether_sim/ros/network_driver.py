@@ -55,6 +55,22 @@ SETTLE_MAX = 30.0  # s: the most (the clock then starts with the lines as they a
 SETTLE_CHUNK = 1.0  # s: settled once two consecutive chunks are quiet (settle_quiet)
 
 
+_ARC_LENGTHS = {}
+
+
+def output_arc_lengths(length, n):
+    """np.linspace(0, length, n), kept per (length, n) (the same array while a line's length holds; a
+    winch paying out makes new ones, the cache is then cleared now and then). Read-only: not to be changed."""
+    key = (length, n)
+    a = _ARC_LENGTHS.get(key)
+    if a is None:
+        if len(_ARC_LENGTHS) > 64:
+            _ARC_LENGTHS.clear()
+        a = _ARC_LENGTHS[key] = np.linspace(0.0, length, n)
+        a.flags.writeable = False
+    return a
+
+
 def settle_quiet(samples) -> bool:
     """True when a line's end tensions over a settling chunk (samples (3, k): time, s = 0 end,
     s = L end) stay within 0.5 N + 5 % of their mean at each end: at rest to the mesh's ringing."""
@@ -133,6 +149,8 @@ class NetworkDriver(EndCommands):
         self._suspended_until = None  # clock time until which snap detection is suspended (a clock jump)
         self._last_target = None  # the clock time (minus the input delay) of the last tick
         self._released = False  # detection resumed in this tick (after a clock jump)
+        self._states = {}  # line -> its state at the output points, sampled once per tick (line_state)
+        self._share_states = not getattr(node_options, "shape_rate", 0.0) > 0.0  # shapes at every output
 
     @property
     def stamp(self) -> float:
@@ -245,6 +263,20 @@ class NetworkDriver(EndCommands):
         the catch-up after it: published with ``degraded``."""
         return self.bridges.covers(event)
 
+    def line_state(self, name, points=None):
+        """The line's state() at ``points`` (default ``node.output_points``) evenly spaced on its
+        unstretched length, sampled once per state: the snap guard's end speed and the messages read
+        the same samples (kept until the next tick, and only while the length and time hold)."""
+        solver = self.net.lines[name]
+        n = self.node.output_points if points is None else points
+        L = float(getattr(solver, "unstretched_length", self.spec.lines[name].config.cable.length))
+        kept = self._states.get(name)
+        if kept is not None and kept[0] == L and kept[1] == n and kept[2] == solver.time:
+            return kept[3]
+        st = solver.state(output_arc_lengths(L, n))
+        self._states[name] = (L, n, solver.time, st)
+        return st
+
     def _clock_jump(self, target, report):
         """The clock went backwards (a replayed or restarted simulation clock): the network keeps its
         state and is re-anchored at ``target``; every input's history is reset (its stamps are of
@@ -277,6 +309,7 @@ class NetworkDriver(EndCommands):
 
     def tick(self, now: float) -> NetworkTickReport:
         report = NetworkTickReport()
+        self._states.clear()
         if self.net is None or self.failed:
             return report
         target = now - self.node.input_delay
@@ -315,7 +348,11 @@ class NetworkDriver(EndCommands):
                 s, times = s[:, keep], times[keep]
             if s.shape[1] == 0:
                 continue
-            speed = relative_end_speed(self.net.lines[name], self.spec.lines[name].config.cable.length)
+            solver = self.net.lines[name]
+            # the output points' state serves the speed where its ends are the solver's end samples
+            # (end_bodies, DG) and the shapes go out at every output (else two end samples are cheaper)
+            shared = self.line_state(name) if self._share_states and hasattr(solver, "end_bodies") else None
+            speed = relative_end_speed(solver, self.spec.lines[name].config.cable.length, shared)
             events = self.detectors[name].update(times, s[1:3].T, speed)  # (k, 2): the detector makes it contiguous
             for ev in events:
                 if isinstance(ev, NumericalSnapWarning):

@@ -102,22 +102,6 @@ def _world_to_body(R, v):
             R[2] * v[0] + R[5] * v[1] + R[8] * v[2]]
 
 
-_ARC_LENGTHS = {}
-
-
-def _output_arc_lengths(length, n):
-    """np.linspace(0, length, n), kept per (length, n) (the same array while a line's length holds; a
-    winch paying out makes new ones, the cache is then cleared now and then). Read-only: not to be changed."""
-    key = (length, n)
-    a = _ARC_LENGTHS.get(key)
-    if a is None:
-        if len(_ARC_LENGTHS) > 64:
-            _ARC_LENGTHS.clear()
-        a = _ARC_LENGTHS[key] = np.linspace(0.0, length, n)
-        a.flags.writeable = False
-    return a
-
-
 def tick_outputs(driver, node, orientation_of=lambda name: None, wanted=None, shapes=True) -> list:
     """(topic, payload) of every periodic output of the driver's current state, stamped with its
     clock time; ``orientation_of(point)``: a driven point's quaternion (None: world-aligned);
@@ -133,8 +117,7 @@ def tick_outputs(driver, node, orientation_of=lambda name: None, wanted=None, sh
     for line, solver in net.lines.items():
         names = [f"/tether/{line}/{k}" for k in ("state", "path", "marker")]
         if shapes and any(want(t) for t in names):
-            L = float(getattr(solver, "unstretched_length", spec.lines[line].config.cable.length))
-            st = solver.state(_output_arc_lengths(L, node.output_points))
+            st = driver.line_state(line, node.output_points)
             pts = np.asarray(st.position, float)
             t0, t1 = net.end_tensions(line)
             if want(names[0]):

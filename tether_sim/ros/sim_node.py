@@ -593,7 +593,15 @@ def main(args=None):
             node = NetworkSimNode(files=files, overrides=cli_param_values(argv))
         else:
             node = TetherSimNode(where=", ".join(files) or "command-line parameters", cli_keys=cli_param_keys(argv))
-        rclpy.spin(node)
+        if not network and node.config.node.executor == "events":  # rclpy's C++ EventsExecutor (node.executor)
+            from rclpy.experimental import EventsExecutor
+
+            executor = EventsExecutor()
+            executor.add_node(node)
+            while rclpy.ok():  # (its spin() never returns to Python: a signal would not stop it)
+                executor.spin_once(timeout_sec=0.1)
+        else:
+            rclpy.spin(node)
         if not rclpy.ok():  # spin may also simply return when the context is shut down by a signal
             stopping = True
             _ignore_further_signals()

@@ -181,16 +181,24 @@ def shortest_element(solver, config) -> float:
     return float(config.cable.length) / max(int(n), 1)
 
 
-def relative_end_speed(solver, length: float) -> float:
+def relative_end_speed(solver, length: float, state=None) -> float:
     """|v(0) - v(L)|: the relative speed of the two cable ends now, m/s (the snap guard's speed;
     ``length`` is the unstretched length, a winch's current one where there is a winch).
 
     A body end moves with its body (v + omega x (P - CoG) at the attachment point P, the cable end),
     not with the cable's end trace, which a collapsed end element can corrupt; other ends with the
-    cable's end velocity (at a prescribed or fixed end its boundary motion)."""
+    cable's end velocity (at a prescribed or fixed end its boundary motion).
+
+    ``state``: the solver's state() now, sampled from s = 0 to s = L (a node's output points): its
+    first and last samples are the ends' (the same numbers: the sampling is point by point), read
+    instead of sampling again where the solver gives its end bodies (``end_bodies``, DG)."""
     L = float(getattr(solver, "unstretched_length", length))
     kinematics = getattr(solver, "end_kinematics", None)
-    if kinematics is not None:  # the same numbers without the rest of the state (DG)
+    end_bodies = getattr(solver, "end_bodies", None)
+    if state is not None and end_bodies is not None and state.arc_length.size > 1 and state.arc_length[0] == 0.0 and state.arc_length[-1] == L:
+        position, velocity, bodies = state.position[0::state.position.shape[0] - 1], \
+            state.velocity[0::state.velocity.shape[0] - 1], end_bodies()
+    elif kinematics is not None:  # the same numbers without the rest of the state (DG)
         position, velocity, bodies = kinematics(np.array([0.0, L]))
     else:
         state = solver.state(np.array([0.0, L]))

@@ -443,9 +443,12 @@ class DGCableSolver:
         plan = outputs.plan(self._plans, arc_lengths, self.s_edges, self.ws.h, self.P, self.L,
                             self.config.node.output_points)
         pos, vel = outputs.sampled_kinematics(self.ws, plan, self.law, self.config.cable.gamma0)
-        bodies = tuple((b[0:3], b[7:10], b[10:13]) if kind.position == "body" else None
-                       for b, kind in zip(self.ws.bs, self.ends))
-        return pos, vel, bodies
+        return pos, vel, self.end_bodies()
+
+    def end_bodies(self):
+        """Per end, the body's (position, velocity, angular velocity) or None (end_kinematics' third item)."""
+        return tuple((b[0:3], b[7:10], b[10:13]) if kind.position == "body" else None
+                     for b, kind in zip(self.ws.bs, self.ends))
 
     def body_state(self, end):
         """State of the rigid body at a "body" end (None for other kinds)."""
