@@ -16,7 +16,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-WALL_CLOCK_VALUES = ("real_time_factor", "tick_load", "tick_max_ms")
+from benchmarks.compare_node_outputs import _masked  # noqa: E402  (the wall-clock fields zeroed, as there)
 
 
 def messages(path):
@@ -27,17 +27,6 @@ def messages(path):
         reader = make_reader(f)
         for schema, channel, message in reader.iter_messages(log_time_order=False):
             yield channel.topic, schema.name, message.log_time, message.publish_time, bytes(message.data)
-
-
-def _masked(msg):
-    """The message with its wall-clock fields zeroed (module doc)."""
-    if hasattr(msg, "real_time_factor"):
-        msg.real_time_factor = 0.0
-    for status in getattr(msg, "status", []):
-        for kv in status.values:
-            if kv.key in WALL_CLOCK_VALUES:
-                kv.value = "0"
-    return msg
 
 
 def leaves(msg, prefix=""):

@@ -240,6 +240,16 @@ def test_an_excursion_pulse_from_above_the_slack_level_is_numerical_not_a_snap()
     assert len(snaps) == 1 and snaps[0].peak_tension == pytest.approx(1100.0, rel=5e-3)
 
 
+def _ship_input(node):
+    """The ship's EndPoseInput as the network node builds it (sim_node._add_pose_input)."""
+    from tether_sim.io.inputs import EndPoseInput, knot_spacing
+    from tether_sim.ros.sim_node import history_span
+
+    return EndPoseInput("ship", (0.0, 0.0, 0.0), max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
+                        max_extrapolation=node.max_extrapolation, history_span=history_span(node),
+                        min_spacing=knot_spacing(node.output_rate))
+
+
 def test_a_stalled_process_resumes_its_points_by_blends_not_steps(spec):
     """The node process stops for 1.5 s (a busy machine). After it, the timer's tick runs before the
     queued poses (the last five: sensor-data QoS) are taken: the ship's input is held past its
@@ -249,14 +259,10 @@ def test_a_stalled_process_resumes_its_points_by_blends_not_steps(spec):
     single-line driver does (EndCommands): the commanded motion stays C1 (its position change over each
     tick is the trapezoid of its velocities) and its acceleration within the stream's own (0.39 m/s^2)
     plus BLEND_ACCELERATION, and the blends are bridges (the outputs degraded while they run)."""
-    from tether_sim.io.inputs import EndPoseInput, knot_spacing
     from tether_sim.ros.end_commands import BLEND_ACCELERATION
-    from tether_sim.ros.sim_node import history_span
 
     node = SimConfig().node
-    src = EndPoseInput("ship", (0.0, 0.0, 0.0), max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
-                       max_extrapolation=node.max_extrapolation, history_span=history_span(node),
-                       min_spacing=knot_spacing(node.output_rate))
+    src = _ship_input(node)
     a, w = 0.5, 2 * np.pi * 0.2  # m, rad/s: peak speed 0.63 m/s, peak acceleration 0.79 m/s^2
 
     def pose(t):
@@ -303,14 +309,10 @@ def test_a_clock_jumping_back_holds_the_points_and_runs_on(spec):
     to rest smoothly while its input (reset: its stamps were of the old clock) is silent, blended onto
     the new poses when they come, snap detection suspended until then and restarted fresh; the
     outputs are degraded meanwhile and the commanded motion stays C1."""
-    from tether_sim.io.inputs import EndPoseInput, knot_spacing
     from tether_sim.ros.end_commands import BLEND_ACCELERATION
-    from tether_sim.ros.sim_node import history_span
 
     node = SimConfig().node
-    src = EndPoseInput("ship", (0.0, 0.0, 0.0), max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
-                       max_extrapolation=node.max_extrapolation, history_span=history_span(node),
-                       min_spacing=knot_spacing(node.output_rate))
+    src = _ship_input(node)
     a, w = 0.5, 2 * np.pi * 0.2
 
     def pose(t):
