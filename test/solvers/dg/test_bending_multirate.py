@@ -2,7 +2,7 @@
 shear every K substeps, T_s extrapolated quadratically from its last three evaluations in between.
 
 - The rule: K = 1 (every stage) without bending stiffness, with bending damping or a torque; otherwise the macro
-  step K dt keeps w_max K dt <= 0.25 (AB3 is stable on the imaginary axis up to 0.72) and K dt <= 20 ms.
+  step K dt keeps w_max K dt <= 0.25 (AB3 is stable on the imaginary axis up to 0.72) and K dt <= 25 ms.
 - A slack, curved cable in vacuum with free ends (its bending energy exchanged with kinetic energy, nothing
   else but the elastic tension): with the multirate the motion follows the every-stage solution and the
   energy never grows (the second-order extrapolation would feed the bending modes: |rho| = 1 + (w H)^4 / 4).
