@@ -118,6 +118,8 @@ def main(argv=None):
     ap.add_argument("--window", type=float, nargs=2, default=[3.0, 4.5])
     ap.add_argument("--excursion-damping", type=float, default=None,
                     help="the excursion tether's axial damping in both codes (N s; default: 2000)")
+    ap.add_argument("--excursion-EI", type=float, default=None,
+                    help="the excursion tether's bending stiffness in every code (N m^2; default: 0)")
     ap.add_argument("--md-scheme", default="RK2", choices=["RK2", "RK4"], help="MoorDyn's time scheme")
     ap.add_argument("--json", default="out/excursion_spike.json")
     ap.add_argument("--figure", default="")
@@ -125,6 +127,8 @@ def main(argv=None):
     lo, hi = args.window
     if args.excursion_damping is not None:
         nm.set_excursion_damping(args.excursion_damping)
+    if args.excursion_EI is not None:
+        nm.set_excursion_bending(args.excursion_EI)
     nm.MD_SCHEME[:] = [args.md_scheme]
     print(f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}", flush=True)
     runs, table = {}, {}
