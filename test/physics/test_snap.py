@@ -395,6 +395,22 @@ def test_a_first_stage_that_sags_below_the_retension_level_while_the_other_end_i
     alone = run(SnapDetector(SnapConfig(), ["vehicle"], static[1:], [500.0]), t, y[:, 1:], chunk)
     assert cage == alone and [type(e) for e in cage] == [SlackStarted, SnapEvent]
     assert cage[1].peak_tension == pytest.approx(190.0e3)
+    # once the cable has been taken up the episode ends as before at a fall below the re-tension level: the ship
+    # down to 9 kN at 16.5 s (as at 975 m, 0.2 Hz: 10 kN 1.8 s after the snap) while the cage is slack again, in a
+    # slack period of its own that began after the ship's re-tensioning (16.0 s); the next cycle's 230 kN at the
+    # ship is no snap (no slack period before it), the cage's own snap of that cycle is
+    cycle = [k for k in knots if k[0] <= 14.5] + [(16.5, 9.0e3), (17.2, 9.5e3), (18.5, 60e3), (19.0, 230e3),
+                                                 (20.0, 55.70e3), (40.0, 55.70e3)]
+    cage_cycle = [k for k in CAGE if k[0] <= 14.0] + [(15.0, 43.06e3), (15.9, 5.0e3), (16.0, 0.0), (18.4, 0.0),
+                                                      (19.0, 180e3), (20.0, 43.06e3), (40.0, 43.06e3)]
+    y = np.column_stack([piecewise(t, cycle), piecewise(t, cage_cycle)])
+    events = run(SnapDetector(SnapConfig(), ["ship", "vehicle"], static, [0.0, 500.0]), t, y, chunk)
+    ship = [e for e in events if e.location == "ship"]
+    assert [type(e) for e in ship] == [SlackStarted, SnapEvent, SnapEvent]
+    assert [e.peak_tension for e in ship[1:]] == [pytest.approx(57.0e3), pytest.approx(212.11e3)]
+    cage = [e for e in events if e.location == "vehicle"]
+    assert [type(e) for e in cage] == [SlackStarted, SnapEvent, SlackStarted, SnapEvent]
+    assert cage[3].peak_tension == pytest.approx(180e3)
 
 
 def test_bad_input_is_rejected_clearly():
