@@ -72,7 +72,8 @@ def vehicle_position():
     return cage_bottom_at_rest() + VEHICLE_OFFSET
 
 
-def network_tree(exc_solver="dg", coupling=0.005, exc_dg=(10, 4), exc_hybrid=(30, 0.005), tether_mesh=None):
+def network_tree(exc_solver="dg", coupling=0.005, exc_dg=(10, 4), exc_hybrid=(30, 0.005), tether_mesh=None,
+                 tether_tolerance=0.01):
     p0, _ = rc.fairlead_motion(0.0)
     cage = rc.cage_properties(p0[2] - LENGTH)
     body = {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(cage).items() if k != "attachment"}
@@ -89,7 +90,7 @@ def network_tree(exc_solver="dg", coupling=0.005, exc_dg=(10, 4), exc_hybrid=(30
         bodies=dict(cage=body),
         lines={"tether": {"from": "ship", "to": "cage", "to_attachment": [0.0, 0.0, ATTACH],
                           "cable": asdict(rc.cable_properties(LENGTH)),
-                          "dg": (dict(resolution="auto", snap_tolerance=0.01) if tether_mesh is None else
+                          "dg": (dict(resolution="auto", snap_tolerance=tether_tolerance) if tether_mesh is None else
                                  dict(n_elements=tether_mesh[0], order=tether_mesh[1]))},
                "excursion": exc})
 
@@ -228,6 +229,8 @@ def main(argv=None):
     ap.add_argument("--md-coupling", type=float, default=0.002)
     ap.add_argument("--solvers", nargs="+", default=["dg", "hybrid"])
     ap.add_argument("--tether-mesh", type=int, nargs=2, default=None, help="N P of the tether (default: the rule, 1 %%)")
+    ap.add_argument("--tether-tolerance", type=float, default=0.01,
+                    help="dg.snap_tolerance of the tether's rule mesh (without --tether-mesh)")
     ap.add_argument("--excursion-dg", type=int, nargs=2, default=[10, 4], help="N P of a DG excursion tether")
     ap.add_argument("--excursion-hybrid", type=float, nargs=2, default=[30, 0.005],
                     help="segments and time step of a hybrid excursion tether")
@@ -250,7 +253,7 @@ def main(argv=None):
     runs = {}
     for solver in args.solvers:
         r = run_network(solver, args.duration, args.tick, args.coupling, tether_mesh=args.tether_mesh,
-                        exc_dg=tuple(args.excursion_dg),
+                        tether_tolerance=args.tether_tolerance, exc_dg=tuple(args.excursion_dg),
                         exc_hybrid=(int(args.excursion_hybrid[0]), args.excursion_hybrid[1]))
         runs[solver] = r
         ours = {"ship": first_peak(r["t"], r["ship"]), "cage": first_peak(r["t"], r["cage"]),
