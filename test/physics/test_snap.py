@@ -395,6 +395,17 @@ def test_a_first_stage_that_sags_below_the_retension_level_while_the_other_end_i
     alone = run(SnapDetector(SnapConfig(), ["vehicle"], static[1:], [500.0]), t, y[:, 1:], chunk)
     assert cage == alone and [type(e) for e in cage] == [SlackStarted, SnapEvent]
     assert cage[1].peak_tension == pytest.approx(190.0e3)
+    # the guard judges the new maximum: with no relative end speed its bound is 1.5 x 2 x static = 167.1 kN at the
+    # ship, which passes the first stage and rejects the 212.11 kN take-up (a warning, the snap before it stands)
+    guard = SnapGuard(impedance=1e4, stiffness=1e5, mass=1e4, crossing_time=1e-3)
+    events = run(SnapDetector(SnapConfig(), ["ship", "vehicle"], static, [0.0, 500.0], guard), t, y, chunk)
+    ship = [e for e in events if e.location == "ship"]
+    assert [type(e) for e in ship] == [SlackStarted, SnapEvent, NumericalSnapWarning]
+    assert ship[2].tension_peak == pytest.approx(212.11e3) and ship[2].bound == pytest.approx(3.0 * static[0])
+    # the detector sees only the locations it monitors: the ship end alone cannot know the cage is slack, and its
+    # sag below the re-tension level ends the episode (the take-up withheld, as before)
+    alone = run(SnapDetector(SnapConfig(), ["ship"], static[:1], [0.0]), t, y[:, :1], chunk)
+    assert [type(e) for e in alone] == [SlackStarted, SnapEvent] and alone[1].peak_tension == pytest.approx(57.0e3)
     # once the cable has been taken up the episode ends as before at a fall below the re-tension level: the ship
     # down to 9 kN at 16.5 s (as at 975 m, 0.2 Hz: 10 kN 1.8 s after the snap) while the cage is slack again, in a
     # slack period of its own that began after the ship's re-tensioning (16.0 s); the next cycle's 230 kN at the
