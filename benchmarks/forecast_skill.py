@@ -49,7 +49,7 @@ from tether_sim.forecast.skill import (  # noqa: E402
 )
 from tether_sim.io.params import load_config  # noqa: E402
 from tether_sim.physics.motion import build_motion  # noqa: E402
-from tether_sim.physics.snap import SlackStarted, SnapEvent  # noqa: E402
+from tether_sim.physics.snap import SlackStarted, SnapEvent, episode_maxima  # noqa: E402
 from tether_sim.physics.waves import wave_components  # noqa: E402
 from tether_sim.ros.driver import MotionSource, SimulationDriver  # noqa: E402
 
@@ -82,7 +82,7 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
                 for c in cfgs}
     driver.start(0.0)
     rate = cfg.node.output_rate
-    snaps, slacks = [], []
+    events, slacks = [], []
     forecasts = {name: [] for name in services}
     look = {name: 0.0 for name in services}
     cpu = {"truth run": 0.0, **{f"look-ahead {name}": 0.0 for name in services}}
@@ -90,7 +90,7 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
     for k in range(1, int(round(minutes * 60.0 * rate)) + 1):
         c0 = time.thread_time()
         report = driver.tick(k / rate)
-        snaps += [(e.location, e.time) for e in report.events if isinstance(e, SnapEvent)]
+        events += [e for e in report.events if isinstance(e, SnapEvent)]
         slacks += [(e.location, e.time) for e in report.events if isinstance(e, SlackStarted)]
         cpu["truth run"] += time.thread_time() - c0
         for name, service in services.items():
@@ -101,7 +101,10 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
                 look[name] += service.last_wall
             forecasts[name] += service.poll()
             cpu[f"look-ahead {name}"] += time.thread_time() - c0
-    snaps += [(e.location, e.time) for e in driver.detector.flush()]
+    events += [e for e in driver.detector.flush() if isinstance(e, SnapEvent)]
+    # a snap is scored once per slack episode, at its largest published peak (as the study tables count it)
+    snaps = [(e.location, e.time) for e in episode_maxima(events)]
+    run_case.snap_events = [(e.location, e.time, e.peak_tension, e.slack_start) for e in events]
     run_case.slacks = slacks  # slack periods begun (for --dump)
     run_case.slack_levels = dict(zip(driver.detector.locations, (float(x) for x in driver.detector.thresholds)))
     run_case.cpu = cpu  # CPU s of this thread: the truth run, each source's forecasts (tick side and look-ahead)
@@ -406,16 +409,18 @@ def with_margin(entry, horizon, source, slack, margin):
     return summarise(st, e, horizon, snaps, m, source)
 
 
-def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0.0) -> int:
+def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0.0, first_stage=False) -> int:
     """Score the forecasts of ``--dump`` JSON files again, without running anything: per file and
     source, totals over the files at each probability threshold, the reliability of the probability,
     and (threshold 0.5) the time estimate as it was before 2026-11-27, the median over the members
     that snap only, for the same forecasts. ``lagged`` > 1: the forecasts a service with
-    ``forecast.lagged`` = lagged publishes from the dumped ones (tether_sim.forecast.lagged)."""
+    ``forecast.lagged`` = lagged publishes from the dumped ones (tether_sim.forecast.lagged).
+    ``first_stage`` (dumps from 2026-11-28 12:00 on): as scored before then, each member's snap at its
+    first published event and the run's every published event a snap (not one per episode)."""
     from types import SimpleNamespace
 
     from tether_sim.forecast.lagged import lagged_series
-    from tether_sim.forecast.lookahead import EndForecast
+    from tether_sim.forecast.lookahead import EndForecast, ensemble_median_time
 
     runs = []
     for path in paths:
@@ -423,20 +428,28 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0
         horizon, period = doc["args"]["horizon"], 1.0 / doc["args"]["rate"]
         for run in doc["runs"]:
             slack = run_slack_levels(run, doc["args"]) if margin > 0.0 else None
+            snaps = run["snaps"]
+            if first_stage:
+                snaps = [(e, t) for e, t, *_ in run["snap_events"]]
             for source, fc in run["forecasts"].items():
+                if first_stage:
+                    fc = [list(f[:3]) + [ensemble_median_time([x - f[1] for x, _ in f[9]], f[4]), f[4], f[9]] + list(f[6:9])
+                          for f in fc]
                 if margin > 0.0:
                     raw = [with_margin(f, horizon, source, slack, margin) for f in fc]
                 else:
                     raw = [EndForecast(st, e, horizon, p, t, math.nan, math.nan, m, source,
                                        member_snaps=[tuple(x) for x in ms]) for e, st, p, t, m, ms, *_ in fc]
                 published = lagged_series(raw, lagged, period)
-                runs.append((run["file"], source, run["seed"], doc["args"]["minutes"] * 60.0, run["snaps"],
+                runs.append((run["file"], source, run["seed"], doc["args"]["minutes"] * 60.0, snaps,
                              [SimpleNamespace(end=f.end, stamp=f.stamp, probability=f.probability, time_to_snap=f.time_to_snap,
                                               members=f.members, horizon=horizon, member_snaps=f.member_snaps)
                               for f in published]))
     if margin > 0.0:
         print(f"\nslack margin {margin:g}: a member's snap counts when its least tension before it lay below "
               f"{1.0 - margin:g} x the slack level (forecast.slack_margin)")
+    if first_stage:
+        print("\nas scored before 2026-11-28 12:00: each member's snap at its first published event, every published event of the run a snap")
     if lagged > 1:
         print(f"\nlagged ensemble: each forecast pooled with the {lagged - 1} before it (forecast.lagged {lagged})")
     old = lambda f: (float(np.median([t for t, _ in f.member_snaps])) - f.stamp if f.member_snaps else math.nan)  # noqa: E731
@@ -504,6 +517,9 @@ def main(argv=None) -> int:
                          "(forecast.lagged; 1: as run); several counts: each in turn")
     ap.add_argument("--slack-margin", type=float, nargs="+", default=[0.0],
                     help="with --rescore: score the forecasts with forecast.slack_margin = this (0: as run); several: each in turn")
+    ap.add_argument("--first-stage", action="store_true",
+                    help="with --rescore: also score as before 2026-11-28 12:00 (each member's snap at its first published "
+                         "event, every published event of the run a snap), for dumps that keep both")
     ap.add_argument("--near-misses", action="store_true",
                     help="with --rescore: run each dumped sea again without forecasts and compare every false-alarm "
                          "episode with the run's own end tension (the snap level, the slack level)")
@@ -533,6 +549,8 @@ def main(argv=None) -> int:
         for margin in args.slack_margin:
             for count in args.lagged:
                 rescore(args.rescore, lagged=count, margin=margin)
+                if args.first_stage:
+                    rescore(args.rescore, lagged=count, margin=margin, first_stage=True)
         return 0
     rows, dumps, costs = [], [], []
     print(f"forecast skill: Hs {args.hs:g} m, Tp {args.tp:g} s, {args.directions} direction(s), horizon {args.horizon:g} s, {args.members} members, "
@@ -545,14 +563,16 @@ def main(argv=None) -> int:
             cpu = dict(run_case.cpu)
             c_score = time.thread_time()
             if args.dump:
-                dumps.append({"file": path, "seed": seed, "snaps": snaps, "slack_starts": run_case.slacks,
+                dumps.append({"file": path, "seed": seed, "snaps": snaps, "snap_events": run_case.snap_events,
+                              "slack_starts": run_case.slacks,
                               "slack_levels": run_case.slack_levels,
                               "warnings": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.time_to_snap_std,
                                                   f.predicted_peak) for f in fc if f.probability >= 0.5]
                                            for src, fc in forecasts.items()},
                               # every forecast with its members' snaps (reliability, other thresholds)
                               "forecasts": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.members,
-                                                   f.member_snaps, f.member_troughs, f.member_slack_depths, f.slack_at_stamp) for f in fc]
+                                                   f.member_snaps, f.member_troughs, f.member_slack_depths, f.slack_at_stamp,
+                                                   f.member_first_stages) for f in fc]
                                             for src, fc in forecasts.items()}})
             for source in args.sources:
                 fc = forecasts[source]
