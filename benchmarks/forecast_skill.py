@@ -6,6 +6,9 @@ grid) and every forecast is scored against the snaps the run reports (tether_sim
 snap is warned when a forecast with probability >= 0.5 stamped >= ``--lead`` s before it predicted it
 within +-1.5 s; a false alarm is such a forecast with no snap within +-1.5 s of its predicted time. Every
 figure is also given at the alarm threshold ``--warn-probability`` (forecast.warn_probability, 0.75).
+A snap of the run is scored once per slack episode, at its largest published peak (``episode_maxima``:
+the detector publishes a later, larger peak of an episode as a further event), as the look-ahead
+reports each member's snap (tether_sim.forecast.lookahead).
 
 The sea (both files): JONSWAP Hs, Tp (``--hs``, ``--tp``), gamma 3.3, waves from 15 deg off the port
 bow, 40 frequencies, short-crested (cos-2s, s = 6, ``--directions`` 5) or long-crested (1), seeds ``--seeds``; the fairlead on
