@@ -88,7 +88,7 @@ def classify(paths, cache=None, margin=0.0, tolerance=1.5):
             truth = stored[key]
             events = [SnapEvent(**e) for e in truth["events"]]
             maxima = episode_maxima(events)
-            dumped = sorted((e, round(x, 6)) for e, x in run["snaps"])
+            dumped = sorted((e, round(x, 6)) for e, x, *_ in run.get("snap_events", run["snaps"]))
             rerun = sorted((e.location, round(e.time, 6)) for e in events)
             print(f"\n{Path(run['file']).stem} seed {run['seed']}: {len(events)} snap events in the rerun "
                   f"({len(maxima)} episodes; the dump has {len(dumped)}, {'the same' if dumped == rerun else 'DIFFERENT'})")
@@ -105,7 +105,8 @@ def classify(paths, cache=None, margin=0.0, tolerance=1.5):
                     end, stamp, p, tts, members, ms = f[:6]
                     depths = f[7] if len(f) > 7 else None
                     pred = stamp + tts
-                    snaps = [x for e, x in run["snaps"] if e == end]
+                    snaps = ([x for e, x, *_ in run["snap_events"] if e == end] if "snap_events" in run
+                             else [x for e, x in run["snaps"] if e == end])  # every published peak
                     if not p >= 0.5 or pred > end_time - tolerance or any(abs(pred - x) <= tolerance for x in snaps):
                         continue
                     kind, depth, peak = classify_false_alarm(

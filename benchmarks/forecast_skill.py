@@ -6,9 +6,10 @@ grid) and every forecast is scored against the snaps the run reports (tether_sim
 snap is warned when a forecast with probability >= 0.5 stamped >= ``--lead`` s before it predicted it
 within +-1.5 s; a false alarm is such a forecast with no snap within +-1.5 s of its predicted time. Every
 figure is also given at the alarm threshold ``--warn-probability`` (forecast.warn_probability, 0.75).
-A snap of the run is scored once per slack episode, at its largest published peak (``episode_maxima``:
-the detector publishes a later, larger peak of an episode as a further event), as the look-ahead
-reports each member's snap (tether_sim.forecast.lookahead).
+A snap of the run is one slack episode (the detector publishes a later, larger peak of an episode as a
+further event, its new maximum): warned when a warning predicted one of its published peaks, counted
+once; the look-ahead reports each member's snap at its episode's largest peak
+(tether_sim.forecast.lookahead).
 
 The sea (both files): JONSWAP Hs, Tp (``--hs``, ``--tp``), gamma 3.3, waves from 15 deg off the port
 bow, 40 frequencies, short-crested (cos-2s, s = 6, ``--directions`` 5) or long-crested (1), seeds ``--seeds``; the fairlead on
@@ -52,7 +53,7 @@ from tether_sim.forecast.skill import (  # noqa: E402
 )
 from tether_sim.io.params import load_config  # noqa: E402
 from tether_sim.physics.motion import build_motion  # noqa: E402
-from tether_sim.physics.snap import SlackStarted, SnapEvent, episode_maxima  # noqa: E402
+from tether_sim.physics.snap import SlackStarted, SnapEvent  # noqa: E402
 from tether_sim.physics.waves import wave_components  # noqa: E402
 from tether_sim.ros.driver import MotionSource, SimulationDriver  # noqa: E402
 
@@ -105,8 +106,8 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
             forecasts[name] += service.poll()
             cpu[f"look-ahead {name}"] += time.thread_time() - c0
     events += [e for e in driver.detector.flush() if isinstance(e, SnapEvent)]
-    # a snap is scored once per slack episode, at its largest published peak (as the study tables count it)
-    snaps = [(e.location, e.time) for e in episode_maxima(events)]
+    # every published peak, with its slack episode: an episode is one snap, warned when one of its peaks was predicted
+    snaps = [(e.location, e.time, e.slack_start) for e in events]
     run_case.snap_events = [(e.location, e.time, e.peak_tension, e.slack_start) for e in events]
     run_case.slacks = slacks  # slack periods begun (for --dump)
     run_case.slack_levels = dict(zip(driver.detector.locations, (float(x) for x in driver.detector.thresholds)))
@@ -418,7 +419,7 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0
     and (threshold 0.5) the time estimate as it was before 2026-11-27, the median over the members
     that snap only, for the same forecasts. ``lagged`` > 1: the forecasts a service with
     ``forecast.lagged`` = lagged publishes from the dumped ones (tether_sim.forecast.lagged).
-    ``first_stage`` (dumps from 2026-11-28 12:00 on): as scored before then, each member's snap at its
+    ``first_stage`` (dumps from 2026-11-28 12:50 on): as scored before then, each member's snap at its
     first published event and the run's every published event a snap (not one per episode)."""
     from types import SimpleNamespace
 
@@ -431,7 +432,7 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0
         horizon, period = doc["args"]["horizon"], 1.0 / doc["args"]["rate"]
         for run in doc["runs"]:
             slack = run_slack_levels(run, doc["args"]) if margin > 0.0 else None
-            snaps = run["snaps"]
+            snaps = [(e, t, s) for e, t, _, s in run["snap_events"]] if "snap_events" in run else run["snaps"]
             if first_stage:
                 snaps = [(e, t) for e, t, *_ in run["snap_events"]]
             for source, fc in run["forecasts"].items():
@@ -452,7 +453,7 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0
         print(f"\nslack margin {margin:g}: a member's snap counts when its least tension before it lay below "
               f"{1.0 - margin:g} x the slack level (forecast.slack_margin)")
     if first_stage:
-        print("\nas scored before 2026-11-28 12:00: each member's snap at its first published event, every published event of the run a snap")
+        print("\nas scored before 2026-11-28 12:50: each member's snap at its first published event, every published event of the run a snap")
     if lagged > 1:
         print(f"\nlagged ensemble: each forecast pooled with the {lagged - 1} before it (forecast.lagged {lagged})")
     old = lambda f: (float(np.median([t for t, _ in f.member_snaps])) - f.stamp if f.member_snaps else math.nan)  # noqa: E731
@@ -461,7 +462,7 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0
         seeds = ", ".join(str(r[2]) for r in sel)
         print(f"\n{Path(key[0]).stem} {key[1]} (seeds {seeds}, {sum(r[3] for r in sel) / 60:.1f} min of sea):")
         for end in ("ship", "vehicle"):
-            if not any(e == end for r in sel for e, _ in r[4]) and not any(
+            if not any(e == end for r in sel for e, *_ in r[4]) and not any(
                     f.end == end and f.probability >= min(thresholds) for r in sel for f in r[5]):
                 continue  # no snap and no warning at this end
             for threshold, timing in [(t, None) for t in thresholds] + [(0.5, old)]:
@@ -521,7 +522,7 @@ def main(argv=None) -> int:
     ap.add_argument("--slack-margin", type=float, nargs="+", default=[0.0],
                     help="with --rescore: score the forecasts with forecast.slack_margin = this (0: as run); several: each in turn")
     ap.add_argument("--first-stage", action="store_true",
-                    help="with --rescore: also score as before 2026-11-28 12:00 (each member's snap at its first published "
+                    help="with --rescore: also score as before 2026-11-28 12:50 (each member's snap at its first published "
                          "event, every published event of the run a snap), for dumps that keep both")
     ap.add_argument("--near-misses", action="store_true",
                     help="with --rescore: run each dumped sea again without forecasts and compare every false-alarm "
@@ -566,7 +567,7 @@ def main(argv=None) -> int:
             cpu = dict(run_case.cpu)
             c_score = time.thread_time()
             if args.dump:
-                dumps.append({"file": path, "seed": seed, "snaps": snaps, "snap_events": run_case.snap_events,
+                dumps.append({"file": path, "seed": seed, "snaps": [(e, t) for e, t, _ in snaps], "snap_events": run_case.snap_events,
                               "slack_starts": run_case.slacks,
                               "slack_levels": run_case.slack_levels,
                               "warnings": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.time_to_snap_std,
@@ -586,7 +587,7 @@ def main(argv=None) -> int:
                                "minutes": args.minutes, "snaps": s.snaps, "warned": s.warned,
                                "warnings": s.warnings, "false_alarms": s.false_alarms,
                                "episodes": s.false_alarm_episodes, "forecast_minutes": s.minutes,
-                               "snaps_in_run": sum(e == end for e, _ in snaps),
+                               "snaps_in_run": len({s for e, _, s in snaps if e == end}),
                                "wall_s": wall, "lookahead_wall_s": look[source], "forecasts": len(fc) // 2,
                                "degraded": sum(f.degraded for f in fc) // 2}
                         rows.append(row)

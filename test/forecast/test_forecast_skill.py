@@ -136,3 +136,19 @@ def test_false_alarms_are_classified_against_the_runs_tension_and_events():
     assert classify_false_alarm(0.0, 12.0, 15.0, t, run(0.0, 150.0), snaps=[], events=[(12.0, 9.0)], **args)[0] == "uncounted event"
     # the run slack, no peak at the snap level, no snap: other
     assert classify_false_alarm(0.0, 12.0, 15.0, t, run(0.0, 80.0), snaps=[], events=[], **args)[0] == "other"
+
+
+def test_a_snap_published_in_stages_is_one_snap_warned_at_any_of_its_peaks():
+    """The detector publishes a later, larger peak of a slack episode as a further event (its new
+    maximum): the episode is one snap, warned by a forecast of either peak, and neither peak's
+    forecast is a false alarm; as pairs, the same peaks are two snaps."""
+    snaps = [("vehicle", 30.0, 25.0), ("vehicle", 31.7, 25.0), ("vehicle", 60.0, 55.0)]
+    forecasts = [fc(20.0, 1.0, 30.1), fc(22.0, 1.0, 31.6), fc(50.0, 1.0, 60.2), fc(70.0, 1.0, 80.0)]
+    s = score(forecasts, snaps, "vehicle", until=100.0)
+    assert (s.snaps, s.warned, s.warnings, s.false_alarms) == (2, 2, 4, 1)
+    s = score(forecasts[1:], snaps, "vehicle", until=100.0)  # only the second peak predicted: still warned
+    assert (s.snaps, s.warned, s.false_alarms) == (2, 2, 1)
+    s = score(forecasts, [x[:2] for x in snaps], "vehicle", until=100.0)
+    assert (s.snaps, s.warned, s.false_alarms) == (3, 3, 1)
+    s = score(forecasts[1:], [x[:2] for x in snaps], "vehicle", until=100.0)
+    assert (s.snaps, s.warned) == (3, 2)

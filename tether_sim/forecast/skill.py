@@ -47,20 +47,28 @@ class Skill:
 
 def score(forecasts, snaps, end, *, lead=5.0, tolerance=1.5, threshold=0.5, until=None) -> Skill:
     """Skill at ``end`` of ``forecasts`` (objects with stamp, end, horizon, probability, time_to_snap)
-    against ``snaps`` ((end, peak time) pairs, same clock) of a run that ended at ``until`` (default:
-    the last forecast's horizon): warnings predicting a time after the run, and snaps after it, are
-    not scored."""
+    against ``snaps`` of a run that ended at ``until`` (default: the last forecast's horizon): warnings
+    predicting a time after the run, and snaps after it, are not scored. ``snaps``: (end, peak time)
+    pairs, each its own snap, or (end, peak time, episode) triples: the published peaks of one slack
+    episode (its first event and the new maxima the detector publishes after it) are one snap, warned
+    when a warning predicted one of them, counted once; a warning within +-``tolerance`` of any of them
+    is no false alarm (as each published peak counted before)."""
     fc = sorted((f for f in forecasts if f.end == end and f.members > 0), key=lambda f: f.stamp)
-    times = sorted(t for e, t in snaps if e == end)
+    groups = {}
+    for i, s in enumerate(snaps):
+        if s[0] == end:
+            groups.setdefault(s[2] if len(s) > 2 else ("snap", i), []).append(s[1])
+    times = sorted(t for g in groups.values() for t in g)
     if not fc:
         return Skill(end, 0, 0, 0, 0, 0, 0.0, lead, tolerance, threshold)
     first, last = fc[0].stamp, fc[-1].stamp + fc[-1].horizon
     if until is not None:
         last = min(last, until)
-    scored = [t for t in times if first + lead <= t <= last]
+    scored = [[t for t in g if first + lead <= t <= last] for g in groups.values()]
+    scored = [g for g in scored if g]
     warnings = [(f.stamp, f.stamp + f.time_to_snap) for f in fc
                 if f.probability >= threshold and f.stamp + f.time_to_snap <= last - tolerance]
-    warned = sum(any(stamp <= t - lead and abs(pred - t) <= tolerance for stamp, pred in warnings) for t in scored)
+    warned = sum(any(stamp <= t - lead and abs(pred - t) <= tolerance for stamp, pred in warnings for t in g) for g in scored)
     false = [pred for _, pred in warnings if not any(abs(pred - t) <= tolerance for t in times)]
     episodes, last_pred = 0, None
     for pred in false:
@@ -86,7 +94,7 @@ def reliability(forecasts, snaps, end, *, edges=(0.0, 0.125, 0.375, 0.625, 0.875
     horizon] held a snap at that end. A calibrated forecast has ``observed`` close to
     ``mean_probability`` in every bin. Forecasts without members, and those whose horizon runs past
     ``until`` (the run's end), are left out."""
-    times = sorted(t for e, t in snaps if e == end)
+    times = sorted(t for e, t, *_ in snaps if e == end)
     fc = [f for f in forecasts if f.end == end and f.members > 0
           and (until is None or f.stamp + f.horizon <= until)]
     out = []
