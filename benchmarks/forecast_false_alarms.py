@@ -106,7 +106,7 @@ def classify(paths, cache=None, margin=0.0, tolerance=1.5):
                     depths = f[7] if len(f) > 7 else None
                     pred = stamp + tts
                     snaps = ([x for e, x, *_ in run["snap_events"] if e == end] if "snap_events" in run
-                             else [x for e, x in run["snaps"] if e == end])  # every published peak
+                             else [x for e, x, *_ in run["snaps"] if e == end])  # every published peak
                     if not p >= 0.5 or pred > end_time - tolerance or any(abs(pred - x) <= tolerance for x in snaps):
                         continue
                     kind, depth, peak = classify_false_alarm(

@@ -6,10 +6,6 @@ grid) and every forecast is scored against the snaps the run reports (tether_sim
 snap is warned when a forecast with probability >= 0.5 stamped >= ``--lead`` s before it predicted it
 within +-1.5 s; a false alarm is such a forecast with no snap within +-1.5 s of its predicted time. Every
 figure is also given at the alarm threshold ``--warn-probability`` (forecast.warn_probability, 0.75).
-A snap of the run is one slack episode (the detector publishes a later, larger peak of an episode as a
-further event, its new maximum): warned when a warning predicted one of its published peaks, counted
-once; the look-ahead reports each member's snap at its episode's largest peak
-(tether_sim.forecast.lookahead).
 
 The sea (both files): JONSWAP Hs, Tp (``--hs``, ``--tp``), gamma 3.3, waves from 15 deg off the port
 bow, 40 frequencies, short-crested (cos-2s, s = 6, ``--directions`` 5) or long-crested (1), seeds ``--seeds``; the fairlead on
@@ -49,7 +45,7 @@ sys.path.insert(0, str(ROOT))
 
 from tether_sim.forecast.service import ForecastService  # noqa: E402
 from tether_sim.forecast.skill import (  # noqa: E402
-    TIE_TOLERANCE, fraction_interval, rate_interval, reliability, score, trough_rank,
+    TIE_TOLERANCE, episode_snaps, fraction_interval, rate_interval, reliability, score, trough_rank,
 )
 from tether_sim.io.params import load_config  # noqa: E402
 from tether_sim.physics.motion import build_motion  # noqa: E402
@@ -74,7 +70,8 @@ def case_config(path, source, seed, args):
 def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
     """One run of the sea of ``cfgs`` (one configuration per forecast source, the same sea) with a
     forecast service per source observing the same driver (the truth run is shared by the sources):
-    (snaps [(end, time)], {source: forecasts}, wall s, {source: look-ahead wall s}, simulated s).
+    (snaps [(end, time, event times)]: one per slack episode, tether_sim.forecast.skill.episode_snaps; {source:
+    forecasts}, wall s, {source: look-ahead wall s}, simulated s).
     ``cable_waves=False``: the waves move the ship (RAO) but do not act on the cable (still water)."""
     cfg = cfgs[0]
     src = {"ship": MotionSource(build_motion(cfg.motion, np.asarray(cfg.ship_end.position, float), wave_components(cfg)))}
@@ -106,8 +103,7 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
             forecasts[name] += service.poll()
             cpu[f"look-ahead {name}"] += time.thread_time() - c0
     events += [e for e in driver.detector.flush() if isinstance(e, SnapEvent)]
-    # every published peak, with its slack episode: an episode is one snap, warned when one of its peaks was predicted
-    snaps = [(e.location, e.time, e.slack_start) for e in events]
+    snaps = episode_snaps(events)  # an episode once (its new maxima are no further snaps)
     run_case.snap_events = [(e.location, e.time, e.peak_tension, e.slack_start) for e in events]
     run_case.slacks = slacks  # slack periods begun (for --dump)
     run_case.slack_levels = dict(zip(driver.detector.locations, (float(x) for x in driver.detector.thresholds)))
@@ -283,7 +279,7 @@ def near_misses(paths, tolerance=1.5, before=6.0, margin=0.0) -> int:
                 for end, stamp, p, tts, members, _, *troughs in fc:
                     pred = stamp + tts
                     if not p >= 0.5 or pred > end_time - tolerance or any(
-                            e == end and abs(pred - x) <= tolerance for e, x in run["snaps"]):
+                            e == end and abs(pred - x) <= tolerance for e, x, *_ in run["snaps"]):
                         continue
                     if end in last and abs(pred - last[end]) <= tolerance:
                         last[end] = pred
@@ -292,7 +288,7 @@ def near_misses(paths, tolerance=1.5, before=6.0, margin=0.0) -> int:
                     T = tensions[end]
                     peak = T[(t >= pred - tolerance) & (t <= pred + tolerance)].max()
                     trough = T[(t >= pred - before) & (t <= pred)].min()
-                    near = min((abs(pred - x) for e, x in run["snaps"] if e == end), default=math.inf)
+                    near = min((abs(pred - x) for e, x, *_ in run["snaps"] if e == end), default=math.inf)
                     if near <= 2.0 * tolerance:
                         kind = f"timing: the run's snap within {2.0 * tolerance:g} s"
                     elif peak < level[end]:
@@ -379,6 +375,18 @@ def fill_at_stamp(paths) -> int:
     return 0
 
 
+def dumped_snaps(run):
+    """The snaps of a dumped run, one per slack episode (tether_sim.forecast.skill.episode_snaps): from its
+    every published event where the dump keeps them (``snap_events``: end, time, peak, slack start; from
+    2026-11-28 12:50 on), else as dumped."""
+    if "snap_events" not in run:
+        return run["snaps"]
+    groups = {}
+    for e, t, peak, start in run["snap_events"]:
+        groups.setdefault((e, start), []).append((t, peak))
+    return [(e, max(g, key=lambda x: x[1])[0], tuple(t for t, _ in g)) for (e, _), g in groups.items()]
+
+
 def run_slack_levels(run, dumped_args):
     """{end: slack level N} of a dumped run (kept in dumps from 2026-11-28 on; else the run's detector at
     its start, the same numbers: no winch in these runs)."""
@@ -418,9 +426,7 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0
     source, totals over the files at each probability threshold, the reliability of the probability,
     and (threshold 0.5) the time estimate as it was before 2026-11-27, the median over the members
     that snap only, for the same forecasts. ``lagged`` > 1: the forecasts a service with
-    ``forecast.lagged`` = lagged publishes from the dumped ones (tether_sim.forecast.lagged).
-    ``first_stage`` (dumps from 2026-11-28 12:50 on): as scored before then, each member's snap at its
-    first published event and the run's every published event a snap (not one per episode)."""
+    ``forecast.lagged`` = lagged publishes from the dumped ones (tether_sim.forecast.lagged)."""
     from types import SimpleNamespace
 
     from tether_sim.forecast.lagged import lagged_series
@@ -432,8 +438,8 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0
         horizon, period = doc["args"]["horizon"], 1.0 / doc["args"]["rate"]
         for run in doc["runs"]:
             slack = run_slack_levels(run, doc["args"]) if margin > 0.0 else None
-            snaps = [(e, t, s) for e, t, _, s in run["snap_events"]] if "snap_events" in run else run["snaps"]
-            if first_stage:
+            snaps = dumped_snaps(run)
+            if first_stage:  # as before 2026-11-28 12:50: every published peak a snap, each member at its first event
                 snaps = [(e, t) for e, t, *_ in run["snap_events"]]
             for source, fc in run["forecasts"].items():
                 if first_stage:
@@ -452,8 +458,6 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0
     if margin > 0.0:
         print(f"\nslack margin {margin:g}: a member's snap counts when its least tension before it lay below "
               f"{1.0 - margin:g} x the slack level (forecast.slack_margin)")
-    if first_stage:
-        print("\nas scored before 2026-11-28 12:50: each member's snap at its first published event, every published event of the run a snap")
     if lagged > 1:
         print(f"\nlagged ensemble: each forecast pooled with the {lagged - 1} before it (forecast.lagged {lagged})")
     old = lambda f: (float(np.median([t for t, _ in f.member_snaps])) - f.stamp if f.member_snaps else math.nan)  # noqa: E731
@@ -462,7 +466,7 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0
         seeds = ", ".join(str(r[2]) for r in sel)
         print(f"\n{Path(key[0]).stem} {key[1]} (seeds {seeds}, {sum(r[3] for r in sel) / 60:.1f} min of sea):")
         for end in ("ship", "vehicle"):
-            if not any(e == end for r in sel for e, *_ in r[4]) and not any(
+            if not any(x[0] == end for r in sel for x in r[4]) and not any(
                     f.end == end and f.probability >= min(thresholds) for r in sel for f in r[5]):
                 continue  # no snap and no warning at this end
             for threshold, timing in [(t, None) for t in thresholds] + [(0.5, old)]:
@@ -523,7 +527,7 @@ def main(argv=None) -> int:
                     help="with --rescore: score the forecasts with forecast.slack_margin = this (0: as run); several: each in turn")
     ap.add_argument("--first-stage", action="store_true",
                     help="with --rescore: also score as before 2026-11-28 12:50 (each member's snap at its first published "
-                         "event, every published event of the run a snap), for dumps that keep both")
+                         "event, every published event of the run a snap of its own), for dumps that keep both")
     ap.add_argument("--near-misses", action="store_true",
                     help="with --rescore: run each dumped sea again without forecasts and compare every false-alarm "
                          "episode with the run's own end tension (the snap level, the slack level)")
@@ -567,7 +571,7 @@ def main(argv=None) -> int:
             cpu = dict(run_case.cpu)
             c_score = time.thread_time()
             if args.dump:
-                dumps.append({"file": path, "seed": seed, "snaps": [(e, t) for e, t, _ in snaps], "snap_events": run_case.snap_events,
+                dumps.append({"file": path, "seed": seed, "snaps": snaps, "snap_events": run_case.snap_events,
                               "slack_starts": run_case.slacks,
                               "slack_levels": run_case.slack_levels,
                               "warnings": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.time_to_snap_std,
@@ -587,7 +591,7 @@ def main(argv=None) -> int:
                                "minutes": args.minutes, "snaps": s.snaps, "warned": s.warned,
                                "warnings": s.warnings, "false_alarms": s.false_alarms,
                                "episodes": s.false_alarm_episodes, "forecast_minutes": s.minutes,
-                               "snaps_in_run": len({s for e, _, s in snaps if e == end}),
+                               "snaps_in_run": sum(s[0] == end for s in snaps),
                                "wall_s": wall, "lookahead_wall_s": look[source], "forecasts": len(fc) // 2,
                                "degraded": sum(f.degraded for f in fc) // 2}
                         rows.append(row)
