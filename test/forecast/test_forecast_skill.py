@@ -113,7 +113,7 @@ def test_a_slack_episode_is_one_snap_at_its_maximum_whatever_event_was_predicted
     """The detector publishes a first stage past the snap level and then the episode's larger take-up as a further
     event with the same slack_start (the 500 m, 0.2 Hz ship end: 57.54 kN at 27.151 s, 210.50 kN at 28.839 s,
     slack from 25.686 s). The run had one snap there, not two: counted once, at its maximum; a warning that
-    predicted either event (a member's snap is its first event) warned it and is no false alarm."""
+    predicted either event warned it and is no false alarm."""
     from tether_sim.forecast.skill import episode_snaps, reliability
     from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapEvent
 

@@ -10,8 +10,8 @@ issued every second repeats its mistake until the predicted time has passed).
 A slack episode is one snap: the detector publishes a later, larger peak of an episode whose snap is out
 as a further event (its new maximum, same location and ``slack_start``), and :func:`episode_snaps`
 makes one snap of them, at its largest peak (as the study tables count, ``episode_maxima``), with the
-times of all its events: a warning that predicted any of them (a member's snap is its first event, the
-first stage) warned that snap and is no false alarm.
+times of all its events: a warning that predicted any of them warned that snap and is no false alarm
+(the look-ahead reports a member's snap at its own episode's largest peak, tether_sim.forecast.lookahead).
 
 Forecasts without members (no ship-motion forecast could be made) are not forecasts and are left out.
 Only snaps that could have been warned are scored: peaks at least ``lead`` s after the first forecast
