@@ -17,8 +17,9 @@ the r.m.s. difference of |F| over the run against MoorDyn, relative to MoorDyn's
 cage heave. Writes a JSON and a figure.
 
 Usage: PYTHONPATH=. python benchmarks/studies/network_vs_moordyn.py [--duration 12] [--tick 0.005]
-       [--coupling 0.005] [--solvers dg hybrid] [--json out/network_vs_moordyn.json]
-       [--figure docs/figures/network_vs_moordyn.png]
+       [--coupling 0.005] [--solvers dg hybrid] [--tether-mesh N P | --tether-tolerance 0.005]
+       [--excursion-EI 78.125] [--excursion-dg 10 4] [--excursion-hybrid 30 0.002] [--excursion-hybrid-zoning all_rod]
+       [--json out/network_vs_moordyn.json] [--figure docs/figures/network_vs_moordyn.png]
 """
 
 import argparse
@@ -46,6 +47,7 @@ EXCURSION = CableProperties(length=30.0, EA=2.0e6, gamma0=1.0, density=1100.0, d
                             material="bilinear", Cdn=1.2, Cdt=0.02, Cmn=1.0, Cmt=0.0)
 VEHICLE_OFFSET = np.array([20.0, 0.0, -15.0])  # from the cage's lower attachment at rest
 MD_SEGMENTS = [80, 30]
+HYBRID_OPTIONS = {}  # further hybrid.* keys of a hybrid excursion tether (``--excursion-hybrid-zoning``)
 MD_SCHEME = ["RK2"]  # MoorDyn's time scheme (RK4 for an undamped line: RK2 grows on the imaginary axis)
 
 
@@ -82,7 +84,7 @@ def network_tree(exc_solver="dg", coupling=0.005, exc_dg=(10, 4), exc_hybrid=(30
     if exc_solver == "dg":
         exc["dg"] = dict(n_elements=exc_dg[0], order=exc_dg[1])
     else:
-        exc["hybrid"] = dict(n_segments=exc_hybrid[0], time_step=exc_hybrid[1])
+        exc["hybrid"] = dict(n_segments=exc_hybrid[0], time_step=exc_hybrid[1], **HYBRID_OPTIONS)
     return dict(
         environment=dict(g=rc.G, fluid_density=rc.RHO_F, seabed=False), coupling_step=coupling,
         points=dict(ship=dict(kind="prescribed", position=[float(x) for x in p0]),
@@ -236,6 +238,8 @@ def main(argv=None):
                     help="segments and time step of a hybrid excursion tether")
     ap.add_argument("--excursion-EI", type=float, default=0.0,
                     help="the excursion tether's bending stiffness in both codes (N m^2; MoorDyn's EI column)")
+    ap.add_argument("--excursion-hybrid-zoning", default=None, choices=["adaptive", "all_rod", "all_catenary"],
+                    help="hybrid.zoning of a hybrid excursion tether (with EI: all_rod)")
     ap.add_argument("--md-segments", type=int, nargs=2, default=MD_SEGMENTS, help="MoorDyn segments: tether, excursion")
     ap.add_argument("--json", default="out/network_vs_moordyn.json")
     ap.add_argument("--figure", default="docs/figures/network_vs_moordyn.png")
@@ -244,6 +248,8 @@ def main(argv=None):
     MD_SEGMENTS[:] = args.md_segments
     if args.excursion_EI:
         set_excursion_bending(args.excursion_EI)
+    if args.excursion_hybrid_zoning:
+        HYBRID_OPTIONS["zoning"] = args.excursion_hybrid_zoning
     md = run_moordyn(args.duration, args.md_coupling)
     ref = {"ship": first_peak(md["t"], md["ship"]), "cage": first_peak(md["t"], md["cage"]),
            "veh": window_max(md["t"], md["veh"])}
