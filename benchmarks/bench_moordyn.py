@@ -42,18 +42,23 @@ NODE_STEP = 0.02  # s; 50 Hz, the node's output rate, for the speed figure
 
 
 @contextlib.contextmanager
-def c_stdout_silenced():
-    """C-level stdout sent to /dev/null inside the block (MoorDyn prints its banner and log there)."""
+def c_stdout_silenced(fds=(1,)):
+    """C-level stdout (``fds``: also stderr, 2) sent to /dev/null inside the block (MoorDyn prints its
+    banner and log there, and the node positions when a run blows up)."""
     sys.stdout.flush()
-    saved = os.dup(1)
+    sys.stderr.flush()
+    saved = [os.dup(fd) for fd in fds]
     devnull = os.open(os.devnull, os.O_WRONLY)
     try:
-        os.dup2(devnull, 1)
+        for fd in fds:
+            os.dup2(devnull, fd)
         yield
     finally:
         sys.stdout.flush()
-        os.dup2(saved, 1)
-        os.close(saved)
+        sys.stderr.flush()
+        for fd, old in zip(fds, saved):
+            os.dup2(old, fd)
+            os.close(old)
         os.close(devnull)
 
 
@@ -70,15 +75,18 @@ def _quiet_create(moordyn, path):
     return system, init_wall
 
 
-def run_moordyn(length, n_segments, duration, coupling_step=COUPLING_STEP, dt=None, alpha=0.0, workdir=None):
-    """One MoorDyn run; returns dict with t, tension (ship), dt, wall times."""
+def run_moordyn(length, n_segments, duration, coupling_step=COUPLING_STEP, dt=None, alpha=0.0, workdir=None,
+                cage="body", check=True):
+    """One MoorDyn run; returns dict with t, tension (ship), dt, wall times. ``cage``: "body" (a free
+    6-DOF body) or "point" (ropos_case.moordyn_input). ``check`` False: a non-finite tension ends the
+    run without raising (``finite`` False in the result; the step searches use it)."""
     import moordyn
 
     dt = dt if dt is not None else rc.moordyn_time_step(length, n_segments, COUPLING_STEP)
     workdir = Path(workdir or tempfile.mkdtemp(prefix="md_ropos_"))
-    tag = f"_a{alpha:g}" if alpha else ""
+    tag = (f"_a{alpha:g}" if alpha else "") + ("" if cage == "body" else f"_{cage}")
     path = workdir / f"ropos_L{int(length)}_N{n_segments}{tag}.txt"
-    path.write_text(rc.moordyn_input(length, n_segments, dt, alpha=alpha))
+    path.write_text(rc.moordyn_input(length, n_segments, dt, alpha=alpha, cage=cage))
     system, init_wall = _quiet_create(moordyn, path)
     n = int(round(duration / coupling_step))
     times = np.empty(n)
@@ -86,6 +94,7 @@ def run_moordyn(length, n_segments, duration, coupling_step=COUPLING_STEP, dt=No
     step_wall = step_cpu = 0.0
     t = 0.0
     p_now, _ = rc.fairlead_motion(0.0)
+    finite = True
     try:
         for k in range(n):
             t_next = (k + 1) * coupling_step
@@ -93,31 +102,40 @@ def run_moordyn(length, n_segments, duration, coupling_step=COUPLING_STEP, dt=No
             vel = (p_next - p_now) / coupling_step
             x, v = list(p_now), list(vel)
             w0, c0 = time.perf_counter(), time.thread_time()
-            force = moordyn.Step(system, x, v, t, coupling_step)
+            try:
+                force = moordyn.Step(system, x, v, t, coupling_step)
+            except RuntimeError:  # MoorDyn's NaN check
+                if check:
+                    raise
+                force = (math.nan,) * 3
             step_wall += time.perf_counter() - w0
             step_cpu += time.thread_time() - c0
             t, p_now = t_next, p_next
             times[k] = t
             tension[k] = math.sqrt(force[0] ** 2 + force[1] ** 2 + force[2] ** 2)
             if not math.isfinite(tension[k]):
-                raise FloatingPointError(f"non-finite tension at t = {t}")
+                if check:
+                    raise FloatingPointError(f"non-finite tension at t = {t}")
+                finite = False
+                times, tension = times[:k + 1], tension[:k + 1]
+                break
     finally:
         moordyn.Close(system)
     return {"t": times, "tension": tension, "dt": dt, "step_wall": step_wall, "step_cpu": step_cpu,
-            "init_wall": init_wall}
+            "init_wall": init_wall, "finite": finite}
 
 
 METRICS = ("first_peak", "mean_peak", "max_peak")
 
 
-def best_wall(length, n_seg, duration, coupling_step, dt, workdir, repeats, alpha=0.0):
+def best_wall(length, n_seg, duration, coupling_step, dt, workdir, repeats, alpha=0.0, cage="body"):
     """Smallest (wall, thread CPU) time inside moordyn.Step over ``repeats`` runs (the machine is
     shared: the CPU time is the robust cost figure, the wall time what a real-time loop sees).
     ``alpha``: the line's bending stiffness EI = alpha * EI_STAR (MoorDyn v2 line-type column EI)."""
     walls, cpus = [], []
     for _ in range(repeats):
         res = run_moordyn(length, n_seg, duration, coupling_step=coupling_step, dt=dt, alpha=alpha,
-                          workdir=workdir)
+                          workdir=workdir, cage=cage)
         walls.append(res["step_wall"])
         cpus.append(res["step_cpu"])
         if walls[-1] > 20.0:  # expensive rung: one timing is enough

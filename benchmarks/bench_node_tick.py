@@ -193,8 +193,38 @@ def sink():
         pass
 
 
-def launch(params, ticks, alpha, profile, split, baseline=None, extra=()):
+def bench_env(extra=None) -> dict:
+    """This process's environment with DDS kept on this host and a domain of its own (no other run's topics)."""
     env = dict(os.environ, ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", ROS_DOMAIN_ID=str(100 + os.getpid() % 100))
+    env.update(extra or {})
+    return env
+
+
+def run_child(cmd, env, marker, with_sink=True, timeout=3600) -> dict:
+    """Run the measuring child ``cmd`` (beside a subscriber process of every periodic output, :func:`sink`, when
+    ``with_sink``) and return the JSON it prints after ``marker``."""
+    sink_proc = None
+    if with_sink:
+        sink_proc = subprocess.Popen([sys.executable, str(Path(__file__).resolve()), "--sink"], env=env, cwd=ROOT,
+                                     stdout=subprocess.PIPE, text=True)
+    try:
+        if sink_proc is not None and sink_proc.stdout.readline().strip() != "SINK_READY":
+            raise RuntimeError("the subscriber process did not start")
+        proc = subprocess.run(cmd, env=env, cwd=ROOT, capture_output=True, text=True, timeout=timeout)
+    finally:
+        if sink_proc is not None:
+            sink_proc.send_signal(signal.SIGINT)
+            try:
+                sink_proc.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                sink_proc.kill()
+    for line in proc.stdout.splitlines():
+        if line.startswith(marker + " "):
+            return json.loads(line[len(marker) + 1:])
+    raise RuntimeError(f"run failed ({proc.returncode}):\n{proc.stdout[-2000:]}\n{proc.stderr[-3000:]}")
+
+
+def launch(params, ticks, alpha, profile, split, baseline=None, extra=()):
     cmd = [sys.executable, __file__, "--child", str(params), "--ticks", str(ticks), "--alpha", str(alpha)]
     if profile:
         cmd += ["--profile", str(profile)]
@@ -204,21 +234,7 @@ def launch(params, ticks, alpha, profile, split, baseline=None, extra=()):
         cmd += ["--baseline", str(baseline)]
     for item in extra:
         cmd += ["-p", item]
-    sink_proc = subprocess.Popen([sys.executable, __file__, "--sink"], env=env, cwd=ROOT, stdout=subprocess.PIPE, text=True)
-    try:
-        if sink_proc.stdout.readline().strip() != "SINK_READY":
-            raise RuntimeError("the subscriber process did not start")
-        proc = subprocess.run(cmd, env=env, cwd=ROOT, capture_output=True, text=True, timeout=3600)
-    finally:
-        sink_proc.send_signal(signal.SIGINT)
-        try:
-            sink_proc.wait(timeout=20)
-        except subprocess.TimeoutExpired:
-            sink_proc.kill()
-    for line in proc.stdout.splitlines():
-        if line.startswith("BENCH_NODE_TICK "):
-            return json.loads(line[len("BENCH_NODE_TICK "):])
-    raise RuntimeError(f"run failed ({proc.returncode}):\n{proc.stdout[-2000:]}\n{proc.stderr[-3000:]}")
+    return run_child(cmd, bench_env(), "BENCH_NODE_TICK")
 
 
 def main(argv=None):

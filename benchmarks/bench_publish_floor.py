@@ -27,14 +27,14 @@ import argparse
 import json
 import os
 import resource
-import signal
-import subprocess
 import sys
 import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+
+from benchmarks.bench_node_tick import bench_env, run_child  # noqa: E402
 
 
 def capture(params, ticks):
@@ -128,29 +128,9 @@ def child(params, ticks, variant, capture_ticks, wait_sink, executor_kind):
 
 
 def launch(params, ticks, variant, capture_ticks, with_sink, env_extra, executor_kind):
-    env = dict(os.environ, ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", ROS_DOMAIN_ID=str(100 + os.getpid() % 100))
-    env.update(env_extra)
     cmd = [sys.executable, __file__, "--child", str(params), "--ticks", str(ticks), "--variant", variant,
            "--capture", str(capture_ticks), "--executor", executor_kind] + (["--wait-sink"] if with_sink else [])
-    sink_proc = None
-    if with_sink:
-        sink_proc = subprocess.Popen([sys.executable, str(ROOT / "benchmarks" / "bench_node_tick.py"), "--sink"],
-                                     env=env, cwd=ROOT, stdout=subprocess.PIPE, text=True)
-    try:
-        if sink_proc is not None and sink_proc.stdout.readline().strip() != "SINK_READY":
-            raise RuntimeError("the subscriber process did not start")
-        proc = subprocess.run(cmd, env=env, cwd=ROOT, capture_output=True, text=True, timeout=1800)
-    finally:
-        if sink_proc is not None:
-            sink_proc.send_signal(signal.SIGINT)
-            try:
-                sink_proc.wait(timeout=20)
-            except subprocess.TimeoutExpired:
-                sink_proc.kill()
-    for line in proc.stdout.splitlines():
-        if line.startswith("PUBLISH_FLOOR "):
-            return json.loads(line[len("PUBLISH_FLOOR "):])
-    raise RuntimeError(f"run failed ({proc.returncode}):\n{proc.stdout[-2000:]}\n{proc.stderr[-3000:]}")
+    return run_child(cmd, bench_env(env_extra), "PUBLISH_FLOOR", with_sink=with_sink, timeout=1800)
 
 
 def main(argv=None):

@@ -36,6 +36,7 @@ Usage: PYTHONPATH=. python benchmarks/bench_vs_moordyn.py [--duration 10.2] [--r
 """
 
 import argparse
+import math
 import os
 import sys
 import time
@@ -111,6 +112,68 @@ def dg_cost(factory, mod, length, n, alpha, duration, cfl=0.8, quad_points=0, or
     return cpu / duration, peaks
 
 
+STEP_CHECK_TOL = 0.002  # relative; the step check's bound on the first snap peak and the run's largest tension
+
+
+def moordyn_first_peak(length, n_seg, alpha, cage, dt, workdir, duration, coupling_step):
+    """(first snap peak at the ship (ropos_case.snap_metrics, 5-10 s), largest ship tension, finite)
+    of one MoorDyn run, or NaNs when the tension became non-finite."""
+    with bench_moordyn.c_stdout_silenced((1, 2)):  # a run that blows up prints every node
+        try:
+            res = bench_moordyn.run_moordyn(length, n_seg, duration, coupling_step=coupling_step, dt=dt,
+                                            alpha=alpha, workdir=workdir, cage=cage, check=False)
+        except RuntimeError:  # Init failed
+            return float("nan"), float("nan"), False
+    if not res["finite"] or not np.all(np.isfinite(res["tension"])):
+        return float("nan"), float("nan"), False
+    return rc.snap_metrics(res["t"], res["tension"])["first_peak"], float(res["tension"].max()), True
+
+
+def bisect_moordyn_step(length, n_seg, alpha, cage, workdir, duration, coupling=bench_moordyn.NODE_STEP,
+                        tol=STEP_CHECK_TOL):
+    """Largest stable MoorDyn step dividing ``coupling``, coupling / n with the least n, by bisection on n.
+
+    Upper end: n_safe of the linear bound (ropos_case.moordyn_time_step, 0.9 of RK2's limit of the highest
+    axial mode, slack segments included). The check of a step: a run of ``duration`` s at the node's coupling
+    with every tension finite, and its first snap peak (5-10 s) and its largest tension within
+    ``tol`` (STEP_CHECK_TOL, 0.2 %) of the run at n_safe: a step past the limit either blows up or, near
+    it, moves the peak (at 200 m, 0.02/23-0.02/20 stay finite but move the first peak by 0.5-1.2 %, most of
+    MoorDyn's 1 % budget; 0.02/19 blows up). ``tol`` inf: finite is enough. Assumes that every n above a passing n passes (the stable steps form an interval).
+    Returns (dt, n, n_safe, runs)."""
+    n_safe = int(round(coupling / rc.moordyn_time_step(length, n_seg, coupling)))
+    ref_peak, ref_max, ok = moordyn_first_peak(length, n_seg, alpha, cage, coupling / n_safe, workdir, duration,
+                                               coupling)
+    if not ok:
+        raise FloatingPointError(f"MoorDyn unstable at its linear step bound, L={length:g} N={n_seg}")
+    lo, hi, runs = 0, n_safe, 1  # n = lo fails (0: none tried), n = hi passes
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        peak, top, ok = moordyn_first_peak(length, n_seg, alpha, cage, coupling / mid, workdir, duration, coupling)
+        runs += 1
+        if ok and abs(peak - ref_peak) <= tol * ref_peak and abs(top - ref_max) <= tol * ref_max:
+            hi = mid
+        else:
+            lo = mid
+    return coupling / hi, hi, n_safe, runs
+
+
+def moordyn_accuracy(length, alpha, cage, dt, workdir, duration, reference_segments=160):
+    """(first snap peak of N = 40 at step dt, of N = reference_segments at its linear step bound, of the
+    body cage at N = 40 and its linear step): MoorDyn's own error figures. The 50 Hz samples would miss
+    the peak, so these runs couple at ~200 Hz: N = 40 every m steps dt, m = round(5 ms / dt) (so that it
+    runs with exactly the step timed), the others every 5 ms (bench_moordyn.COUPLING_STEP)."""
+    cs = bench_moordyn.COUPLING_STEP
+    peak, _, _ = moordyn_first_peak(length, MOORDYN_SEGMENTS, alpha, cage, dt, workdir, duration,
+                                    dt * max(1, round(cs / dt)))
+    ref, _, _ = moordyn_first_peak(length, reference_segments, alpha, cage,
+                                   rc.moordyn_time_step(length, reference_segments, cs), workdir, duration, cs)
+    body = float("nan")
+    if cage != "body":
+        body, _, _ = moordyn_first_peak(length, MOORDYN_SEGMENTS, alpha, "body",
+                                        rc.moordyn_time_step(length, MOORDYN_SEGMENTS, cs), workdir, duration, cs)
+    return peak, ref, body
+
+
 def peak_error(peaks, ref):
     """Worst relative first-snap-peak error over both ends, or None."""
     if peaks is None or ref is None:
@@ -130,6 +193,16 @@ def main(argv=None):
     ap.add_argument("--baseline")
     ap.add_argument("--compose", action="store_true",
                     help="also time this tree's DG through the composition of four calls per tick (old path)")
+    ap.add_argument("--moordyn-cage", choices=("point", "body"), default="point",
+                    help="MoorDyn's cage: a point with the cage's mass, added mass, drag and buoyancy (default), "
+                         "or a free 6-DOF body")
+    ap.add_argument("--moordyn-step", choices=("bisect", "bound"), default="bisect",
+                    help="MoorDyn's step: bisection of 0.02 / n with the step check (default), or the linear bound")
+    ap.add_argument("--step-tol", type=float, default=STEP_CHECK_TOL,
+                    help="the step check's relative bound on the first snap peak and largest tension against the "
+                         "linear bound's step (inf: a finite run passes)")
+    ap.add_argument("--no-accuracy", action="store_true",
+                    help="skip MoorDyn's accuracy runs (N = 40 and N = 160 at 200 Hz, the body cage at N = 40)")
     ap.add_argument("--workdir", default="out/moordyn")
     args = ap.parse_args(argv)
     from tether_sim.solvers import factory
@@ -153,7 +226,28 @@ def main(argv=None):
             for alpha in (0.0, 1.0):
                 dg_cost(fac, mod, length, n, alpha, 0.1, cfl, args.quad_points, order, path)
         best, err = {}, {}
-        dt_md = rc.moordyn_time_step(length, MOORDYN_SEGMENTS, bench_moordyn.NODE_STEP)
+        dt_md = {}
+        for alpha in (0.0, 1.0):
+            if args.moordyn_step == "bisect":
+                dt, n_sub, n_safe, runs = bisect_moordyn_step(length, MOORDYN_SEGMENTS, alpha, args.moordyn_cage,
+                                                              args.workdir, max(args.duration, 10.2),
+                                                              tol=args.step_tol)
+            else:
+                dt = rc.moordyn_time_step(length, MOORDYN_SEGMENTS, bench_moordyn.NODE_STEP)
+                n_sub = n_safe = int(round(bench_moordyn.NODE_STEP / dt))
+                runs = 0
+            dt_md[alpha] = dt
+            line = (f"  L={length:6.0f} alpha={alpha:g}: MoorDyn {args.moordyn_cage} cage N={MOORDYN_SEGMENTS} "
+                    f"step 0.02/{n_sub} = {1e3 * dt:.4g} ms (linear bound 0.02/{n_safe}, {runs} check runs)")
+            if not args.no_accuracy:
+                peak, ref, body = moordyn_accuracy(length, alpha, args.moordyn_cage, dt, args.workdir,
+                                                   max(args.duration, 10.2))
+                line += (f"; first snap at the ship (~200 Hz coupling) {peak / 1e3:.2f} kN, "
+                         f"error vs its own N=160 {100 * (peak - ref) / ref:+.3f} %")
+                if math.isfinite(body):
+                    line += (f", vs the body cage at N={MOORDYN_SEGMENTS} {body / 1e3:.2f} kN "
+                             f"{100 * (peak - body) / body:+.3f} %")
+            print(line, flush=True)
         for _ in range(args.repeat):
             for name, fac, mod, path in trees:
                 for alpha in (0.0, 1.0):
@@ -163,7 +257,7 @@ def main(argv=None):
                     err[(name, alpha)] = peak_error(peaks, reference_peaks(length, alpha))
             for alpha in (0.0, 1.0):  # MoorDyn with the DG row's bending stiffness
                 _, cpu = bench_moordyn.best_wall(length, MOORDYN_SEGMENTS, args.duration, bench_moordyn.NODE_STEP,
-                                                 dt_md, args.workdir, 1, alpha=alpha)
+                                                 dt_md[alpha], args.workdir, 1, alpha=alpha, cage=args.moordyn_cage)
                 best[("md", alpha)] = min(best.get(("md", alpha), cpu / args.duration), cpu / args.duration)
         md0 = best[("md", 0.0)]
         for alpha in (0.0, 1.0):
@@ -174,7 +268,7 @@ def main(argv=None):
                 c = best[(name, alpha)]
                 e = err[(name, alpha)]
                 line += (f" | {name} N={n} P={order} cfl {cfl:g} {1e3 * c:7.2f} ms/s, "
-                         f"{name}/MoorDyn {c / md:.3f}")
+                         f"{name}/MoorDyn {c / md:.3f}, MoorDyn/{name} {md / c:.2f}")
                 if alpha:
                     line += f" (vs MoorDyn EI=0 {c / md0:.3f})"
                 line += f", first snap peak error {'n/a' if e is None else f'{100 * e:.3f} %'}"

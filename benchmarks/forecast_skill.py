@@ -45,7 +45,7 @@ sys.path.insert(0, str(ROOT))
 
 from tether_sim.forecast.service import ForecastService  # noqa: E402
 from tether_sim.forecast.skill import (  # noqa: E402
-    TIE_TOLERANCE, fraction_interval, rate_interval, reliability, score, trough_rank,
+    TIE_TOLERANCE, episode_snaps, fraction_interval, rate_interval, reliability, score, trough_rank,
 )
 from tether_sim.io.params import load_config  # noqa: E402
 from tether_sim.physics.motion import build_motion  # noqa: E402
@@ -70,7 +70,8 @@ def case_config(path, source, seed, args):
 def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
     """One run of the sea of ``cfgs`` (one configuration per forecast source, the same sea) with a
     forecast service per source observing the same driver (the truth run is shared by the sources):
-    (snaps [(end, time)], {source: forecasts}, wall s, {source: look-ahead wall s}, simulated s).
+    (snaps [(end, time, event times)]: one per slack episode, tether_sim.forecast.skill.episode_snaps; {source:
+    forecasts}, wall s, {source: look-ahead wall s}, simulated s).
     ``cable_waves=False``: the waves move the ship (RAO) but do not act on the cable (still water)."""
     cfg = cfgs[0]
     src = {"ship": MotionSource(build_motion(cfg.motion, np.asarray(cfg.ship_end.position, float), wave_components(cfg)))}
@@ -82,7 +83,7 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
                 for c in cfgs}
     driver.start(0.0)
     rate = cfg.node.output_rate
-    snaps, slacks = [], []
+    events, slacks = [], []
     forecasts = {name: [] for name in services}
     look = {name: 0.0 for name in services}
     cpu = {"truth run": 0.0, **{f"look-ahead {name}": 0.0 for name in services}}
@@ -90,7 +91,7 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
     for k in range(1, int(round(minutes * 60.0 * rate)) + 1):
         c0 = time.thread_time()
         report = driver.tick(k / rate)
-        snaps += [(e.location, e.time) for e in report.events if isinstance(e, SnapEvent)]
+        events += [e for e in report.events if isinstance(e, SnapEvent)]
         slacks += [(e.location, e.time) for e in report.events if isinstance(e, SlackStarted)]
         cpu["truth run"] += time.thread_time() - c0
         for name, service in services.items():
@@ -101,7 +102,7 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
                 look[name] += service.last_wall
             forecasts[name] += service.poll()
             cpu[f"look-ahead {name}"] += time.thread_time() - c0
-    snaps += [(e.location, e.time) for e in driver.detector.flush()]
+    snaps = episode_snaps(events + driver.detector.flush())  # an episode once (its new maxima are no further snaps)
     run_case.slacks = slacks  # slack periods begun (for --dump)
     run_case.slack_levels = dict(zip(driver.detector.locations, (float(x) for x in driver.detector.thresholds)))
     run_case.cpu = cpu  # CPU s of this thread: the truth run, each source's forecasts (tick side and look-ahead)
@@ -276,7 +277,7 @@ def near_misses(paths, tolerance=1.5, before=6.0, margin=0.0) -> int:
                 for end, stamp, p, tts, members, _, *troughs in fc:
                     pred = stamp + tts
                     if not p >= 0.5 or pred > end_time - tolerance or any(
-                            e == end and abs(pred - x) <= tolerance for e, x in run["snaps"]):
+                            e == end and abs(pred - x) <= tolerance for e, x, *_ in run["snaps"]):
                         continue
                     if end in last and abs(pred - last[end]) <= tolerance:
                         last[end] = pred
@@ -285,7 +286,7 @@ def near_misses(paths, tolerance=1.5, before=6.0, margin=0.0) -> int:
                     T = tensions[end]
                     peak = T[(t >= pred - tolerance) & (t <= pred + tolerance)].max()
                     trough = T[(t >= pred - before) & (t <= pred)].min()
-                    near = min((abs(pred - x) for e, x in run["snaps"] if e == end), default=math.inf)
+                    near = min((abs(pred - x) for e, x, *_ in run["snaps"] if e == end), default=math.inf)
                     if near <= 2.0 * tolerance:
                         kind = f"timing: the run's snap within {2.0 * tolerance:g} s"
                     elif peak < level[end]:
@@ -563,7 +564,7 @@ def main(argv=None) -> int:
                                "minutes": args.minutes, "snaps": s.snaps, "warned": s.warned,
                                "warnings": s.warnings, "false_alarms": s.false_alarms,
                                "episodes": s.false_alarm_episodes, "forecast_minutes": s.minutes,
-                               "snaps_in_run": sum(e == end for e, _ in snaps),
+                               "snaps_in_run": sum(s[0] == end for s in snaps),
                                "wall_s": wall, "lookahead_wall_s": look[source], "forecasts": len(fc) // 2,
                                "degraded": sum(f.degraded for f in fc) // 2}
                         rows.append(row)

@@ -68,17 +68,16 @@ class SlowSolver:
 
 
 def run(minutes, seed, min_spacing, params=None, overrides=None, stall=0.0, slowdown=0.0):
-    from tether_sim.io.inputs import EndPoseInput, knot_spacing
+    from tether_sim.io.inputs import EndPoseInput
     from tether_sim.io.params import load_config
     from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapEvent
     from tether_sim.ros.driver import SimulationDriver
 
     config = load_config(params or REPO / "config" / "ropos_L200.yaml", overrides or {})
     node = config.node
-    spacing = knot_spacing(node.output_rate) if min_spacing == "auto" else float(min_spacing)
-    inp = EndPoseInput("ship", max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
-                       max_extrapolation=node.max_extrapolation, history_span=node.input_delay + node.max_lag + 1.0,
-                       future_tolerance=node.future_stamp_tolerance, max_age=node.max_input_age, min_spacing=spacing)
+    inp = EndPoseInput.for_node("ship", node)
+    if min_spacing != "auto":
+        inp.min_spacing = max(float(min_spacing), 0.0)
     rng = np.random.default_rng(seed)
     w = 2 * math.pi * 0.1
 

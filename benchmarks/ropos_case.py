@@ -246,13 +246,17 @@ def moordyn_options(dt, scheme, depth, wave_kin=0, cfl=1000, tmax_ic=120, thresh
     return "---------------------- OPTIONS --------------------------------------------------------\n" + "\n".join(rows) + "\n"
 
 
-def moordyn_input(length, n_segments, dt, alpha=0.0, scheme="RK2"):
+def moordyn_input(length, n_segments, dt, alpha=0.0, scheme="RK2", cage="body"):
     """Text of a MoorDyn v2 input file for the ROPOS case.
 
-    Point 1: the cage attachment (on free Body 1, 2.1 m above its CoG). Point 2: the fairlead
-    (coupled, driven by :func:`fairlead_motion`). Line 1 runs from the cage (end A) to the ship
-    (end B). Body added mass 9200 kg = Ca rho V with V = m / rho_cage; drag CdA per axis,
-    no rotational drag.
+    ``cage="body"``: Point 1 is the cage attachment (on free Body 1, 2.1 m above its CoG); body added
+    mass 9200 kg = Ca rho V with V = m / rho_cage; drag CdA per axis, no rotational drag.
+    ``cage="point"``: the cage is free Point 1 itself (3 DOF, at the attachment), with the same mass,
+    volume (buoyancy), added mass (Ca rho V = 9200 kg, isotropic) and the heave drag area CdA =
+    2.7 * pi/4 * 3.01^2 in every direction (a point has one CdA; the orbit heaves the cage, its
+    surge drag area 1.3 * 3.01 * 4.2 differs by 15 %): the cheapest MoorDyn model of this heave.
+    Point 2: the fairlead (coupled, driven by :func:`fairlead_motion`). Line 1 runs from the cage
+    (end A) to the ship (end B).
     """
     lt = moordyn_line_type()
     p0, _ = fairlead_motion(0.0)
@@ -264,20 +268,27 @@ def moordyn_input(length, n_segments, dt, alpha=0.0, scheme="RK2"):
     cda_v = CAGE_CD_HEAVE * CAGE_LID_AREA
     ei = alpha * EI_STAR
     depth = length + 200.0
+    point_head = ("---------------------- POINTS ---------------------------------------------------------\n"
+                  "ID Attachment X Y Z Mass Volume CdA Ca\n(#) (word/ID) (m) (m) (m) (kg) (m^3) (m^2) (-)\n")
+    if cage == "body":
+        cage_rows = ("---------------------- BODIES ---------------------------------------------------------\n"
+                     "ID Attachment X0 Y0 Z0 r0 p0 y0 Mass CG* I* Volume CdA* Ca*\n"
+                     "(#) (word) (m) (m) (m) (deg) (deg) (deg) (kg) (m) (kg-m^2) (m^3) (m^2) (-)\n"
+                     f"1 Free {p0[0]:.8g} {p0[1]:.8g} {cg_z:.8g} 0 0 0 {CAGE_MASS:.8g} 0 {CAGE_INERTIA:.8g} "
+                     f"{volume:.8g} {cda_h:.8g}|{cda_h:.8g}|{cda_v:.8g}|0|0|0 {ca:.8g}\n"
+                     + point_head + f"1 Body1 0 0 {CAGE_ATTACH_HEIGHT:.8g} 0 0 0 0")
+    elif cage == "point":
+        cage_rows = (point_head + f"1 Free {p0[0]:.8g} {p0[1]:.8g} {cg_z + CAGE_ATTACH_HEIGHT:.8g} "
+                     f"{CAGE_MASS:.8g} {volume:.8g} {cda_v:.8g} {ca:.8g}")
+    else:
+        raise ValueError(f"cage must be 'body' or 'point', not {cage!r}")
     return f"""--------------------- MoorDyn Input File ------------------------------------
 ROPOS tether and cage (tether_sim benchmarks/ropos_case.py), L = {length} m, {n_segments} segments
 ---------------------- LINE TYPES -----------------------------------------------------
 TypeName  Diam  Mass/m  EA  BA/-zeta  EI  Cd  Ca  CdAx  CaAx
 (name) (m) (kg/m) (N) (N-s/-) (N-m^2) (-) (-) (-) (-)
 tether {lt['diam']:.8g} {lt['mass']:.8g} {lt['EA']:.8g} {lt['BA']:.8g} {ei:.8g} {lt['Cd']:.8g} {lt['Ca']:.8g} {lt['CdAx']:.8g} {lt['CaAx']:.8g}
----------------------- BODIES ---------------------------------------------------------
-ID Attachment X0 Y0 Z0 r0 p0 y0 Mass CG* I* Volume CdA* Ca*
-(#) (word) (m) (m) (m) (deg) (deg) (deg) (kg) (m) (kg-m^2) (m^3) (m^2) (-)
-1 Free {p0[0]:.8g} {p0[1]:.8g} {cg_z:.8g} 0 0 0 {CAGE_MASS:.8g} 0 {CAGE_INERTIA:.8g} {volume:.8g} {cda_h:.8g}|{cda_h:.8g}|{cda_v:.8g}|0|0|0 {ca:.8g}
----------------------- POINTS ---------------------------------------------------------
-ID Attachment X Y Z Mass Volume CdA Ca
-(#) (word/ID) (m) (m) (m) (kg) (m^3) (m^2) (-)
-1 Body1 0 0 {CAGE_ATTACH_HEIGHT:.8g} 0 0 0 0
+{cage_rows}
 2 Coupled {p0[0]:.8g} {p0[1]:.8g} {top_z:.8g} 0 0 0 0
 ---------------------- LINES ----------------------------------------------------------
 ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs

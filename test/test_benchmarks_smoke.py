@@ -56,14 +56,16 @@ def test_moordyn_line_type_gives_same_forces_per_metre():
     assert lt["BA"] == rc.ZETA
 
 
-def test_moordyn_static_top_tension(tmp_path):
+@pytest.mark.parametrize("cage", ["body", "point"])
+def test_moordyn_static_top_tension(tmp_path, cage):
     """MoorDyn's static solve of the generated input carries cable + cage wet weight at the
-    fairlead: 48.1 kN at L = 200 m. Tolerance 0.5%: the lumped end node's half segment and the
-    IC solver's residual (< 1e-3 m/s^2) are far smaller."""
+    fairlead: 48.1 kN at L = 200 m, with the cage as a body or as a point of the same mass and volume.
+    Tolerance 0.5%: the lumped end node's half segment and the IC solver's residual (< 1e-3 m/s^2) are
+    far smaller."""
     moordyn = pytest.importorskip("moordyn")
     length, n_seg = 200.0, 20
     path = tmp_path / "ropos.txt"
-    path.write_text(rc.moordyn_input(length, n_seg, rc.moordyn_time_step(length, n_seg, 0.005)))
+    path.write_text(rc.moordyn_input(length, n_seg, rc.moordyn_time_step(length, n_seg, 0.005), cage=cage))
     system = moordyn.Create(str(path))
     p0, v0 = rc.fairlead_motion(0.0)
     assert moordyn.Init(system, list(p0), list(v0)) == 0
@@ -111,8 +113,9 @@ def test_best_wall_passes_alpha_to_moordyn(monkeypatch, tmp_path):
 
     seen = []
 
-    def fake_run(length, n_seg, duration, coupling_step, dt, alpha=0.0, workdir=None):
+    def fake_run(length, n_seg, duration, coupling_step, dt, alpha=0.0, workdir=None, cage="body"):
         seen.append(alpha)
+        assert cage == "body"
         return {"step_wall": 1.0, "step_cpu": 0.5}
 
     monkeypatch.setattr(bench_moordyn, "run_moordyn", fake_run)
@@ -170,3 +173,21 @@ def test_bench_tick_trees_take_turns_on_the_same_work():
     assert row["base"][2] == row["new"][2] > 0  # substeps per tick
     assert all(np.isfinite(v[0]) and np.isfinite(v[1]) for v in row.values())
     assert all(sols[name][0].time == t0[name] for name in sols)
+
+
+def test_moordyn_step_bisection_finds_the_least_passing_n(monkeypatch):
+    """bench_vs_moordyn.bisect_moordyn_step: the least n (largest step 0.02 / n) whose run passes the check;
+    a finite run whose peak moved by more than the tolerance fails it, as a run that blew up does."""
+    from benchmarks import bench_vs_moordyn as bvm
+
+    def fake_peak(length, n_seg, alpha, cage, dt, workdir, duration, coupling):
+        n = round(coupling / dt)
+        if n < 5:
+            return float("nan"), float("nan"), False  # blew up
+        return (100.0 * (1.01 if n < 7 else 1.0)), 200.0, True  # n = 5, 6: finite, peak 1 % off
+
+    monkeypatch.setattr(bvm, "moordyn_first_peak", fake_peak)
+    monkeypatch.setattr(bvm.rc, "moordyn_time_step", lambda length, n_seg, coupling: coupling / 12)
+    dt, n, n_safe, _ = bvm.bisect_moordyn_step(200.0, 40, 0.0, "point", None, 10.2)
+    assert (n, n_safe) == (7, 12) and dt == 0.02 / 7
+    assert bvm.bisect_moordyn_step(200.0, 40, 0.0, "point", None, 10.2, tol=float("inf"))[1] == 5

@@ -106,3 +106,36 @@ def test_trough_rank_spreads_ties_and_a_calibrated_ensemble_gives_a_flat_histogr
             x = np.where(x < 0.5, 0.0, x)
         strict[int(np.sum(x[1:] < x[0]))] += 1
     assert strict[0] > 1.5 * strict[4]
+
+
+def test_a_slack_episode_is_one_snap_at_its_maximum_whatever_event_was_predicted():
+    """The detector publishes a first stage past the snap level and then the episode's larger take-up as a further
+    event with the same slack_start (the 500 m, 0.2 Hz ship end: 57.54 kN at 27.151 s, 210.50 kN at 28.839 s,
+    slack from 25.686 s). The run had one snap there, not two: counted once, at its maximum; a warning that
+    predicted either event (a member's snap is its first event) warned it and is no false alarm."""
+    from tether_sim.forecast.skill import episode_snaps, reliability
+    from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapEvent
+
+    def snap(t, peak, start, where="ship"):
+        return SnapEvent(time=t, location=where, arc_length=0.0, peak_tension=peak, min_tension=1.69e3,
+                         slack_start=start, slack_duration=0.156, rise_time=t - start - 0.156, static_tension=55.70e3,
+                         amplification=peak / 55.70e3, criterion="T < 0.1 x static tension (DNV-RP-H103)")
+
+    events = [SlackStarted(25.686, "ship", 0.0, 5.57e3, 5.57e3), snap(27.151, 57.54e3, 25.686),
+              snap(28.839, 210.50e3, 25.686),
+              NumericalSnapWarning(time=30.0, location="ship", arc_length=0.0, tension_peak=1e6, bound=2e5,
+                                   rise_time=1e-4, crossing_time=2.6e-3, relative_speed=3.0, static_tension=55.70e3,
+                                   slack_start=25.686, reason="one step"),
+              snap(38.5, 200.0e3, 35.2), snap(28.9, 188.37e3, 25.53, "vehicle")]
+    snaps = episode_snaps(events)
+    assert snaps == [("ship", 28.839, (27.151, 28.839)), ("ship", 38.5, (38.5,)), ("vehicle", 28.9, (28.9,))]
+    forecasts = [fc(0.0, 0.0, 0.0, end="ship"), fc(20.0, 0.75, 27.3, end="ship"), fc(30.0, 0.75, 38.0, end="ship")]
+    s = score(forecasts, snaps, "ship", until=60.0)
+    assert (s.snaps, s.warned, s.warnings, s.false_alarms) == (2, 2, 2, 0)
+    # counted per event, the take-up 1.7 s after the predicted first stage was a second, unwarned snap
+    per_event = [(e.location, e.time) for e in events if isinstance(e, SnapEvent)]
+    s = score(forecasts, per_event, "ship", until=60.0)
+    assert (s.snaps, s.warned) == (3, 2)
+    # reliability: a forecast whose horizon holds any event of the episode saw the snap
+    late = [fc(9.0, 0.75, 28.0, end="ship", horizon=18.5)]  # (9, 27.5] holds the first stage only
+    assert reliability(late, snaps, "ship", until=60.0)[3].observed == 1.0

@@ -241,13 +241,10 @@ def test_an_excursion_pulse_from_above_the_slack_level_is_numerical_not_a_snap()
 
 
 def _ship_input(node):
-    """The ship's EndPoseInput as the network node builds it (sim_node._add_pose_input)."""
-    from tether_sim.io.inputs import EndPoseInput, knot_spacing
-    from tether_sim.ros.sim_node import history_span
+    """The ship's EndPoseInput as the network node builds it."""
+    from tether_sim.io.inputs import EndPoseInput
 
-    return EndPoseInput("ship", (0.0, 0.0, 0.0), max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
-                        max_extrapolation=node.max_extrapolation, history_span=history_span(node),
-                        min_spacing=knot_spacing(node.output_rate))
+    return EndPoseInput.for_node("ship", node)
 
 
 def test_a_stalled_process_resumes_its_points_by_blends_not_steps(spec):

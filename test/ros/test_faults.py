@@ -41,10 +41,7 @@ class Rig:
     def __init__(self):
         self.config = from_flat(FLAT)
         node = self.config.node
-        self.inp = EndPoseInput("ship", max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
-                                max_extrapolation=node.max_extrapolation,
-                                history_span=node.input_delay + node.max_lag + 1.0,
-                                future_tolerance=node.future_stamp_tolerance, max_age=node.max_input_age)
+        self.inp = EndPoseInput.for_node("ship", node)
         self.inp.add_pose(0.0, heave(0.0), (0, 0, 0, 1), now=0.2)
         self.driver = SimulationDriver(self.config, {"ship": self.inp})
         self.driver.start(0.2)
@@ -182,8 +179,7 @@ def test_a_first_pose_between_start_and_first_tick_is_blended_not_stepped():
     restart): the end is blended onto it and the blended states are marked degraded."""
     config = from_flat(FLAT)
     node = config.node
-    inp = EndPoseInput("ship", max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
-                       max_extrapolation=node.max_extrapolation, history_span=node.input_delay + node.max_lag + 1.0)
+    inp = EndPoseInput.for_node("ship", node)
     driver = SimulationDriver(config, {"ship": inp})
     driver.start(0.2)  # no data: the configured ship position (0, 0, 0), held
     offset = np.array([0.0, 0.0, 0.05])
@@ -204,15 +200,11 @@ def ropos_driven_by(sends, late=None, seconds=12.0):
     commanded ship speed, end tensions / static after 5 s)."""
     from pathlib import Path
 
-    from tether_sim.io.inputs import knot_spacing
     from tether_sim.io.params import load_config
 
     config = load_config(Path(__file__).resolve().parents[2] / "config" / "ropos_L200.yaml")
     node = config.node
-    inp = EndPoseInput("ship", max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
-                       max_extrapolation=node.max_extrapolation, history_span=node.input_delay + node.max_lag + 1.0,
-                       future_tolerance=node.future_stamp_tolerance, max_age=node.max_input_age,
-                       min_spacing=knot_spacing(node.output_rate))
+    inp = EndPoseInput.for_node("ship", node)
     w = 2 * math.pi * 0.1
     sends = sorted(sends, key=lambda s: s[2])
     driver, now, fed, events, speed, tensions = None, 0.2007, 0, [], [], []

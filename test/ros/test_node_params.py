@@ -132,7 +132,7 @@ def test_resolution_auto_refuses_an_explicit_mesh(node_factory):
 
 
 def test_a_bad_command_line_override_is_blamed_on_the_override_not_the_file(node_factory):
-    from tether_sim.ros.sim_node import cli_param_keys
+    from tether_sim.ros.node_cli import cli_param_keys
 
     argv = ["tether-sim", "--ros-args", "--params-file", "x.yaml", "-p", "dg.order:=99"]
     assert cli_param_keys(argv) == {"dg.order"}
@@ -145,7 +145,7 @@ def test_a_bad_command_line_override_is_blamed_on_the_override_not_the_file(node
 def test_command_line_manual_mesh_rescues_a_file_the_automatic_choice_refuses(node_factory, tmp_path):
     """A file whose cable is outside the measured range of the automatic mesh choice: the node starts
     with ``-p dg.resolution:=manual`` (and ``-p dg.n_elements:=4`` on top), the file needs no edit."""
-    from tether_sim.ros.sim_node import check_params_files, cli_param_values
+    from tether_sim.ros.node_cli import check_params_files, cli_param_values
 
     text = AUTO.replace("EA: 45500000.0", "EA: 1000000.0")
     path = tmp_path / "soft.yaml"

@@ -120,6 +120,18 @@ class EndPoseInput:
         self.accepted = 0
         self.rejected: Counter = Counter()
 
+    @classmethod
+    def for_node(cls, name: str, node, attachment=(0.0, 0.0, 0.0)) -> "EndPoseInput":
+        """The input of a driven end or point as the live node builds it from its ``node`` section
+        (io.params' NodeConfig): every limit from the section, knots at most every half output period,
+        and a history of ``input_delay + max_lag`` (``max_lag`` counted up to 60 s) plus 1 s of margin,
+        so a node running late still interpolates before it re-synchronises."""
+        return cls(name, attachment, max_end_speed=node.max_end_speed, input_timeout=node.input_timeout,
+                   max_extrapolation=node.max_extrapolation,
+                   history_span=node.input_delay + min(node.max_lag, 60.0) + 1.0,
+                   future_tolerance=node.future_stamp_tolerance, max_age=node.max_input_age,
+                   min_spacing=knot_spacing(node.output_rate))
+
     # ------------------------------------------------------------------ feeding
     def reset(self) -> None:
         """Forget the history (e.g. after the clock jumped back); counters are kept."""

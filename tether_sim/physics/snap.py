@@ -40,6 +40,12 @@ tension samples [DNV-RP-H103 slack criterion; PE2020 Sec. 6]:
                            published too (a further :class:`SnapEvent` with the same
                            ``slack_start``; a first stage just past the snap level, the end taken
                            up fully later). Ringing after a snap decays and publishes nothing.
+                           A fall below the re-tension level after a published peak ends the
+                           episode (what rises after it, with no slack before it, is the next
+                           cycle), unless another location of the detector (one cable) is still
+                           slack in the same episode: the cable has not been taken up, this end
+                           holds only its hanging part, and the take-up that follows is the
+                           episode's snap (its new maximum when larger).
 
 A plausibility guard (:class:`SnapGuard`, :mod:`tether_sim.physics.snap_guard`, docs/snap_guard.md)
 checks every snap event against what the cable's axial impedance, the system's kinetic energy and

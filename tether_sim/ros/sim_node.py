@@ -8,12 +8,10 @@ the outputs built by :mod:`tether_sim.ros.convert`; diagnostics go out at 1 Hz.
 
 import difflib
 import math
-import signal
 import sys
 import time
 
 import numpy as np
-import yaml
 import rclpy
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
@@ -28,15 +26,16 @@ from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription, 
 from visualization_msgs.msg import Marker
 
 from tether_sim.errors import ConfigError, TetherSimError
-from tether_sim.io.inputs import EndPoseInput, knot_spacing
-from tether_sim.io.params import check_values, load_config
-from tether_sim.io.schema import key_map
-from tether_sim.physics.snap import NumericalSnapWarning, SnapDetector
+from tether_sim.io.inputs import EndPoseInput
+from tether_sim.physics.snap import NumericalSnapWarning
 from tether_sim.ros import convert, node_params
 from tether_sim.ros.driver import END_NAMES, SimulationDriver
 from tether_sim.ros.end_commands import SolverTimeMotion
 from tether_sim.ros.forecast_io import NodeForecast
 from tether_sim.ros.namespacing import retarget
+from tether_sim.ros.node_cli import (USAGE, check_params_files, cli_param_keys, cli_param_values, ignore_further_signals,
+                                     params_files, say_stopped, wants_help)
+from tether_sim.ros.node_startup import warm_up
 from tether_sim.ros.snap_markers import SnapMarkerPublisher
 from tether_sim.ros.tf import TfPublisher
 from tether_sim.ros.winch_io import NodeWinch
@@ -79,7 +78,7 @@ class TetherSimNode(Node):
             if getattr(self.config, f"{end}_end").kind == "prescribed" and not self._ship_from_sea(end):
                 self._add_pose_input(end, getattr(node, f"{end}_attachment"))
         # numba compile / cache load in a worker thread: logged when slow, stoppable by SIGINT/SIGTERM
-        run_interruptibly(lambda: self._warm_up(solver_factory), log=self.get_logger().info,
+        run_interruptibly(lambda: warm_up(self, solver_factory), log=self.get_logger().info,
                           should_stop=lambda: not self.context.ok(), what=f"{self.config.solver} solver warm-up")
         self.driver = None
         self.driver = SimulationDriver(self.config, self._sources(), solver_factory=solver_factory,
@@ -136,57 +135,11 @@ class TetherSimNode(Node):
     def _add_pose_input(self, name, attachment):
         """An EndPoseInput for the driven end or point ``name`` (``self.inputs[name]``) and its
         ``<name>/pose`` and ``<name>/twist`` subscriptions (best effort, sensor data QoS)."""
-        node = self.config.node
-        self.inputs[name] = EndPoseInput(name, attachment, max_end_speed=node.max_end_speed,
-                                         input_timeout=node.input_timeout, max_extrapolation=node.max_extrapolation,
-                                         history_span=history_span(node), future_tolerance=node.future_stamp_tolerance,
-                                         max_age=node.max_input_age, min_spacing=knot_spacing(node.output_rate))
+        self.inputs[name] = EndPoseInput.for_node(name, self.config.node, attachment)
         self.create_subscription(PoseStamped, f"{name}/pose", lambda m, e=name: self._on_pose(e, m),
                                  qos_profile_sensor_data)
         self.create_subscription(TwistStamped, f"{name}/twist", lambda m, e=name: self._on_twist(e, m),
                                  qos_profile_sensor_data)
-
-    def _warm_up(self, solver_factory):
-        """Build a throw-away solver, take two substeps and call every output the ticks use (state
-        at the output points, end forces, body states, substep tensions, the snap detector) before
-        any publisher exists, so JIT compiling (or loading the numba cache) happens now, not in the
-        first ticks, and a configuration the solver cannot build fails at start-up; a recorder or
-        test waiting for our topics waits for this too."""
-        t0 = time.perf_counter()
-        solver = solver_factory(self.config)
-        for end in END_NAMES:
-            cond = getattr(self.config, f"{end}_end")
-            if cond.kind == "prescribed":
-                solver.set_end_motion(end, cond.position, (0.0, 0.0, 0.0))
-        solver.advance_to(solver.time + 2.0 * solver.stable_time_step())
-        solver.state(np.linspace(0.0, self.config.cable.length, self.config.node.output_points))
-        forces = solver.end_forces()
-        for end in END_NAMES:
-            solver.body_state(end)
-        times, t_ship, t_vehicle = solver.drain_end_tensions()
-        static = [max(abs(float(forces.ship_tension)), 1.0), max(abs(float(forces.vehicle_tension)), 1.0)]
-        detector = SnapDetector(self.config.snap, list(END_NAMES), static, [0.0, self.config.cable.length])
-        detector.update(np.asarray(times, float), np.column_stack([t_ship, t_vehicle]))
-        convert.tension_colours(np.zeros(2), 1.0)  # the marker's colour loop (compiled)
-        self.get_logger().info(f"{self.config.solver} solver warmed up in {time.perf_counter() - t0:.1f} s")
-        self._check_speed(solver)
-
-    def _check_speed(self, solver):
-        """Time the warmed-up solver in this thread's CPU time (the machine's load does not enter)
-        and, on the wall clock, refuse to start a solver that cannot keep up with it within
-        ``node.tick_budget`` (docs/node.md): such a node never follows its input, it only
-        re-synchronises. ``node.require_real_time: false`` starts it anyway."""
-        rtf = solver_speed(solver)
-        node = self.config.node
-        needed = 1.0 / node.tick_budget
-        self.get_logger().info(f"solver speed: {rtf:.3g} x real time per CPU second (the node needs {needed:.3g} x "
-                               "on the wall clock: node.tick_budget)")
-        if rtf >= needed or self.get_parameter("use_sim_time").value or not node.require_real_time:
-            return
-        raise ConfigError(f"the solver runs at {rtf:.3g} x real time per CPU second on this machine, the node needs "
-                          f"{needed:.3g} x (1 / node.tick_budget) to follow the clock: it would only fall behind and "
-                          f"re-synchronise. {coarser_mesh_hint(self.config, rtf / needed)}; or start it anyway with "
-                          "-p node.require_real_time:=false (late outputs, marked degraded)")
 
     # ------------------------------------------------------------------ inputs
     def _now(self) -> float:
@@ -426,137 +379,10 @@ class TetherSimNode(Node):
         self._period = _new_period(self.inputs)
 
 
-def solver_speed(solver, cpu_s: float = 0.25, max_sim_s: float = 2.0) -> float:
-    """Simulated seconds per CPU second of ``solver`` (this thread's CPU time), from batches of
-    substeps until ``cpu_s`` of CPU or ``max_sim_s`` of simulated time have passed."""
-    dt = solver.stable_time_step()
-    t_sim0, cpu0 = solver.time, time.thread_time()
-    while True:
-        solver.advance_to(solver.time + 10.0 * dt)
-        cpu, sim = time.thread_time() - cpu0, solver.time - t_sim0
-        if cpu >= cpu_s or sim >= max_sim_s:
-            return sim / max(cpu, 1e-9)
-
-
-def coarser_mesh_hint(config, speed_ratio: float) -> str:
-    """The mesh that would keep up, from the measured speed over the needed one (< 1). DG: a
-    substep's work grows with N and the stable substep shrinks as 1/N, so the speed goes as 1/N^2;
-    hybrid: fixed time step, work about linear in the segments."""
-    if config.solver == "dg":
-        n = config.dg.n_elements
-        keep = max(1, int(n * math.sqrt(speed_ratio)))
-        return (f"A coarser mesh keeps up: about -p dg.resolution:=manual -p dg.n_elements:={keep} (now {n}, "
-                f"order {config.dg.order})")
-    n = config.hybrid.n_segments
-    return f"A coarser mesh keeps up: about -p hybrid.n_segments:={max(1, int(n * speed_ratio))} (now {n})"
-
-
 def _new_period(inputs) -> dict:
     """Counters of one diagnostics period."""
     return {"snaps": 0, "numerical": 0, "errors": 0, "tick_errors": 0, "resyncs": 0, "rejected": {e: 0 for e in inputs},
             "behind": False, "busy": 0.0, "tick_max": 0.0, "wall0": time.perf_counter()}
-
-
-def history_span(node) -> float:
-    """Seconds of pose history an input keeps: the input delay plus the largest lag the node runs
-    with before re-synchronising, plus 1 s of margin (bounded: a 60 s lag at most is covered)."""
-    return node.input_delay + min(node.max_lag, 60.0) + 1.0
-
-
-USAGE = """usage: tether-sim [-h] [--ros-args [--params-file FILE] [-p KEY:=VALUE] [-r FROM:=TO] ...]
-
-The real-time tether simulation node (docs/node.md). Every configuration key of
-docs/parameters.md is a ROS parameter: give a parameter file (config/*.yaml) with --params-file
-and single values with -p (e.g. -p use_sim_time:=true). Inputs /ship/pose, /vehicle/pose; outputs
-/tether/state, /tether/marker, /tether/path, wrenches, snap events, slack warnings, /diagnostics.
-
-  tether-sim --ros-args --params-file config/ropos_L200.yaml
-"""
-
-
-def wants_help(argv) -> bool:
-    """-h/--help before any --ros-args section."""
-    for a in argv[1:]:
-        if a == "--ros-args":
-            return False
-        if a in ("-h", "--help"):
-            return True
-    return False
-
-
-def _ros_arg_values(argv, flags):
-    """The values that follow any of ``flags`` inside the ``--ros-args`` sections of ``argv``."""
-    in_ros = False
-    for i, a in enumerate(argv):
-        if a == "--ros-args":
-            in_ros = True
-        elif a == "--":
-            in_ros = False
-        elif in_ros and a in flags and i + 1 < len(argv):
-            yield argv[i + 1]
-
-
-def _cli_params(argv):
-    """(name, text) of each ``-p``/``--param NAME:=VALUE`` inside ``--ros-args`` (a ``node:`` prefix
-    dropped from the name)."""
-    for item in _ros_arg_values(argv, ("-p", "--param")):
-        if ":=" in item:
-            name, _, text = item.partition(":=")
-            yield name.rsplit(":", 1)[-1], text
-
-
-def cli_param_keys(argv) -> set:
-    """Parameter names set with ``-p``/``--param NAME:=VALUE`` inside ``--ros-args``."""
-    return {name for name, _ in _cli_params(argv)}
-
-
-def params_files(argv) -> list:
-    """The files given with ``--params-file`` inside ``--ros-args`` sections of ``argv``."""
-    return list(_ros_arg_values(argv, ("--params-file",)))
-
-
-def cli_param_values(argv) -> dict:
-    """{name: value} of the ``-p NAME:=VALUE`` of ``argv`` that are tether_sim keys (values read as YAML,
-    as ROS reads them)."""
-    keys, out = key_map(), {}
-    for name, text in _cli_params(argv):
-        if name in keys:
-            try:
-                out[name] = yaml.safe_load(text) if text else ""
-            except yaml.YAMLError:
-                out[name] = text
-    return out
-
-
-def check_params_files(files, overrides=None) -> None:
-    """Validate the tether_sim sections of parameter files with the command line's ``-p`` values over
-    them (``-p dg.resolution:=manual`` rescues a file the automatic mesh choice refuses); a ConfigError
-    names key and file."""
-    if overrides:
-        check_values(overrides, where="command-line -p override")
-    for f in files:
-        try:
-            load_config(f, overrides)
-        except ConfigError as exc:
-            if "no 'tether_sim'" not in str(exc):  # a file for other nodes only is fine
-                raise
-
-
-def _ignore_further_signals() -> None:
-    """Once the node is stopping, more SIGINT/SIGTERM must not cut its clean-up short: Ctrl-C on
-    ``ros2 launch`` reaches the node twice (the terminal's SIGINT to the process group, then launch's
-    own), and launch follows with SIGTERM if the node is still alive after 5 s. Ignored at the OS level
-    (SIG_IGN): Python keeps that through its own exit, where it resets a handler of its own to the
-    default (killed by SIGINT, exit code -2, "process has died" in launch)."""
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, signal.SIG_IGN)
-
-
-def _say_stopped(node, how):
-    """The one line on what a node stopped by a signal did (it writes no file: nothing to close; exit code 0,
-    as ROS launch expects of a node told to stop)."""
-    if hasattr(node, "account"):
-        print(f"tether-sim: stopped by {how}: {node.account()}", file=sys.stderr)
 
 
 def main(args=None):
@@ -604,23 +430,23 @@ def main(args=None):
             rclpy.spin(node)
         if not rclpy.ok():  # spin may also simply return when the context is shut down by a signal
             stopping = True
-            _ignore_further_signals()
-            _say_stopped(node, "SIGINT/SIGTERM (an rclpy shutdown)")
+            ignore_further_signals()
+            say_stopped(node, "SIGINT/SIGTERM (an rclpy shutdown)")
     except (KeyboardInterrupt, ExternalShutdownException) as exc:
         stopping = True
-        _ignore_further_signals()
+        ignore_further_signals()
         exit_if_compiling(0)  # SIGINT during the start-up compile: leave without waiting for it
         # rclpy's own handlers turn SIGINT as well as SIGTERM into a shutdown (ExternalShutdownException),
         # whichever reaches spin first: only a KeyboardInterrupt names its signal for sure
-        _say_stopped(node, "SIGINT" if isinstance(exc, KeyboardInterrupt) else "SIGINT/SIGTERM (an rclpy shutdown)")
+        say_stopped(node, "SIGINT" if isinstance(exc, KeyboardInterrupt) else "SIGINT/SIGTERM (an rclpy shutdown)")
     except Interrupted as exc:  # SIGTERM during the start-up compile
         print(f"tether-sim: {exc}", file=sys.stderr)
         exit_if_compiling(0)
     except Exception as exc:
         if not rclpy.ok():  # SIGINT/SIGTERM arrived while a callback was publishing: a normal shutdown
             stopping = True
-            _ignore_further_signals()
-            _say_stopped(node, "SIGINT/SIGTERM (an rclpy shutdown)")
+            ignore_further_signals()
+            say_stopped(node, "SIGINT/SIGTERM (an rclpy shutdown)")
         elif isinstance(exc, ConfigError):
             print(f"tether-sim: parameter error: {exc}", file=sys.stderr)
             return 2
@@ -635,7 +461,7 @@ def main(args=None):
         if rclpy.ok():
             rclpy.shutdown()
         if stopping:  # rclpy's shutdown puts back the handlers it found at init
-            _ignore_further_signals()
+            ignore_further_signals()
     return 0
 
 
