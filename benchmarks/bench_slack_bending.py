@@ -63,7 +63,7 @@ def main(argv=None):
     ap.add_argument("--start", type=float, default=5.0)
     ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--alphas", type=float, nargs="+", default=[0.0, 1.0])
-    ap.add_argument("--dampings", nargs="+", default=["explicit", "implicit"], choices=["explicit", "implicit"])
+    ap.add_argument("--dampings", nargs="+", default=["explicit", "implicit"], choices=["explicit", "implicit", "rkl2"])
     ap.add_argument("--multirate", nargs="+", default=["off", "on"], choices=["off", "on"])
     ap.add_argument("--n", type=int, default=20)
     ap.add_argument("--baseline", help="another checkout: run each configuration there too (same process)")

@@ -45,7 +45,7 @@ sys.path.insert(0, str(ROOT))
 
 from tether_sim.forecast.service import ForecastService  # noqa: E402
 from tether_sim.forecast.skill import (  # noqa: E402
-    TIE_TOLERANCE, fraction_interval, rate_interval, reliability, score, trough_rank,
+    TIE_TOLERANCE, episode_snaps, fraction_interval, rate_interval, reliability, score, trough_rank,
 )
 from tether_sim.io.params import load_config  # noqa: E402
 from tether_sim.physics.motion import build_motion  # noqa: E402
@@ -70,7 +70,8 @@ def case_config(path, source, seed, args):
 def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
     """One run of the sea of ``cfgs`` (one configuration per forecast source, the same sea) with a
     forecast service per source observing the same driver (the truth run is shared by the sources):
-    (snaps [(end, time)], {source: forecasts}, wall s, {source: look-ahead wall s}, simulated s).
+    (snaps [(end, time, event times)]: one per slack episode, tether_sim.forecast.skill.episode_snaps; {source:
+    forecasts}, wall s, {source: look-ahead wall s}, simulated s).
     ``cable_waves=False``: the waves move the ship (RAO) but do not act on the cable (still water)."""
     cfg = cfgs[0]
     src = {"ship": MotionSource(build_motion(cfg.motion, np.asarray(cfg.ship_end.position, float), wave_components(cfg)))}
@@ -82,7 +83,7 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
                 for c in cfgs}
     driver.start(0.0)
     rate = cfg.node.output_rate
-    snaps, slacks = [], []
+    events, slacks = [], []
     forecasts = {name: [] for name in services}
     look = {name: 0.0 for name in services}
     cpu = {"truth run": 0.0, **{f"look-ahead {name}": 0.0 for name in services}}
@@ -90,7 +91,7 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
     for k in range(1, int(round(minutes * 60.0 * rate)) + 1):
         c0 = time.thread_time()
         report = driver.tick(k / rate)
-        snaps += [(e.location, e.time) for e in report.events if isinstance(e, SnapEvent)]
+        events += [e for e in report.events if isinstance(e, SnapEvent)]
         slacks += [(e.location, e.time) for e in report.events if isinstance(e, SlackStarted)]
         cpu["truth run"] += time.thread_time() - c0
         for name, service in services.items():
@@ -101,7 +102,9 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
                 look[name] += service.last_wall
             forecasts[name] += service.poll()
             cpu[f"look-ahead {name}"] += time.thread_time() - c0
-    snaps += [(e.location, e.time) for e in driver.detector.flush()]
+    events += [e for e in driver.detector.flush() if isinstance(e, SnapEvent)]
+    snaps = episode_snaps(events)  # an episode once (its new maxima are no further snaps)
+    run_case.snap_events = [(e.location, e.time, e.peak_tension, e.slack_start) for e in events]
     run_case.slacks = slacks  # slack periods begun (for --dump)
     run_case.slack_levels = dict(zip(driver.detector.locations, (float(x) for x in driver.detector.thresholds)))
     run_case.cpu = cpu  # CPU s of this thread: the truth run, each source's forecasts (tick side and look-ahead)
@@ -276,7 +279,7 @@ def near_misses(paths, tolerance=1.5, before=6.0, margin=0.0) -> int:
                 for end, stamp, p, tts, members, _, *troughs in fc:
                     pred = stamp + tts
                     if not p >= 0.5 or pred > end_time - tolerance or any(
-                            e == end and abs(pred - x) <= tolerance for e, x in run["snaps"]):
+                            e == end and abs(pred - x) <= tolerance for e, x, *_ in run["snaps"]):
                         continue
                     if end in last and abs(pred - last[end]) <= tolerance:
                         last[end] = pred
@@ -285,7 +288,7 @@ def near_misses(paths, tolerance=1.5, before=6.0, margin=0.0) -> int:
                     T = tensions[end]
                     peak = T[(t >= pred - tolerance) & (t <= pred + tolerance)].max()
                     trough = T[(t >= pred - before) & (t <= pred)].min()
-                    near = min((abs(pred - x) for e, x in run["snaps"] if e == end), default=math.inf)
+                    near = min((abs(pred - x) for e, x, *_ in run["snaps"] if e == end), default=math.inf)
                     if near <= 2.0 * tolerance:
                         kind = f"timing: the run's snap within {2.0 * tolerance:g} s"
                     elif peak < level[end]:
@@ -372,6 +375,18 @@ def fill_at_stamp(paths) -> int:
     return 0
 
 
+def dumped_snaps(run):
+    """The snaps of a dumped run, one per slack episode (tether_sim.forecast.skill.episode_snaps): from its
+    every published event where the dump keeps them (``snap_events``: end, time, peak, slack start; from
+    2026-11-28 12:50 on), else as dumped."""
+    if "snap_events" not in run:
+        return run["snaps"]
+    groups = {}
+    for e, t, peak, start in run["snap_events"]:
+        groups.setdefault((e, start), []).append((t, peak))
+    return [(e, max(g, key=lambda x: x[1])[0], tuple(t for t, _ in g)) for (e, _), g in groups.items()]
+
+
 def run_slack_levels(run, dumped_args):
     """{end: slack level N} of a dumped run (kept in dumps from 2026-11-28 on; else the run's detector at
     its start, the same numbers: no winch in these runs)."""
@@ -406,7 +421,7 @@ def with_margin(entry, horizon, source, slack, margin):
     return summarise(st, e, horizon, snaps, m, source)
 
 
-def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0.0) -> int:
+def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0.0, first_stage=False) -> int:
     """Score the forecasts of ``--dump`` JSON files again, without running anything: per file and
     source, totals over the files at each probability threshold, the reliability of the probability,
     and (threshold 0.5) the time estimate as it was before 2026-11-27, the median over the members
@@ -415,7 +430,7 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0
     from types import SimpleNamespace
 
     from tether_sim.forecast.lagged import lagged_series
-    from tether_sim.forecast.lookahead import EndForecast
+    from tether_sim.forecast.lookahead import EndForecast, ensemble_median_time
 
     runs = []
     for path in paths:
@@ -423,14 +438,20 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0
         horizon, period = doc["args"]["horizon"], 1.0 / doc["args"]["rate"]
         for run in doc["runs"]:
             slack = run_slack_levels(run, doc["args"]) if margin > 0.0 else None
+            snaps = dumped_snaps(run)
+            if first_stage:  # as before 2026-11-28 12:50: every published peak a snap, each member at its first event
+                snaps = [(e, t) for e, t, *_ in run["snap_events"]]
             for source, fc in run["forecasts"].items():
+                if first_stage:
+                    fc = [list(f[:3]) + [ensemble_median_time([x - f[1] for x, _ in f[9]], f[4]), f[4], f[9]] + list(f[6:9])
+                          for f in fc]
                 if margin > 0.0:
                     raw = [with_margin(f, horizon, source, slack, margin) for f in fc]
                 else:
                     raw = [EndForecast(st, e, horizon, p, t, math.nan, math.nan, m, source,
                                        member_snaps=[tuple(x) for x in ms]) for e, st, p, t, m, ms, *_ in fc]
                 published = lagged_series(raw, lagged, period)
-                runs.append((run["file"], source, run["seed"], doc["args"]["minutes"] * 60.0, run["snaps"],
+                runs.append((run["file"], source, run["seed"], doc["args"]["minutes"] * 60.0, snaps,
                              [SimpleNamespace(end=f.end, stamp=f.stamp, probability=f.probability, time_to_snap=f.time_to_snap,
                                               members=f.members, horizon=horizon, member_snaps=f.member_snaps)
                               for f in published]))
@@ -445,7 +466,7 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0
         seeds = ", ".join(str(r[2]) for r in sel)
         print(f"\n{Path(key[0]).stem} {key[1]} (seeds {seeds}, {sum(r[3] for r in sel) / 60:.1f} min of sea):")
         for end in ("ship", "vehicle"):
-            if not any(e == end for r in sel for e, _ in r[4]) and not any(
+            if not any(x[0] == end for r in sel for x in r[4]) and not any(
                     f.end == end and f.probability >= min(thresholds) for r in sel for f in r[5]):
                 continue  # no snap and no warning at this end
             for threshold, timing in [(t, None) for t in thresholds] + [(0.5, old)]:
@@ -504,6 +525,9 @@ def main(argv=None) -> int:
                          "(forecast.lagged; 1: as run); several counts: each in turn")
     ap.add_argument("--slack-margin", type=float, nargs="+", default=[0.0],
                     help="with --rescore: score the forecasts with forecast.slack_margin = this (0: as run); several: each in turn")
+    ap.add_argument("--first-stage", action="store_true",
+                    help="with --rescore: also score as before 2026-11-28 12:50 (each member's snap at its first published "
+                         "event, every published event of the run a snap of its own), for dumps that keep both")
     ap.add_argument("--near-misses", action="store_true",
                     help="with --rescore: run each dumped sea again without forecasts and compare every false-alarm "
                          "episode with the run's own end tension (the snap level, the slack level)")
@@ -533,6 +557,8 @@ def main(argv=None) -> int:
         for margin in args.slack_margin:
             for count in args.lagged:
                 rescore(args.rescore, lagged=count, margin=margin)
+                if args.first_stage:
+                    rescore(args.rescore, lagged=count, margin=margin, first_stage=True)
         return 0
     rows, dumps, costs = [], [], []
     print(f"forecast skill: Hs {args.hs:g} m, Tp {args.tp:g} s, {args.directions} direction(s), horizon {args.horizon:g} s, {args.members} members, "
@@ -545,14 +571,16 @@ def main(argv=None) -> int:
             cpu = dict(run_case.cpu)
             c_score = time.thread_time()
             if args.dump:
-                dumps.append({"file": path, "seed": seed, "snaps": snaps, "slack_starts": run_case.slacks,
+                dumps.append({"file": path, "seed": seed, "snaps": snaps, "snap_events": run_case.snap_events,
+                              "slack_starts": run_case.slacks,
                               "slack_levels": run_case.slack_levels,
                               "warnings": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.time_to_snap_std,
                                                   f.predicted_peak) for f in fc if f.probability >= 0.5]
                                            for src, fc in forecasts.items()},
                               # every forecast with its members' snaps (reliability, other thresholds)
                               "forecasts": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.members,
-                                                   f.member_snaps, f.member_troughs, f.member_slack_depths, f.slack_at_stamp) for f in fc]
+                                                   f.member_snaps, f.member_troughs, f.member_slack_depths, f.slack_at_stamp,
+                                                   f.member_first_stages) for f in fc]
                                             for src, fc in forecasts.items()}})
             for source in args.sources:
                 fc = forecasts[source]
@@ -563,7 +591,7 @@ def main(argv=None) -> int:
                                "minutes": args.minutes, "snaps": s.snaps, "warned": s.warned,
                                "warnings": s.warnings, "false_alarms": s.false_alarms,
                                "episodes": s.false_alarm_episodes, "forecast_minutes": s.minutes,
-                               "snaps_in_run": sum(e == end for e, _ in snaps),
+                               "snaps_in_run": sum(s[0] == end for s in snaps),
                                "wall_s": wall, "lookahead_wall_s": look[source], "forecasts": len(fc) // 2,
                                "degraded": sum(f.degraded for f in fc) // 2}
                         rows.append(row)

@@ -361,6 +361,69 @@ def test_a_larger_peak_later_in_the_same_slack_episode_is_published_as_its_new_m
     assert events[2].tension_peak == pytest.approx(210.50e3) and events[2].bound == pytest.approx(3.0 * static)
 
 
+# The cage end of the 500 m, alpha = 0 run of WEAK above (static 43.06 kN: slack below 4.31 kN, re-tension above
+# 8.61 kN): slack from 10.17 s, at 0 kN until the cable is taken up at 13.0 s, then its snap (knots rounded from the
+# run's end tension up to 11 s; the take-up as the ship's, 0.3 s later at the peak).
+CAGE = [(0.0, 43.06e3), (9.6, 89.18e3), (9.8, 65.32e3), (10.0, 40.93e3), (10.1, 11.00e3), (10.2, 5.47e3),
+        (10.3, 0.0), (13.0, 0.0), (13.3, 120.0e3), (13.6, 190.0e3), (14.0, 150.0e3), (15.0, 43.06e3),
+        (40.0, 43.06e3)]
+
+
+@pytest.mark.jit_off  # `make test` also runs it with NUMBA_DISABLE_JIT=1 (the detector kernel as plain Python)
+@pytest.mark.parametrize("chunk", [1, 777, 100_000])
+def test_a_first_stage_that_sags_below_the_retension_level_while_the_other_end_is_slack_keeps_its_episode(chunk):
+    """The ship's hover of WEAK (holding the hanging cable while the cage end is slack) with its first stage at
+    10.921 s just past the snap level (57.0 kN), published a window later, and a later sag of the hover (12.156 s)
+    to 9.0 kN: below the re-tension level (11.14 kN), not into slack (5.57 kN). The cage end is slack all along:
+    the cable has not been taken up, the ship holds only its hanging part. The take-up of the whole cable from
+    13.0 s is the same slack episode's snap, published as its new maximum (same slack_start), as it is when the
+    sag stays above the re-tension level. (Before: the fall below the re-tension level after the published first
+    stage ended the episode, and the 212.11 kN re-tensioning was withheld, no slack period being before it.)"""
+    static = [55.70e3, 43.06e3]
+    t = np.arange(0.0, 40.0, 1e-3)
+    knots = [(a, {20.43e3: 57.0e3, 14.29e3: 9.0e3}.get(b, b)) for a, b in WEAK]
+    y = np.column_stack([piecewise(t, knots), piecewise(t, CAGE)])
+    events = run(SnapDetector(SnapConfig(), ["ship", "vehicle"], static, [0.0, 500.0]), t, y, chunk)
+    ship = [e for e in events if e.location == "ship"]
+    assert [type(e) for e in ship] == [SlackStarted, SnapEvent, SnapEvent]
+    slack, first, larger = ship
+    assert first.peak_tension == pytest.approx(57.0e3) and first.time == pytest.approx(10.921, abs=1e-9)
+    assert larger.peak_tension == pytest.approx(212.11e3) and larger.time == pytest.approx(13.837, abs=1e-9)
+    assert larger.slack_start == first.slack_start == pytest.approx(slack.time, abs=1e-9)
+    # the cage's own events are those it has alone (one slack period, one snap)
+    cage = [e for e in events if e.location == "vehicle"]
+    alone = run(SnapDetector(SnapConfig(), ["vehicle"], static[1:], [500.0]), t, y[:, 1:], chunk)
+    assert cage == alone and [type(e) for e in cage] == [SlackStarted, SnapEvent]
+    assert cage[1].peak_tension == pytest.approx(190.0e3)
+    # the guard judges the new maximum: with no relative end speed its bound is 1.5 x 2 x static = 167.1 kN at the
+    # ship, which passes the first stage and rejects the 212.11 kN take-up (a warning, the snap before it stands)
+    guard = SnapGuard(impedance=1e4, stiffness=1e5, mass=1e4, crossing_time=1e-3)
+    events = run(SnapDetector(SnapConfig(), ["ship", "vehicle"], static, [0.0, 500.0], guard), t, y, chunk)
+    ship = [e for e in events if e.location == "ship"]
+    assert [type(e) for e in ship] == [SlackStarted, SnapEvent, NumericalSnapWarning]
+    assert ship[2].tension_peak == pytest.approx(212.11e3) and ship[2].bound == pytest.approx(3.0 * static[0])
+    # the detector sees only the locations it monitors: the ship end alone cannot know the cage is slack, and its
+    # sag below the re-tension level ends the episode (the take-up withheld, as before)
+    alone = run(SnapDetector(SnapConfig(), ["ship"], static[:1], [0.0]), t, y[:, :1], chunk)
+    assert [type(e) for e in alone] == [SlackStarted, SnapEvent] and alone[1].peak_tension == pytest.approx(57.0e3)
+    # once the cable has been taken up the episode ends as before at a fall below the re-tension level: the ship
+    # down to 9 kN at 16.5 s (as at 975 m, 0.2 Hz: 10 kN 1.8 s after the snap) while the cage is slack again, in a
+    # slack period of its own that began after the ship's re-tensioning (16.0 s); the next cycle's 230 kN at the
+    # ship is no snap (no slack period before it), the cage's own snap of that cycle is
+    cycle = [k for k in knots if k[0] <= 14.5] + [(16.5, 9.0e3), (17.2, 9.5e3), (18.5, 60e3), (19.0, 230e3),
+                                                 (20.0, 55.70e3), (40.0, 55.70e3)]
+    cage_cycle = [k for k in CAGE if k[0] <= 14.0] + [(15.0, 43.06e3), (15.9, 5.0e3), (16.0, 0.0), (18.4, 0.0),
+                                                      (19.0, 180e3), (20.0, 43.06e3), (40.0, 43.06e3)]
+    y = np.column_stack([piecewise(t, cycle), piecewise(t, cage_cycle)])
+    events = run(SnapDetector(SnapConfig(), ["ship", "vehicle"], static, [0.0, 500.0]), t, y, chunk)
+    ship = [e for e in events if e.location == "ship"]
+    assert [type(e) for e in ship] == [SlackStarted, SnapEvent, SnapEvent]
+    assert [e.peak_tension for e in ship[1:]] == [pytest.approx(57.0e3), pytest.approx(212.11e3)]
+    cage = [e for e in events if e.location == "vehicle"]
+    assert [type(e) for e in cage] == [SlackStarted, SnapEvent, SlackStarted, SnapEvent]
+    assert cage[3].peak_tension == pytest.approx(180e3)
+
+
 def test_bad_input_is_rejected_clearly():
     with pytest.raises(ValueError, match="2 locations"):
         SnapDetector(SnapConfig(), ["ship", "vehicle"], [1.0], [0.0, 1.0])

@@ -7,15 +7,24 @@ a warning with no snap at its end within +-``tolerance`` s of its predicted time
 alarms predicting the same instant (within ``tolerance``) form one false-alarm *episode* (a forecast
 issued every second repeats its mistake until the predicted time has passed).
 
+A slack episode is one snap: the detector publishes a later, larger peak of an episode whose snap is out
+as a further event (its new maximum, same location and ``slack_start``), and :func:`episode_snaps`
+makes one snap of them, at its largest peak (as the study tables count, ``episode_maxima``), with the
+times of all its events: a warning that predicted any of them warned that snap and is no false alarm
+(the look-ahead reports a member's snap at its own episode's largest peak, tether_sim.forecast.lookahead).
+
 Forecasts without members (no ship-motion forecast could be made) are not forecasts and are left out.
 Only snaps that could have been warned are scored: peaks at least ``lead`` s after the first forecast
 and at most one horizon after the last one (and within the run); warnings predicting an instant
 after the run (less than ``tolerance`` before its end) are not scored either.
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from tether_sim.physics.snap import SnapEvent, episode_maxima
 
 
 @dataclass
@@ -44,23 +53,41 @@ class Skill:
         return 10.0 * self.false_alarm_episodes / self.minutes if self.minutes > 0 else float("nan")
 
 
+def episode_snaps(events) -> list:
+    """The snaps of a run's detector ``events`` (snap events; slack starts and numerical warnings are left
+    out): one per slack episode, ``(location, time of its largest peak, times of all its events)``, in the
+    order of the episodes' first events (module doc)."""
+    snaps = [e for e in events if isinstance(e, SnapEvent)]
+    return [(m.location, m.time, tuple(e.time for e in snaps if (e.location, e.slack_start) == (m.location, m.slack_start)))
+            for m in episode_maxima(snaps)]
+
+
+def _snap_times(snaps, end):
+    """[(time, times of its events)] of the snaps at ``end``: ``snaps`` holds (end, time) pairs (one event
+    each) or (end, time, event times) triples (:func:`episode_snaps`)."""
+    return sorted((float(s[1]), tuple(float(x) for x in s[2]) if len(s) > 2 else (float(s[1]),))
+                  for s in snaps if s[0] == end)
+
+
 def score(forecasts, snaps, end, *, lead=5.0, tolerance=1.5, threshold=0.5, until=None) -> Skill:
     """Skill at ``end`` of ``forecasts`` (objects with stamp, end, horizon, probability, time_to_snap)
-    against ``snaps`` ((end, peak time) pairs, same clock) of a run that ended at ``until`` (default:
-    the last forecast's horizon): warnings predicting a time after the run, and snaps after it, are
-    not scored."""
+    against ``snaps`` ((end, peak time) pairs, or the (end, time, event times) of :func:`episode_snaps`;
+    same clock) of a run that ended at ``until`` (default: the last forecast's horizon): warnings
+    predicting a time after the run, and snaps after it, are not scored."""
     fc = sorted((f for f in forecasts if f.end == end and f.members > 0), key=lambda f: f.stamp)
-    times = sorted(t for e, t in snaps if e == end)
+    entries = _snap_times(snaps, end)
     if not fc:
         return Skill(end, 0, 0, 0, 0, 0, 0.0, lead, tolerance, threshold)
     first, last = fc[0].stamp, fc[-1].stamp + fc[-1].horizon
     if until is not None:
         last = min(last, until)
-    scored = [t for t in times if first + lead <= t <= last]
+    scored = [times for t, times in entries if first + lead <= t <= last]
     warnings = [(f.stamp, f.stamp + f.time_to_snap) for f in fc
                 if f.probability >= threshold and f.stamp + f.time_to_snap <= last - tolerance]
-    warned = sum(any(stamp <= t - lead and abs(pred - t) <= tolerance for stamp, pred in warnings) for t in scored)
-    false = [pred for _, pred in warnings if not any(abs(pred - t) <= tolerance for t in times)]
+    warned = sum(any(stamp <= t - lead and abs(pred - t) <= tolerance for stamp, pred in warnings for t in times)
+                 for times in scored)
+    every = [t for _, times in entries for t in times]
+    false = [pred for _, pred in warnings if not any(abs(pred - t) <= tolerance for t in every)]
     episodes, last_pred = 0, None
     for pred in false:
         if last_pred is None or abs(pred - last_pred) > tolerance:
@@ -85,7 +112,7 @@ def reliability(forecasts, snaps, end, *, edges=(0.0, 0.125, 0.375, 0.625, 0.875
     horizon] held a snap at that end. A calibrated forecast has ``observed`` close to
     ``mean_probability`` in every bin. Forecasts without members, and those whose horizon runs past
     ``until`` (the run's end), are left out."""
-    times = sorted(t for e, t in snaps if e == end)
+    times = [t for _, ts in _snap_times(snaps, end) for t in ts]
     fc = [f for f in forecasts if f.end == end and f.members > 0
           and (until is None or f.stamp + f.horizon <= until)]
     out = []
@@ -143,3 +170,44 @@ def trough_rank(members, run, tolerance):
 
 
 TIE_TOLERANCE = 1e-6  # slack levels: tensions closer than this are equal (round-off in slack is ~1e-15 slack levels)
+
+
+FALSE_ALARM_KINDS = ("timing", "near miss", "members slack, run not", "uncounted event", "other")
+
+
+def classify_false_alarm(stamp, predicted, horizon, t, tension, slack_level, snap_level, snaps, events, *,
+                         tolerance=1.5, retension_ratio=2.0):
+    """Why a warning predicting a snap at ``predicted`` (stamped ``stamp``) found none within
+    +-``tolerance`` s: (kind, least tension of the run from the stamp to the predicted time / slack
+    level, the run's largest tension within +-``tolerance`` of the predicted time / snap level). ``t``,
+    ``tension``: the run's end tension at every substep; ``snaps``: the scored snap times at this end;
+    ``events``: every snap event the run's detector published at this end (time, slack_start), the
+    further events of an episode included. Kinds (``FALSE_ALARM_KINDS``), first that applies:
+
+    - "uncounted event": the detector published a snap within +-tolerance that is not among ``snaps``;
+    - "timing": the run snapped at this end within the forecast's horizon (+tolerance), elsewhere;
+    - "near miss": the run's least tension came below ``retension_ratio`` x the slack level (the
+      detector's re-tension level: into the hysteresis band, not into slack) and its tension reached
+      the snap level within +-tolerance of the predicted time;
+    - "members slack, run not": the run stayed above the re-tension level;
+    - "other" (the run slack without a peak at the snap level, or a near miss without the peak)."""
+    t = np.asarray(t, float)
+    tension = np.asarray(tension, float)
+    if any(abs(predicted - x) <= tolerance for x, _ in events) and not any(abs(predicted - x) <= tolerance for x in snaps):
+        kind = "uncounted event"
+    else:
+        kind = None
+    before = (t >= stamp - 1e-9) & (t <= predicted + 1e-9)
+    near = (t >= predicted - tolerance) & (t <= predicted + tolerance)
+    depth = float(tension[before].min()) / slack_level if before.any() else math.nan
+    peak = float(tension[near].max()) / snap_level if near.any() else math.nan
+    if kind is None:
+        if any(stamp < x <= stamp + horizon + tolerance for x in snaps):
+            kind = "timing"
+        elif depth >= retension_ratio:
+            kind = "members slack, run not"
+        elif depth >= 1.0 and peak >= 1.0:
+            kind = "near miss"
+        else:
+            kind = "other"
+    return kind, depth, peak

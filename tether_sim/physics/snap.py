@@ -40,6 +40,12 @@ tension samples [DNV-RP-H103 slack criterion; PE2020 Sec. 6]:
                            published too (a further :class:`SnapEvent` with the same
                            ``slack_start``; a first stage just past the snap level, the end taken
                            up fully later). Ringing after a snap decays and publishes nothing.
+                           A fall below the re-tension level after a published peak ends the
+                           episode (what rises after it, with no slack before it, is the next
+                           cycle), unless another location of the detector (one cable) is still
+                           slack in the same episode: the cable has not been taken up, this end
+                           holds only its hanging part, and the take-up that follows is the
+                           episode's snap (its new maximum when larger).
 
 A plausibility guard (:class:`SnapGuard`, :mod:`tether_sim.physics.snap_guard`, docs/snap_guard.md)
 checks every snap event against what the cable's axial impedance, the system's kinetic energy and
@@ -197,6 +203,11 @@ class SnapDetector:
         """(n_loc,) bool: a re-tensioning window is open at the location and its snap event is pending (not a
         window whose snap is out and that is only watched for a new maximum)."""
         return (self._state[:, _MODE] == _RISING) & (self._state[:, _PUBLISHED] == -np.inf)
+
+    def is_watching(self) -> np.ndarray:
+        """(n_loc,) bool: a re-tensioning window whose snap is out is still open at the location: a later, larger
+        peak would be published as the snap's new maximum (a further event of the same slack episode)."""
+        return (self._state[:, _MODE] == _RISING) & (self._state[:, _PUBLISHED] > -np.inf)
 
     def update(self, times, tensions, relative_speed=None) -> list:
         """Feed samples ``times`` (k,) and ``tensions`` (k, n_loc) (time-ordered); return new events.

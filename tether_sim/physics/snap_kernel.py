@@ -93,6 +93,19 @@ def _start_next(s, t, y):
 
 
 @jit
+def _slack_elsewhere(st, j):
+    """Another location of the cable (a row of ``st`` other than ``j``) is still slack in the slack episode of
+    location ``j``'s open window: its slack period began no later than ``j``'s re-tensioning, and it has not been
+    taken up since (slack, or re-tensioning with no snap out yet: a weak stage or a peak still within its window)."""
+    for k in range(st.shape[0]):
+        if k == j or st[k, _SLACK_START] > st[j, _RETENSION_T]:
+            continue
+        if st[k, _MODE] == _SLACK or (st[k, _MODE] == _RISING and st[k, _PUBLISHED] == -np.inf):
+            return True
+    return False
+
+
+@jit
 def _close_window(s, j, y, lo, snap_level, min_duration, follow, events, n_ev):
     """Close location ``j``'s re-tensioning window (current sample ``y``): emit its snap event when its peak
     reaches ``snap_level``, is above the peak already emitted from the window and the slack before it lasted
@@ -215,9 +228,12 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                 # turn; ringing after a snap decays and stays below it. The episode's re-tensioning is over
                 # once the tension falls back below the re-tension level after a snap is out (the level that
                 # ended the slack period): a rise after that is the next cycle of the driving motion, and
-                # without a slack period before it no snap (as for a taut end).
+                # without a slack period before it no snap (as for a taut end). Not while another location of
+                # the cable is still slack in this episode (_slack_elsewhere): the cable has not been taken up,
+                # this end holds only the hanging part of it, and a sag of that load is no end of the episode;
+                # the take-up of the whole cable that follows is its snap (a new maximum when larger).
                 limit = elapsed >= 10.0 * peak_window
-                over = s[_PUBLISHED] > -np.inf and y < hi
+                over = s[_PUBLISHED] > -np.inf and y < hi and not _slack_elsewhere(st, j)
                 if third or (elapsed >= peak_window and s[_PEAK_T] < t
                              and ((t - s[_PEAK_T] >= peak_window and s[_PEAK] >= snap_level
                                    and s[_PEAK] > s[_PUBLISHED])

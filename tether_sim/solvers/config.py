@@ -5,6 +5,9 @@ from dataclasses import dataclass
 from tether_sim.spec import param
 
 
+# dg.damping values that split the damping off the SSP-RK3 step (stepper.py: D(dt/2) E(dt) D(dt/2))
+SPLIT_DAMPING = ("implicit", "rkl2")
+
 @dataclass(frozen=True)
 class DGOptions:
     """Discontinuous Galerkin discretisation [PE2020 Sec. 3]."""
@@ -22,7 +25,7 @@ class DGOptions:
     q_penalty_jump: str = param("auto", doc="what the q-equation penalty acts on: strain = lambda/2 [q], PE2020 Eq. 24 as printed, which makes curved low-tension cables with EA/T > ~1e3 (EA of tens to hundreds of MN, tensions of kN) unstable; tension = the jump of the projected elastic tension vector over 2 gamma0 lambda (energy-dissipative for any law and geometry, equal to Eq. 24 on straight cables, but one order less accurate for tension-free bending); auto = tension when the static initial state has max slope dT/deps / min tension > dg.q_penalty_auto_ratio, else strain (docs/dg_solver.md)", choices=("auto", "tension", "strain"))
     q_penalty_auto_ratio: float = param(1500.0, doc="dg.q_penalty_jump auto: EA / T_min of the static state above which the tension-jump penalty is used (Eq. 24 measured unstable from 1.5e3 on curved cables, stable on ROPOS at 1.06e3)", min=1.0, max=1e12)
     quad_points: int = param(0, doc="Gauss points per element; 0 = automatic (3P+1)//2 + 1 (see docs/dg_solver.md)", min=0, max=64)
-    damping: str = param("explicit", doc="material damping terms (axial zeta, bending zeta_b): explicit (in the SSP-RK3 step, whose substep they limit as h^-2 / h^-4) or implicit (Strang splitting with an L-stable SDIRK2 step of the damping, substep set by the waves only; docs/dg_solver.md)", choices=("explicit", "implicit"))
+    damping: str = param("explicit", doc="material damping terms (axial zeta, bending zeta_b): explicit (in the SSP-RK3 step, whose substep they limit as h^-2 / h^-4) or split off by Strang splitting, the substep then set by the waves only: implicit (an L-stable SDIRK2 step of the damping) or rkl2 (axial damping only: an explicit Runge-Kutta-Legendre super-time-step, no matrix; docs/dg_solver.md)", choices=("explicit",) + SPLIT_DAMPING)
     bending_multirate: bool = param(True, doc="bending (EI > 0, no bending damping or torque): evaluate the nested LDG of the bending shear every K substeps and extrapolate it quadratically in between, K from a stability and accuracy rule (docs/dg_solver.md \"Bending multirate\"); false = at every Runge-Kutta stage, as PE2020")
     tension_buffer: int = param(65536, doc="capacity of the per-substep end-tension ring buffer (drain_end_tensions)", min=16, max=100000000)
 

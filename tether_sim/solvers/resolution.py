@@ -39,6 +39,7 @@ from dataclasses import dataclass, replace
 from tether_sim.errors import ConfigError
 from tether_sim.solvers.dg.timestep import stable_dt
 from tether_sim.solvers.resolution_table import WORST_ERROR
+from tether_sim.solvers.config import SPLIT_DAMPING
 
 SAFETY = 0.5
 MAX_CFL = 0.8
@@ -187,7 +188,7 @@ def check_domain(config):
     if config.vehicle_end.kind not in WORST_ERROR:
         problems.append(f"vehicle_end.kind {config.vehicle_end.kind} was not measured (only {', '.join(WORST_ERROR)})")
     if dg.damping != "explicit":
-        problems.append("dg.damping implicit was not measured")
+        problems.append(f"dg.damping {dg.damping} was not measured")
     if dg.element_lengths or dg.fixed_time_step > 0.0:
         problems.append("dg.element_lengths / dg.fixed_time_step set (the ladders use uniform meshes and the stability rule)")
     if problems:
@@ -237,7 +238,7 @@ def bending_mesh_warning(length, n_elements, order, EI, element_lengths=(), damp
     """A warning (one line) when bending is on or dg.damping is implicit and the DG node spacing min(h) / P
     is below FINE_MESH_SPACING, else "". ``element_lengths``: dg.element_lengths, relative weights scaled to
     ``length``. A caution drawn from measured cases, not a proven bound."""
-    implicit = damping == "implicit"
+    implicit = damping in SPLIT_DAMPING
     if not (EI > 0.0 or implicit):
         return ""
     from tether_sim.solvers.work import mesh_sizes
@@ -247,7 +248,7 @@ def bending_mesh_warning(length, n_elements, order, EI, element_lengths=(), damp
     if spacing >= FINE_MESH_SPACING:
         return ""
     what = " and ".join(x for x in (f"bending (EI {EI:g} N m^2)" if EI > 0.0 else "",
-                                    "dg.damping implicit" if implicit else "") if x)
+                                    f"dg.damping {damping}" if implicit else "") if x)
     return (f"{what} on a DG node spacing of {spacing:.3g} m (h / P): below {FINE_MESH_SPACING:g} m slack phases show "
             f"larger one-step end-tension events where a slack part re-tensions (Eq. 22's damping switching on at the "
             f"outermost Gauss point; ROPOS 200 m slack-snap case, explicit, bending factor 100: 87 kN at 2.5 m, 264 kN at "
@@ -281,7 +282,7 @@ def implicit_damping_refusal(config) -> str:
 
     cab, dg = config.cable, config.dg
     law = LAW_CODES.get(cab.material, LAW_LINEAR)
-    if config.solver != "dg" or dg.damping != "implicit" or cap_stiffness(cab) <= 0.0 or law == LAW_LINEAR:
+    if config.solver != "dg" or dg.damping not in SPLIT_DAMPING or cap_stiffness(cab) <= 0.0 or law == LAW_LINEAR:
         return ""
     h = float(max(element_sizes(config)))
     pc = compression_cap(law, cap_stiffness(cab), int(dg.order), h)
@@ -290,7 +291,7 @@ def implicit_damping_refusal(config) -> str:
         weight += max(submerged_weight(config.body, config.environment), 0.0)
     if pc >= weight:
         return ""
-    return (f"dg.damping implicit with bending (cable.EI {cab.EI:g} N m^2) and cable.compression buckling on a cable "
+    return (f"dg.damping {dg.damping} with bending (cable.EI {cab.EI:g} N m^2) and cable.compression buckling on a cable "
             f"without compression (cable.material {cab.material}): its compression cap EI (pi P / h)^2 = {pc:.4g} N (h = {h:.4g} m, P = "
             f"{dg.order}) is below the weight it carries ({weight:.4g} N), so slack phases reach it, and there the "
             f"implicit damping step is not right (ROPOS 200 m, bending factor 1: cage snaps of 93-384 kN against 210 kN "

@@ -34,6 +34,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from tether_sim.errors import ConfigError
+from tether_sim.solvers.config import SPLIT_DAMPING
 
 DG_UPDATE_CPU = 0.45e-6  # CPU s per element-mode per substep (the upper half of the measured 0.33-0.55 us)
 DG_IMPLICIT_AXIAL_CPU = 0.95e-6  # the same with the implicit axial damping solve (measured 0.88-0.95 us)
@@ -133,7 +134,7 @@ def dg_work_at_length(config) -> Work:
     cab, env, opt = config.cable, config.environment, config.dg
     h, P = element_sizes(config), int(opt.order)
     slope = TensionLaw(cab).max_slope()
-    implicit = opt.damping == "implicit"
+    implicit = opt.damping in SPLIT_DAMPING
     kd = env.seabed_stiffness * cab.diameter if env.seabed else 0.0
     rule = config_stable_dt(config, h, slope, implicit)
     dofs = h.size * (P + 1)
@@ -166,7 +167,7 @@ def dg_update_cpu(config) -> float:
     """CPU s per element-mode per substep of the DG solver with ``config``'s damping (the solver's own
     choice of the implicit damping mode, dg/solver.py ``_damping``)."""
     cab = config.cable
-    if config.dg.damping != "implicit" or not (cab.damping > 0.0 or cab.bending_damping > 0.0):
+    if config.dg.damping not in SPLIT_DAMPING or not (cab.damping > 0.0 or cab.bending_damping > 0.0):
         return DG_UPDATE_CPU
     return DG_IMPLICIT_GENERAL_CPU if cab.bending_damping > 0.0 else DG_IMPLICIT_AXIAL_CPU
 

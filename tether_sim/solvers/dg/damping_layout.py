@@ -13,6 +13,7 @@ from tether_sim.solvers.columns import define
 MODE_EXPLICIT = 0
 MODE_AXIAL = 1
 MODE_GENERAL = 2
+MODE_RKL2 = 3  # axial damping only, by RKL2 super-time-stepping (rkl_damping.py)
 
 # block operators blk[op, e, d, :, :] acting on element e + d - 2 (d = 0..4)
 OP_G = 0  # v modes -> d(v/gamma0)/ds at the Gauss points (columns 0:P+1)
@@ -40,11 +41,12 @@ define(globals(), "dprm", [
     ("DP_TC0", 6, "-a_el i+", "N", "constant damping flux of released ends, 3 per end (runtime, release_ends)"),
     ("DP_IP0", 6, "i+", "-", "trace tangent of released ends, 3 per end (runtime)"),
     ("DP_LU_H", 1, "gamma h", "s", "gamma dt of the stored LU"),
+    ("DP_RHO", 1, "rho_b", "1/s", "bound of the damping operator's spectral radius (MODE_RKL2: its stage count)"),
     ("DP_PARK_H", LU_SLOTS - 1, "gamma h", "s", "gamma dt of the parked LUs (damping_update.select_lu)"),
 ], "N_DP")
 
 define(globals(), "idp", [
-    ("ID_MODE", 1, "-", "-", "MODE_EXPLICIT / MODE_AXIAL / MODE_GENERAL"),
+    ("ID_MODE", 1, "-", "-", "MODE_EXPLICIT / MODE_AXIAL / MODE_GENERAL / MODE_RKL2"),
     ("ID_LAW", 1, "-", "-", "tension law code"),
     ("ID_KIND0", 1, "-", "-", "end kind code at s = 0"),
     ("ID_KIND1", 1, "-", "-", "end kind code at s = L"),
@@ -98,9 +100,9 @@ define(globals(), "wp", [
 
 define(globals(), "wd", [
     ("WD_F", 3, "f_d", "N/m", "damping momentum rate, modal (output of damping_force)"),
-    ("WD_K1", 3, "k_1", "N/m", "SDIRK stage 1 rate, modal (MODE_GENERAL)"),
-    ("WD_Y", 3, "v_1", "kg/s", "SDIRK stage value, modal (MODE_GENERAL)"),
-    ("WD_P", 3, "p", "kg/s or N/m", "probe vector (matrix assembly) or rate of the constant clip tension, modal"),
+    ("WD_K1", 3, "k_1", "N/m", "SDIRK stage 1 rate, modal (MODE_GENERAL); RKL2: v at the step start"),
+    ("WD_Y", 3, "v_1", "kg/s", "SDIRK stage value, modal (MODE_GENERAL); RKL2: the stage before the last"),
+    ("WD_P", 3, "p", "kg/s or N/m", "probe vector (matrix assembly) or rate of the constant clip tension, modal; RKL2: f_d at the step start"),
 ], "NWD")
 
 # rows of the low-rank update's array (wood, (2 WOOD_ROWS, max(N Q, MAX_CHANGED))): A_LU^-1 u_p of each carried

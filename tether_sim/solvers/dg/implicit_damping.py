@@ -44,10 +44,10 @@ from tether_sim.numerics.banded import band_factor, band_solve
 from tether_sim.numerics.jit import jit
 from tether_sim.physics.constitutive import cap_stiffness, compression_cap
 from tether_sim.solvers.dg.damping_layout import (
-    DP_AN, DP_AT, DP_EA, DP_G0, DP_LAMBDA, DP_LU_H, DP_ZETA, DP_ZETAB, GAMMA_SDIRK, ID_KIND0, ID_KIND1, ID_KL, ID_LAW,
+    DP_AN, DP_AT, DP_EA, DP_G0, DP_LAMBDA, DP_LU_H, DP_RHO, DP_ZETA, DP_ZETAB, GAMMA_SDIRK, ID_KIND0, ID_KIND1, ID_KL, ID_LAW,
     ID_LU_AGE, ID_MODE, ID_NCH, ID_NFACT, ID_NSTEPS, ID_NUPD, ID_NWHY, ID_PARK0, ID_REACH, ID_REL0, ID_RELF0,
     LU_INTS, LU_MAX_AGE, LU_SLOTS, LU_TOL, WHY_AGE, WHY_ENDS, WHY_POINTS, WHY_STEP, WHY_TOL,
-    MAX_CHANGED, MODE_AXIAL, MODE_GENERAL, N_DP, N_ID, NWD, NWP, OP_DIV, OP_GP, OP_H, WD_F, WD_K1, WD_P, WD_Y, WOOD_ROWS, WP_BC0, WP_E0, WP_E1, WP_E2, WP_I,
+    MAX_CHANGED, MODE_AXIAL, MODE_GENERAL, MODE_RKL2, N_DP, N_ID, NWD, NWP, OP_DIV, OP_GP, OP_H, WD_F, WD_K1, WD_P, WD_Y, WOOD_ROWS, WP_BC0, WP_E0, WP_E1, WP_E2, WP_I,
     WP_KX, WP_KY, WP_PC, WP_TC, WP_TV, WP_X, WP_Z, WP_ZF, DP_IP0, build_operators,
 )
 from tether_sim.solvers.dg.damping_ops import (
@@ -55,6 +55,7 @@ from tether_sim.solvers.dg.damping_ops import (
     strain_rates, tension_divergence,
 )
 from tether_sim.solvers.dg.damping_update import age_lus, select_lu, update_columns, update_solve
+from tether_sim.solvers.dg.rkl_damping import rho_bound, rkl2_step
 
 
 class DampingWork:
@@ -77,6 +78,8 @@ class DampingWork:
         self.dprm[DP_AT], self.dprm[DP_AN] = gamma0 / (gamma0 + m_t), gamma0 / (gamma0 + m_n)
         self.dprm[DP_EA] = cable.EA
         self.dprm[DP_LAMBDA] = lam_bc
+        if mode == MODE_RKL2:
+            self.dprm[DP_RHO] = rho_bound(h, nm - 1, cable.damping, gamma0)
         self.idp = np.zeros(N_ID, dtype=np.int64)
         self.idp[ID_MODE], self.idp[ID_LAW] = mode, law_code
         self.idp[ID_KIND0], self.idp[ID_KIND1] = kind_codes
@@ -409,9 +412,12 @@ def general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp
 
 @jit
 def damping_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, tmp, wood, fdamp):
-    """One implicit step of size hs of the damping terms (nothing in explicit mode)."""
+    """One step of size hs of the damping terms: implicit (MODE_AXIAL, MODE_GENERAL), RKL2 (MODE_RKL2,
+    rkl_damping.py), nothing in explicit mode."""
     mode = idp[ID_MODE]
     if mode == MODE_AXIAL:
         axial_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, tmp, wood, fdamp)
     elif mode == MODE_GENERAL:
         general_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, band, vec, fdamp)
+    elif mode == MODE_RKL2:
+        rkl2_step(hs, U, vbc, idp, dprm, blk, bvec, V, Pj, Tr, tab_eps, tab_T, wp, wd, fdamp)

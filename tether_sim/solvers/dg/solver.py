@@ -30,7 +30,7 @@ from tether_sim.physics.statics import solve_static
 from tether_sim.solvers.base import TickOutput, end_index
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg import outputs, stepping, winch_driver
-from tether_sim.solvers.dg.damping_layout import MODE_AXIAL, MODE_EXPLICIT, MODE_GENERAL
+from tether_sim.solvers.dg.damping_layout import MODE_AXIAL, MODE_EXPLICIT, MODE_GENERAL, MODE_RKL2
 from tether_sim.solvers.dg.equilibrium import polish_equilibrium
 from tether_sim.solvers.dg.implicit_damping import DampingWork
 from tether_sim.solvers.dg.parameters import end_data, parameters, with_waves
@@ -40,6 +40,7 @@ from tether_sim.solvers.dg.tick import EN_P, EN_V, TG_SET
 from tether_sim.solvers.dg.timestep import bending_multirate_steps, config_stable_dt
 from tether_sim.solvers.dg.workspace import Workspace
 from tether_sim.solvers.work import mesh_sizes
+from tether_sim.solvers.config import SPLIT_DAMPING
 
 # The relaxation runs in compiled calls of this much wall time (the first of RELAX_FIRST_CHUNK substeps,
 # to measure): a signal (Ctrl-C) is handled by Python between two calls, so a long initial.relax_time
@@ -131,8 +132,13 @@ class DGCableSolver:
         the damping terms (E of the splitting) and the implicit damping work arrays; outputs keep the
         full prm/iprm."""
         mode = MODE_EXPLICIT
-        if opt.damping == "implicit" and (cab.damping > 0.0 or cab.bending_damping > 0.0):
+        if opt.damping in SPLIT_DAMPING and (cab.damping > 0.0 or cab.bending_damping > 0.0):
             mode = MODE_GENERAL if cab.bending_damping > 0.0 else MODE_AXIAL
+            if opt.damping == "rkl2":
+                if cab.bending_damping > 0.0:  # a fourth-order term: its stages would grow as h^-2
+                    raise ValueError("dg.damping rkl2 steps the axial damping only; with cable.bending_damping > 0 "
+                                     "use dg.damping implicit")
+                mode = MODE_RKL2
         mt, mn = added_mass_per_length(cab, env)
         damp = DampingWork(mode, self.ops, h, self.kinds, cab, cab.gamma0, mt, mn, opt.beta, self.law.code,
                            (iprm[Y.I_KIND0], iprm[Y.I_KIND1]), max(prm[Y.P_LAMBDA_BC], prm[Y.P_LAMBDA_FLOOR]))

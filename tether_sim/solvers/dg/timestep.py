@@ -59,6 +59,13 @@ def stable_dt(h, P, max_slope, gamma0, zeta, EI, zeta_b, lambda_floor=0.0, seabe
     return 1.0 / rmax if rmax > 0 else 1.0
 
 
+def damping_rate(h, P, zeta, gamma0) -> float:
+    """The rule's axial-damping rate max_e B_P (zeta / gamma0) / h_e^2 (1/s): the SSP-RK3 limit of that term alone
+    is 1 / rate, so the operator's spectral radius is about SSP-RK3's real-axis limit times it."""
+    h = np.asarray(h, float)
+    return float(np.max(_coef(_B, P, 4) * (zeta / gamma0) / h**2))
+
+
 def config_stable_dt(config, h, max_slope, implicit_damping) -> float:
     """The automatic substep: dg.cfl x :func:`stable_dt` with the cable, environment and dg keys of
     ``config`` on element sizes ``h`` (the solver's ``stable_time_step`` and the load-time work

@@ -24,6 +24,7 @@ from tether_sim.errors import UnstableTimeStepError
 from tether_sim.physics.boundary import END_NAMES
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.timestep import _A, _coef
+from tether_sim.solvers.config import SPLIT_DAMPING
 
 # the winch state a snapshot keeps (with the element sizes)
 _STATE = [Y.P_WL, Y.P_WLDOT, Y.P_WR0, Y.P_WR1]
@@ -46,8 +47,8 @@ def setup(config, ends, kinds, prm, iprm, h, L):
             f"winch.end = {end}: {('ship_end', 'vehicle_end')[e]}.kind is {kinds[e]!r}, a force end; "
             "the winch needs a kinematic end (prescribed, fixed, clamped or body) whose point is the sheave")
     cab = config.cable
-    if config.dg.damping == "implicit" and (cab.damping > 0.0 or cab.bending_damping > 0.0):
-        raise ValueError("winch.enabled with dg.damping = implicit: the implicit damping operators are built "
+    if config.dg.damping in SPLIT_DAMPING and (cab.damping > 0.0 or cab.bending_damping > 0.0):
+        raise ValueError(f"winch.enabled with dg.damping = {config.dg.damping}: the damping step's operators are built "
                          "for fixed element sizes; use dg.damping: explicit with a winch")
     iprm[Y.I_WINCH] = e + 1
     return end, hw
