@@ -35,7 +35,6 @@ from tether_sim.solvers.dg.equilibrium import polish_equilibrium
 from tether_sim.solvers.dg.implicit_damping import DampingWork
 from tether_sim.solvers.dg.parameters import end_data, parameters, with_waves
 from tether_sim.solvers.dg.soa import TMP_HEAD, soa_scratch_size
-from tether_sim.solvers.dg.stepper import BMR_STATE
 from tether_sim.solvers.dg.tick import EN_P, EN_V, TG_SET
 from tether_sim.solvers.dg.timestep import bending_multirate_steps, config_stable_dt
 from tether_sim.solvers.dg.workspace import Workspace
@@ -97,7 +96,7 @@ class DGCableSolver:
             hw=hw, prm=prm, iprm=iprm, ends=ends, target=np.zeros((2, 7)), no_fdamp=np.zeros((2, 4)),
             drained=np.zeros(1, dtype=np.int64), drain=np.zeros((3, cap)), fresh=np.zeros(2, dtype=np.int64),
             snap=np.zeros(N * nm * 6 + prm.size + 2 * Y.N_BC + 2 * 6 + N), snap_i=np.zeros(iprm.size, dtype=np.int64),
-            bmr=np.zeros(BMR_STATE + N * nm * 6 + 3 + 2 * BODY_STATE_SIZE),
+            bmr=np.zeros(stepping.records_size(N * nm * 6)),
         )
         arrays.update({slot: getattr(self._damp, a) for slot, a in _DAMPING_SLOTS.items()})
         self.ws = Workspace(arrays)
@@ -302,8 +301,7 @@ class DGCableSolver:
         ws = self.ws
         return dict(time=self.time, U=ws.U.copy(), ra=ws.ra.copy(), bc=ws.bc.copy(), bodies=ws.bs.copy(),
                     end_pos=[p.copy() for p in ws.ends[:, EN_P:EN_P + 3]],
-                    end_vel=[v.copy() for v in ws.ends[:, EN_V:EN_V + 3]], bmr=ws.bmr.copy(),
-                    bmr_records=ws.wq[:, :, Y.W_TSH:Y.W_TSH + 9].copy(),
+                    end_vel=[v.copy() for v in ws.ends[:, EN_V:EN_V + 3]], **stepping.records(ws),
                     **winch_driver.snapshot(ws, self.winch_enabled))
 
     def restore(self, snap) -> None:
@@ -316,9 +314,7 @@ class DGCableSolver:
         ws.ends[:, EN_P:EN_P + 3] = np.asarray(snap["end_pos"], float)
         ws.ends[:, EN_V:EN_V + 3] = np.asarray(snap["end_vel"], float)
         ws.target[:, TG_SET] = 0.0
-        ws.bmr[:] = snap["bmr"] if "bmr" in snap else 0.0  # the multirate records of that state (stepper.py)
-        if "bmr" in snap:
-            ws.wq[:, :, Y.W_TSH:Y.W_TSH + 9] = snap["bmr_records"]
+        stepping.put_records(ws, snap)
         if winch_driver.restore(ws, snap):
             self._winch_sync()
         self._outputs_valid = False
