@@ -12,7 +12,8 @@ w H <= 0.72; K keeps w_max H <= 0.25. The records are carried to the next call (
 times, the substeps since the last, the end time and the end state U, r_a, bodies) and used there only
 when that call starts where this one ended: the same time (to 1e-9 s) and bit for bit the same state.
 Anything that moved the state between calls (restore, set_shape, relax, a new start) restarts the
-records: the first 2K substeps after it evaluate T_s at every stage.
+records: the first 2K substeps after it evaluate T_s at every stage. The first stage of every call evaluates
+T_s in full (as the output evaluation it may reuse did: tick.py; reuse or not, the same numbers).
 
 With ``dg.damping: implicit`` the loop is the Strang splitting D(dt/2) E(dt) D(dt/2) (consecutive
 half steps merged into one D(dt)): E is the SSP-RK3 step of the right-hand side without the
@@ -252,7 +253,7 @@ def dg_advance(nsteps, t0, dt, reuse, A):
                 winch_stage(prm, hw, h, ts, t0, t1)
             internal = not reuse or n > 0 or stage > 0
             record = K > 1 and stage == 0 and (nrec == 0 or due >= K)
-            if K > 1 and nrec >= 3 and not record:
+            if K > 1 and nrec >= 3 and not record and (n > 0 or stage > 0):  # a call's first stage in full
                 _extrapolation_weights(prm, ts, r0, r1, r2)
             dg_evaluate(ts, A, prm, iprm, fdamp, implicit, internal)
             prm[P_BMR] = 0.0
