@@ -102,7 +102,9 @@ def run_case(cfgs, minutes, nominal_error, cable_waves=True, covariance=True):
                 look[name] += service.last_wall
             forecasts[name] += service.poll()
             cpu[f"look-ahead {name}"] += time.thread_time() - c0
-    snaps = episode_snaps(events + driver.detector.flush())  # an episode once (its new maxima are no further snaps)
+    events += [e for e in driver.detector.flush() if isinstance(e, SnapEvent)]
+    snaps = episode_snaps(events)  # an episode once (its new maxima are no further snaps)
+    run_case.snap_events = [(e.location, e.time, e.peak_tension, e.slack_start) for e in events]
     run_case.slacks = slacks  # slack periods begun (for --dump)
     run_case.slack_levels = dict(zip(driver.detector.locations, (float(x) for x in driver.detector.thresholds)))
     run_case.cpu = cpu  # CPU s of this thread: the truth run, each source's forecasts (tick side and look-ahead)
@@ -373,6 +375,18 @@ def fill_at_stamp(paths) -> int:
     return 0
 
 
+def dumped_snaps(run):
+    """The snaps of a dumped run, one per slack episode (tether_sim.forecast.skill.episode_snaps): from its
+    every published event where the dump keeps them (``snap_events``: end, time, peak, slack start; from
+    2026-11-28 12:50 on), else as dumped."""
+    if "snap_events" not in run:
+        return run["snaps"]
+    groups = {}
+    for e, t, peak, start in run["snap_events"]:
+        groups.setdefault((e, start), []).append((t, peak))
+    return [(e, max(g, key=lambda x: x[1])[0], tuple(t for t, _ in g)) for (e, _), g in groups.items()]
+
+
 def run_slack_levels(run, dumped_args):
     """{end: slack level N} of a dumped run (kept in dumps from 2026-11-28 on; else the run's detector at
     its start, the same numbers: no winch in these runs)."""
@@ -407,7 +421,7 @@ def with_margin(entry, horizon, source, slack, margin):
     return summarise(st, e, horizon, snaps, m, source)
 
 
-def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0.0) -> int:
+def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0.0, first_stage=False) -> int:
     """Score the forecasts of ``--dump`` JSON files again, without running anything: per file and
     source, totals over the files at each probability threshold, the reliability of the probability,
     and (threshold 0.5) the time estimate as it was before 2026-11-27, the median over the members
@@ -416,7 +430,7 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0
     from types import SimpleNamespace
 
     from tether_sim.forecast.lagged import lagged_series
-    from tether_sim.forecast.lookahead import EndForecast
+    from tether_sim.forecast.lookahead import EndForecast, ensemble_median_time
 
     runs = []
     for path in paths:
@@ -424,14 +438,20 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0
         horizon, period = doc["args"]["horizon"], 1.0 / doc["args"]["rate"]
         for run in doc["runs"]:
             slack = run_slack_levels(run, doc["args"]) if margin > 0.0 else None
+            snaps = dumped_snaps(run)
+            if first_stage:  # as before 2026-11-28 12:50: every published peak a snap, each member at its first event
+                snaps = [(e, t) for e, t, *_ in run["snap_events"]]
             for source, fc in run["forecasts"].items():
+                if first_stage:
+                    fc = [list(f[:3]) + [ensemble_median_time([x - f[1] for x, _ in f[9]], f[4]), f[4], f[9]] + list(f[6:9])
+                          for f in fc]
                 if margin > 0.0:
                     raw = [with_margin(f, horizon, source, slack, margin) for f in fc]
                 else:
                     raw = [EndForecast(st, e, horizon, p, t, math.nan, math.nan, m, source,
                                        member_snaps=[tuple(x) for x in ms]) for e, st, p, t, m, ms, *_ in fc]
                 published = lagged_series(raw, lagged, period)
-                runs.append((run["file"], source, run["seed"], doc["args"]["minutes"] * 60.0, run["snaps"],
+                runs.append((run["file"], source, run["seed"], doc["args"]["minutes"] * 60.0, snaps,
                              [SimpleNamespace(end=f.end, stamp=f.stamp, probability=f.probability, time_to_snap=f.time_to_snap,
                                               members=f.members, horizon=horizon, member_snaps=f.member_snaps)
                               for f in published]))
@@ -446,7 +466,7 @@ def rescore(paths, thresholds=(0.5, 0.625, 0.75, 0.875, 1.0), lagged=1, margin=0
         seeds = ", ".join(str(r[2]) for r in sel)
         print(f"\n{Path(key[0]).stem} {key[1]} (seeds {seeds}, {sum(r[3] for r in sel) / 60:.1f} min of sea):")
         for end in ("ship", "vehicle"):
-            if not any(e == end for r in sel for e, _ in r[4]) and not any(
+            if not any(x[0] == end for r in sel for x in r[4]) and not any(
                     f.end == end and f.probability >= min(thresholds) for r in sel for f in r[5]):
                 continue  # no snap and no warning at this end
             for threshold, timing in [(t, None) for t in thresholds] + [(0.5, old)]:
@@ -505,6 +525,9 @@ def main(argv=None) -> int:
                          "(forecast.lagged; 1: as run); several counts: each in turn")
     ap.add_argument("--slack-margin", type=float, nargs="+", default=[0.0],
                     help="with --rescore: score the forecasts with forecast.slack_margin = this (0: as run); several: each in turn")
+    ap.add_argument("--first-stage", action="store_true",
+                    help="with --rescore: also score as before 2026-11-28 12:50 (each member's snap at its first published "
+                         "event, every published event of the run a snap of its own), for dumps that keep both")
     ap.add_argument("--near-misses", action="store_true",
                     help="with --rescore: run each dumped sea again without forecasts and compare every false-alarm "
                          "episode with the run's own end tension (the snap level, the slack level)")
@@ -534,6 +557,8 @@ def main(argv=None) -> int:
         for margin in args.slack_margin:
             for count in args.lagged:
                 rescore(args.rescore, lagged=count, margin=margin)
+                if args.first_stage:
+                    rescore(args.rescore, lagged=count, margin=margin, first_stage=True)
         return 0
     rows, dumps, costs = [], [], []
     print(f"forecast skill: Hs {args.hs:g} m, Tp {args.tp:g} s, {args.directions} direction(s), horizon {args.horizon:g} s, {args.members} members, "
@@ -546,14 +571,16 @@ def main(argv=None) -> int:
             cpu = dict(run_case.cpu)
             c_score = time.thread_time()
             if args.dump:
-                dumps.append({"file": path, "seed": seed, "snaps": snaps, "slack_starts": run_case.slacks,
+                dumps.append({"file": path, "seed": seed, "snaps": snaps, "snap_events": run_case.snap_events,
+                              "slack_starts": run_case.slacks,
                               "slack_levels": run_case.slack_levels,
                               "warnings": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.time_to_snap_std,
                                                   f.predicted_peak) for f in fc if f.probability >= 0.5]
                                            for src, fc in forecasts.items()},
                               # every forecast with its members' snaps (reliability, other thresholds)
                               "forecasts": {src: [(f.end, f.stamp, f.probability, f.time_to_snap, f.members,
-                                                   f.member_snaps, f.member_troughs, f.member_slack_depths, f.slack_at_stamp) for f in fc]
+                                                   f.member_snaps, f.member_troughs, f.member_slack_depths, f.slack_at_stamp,
+                                                   f.member_first_stages) for f in fc]
                                             for src, fc in forecasts.items()}})
             for source in args.sources:
                 fc = forecasts[source]

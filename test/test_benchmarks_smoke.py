@@ -107,6 +107,22 @@ def test_moordyn_input_carries_bending_stiffness(alpha):
     assert float(row["EA"]) == pytest.approx(rc.EA)
 
 
+def test_network_moordyn_input_bends_the_excursion_tether_only(monkeypatch):
+    """The network cross-check gives MoorDyn the excursion tether's EI in that line type's EI column
+    (the same bending stiffness as tether_sim's cable.EI) and leaves the tether's at 0."""
+    from benchmarks.studies import network_vs_moordyn as nm
+
+    monkeypatch.setattr(nm, "EXCURSION", nm.EXCURSION)  # restored after the test
+    nm.set_excursion_bending(78.125)
+    lines = nm.moordyn_input(1e-4).splitlines()
+    i = next(k for k, s in enumerate(lines) if "LINE TYPES" in s)
+    header = lines[i + 1].split()
+    rows = {r.split()[0]: dict(zip(header, r.split())) for r in lines[i + 3:i + 5]}
+    assert float(rows["excursion"]["EI"]) == pytest.approx(78.125)
+    assert float(rows["tether"]["EI"]) == 0.0
+    assert nm.EXCURSION.EI == 78.125 and nm.EXCURSION.bending_damping == 0.0
+
+
 def test_best_wall_passes_alpha_to_moordyn(monkeypatch, tmp_path):
     """bench_moordyn.best_wall hands its alpha to run_moordyn (default 0: no bending)."""
     from benchmarks import bench_moordyn

@@ -91,7 +91,11 @@ def forecast_markdown(run) -> list:
     """Lines of the report's snap-forecast section (empty without forecasts)."""
     if not run.forecast:
         return []
-    snaps = [(e["end"], e["t_peak"]) for e in run.snaps]
+    # a snap published in stages (the detector's new maxima of one slack episode) is one snap, at its largest peak
+    episodes = {}
+    for e in run.snaps:
+        episodes.setdefault((e["end"], round(e["slack_start"], 6)), []).append(e)
+    snaps = [(end, max(g, key=lambda e: e["peak"])["t_peak"], tuple(e["t_peak"] for e in g)) for (end, _), g in episodes.items()]
     fc = run.forecast
     sources = sorted({f.source for f in fc})
     degraded = sum(f.degraded for f in fc)

@@ -16,8 +16,8 @@ warning with its reason.
   ``--md-coupling`` (the vehicle force is sampled once per coupling step).
 
 Usage: PYTHONPATH=. python benchmarks/studies/network_excursion_spike.py [--dg 6 3 10 4 20 4] [--dg-cfl 0.8] [--hybrid 30 60]
-       [--hybrid-dt 0.005 0.001]
-       [--md 30 60 120] [--duration 4.5] [--json out/excursion_spike.json] [--figure docs/figures/excursion_spike.png]
+       [--hybrid-dt 0.005 0.001] [--hybrid-zoning all_rod] [--excursion-EI 78.125] [--excursion-damping 0]
+       [--md-scheme RK4] [--md 30 60 120] [--duration 4.5] [--json out/excursion_spike.json] [--figure docs/figures/excursion_spike.png]
 """
 
 import argparse
@@ -38,7 +38,7 @@ from tether_sim.physics.snap import NumericalSnapWarning, SnapConfig, SnapDetect
 THRESHOLDS = SnapConfig(slack_threshold=10.0, retension_threshold=100.0, snap_threshold=1000.0, min_slack_duration=0.1)
 
 
-def run_ours(solver, duration, mesh, cfl=None):
+def run_ours(solver, duration, mesh, cfl=None, zoning=None):
     from tether_sim.network.solver import NetworkSolver
     from tether_sim.network.spec import parse_network
     from tether_sim.ros.network_driver import line_snap_guard
@@ -47,6 +47,8 @@ def run_ours(solver, duration, mesh, cfl=None):
     tree = nm.network_tree(solver, 0.005, **kw)
     if cfl is not None and solver == "dg":
         tree["lines"]["excursion"]["dg"]["cfl"] = cfl
+    if zoning is not None and solver == "hybrid":
+        tree["lines"]["excursion"]["hybrid"]["zoning"] = zoning
     spec = parse_network(tree)
     net = NetworkSolver(spec)
     guard = line_snap_guard(spec, "excursion", net.line("excursion"))
@@ -112,12 +114,16 @@ def main(argv=None):
     ap.add_argument("--hybrid", type=int, nargs="*", default=[30, 60])
     ap.add_argument("--hybrid-dt", type=float, nargs="*", default=[0.005],
                     help="time steps of the hybrid excursion tether (s): every segment count with every step")
+    ap.add_argument("--hybrid-zoning", default=None, choices=["adaptive", "all_rod", "all_catenary"],
+                    help="hybrid.zoning of the hybrid excursion tether (default: hybrid.zoning's, adaptive)")
     ap.add_argument("--md", type=int, nargs="*", default=[30, 60, 120])
     ap.add_argument("--md-coupling", type=float, default=0.002)
     ap.add_argument("--duration", type=float, default=4.5)
     ap.add_argument("--window", type=float, nargs=2, default=[3.0, 4.5])
     ap.add_argument("--excursion-damping", type=float, default=None,
                     help="the excursion tether's axial damping in both codes (N s; default: 2000)")
+    ap.add_argument("--excursion-EI", type=float, default=None,
+                    help="the excursion tether's bending stiffness in every code (N m^2; default: 0)")
     ap.add_argument("--md-scheme", default="RK2", choices=["RK2", "RK4"], help="MoorDyn's time scheme")
     ap.add_argument("--json", default="out/excursion_spike.json")
     ap.add_argument("--figure", default="")
@@ -125,6 +131,8 @@ def main(argv=None):
     lo, hi = args.window
     if args.excursion_damping is not None:
         nm.set_excursion_damping(args.excursion_damping)
+    if args.excursion_EI is not None:
+        nm.set_excursion_bending(args.excursion_EI)
     nm.MD_SCHEME[:] = [args.md_scheme]
     print(f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}", flush=True)
     runs, table = {}, {}
@@ -141,7 +149,7 @@ def main(argv=None):
                                           crossing_ms=1e3 * r["crossing"], error=r["error"])
         print(f"{name}: {table[name]} cpu {r['cpu']:.1f} s", flush=True)
     for n, dt in ((n, dt) for n in args.hybrid for dt in args.hybrid_dt):
-        r = run_ours("hybrid", args.duration, (n, dt))
+        r = run_ours("hybrid", args.duration, (n, dt), zoning=args.hybrid_zoning)
         name = f"hybrid {n} seg, {1e3 * dt:g} ms"
         if r["t"].size and r["t"][-1] >= lo:
             table[name] = dict(measures(r["t"], r["T"], lo, min(hi, r["t"][-1])), detector=describe(r["events"], lo, hi),
@@ -159,15 +167,16 @@ def main(argv=None):
         fig, ax = plt.subplots(2, 1, figsize=(9, 7))
         greys = iter(["k", "0.55", "0.75"])
         for name, r in runs.items():
-            if not r["t"].size:
+            if not r["t"].size or r.get("error"):
                 continue
             md = name.startswith("MoorDyn")
             style = dict(color=next(greys, "0.8"), lw=1.4) if md else dict(lw=1.0, alpha=0.5)
             for a in ax:
                 a.plot(r["t"], r["T"], "-", label=name, **style)
         ax[0].set_xlim(lo, hi)
-        p = max(v.get("peak", 0.0) for v in table.values())
-        tp = table[max((k for k in table if "peak" in table[k]), key=lambda k: table[k]["peak"])]["t_peak"]
+        ok = [k for k in table if "peak" in table[k] and not table[k].get("error")]
+        p = max(table[k]["peak"] for k in ok)
+        tp = table[max(ok, key=lambda k: table[k]["peak"])]["t_peak"]
         ax[1].set_xlim(tp - 0.02, tp + 0.02)
         ax[0].set_ylabel("excursion tether |F| on vehicle (N)")
         ax[1].set_ylabel("zoom: 40 ms around the largest peak (N)")

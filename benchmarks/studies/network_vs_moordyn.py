@@ -17,8 +17,9 @@ the r.m.s. difference of |F| over the run against MoorDyn, relative to MoorDyn's
 cage heave. Writes a JSON and a figure.
 
 Usage: PYTHONPATH=. python benchmarks/studies/network_vs_moordyn.py [--duration 12] [--tick 0.005]
-       [--coupling 0.005] [--solvers dg hybrid] [--json out/network_vs_moordyn.json]
-       [--figure docs/figures/network_vs_moordyn.png]
+       [--coupling 0.005] [--solvers dg hybrid] [--tether-mesh N P | --tether-tolerance 0.005]
+       [--excursion-EI 78.125] [--excursion-dg 10 4] [--excursion-hybrid 30 0.002] [--excursion-hybrid-zoning all_rod]
+       [--json out/network_vs_moordyn.json] [--figure docs/figures/network_vs_moordyn.png]
 """
 
 import argparse
@@ -46,6 +47,7 @@ EXCURSION = CableProperties(length=30.0, EA=2.0e6, gamma0=1.0, density=1100.0, d
                             material="bilinear", Cdn=1.2, Cdt=0.02, Cmn=1.0, Cmt=0.0)
 VEHICLE_OFFSET = np.array([20.0, 0.0, -15.0])  # from the cage's lower attachment at rest
 MD_SEGMENTS = [80, 30]
+HYBRID_OPTIONS = {}  # further hybrid.* keys of a hybrid excursion tether (``--excursion-hybrid-zoning``)
 MD_SCHEME = ["RK2"]  # MoorDyn's time scheme (RK4 for an undamped line: RK2 grows on the imaginary axis)
 
 
@@ -53,6 +55,14 @@ def set_excursion_damping(zeta):
     """The excursion tether's axial damping (N s) in both codes (``--excursion-damping``)."""
     global EXCURSION
     EXCURSION = replace(EXCURSION, damping=float(zeta))
+
+
+def set_excursion_bending(EI, bending_damping=0.0):
+    """The excursion tether's bending stiffness EI (N m^2) in both codes (``--excursion-EI``): tether_sim's
+    cable.EI (DG: nested LDG bending; hybrid: rod zones) and MoorDyn's line-type EI column. MoorDyn v2 has no
+    bending damping, so ``bending_damping`` (tether_sim's cable.bending_damping) stays 0 for a like-for-like check."""
+    global EXCURSION
+    EXCURSION = replace(EXCURSION, EI=float(EI), bending_damping=float(bending_damping))
 
 
 def cage_bottom_at_rest():
@@ -64,7 +74,8 @@ def vehicle_position():
     return cage_bottom_at_rest() + VEHICLE_OFFSET
 
 
-def network_tree(exc_solver="dg", coupling=0.005, exc_dg=(10, 4), exc_hybrid=(30, 0.005), tether_mesh=None):
+def network_tree(exc_solver="dg", coupling=0.005, exc_dg=(10, 4), exc_hybrid=(30, 0.005), tether_mesh=None,
+                 tether_tolerance=0.01):
     p0, _ = rc.fairlead_motion(0.0)
     cage = rc.cage_properties(p0[2] - LENGTH)
     body = {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(cage).items() if k != "attachment"}
@@ -73,7 +84,7 @@ def network_tree(exc_solver="dg", coupling=0.005, exc_dg=(10, 4), exc_hybrid=(30
     if exc_solver == "dg":
         exc["dg"] = dict(n_elements=exc_dg[0], order=exc_dg[1])
     else:
-        exc["hybrid"] = dict(n_segments=exc_hybrid[0], time_step=exc_hybrid[1])
+        exc["hybrid"] = dict(n_segments=exc_hybrid[0], time_step=exc_hybrid[1], **HYBRID_OPTIONS)
     return dict(
         environment=dict(g=rc.G, fluid_density=rc.RHO_F, seabed=False), coupling_step=coupling,
         points=dict(ship=dict(kind="prescribed", position=[float(x) for x in p0]),
@@ -81,7 +92,7 @@ def network_tree(exc_solver="dg", coupling=0.005, exc_dg=(10, 4), exc_hybrid=(30
         bodies=dict(cage=body),
         lines={"tether": {"from": "ship", "to": "cage", "to_attachment": [0.0, 0.0, ATTACH],
                           "cable": asdict(rc.cable_properties(LENGTH)),
-                          "dg": (dict(resolution="auto", snap_tolerance=0.01) if tether_mesh is None else
+                          "dg": (dict(resolution="auto", snap_tolerance=tether_tolerance) if tether_mesh is None else
                                  dict(n_elements=tether_mesh[0], order=tether_mesh[1]))},
                "excursion": exc})
 
@@ -130,8 +141,9 @@ def moordyn_input(dt):
     ca = rc.CAGE_ADDED_MASS / (rc.RHO_F * volume)
     cda_h, cda_v = rc.CAGE_CD_SURGE * rc.CAGE_SIDE_AREA, rc.CAGE_CD_HEAVE * rc.CAGE_LID_AREA
 
-    def row(name, d):
-        return f"{name} {d['diam']:.8g} {d['mass']:.8g} {d['EA']:.8g} {d['BA']:.8g} 0 {d['Cd']:.8g} {d['Ca']:.8g} {d['CdAx']:.8g} {d['CaAx']:.8g}"
+    def row(name, d, EI=0.0):
+        return (f"{name} {d['diam']:.8g} {d['mass']:.8g} {d['EA']:.8g} {d['BA']:.8g} {EI:.8g} {d['Cd']:.8g} {d['Ca']:.8g} "
+                f"{d['CdAx']:.8g} {d['CaAx']:.8g}")
 
     return f"""--------------------- MoorDyn Input File ------------------------------------
 ROPOS tether, cage and excursion tether (tether_sim benchmarks/studies/network_vs_moordyn.py)
@@ -139,7 +151,7 @@ ROPOS tether, cage and excursion tether (tether_sim benchmarks/studies/network_v
 TypeName  Diam  Mass/m  EA  BA/-zeta  EI  Cd  Ca  CdAx  CaAx
 (name) (m) (kg/m) (N) (N-s/-) (N-m^2) (-) (-) (-) (-)
 {row('tether', lt)}
-{row('excursion', le)}
+{row('excursion', le, EXCURSION.EI)}
 ---------------------- BODIES ---------------------------------------------------------
 ID Attachment X0 Y0 Z0 r0 p0 y0 Mass CG* I* Volume CdA* Ca*
 (#) (word) (m) (m) (m) (deg) (deg) (deg) (kg) (m) (kg-m^2) (m^3) (m^2) (-)
@@ -219,15 +231,25 @@ def main(argv=None):
     ap.add_argument("--md-coupling", type=float, default=0.002)
     ap.add_argument("--solvers", nargs="+", default=["dg", "hybrid"])
     ap.add_argument("--tether-mesh", type=int, nargs=2, default=None, help="N P of the tether (default: the rule, 1 %%)")
+    ap.add_argument("--tether-tolerance", type=float, default=0.01,
+                    help="dg.snap_tolerance of the tether's rule mesh (without --tether-mesh)")
     ap.add_argument("--excursion-dg", type=int, nargs=2, default=[10, 4], help="N P of a DG excursion tether")
     ap.add_argument("--excursion-hybrid", type=float, nargs=2, default=[30, 0.005],
                     help="segments and time step of a hybrid excursion tether")
+    ap.add_argument("--excursion-EI", type=float, default=0.0,
+                    help="the excursion tether's bending stiffness in both codes (N m^2; MoorDyn's EI column)")
+    ap.add_argument("--excursion-hybrid-zoning", default=None, choices=["adaptive", "all_rod", "all_catenary"],
+                    help="hybrid.zoning of a hybrid excursion tether (with EI: all_rod)")
     ap.add_argument("--md-segments", type=int, nargs=2, default=MD_SEGMENTS, help="MoorDyn segments: tether, excursion")
     ap.add_argument("--json", default="out/network_vs_moordyn.json")
     ap.add_argument("--figure", default="docs/figures/network_vs_moordyn.png")
     args = ap.parse_args(argv)
     print(f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}")
     MD_SEGMENTS[:] = args.md_segments
+    if args.excursion_EI:
+        set_excursion_bending(args.excursion_EI)
+    if args.excursion_hybrid_zoning:
+        HYBRID_OPTIONS["zoning"] = args.excursion_hybrid_zoning
     md = run_moordyn(args.duration, args.md_coupling)
     ref = {"ship": first_peak(md["t"], md["ship"]), "cage": first_peak(md["t"], md["cage"]),
            "veh": window_max(md["t"], md["veh"])}
@@ -237,7 +259,7 @@ def main(argv=None):
     runs = {}
     for solver in args.solvers:
         r = run_network(solver, args.duration, args.tick, args.coupling, tether_mesh=args.tether_mesh,
-                        exc_dg=tuple(args.excursion_dg),
+                        tether_tolerance=args.tether_tolerance, exc_dg=tuple(args.excursion_dg),
                         exc_hybrid=(int(args.excursion_hybrid[0]), args.excursion_hybrid[1]))
         runs[solver] = r
         ours = {"ship": first_peak(r["t"], r["ship"]), "cage": first_peak(r["t"], r["cage"]),

@@ -427,3 +427,58 @@ def test_perfect_member_in_an_irregular_sea_repeats_the_run():
                 assert error <= (0.0 if command_rate == 0.0 else 0.02), (command_rate, stamp, end, error)
             checked += 1
         assert checked >= 20
+
+
+def test_a_staged_snap_is_reported_at_its_episode_maximum(monkeypatch):
+    """A re-tensioning in two stages (the cage bouncing on the tether): the detector publishes the first
+    stage (150 N at 2.5 s, a window old before the second passes it) and then the second, larger peak as
+    the snap's new maximum (180 N at 4.6 s, after the 4 s horizon). The member's snap counts (its first
+    event lies within the horizon) and is reported at the maximum, as the run's snaps are scored
+    (episode_maxima); the first stage is kept beside it."""
+    from types import SimpleNamespace as NS
+
+    import tether_sim.forecast.lookahead as la
+    from tether_sim.physics.snap import SnapConfig, SnapDetector, episode_maxima
+
+    knots = np.array([(0.0, 100.0), (0.5, 100.0), (1.0, 0.0), (2.0, 0.0), (2.5, 150.0), (3.2, 120.0), (3.6, 120.0),
+                      (4.6, 180.0), (5.5, 100.0), (60.0, 100.0)])
+    vehicle = lambda t: np.interp(t, knots[:, 0], knots[:, 1])  # noqa: E731
+
+    class Solver:  # end tensions of every 1 ms substep
+        time = 0.0
+
+        def restore(self, snapshot):
+            self.time = snapshot
+
+        def drain_end_tensions(self):
+            return None
+
+        def tick(self, t, ship=None, vehicle=None):
+            times = np.arange(self.time + 1e-3, t + 1e-12, 1e-3)
+            self.time = t
+            return NS(count=times.size, times=times, ship_tension=np.full(times.size, 100.0), vehicle_tension=vehicle_of(times))
+
+    vehicle_of = vehicle
+    monkeypatch.setattr(la, "relative_end_speed", lambda solver, length: 0.0)
+    config = NS(ship_end=NS(kind="prescribed"), vehicle_end=NS(kind="body"), cable=NS(length=100.0), forecast=NS(slack_margin=0.0))
+    engine = la.LookAhead(config, lambda cfg: Solver())
+    detector = SnapDetector(SnapConfig(), ["ship", "vehicle"], [100.0, 100.0], [0.0, 100.0])
+    member = NS(at=lambda t: (np.zeros(3), np.zeros(3)))
+    request = la.ForecastRequest(issued=0.0, solver_time=0.0, anchor=0.0, snapshot=0.0, detector=detector, end_state={},
+                                 members=[member], horizon=4.0, tick=0.1, source="test")
+    ship, veh = engine.run(request)
+    assert ship.probability == 0.0
+    assert veh.probability == 1.0
+    assert veh.member_first_stages == [(pytest.approx(2.5), pytest.approx(150.0))]
+    assert veh.member_snaps == [(pytest.approx(4.6), pytest.approx(180.0))]
+    assert veh.time_to_snap == pytest.approx(4.6) and veh.predicted_peak == pytest.approx(180.0)
+    # the run's own detector on the same tensions: one episode, its maximum is the forecast's snap
+    run = SnapDetector(SnapConfig(), ["ship", "vehicle"], [100.0, 100.0], [0.0, 100.0])
+    t = np.arange(1e-3, 12.0, 1e-3)
+    events = [e for e in run.update(t, np.column_stack([np.full(t.size, 100.0), vehicle(t)]), 0.0) if hasattr(e, "peak_tension")]
+    assert [round(e.time, 6) for e in events] == [2.5, 4.6]
+    (best,) = episode_maxima(events)
+    assert (best.time, best.peak_tension) == (pytest.approx(veh.member_snaps[0][0]), pytest.approx(veh.member_snaps[0][1]))
+    # a horizon that ends before the first stage: no snap
+    ship, veh = engine.run(replace(request, horizon=2.0))
+    assert veh.probability == 0.0 and veh.member_snaps == []

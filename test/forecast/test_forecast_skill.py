@@ -3,6 +3,7 @@
 import math
 from types import SimpleNamespace as F
 
+import numpy as np
 import pytest
 
 from tether_sim.forecast.skill import score
@@ -112,7 +113,7 @@ def test_a_slack_episode_is_one_snap_at_its_maximum_whatever_event_was_predicted
     """The detector publishes a first stage past the snap level and then the episode's larger take-up as a further
     event with the same slack_start (the 500 m, 0.2 Hz ship end: 57.54 kN at 27.151 s, 210.50 kN at 28.839 s,
     slack from 25.686 s). The run had one snap there, not two: counted once, at its maximum; a warning that
-    predicted either event (a member's snap is its first event) warned it and is no false alarm."""
+    predicted either event warned it and is no false alarm."""
     from tether_sim.forecast.skill import episode_snaps, reliability
     from tether_sim.physics.snap import NumericalSnapWarning, SlackStarted, SnapEvent
 
@@ -139,3 +140,33 @@ def test_a_slack_episode_is_one_snap_at_its_maximum_whatever_event_was_predicted
     # reliability: a forecast whose horizon holds any event of the episode saw the snap
     late = [fc(9.0, 0.75, 28.0, end="ship", horizon=18.5)]  # (9, 27.5] holds the first stage only
     assert reliability(late, snaps, "ship", until=60.0)[3].observed == 1.0
+
+
+def test_false_alarms_are_classified_against_the_runs_tension_and_events():
+    from tether_sim.forecast.skill import classify_false_alarm
+
+    t = np.arange(0.0, 30.0, 0.01)
+    slack, level = 10.0, 100.0
+
+    def run(trough, peak):  # a trough at 10 s, a re-tensioning peak at 12 s
+        return np.where(t < 12.0, 50.0 - (50.0 - trough) * np.exp(-((t - 10.0) / 0.5) ** 2),
+                        50.0 + (peak - 50.0) * np.exp(-((t - 12.0) / 0.2) ** 2))
+
+    args = dict(slack_level=slack, snap_level=level)
+    # the run snapped at 14.5 s, inside the horizon: the predicted 12 s is a timing error
+    assert classify_false_alarm(0.0, 12.0, 15.0, t, run(0.0, 150.0), snaps=[14.5], events=[(14.5, 9.0)], **args)[0] == "timing"
+    # a snap 1.5 s after the horizon still counts as within it (the tolerance)
+    assert classify_false_alarm(0.0, 12.0, 15.0, t, run(0.0, 150.0), snaps=[16.5], events=[], **args)[0] == "timing"
+    # into the hysteresis band (1.5 x the slack level) and a peak at 1.5 x the snap level: a near miss
+    kind, depth, peak = classify_false_alarm(0.0, 12.0, 15.0, t, run(15.0, 150.0), snaps=[], events=[], **args)
+    assert kind == "near miss" and depth == pytest.approx(1.5, abs=1e-3) and peak == pytest.approx(1.5, abs=1e-3)
+    # the same trough without a peak at the snap level: other
+    assert classify_false_alarm(0.0, 12.0, 15.0, t, run(15.0, 90.0), snaps=[], events=[], **args)[0] == "other"
+    # the run stayed above the re-tension level (2 x the slack level)
+    kind, depth, _ = classify_false_alarm(0.0, 12.0, 15.0, t, run(25.0, 150.0), snaps=[], events=[], **args)
+    assert kind == "members slack, run not" and depth == pytest.approx(2.5, abs=1e-3)
+    # a published event at the predicted time that the scored snaps leave out
+    assert classify_false_alarm(0.0, 12.0, 15.0, t, run(0.0, 150.0), snaps=[], events=[(12.0, 9.0)], **args)[0] == "uncounted event"
+    # the run slack, no peak at the snap level, no snap: other
+    assert classify_false_alarm(0.0, 12.0, 15.0, t, run(0.0, 80.0), snaps=[], events=[], **args)[0] == "other"
+

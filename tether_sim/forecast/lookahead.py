@@ -14,7 +14,14 @@ restored) and turns a request into one :class:`EndForecast` per end:
 - the end tensions of every substep go through a copy of the run's detector (same thresholds, same
   state: a slack period already under way is continued), so a forecast snap is what the node would
   report; after the horizon a member is stepped on (at most 10 peak windows) only to close a
-  re-tensioning window already open, and a snap counts when its peak lies within the horizon;
+  re-tensioning window already open, and a snap counts when its first published peak lies within
+  the horizon; its time and peak are those of the snap's largest peak, the last new maximum the
+  detector publishes for its slack episode (as the run's snaps are scored and tabulated:
+  ``episode_maxima``). A staged re-tensioning (the cage bouncing on the tether, whose stages lie
+  about its natural period 2 pi sqrt((m + m_a) L / EA) apart: 1.6 s on the 200 m file) publishes its
+  first stage or not depending on whether the next stage passes it within a peak window, which a
+  small error in the motion flips: the first event's time is not a property of the snap, its
+  maximum is (docs/forecast.md, "Why the false alarms");
 - per end: ``probability`` = members with a snap / members that finished; ``time_to_snap`` = the
   median snap time of the whole ensemble, the members without a snap counted as snapping after the
   horizon (:func:`ensemble_median_time`: NaN when fewer than half the members snap; the median, not
@@ -78,7 +85,8 @@ class EndForecast:
     source: str
     degraded: bool = False
     reason: str = ""
-    member_snaps: list = field(default_factory=list)  # (time s clock, peak N) of each member that snaps
+    member_snaps: list = field(default_factory=list)  # (time s clock, peak N) of each member's snap, at its episode's maximum
+    member_first_stages: list = field(default_factory=list)  # (time, peak) of the same snaps' first published events
     member_troughs: list = field(default_factory=list)  # N, each finished member's least end tension in [stamp, stamp + horizon)
     member_slack_depths: list = field(default_factory=list)  # N, each finished member's least end tension from the stamp to its snap's peak (NaN: no snap)
     slack_at_stamp: bool = False  # the end was slack or re-tensioning (the run's detector) at the stamp
@@ -107,11 +115,13 @@ class LookAhead:
         for end in END_NAMES:
             depths = [r["depth"][end] for r in finished]
             snaps = [r[end] for r in finished if r[end] is not None]
+            stages = [r["first_stage"][end] for r in finished if r[end] is not None]
             if margin > 0.0 and not observed[end]:
                 snaps = deep_snaps(snaps, depths, slack[end], margin)
+                stages = deep_snaps(stages, depths, slack[end], margin)
             out.append(summarise(request.issued, end, request.horizon, snaps, len(finished), request.source,
                                  reasons, member_troughs=[r["trough"][end] for r in finished], member_slack_depths=depths,
-                                 slack_at_stamp=bool(observed[end])))
+                                 slack_at_stamp=bool(observed[end]), member_first_stages=stages))
         return out
 
     def _member(self, request, motion):
@@ -125,6 +135,8 @@ class LookAhead:
         first = {end: None for end in END_NAMES}
         trough = {end: math.inf for end in END_NAMES}
         depth = {end: math.nan for end in END_NAMES}
+        stage = {end: None for end in END_NAMES}  # the snap's first published event (first[end] ends at its maximum)
+        episode = {end: None for end in END_NAMES}  # the snap's slack_start
         history = _History(10.0 * detector.config.peak_window + 2.0 * request.tick)  # for the depth before a snap
         end_clock = request.issued + request.horizon
         t0 = request.solver_time
@@ -161,12 +173,18 @@ class LookAhead:
                     history.append(clock, tensions)
                 events = detector.update(clock, tensions, relative_end_speed(solver, self.config.cable.length))
                 for ev in events:
-                    if (isinstance(ev, SnapEvent) and first[ev.location] is None
-                            and request.issued - 1e-9 <= ev.time <= end_clock + 1e-9):
-                        first[ev.location] = (ev.time, ev.peak_tension)
-                        depth[ev.location] = history.least_before(END_NAMES.index(ev.location), ev.time)
+                    if not isinstance(ev, SnapEvent):
+                        continue
+                    end = ev.location
+                    if first[end] is None and request.issued - 1e-9 <= ev.time <= end_clock + 1e-9:
+                        first[end] = stage[end] = (ev.time, ev.peak_tension)
+                        episode[end] = ev.slack_start
+                        depth[end] = history.least_before(END_NAMES.index(end), ev.time)
+                    elif first[end] is not None and ev.slack_start == episode[end] and ev.peak_tension > first[end][1]:
+                        first[end] = (ev.time, ev.peak_tension)  # the snap's new maximum (same slack episode)
         first["trough"] = trough
         first["depth"] = depth
+        first["first_stage"] = stage
         return first
 
 
@@ -271,8 +289,11 @@ class _History:
 
 
 def _window_open(detector, first):
-    """A re-tensioning window is open at an end whose snap is not yet found."""
-    return any(first[end] is None and bool(detector.is_rising()[j]) for j, end in enumerate(detector.locations))
+    """A re-tensioning window is open at an end whose snap is not yet found, or at an end whose snap is
+    out and may still publish a new maximum (a larger, later peak of the same slack episode)."""
+    rising, watching = detector.is_rising(), detector.is_watching()
+    return any((first[end] is None and bool(rising[j])) or (first[end] is not None and bool(watching[j]))
+               for j, end in enumerate(detector.locations))
 
 
 def _eased(state, tau):

@@ -10,8 +10,8 @@ issued every second repeats its mistake until the predicted time has passed).
 A slack episode is one snap: the detector publishes a later, larger peak of an episode whose snap is out
 as a further event (its new maximum, same location and ``slack_start``), and :func:`episode_snaps`
 makes one snap of them, at its largest peak (as the study tables count, ``episode_maxima``), with the
-times of all its events: a warning that predicted any of them (a member's snap is its first event, the
-first stage) warned that snap and is no false alarm.
+times of all its events: a warning that predicted any of them warned that snap and is no false alarm
+(the look-ahead reports a member's snap at its own episode's largest peak, tether_sim.forecast.lookahead).
 
 Forecasts without members (no ship-motion forecast could be made) are not forecasts and are left out.
 Only snaps that could have been warned are scored: peaks at least ``lead`` s after the first forecast
@@ -19,6 +19,7 @@ and at most one horizon after the last one (and within the run); warnings predic
 after the run (less than ``tolerance`` before its end) are not scored either.
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -169,3 +170,44 @@ def trough_rank(members, run, tolerance):
 
 
 TIE_TOLERANCE = 1e-6  # slack levels: tensions closer than this are equal (round-off in slack is ~1e-15 slack levels)
+
+
+FALSE_ALARM_KINDS = ("timing", "near miss", "members slack, run not", "uncounted event", "other")
+
+
+def classify_false_alarm(stamp, predicted, horizon, t, tension, slack_level, snap_level, snaps, events, *,
+                         tolerance=1.5, retension_ratio=2.0):
+    """Why a warning predicting a snap at ``predicted`` (stamped ``stamp``) found none within
+    +-``tolerance`` s: (kind, least tension of the run from the stamp to the predicted time / slack
+    level, the run's largest tension within +-``tolerance`` of the predicted time / snap level). ``t``,
+    ``tension``: the run's end tension at every substep; ``snaps``: the scored snap times at this end;
+    ``events``: every snap event the run's detector published at this end (time, slack_start), the
+    further events of an episode included. Kinds (``FALSE_ALARM_KINDS``), first that applies:
+
+    - "uncounted event": the detector published a snap within +-tolerance that is not among ``snaps``;
+    - "timing": the run snapped at this end within the forecast's horizon (+tolerance), elsewhere;
+    - "near miss": the run's least tension came below ``retension_ratio`` x the slack level (the
+      detector's re-tension level: into the hysteresis band, not into slack) and its tension reached
+      the snap level within +-tolerance of the predicted time;
+    - "members slack, run not": the run stayed above the re-tension level;
+    - "other" (the run slack without a peak at the snap level, or a near miss without the peak)."""
+    t = np.asarray(t, float)
+    tension = np.asarray(tension, float)
+    if any(abs(predicted - x) <= tolerance for x, _ in events) and not any(abs(predicted - x) <= tolerance for x in snaps):
+        kind = "uncounted event"
+    else:
+        kind = None
+    before = (t >= stamp - 1e-9) & (t <= predicted + 1e-9)
+    near = (t >= predicted - tolerance) & (t <= predicted + tolerance)
+    depth = float(tension[before].min()) / slack_level if before.any() else math.nan
+    peak = float(tension[near].max()) / snap_level if near.any() else math.nan
+    if kind is None:
+        if any(stamp < x <= stamp + horizon + tolerance for x in snaps):
+            kind = "timing"
+        elif depth >= retension_ratio:
+            kind = "members slack, run not"
+        elif depth >= 1.0 and peak >= 1.0:
+            kind = "near miss"
+        else:
+            kind = "other"
+    return kind, depth, peak

@@ -204,6 +204,11 @@ class SnapDetector:
         window whose snap is out and that is only watched for a new maximum)."""
         return (self._state[:, _MODE] == _RISING) & (self._state[:, _PUBLISHED] == -np.inf)
 
+    def is_watching(self) -> np.ndarray:
+        """(n_loc,) bool: a re-tensioning window whose snap is out is still open at the location: a later, larger
+        peak would be published as the snap's new maximum (a further event of the same slack episode)."""
+        return (self._state[:, _MODE] == _RISING) & (self._state[:, _PUBLISHED] > -np.inf)
+
     def update(self, times, tensions, relative_speed=None) -> list:
         """Feed samples ``times`` (k,) and ``tensions`` (k, n_loc) (time-ordered); return new events.
 
