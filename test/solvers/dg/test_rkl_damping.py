@@ -20,7 +20,7 @@ from tether_sim.solvers.dg import implicit_damping as ID
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg import rkl_damping as RK
 
-from test_implicit_damping import curved_flat, curved_solver  # (test/solvers/dg on the path)
+from test_implicit_damping import curved_flat, curved_solver, dense_damping_problem  # (test/solvers/dg on the path)
 
 pytestmark = pytest.mark.jit_off
 
@@ -62,22 +62,8 @@ def test_rkl2_step_equals_the_dense_recursion(push):
     ID.damping_step(hs, s.ws.U, s.ws.vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, s.ws.V, s.ws.Pj, s.ws.Tr, s.law.tab_eps,
                     s.law.tab_T, dw.wp, dw.wd, dw.band, dw.vec, dw.tmp, dw.wood, dw.fdamp)
     fd_step = dw.fdamp.copy()
-    DO.damping_geometry(U0, s.ws.V, dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
-    DO.strain_rates(U0, 3, True, s.ws.vbc, dw.blk, dw.bvec, dw.wp, DL.WP_E0)
-    DO.clip_set(dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
-    released = DO.release_ends(U0, s.ws.vbc, dw.idp, dw.dprm, dw.bvec, s.ws.Tr, dw.wp, s.law.tab_eps, s.law.tab_T)
+    A, b, released = dense_damping_problem(s, dw, U0)
     assert released == (2 if push else 0)
-    N, nm = U0.shape[:2]
-    n = 3 * N * nm
-
-    def f_d(v, affine):
-        W = np.zeros((N, nm, 12))
-        W[:, :, 9:12] = v.reshape(N, nm, 3)
-        DO.damping_force(W, 9, affine, s.ws.vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, s.ws.Pj, dw.wp, W, 0)
-        return W[:, :, 0:3].ravel()
-
-    A = np.stack([f_d(np.eye(n)[i], False) for i in range(n)], 1)
-    b = f_d(np.zeros(n), True)
     rho = np.abs(np.linalg.eigvals(A)).max()
     m = int(np.ceil(hs * dw.dprm[DL.DP_RHO] / RK.RKL_MAX_X))  # RKL2 steps of hs / m
     hm = hs / m
