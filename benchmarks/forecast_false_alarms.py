@@ -22,7 +22,7 @@ import json
 import math
 import pickle
 import sys
-from dataclasses import asdict, replace
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -30,44 +30,18 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from benchmarks.forecast_skill import case_config, run_slack_levels, with_margin  # noqa: E402
+from benchmarks.forecast_skill import run_slack_levels, truth_tensions, with_margin  # noqa: E402
 from tether_sim.forecast.skill import FALSE_ALARM_KINDS, classify_false_alarm  # noqa: E402
-from tether_sim.physics.motion import build_motion  # noqa: E402
 from tether_sim.physics.snap import SnapEvent, episode_maxima  # noqa: E402
-from tether_sim.physics.waves import wave_components  # noqa: E402
-from tether_sim.ros.driver import MotionSource, SimulationDriver  # noqa: E402
 
 
 def truth_run(path, seed, dumped_args):
     """The run of a dumped sea again: {"t", "ship", "vehicle" (tension of every substep), "slack",
     "snap" ({end: level N}), "events" (every SnapEvent as a dict)}."""
-    args = argparse.Namespace(**dumped_args)
-    cfg = case_config(path, "known_sea", seed, args)
-    src = {"ship": MotionSource(build_motion(cfg.motion, np.asarray(cfg.ship_end.position, float), wave_components(cfg)))}
-    if not args.cable_waves:
-        cfg = replace(cfg, waves=replace(cfg.waves, kind="none"))
-    driver = SimulationDriver(cfg, src, start_blend=False)
-    driver.start(0.0)
-    samples, events = [], []
-    drain = driver.solver.drain_end_tensions
-
-    def recording_drain():
-        out = drain()
-        samples.append((np.asarray(out[0]) + driver.anchor, np.asarray(out[1]), np.asarray(out[2])))
-        return out
-
-    driver.solver.drain_end_tensions = recording_drain
-    rate = cfg.node.output_rate
-    for k in range(1, int(round(args.minutes * 60.0 * rate)) + 1):
-        report = driver.tick(k / rate)
-        events += [e for e in report.events if isinstance(e, SnapEvent)]
-    events += [e for e in driver.detector.flush() if isinstance(e, SnapEvent)]
-    det, snap = driver.detector, cfg.snap
-    levels = (np.full(2, snap.snap_threshold) if snap.snap_threshold > 0.0 else snap.snap_fraction * np.abs(det.static_tensions))
-    return {"t": np.concatenate([a for a, _, _ in samples]),
-            "ship": np.concatenate([b for _, b, _ in samples]), "vehicle": np.concatenate([c for _, _, c in samples]),
-            "slack": dict(zip(det.locations, map(float, det.thresholds))),
-            "snap": dict(zip(det.locations, map(float, levels))),
+    events = []
+    t, tensions, slack, snap = truth_tensions(path, seed, dumped_args, events=events)
+    return {"t": t, "ship": tensions["ship"], "vehicle": tensions["vehicle"],
+            "slack": {end: float(x) for end, x in slack.items()}, "snap": {end: float(x) for end, x in snap.items()},
             "events": [asdict(e) for e in events]}
 
 

@@ -163,11 +163,12 @@ class CpuSplit:
                                                               for k, v in parts.items())
 
 
-def truth_tensions(path, seed, dumped_args, at_stamp=None):
+def truth_tensions(path, seed, dumped_args, at_stamp=None, events=None):
     """The run of a --dump file again, without forecasts, recording the end tensions of every substep:
     (times, {end: tensions}, {end: slack level N}, {end: snap level N}); ``at_stamp`` (a dict): filled
     with {tick index: {end: the end slack or re-tensioning after that tick}} (the run's detector, what a
-    forecast stamped at that tick reports as ``slack_at_stamp``)."""
+    forecast stamped at that tick reports as ``slack_at_stamp``); ``events`` (a list): filled with every
+    SnapEvent the run's detector publishes, its flush at the end included."""
     args = argparse.Namespace(**dumped_args)
     cfg = case_config(path, "known_sea", seed, args)
     src = {"ship": MotionSource(build_motion(cfg.motion, np.asarray(cfg.ship_end.position, float), wave_components(cfg)))}
@@ -186,10 +187,14 @@ def truth_tensions(path, seed, dumped_args, at_stamp=None):
     driver.solver.drain_end_tensions = recording_drain
     rate = cfg.node.output_rate
     for k in range(1, int(round(args.minutes * 60.0 * rate)) + 1):
-        driver.tick(k / rate)
+        report = driver.tick(k / rate)
+        if events is not None:
+            events += [e for e in report.events if isinstance(e, SnapEvent)]
         if at_stamp is not None:
             flags = driver.detector.is_slack() | driver.detector.is_rising()
             at_stamp[k] = {end: bool(x) for end, x in zip(driver.detector.locations, flags)}
+    if events is not None:
+        events += [e for e in driver.detector.flush() if isinstance(e, SnapEvent)]
     det, snap = driver.detector, cfg.snap
     snap_levels = (np.full(2, snap.snap_threshold) if snap.snap_threshold > 0.0
                    else snap.snap_fraction * np.abs(det.static_tensions))

@@ -230,16 +230,29 @@ def test_report_of_a_truncated_file_says_so(tmp_path, prefix, store, capsys):
 
 
 def test_report_of_a_file_with_a_corrupt_chunk_covers_the_intact_ones(tmp_path, prefix, store, capsys):
-    """64 corrupted bytes in the last chunk of a complete recording: the report covers every intact
+    """64 corrupted bytes in the last chunk with states of a complete recording: the report covers every intact
     chunk and says what was dropped (exit 0), instead of refusing the whole file."""
     from mcap.reader import SeekingReader
 
+    from mcap.data_stream import ReadDataStream
+    from mcap.records import Chunk, Message
+    from mcap.stream_reader import breakup_chunk
+
     path = write_output(tmp_path / "out.mcap", prefix, store, chunk_size=16384)
-    with open(path, "rb") as handle:
-        chunks = SeekingReader(handle).get_summary().chunk_indexes
-    assert len(chunks) >= 3
-    last = chunks[-1]
-    data = bytearray(path.read_bytes())
+    good = path.read_bytes()
+    summary = SeekingReader(io.BytesIO(good)).get_summary()
+    assert len(summary.chunk_indexes) >= 3
+    state_channel = next(c.id for c in summary.channels.values() if c.topic == "/tether/state")
+
+    def states_of(chunk):
+        """The log times of the states in ``chunk``, read from the intact original."""
+        record = good[chunk.chunk_start_offset + 9:chunk.chunk_start_offset + chunk.chunk_length]
+        return {r.log_time for r in breakup_chunk(Chunk.read(ReadDataStream(io.BytesIO(record))))
+                if isinstance(r, Message) and r.channel_id == state_channel}
+
+    # the last chunk that holds states (where the chunks end depends on the schemas' text, written into them)
+    last = next(c for c in reversed(summary.chunk_indexes) if states_of(c))
+    data = bytearray(good)
     middle = last.chunk_start_offset + last.chunk_length - last.compressed_size // 2
     data[middle:middle + 64] = bytes(b ^ 0x5A for b in data[middle:middle + 64])
     bad = tmp_path / "bad.mcap"
@@ -248,17 +261,7 @@ def test_report_of_a_file_with_a_corrupt_chunk_covers_the_intact_ones(tmp_path, 
     text = capsys.readouterr().out
     assert "**Damaged recording.**" in text and "dropped 1 corrupt record(s)" in text
     run = load_run(bad)
-    # the states of the last chunk, read from the intact original
-    from mcap.data_stream import ReadDataStream
-    from mcap.records import Chunk, Message
-    from mcap.stream_reader import breakup_chunk
-
-    good = path.read_bytes()
-    record = good[last.chunk_start_offset + 9:last.chunk_start_offset + last.chunk_length]
-    inside = [r for r in breakup_chunk(Chunk.read(ReadDataStream(io.BytesIO(record)))) if isinstance(r, Message)]
-    state_channel = next(c.id for c in SeekingReader(io.BytesIO(good)).get_summary().channels.values()
-                         if c.topic == "/tether/state")
-    lost = {m.log_time for m in inside if m.channel_id == state_channel}
+    lost = states_of(last)
     kept = [k for k in range(N_T) if T0_NS + k * 10**8 not in lost]
     assert lost and 0 < len(run.t) == len(kept) < N_T
     assert np.allclose(run.t, np.array(kept) * DT)

@@ -124,6 +124,9 @@ def main(argv=None):
                     help="the excursion tether's axial damping in both codes (N s; default: 2000)")
     ap.add_argument("--excursion-EI", type=float, default=None,
                     help="the excursion tether's bending stiffness in every code (N m^2; default: 0)")
+    ap.add_argument("--excursion-bending-damping", type=float, default=0.0,
+                    help="tether_sim's cable.bending_damping of the excursion tether (N m^2 s; MoorDyn has none: "
+                         "for tether_sim-only ladders)")
     ap.add_argument("--md-scheme", default="RK2", choices=["RK2", "RK4"], help="MoorDyn's time scheme")
     ap.add_argument("--json", default="out/excursion_spike.json")
     ap.add_argument("--figure", default="")
@@ -132,7 +135,7 @@ def main(argv=None):
     if args.excursion_damping is not None:
         nm.set_excursion_damping(args.excursion_damping)
     if args.excursion_EI is not None:
-        nm.set_excursion_bending(args.excursion_EI)
+        nm.set_excursion_bending(args.excursion_EI, args.excursion_bending_damping)
     nm.MD_SCHEME[:] = [args.md_scheme]
     print(f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}", flush=True)
     runs, table = {}, {}

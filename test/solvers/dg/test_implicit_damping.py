@@ -107,6 +107,26 @@ def test_bending_damping_of_short_chords_is_the_rhs_energy_form(k0, k1):
     np.testing.assert_allclose(end_force, end_ref, atol=1e-10 * max(np.abs(end_full).max(), 1.0))
 
 
+def dense_damping_problem(s, dw, U0):
+    """The damping step's frozen problem on the state ``U0`` as a dense affine map dv/dt = A v + b of the
+    velocity modes (the geometry, clip set and released ends frozen as the compiled step freezes them):
+    (A, b, the number of released ends)."""
+    DO.damping_geometry(U0, s.ws.V, dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
+    DO.strain_rates(U0, 3, True, s.ws.vbc, dw.blk, dw.bvec, dw.wp, DL.WP_E0)
+    DO.clip_set(dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
+    released = DO.release_ends(U0, s.ws.vbc, dw.idp, dw.dprm, dw.bvec, s.ws.Tr, dw.wp, s.law.tab_eps, s.law.tab_T)
+    N, nm = U0.shape[:2]
+    n = 3 * N * nm
+
+    def f_d(v, affine):
+        W = np.zeros((N, nm, 12))
+        W[:, :, 9:12] = v.reshape(N, nm, 3)
+        DO.damping_force(W, 9, affine, s.ws.vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, s.ws.Pj, dw.wp, W, 0)
+        return W[:, :, 0:3].ravel()
+
+    return np.stack([f_d(np.eye(n)[i], False) for i in range(n)], 1), f_d(np.zeros(n), True), released
+
+
 @pytest.mark.parametrize("k0, k1, law, zeta_b, mode", [("prescribed", "fixed", "linear", 0.0, DL.MODE_AXIAL),
                                                         ("prescribed", "fixed", "bilinear", 0.0, DL.MODE_AXIAL),
                                                         ("prescribed", "free", "bilinear", 0.0, DL.MODE_GENERAL),
@@ -123,24 +143,10 @@ def test_implicit_step_equals_dense_sdirk2(k0, k1, law, zeta_b, mode):
     args = (s.ws.V, s.ws.Pj, s.ws.Tr, s.law.tab_eps, s.law.tab_T, dw.wp, dw.wd, dw.band, dw.vec, dw.tmp, dw.wood,
             dw.fdamp)
     ID.damping_step(hs, s.ws.U, s.ws.vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, *args)
-    # dense reference with the same frozen geometry, clip set and released ends
-    DO.damping_geometry(U0, s.ws.V, dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
-    DO.strain_rates(U0, 3, True, s.ws.vbc, dw.blk, dw.bvec, dw.wp, DL.WP_E0)
-    DO.clip_set(dw.idp, dw.dprm, dw.wp, s.law.tab_eps, s.law.tab_T)
-    released = DO.release_ends(U0, s.ws.vbc, dw.idp, dw.dprm, dw.bvec, s.ws.Tr, dw.wp, s.law.tab_eps, s.law.tab_T)
+    A, b, released = dense_damping_problem(s, dw, U0)
     if law == "bilinear":
         assert released >= 1
-    N, nm = U0.shape[:2]
-    n = 3 * N * nm
-
-    def f_d(v, affine):
-        W = np.zeros((N, nm, 12))
-        W[:, :, 9:12] = v.reshape(N, nm, 3)
-        DO.damping_force(W, 9, affine, s.ws.vbc, dw.idp, dw.dprm, dw.blk, dw.bvec, s.ws.Pj, dw.wp, W, 0)
-        return W[:, :, 0:3].ravel()
-
-    A = np.stack([f_d(np.eye(n)[i], False) for i in range(n)], 1)
-    b = f_d(np.zeros(n), True)
+    n = A.shape[0]
     # dissipative: eigenvalues Re <= 0, up to 1e-4 of the operator's scale (a released end is a
     # rank-one, non-symmetric change of the end flux; measured +7e-4 1/s against |A| ~ 370 1/s without
     # the compression cap, +1.4e-2 1/s with it: EI = 5 here, so points in capped compression are damped too)
