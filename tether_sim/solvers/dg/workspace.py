@@ -17,11 +17,6 @@ its name: ``A[X_U]`` (a constant index into a tuple: resolved at compile time, n
 """
 
 import numpy as np
-from numba import config as numba_config
-from numba import types
-from numba.core import cgutils
-from numba.extending import intrinsic
-from numba.np.arrayobj import make_array, populate_array
 
 from tether_sim.numerics.jit import jit_inline
 
@@ -145,62 +140,29 @@ class Workspace:
 
 
 # ------------------------------------------------------------------------------ compiled views
-# A view is built as its array struct (arena_view): numba's slice + reshape clamps the slice, normalises
-# the shape and calls its C reshape helper, ~22 ns a view (measured 2026-11-28), ~1.3 us for the ~60 of a
-# bind, once per compiled call; the struct costs a few instructions. The same memory, shape and strides:
-# test_workspace.py checks the compiled bind slot by slot.
-@intrinsic
-def _c_view(typingctx, base, offset, shape):
-    """The C-contiguous view of shape `shape` at element `offset` of the 1-D array `base`: the array
-    struct written directly (no slice clamping, no reshape normalisation, no call to numba's reshape
-    helper); the offsets and shapes are the workspace's own (Workspace lays them out inside the arena)."""
-    ndim = shape.count
-    retty = types.Array(base.dtype, ndim, "C")
-
-    def codegen(context, builder, sig, args):
-        ary = make_array(sig.args[0])(context, builder, args[0])
-        out = make_array(retty)(context, builder)
-        itemsize = context.get_constant(types.intp, context.get_abi_sizeof(context.get_data_type(base.dtype)))
-        dims = cgutils.unpack_tuple(builder, args[2], ndim)
-        strides = [itemsize] * ndim
-        for i in range(ndim - 2, -1, -1):
-            strides[i] = builder.mul(strides[i + 1], dims[i + 1])
-        populate_array(out, data=builder.gep(ary.data, [args[1]]), shape=dims, strides=strides, itemsize=itemsize,
-                       meminfo=ary.meminfo, parent=ary.parent)
-        return out._getvalue()
-
-    return retty(base, offset, shape), codegen
-
-
-def _py_view(base, offset, shape):
-    """The same view in plain Python (NUMBA_DISABLE_JIT=1)."""
-    n = 1
-    for d in shape:
-        n *= d
-    return base[offset:offset + n].reshape(shape)
-
-
-arena_view = _py_view if numba_config.DISABLE_JIT else _c_view
-
-
 @jit_inline
 def _f1(F, S, k):
-    return arena_view(F, S[k, 0], (S[k, 2],))
+    o = S[k, 0]
+    return F[o:o + S[k, 2]]
 
 
 @jit_inline
 def _f2(F, S, k):
-    return arena_view(F, S[k, 0], (S[k, 2], S[k, 3]))
+    o = S[k, 0]
+    return F[o:o + S[k, 2] * S[k, 3]].reshape((S[k, 2], S[k, 3]))
 
 
 @jit_inline
 def _f3(F, S, k):
-    return arena_view(F, S[k, 0], (S[k, 2], S[k, 3], S[k, 4]))
+    o = S[k, 0]
+    return F[o:o + S[k, 2] * S[k, 3] * S[k, 4]].reshape((S[k, 2], S[k, 3], S[k, 4]))
 
 
 @jit_inline
 def _f5(F, S, k):
-    return arena_view(F, S[k, 0], (S[k, 2], S[k, 3], S[k, 4], S[k, 5], S[k, 6]))
+    o = S[k, 0]
+    n = S[k, 2] * S[k, 3] * S[k, 4] * S[k, 5] * S[k, 6]
+    return F[o:o + n].reshape((S[k, 2], S[k, 3], S[k, 4], S[k, 5], S[k, 6]))
 
 
 def _bind_source(slots=SLOTS):
