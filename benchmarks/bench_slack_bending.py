@@ -9,7 +9,7 @@ slack and snap of the first full period. ``--baseline DIR`` runs every configura
 too (imported as tether_sim_base, bench_tick.load_baseline), alternating with this one, best of ``--repeat``.
 
     PYTHONPATH=. python benchmarks/bench_slack_bending.py [--start 5] [--seconds 10] [--alphas 0 1]
-        [--dampings explicit implicit] [--steppers ssprk3 ssprk43 ssprk93] [--multirate off on] [--baseline DIR] [--repeat 1]
+        [--dampings explicit implicit] [--multirate off on] [--baseline DIR] [--repeat 1]
 """
 import argparse
 import importlib
@@ -31,14 +31,12 @@ def tree(package):
             importlib.import_module(f"{package}.solvers.factory").build_solver)
 
 
-def run(alpha, damping, start, seconds, N=20, rate=50.0, multirate=True, package="tether_sim", stepper="ssprk3"):
+def run(alpha, damping, start, seconds, N=20, rate=50.0, multirate=True, package="tether_sim"):
     """(real time per CPU s, substeps per simulated s, multirate K) of one configuration."""
     load_config, build_motion, build_solver = tree(package)
     overrides = {"cable.EI": alpha * EI_STAR, "motion.kind": "circle", "motion.amplitude": 2.0, "motion.frequency": 0.2,
                  "motion.ramp_time": 5.0, "duration": 60.0, "dg.n_elements": int(N), "dg.order": 4,
                  "dg.damping": damping, "dg.bending_multirate": multirate}
-    if stepper != "ssprk3":  # (a baseline tree may predate dg.stepper)
-        overrides["dg.stepper"] = stepper
     cfg = load_config(ROOT / "config" / "ropos_L200_paper.yaml", overrides)
     motion = build_motion(cfg.motion, cfg.ship_end.position)
     s = build_solver(cfg)
@@ -68,7 +66,6 @@ def main(argv=None):
     ap.add_argument("--dampings", nargs="+", default=["explicit", "implicit"], choices=["explicit", "implicit", "rkl2"])
     ap.add_argument("--multirate", nargs="+", default=["off", "on"], choices=["off", "on"])
     ap.add_argument("--n", type=int, default=20)
-    ap.add_argument("--steppers", nargs="+", default=["ssprk3"], choices=["ssprk3", "ssprk43", "ssprk93"])
     ap.add_argument("--baseline", help="another checkout: run each configuration there too (same process)")
     ap.add_argument("--repeat", type=int, default=1, help="best of this many runs per configuration and tree")
     args = ap.parse_args(argv)
@@ -81,19 +78,18 @@ def main(argv=None):
     print(f"# {time.strftime('%Y-%m-%d %H:%M')} load {os.getloadavg()[0]:.1f}; L = 200 m, N = {args.n}, P = 4, "
           f"window {args.start:g}-{args.start + args.seconds:g} s" + (f"; baseline {args.baseline}" if args.baseline else ""))
     for alpha in args.alphas:
-        for damping, stepper in [(d, st) for d in args.dampings for st in args.steppers]:
+        for damping in args.dampings:
             for multirate in ([m == "on" for m in args.multirate] if alpha > 0 else [True]):
                 best = {}
                 for _ in range(args.repeat):
                     for label, package in trees:
-                        r = run(alpha, damping, args.start, args.seconds, N=args.n, multirate=multirate, package=package,
-                                stepper=stepper)
+                        r = run(alpha, damping, args.start, args.seconds, N=args.n, multirate=multirate, package=package)
                         if label not in best or r[0] > best[label][0]:
                             best[label] = r
                 mr = f"multirate {'on, K = ' + str(best['this'][2]) if multirate else 'off':14s}" if alpha > 0 else " " * 24
                 for label, _ in trees:
                     rt, per_s, k = best[label]
-                    print(f"alpha {alpha:g} dg.damping {damping:8s} {stepper:7s} {mr} {label:8s}: {rt:6.3f} x real time per CPU s, "
+                    print(f"alpha {alpha:g} dg.damping {damping:8s} {mr} {label:8s}: {rt:6.3f} x real time per CPU s, "
                           f"{per_s:7.0f} substeps/s, {1e6 / (rt * per_s):6.1f} us per substep", flush=True)
                 if args.baseline:
                     print(f"    ratio this / baseline (CPU): {best['this'][0] / best['baseline'][0]:.3f}", flush=True)
