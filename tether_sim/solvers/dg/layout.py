@@ -82,7 +82,6 @@ define(globals(), "iprm", [
     ("I_WINCH", 1, "-", "-", "winch end + 1 (0: no winch, 1: ship end s = 0, 2: vehicle end s = L)"),
     ("I_NWAVE", 1, "n_w", "-", "wave components; their arrays follow N_PRM in prm (amp, omega, k, cos, sin, phase: n_w each)"),
     ("I_BMR_K", 1, "K", "-", "bending multirate: the nested LDG every K substeps, T_s extrapolated between (0, 1: every stage; stepper.py)"),
-    ("I_STEPPER", 1, "-", "-", "explicit stepper: index in numerics/integrators.py STEPPER_NAMES (dg.stepper; 0 = ssprk3)"),
 ], "N_IPRM")
 
 define(globals(), "bc", [

@@ -6,7 +6,6 @@ import math
 
 import numpy as np
 
-from tether_sim.numerics.integrators import STEPPER_NAMES
 from tether_sim.physics.constitutive import cap_stiffness
 from tether_sim.physics.end_conditions import KIND_CODES, anchor_end
 from tether_sim.physics.hydrodynamics import added_mass_per_length, air_weight_per_length, net_weight_per_length
@@ -59,7 +58,6 @@ def parameters(cab, env, opt, law, mesh, kinds, n_current):
     ip[Y.I_ANCHOR] = anchor_end(kinds)
     ip[Y.I_SURFACE] = int(env.free_surface)
     ip[Y.I_NEEDPOS] = int(env.seabed or n_current > 0 or env.free_surface)
-    ip[Y.I_STEPPER] = STEPPER_NAMES.index(opt.stepper)
     return prm, ip
 
 

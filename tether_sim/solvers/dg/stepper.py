@@ -20,7 +20,7 @@ of every E stage (bodies feel them; the recorded end tension includes them).
 
 import math
 
-from tether_sim.numerics.integrators import stepper_table
+from tether_sim.numerics.integrators import SSPRK3_STAGES
 from tether_sim.numerics.jit import jit, jit_inline
 from tether_sim.physics.bodies import body_attachment_kinematics, body_derivatives
 from tether_sim.physics.constitutive import LAW_LINEAR, compression_cap
@@ -31,7 +31,7 @@ from tether_sim.solvers.dg.fluxes import axial_clip, trace_tangent
 from tether_sim.solvers.dg.implicit_damping import damping_step
 from tether_sim.solvers.dg.kernels import dg_rhs, hermite_end
 from tether_sim.solvers.dg.layout import (
-    E_F, E_T, F_V, I_ANCHOR, I_BENDING, I_BMR_K, I_CURRENT, I_STEPPER, I_KIND0, I_LAW, I_N, I_P, I_SURFACE, P_BMR, P_BMR_W,
+    E_F, E_T, F_V, I_ANCHOR, I_BENDING, I_BMR_K, I_CURRENT, I_KIND0, I_LAW, I_N, I_P, I_SURFACE, P_BMR, P_BMR_W,
     P_EIC, P_GAMMA0, P_LAMBDA_BC, P_MN, P_MT, P_RELAX, P_TIME, P_WL, T_LAM, T_TS, T_TV, T_V, W_I, W_TS, W_TSH, W_WET,
 )
 from tether_sim.solvers.dg.workspace import (
@@ -44,9 +44,6 @@ from tether_sim.solvers.dg.winch import (
 )
 
 STATUS_OK = 0
-# the rows (a, b, d, c, keep) of every dg.stepper (numerics/integrators.py STEPPERS), stepper k at rows
-# STAGE_FIRST[k] .. STAGE_FIRST[k + 1] - 1 (constants of the compiled loop)
-STAGE_ROWS, STAGE_FIRST = stepper_table()
 STATUS_DIVERGED = 1
 
 
@@ -170,7 +167,7 @@ def clip_end_fluxes(prm, iprm, h, V, Pj, Lf, vbc, wq, tr, fl, dU, endf, fdamp):
 
 @jit
 def dg_advance(nsteps, t0, dt, reuse, A):
-    """Take nsteps substeps (the stepper iprm[I_STEPPER], default SSP-RK3) of size dt from t0 on the workspace A (workspace.bind), with the
+    """Take nsteps SSP-RK3 substeps of size dt from t0 on the workspace A (workspace.bind), with the
     stepper's parameters (slots prm_step, iprm_step). out[0] = steps done, out[1] = status.
 
     reuse: the first stage's internal forces are already in the work arrays (the output evaluation
@@ -212,8 +209,6 @@ def dg_advance(nsteps, t0, dt, reuse, A):
     r0 = 0.0
     r1 = 0.0
     r2 = 0.0
-    row0 = STAGE_FIRST[iprm[I_STEPPER]]
-    ns = STAGE_FIRST[iprm[I_STEPPER] + 1] - row0
     for n in range(nsteps):
         t = t0 + n * dt
         for i in range(nu):
@@ -228,13 +223,10 @@ def dg_advance(nsteps, t0, dt, reuse, A):
         #   stage 0:  u1      = u_n + dt L(u_n, t_n)                          (a, b, c) = (0, 1, 0)
         #   stage 1:  u2      = 3/4 u_n + 1/4 (u1 + dt L(u1, t_n + dt))       (3/4, 1/4, 1)
         #   stage 2:  u_{n+1} = 1/3 u_n + 2/3 (u2 + dt L(u2, t_n + dt/2))     (1/3, 2/3, 1/2)
-        # i.e. u <- a u_n + b (u + dt L(u, t_n + c dt)) with (a, b, 1, c) the rows of "ssprk3"; another
-        # dg.stepper: its rows u <- a r + b (u + d dt L(u, t_n + c dt)), r = u_n or the stage of a keep row
-        for stage in range(ns):
-            a = STAGE_ROWS[row0 + stage, 0]
-            b = STAGE_ROWS[row0 + stage, 1]
-            dts = STAGE_ROWS[row0 + stage, 2] * dt
-            ts = t + STAGE_ROWS[row0 + stage, 3] * dt
+        # i.e. u <- a u_n + b (u + dt L(u, t_n + c dt)) with (a, b, c) = SSPRK3_STAGES[stage]
+        for stage in range(3):
+            a, b, cs = SSPRK3_STAGES[stage]
+            ts = t + cs * dt
             if winch:
                 winch_stage(prm, hw, h, ts, t0, t1)
             internal = not reuse or n > 0 or stage > 0
@@ -260,20 +252,17 @@ def dg_advance(nsteps, t0, dt, reuse, A):
                 buf[slot, 2] = endf[1, E_T]
                 cnt[0] += 1
             if winch:
-                L_end = winch_length(prm, L_tick, t0 + (n + 1) * dt, t0, t1) if stage == ns - 1 else 0.0
-                winch_update(a, b, dts, Ls, U, U0, dU, prm, L_end)
+                L_end = winch_length(prm, L_tick, t0 + (n + 1) * dt, t0, t1) if stage == 2 else 0.0
+                winch_update(a, b, dt, Ls, U, U0, dU, prm, L_end)
             else:
                 for i in range(nu):
-                    Uf[i] = a * U0f[i] + b * (Uf[i] + dts * dUf[i])
+                    Uf[i] = a * U0f[i] + b * (Uf[i] + dt * dUf[i])
             for c in range(3):
-                ra[c] = a * ra0[c] + b * (ra[c] + dts * dra[c])
+                ra[c] = a * ra0[c] + b * (ra[c] + dt * dra[c])
             for end in range(2):
                 if has_body(iprm[I_KIND0 + end]):
                     for c in range(bs.shape[1]):
-                        bs[end, c] = a * bs0[end, c] + b * (bs[end, c] + dts * dbs[end, c])
-            if STAGE_ROWS[row0 + stage, 4] != 0.0:  # keep: this stage is the register r of the next rows
-                _keep_register(Uf, U0f, ra, ra0, bs, bs0)
-                Ls = prm[P_WL]
+                        bs[end, c] = a * bs0[end, c] + b * (bs[end, c] + dt * dbs[end, c])
         t_new = t0 + (n + 1) * dt
         if kinematic_anchor:
             fill_end_kinematics(bc, iprm, t_new, vbc, bs, bp)
@@ -292,18 +281,6 @@ def dg_advance(nsteps, t0, dt, reuse, A):
             out[1] = STATUS_DIVERGED
             return
         out[0] = n + 1
-
-
-@jit_inline
-def _keep_register(Uf, U0f, ra, ra0, bs, bs0):
-    """The register r (U0, ra0, bs0) = the current stage (a keep row of the stepper)."""
-    for i in range(Uf.size):
-        U0f[i] = Uf[i]
-    for c in range(3):
-        ra0[c] = ra[c]
-    for end in range(2):
-        for c in range(bs.shape[1]):
-            bs0[end, c] = bs[end, c]
 
 
 @jit_inline

@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from tether_sim.numerics.integrators import SSPRK3_IMAG_LIMIT, stepper_factors
+from tether_sim.numerics.integrators import SSPRK3_IMAG_LIMIT
 
 # Coefficients per order P = 1..12, measured by benchmarks/studies/calibrate_timestep.py (see docs).
 _A = {1: 2.4398, 2: 4.775, 3: 7.9559, 4: 11.9302, 5: 16.6979, 6: 22.2589, 7: 28.6133, 8: 35.761, 9: 43.702, 10: 52.4363, 11: 61.9639, 12: 72.2848}
@@ -34,7 +34,7 @@ def _coef(table, P, power):
 
 
 def stable_dt(h, P, max_slope, gamma0, zeta, EI, zeta_b, lambda_floor=0.0, seabed_Kd=0.0, seabed_zeta=0.0,
-              implicit_damping=False, stepper="ssprk3"):
+              implicit_damping=False):
     """SSP-RK3 stability limit (s) of the DG cable on element sizes h (array) at order P.
 
     With implicit_damping (dg.damping = implicit) the damping terms B_P and E_P are dropped: the
@@ -43,23 +43,18 @@ def stable_dt(h, P, max_slope, gamma0, zeta, EI, zeta_b, lambda_floor=0.0, seabe
     A seabed in contact adds a local spring-damper of frequency w = sqrt(K_g d / gamma0) and damping
     ratio zeta_s, eigenvalues -zeta_s w +- w sqrt(zeta_s^2 - 1); its rate w (1 + 2 zeta_s) bounds
     their modulus and is added (divided by the SSP-RK3 imaginary-axis limit sqrt(3)).
-
-    stepper (dg.stepper): another explicit stepper divides the wave term by its wave factor, the damping
-    terms by its real-axis and the bending and seabed terms by its imaginary-axis factor over SSP-RK3
-    (numerics/integrators.py STEPPERS; 1 for ssprk3).
     """
     h = np.asarray(h, float)
     c = max((max_slope / gamma0) ** 0.5, lambda_floor)
     if implicit_damping:
         zeta, zeta_b = 0.0, 0.0
-    fw, fr, fi = stepper_factors(stepper, P)
-    rate = (_coef(_A, P, 2) * c / h / fw
-            + _coef(_B, P, 4) * (zeta / gamma0) / h**2 / fr
-            + _coef(_C, P, 4) * (EI / gamma0) ** 0.5 / h**2 / fi
-            + _coef(_E, P, 8) * (zeta_b / gamma0) / h**4 / fr)
+    rate = (_coef(_A, P, 2) * c / h
+            + _coef(_B, P, 4) * (zeta / gamma0) / h**2
+            + _coef(_C, P, 4) * (EI / gamma0) ** 0.5 / h**2
+            + _coef(_E, P, 8) * (zeta_b / gamma0) / h**4)
     if seabed_Kd > 0.0:
         w = (seabed_Kd / gamma0) ** 0.5
-        rate = rate + w * (1.0 + 2.0 * seabed_zeta) / SSPRK3_IMAG_LIMIT / fi
+        rate = rate + w * (1.0 + 2.0 * seabed_zeta) / SSPRK3_IMAG_LIMIT
     rmax = float(np.max(rate))
     return 1.0 / rmax if rmax > 0 else 1.0
 
@@ -78,7 +73,7 @@ def config_stable_dt(config, h, max_slope, implicit_damping) -> float:
     cab, env, opt = config.cable, config.environment, config.dg
     kd = env.seabed_stiffness * cab.diameter if env.seabed else 0.0
     return opt.cfl * stable_dt(h, int(opt.order), max_slope, cab.gamma0, cab.damping, cab.EI, cab.bending_damping,
-                               opt.lambda_floor, kd, env.seabed_damping, implicit_damping, opt.stepper)
+                               opt.lambda_floor, kd, env.seabed_damping, implicit_damping)
 
 
 # Bending multirate (stepper.py): the nested LDG every K substeps, the bending shear T_s extrapolated
