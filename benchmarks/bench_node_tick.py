@@ -36,6 +36,17 @@ sys.path.insert(0, str(ROOT))
 from benchmarks.bench_node import EI_STAR, instrument  # noqa: E402
 
 
+def _timed_class(cls, timed):
+    """``cls`` whose methods time themselves under "output frame: <method>"."""
+    class Timed(cls):
+        pass
+    for name, fn in vars(cls).items():
+        if callable(fn) and not name.startswith("__"):
+            setattr(Timed, name, timed(fn, f"output frame: {name}"))
+    Timed.__init__ = timed(cls.__init__, "output frame: construction")
+    return Timed
+
+
 class _Bench:
     """One node of one tree, its simulated clock and pose feed, and its per-tick figures."""
 
@@ -52,11 +63,13 @@ class _Bench:
         self.parts = {"advance": 0.0, "state": 0.0, "outputs": 0.0, "publish": 0.0}
         parts = self.parts
 
-        def timed(fn, key):
+        def timed(fn, *keys):
             def wrapper(*a, **k):
                 c = time.thread_time()
                 out = fn(*a, **k)
-                parts[key] += time.thread_time() - c
+                dt = time.thread_time() - c
+                for key in keys:
+                    parts[key] = parts.get(key, 0.0) + dt
                 return out
             return wrapper
 
@@ -67,7 +80,24 @@ class _Bench:
         self.publishers = [self.node.pubs[t] for t in wanted] + ([self.node.tf.pub] if self.node.tf.enabled else [])
         if split:
             for publisher in self.publishers:
-                publisher.publish = timed(publisher.publish, "publish")
+                publisher.publish = timed(publisher.publish, "publish", "publish " + publisher.topic_name)
+            # inclusive parts of the node's tick (each holds the solver calls and publishes made inside it)
+            node, driver = self.node, self.node.driver
+            driver.tick = timed(driver.tick, "driver tick (advance + detection + snapshot)")
+            driver._detect = timed(driver._detect, "snap detection")
+            node._handle_report = timed(node._handle_report, "report handling")
+            node.tf.publish = timed(node.tf.publish, "/tf (build + publish)")
+            node.winch_io.tick = timed(node.winch_io.tick, "winch outputs")
+            node.forecast_io.tick = timed(node.forecast_io.tick, "forecast hand-off")
+            self.convert.tick_outputs = timed(self.convert.tick_outputs, "periodic outputs (solver outputs + encoders)")
+            self.convert.OutputFrame = _timed_class(self.convert.OutputFrame, timed)
+            self.convert.tension_colours = timed(self.convert.tension_colours, "marker colours")
+            cdr = importlib.import_module(f"{pkg}.ros.cdr")
+            for name in dir(cdr):
+                cls = getattr(cdr, name)
+                if isinstance(cls, type) and name.endswith("Encoder") and hasattr(cls, "encode"):
+                    cls.encode = timed(cls.encode, f"encode {name}")
+        self.part_rows = []
         self.motion = build_motion(cfg.motion, cfg.ship_end.position)
         self.period = 1.0 / cfg.node.output_rate
         self.clock = 100.0  # the node's clock, s; the motion's time is clock - 100
@@ -95,6 +125,7 @@ class _Bench:
         if prof is not None:
             prof.disable()
         if timed:
+            self.part_rows.append(dict(self.parts))
             self.rows.append((cpu, self.parts["advance"], self.parts["state"], self.parts["outputs"], self.parts["publish"]))
         if k % round(self.cfg.node.output_rate) == 0:
             c = time.thread_time()
@@ -113,6 +144,8 @@ class _Bench:
                 "publish_ms": med(r[:, 4]),
                 "node_own_ms": med(node_own), "pose_callback_ms": float(np.median(self.pose_cpu) * 1e3),
                 "diagnostics_ms": float(np.median(self.diag_cpu) * 1e3), "tick_errors": self.node.tick_errors,
+                "parts_ms": {key: float(np.median([row.get(key, 0.0) for row in self.part_rows]) * 1e3)
+                             for key in sorted({k for row in self.part_rows for k in row})},
                 "snaps": self.node.snaps_published, "tick_cpu_s": [float(x) for x in r[:, 0] * 1e-3]}
 
 
@@ -273,6 +306,10 @@ def main(argv=None):
                       f"{split}pose callback {r['pose_callback_ms']:.3f}, diagnostics (1 Hz) {r['diagnostics_ms']:.3f}; "
                       f"outputs subscribed {r['subscribed']}, snaps {r['snaps']}, tick errors {r['tick_errors']}, "
                       f"load {r['load'][0]:.2f}", flush=True)
+                if r.get("parts_ms"):
+                    print("  parts (median ms per tick, inclusive: a part holds the parts called inside it):")
+                    for key, value in r["parts_ms"].items():
+                        print(f"    {key:60s} {value:.4f}")
                 if r.get("profile"):
                     print(r["profile"])
             if args.baseline:
