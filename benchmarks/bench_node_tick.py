@@ -15,7 +15,9 @@ timed apart.
 ``--profile N``: cProfile of N ticks after the timed ones (the functions by own time).
 ``--baseline DIR``: a second node from another checkout's ``tether_sim`` (renamed copy, as
 bench_tick.load_baseline; its first run compiles its kernels) in the same process, the two ticked
-alternately, so that their ratio does not depend on the machine's load.
+alternately, so that their ratio does not depend on the machine's load. ``--baseline same``: the second
+node is this tree's without the ``-p`` parameters (e.g. ``-p node.shape_rate:=10`` against the default;
+not with ``--split``, whose wrappers are per module).
 
 Usage: nice -n 10 .venv/bin/python benchmarks/bench_node_tick.py [--params config/ropos_L200.yaml ...]
            [--ticks 1500] [--alpha 0] [--repeat 3] [--baseline ../other-checkout] [--profile 500] [--split]
@@ -156,7 +158,9 @@ def child(params, ticks, alpha, profile, split, baseline, extra=()):
     import rclpy
 
     pkgs = ["tether_sim"]
-    if baseline:
+    if baseline == "same":  # a second node of this tree, without the -p parameters
+        pkgs.append("tether_sim")
+    elif baseline:
         from benchmarks.bench_tick import load_baseline
 
         load_baseline(baseline, with_ros=True)
@@ -166,7 +170,7 @@ def child(params, ticks, alpha, profile, split, baseline, extra=()):
 
     rclpy.init(args=["tether_sim", "--ros-args", "--params-file", str(params), "-p", f"cable.EI:={alpha * EI_STAR}"])
     overrides = [Parameter(key, value=yaml.safe_load(text)) for key, _, text in (item.partition(":=") for item in extra)]
-    benches = [_Bench(pkg, params, alpha, split, overrides if pkg == "tether_sim" else []) for pkg in pkgs]
+    benches = [_Bench(pkg, params, alpha, split, overrides if i == 0 else []) for i, pkg in enumerate(pkgs)]
     deadline = time.monotonic() + 30.0
     while any(p.get_subscription_count() == 0 for b in benches for p in b.publishers) and time.monotonic() < deadline:
         time.sleep(0.05)  # discovery of the sink process
@@ -306,7 +310,7 @@ def main(argv=None):
                       f"{split}pose callback {r['pose_callback_ms']:.3f}, diagnostics (1 Hz) {r['diagnostics_ms']:.3f}; "
                       f"outputs subscribed {r['subscribed']}, snaps {r['snaps']}, tick errors {r['tick_errors']}, "
                       f"load {r['load'][0]:.2f}", flush=True)
-                if r.get("parts_ms"):
+                if args.split and r.get("parts_ms"):
                     print("  parts (median ms per tick, inclusive: a part holds the parts called inside it):")
                     for key, value in r["parts_ms"].items():
                         print(f"    {key:60s} {value:.4f}")
