@@ -19,7 +19,10 @@ single-line node's counterpart is tether_sim/ros/driver.py).
 - Start: the network statics at the driven points' current positions; a DG line whose discrete
   equilibrium polish failed settles with the points held before the clock starts, at least
   ``SETTLE_TIME`` and then until two consecutive 1 s chunks are quiet (:func:`settle_quiet`), at
-  most ``SETTLE_MAX`` (the snap detectors' static tensions are taken after it).
+  most ``SETTLE_MAX`` (the snap detectors' static tensions are taken after it). In the node the
+  clock starts when this is done (it reads the clock again), and each point with a pose input is
+  blended from rest onto its input, as the single-line node starts (:meth:`NetworkDriver.start`):
+  the build's CPU time is not clock the first tick must catch up.
 - Inputs: each driven (``prescribed``) point follows its source (an ``EndPoseInput``, or anything
   with ``has_data`` and ``attachment_at(t)``) as the single-line node's ends do, with the same code
   (:class:`~tether_sim.ros.end_commands.EndCommands`): without data it holds its configured
@@ -182,16 +185,35 @@ class NetworkDriver(EndCommands):
                 points[name] = PointSpec(name, "prescribed", tuple(float(x) for x in pos))
         return replace(self.spec0, points=points)
 
-    def start(self, now: float) -> None:
-        """Solve the network statics at the inputs' current positions and start the clock at ``now``."""
+    def start(self, now: float, clock=None) -> list:
+        """Solve the network statics at the inputs' positions at clock time ``now`` and start the
+        clock there; ``clock`` (the node's: a callable returning the clock time now): the clock
+        starts when the network is built instead, at ``clock()`` read after the statics and the
+        settling (which take a second of CPU on config/ropos_tms.yaml: counted from ``now`` they
+        would leave the first tick behind by as much, a re-synchronisation), and every driven point
+        with a pose input is blended from rest at its static position onto its input (the
+        single-line node's start, EndCommands' "started from rest" blend; snap detection waits for
+        the blends). Returns the blends started, (point, duration, reason)."""
         t0 = now - self.node.input_delay
         spec = self._start_spec(t0)
-        if self.net is not None and not self.failed and all(
-                np.allclose(p.position, self.spec.points[n].position, rtol=0.0, atol=1e-9) for n, p in spec.points.items()):
-            self.anchor = t0 - self.net.time  # built at these positions and at rest (warm-up): keep it
-            self._clear_commands()
-            self._build_detectors()
-            return
+        if not (self.net is not None and not self.failed and all(
+                np.allclose(p.position, self.spec.points[n].position, rtol=0.0, atol=1e-9) for n, p in spec.points.items())):
+            self._build(spec)  # (else: built at these positions and at rest (warm-up): kept)
+        if clock is not None:
+            t0 = clock() - self.node.input_delay
+        self.anchor = t0 - self.net.time
+        self._clear_commands()
+        self._build_detectors()
+        if clock is None:
+            return []
+        report = NetworkTickReport()
+        for name in self.driven_points():
+            if hasattr(self.sources.get(name), "is_held"):  # a pose input (not an analytic motion)
+                self._start_blend(name, t0, "started from rest", report)
+        return report.blends
+
+    def _build(self, spec):
+        """The network statics of ``spec`` (and the settling of an unpolished DG line)."""
         self.spec = spec
         self.net = NetworkSolver(self.spec, statics=self.statics)
         # a DG line whose static polish failed (a near-neutral slack line: equilibrium_iterations -1)
@@ -204,9 +226,6 @@ class NetworkDriver(EndCommands):
             while quiet < 2 and self.net.time < SETTLE_MAX - 1e-9:
                 out = self.net.tick(min(self.net.time + SETTLE_CHUNK, SETTLE_MAX))
                 quiet = quiet + 1 if all(settle_quiet(out[n]["samples"]) for n in self.settled) else 0
-        self.anchor = t0 - self.net.time
-        self._clear_commands()
-        self._build_detectors()
 
     def _build_detectors(self, static=True):
         """Fresh detectors; ``static``: take the reference (static) end tensions from the current

@@ -75,6 +75,7 @@ class NetworkSimNode(Node):
         self.driver = NetworkDriver(self.spec, node, self.inputs)
         self.driver.start(0.0)
         self.driver.tick(self.driver.stamp + node.input_delay + 2.0 / node.output_rate)
+        outputs.tick_outputs(self.driver, node)  # the outputs' first call (cdr, marker colours) before the clock
         self.get_logger().info(f"network: {len(self.spec.lines)} line(s) ({', '.join(self.spec.lines)}), "
                                f"{len(self.spec.bodies)} body(ies), built in {time.perf_counter() - t0:.1f} s; "
                                f"coupling step {min(self.spec.coupling_step, self.driver.net.coupling_limit):.4g} s")
@@ -132,7 +133,10 @@ class NetworkSimNode(Node):
 
     def _start(self, now):
         d = self.driver
-        d.start(now)  # the network statics at the inputs' positions (configured ones without a pose)
+        # the network statics at the inputs' positions (configured ones without a pose); the clock
+        # starts once they are solved, the points blended from rest onto their inputs
+        for point, duration, reason in d.start(now, clock=self._now):
+            self.get_logger().info(f"{point} blended onto its pose input over {duration:.2f} s ({reason})")
         missing = [e for e, inp in self.inputs.items() if not inp.has_data]
         if missing:
             self.get_logger().warning(f"starting without {', '.join(missing)} pose(s): holding the configured positions")
