@@ -348,9 +348,10 @@ def test_the_node_start_counts_the_clock_from_the_built_network(spec):
     """The node starts the network at the inputs' positions (statics, and the settling of an
     unpolished line: about a second of CPU on config/ropos_tms.yaml). That time used to count as lag:
     the first tick was 1.2 s behind the clock, beyond node.max_lag, and re-synchronised (1.15 s of
-    clock dropped). With the node's clock the driver starts the clock when the network is built (here
-    the clock reads 1.5 s later: a slow build), and the ship, at rest at its static position, is
-    blended onto its moving input as the single-line node starts: no re-synchronisation, no step."""
+    clock dropped). Now the node builds (here at clock 1 s), waits until the poses that came during the
+    build are in (the clock reads 2.5 s: a slow build), then starts the clock there; the ship, at rest
+    at its static position, is blended onto its moving input as the single-line node starts: no
+    re-synchronisation, no step."""
     node = SimConfig().node
     src = _ship_input(node)
     a, w = 0.5, 2 * np.pi * 0.2
@@ -360,12 +361,15 @@ def test_the_node_start_counts_the_clock_from_the_built_network(spec):
 
     for k in range(51):
         pose(k * 0.02)  # 0 .. 1 s
-    for k in range(1, 76):
-        pose(1.0 + k * 0.02)  # the poses that come while the network is built: to 2.5 s
     d = NetworkDriver(spec, node, {"ship": src})
-    blends = d.start(1.0, clock=lambda: 2.5)
+    d.build(1.0)
+    static_z = a * np.sin(w * (1.0 - node.input_delay))  # the statics are solved at the input at 0.8 s
+    assert not d.inputs_cover(2.5)  # the poses of the build's time not in yet
+    for k in range(1, 76):
+        pose(1.0 + k * 0.02)  # they come: to 2.5 s
+    assert d.inputs_cover(2.5)
+    blends = d.start_clock(2.5)
     assert d.stamp == pytest.approx(2.5 - node.input_delay)
-    static_z = a * np.sin(w * (1.0 - node.input_delay))  # the statics were solved at the input at 0.8 s
     p = d.net.points["ship"]
     assert p.pos[2] == pytest.approx(static_z, abs=1e-9) and np.all(p.vel == 0.0)
     assert [(b[0], b[2]) for b in blends] == [("ship", "started from rest")]
