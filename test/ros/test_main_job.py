@@ -59,3 +59,33 @@ def test_replay_rate_follows_the_measured_capacity():
     assert replay_rate(0.5, 0.9) == 0.35  # behind the clock: 0.7 x 0.5
     assert replay_rate(None, None) == 1.0
     assert replay_rate(0.01, None) == 0.05  # never below 0.05
+
+
+def test_a_job_stops_its_children_however_it_ends(tmp_path):
+    """run_job (make run and the vehicle demo): 0 / 1 / 130 for a finished, failed and interrupted body
+    (SIGTERM raised inside it), the reason said, every child stopped, the SIGTERM handler given back."""
+    import os
+    import signal
+    import sys
+
+    from tether_sim.ros.processes import StepFailed, run_job
+
+    said = []
+    before = signal.getsignal(signal.SIGTERM)
+    children = []
+
+    def body(end):
+        def job(group):
+            children.append(group.start("sleeper", [sys.executable, "-c", "import time; time.sleep(60)"]))
+            if end == "fail":
+                raise StepFailed("the sleeper was told to fail")
+            if end == "sigterm":
+                os.kill(os.getpid(), signal.SIGTERM)
+        return job
+
+    env = dict(os.environ)
+    codes = [run_job(env, tmp_path / "logs", tmp_path, body(end), said.append) for end in ("done", "fail", "sigterm")]
+    assert codes == [0, 1, 130]
+    assert said == ["FAILED: the sleeper was told to fail", "interrupted"]
+    assert all(child.proc.poll() is not None for child in children)
+    assert signal.getsignal(signal.SIGTERM) is before

@@ -32,7 +32,7 @@ from pathlib import Path
 
 from tether_sim.ros.graph_probe import GraphProbe
 from tether_sim.ros.processes import (ProcessGroup, StepFailed, claim_domain_id, command_for,
-                                      isolated_env)
+                                      isolated_env, run_job)
 
 REPO = Path(__file__).resolve().parents[2]
 RECORD = DEFAULT_RECORD = Path("data/ropos_ship_heave.mcap")
@@ -336,10 +336,6 @@ def print_findings(result: dict, static_expected, out: Path) -> None:
     say(f"summary: {result['report_path']}")
 
 
-def _terminate(signum, _frame):
-    raise KeyboardInterrupt(f"signal {signum}")
-
-
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m tether_sim.ros.main_job", description=__doc__.split("\n")[0])
     parser.add_argument("--rate", type=float, default=0.0,
@@ -373,9 +369,8 @@ def main(argv=None) -> int:
         say(f"FAILED: {exc}")
         return 1
     os.environ.update(isolated_env(domain))  # the graph probe joins the same private domain
-    old_handler = signal.signal(signal.SIGTERM, _terminate)  # stop the children on SIGTERM too
-    group = ProcessGroup(isolated_env(domain), out / "logs", root)
-    try:
+
+    def job(group: ProcessGroup) -> None:
         stage("set-up", "the environment is up to date (`make run` ran tools/setup_env.sh)")
         checked = preflight(root, Path(args.params))
         stage("solver kernels", "loading numba's cache (compiling it if cold)")
@@ -399,16 +394,8 @@ def main(argv=None) -> int:
             raise StepFailed(f"the recording has nothing to report: {exc}") from exc
         print_findings(result, checked["static"], out)
         say(f"done in {time.monotonic() - t_start:.0f} s")
-        return 0
-    except StepFailed as exc:
-        say(f"FAILED: {exc}")
-        return 1
-    except KeyboardInterrupt:
-        say("interrupted")
-        return 130
-    finally:
-        group.stop_all()
-        signal.signal(signal.SIGTERM, old_handler)
+
+    return run_job(isolated_env(domain), out / "logs", root, job, say)
 
 
 if __name__ == "__main__":

@@ -132,3 +132,27 @@ class ProcessGroup:
     def stop_all(self) -> None:
         for child in reversed(self.children):
             child.stop()
+
+
+def _terminate(signum, _frame):
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
+def run_job(env: dict, log_dir: Path, root: Path, body, say) -> int:
+    """Run body(group) on a new ProcessGroup whose children are stopped however it ends (SIGTERM
+    included, as `make run` may send): 0 when body returns, 1 on StepFailed (its reason said),
+    130 on an interrupt."""
+    old = signal.signal(signal.SIGTERM, _terminate)
+    group = ProcessGroup(env, log_dir, root)
+    try:
+        body(group)
+        return 0
+    except StepFailed as exc:
+        say(f"FAILED: {exc}")
+        return 1
+    except KeyboardInterrupt:
+        say("interrupted")
+        return 130
+    finally:
+        group.stop_all()
+        signal.signal(signal.SIGTERM, old)

@@ -21,8 +21,8 @@ import sys
 import time
 from pathlib import Path
 
-from tether_sim.ros.main_job import _terminate
-from tether_sim.ros.processes import ProcessGroup, StepFailed, claim_domain_id, command_for, isolated_env
+from tether_sim.ros.processes import (ProcessGroup, StepFailed, claim_domain_id, command_for, isolated_env,
+                                      run_job)
 
 REPO = Path(__file__).resolve().parents[2]
 PARAMS = Path("config/rov_demo.yaml")
@@ -156,9 +156,8 @@ def main(argv=None) -> int:
     except StepFailed as exc:
         say(f"FAILED: {exc}")
         return 1
-    group = ProcessGroup(isolated_env(domain), out / "logs", root)
-    old = signal.signal(signal.SIGTERM, _terminate)  # stop the children on SIGTERM too, as make run does
-    try:
+
+    def job(group: ProcessGroup) -> None:
         run(root, mcap, args, group)
         say(f"recorded {mcap} ({mcap.stat().st_size / 1e6:.1f} MB); writing the report ...")
         from tether_sim.report import ReportError, make_report
@@ -173,16 +172,8 @@ def main(argv=None) -> int:
         say(f"report: {report} (vehicle figure {out / 'figures' / 'vehicle.png'})")
         print(text)
         say(f"done in {time.monotonic() - t_start:.0f} s")
-        return 0
-    except StepFailed as exc:
-        say(f"FAILED: {exc}")
-        return 1
-    except KeyboardInterrupt:
-        say("interrupted")
-        return 130
-    finally:
-        group.stop_all()
-        signal.signal(signal.SIGTERM, old)
+
+    return run_job(isolated_env(domain), out / "logs", root, job, say)
 
 
 if __name__ == "__main__":

@@ -2,7 +2,7 @@
 shear every K substeps, T_s extrapolated quadratically from its last three evaluations in between.
 
 - The rule: K = 1 (every stage) without bending stiffness, with bending damping or a torque; otherwise the macro
-  step K dt keeps w_max K dt <= 0.25 (AB3 is stable on the imaginary axis up to 0.72) and K dt <= 1 ms.
+  step K dt keeps w_max K dt <= 0.25 (AB3 is stable on the imaginary axis up to 0.72) and K dt <= 25 ms.
 - A slack, curved cable in vacuum with free ends (its bending energy exchanged with kinetic energy, nothing
   else but the elastic tension): with the multirate the motion follows the every-stage solution and the
   energy never grows (the second-order extrapolation would feed the bending modes: |rho| = 1 + (w H)^4 / 4).
@@ -23,6 +23,7 @@ from tether_sim.physics.environment import Environment
 from tether_sim.solvers.config import DGOptions, InitialState
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.solver import DGCableSolver
+from tether_sim.solvers.dg.stepper import BMR_OK
 from tether_sim.solvers.dg.timestep import (
     BENDING_MULTIRATE_MAX_H, BENDING_MULTIRATE_WH, SHORT_CHORD_STIFFENING, _C, bending_multirate_steps,
 )
@@ -98,3 +99,62 @@ def test_multirate_follows_the_every_stage_solution_and_gains_no_energy():
     assert moved > (1e-4 if JIT_OFF else 0.05)  # the line did move
     assert w1 <= 1.0 + 1e-4  # no energy gained
     assert diff <= 1e-3 * moved
+
+
+def short_k(K=4):
+    """solver(True) with the records every K substeps (short runs do many of them)."""
+    s = solver(True)
+    s.ws.iprm_step[Y.I_BMR_K] = s.ws.iprm[Y.I_BMR_K] = K
+    return s
+
+
+def _run(s, ends, restart=False):
+    """advance_to every time in ends; restart: the carried records dropped before each call (as before they
+    were carried)."""
+    for t in ends:
+        if restart:
+            s.ws.bmr[BMR_OK] = 0.0
+        s.advance_to(t)
+    return s.ws.U.copy()
+
+
+def test_records_carry_from_one_call_to_the_next():
+    """Ten calls with the records carried (each call's first stage in full) stay closer to one call of the
+    same substeps than ten calls with the records dropped at every call (each call's first 2K substeps at
+    every stage): the records do carry."""
+    dt = solver(True)._substep()
+    steps = 40 if JIT_OFF else 400
+    ends = [dt * steps * k / 10 for k in range(1, 11)]
+    runs = []
+    for calls, restart in ((ends[-1:], False), (ends, False), (ends, True)):
+        s = short_k()
+        start(s)
+        runs.append(_run(s, calls, restart))
+    one, carried, restarted = runs
+    scale = np.max(np.abs(one))
+    d_carry, d_restart = np.max(np.abs(carried - one)), np.max(np.abs(restarted - one))
+    print("carried", d_carry, "restarted", d_restart, "scale", scale)
+    assert d_restart > 3.0 * d_carry and d_restart > 1e-9 * scale
+
+
+def test_restore_brings_back_the_records_and_a_new_state_restarts_them():
+    dt = solver(True)._substep()
+    n = 12 if JIT_OFF else 300
+    a = short_k()
+    start(a)
+    a.advance_to(n * dt)
+    snap = a.snapshot()
+    first = _run(a, [2 * n * dt, 3 * n * dt])
+    a.restore(snap)
+    assert np.array_equal(_run(a, [2 * n * dt, 3 * n * dt]), first)  # the same records: bit for bit
+    # a state set between calls (at the same time): the records restart, as with them dropped
+    b, c = short_k(), short_k()
+    for s, drop in ((b, False), (c, True)):
+        start(s)
+        s.advance_to(n * dt)
+        s.set_shape(lambda x: np.stack([0.3 * np.sin(0.2 * x), 0 * x, -np.sqrt(1 - (0.3 * np.sin(0.2 * x)) ** 2)], 1),
+                    origin=np.zeros(3))
+        if drop:
+            s.ws.bmr[BMR_OK] = 0.0
+        s.advance_to(2 * n * dt)
+    assert np.array_equal(b.ws.U, c.ws.U)

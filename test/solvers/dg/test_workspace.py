@@ -9,10 +9,9 @@ to fail the check.
 
 import numpy as np
 import pytest
-from numba import literal_unroll
+from numba import literal_unroll, njit
 
 from tether_sim.config import SimConfig
-from tether_sim.numerics.jit import jit
 from tether_sim.physics.boundary import EndCondition
 from tether_sim.physics.cable import CableProperties
 from tether_sim.physics.environment import Environment
@@ -84,7 +83,8 @@ def test_a_swap_of_two_same_rank_slots_is_caught(ws):
     assert mismatches(A, ws) == ["U", "dU"]
 
 
-@jit
+# not cached on disk: numba keys a cache on this file alone, and bind changes with SLOTS in workspace.py
+@njit(cache=False, _nrt=False)
 def _marker_sums(F, I, S, out):
     k = 0
     for a in literal_unroll(W.bind(F, I, S)):

@@ -161,7 +161,7 @@ def update_solve(band, n, kl, x, col, wood, idp):
 
 
 @jit
-def _matches(idp, dprm, gh, age, h, rel):
+def _matches(idp, gh, age, h, rel):
     """A stored LU (its age, gamma h and released flags at idp[rel], idp[rel + 1]) is for this step."""
     return age >= 0 and h == gh and idp[rel] == idp[ID_REL0] and idp[rel + 1] == idp[ID_REL0 + 1]
 
@@ -171,14 +171,14 @@ def select_lu(idp, dprm, wp, band, wood, gh):
     """Make the active LU the one kept for this step size and these released ends (idp ID_REL0) if any;
     otherwise the active one is parked in place of an empty or the oldest parked one, which becomes the
     active one to be refactored. Returns the parked slot swapped in (0: none)."""
-    if idp[ID_LU_AGE] < 0 or _matches(idp, dprm, gh, idp[ID_LU_AGE], dprm[DP_LU_H], ID_RELF0):
+    if idp[ID_LU_AGE] < 0 or _matches(idp, gh, idp[ID_LU_AGE], dprm[DP_LU_H], ID_RELF0):
         return 0
     best = 0
     oldest = -1
     for s in range(1, LU_SLOTS):
         o = ID_PARK0 + (s - 1) * LU_INTS
         age = idp[o]
-        if _matches(idp, dprm, gh, age, dprm[DP_PARK_H + s - 1], o + ID_RELF0 - ID_LU_AGE):
+        if _matches(idp, gh, age, dprm[DP_PARK_H + s - 1], o + ID_RELF0 - ID_LU_AGE):
             best = s
             break
         if age < 0:

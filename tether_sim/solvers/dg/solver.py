@@ -96,6 +96,7 @@ class DGCableSolver:
             hw=hw, prm=prm, iprm=iprm, ends=ends, target=np.zeros((2, 7)), no_fdamp=np.zeros((2, 4)),
             drained=np.zeros(1, dtype=np.int64), drain=np.zeros((3, cap)), fresh=np.zeros(2, dtype=np.int64),
             snap=np.zeros(N * nm * 6 + prm.size + 2 * Y.N_BC + 2 * 6 + N), snap_i=np.zeros(iprm.size, dtype=np.int64),
+            bmr=np.zeros(stepping.records_size(N * nm * 6)),
         )
         arrays.update({slot: getattr(self._damp, a) for slot, a in _DAMPING_SLOTS.items()})
         self.ws = Workspace(arrays)
@@ -300,7 +301,8 @@ class DGCableSolver:
         ws = self.ws
         return dict(time=self.time, U=ws.U.copy(), ra=ws.ra.copy(), bc=ws.bc.copy(), bodies=ws.bs.copy(),
                     end_pos=[p.copy() for p in ws.ends[:, EN_P:EN_P + 3]],
-                    end_vel=[v.copy() for v in ws.ends[:, EN_V:EN_V + 3]], **winch_driver.snapshot(ws, self.winch_enabled))
+                    end_vel=[v.copy() for v in ws.ends[:, EN_V:EN_V + 3]], **stepping.records(ws),
+                    **winch_driver.snapshot(ws, self.winch_enabled))
 
     def restore(self, snap) -> None:
         ws = self.ws
@@ -312,6 +314,7 @@ class DGCableSolver:
         ws.ends[:, EN_P:EN_P + 3] = np.asarray(snap["end_pos"], float)
         ws.ends[:, EN_V:EN_V + 3] = np.asarray(snap["end_vel"], float)
         ws.target[:, TG_SET] = 0.0
+        stepping.put_records(ws, snap)
         if winch_driver.restore(ws, snap):
             self._winch_sync()
         self._outputs_valid = False

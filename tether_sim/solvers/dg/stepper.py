@@ -4,12 +4,16 @@ with the per-substep end-tension ring buffer. The loop itself allocates nothing.
 
 Bending multirate (iprm[I_BMR_K] = K > 1, timestep.bending_multirate_steps): the nested LDG of the
 bending shear T_s (ldg.py, the costliest part of a right-hand side with bending) runs at stage 0 of the
-substeps 0, K, 2K, ... of each call, whose T_s are recorded (wq W_TSH, three slots); from the third record
-on, every other stage takes T_s = the quadratic through the last three records at the stage time
-(kernels.held_shear_force), the rest of the right-hand side evaluated as always. On a bending mode of
-frequency w that is the third-order Adams-Bashforth method on the macro step H = K dt, stable for
-w H <= 0.72; K keeps w_max H <= 0.25. The first 2K substeps of a call evaluate T_s at every stage (no
-record outlives the call: restore, set_shape or relax between calls cannot leave a stale one).
+substeps 0, K, 2K, ... (counted across calls, below), whose T_s are recorded (wq W_TSH, three slots); from
+the third record on, every other stage takes T_s = the quadratic through the last three records at the
+stage time (kernels.held_shear_force), the rest of the right-hand side evaluated as always. On a bending
+mode of frequency w that is the third-order Adams-Bashforth method on the macro step H = K dt, stable for
+w H <= 0.72; K keeps w_max H <= 0.25. The records are carried to the next call (slot bmr: their count and
+times, the substeps since the last, the end time and the end state U, r_a, bodies) and used there only
+when that call starts where this one ended: the same time (to 1e-9 s) and bit for bit the same state.
+Anything that moved the state between calls (restore, set_shape, relax, a new start) restarts the
+records: the first 2K substeps after it evaluate T_s at every stage. The first stage of every call evaluates
+T_s in full (as the output evaluation it may reuse did: tick.py; reuse or not, the same numbers).
 
 With ``dg.damping: implicit`` the loop is the Strang splitting D(dt/2) E(dt) D(dt/2) (consecutive
 half steps merged into one D(dt)): E is the SSP-RK3 step of the right-hand side without the
@@ -35,7 +39,7 @@ from tether_sim.solvers.dg.layout import (
     P_EIC, P_GAMMA0, P_LAMBDA_BC, P_MN, P_MT, P_RELAX, P_TIME, P_WL, T_LAM, T_TS, T_TV, T_V, W_I, W_TS, W_TSH, W_WET,
 )
 from tether_sim.solvers.dg.workspace import (
-    X_BAND, X_BC, X_BLK, X_BP, X_BS, X_BS0, X_BUF, X_BVEC, X_CNT, X_CX, X_CY, X_CZ, X_D, X_DBS, X_DPRM, X_DRA, X_DTMP,
+    X_BAND, X_BC, X_BLK, X_BMR, X_BP, X_BS, X_BS0, X_BUF, X_BVEC, X_CNT, X_CX, X_CY, X_CZ, X_D, X_DBS, X_DPRM, X_DRA, X_DTMP,
     X_DWOOD, X_DU, X_ENDF, X_FDAMP, X_FL, X_H, X_HW, X_IDP, X_IPRM_STEP, X_IQ, X_LF, X_OUT, X_PJ, X_PRM_STEP, X_RA, X_RA0, X_RS,
     X_TAB_EPS, X_TAB_T, X_TMP, X_TR, X_TRC, X_U, X_U0, X_V, X_VBC, X_VEC, X_WD, X_WM, X_WP, X_WQ,
 )
@@ -45,6 +49,14 @@ from tether_sim.solvers.dg.winch import (
 
 STATUS_OK = 0
 STATUS_DIVERGED = 1
+
+# slot bmr (bending multirate records carried between calls; module docstring)
+BMR_N = 0  # records made since the last restart
+BMR_R = 1  # times of record slots 0, 1, 2
+BMR_DUE = 4  # substeps since the last record
+BMR_T = 5  # end time of the last call
+BMR_OK = 6  # 1: the carried records belong to the state saved at BMR_STATE
+BMR_STATE = 7  # U (flat), r_a (3), body states (2 x 13) at the end of the last call
 
 
 @jit_inline
@@ -186,29 +198,39 @@ def dg_advance(nsteps, t0, dt, reuse, A):
     winch = winch_moving(prm, iprm)
     t1 = t0 + nsteps * dt
     L_tick = prm[P_WL]
-    if implicit:
-        fill_end_kinematics(bc, iprm, t0, vbc, bs, bp)
-        _damping(0.5 * dt, A)
-    cap = buf.shape[0]
     # the RK update, copy and finiteness sum run over flat views (element-major order, as U's
     # own loops would: the same operations in the same order)
     nu = U.size
     Uf = U.reshape(nu)
     U0f = U0.reshape(nu)
     dUf = dU.reshape(nu)
+    # bending multirate (module docstring): records of T_s at stage 0 of every K-th substep (slot = record
+    # count mod 3, times r0..r2), carried from the last call when it ended on this state; from the third
+    # record on the other stages extrapolate
+    K = iprm[I_BMR_K] if iprm[I_BENDING] != 0 else 0
+    wq = A[X_WQ]
+    bmr = A[X_BMR]
+    nrec = 0
+    due = 0
+    r0 = 0.0
+    r1 = 0.0
+    r2 = 0.0
+    if K > 1 and _records_carry(bmr, t0, Uf, ra, bs):
+        nrec = int(bmr[BMR_N])
+        due = int(bmr[BMR_DUE])
+        r0 = bmr[BMR_R]
+        r1 = bmr[BMR_R + 1]
+        r2 = bmr[BMR_R + 2]
+    bmr[BMR_OK] = 0.0
+    if implicit:
+        fill_end_kinematics(bc, iprm, t0, vbc, bs, bp)
+        _damping(0.5 * dt, A)
+    cap = buf.shape[0]
     anchor = iprm[I_ANCHOR]
     kind_a = iprm[I_KIND0 + anchor]
     kinematic_anchor = is_kinematic(kind_a)
     out[0] = 0.0
     out[1] = STATUS_OK
-    # bending multirate (module docstring): records of T_s at stage 0 of substeps 0, K, 2K, ... of this
-    # call (slot = record count mod 3, times r0..r2); from the third record on the other stages extrapolate
-    K = iprm[I_BMR_K] if iprm[I_BENDING] != 0 else 0
-    wq = A[X_WQ]
-    nrec = 0
-    r0 = 0.0
-    r1 = 0.0
-    r2 = 0.0
     for n in range(nsteps):
         t = t0 + n * dt
         for i in range(nu):
@@ -230,8 +252,8 @@ def dg_advance(nsteps, t0, dt, reuse, A):
             if winch:
                 winch_stage(prm, hw, h, ts, t0, t1)
             internal = not reuse or n > 0 or stage > 0
-            record = K > 1 and stage == 0 and n % K == 0
-            if K > 1 and nrec >= 3 and not record:
+            record = K > 1 and stage == 0 and (nrec == 0 or due >= K)
+            if K > 1 and nrec >= 3 and not record and (n > 0 or stage > 0):  # a call's first stage in full
                 _extrapolation_weights(prm, ts, r0, r1, r2)
             dg_evaluate(ts, A, prm, iprm, fdamp, implicit, internal)
             prm[P_BMR] = 0.0
@@ -245,6 +267,7 @@ def dg_advance(nsteps, t0, dt, reuse, A):
                 else:
                     r2 = ts
                 nrec += 1
+                due = 0
             if stage == 0:
                 slot = cnt[0] % cap
                 buf[slot, 0] = t
@@ -281,6 +304,53 @@ def dg_advance(nsteps, t0, dt, reuse, A):
             out[1] = STATUS_DIVERGED
             return
         out[0] = n + 1
+        due += 1
+    if K > 1:
+        _keep_records(bmr, t1, nrec, due, r0, r1, r2, Uf, ra, bs)
+
+
+@jit_inline
+def _records_carry(bmr, t0, Uf, ra, bs):
+    """The carried records (slot bmr) are valid for a call from t0 on this state: the last call ended at t0
+    (to 1e-9 s) with bit for bit this U, r_a and body states."""
+    if bmr[BMR_OK] != 1.0 or abs(t0 - bmr[BMR_T]) > 1e-9:
+        return False
+    k = BMR_STATE
+    for i in range(Uf.size):
+        if bmr[k + i] != Uf[i]:
+            return False
+    k += Uf.size
+    for c in range(3):
+        if bmr[k + c] != ra[c]:
+            return False
+    k += 3
+    for end in range(2):
+        for c in range(bs.shape[1]):
+            if bmr[k + end * bs.shape[1] + c] != bs[end, c]:
+                return False
+    return True
+
+
+@jit_inline
+def _keep_records(bmr, t1, nrec, due, r0, r1, r2, Uf, ra, bs):
+    """Save the records' bookkeeping and the end state of this call into bmr (_records_carry reads them)."""
+    bmr[BMR_N] = nrec
+    bmr[BMR_R] = r0
+    bmr[BMR_R + 1] = r1
+    bmr[BMR_R + 2] = r2
+    bmr[BMR_DUE] = due
+    bmr[BMR_T] = t1
+    k = BMR_STATE
+    for i in range(Uf.size):
+        bmr[k + i] = Uf[i]
+    k += Uf.size
+    for c in range(3):
+        bmr[k + c] = ra[c]
+    k += 3
+    for end in range(2):
+        for c in range(bs.shape[1]):
+            bmr[k + end * bs.shape[1] + c] = bs[end, c]
+    bmr[BMR_OK] = 1.0
 
 
 @jit_inline

@@ -12,11 +12,12 @@ import math
 import numpy as np
 
 from tether_sim.errors import SolverDivergedError
+from tether_sim.physics.bodies import BODY_STATE_SIZE
 from tether_sim.physics.boundary import END_NAMES
 from tether_sim.solvers.base import LOAD_F, LOAD_M, LOAD_T
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg.inputs import motion_floats
-from tether_sim.solvers.dg.stepper import STATUS_DIVERGED
+from tether_sim.solvers.dg.stepper import BMR_STATE, STATUS_DIVERGED
 from tether_sim.solvers.dg.tick import (
     BAD_INPUT, TG_P, TG_SET, TG_V, dg_tick, drain_now, evaluate_now, node_tick, outputs_now,
 )
@@ -63,6 +64,26 @@ def tick_inputs(tin, ship, vehicle, ends, kinds):
                                  f"3 numbers each: {exc}") from None
             mask |= 1 << e
     return mask
+
+
+# ---------------------------------------------------------------------- bending multirate records
+def records_size(nu):
+    """Length of the slot bmr for a state of nu numbers (stepper.BMR_STATE + U, r_a, two body states)."""
+    return BMR_STATE + nu + 3 + 2 * BODY_STATE_SIZE
+
+
+def records(ws):
+    """The bending multirate's carried records, for snapshot(): bookkeeping (bmr) and the T_s records."""
+    return dict(bmr=ws.bmr.copy(), bmr_records=ws.wq[:, :, Y.W_TSH:Y.W_TSH + 9].copy())
+
+
+def put_records(ws, snap):
+    """restore(): the records of the snapshot's state, or none (a snapshot without them)."""
+    if "bmr" in snap:
+        ws.bmr[:] = snap["bmr"]
+        ws.wq[:, :, Y.W_TSH:Y.W_TSH + 9] = snap["bmr_records"]
+    else:
+        ws.bmr[:] = 0.0
 
 
 # ---------------------------------------------------------------------- stepping

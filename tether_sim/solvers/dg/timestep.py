@@ -86,7 +86,7 @@ def config_stable_dt(config, h, max_slope, implicit_damping) -> float:
 # (the short-chord tangent b = 2 q / (1 + l^2) of a slack part has |db/dq| <= 2: four times the
 # stiffness, twice the frequency; ldg.py), and H <= BENDING_MULTIRATE_MAX_H for accuracy.
 BENDING_MULTIRATE_WH = 0.25
-BENDING_MULTIRATE_MAX_H = 1e-3  # s
+BENDING_MULTIRATE_MAX_H = 0.025  # s (about the node tick)
 SHORT_CHORD_STIFFENING = 2.0
 
 

@@ -89,6 +89,8 @@ SLOTS = (
     ("fresh", "i", 1, "kept evaluation valid, reuse count"),
     ("snap", "f", 1, "kept inputs (U, prm, bc, vbc, h)"),
     ("snap_i", "i", 1, "kept int parameters"),
+    # bending multirate records carried from one stepper call to the next (stepper.py)
+    ("bmr", "f", 1, "record count, record times, substeps since the last record, end time, end state"),
 )
 
 
