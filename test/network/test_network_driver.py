@@ -247,6 +247,19 @@ def _ship_input(node):
     return EndPoseInput.for_node("ship", node)
 
 
+HEAVE_A, HEAVE_W = 0.5, 2 * np.pi * 0.2  # m, rad/s: peak speed 0.63 m/s, peak acceleration 0.79 m/s^2
+
+
+def _heaving_ship(node):
+    """The ship's EndPoseInput and a function adding its pose z = HEAVE_A sin(HEAVE_W t) at clock time t."""
+    src = _ship_input(node)
+
+    def pose(t):
+        src.add_pose(t, (0.0, 0.0, HEAVE_A * np.sin(HEAVE_W * t)), (0.0, 0.0, 0.0, 1.0))
+
+    return src, pose
+
+
 def test_a_stalled_process_resumes_its_points_by_blends_not_steps(spec):
     """The node process stops for 1.5 s (a busy machine). After it, the timer's tick runs before the
     queued poses (the last five: sensor-data QoS) are taken: the ship's input is held past its
@@ -259,11 +272,8 @@ def test_a_stalled_process_resumes_its_points_by_blends_not_steps(spec):
     from tether_sim.ros.end_commands import BLEND_ACCELERATION
 
     node = SimConfig().node
-    src = _ship_input(node)
-    a, w = 0.5, 2 * np.pi * 0.2  # m, rad/s: peak speed 0.63 m/s, peak acceleration 0.79 m/s^2
-
-    def pose(t):
-        src.add_pose(t, (0.0, 0.0, a * np.sin(w * t)), (0.0, 0.0, 0.0, 1.0))
+    src, pose = _heaving_ship(node)
+    a, w = HEAVE_A, HEAVE_W
 
     for k in range(21):
         pose(k * 0.05)
@@ -309,11 +319,8 @@ def test_a_clock_jumping_back_holds_the_points_and_runs_on(spec):
     from tether_sim.ros.end_commands import BLEND_ACCELERATION
 
     node = SimConfig().node
-    src = _ship_input(node)
-    a, w = 0.5, 2 * np.pi * 0.2
-
-    def pose(t):
-        src.add_pose(t, (0.0, 0.0, a * np.sin(w * t)), (0.0, 0.0, 0.0, 1.0))
+    src, pose = _heaving_ship(node)
+    a, w = HEAVE_A, HEAVE_W
 
     for k in range(51):
         pose(k * 0.02)
@@ -353,11 +360,8 @@ def test_the_node_start_counts_the_clock_from_the_built_network(spec):
     at its static position, is blended onto its moving input as the single-line node starts: no
     re-synchronisation, no step."""
     node = SimConfig().node
-    src = _ship_input(node)
-    a, w = 0.5, 2 * np.pi * 0.2
-
-    def pose(t):
-        src.add_pose(t, (0.0, 0.0, a * np.sin(w * t)), (0.0, 0.0, 0.0, 1.0))
+    src, pose = _heaving_ship(node)
+    a, w = HEAVE_A, HEAVE_W
 
     for k in range(51):
         pose(k * 0.02)  # 0 .. 1 s
