@@ -15,7 +15,9 @@ timed apart.
 ``--profile N``: cProfile of N ticks after the timed ones (the functions by own time).
 ``--baseline DIR``: a second node from another checkout's ``tether_sim`` (renamed copy, as
 bench_tick.load_baseline; its first run compiles its kernels) in the same process, the two ticked
-alternately, so that their ratio does not depend on the machine's load.
+alternately, so that their ratio does not depend on the machine's load. ``--baseline same``: the second
+node is this tree's without the ``-p`` parameters (e.g. ``-p node.shape_rate:=10`` against the default;
+not with ``--split``, whose wrappers are per module).
 
 Usage: nice -n 10 .venv/bin/python benchmarks/bench_node_tick.py [--params config/ropos_L200.yaml ...]
            [--ticks 1500] [--alpha 0] [--repeat 3] [--baseline ../other-checkout] [--profile 500] [--split]
@@ -36,6 +38,17 @@ sys.path.insert(0, str(ROOT))
 from benchmarks.bench_node import EI_STAR, instrument  # noqa: E402
 
 
+def _timed_class(cls, timed):
+    """``cls`` whose methods time themselves under "output frame: <method>"."""
+    class Timed(cls):
+        pass
+    for name, fn in vars(cls).items():
+        if callable(fn) and not name.startswith("__"):
+            setattr(Timed, name, timed(fn, f"output frame: {name}"))
+    Timed.__init__ = timed(cls.__init__, "output frame: construction")
+    return Timed
+
+
 class _Bench:
     """One node of one tree, its simulated clock and pose feed, and its per-tick figures."""
 
@@ -52,11 +65,13 @@ class _Bench:
         self.parts = {"advance": 0.0, "state": 0.0, "outputs": 0.0, "publish": 0.0}
         parts = self.parts
 
-        def timed(fn, key):
+        def timed(fn, *keys):
             def wrapper(*a, **k):
                 c = time.thread_time()
                 out = fn(*a, **k)
-                parts[key] += time.thread_time() - c
+                dt = time.thread_time() - c
+                for key in keys:
+                    parts[key] = parts.get(key, 0.0) + dt
                 return out
             return wrapper
 
@@ -67,7 +82,24 @@ class _Bench:
         self.publishers = [self.node.pubs[t] for t in wanted] + ([self.node.tf.pub] if self.node.tf.enabled else [])
         if split:
             for publisher in self.publishers:
-                publisher.publish = timed(publisher.publish, "publish")
+                publisher.publish = timed(publisher.publish, "publish", "publish " + publisher.topic_name)
+            # inclusive parts of the node's tick (each holds the solver calls and publishes made inside it)
+            node, driver = self.node, self.node.driver
+            driver.tick = timed(driver.tick, "driver tick (advance + detection + snapshot)")
+            driver._detect = timed(driver._detect, "snap detection")
+            node._handle_report = timed(node._handle_report, "report handling")
+            node.tf.publish = timed(node.tf.publish, "/tf (build + publish)")
+            node.winch_io.tick = timed(node.winch_io.tick, "winch outputs")
+            node.forecast_io.tick = timed(node.forecast_io.tick, "forecast hand-off")
+            self.convert.tick_outputs = timed(self.convert.tick_outputs, "periodic outputs (solver outputs + encoders)")
+            self.convert.OutputFrame = _timed_class(self.convert.OutputFrame, timed)
+            self.convert.tension_colours = timed(self.convert.tension_colours, "marker colours")
+            cdr = importlib.import_module(f"{pkg}.ros.cdr")
+            for name in dir(cdr):
+                cls = getattr(cdr, name)
+                if isinstance(cls, type) and name.endswith("Encoder") and hasattr(cls, "encode"):
+                    cls.encode = timed(cls.encode, f"encode {name}")
+        self.part_rows = []
         self.motion = build_motion(cfg.motion, cfg.ship_end.position)
         self.period = 1.0 / cfg.node.output_rate
         self.clock = 100.0  # the node's clock, s; the motion's time is clock - 100
@@ -95,6 +127,7 @@ class _Bench:
         if prof is not None:
             prof.disable()
         if timed:
+            self.part_rows.append(dict(self.parts))
             self.rows.append((cpu, self.parts["advance"], self.parts["state"], self.parts["outputs"], self.parts["publish"]))
         if k % round(self.cfg.node.output_rate) == 0:
             c = time.thread_time()
@@ -113,6 +146,8 @@ class _Bench:
                 "publish_ms": med(r[:, 4]),
                 "node_own_ms": med(node_own), "pose_callback_ms": float(np.median(self.pose_cpu) * 1e3),
                 "diagnostics_ms": float(np.median(self.diag_cpu) * 1e3), "tick_errors": self.node.tick_errors,
+                "parts_ms": {key: float(np.median([row.get(key, 0.0) for row in self.part_rows]) * 1e3)
+                             for key in sorted({k for row in self.part_rows for k in row})},
                 "snaps": self.node.snaps_published, "tick_cpu_s": [float(x) for x in r[:, 0] * 1e-3]}
 
 
@@ -123,7 +158,9 @@ def child(params, ticks, alpha, profile, split, baseline, extra=()):
     import rclpy
 
     pkgs = ["tether_sim"]
-    if baseline:
+    if baseline == "same":  # a second node of this tree, without the -p parameters
+        pkgs.append("tether_sim")
+    elif baseline:
         from benchmarks.bench_tick import load_baseline
 
         load_baseline(baseline, with_ros=True)
@@ -133,7 +170,7 @@ def child(params, ticks, alpha, profile, split, baseline, extra=()):
 
     rclpy.init(args=["tether_sim", "--ros-args", "--params-file", str(params), "-p", f"cable.EI:={alpha * EI_STAR}"])
     overrides = [Parameter(key, value=yaml.safe_load(text)) for key, _, text in (item.partition(":=") for item in extra)]
-    benches = [_Bench(pkg, params, alpha, split, overrides if pkg == "tether_sim" else []) for pkg in pkgs]
+    benches = [_Bench(pkg, params, alpha, split, overrides if i == 0 else []) for i, pkg in enumerate(pkgs)]
     deadline = time.monotonic() + 30.0
     while any(p.get_subscription_count() == 0 for b in benches for p in b.publishers) and time.monotonic() < deadline:
         time.sleep(0.05)  # discovery of the sink process
@@ -273,6 +310,10 @@ def main(argv=None):
                       f"{split}pose callback {r['pose_callback_ms']:.3f}, diagnostics (1 Hz) {r['diagnostics_ms']:.3f}; "
                       f"outputs subscribed {r['subscribed']}, snaps {r['snaps']}, tick errors {r['tick_errors']}, "
                       f"load {r['load'][0]:.2f}", flush=True)
+                if args.split and r.get("parts_ms"):
+                    print("  parts (median ms per tick, inclusive: a part holds the parts called inside it):")
+                    for key, value in r["parts_ms"].items():
+                        print(f"    {key:60s} {value:.4f}")
                 if r.get("profile"):
                     print(r["profile"])
             if args.baseline:

@@ -247,6 +247,19 @@ def _ship_input(node):
     return EndPoseInput.for_node("ship", node)
 
 
+HEAVE_A, HEAVE_W = 0.5, 2 * np.pi * 0.2  # m, rad/s: peak speed 0.63 m/s, peak acceleration 0.79 m/s^2
+
+
+def _heaving_ship(node):
+    """The ship's EndPoseInput and a function adding its pose z = HEAVE_A sin(HEAVE_W t) at clock time t."""
+    src = _ship_input(node)
+
+    def pose(t):
+        src.add_pose(t, (0.0, 0.0, HEAVE_A * np.sin(HEAVE_W * t)), (0.0, 0.0, 0.0, 1.0))
+
+    return src, pose
+
+
 def test_a_stalled_process_resumes_its_points_by_blends_not_steps(spec):
     """The node process stops for 1.5 s (a busy machine). After it, the timer's tick runs before the
     queued poses (the last five: sensor-data QoS) are taken: the ship's input is held past its
@@ -259,11 +272,8 @@ def test_a_stalled_process_resumes_its_points_by_blends_not_steps(spec):
     from tether_sim.ros.end_commands import BLEND_ACCELERATION
 
     node = SimConfig().node
-    src = _ship_input(node)
-    a, w = 0.5, 2 * np.pi * 0.2  # m, rad/s: peak speed 0.63 m/s, peak acceleration 0.79 m/s^2
-
-    def pose(t):
-        src.add_pose(t, (0.0, 0.0, a * np.sin(w * t)), (0.0, 0.0, 0.0, 1.0))
+    src, pose = _heaving_ship(node)
+    a, w = HEAVE_A, HEAVE_W
 
     for k in range(21):
         pose(k * 0.05)
@@ -309,11 +319,8 @@ def test_a_clock_jumping_back_holds_the_points_and_runs_on(spec):
     from tether_sim.ros.end_commands import BLEND_ACCELERATION
 
     node = SimConfig().node
-    src = _ship_input(node)
-    a, w = 0.5, 2 * np.pi * 0.2
-
-    def pose(t):
-        src.add_pose(t, (0.0, 0.0, a * np.sin(w * t)), (0.0, 0.0, 0.0, 1.0))
+    src, pose = _heaving_ship(node)
+    a, w = HEAVE_A, HEAVE_W
 
     for k in range(51):
         pose(k * 0.02)
@@ -342,3 +349,45 @@ def test_a_clock_jumping_back_holds_the_points_and_runs_on(spec):
     assert (np.abs(dv) / dt).max() < a * w * w + BLEND_ACCELERATION * 1.25
     assert not after[-1, 3] and not after[-1, 4] and d.detectors is not old_detectors  # live again, fresh detectors
     assert abs(after[-1, 1] - src.attachment_at(d.stamp)[0][2]) < 1e-9  # back on the stream
+
+
+def test_the_node_start_counts_the_clock_from_the_built_network(spec):
+    """The node starts the network at the inputs' positions (statics, and the settling of an
+    unpolished line: about a second of CPU on config/ropos_tms.yaml). That time used to count as lag:
+    the first tick was 1.2 s behind the clock, beyond node.max_lag, and re-synchronised (1.15 s of
+    clock dropped). Now the node builds (here at clock 1 s), waits until the poses that came during the
+    build are in (the clock reads 2.5 s: a slow build), then starts the clock there; the ship, at rest
+    at its static position, is blended onto its moving input as the single-line node starts: no
+    re-synchronisation, no step."""
+    node = SimConfig().node
+    src, pose = _heaving_ship(node)
+    a, w = HEAVE_A, HEAVE_W
+
+    for k in range(51):
+        pose(k * 0.02)  # 0 .. 1 s
+    d = NetworkDriver(spec, node, {"ship": src})
+    d.build(1.0)
+    static_z = a * np.sin(w * (1.0 - node.input_delay))  # the statics are solved at the input at 0.8 s
+    assert not d.inputs_cover(2.5)  # the poses of the build's time not in yet
+    for k in range(1, 76):
+        pose(1.0 + k * 0.02)  # they come: to 2.5 s
+    assert d.inputs_cover(2.5)
+    blends = d.start_clock(2.5)
+    assert d.stamp == pytest.approx(2.5 - node.input_delay)
+    p = d.net.points["ship"]
+    assert p.pos[2] == pytest.approx(static_z, abs=1e-9) and np.all(p.vel == 0.0)
+    assert [(b[0], b[2]) for b in blends] == [("ship", "started from rest")]
+    now, history = 2.5, []
+    for _ in range(600):  # (the blend takes 9.1 s: 7.5 x the input's speed 0.63 m/s / BLEND_ACCELERATION)
+        now += 0.02
+        pose(now)
+        r = d.tick(now)
+        assert r.advanced and not r.error and r.dropped == 0.0
+        history.append((d.stamp, p.pos[2], p.vel[2], d.degraded))
+    assert d.resyncs == 0 and d.dropped_total == 0.0
+    h = np.array(history)
+    dt, dz, v = np.diff(h[:, 0]), np.diff(h[:, 1]), h[:, 2]
+    assert np.abs(h[0, 1] - static_z) < 0.02 * node.max_end_speed  # the first tick moves off the static position
+    assert np.abs(dz - 0.5 * (v[1:] + v[:-1]) * dt).max() < 1e-4  # C1: no step onto the input
+    assert h[0, 3] == 1.0 and h[-1, 3] == 0.0  # degraded while it blends, then on its input
+    assert abs(h[-1, 1] - src.attachment_at(d.stamp)[0][2]) < 1e-9

@@ -19,7 +19,11 @@ single-line node's counterpart is tether_sim/ros/driver.py).
 - Start: the network statics at the driven points' current positions; a DG line whose discrete
   equilibrium polish failed settles with the points held before the clock starts, at least
   ``SETTLE_TIME`` and then until two consecutive 1 s chunks are quiet (:func:`settle_quiet`), at
-  most ``SETTLE_MAX`` (the snap detectors' static tensions are taken after it).
+  most ``SETTLE_MAX`` (the snap detectors' static tensions are taken after it). The node builds in
+  one tick and starts the clock in a later one, once the poses that came meanwhile are in
+  (:meth:`NetworkDriver.inputs_cover`), each point with a pose input blended from rest onto its
+  input as the single-line node starts: the build's CPU time (a second on config/ropos_tms.yaml) is
+  not clock the first tick must catch up, and no point is blended onto a stale input.
 - Inputs: each driven (``prescribed``) point follows its source (an ``EndPoseInput``, or anything
   with ``has_data`` and ``attachment_at(t)``) as the single-line node's ends do, with the same code
   (:class:`~tether_sim.ros.end_commands.EndCommands`): without data it holds its configured
@@ -183,15 +187,53 @@ class NetworkDriver(EndCommands):
         return replace(self.spec0, points=points)
 
     def start(self, now: float) -> None:
-        """Solve the network statics at the inputs' current positions and start the clock at ``now``."""
-        t0 = now - self.node.input_delay
-        spec = self._start_spec(t0)
+        """Solve the network statics at the inputs' positions at clock time ``now`` and start the
+        clock there (the offline runner, the tests; the node splits the two: :meth:`build`, then
+        :meth:`start_clock` once its inputs have caught up with the clock)."""
+        self.build(now)
+        self.start_clock(now, blend=False)
+
+    def build(self, now: float) -> None:
+        """The network statics at the driven points' input positions at clock time ``now`` (their
+        configured ones without a pose), and the settling of an unpolished DG line; kept if already
+        built at these positions and at rest (the node's build at construction). The clock does not
+        start: on config/ropos_tms.yaml this takes about a second of CPU, which the first tick would
+        otherwise have to catch up (a re-synchronisation)."""
+        spec = self._start_spec(now - self.node.input_delay)
         if self.net is not None and not self.failed and all(
                 np.allclose(p.position, self.spec.points[n].position, rtol=0.0, atol=1e-9) for n, p in spec.points.items()):
-            self.anchor = t0 - self.net.time  # built at these positions and at rest (warm-up): keep it
-            self._clear_commands()
-            self._build_detectors()
             return
+        self._build(spec)
+
+    def inputs_cover(self, now: float) -> bool:
+        """True when every driven point's pose input with data reaches the clock time ``now`` minus
+        ``node.input_delay`` (its newest stamp): the poses that came while the network was built are
+        in (the node starts the clock then)."""
+        t = now - self.node.input_delay
+        for name in self.driven_points():
+            src = self.sources.get(name)
+            if src is not None and getattr(src, "has_data", False) and getattr(src, "last_stamp", t) < t:
+                return False
+        return True
+
+    def start_clock(self, now: float, blend: bool = True) -> list:
+        """Start the clock at ``now`` on the built network, at rest: fresh detectors (their static
+        tensions from this state); ``blend``: every driven point with a pose input is blended from
+        rest at its static position onto its input, as the single-line node starts (EndCommands'
+        "started from rest" blend; snap detection waits for it). Returns the blends started,
+        (point, duration, reason)."""
+        t0 = now - self.node.input_delay
+        self.anchor = t0 - self.net.time
+        self._clear_commands()
+        self._build_detectors()
+        report = NetworkTickReport()
+        for name in self.driven_points() if blend else ():
+            if hasattr(self.sources.get(name), "is_held"):  # a pose input (not an analytic motion)
+                self._start_blend(name, t0, "started from rest", report)
+        return report.blends
+
+    def _build(self, spec):
+        """The network statics of ``spec`` (and the settling of an unpolished DG line)."""
         self.spec = spec
         self.net = NetworkSolver(self.spec, statics=self.statics)
         # a DG line whose static polish failed (a near-neutral slack line: equilibrium_iterations -1)
@@ -204,9 +246,6 @@ class NetworkDriver(EndCommands):
             while quiet < 2 and self.net.time < SETTLE_MAX - 1e-9:
                 out = self.net.tick(min(self.net.time + SETTLE_CHUNK, SETTLE_MAX))
                 quiet = quiet + 1 if all(settle_quiet(out[n]["samples"]) for n in self.settled) else 0
-        self.anchor = t0 - self.net.time
-        self._clear_commands()
-        self._build_detectors()
 
     def _build_detectors(self, static=True):
         """Fresh detectors; ``static``: take the reference (static) end tensions from the current

@@ -75,6 +75,7 @@ class NetworkSimNode(Node):
         self.driver = NetworkDriver(self.spec, node, self.inputs)
         self.driver.start(0.0)
         self.driver.tick(self.driver.stamp + node.input_delay + 2.0 / node.output_rate)
+        outputs.tick_outputs(self.driver, node)  # the outputs' first call (cdr, marker colours) before the clock
         self.get_logger().info(f"network: {len(self.spec.lines)} line(s) ({', '.join(self.spec.lines)}), "
                                f"{len(self.spec.bodies)} body(ies), built in {time.perf_counter() - t0:.1f} s; "
                                f"coupling step {min(self.spec.coupling_step, self.driver.net.coupling_limit):.4g} s")
@@ -93,6 +94,7 @@ class NetworkSimNode(Node):
                                      lambda m, ln=line: self._on_winch_command(ln, m), reliable)
         self.started = False
         self._first_tick = None
+        self._built_at = None  # clock time the network was built at the inputs' positions (_tick)
         self._last_output = -math.inf
         self.tick_errors, self.last_tick_error = 0, ""
         self.snaps_published = 0  # snap events published since the start (diagnostics "snaps")
@@ -132,7 +134,8 @@ class NetworkSimNode(Node):
 
     def _start(self, now):
         d = self.driver
-        d.start(now)  # the network statics at the inputs' positions (configured ones without a pose)
+        for point, duration, reason in d.start_clock(now):  # (built in an earlier tick: _tick)
+            self.get_logger().info(f"{point} blended onto its pose input over {duration:.2f} s ({reason})")
         missing = [e for e, inp in self.inputs.items() if not inp.has_data]
         if missing:
             self.get_logger().warning(f"starting without {', '.join(missing)} pose(s): holding the configured positions")
@@ -151,6 +154,12 @@ class NetworkSimNode(Node):
             if self._first_tick is None:
                 self._first_tick = now
             if not (all(i.has_data for i in self.inputs.values()) or now - self._first_tick >= self.config.node.input_timeout):
+                return
+            if self._built_at is None:  # the statics at the inputs' positions; the clock starts at a later
+                d.build(now)  # tick, once the poses that came meanwhile are taken (not counted as lag)
+                self._built_at = self._now()
+                return
+            if not d.inputs_cover(now) and now - self._built_at < self.config.node.input_timeout:
                 return
             self._start(now)
         if d.failed:

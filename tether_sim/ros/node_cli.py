@@ -6,6 +6,7 @@ The node itself: :mod:`tether_sim.ros.sim_node`.
 import signal
 import sys
 
+import rclpy
 import yaml
 
 from tether_sim.errors import ConfigError
@@ -90,6 +91,34 @@ def check_params_files(files, overrides=None) -> None:
         except ConfigError as exc:
             if "no 'tether_sim'" not in str(exc):  # a file for other nodes only is fine
                 raise
+
+
+def stop_flag() -> list:
+    """SIGINT and SIGTERM from now on append their name to the returned list (once) instead of raising or
+    shutting rclpy down: a node's loop reads it between its spin_once calls (see :func:`spin_until_signal`)."""
+    got = []
+
+    def request_stop(signum, _frame):
+        if not got:
+            got.append(signal.Signals(signum).name)
+
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, request_stop)
+    return got
+
+
+def spin_until_signal(node, executor) -> str | None:
+    """Spin ``node`` on ``executor`` until SIGINT / SIGTERM or an rclpy shutdown; the signal's name, or None.
+
+    The signals only set a flag that this loop reads between callbacks: neither Python's KeyboardInterrupt nor
+    rclpy's shutdown then lands inside rclpy's own code (a SIGINT raised while the executor builds a callback's
+    task left that task half made, and its clean-up printed a traceback at exit). The wait is bounded (0.1 s), so
+    a signal stops the node within one wait even when no timer is due."""
+    got = stop_flag()
+    executor.add_node(node)
+    while not got and rclpy.ok():
+        executor.spin_once(timeout_sec=0.1)
+    return got[0] if got else None
 
 
 def ignore_further_signals() -> None:

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import signal
 import sys
 import time
 from dataclasses import replace
@@ -34,6 +33,7 @@ from tether_sim.errors import ConfigError
 from tether_sim.io.params import load_config
 from tether_sim.physics.motion import build_motion
 from tether_sim.ros.convert import time_msg
+from tether_sim.ros.node_cli import ignore_further_signals, stop_flag
 
 
 def ship_motion(config):
@@ -126,16 +126,18 @@ def main(argv=None) -> int:
     node.get_logger().info(f"publishing {node.resolve_topic_name('ship/pose')} and ship/twist at {rate:g} Hz in "
                            f"frame '{config.node.world_frame}': {describe(config.motion)}, about ship_end.position "
                            f"{list(config.ship_end.position)}")
-    signal.signal(signal.SIGTERM, lambda *_: rclpy.try_shutdown())
+    stopped = stop_flag()  # a signal ends the loop between callbacks, never inside rclpy
     t_end = time.monotonic() + args.duration if args.duration > 0 else math.inf
     try:
-        while rclpy.ok() and time.monotonic() < t_end:
+        while not stopped and rclpy.ok() and time.monotonic() < t_end:
             rclpy.spin_once(node, timeout_sec=0.1)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
+        ignore_further_signals()  # more Ctrl-C / SIGTERM must not cut the clean-up short (exit 0, no traceback)
         node.destroy_node()
         rclpy.try_shutdown()
+        ignore_further_signals()  # rclpy's shutdown puts back the handlers it found at init
     return 0
 
 

@@ -18,7 +18,7 @@ from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
 from nav_msgs.msg import Path
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.exceptions import ParameterNotDeclaredException
-from rclpy.executors import ExternalShutdownException
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
@@ -34,7 +34,7 @@ from tether_sim.ros.end_commands import SolverTimeMotion
 from tether_sim.ros.forecast_io import NodeForecast
 from tether_sim.ros.namespacing import retarget
 from tether_sim.ros.node_cli import (USAGE, check_params_files, cli_param_keys, cli_param_values, ignore_further_signals,
-                                     params_files, say_stopped, wants_help)
+                                     params_files, say_stopped, spin_until_signal, wants_help)
 from tether_sim.ros.node_startup import warm_up
 from tether_sim.ros.snap_markers import SnapMarkerPublisher
 from tether_sim.ros.tf import TfPublisher
@@ -423,15 +423,12 @@ def main(args=None):
             from rclpy.experimental import EventsExecutor
 
             executor = EventsExecutor()
-            executor.add_node(node)
-            while rclpy.ok():  # (its spin() never returns to Python: a signal would not stop it)
-                executor.spin_once(timeout_sec=0.1)
         else:
-            rclpy.spin(node)
-        if not rclpy.ok():  # spin may also simply return when the context is shut down by a signal
-            stopping = True
-            ignore_further_signals()
-            say_stopped(node, "SIGINT/SIGTERM (an rclpy shutdown)")
+            executor = SingleThreadedExecutor()
+        got = spin_until_signal(node, executor)
+        stopping = True  # by a signal, or the context was shut down by someone else
+        ignore_further_signals()
+        say_stopped(node, got or "SIGINT/SIGTERM (an rclpy shutdown)")
     except (KeyboardInterrupt, ExternalShutdownException) as exc:
         stopping = True
         ignore_further_signals()

@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import signal
 import sys
 import time
 
@@ -39,6 +38,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 
 from tether_sim.ros.convert import time_msg
+from tether_sim.ros.node_cli import ignore_further_signals, stop_flag
 from tether_sim.vehicle.model import MODELS
 from tether_sim.vehicle.sim import Mission, StationKeeper, VehicleDiverged, VehicleSim
 
@@ -225,10 +225,10 @@ def main(argv=None) -> int:
     node.get_logger().info(f"{model.name} ({model.source}) at {position}, holding {list(setpoint)}"
                            + (f", then to {target} at {args.transit_speed:g} m/s after {args.transit_after:g} s" if target else "")
                            + f"; current {current} m/s; pose at {args.rate:g} Hz{', publishing /clock' if args.clock else ''}")
-    signal.signal(signal.SIGTERM, lambda *_: rclpy.try_shutdown())
+    stopped = stop_flag()  # a signal ends the loop between callbacks, never inside rclpy
     t_end = time.monotonic() + args.duration if args.duration > 0 else math.inf
     try:
-        while rclpy.ok() and time.monotonic() < t_end and not node.failed:
+        while not stopped and rclpy.ok() and time.monotonic() < t_end and not node.failed:
             rclpy.spin_once(node, timeout_sec=0.1)
             if args.stop_after > 0 and node.released_at is not None and node.sim.time - node.released_at >= args.stop_after:
                 node.get_logger().info(f"mission done: {args.stop_after:g} s after the release")
@@ -236,8 +236,10 @@ def main(argv=None) -> int:
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
+        ignore_further_signals()  # more Ctrl-C / SIGTERM must not cut the clean-up short (exit 0, no traceback)
         node.destroy_node()
         rclpy.try_shutdown()
+        ignore_further_signals()  # rclpy's shutdown puts back the handlers it found at init
     return 1 if node.failed else 0
 
 
