@@ -12,6 +12,7 @@ outputs read at the end, and solver.tick with state() read every tick (a node's 
 largest relative difference of each case.
 
 Usage: PYTHONPATH=. python benchmarks/regression_vs_baseline.py --baseline /path/to/other/checkout [--duration 3]
+       [--modes advance tick]
 """
 
 import argparse
@@ -82,6 +83,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--baseline", required=True, help="the other checkout (its tether_sim/ is copied and renamed)")
     ap.add_argument("--duration", type=float, default=3.0)
+    ap.add_argument("--modes", nargs="+", choices=("advance", "tick"), default=["advance", "tick"],
+                    help="the call paths compared (default both)")
     args = ap.parse_args(argv)
     factory_b, _ = load_baseline(args.baseline)
     import tether_sim_base.io.params as params_b
@@ -89,7 +92,7 @@ def main(argv=None):
     from tether_sim.io.params import load_config
     from tether_sim.solvers.factory import build_solver
     worst = 0.0
-    for mode in ("advance", "tick"):
+    for mode in args.modes:
         for name, overrides in [(f, {}) for f in FILES] + list(VARIANTS):
             a = outputs(build_solver, load_config, name, overrides, args.duration, mode)
             b = outputs(factory_b.build_solver, params_b.load_config, name, overrides, args.duration, mode)

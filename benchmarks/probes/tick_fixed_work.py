@@ -13,11 +13,12 @@ fairlead on a 0.5 m circle, then, interleaved block by block in one process (thr
 - an empty compiled function with node_tick's signature: the cost of the call itself (dispatch).
 
 Usage: PYTHONPATH=. python benchmarks/probes/tick_fixed_work.py [--params config/ropos_L1730.yaml]
-       [--ei 2620] [--calls 200] [--repeat 15]
+       [--ei 2620] [--calls 200] [--repeat 15] [--baseline /path/to/other/checkout]
 """
 
 import argparse
 import math
+import os
 import sys
 import time
 from pathlib import Path
@@ -41,6 +42,66 @@ def _motion(t):
     return p, v
 
 
+def _tree(pkg, params, ei, warm):
+    """A warmed solver of the package pkg (tether_sim or a baseline's tether_sim_base) and its block timers."""
+    import importlib
+
+    load_config = importlib.import_module(f"{pkg}.io.params").load_config
+    build_solver = importlib.import_module(f"{pkg}.solvers.factory").build_solver
+    node_tick = importlib.import_module(f"{pkg}.solvers.dg.tick").node_tick
+    cfg = load_config(Path(params), overrides={"cable.EI": ei} if ei is not None else None)
+    s = build_solver(cfg)
+    t = s.time
+    while t < warm - 1e-9:
+        t += 0.02
+        s.tick(t, ship=_motion(t))
+    dt = s._substep()
+    F, I, S = s.ws.F, s.ws.I, s.ws.spec
+
+    def tick(k, calls):
+        t, span = s.time, k * dt * (1.0 - 1e-9)
+        ts = [t + (i + 1) * span for i in range(calls)]
+        motions = [_motion(x) for x in ts]  # (made before the clock starts)
+        c = time.thread_time()
+        for x, m in zip(ts, motions):
+            s.tick(x, ship=m)
+        return (time.thread_time() - c) / calls
+
+    def kernel(k, calls):
+        tin = s._tick.tin if hasattr(s, "_tick") else s._tick_in
+        t, span = s.time, k * dt * (1.0 - 1e-9)
+        tins = []
+        for i in range(calls):  # (made before the clock starts)
+            p, v = _motion(t + (i + 1) * span)
+            tins.append(np.concatenate((p, v)).reshape(1, 6).repeat(2, axis=0))
+        c = time.thread_time()
+        for x in tins:
+            node_tick(F, I, S, x, 1, t, t + span, k, span / k, True)
+            t += span
+        el = (time.thread_time() - c) / calls
+        s.time = t
+        tin[:] = tins[-1]
+        return el
+
+    def zero(_, calls):
+        tin = s._tick.tin if hasattr(s, "_tick") else s._tick_in
+        t = s.time
+        c = time.thread_time()
+        for _ in range(calls):
+            node_tick(F, I, S, tin, 1, t, t, 0, 0.0, True)
+        return (time.thread_time() - c) / calls
+
+    def empty(_, calls):
+        tin = s._tick.tin if hasattr(s, "_tick") else s._tick_in
+        t = s.time
+        c = time.thread_time()
+        for _ in range(calls):
+            _empty(F, I, S, tin, 1, t, t, 0, 0.0, True)
+        return (time.thread_time() - c) / calls
+
+    return s, cfg, dt, dict(tick=tick, kernel=kernel, zero=zero, empty=empty)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--params", default=str(ROOT / "config" / "ropos_L1730.yaml"))
@@ -48,83 +109,42 @@ def main(argv=None):
     ap.add_argument("--warm", type=float, default=2.0)
     ap.add_argument("--calls", type=int, default=200)
     ap.add_argument("--repeat", type=int, default=15)
+    ap.add_argument("--baseline", default=None, help="another checkout, timed interleaved (bench_tick.load_baseline)")
     args = ap.parse_args(argv)
 
-    from tether_sim.io.params import load_config
-    from tether_sim.solvers.dg import stepping
-    from tether_sim.solvers.dg.tick import node_tick
-    from tether_sim.solvers.factory import build_solver
+    trees = [("new", "tether_sim")]
+    if args.baseline:
+        from benchmarks.bench_tick import load_baseline
 
-    overrides = {"cable.EI": args.ei} if args.ei is not None else None
-    cfg = load_config(Path(args.params), overrides=overrides)
-    s = build_solver(cfg)
-    t = s.time
-    while t < args.warm - 1e-9:
-        t += 0.02
-        s.tick(t, ship=_motion(t))
-    dt = s._substep()
-    ws, tin = s.ws, s._tick_in
-    F, I, S = ws.F, ws.I, ws.spec
+        load_baseline(args.baseline)
+        trees.insert(0, ("base", "tether_sim_base"))
     ks = (1, 2, 3, 4)
-
-    def block_tick(k):
-        t = s.time
-        span = k * dt * (1.0 - 1e-9)
-        motion = _motion(t)
-        c = time.thread_time()
-        for _ in range(args.calls):
-            t += span
-            s.tick(t, ship=motion)
-        return (time.thread_time() - c) / args.calls
-
-    def block_kernel(k):
-        t = s.time
-        span = k * dt * (1.0 - 1e-9)
-        stepping.tick_inputs(tin, _motion(t), None, s.ends, s.kinds)
-        c = time.thread_time()
-        for _ in range(args.calls):
-            node_tick(F, I, S, tin, 1, t, t + span, k, span / k, True)
-            t += span
-        el = (time.thread_time() - c) / args.calls
-        s.time = t
-        return el
-
-    def block_zero(_):
-        t = s.time
-        c = time.thread_time()
-        for _ in range(args.calls):
-            node_tick(F, I, S, tin, 1, t, t, 0, 0.0, True)
-        return (time.thread_time() - c) / args.calls
-
-    def block_empty(_):
-        t = s.time
-        c = time.thread_time()
-        for _ in range(args.calls):
-            _empty(F, I, S, tin, 1, t, t, 0, 0.0, True)
-        return (time.thread_time() - c) / args.calls
-
-    parts = [("tick", k, block_tick) for k in ks] + [("kernel", k, block_kernel) for k in ks]
-    parts += [("zero", 0, block_zero), ("empty", 0, block_empty)]
-    best = {(n, k): np.inf for n, k, _ in parts}
-    for _ in range(2):  # warm every path
-        for n, k, f in parts:
-            f(k)
-    for _ in range(args.repeat):
-        for n, k, f in parts:
-            best[n, k] = min(best[n, k], f(k))
-    us = {key: 1e6 * v for key, v in best.items()}
+    built = {label: _tree(pkg, args.params, args.ei, args.warm) for label, pkg in trees}
+    parts = [(label, name, k) for label, _ in trees for name in ("tick", "kernel") for k in ks]
+    parts += [(label, name, 0) for label, _ in trees for name in ("zero", "empty")]
+    best = {p: np.inf for p in parts}
+    for r in range(args.repeat + 2):  # two rounds to warm every path, then timed; trees alternate
+        order = parts if r % 2 == 0 else parts[::-1]
+        for label, name, k in order:
+            v = built[label][3][name](k, args.calls)
+            if r >= 2:
+                best[label, name, k] = min(best[label, name, k], v)
+    s, cfg, dt, _ = built["new"]
     print(f"{args.params}: N = {s.N}, P = {s.P}, EI = {cfg.cable.EI:g}, substep {dt * 1e6:.2f} us, "
-          f"{round(0.02 / dt * (1 - 1e-12) + 0.5)} substeps per 50 Hz tick (ceil); us per call, min of {args.repeat} x {args.calls}")
-    fits = {}
-    for name in ("tick", "kernel"):
-        y = np.array([us[name, k] for k in ks])
-        slope, icpt = np.polyfit(np.array(ks, float), y, 1)
-        fits[name] = (icpt, slope)
-        print(f"  {name:7s} k = 1..4: " + " ".join(f"{v:7.3f}" for v in y) +
-              f"   fixed (intercept) {icpt:6.3f}, per substep {slope:6.3f}")
-    print(f"  solver.tick's Python (tick - kernel intercepts)  {fits['tick'][0] - fits['kernel'][0]:6.3f}")
-    print(f"  node_tick with 0 substeps                        {us['zero', 0]:6.3f}")
-    print(f"  empty kernel, same signature (the call)          {us['empty', 0]:6.3f}")
+          f"{math.ceil(0.02 / dt * (1 - 1e-12))} substeps per 50 Hz tick; us per call, min of {args.repeat} x {args.calls}"
+          f", load {os.getloadavg()[0]:.1f}")
+    for label, _ in trees:
+        us = {key[1:]: 1e6 * v for key, v in best.items() if key[0] == label}
+        fits = {}
+        for name in ("tick", "kernel"):
+            y = np.array([us[name, k] for k in ks])
+            slope, icpt = np.polyfit(np.array(ks, float), y, 1)
+            fits[name] = icpt
+            print(f"  {label:4s} {name:7s} k = 1..4: " + " ".join(f"{v:7.3f}" for v in y) +
+                  f"   fixed (intercept) {icpt:6.3f}, per substep {slope:6.3f}")
+        print(f"  {label:4s} solver.tick's Python (tick - kernel intercepts)  {fits['tick'] - fits['kernel']:6.3f}")
+        print(f"  {label:4s} node_tick with 0 substeps                        {us['zero', 0]:6.3f}")
+        print(f"  {label:4s} empty kernel, same signature (the call)          {us['empty', 0]:6.3f}")
     return 0
 
 

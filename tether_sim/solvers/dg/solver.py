@@ -102,7 +102,7 @@ class DGCableSolver:
         self.ws = Workspace(arrays)
         for slot, a in _DAMPING_SLOTS.items():  # the damping's arrays become views of the workspace
             setattr(self._damp, a, getattr(self.ws, slot))
-        self._tick_in = np.zeros((2, 6))  # tick(): targets of the driven ends, tick.node_tick's tin
+        self._tick = stepping.TickInputs(self.ends, self.kinds)  # tick(): the driven ends' targets, node_tick's tin
         self._plans = {}  # sampling plans (outputs.plan)
         self._outputs_valid = False  # the output work arrays hold the evaluation at the current state
         self._want_outputs = False  # outputs were asked for: the tick evaluates them (tick.py)
@@ -372,10 +372,11 @@ class DGCableSolver:
         """One node tick in one compiled call (tick.node_tick): the targets of the driven ends given as
         (position, velocity), advance_to(t), the drain of the end tensions and the end loads; the
         result's arrays are views, valid until the next call (base.py's contract)."""
-        t = float(t)
-        ws, tin = self.ws, self._tick_in
-        mask = stepping.tick_inputs(tin, ship, vehicle, self.ends, self.kinds)
-        n, dt = self._substeps_to(t, "tick")
+        t, ws, tin = float(t), self.ws, self._tick.tin
+        mask = self._tick.read(ship, vehicle)
+        span = t - self.time  # (_substeps_to's span and substeps; its checks when the span is not plainly > 0)
+        n, dt = (stepping.substeps(span, self._substep()) if 0.0 < span < math.inf and not self.winch_enabled
+                 else self._substeps_to(t, "tick"))
         if n == 0:  # nothing to step: the composition (targets kept for the next interval)
             for e in range(2):
                 if mask >> e & 1:
@@ -383,14 +384,13 @@ class DGCableSolver:
             count = stepping.drain_count(ws) if drain else 0
             self._evaluate_outputs()
             return TickOutput(count, ws.drain, ws.endf, 0)
-        self._outputs_valid = False
-        winch = self._winch_moving()
+        self._outputs_valid, winch = False, self.winch_enabled and self._winch_moving()
         r = stepping.run_tick(ws, tin, mask, self.time, t, n, dt, drain)
         self.time = t
         if winch:
             self._winch_sync()
         self._want_outputs = self._outputs_valid = True
-        return TickOutput(r, ws.drain, ws.endf, n)
+        return tuple.__new__(TickOutput, (r, ws.drain, ws.endf, n))  # (TickOutput's own __new__ is a Python call)
 
     def step(self, dt) -> None:
         """One substep of size dt (UnstableTimeStepError above the stability limit)."""
