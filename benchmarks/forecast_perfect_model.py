@@ -88,7 +88,7 @@ def main(paths):
                 fcs = [x for x in r["forecasts"]["known_sea"] if x[0] == end]
                 if not fcs:
                     continue
-                real = score_real(fcs, [t for e, t in r["snaps"] if e == end], a["members"], a["horizon"])
+                real = score_real(fcs, [s[1] for s in r["snaps"] if s[0] == end], a["members"], a["horizon"])
                 pm = score_perfect_model(fcs, a["members"], a["horizon"])
                 per10 = 10.0 / a["minutes"]
                 both = pooled.setdefault(end, [Counts(), Counts(), 0.0])
