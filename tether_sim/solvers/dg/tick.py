@@ -53,6 +53,8 @@ EN_P, EN_V = 0, 3
 TI_P, TI_V = 0, 3
 # node_tick's results below zero: the stepper's status s as -1 - s; a non-finite row e of tin as BAD_INPUT - e
 BAD_INPUT = -10
+# ship_tick's result when it did nothing and the general path (node_tick from Python) must take the tick
+NOT_PLAIN = -20
 
 
 @jit
@@ -289,3 +291,29 @@ def node_tick(F, I, S, tin, ends_set, t0, t1, nsteps, dt, drain):
         return 0
     return drain_now(F, I, S)
 
+
+@jit
+def ship_tick(F, I, S, p, v, t0, t1, step, drain):
+    """node_tick of the common node tick -- the ship end given (position p, velocity v), no winch -- with
+    the substeps of advance_to's rule over t1 - t0 (stepping.substeps: the same operations, so the same
+    numbers) and the inputs read from p and v themselves (no copy into tin in Python). Returns
+    (node_tick's result, substeps); (NOT_PLAIN, 0) without changing anything when the interval is not
+    plainly > 0 or p, v are not 3 finite numbers each: the general path then takes the tick."""
+    span = t1 - t0
+    if not (0.0 < span < math.inf) or p.size != 3 or v.size != 3:
+        return NOT_PLAIN, 0
+    for c in range(3):  # (.flat: an array of any shape with 3 numbers, as numpy's copy into tin takes it)
+        if not (math.isfinite(p.flat[c]) and math.isfinite(v.flat[c])):
+            return NOT_PLAIN, 0
+    n = max(1, math.ceil(span / step * (1.0 - 1e-12)))
+    target = _f2(F, S, X_TARGET)
+    for c in range(3):
+        target[0, TG_P + c] = p.flat[c]
+        target[0, TG_V + c] = v.flat[c]
+    target[0, TG_SET] = 1.0
+    status = dg_tick(F, I, S, t0, t1, n, span / n, True)
+    if status != STATUS_OK:
+        return -1 - status, n
+    if not drain:
+        return 0, n
+    return drain_now(F, I, S), n
