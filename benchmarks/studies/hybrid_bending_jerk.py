@@ -38,8 +38,13 @@ def run(zoning, duration, segments, dt, EI, heave):
                     hybrid=HybridOptions(n_segments=segments, time_step=dt, zoning=zoning),
                     initial=InitialState(kind="static"))
     c0 = time.process_time()
-    s = HybridRodCatenarySolver(cfg)
     miss, error, k = 0.0, "", 0
+    try:
+        s = HybridRodCatenarySolver(cfg)
+    except SolverDivergedError as exc:  # in the static relaxation
+        return dict(ship=np.nan, vehicle=np.nan, stats={"rezonings": 0, "halvings": 0, "newton_iterations": 0,
+                                                        "steps": 0}, miss=np.nan, error=f"start: {exc}",
+                    cpu=time.process_time() - c0, reached=0.0)
     try:
         while s.time < duration - 1e-9:
             k += 1
