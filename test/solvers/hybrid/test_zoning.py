@@ -1,6 +1,7 @@
 """Adaptive zoning: criterion chi = sqrt(EI w^2 / T^3) with hysteresis (docs/hybrid_solver.md)."""
 
 import numpy as np
+import pytest
 
 from tether_sim.scenarios.goyal_perkins import goyal_perkins_config, run_to_rest
 from tether_sim.solvers.hybrid import zoning
@@ -41,3 +42,43 @@ def test_gp_benchmark_adaptive_zones_settle_without_chatter():
     count = solver.stats["rezonings"]
     solver.advance_to(solver.time + 10.0)
     assert solver.stats["rezonings"] == count  # at rest the zones do not chatter
+
+
+def test_a_rod_shape_that_no_longer_reaches_its_driven_end_stops_the_run_with_the_reason():
+    """The cross-check network of docs/network.md (ship, 200 m ROPOS tether, cage, 30 m slack excursion tether with
+    EI = 78.1 N m^2 on the hybrid solver, 30 segments, 2 ms, adaptive zoning): the rod/catenary conversions of its
+    static relaxation leave the rod zone's shape, the integral of its tangents, 0.4 m (1.3 % of the line) short of
+    the vehicle it is attached to (the kinematic condition holds the end's velocity only), and the dynamic run then
+    pulled the line taut 4x harder than all_rod and MoorDyn (1.67 kN against 0.43 kN at 4.5 s) before its zones
+    flipped into a Newton failure at 0.0845 s. The run now stops at that gap with the reason; with all_rod zoning the
+    same network keeps its shape closed (gap at most 9 cm over 12 s, measured 2026-11-28)."""
+    import benchmarks.studies.network_vs_moordyn as nv
+    from tether_sim.errors import SolverDivergedError
+    from tether_sim.network.solver import NetworkSolver
+    from tether_sim.network.spec import parse_network
+
+    def build(zoning_kind):
+        saved = nv.EXCURSION, dict(nv.HYBRID_OPTIONS)
+        try:
+            nv.set_excursion_bending(78.1)
+            nv.HYBRID_OPTIONS.update(zoning=zoning_kind)
+            return NetworkSolver(parse_network(nv.network_tree("hybrid", 0.005, exc_hybrid=(30, 0.002),
+                                                               tether_mesh=(3, 4))))
+        finally:
+            nv.EXCURSION, hyb = saved
+            nv.HYBRID_OPTIONS.clear()
+            nv.HYBRID_OPTIONS.update(hyb)
+
+    with pytest.raises(SolverDivergedError, match="shape ends .* from where its far end is driven"):
+        build("adaptive")
+    net = build("all_rod")
+    veh = nv.vehicle_position()
+    for k in range(1, 41):  # 0.2 s
+        t = 0.005 * k
+        p, v = nv.rc.fairlead_motion(t)
+        net.set_point_motion("ship", p, v)
+        net.set_point_motion("vehicle", veh, np.zeros(3))
+        net.tick(t)
+    exc = net.line("excursion")
+    assert 0.0 < exc.stats["closure_gap"] < 0.01 * 30.0
+    assert np.linalg.norm(exc.positions[-1] - veh) < 0.1
