@@ -456,7 +456,10 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         T_grid = np.full(self.s_grid.size, np.inf)
         np.minimum.at(T_grid, self.chain.grid, T_node)
         T_elem = np.minimum(T_grid[1:], T_grid[:-1])
-        new = self._classify(T_elem, self.zones, boost)
+        # and the bending the line carries: a rod element bent or sheared more than its weight does it
+        # stays rod until the tension dominates (zoning.py)
+        kappa, shear = zoning.element_bending(self.chain.kind, self.Y, self.chain.grid, self.chain.s, self.zones.size)
+        new = self._classify(T_elem, self.zones, boost, kappa, shear)
         if boost > 1.0:
             new = np.maximum(new, self.zones)  # only add rod elements
         if np.array_equal(new, self.zones):
