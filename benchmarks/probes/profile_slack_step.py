@@ -7,8 +7,10 @@ dg.bending_multirate as given; the fairlead orbit of bench_slack_bending.py), me
 3. the compiled side, per kernel, at states sampled through the window (each kernel repeated --reps times in a
    compiled loop on the solver's workspace, CPU time): a right-hand side with the nested LDG, one with the bending
    shear extrapolated (the multirate's other stages), the damping step with a new LU, with the stored LU
-   (defect correction) and the LU's assembly + factorisation alone; and --reps substeps of dg_advance from the
-   sampled state (the state restored afterwards) for the sum.
+   (defect correction) and the LU's assembly + factorisation alone; the parts of a right-hand side (steps 1-3,
+   steps 1-4 with the shear extrapolated, the nested LDG alone, step 5: rows " part: ...", for the roofline count
+   of rhs_roofline.py); and --reps substeps of dg_advance from the sampled state (the state restored afterwards)
+   for the sum.
 
 Usage: PYTHONPATH=. python benchmarks/probes/profile_slack_step.py [--alpha 1] [--damping implicit]
        [--start 5] [--seconds 3] [--samples 6] [--reps 2000]
@@ -35,9 +37,13 @@ from tether_sim.numerics.banded import band_factor  # noqa: E402
 from tether_sim.solvers.dg import damping_layout as DL  # noqa: E402
 from tether_sim.solvers.dg import layout as Y  # noqa: E402
 from tether_sim.solvers.dg.implicit_damping import assemble_axial  # noqa: E402
+from tether_sim.solvers.dg.kernels import internal_forces, momentum_rate, tension_scalar  # noqa: E402
+from tether_sim.solvers.dg.ldg import ldg_shear_force  # noqa: E402
 from tether_sim.solvers.dg.stepper import _damping, dg_advance, dg_evaluate  # noqa: E402
 from tether_sim.solvers.dg.workspace import (  # noqa: E402
-    X_BAND, X_BLK, X_BVEC, X_DPRM, X_DTMP, X_FDAMP, X_IDP, X_IPRM_STEP, X_PRM_STEP, X_U, X_VEC, X_WP, bind,
+    X_BAND, X_BC, X_BLK, X_BVEC, X_CX, X_CY, X_CZ, X_D, X_DPRM, X_DTMP, X_DU, X_ENDF, X_FDAMP, X_FL, X_H, X_IDP,
+    X_IPRM_STEP, X_IQ, X_LF, X_PJ, X_PRM_STEP, X_RA, X_RS, X_TAB_EPS, X_TAB_T, X_TMP, X_TR, X_TRC, X_U, X_V, X_VBC,
+    X_VEC, X_WM, X_WP, X_WQ, bind,
 )
 
 
@@ -49,6 +55,32 @@ def _rhs(F, I, S, n, t, extrapolated):
         if extrapolated:
             prm[Y.P_BMR] = 1.0
         dg_evaluate(t, A, prm, A[X_IPRM_STEP], A[X_FDAMP], True, True)
+    prm[Y.P_BMR] = 0.0
+
+
+@njit
+def _part(F, I, S, n, which):
+    """One part of a right-hand side, n times, on the state the last full evaluation left in the work arrays:
+    0 tension_scalar (steps 1-3, shear extrapolated), 1 internal_forces (steps 1-4, shear extrapolated),
+    2 the nested LDG alone (ldg_shear_force), 3 momentum_rate (step 5)."""
+    A = bind(F, I, S)
+    prm, iprm = A[X_PRM_STEP], A[X_IPRM_STEP]
+    U, h, V, Pj, D, Lf, Tr = A[X_U], A[X_H], A[X_V], A[X_PJ], A[X_D], A[X_LF], A[X_TR]
+    wq, wm, tr, fl, dU = A[X_WQ], A[X_WM], A[X_TRC], A[X_FL], A[X_DU]
+    for _ in range(n):
+        if which == 0:
+            prm[Y.P_BMR] = 1.0
+            tension_scalar(U, prm, iprm, h, V, Pj, D, Lf, Tr, A[X_TAB_EPS], A[X_TAB_T], A[X_BC], A[X_VBC], wq, wm, tr,
+                           fl, dU)
+        elif which == 1:
+            prm[Y.P_BMR] = 1.0
+            internal_forces(U, prm, iprm, h, V, Pj, D, Lf, Tr, A[X_TAB_EPS], A[X_TAB_T], A[X_BC], A[X_VBC], wq, wm,
+                            tr, fl, dU, A[X_ENDF], A[X_TMP])
+        elif which == 2:
+            ldg_shear_force(prm, iprm, h, V, Pj, D, Lf, Tr, A[X_BC], wq, wm, tr, fl)
+        else:
+            momentum_rate(U, A[X_RA], prm, iprm, h, V, Pj, D, Lf, A[X_IQ], A[X_CZ], A[X_CX], A[X_CY], wq, wm, tr, fl,
+                          A[X_RS], A[X_TMP], dU)
     prm[Y.P_BMR] = 0.0
 
 
@@ -92,7 +124,11 @@ def kernel_times(s, reps):
     for name, fn, extra in (("rhs, nested LDG", _rhs, (s.time, False)), ("rhs, shear extrapolated", _rhs, (s.time, True)),
                             ("damping step, new LU", _damp, (dt, ws.U.copy(), True)),
                             ("damping step, stored LU", _damp, (dt, ws.U.copy(), False)),
-                            ("assembly + factorisation", _factor, (DL.GAMMA_SDIRK * dt,))):
+                            ("assembly + factorisation", _factor, (DL.GAMMA_SDIRK * dt,)),
+                            (" part: steps 1-3 (tension_scalar)", _part, (0,)),
+                            (" part: steps 1-4 (internal_forces)", _part, (1,)),
+                            (" part: nested LDG alone", _part, (2,)),
+                            (" part: step 5 (momentum_rate)", _part, (3,))):
         fn(*args, 2, *extra)  # compile
         ws.F[:] = F0
         ws.I[:] = I0

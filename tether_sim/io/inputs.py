@@ -277,13 +277,31 @@ class EndPoseInput:
             return s[i].twist_velocity
         if len(s) == 1:
             return np.zeros(3)
+        lo, hi = self._knot_span(i)
+        return (s[hi].attachment - s[lo].attachment) / (s[hi].stamp - s[lo].stamp)
+
+    def _knot_velocity_floats(self, i: int) -> list:
+        """:meth:`_knot_velocity` as a list of 3 floats: the same operations per component (the
+        interpolation's inner loop, without numpy's small-array overheads)."""
+        s = self._samples
+        if s[i].twist_velocity is not None:
+            return s[i].twist_velocity.tolist()
+        if len(s) == 1:
+            return [0.0, 0.0, 0.0]
+        lo, hi = self._knot_span(i)
+        (a0, a1, a2), (b0, b1, b2), dt = s[hi].attachment.tolist(), s[lo].attachment.tolist(), s[hi].stamp - s[lo].stamp
+        return [(a0 - b0) / dt, (a1 - b1) / dt, (a2 - b2) / dt]
+
+    def _knot_span(self, i: int) -> tuple:
+        """(lo, hi): the samples whose difference quotient is knot ``i``'s velocity."""
+        s = self._samples
         lo, hi = max(i - 1, 0), min(i + 1, len(s) - 1)
         if self.min_spacing > 0.0 and (lo == i or hi == i):  # one-sided: over at least 4 min_spacing
             if hi == i:  # the newest knot (its velocity is the extrapolation's)
                 lo = max(bisect.bisect_right(self._stamps, s[i].stamp - 4.0 * self.min_spacing) - 1, 0)
             else:
                 hi = min(bisect.bisect_left(self._stamps, s[i].stamp + 4.0 * self.min_spacing), len(s) - 1)
-        return (s[hi].attachment - s[lo].attachment) / (s[hi].stamp - s[lo].stamp)
+        return lo, hi
 
     def _bracket(self, t: float) -> int:
         """Index i with stamp[i] <= t < stamp[i+1] (samples must cover t)."""
@@ -321,7 +339,7 @@ class EndPoseInput:
         # (tens of microseconds less per call than numpy's small-array overheads)
         pos, vel = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
         for c, (pa, pb, v0, v1) in enumerate(zip(a.attachment.tolist(), b.attachment.tolist(),
-                                                 self._knot_velocity(i).tolist(), self._knot_velocity(i + 1).tolist())):
+                                                 self._knot_velocity_floats(i), self._knot_velocity_floats(i + 1))):
             m0, m1 = v0 * h, v1 * h
             pos[c] = h00 * pa + h10 * m0 + h01 * pb + h11 * m1
             vel[c] = (d00 * pa + d10 * m0 + d01 * pb + d11 * m1) / h

@@ -54,6 +54,11 @@ An event that fails it is returned as a :class:`NumericalSnapWarning` instead of
 :class:`SnapEvent`: reported, never published as a snap; so is a re-tensioning at another location
 that peaks when the front of a rejected one in the same slack episode arrives there
 (:meth:`SnapGuard.same_episode`).
+The rise rule is also applied to the running maximum as it comes: one element crossing after a maximum that rose
+from the re-tension level faster than that, with nothing larger since and the tension out of slack, the window
+forgets it (reported then as a numerical warning) and goes on from the current sample, slack again when that is
+below the re-tension level, else with that level as a floor that is never a snap; so a spike larger than the real
+re-tensioning after it does not hold the window (docs/snap_guard.md, "Each peak judged as it comes").
 A rejected re-tensioning did not end its slack period: the slack period the kernel restarted after
 it is merged back (start, least tension, relative speed record), so the real re-tensioning that
 ends it later is measured, and judged, over the whole slack period (the kernel stops after each
@@ -72,7 +77,8 @@ import numpy as np
 
 from tether_sim.physics.snap_guard import KINEMATIC_END_KINDS, NumericalSnapWarning, SnapGuard, snap_guard  # noqa: F401
 from tether_sim.physics.snap_kernel import (_MIN_T, _MODE, _N_EVENT, _N_STATE, _NEW_MAXIMUM, _PUBLISHED, _RISING, _SLACK,
-                                            _SLACK_START, _SNAP, _TIME_COLUMNS, snap_detector_close, snap_detector_step)
+                                            _SLACK_START, _SNAP, _SPIKE, _TIME_COLUMNS, snap_detector_close,
+                                            snap_detector_step)
 from tether_sim.spec import param
 
 
@@ -238,9 +244,16 @@ class SnapDetector:
         while start < times.size:
             start, n_ev = snap_detector_step(times, tensions, start, self._state, self._thresholds,
                                              float(self.config.peak_window), float(self.config.min_slack_duration),
-                                             self._events)
+                                             self._crossing(), self._events)
             out += self._rows(n_ev, speed)
         return out
+
+    def _crossing(self) -> float:
+        """The guard's element crossing time (s) for the kernel's spike rule; 0 (off) without a guard or with its
+        margin 0."""
+        if self.guard is None or self.guard.margin <= 0.0:
+            return 0.0
+        return float(self.guard.crossing_time)
 
     def _rows(self, n_ev, speed):
         """The events of the first ``n_ev`` rows of the kernel's event table, each snap guarded. A rejected
@@ -260,6 +273,8 @@ class SnapDetector:
                 continue
             event = self._event(row)
             checked = self._guarded(event, speed, float(row[2] - row[8]))
+            if row[0] == _SPIKE and not isinstance(checked, NumericalSnapWarning):
+                continue  # (the guard rejects every spike row by its rise; a forgotten maximum is never a snap)
             if isinstance(checked, NumericalSnapWarning) and row[0] == _SNAP:  # (a rejected new maximum: the
                 merged[j] = event  # published snap before it ended the slack period all the same)
             out.append(checked)
@@ -310,7 +325,7 @@ class SnapDetector:
 
     def _event(self, row):
         j = int(row[1])
-        if row[0] != _SNAP and row[0] != _NEW_MAXIMUM:
+        if row[0] != _SNAP and row[0] != _NEW_MAXIMUM and row[0] != _SPIKE:
             return SlackStarted(time=float(row[2]), location=self.locations[j], arc_length=float(self.arc_lengths[j]),
                                 tension=float(row[3]), threshold=float(self._thresholds[j, 0]))
         static = float(self.static_tensions[j])

@@ -16,12 +16,12 @@ from tether_sim.numerics.jit import jit
  # the same order (_NEXT: the offset between the two; _stage_peak / _stage_drop serve both)
  _PEAK, _PEAK_T, _PEAK_EXIT, _PEAK_FRONT, _DROP_T, _DROP_Y, _DROP_MIN,
  _NEXT_PEAK, _NEXT_PEAK_T, _NEXT_PEAK_EXIT, _NEXT_PEAK_FRONT, _NEXT_DROP_T, _NEXT_DROP_Y, _NEXT_DROP_MIN,
- _PUBLISHED) = range(25)
-_N_STATE = 25
+ _PUBLISHED, _RESET_Y, _RESET_T) = range(27)
+_N_STATE = 27
 _STAGE_SIZE = _NEXT_PEAK - _PEAK  # the columns of one stage
 _NEXT = _STAGE_SIZE  # offset of the next stage's columns from the window's
 _TIME_COLUMNS = [_SLACK_START, _EXIT_T, _PEAK_T, _RETENSION_T, _PREV_T, _PEAK_EXIT, _DROP_T, _FRONT_T, _PEAK_FRONT,
-                 _NEXT_RET, _NEXT_PEAK_T, _NEXT_PEAK_EXIT, _NEXT_PEAK_FRONT, _NEXT_DROP_T]  # (shift_time)
+                 _NEXT_RET, _NEXT_PEAK_T, _NEXT_PEAK_EXIT, _NEXT_PEAK_FRONT, _NEXT_DROP_T, _RESET_T]  # (shift_time)
 # _FRONT_T: the last upward crossing of the re-tension level (the start of the front now rising); _PEAK_FRONT
 # its value at the running maximum (the guard's rise: SnapGuard.check).
 # _DROP_T: within a re-tensioning window, when the tension first fell back below the slack threshold after
@@ -34,13 +34,17 @@ _TIME_COLUMNS = [_SLACK_START, _EXIT_T, _PEAK_T, _RETENSION_T, _PREV_T, _PEAK_EX
 # _PUBLISHED: the largest peak of the open re-tensioning window already emitted as a snap (-inf while none): the
 # window stays open after it, until the tension falls back into slack or 10 windows after the re-tensioning
 # began, and a later peak above it is the same snap's new maximum (an event row of kind 3).
+# _RESET_Y: after the window forgot a running maximum as numerical (_forget_spike), the tension it went on from
+# (-inf while none): the window's floor; a later maximum counts only above it, and its rise runs from _RESET_T, the
+# last upward crossing of that level (the front of what rises after a spike, as _FRONT_T is of a rise from slack).
 _TAUT, _SLACK, _RISING = 0.0, 1.0, 2.0
 # Event rows: kind (0 slack started, 1 snap, 2 slack restarted where the tension fell back after a closed
 # re-tensioning, 3 a new maximum of a snap already emitted: same slack period, larger peak), location, time,
 # tension/peak, min, slack_start, exit time, start of the re-tensioning holding the peak, start of the front
-# holding the peak (re-tension level).
+# holding the peak (re-tension level); kind 4: a running maximum forgotten as numerical (_forget_spike), with
+# the same columns as a snap (the guard turns it into a numerical warning).
 _N_EVENT = 9
-_SNAP, _NEW_MAXIMUM = 1.0, 3.0
+_SNAP, _NEW_MAXIMUM, _SPIKE = 1.0, 3.0, 4.0
 
 
 @jit
@@ -72,7 +76,7 @@ def _stage_peak(s, o, t, y):
     s[_PEAK + o] = y
     s[_PEAK_T + o] = t
     s[_PEAK_EXIT + o] = s[_EXIT_T]
-    s[_PEAK_FRONT + o] = s[_FRONT_T]
+    s[_PEAK_FRONT + o] = max(s[_FRONT_T], s[_RESET_T])
     s[_DROP_T + o] = np.nan
 
 
@@ -106,12 +110,38 @@ def _slack_elsewhere(st, j):
 
 
 @jit
+def _forget_spike(s, j, t, y, hi, snap_level, min_duration, events, n_ev):
+    """Location ``j``'s running maximum rose from its front (the last upward crossing of the re-tension level, or
+    of the level the window went on from after an earlier spike) in less than an element crossing, and nothing
+    larger came for a crossing after it, the tension out of slack all along: a rise faster than the
+    discretisation can carry a physical front (docs/snap_guard.md, "Each peak judged as it comes"). The window
+    forgets it, so that the re-tensioning that follows, smaller or not, is measured on its own: emit it as a spike
+    row (kind 4, when it reached the snap level after a slack period of ``min_duration``: what would have been
+    judged as a snap) and go on from the current sample ``(t, y)``: still re-tensioning, with ``y`` as the
+    window's floor, when it is above the re-tension level ``hi``; else slack, as if the spike had not been.
+    Returns the number of event rows."""
+    if s[_PEAK] >= snap_level and s[_PEAK_EXIT] - s[_SLACK_START] >= min_duration:
+        n_ev = _emit(events, n_ev, _SPIKE, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START], s[_PEAK_EXIT],
+                     s[_PEAK_EXIT], s[_PEAK_FRONT])
+    if y > hi:
+        s[_RESET_Y] = y
+        s[_RESET_T] = t
+        _stage_peak(s, 0, t, y)
+    else:
+        s[_MODE] = _SLACK
+        s[_PEAK] = -np.inf
+        s[_RESET_Y] = -np.inf
+        s[_RESET_T] = -np.inf
+    return n_ev
+
+
+@jit
 def _close_window(s, j, y, lo, snap_level, min_duration, follow, events, n_ev):
     """Close location ``j``'s re-tensioning window (current sample ``y``): emit its snap event when its peak
     reaches ``snap_level``, is above the peak already emitted from the window and the slack before it lasted
     ``min_duration``, then set what follows (``follow``: a window that reached the snap level and is still out
     of slack stays open for a new maximum). Returns the number of event rows."""
-    reached = s[_PEAK] >= snap_level
+    reached = s[_PEAK] >= snap_level and s[_PEAK] > s[_RESET_Y]  # (not the floor a spike left: _forget_spike)
     if reached and s[_PEAK] > s[_PUBLISHED] and s[_PEAK_EXIT] - s[_SLACK_START] >= min_duration:
         kind = _SNAP if s[_PUBLISHED] == -np.inf else _NEW_MAXIMUM
         n_ev = _emit(events, n_ev, kind, j, s[_PEAK_T], s[_PEAK], s[_MIN_T], s[_SLACK_START], s[_PEAK_EXIT],
@@ -137,6 +167,8 @@ def _close_window(s, j, y, lo, snap_level, min_duration, follow, events, n_ev):
             s[_PEAK + k] = s[_PEAK + _NEXT + k]
         s[_NEXT_RET] = np.nan
         s[_PUBLISHED] = -np.inf
+        s[_RESET_Y] = -np.inf
+        s[_RESET_T] = -np.inf
     else:  # slack now (or between the slack and re-tension levels: not re-tensioned yet)
         s[_MODE] = _SLACK
         s[_PEAK] = -np.inf
@@ -154,9 +186,10 @@ def snap_detector_close(st, j, thresholds, min_duration, events):
 
 
 @jit
-def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_duration, events):
+def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_duration, crossing, events):
     """Advance every location's state machine over samples ``start..``; stop when ``events`` is full, or after
-    a sample that closed a snap event (so that the guard can rule on it before the samples that follow).
+    a sample that closed a snap event or forgot a spike (so that the guard can rule on it before the samples that
+    follow). ``crossing``: the axial wave's crossing of an element (s; 0: no spike is forgotten, _forget_spike).
 
     times (k,), tensions (k, n_loc), st (n_loc, _N_STATE) state, thresholds (n_loc, 3) = (slack, re-tension,
     snap level). Returns (next sample index, number of event rows written).
@@ -189,6 +222,8 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                     s[_EXIT_T] = _crossing_time(t0, y0, t, y, lo)
                 if has_prev and y0 <= hi < y:
                     s[_FRONT_T] = _crossing_time(t0, y0, t, y, hi)
+                if has_prev and y0 <= s[_RESET_Y] < y:
+                    s[_RESET_T] = _crossing_time(t0, y0, t, y, s[_RESET_Y])
                 third = False
                 if y > s[_PEAK]:  # a larger stage: whatever rose after a drop belongs to it
                     _stage_peak(s, 0, t, y)
@@ -209,6 +244,17 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                         s[_NEXT_DROP_MIN] = y
                     # a third re-tensioning: the window's peak is final (two drops into slack behind it)
                     third = y > hi
+                # A running maximum that rose from its front in less than an element crossing, with nothing
+                # larger for a crossing after it and the tension out of slack since, is numerical: forgotten at
+                # once (a re-tensioning after it that never passes it is not swallowed by its window).
+                if (crossing > 0.0 and not third and s[_PUBLISHED] == -np.inf and np.isnan(s[_DROP_T])
+                        and s[_PEAK] > s[_RESET_Y] and t - s[_PEAK_T] >= crossing
+                        and s[_PEAK_T] - s[_PEAK_FRONT] < crossing):
+                    n0 = n_ev
+                    n_ev = _forget_spike(s, j, t, y, hi, snap_level, min_duration, events, n_ev)
+                    snapped = snapped or n_ev > n0
+                    mode = s[_MODE]
+            if mode == _RISING:
                 elapsed = t - s[_RETENSION_T]
                 # Close once the window has passed and the running maximum lies behind the current sample;
                 # while the tension has stayed out of slack since that maximum, only once the maximum is a
@@ -265,6 +311,8 @@ def snap_detector_step(times, tensions, start, st, thresholds, peak_window, min_
                     s[_PUBLISHED] = -np.inf
                     s[_DROP_T] = np.nan
                     s[_NEXT_RET] = np.nan
+                    s[_RESET_Y] = -np.inf
+                    s[_RESET_T] = -np.inf
                     s[_FRONT_T] = _crossing_time(t0, y0, t, y, hi) if has_prev and y0 <= hi else t
                     if y > s[_PEAK]:
                         s[_PEAK] = y

@@ -53,7 +53,7 @@ def _to_body(q, v):
     """``R(q)^T v`` for a unit quaternion (x, y, z, w) and a 3-vector, in plain floats (a few
     microseconds instead of tens for the numpy version with its small-array overheads)."""
     x, y, z, w = q
-    a, b, c = (float(e) for e in v)
+    a, b, c = v.tolist() if type(v) is np.ndarray and v.dtype == np.float64 else (float(e) for e in v)
     return ((1 - 2 * (y * y + z * z)) * a + 2 * (x * y + z * w) * b + 2 * (x * z - y * w) * c,
             2 * (x * y - z * w) * a + (1 - 2 * (x * x + z * z)) * b + 2 * (y * z + x * w) * c,
             2 * (x * z + y * w) * a + 2 * (y * z - x * w) * b + (1 - 2 * (x * x + y * y)) * c)

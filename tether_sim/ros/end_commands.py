@@ -188,8 +188,8 @@ class EndCommands:
         covers = getattr(self.sources.get(end), "covers", None)
         if covers is not None and not covers(t0):
             return  # (a flood shortened the history: the stream before its oldest sample is a placeholder)
-        p_stream = self.end_target(end, t0)[0]
-        if float(np.linalg.norm(p_stream - self._end_state[end][0])) > REVISION_TOLERANCE:
+        d = self.end_target(end, t0)[0] - self._end_state[end][0]
+        if math.sqrt(float(d.dot(d))) > REVISION_TOLERANCE:  # (np.linalg.norm's own sum, without its wrapper)
             self._start_blend(end, t0, "input revised", report, t, suspend=False)
 
     def _hold_after_jump(self, end, now, report):

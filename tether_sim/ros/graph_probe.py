@@ -115,6 +115,7 @@ class _PrimeWatch:
         self.pose = deserialize_message(pose_cdr, PoseStamped)
         self.clock = Clock()
         self.last_pose = -1.0
+        self.last_pose_ns = -1  # the stamp of the last pose published
 
     def _on_state(self, msg):
         self.latest = max(self.latest, msg.header.stamp.sec * 10**9 + msg.header.stamp.nanosec)
@@ -143,8 +144,11 @@ class _PrimeWatch:
                                  f"from the record's start)")
             self.clock.clock.sec, self.clock.clock.nanosec = divmod(int(clock_at(elapsed)), 10**9)
             self.clock_pub.publish(self.clock)
-            if time.monotonic() - self.last_pose >= 0.2:
+            now_ns = self.clock.clock.sec * 10**9 + self.clock.clock.nanosec
+            # (a held clock: the pose once per stamp; the node rejects a repeated stamp as not increasing)
+            if time.monotonic() - self.last_pose >= 0.2 and now_ns > self.last_pose_ns:
                 self.last_pose = time.monotonic()
+                self.last_pose_ns = now_ns
                 self.pose.header.stamp = self.clock.clock
                 self.pose_pub.publish(self.pose)
             self.probe._spin(0.02)

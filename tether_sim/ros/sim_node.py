@@ -97,6 +97,7 @@ class TetherSimNode(Node):
         self.forecast_io = NodeForecast(self, solver_factory)  # tether/snap_forecast (forecast.enabled; ros/forecast_io.py)
         # periodic outputs: built (and published) only while someone subscribes to them
         self._tick_topics = [t for t in self.pubs if t in convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
+        self._tick_pubs = [(t, self.pubs[t]) for t in self._tick_topics]
         self._shape_gate = convert.ShapeGate(node.shape_rate)
         self._first_tick = None
         self.tick_errors, self.last_tick_error = 0, ""
@@ -255,7 +256,7 @@ class TetherSimNode(Node):
             if self.driver.stamp > max(self._last_output, 0.0):  # one output per simulated instant
                 self._last_output = self.driver.stamp
                 self.arc_lengths = self.winch_io.tick(self.arc_lengths)  # outputs follow L(t) (winch)
-                wanted = {topic for topic in self._tick_topics if self.pubs[topic].get_subscription_count() > 0}
+                wanted = {topic for topic, pub in self._tick_pubs if pub.get_subscription_count() > 0}
                 frame = convert.OutputFrame(self.driver)  # what the outputs and /tf share
                 shapes = self._shape_gate.due(self.driver.stamp)  # node.shape_rate
                 for topic, data in convert.tick_outputs(self.driver, self.arc_lengths, wanted, frame, shapes):

@@ -164,9 +164,8 @@ class TfMessageEncoder(cdr.Template):
         buf = self.buf
         for at in self._stamps:
             cdr.TIME.pack_into(buf, at, *stamp)
-        for at, (_, p, q) in zip(self._values, transforms):
-            _7D.pack_into(buf, at, float(p[0]), float(p[1]), float(p[2]), float(q[0]), float(q[1]), float(q[2]),
-                          float(q[3]))
+        for at, (_, p, q) in zip(self._values, transforms):  # ('d' packs what float() gives)
+            _7D.pack_into(buf, at, *p, *q)
         return self.tobytes()
 
 

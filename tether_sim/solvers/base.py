@@ -181,6 +181,14 @@ def shortest_element(solver, config) -> float:
     return float(config.cable.length) / max(int(n), 1)
 
 
+def _floats(x) -> list:
+    """The components of a small vector as Python floats (``tolist`` for a float array: the values
+    ``float()`` gives, a fraction of the calls)."""
+    if type(x) is np.ndarray and x.dtype == np.float64:
+        return x.tolist()
+    return [float(c) for c in x]
+
+
 def relative_end_speed(solver, length: float, state=None) -> float:
     """|v(0) - v(L)|: the relative speed of the two cable ends now, m/s (the snap guard's speed;
     ``length`` is the unstretched length, a winch's current one where there is a winch).
@@ -208,10 +216,10 @@ def relative_end_speed(solver, length: float, state=None) -> float:
     v = np.array(velocity, float)
     for j, body in enumerate(bodies):
         if body is not None:  # v + omega x arm in plain floats (np.cross costs ~15 us on 3-vectors; same operations)
-            (px, py, pz), (bx, by, bz) = (float(c) for c in position[j]), (float(c) for c in body[0])
+            (px, py, pz), (bx, by, bz) = _floats(position[j]), _floats(body[0])
             ax, ay, az = px - bx, py - by, pz - bz
-            wx, wy, wz = (float(c) for c in body[2])
-            ux, uy, uz = (float(c) for c in body[1])
+            wx, wy, wz = _floats(body[2])
+            ux, uy, uz = _floats(body[1])
             v[j] = (ux + (wy * az - wz * ay), uy + (wz * ax - wx * az), uz + (wx * ay - wy * ax))
     d = v[0] - v[1]
     return math.sqrt(float(d.dot(d)))  # = np.linalg.norm(d), which computes sqrt(d.dot(d))

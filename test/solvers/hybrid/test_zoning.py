@@ -1,6 +1,7 @@
 """Adaptive zoning: criterion chi = sqrt(EI w^2 / T^3) with hysteresis (docs/hybrid_solver.md)."""
 
 import numpy as np
+import pytest
 
 from tether_sim.scenarios.goyal_perkins import goyal_perkins_config, run_to_rest
 from tether_sim.solvers.hybrid import zoning
@@ -36,8 +37,117 @@ def test_gp_benchmark_adaptive_zones_settle_without_chatter():
     solver = HybridRodCatenarySolver(goyal_perkins_config(zoning="adaptive", n_segments=50))
     run_to_rest(solver, t_max=100.0)
     zones = solver.zones
-    assert zones[-1] == 1 and zones[0] == 0  # tension-free held end is rod, the pinned end catenary
-    assert np.all(np.diff(zones) >= 0)  # one joint
+    # bending matters along the whole GP cable (docs/hybrid_solver.md "Zoning"): at rest even beside the
+    # pinned end the rod's shear force is 14 % of its 8 mN tension (chi = sqrt(|f_shear|/T) = 0.37 > chi_on;
+    # the weight alone gives 0.17), so a joint there would kink the catenary by 8 degrees: all rod
+    assert np.all(zones == 1)
     count = solver.stats["rezonings"]
     solver.advance_to(solver.time + 10.0)
     assert solver.stats["rezonings"] == count  # at rest the zones do not chatter
+
+
+# A slack excursion tether with bending (the TMS file's line: 30 m, EA 2 MN, 1.59 kg/m, 1000 kg/m^3, 45 mm,
+# buoyant; EI = EA d^2 / 16 = 253 N m^2, PE2020's solid-section rule), from a driven end to a fixed end
+# 20 m off and 15 m below, 30 segments, dt 5 ms, adaptive zoning (docs/hybrid_solver.md "Zoning").
+EXC_EI = 253.125
+
+
+def _excursion(zoning_kind="adaptive"):
+    from tether_sim.config import SimConfig
+    from tether_sim.physics.boundary import EndCondition
+    from tether_sim.physics.cable import CableProperties
+    from tether_sim.physics.environment import Environment
+    from tether_sim.solvers.config import HybridOptions, InitialState
+    cab = CableProperties(length=30.0, EA=2e6, gamma0=1.59, density=1000.0, diameter=0.045, EI=EXC_EI,
+                          damping=2000.0, material="bilinear", Cdn=1.2, Cdt=0.02, Cmn=1.0, Cmt=0.0)
+    cfg = SimConfig(solver="hybrid", cable=cab, environment=Environment(g=9.81, fluid_density=1025.0),
+                    ship_end=EndCondition(kind="prescribed", position=(0.0, 0.0, 0.0)),
+                    vehicle_end=EndCondition(kind="fixed", position=(20.0, 0.0, -15.0)),
+                    hybrid=HybridOptions(n_segments=30, time_step=0.005, zoning=zoning_kind),
+                    initial=InitialState(kind="static"))
+    return HybridRodCatenarySolver(cfg)
+
+
+def test_a_sheared_or_bent_rod_element_stays_rod():
+    # at T = 50 N the weight alone gives chi = 0.016 (catenary); a rod element carrying a shear force of
+    # 30 N (chi = sqrt(30/50) = 0.77) or a curvature of 0.5 1/m (chi = sqrt(EI/T) 0.5 = 1.1) keeps it
+    T = np.full(6, 50.0)
+    rod = np.ones(6, dtype=int)
+    w = 0.39
+    plain = zoning.classify(T, rod, EXC_EI, w, 0.3, 0.15, min_zone=1)
+    assert np.all(plain == 0)
+    shear = np.array([0.0, 0.0, 30.0, 0.0, 0.0, 0.0])
+    kappa = np.array([0.0, 0.0, 0.0, 0.0, 0.5, 0.0])
+    z = zoning.classify(T, rod, EXC_EI, w, 0.3, 0.15, min_zone=1, kappa_elem=kappa, shear_elem=shear)
+    assert z.tolist() == [0, 0, 1, 0, 1, 0]
+    # the static catenary's own curvature and shear (w/T, EI w^2/T^2) give back the weight criterion
+    chi = zoning.tension_ratio(T, EXC_EI, w, kappa_elem=w / T, shear_elem=EXC_EI * w**2 / T**2)
+    assert np.allclose(chi, np.sqrt(EXC_EI * w**2 / T**3), rtol=1e-12)
+
+
+def test_new_catenary_cells_close_on_the_held_end():
+    """A rod zone's shape integrated from its tangents misses the fixed end (rate-form compatibility);
+    the catenary taking over the last elements starts with its position-form cell equation closed."""
+    from tether_sim.solvers.hybrid.layout import CAT_EPS, CAT_TAN
+    from tether_sim.solvers.hybrid.state_io import convert_state
+    from tether_sim.solvers.hybrid.layout import ROD_EPS
+    s = _excursion("all_catenary")  # the static shape, closed on the fixed end
+    fixed = np.array([20.0, 0.0, -15.0])
+    rod = np.ones_like(s.zones)
+    s.Y, s.Yt, s.Lf, s.positions, s.rdot = convert_state(s, rod)  # all rod: the same shape, to 1e-14 m
+    s.zones = rod
+    s._set_chain()
+    s._integrate_frames()  # frames re-derived from the curvature along s, as after every step
+    for c in range(1, len(s.positions)):  # and the shape integrated from the tangents, as after every step
+        s.positions[c] = s.positions[c - 1] + 0.5 * s.ds * ((1 + s.Y[c - 1, ROD_EPS]) * s.Lf[c - 1, 0]
+                                                            + (1 + s.Y[c, ROD_EPS]) * s.Lf[c, 0])
+    assert np.linalg.norm(s.positions[-1] - fixed) > 1e-3  # the rod's own shape misses by millimetres (25 mm)
+    new = s.zones.copy()
+    new[-5:] = zoning.CATENARY
+    Y, _, _, pos, _ = convert_state(s, new)
+    assert np.allclose(pos[-1], fixed, atol=1e-12)
+    K = len(pos)
+    for c in range(K - 6, K - 1):  # the five catenary cells: (r_b - r_a) = ds mean((1 + eps) t)
+        ta, tb = (Y[k, CAT_TAN:CAT_TAN + 3] / np.linalg.norm(Y[k, CAT_TAN:CAT_TAN + 3]) for k in (c, c + 1))
+        chord = 0.5 * s.ds * ((1 + Y[c, CAT_EPS]) * ta + (1 + Y[c + 1, CAT_EPS]) * tb)
+        assert np.allclose(pos[c + 1] - pos[c], chord, atol=1e-12)
+
+
+def test_a_rod_shape_that_no_longer_reaches_its_driven_end_stops_the_run_with_the_reason():
+    """The cross-check network of docs/network.md (ship, 200 m ROPOS tether, cage, 30 m slack excursion tether with
+    EI = 78.1 N m^2 on the hybrid solver, 30 segments, 2 ms, adaptive zoning): the rod/catenary conversions of its
+    static relaxation leave the rod zone's shape, the integral of its tangents, 0.4 m (1.3 % of the line) short of
+    the vehicle it is attached to (the kinematic condition holds the end's velocity only), and the dynamic run then
+    pulled the line taut 4x harder than all_rod and MoorDyn (1.67 kN against 0.43 kN at 4.5 s) before its zones
+    flipped into a Newton failure at 0.0845 s. The run now stops at that gap with the reason; with all_rod zoning the
+    same network keeps its shape closed (gap at most 9 cm over 12 s, measured 2026-11-28)."""
+    import benchmarks.studies.network_vs_moordyn as nv
+    from tether_sim.errors import SolverDivergedError
+    from tether_sim.network.solver import NetworkSolver
+    from tether_sim.network.spec import parse_network
+
+    def build(zoning_kind):
+        saved = nv.EXCURSION, dict(nv.HYBRID_OPTIONS)
+        try:
+            nv.set_excursion_bending(78.1)
+            nv.HYBRID_OPTIONS.update(zoning=zoning_kind)
+            return NetworkSolver(parse_network(nv.network_tree("hybrid", 0.005, exc_hybrid=(30, 0.002),
+                                                               tether_mesh=(3, 4))))
+        finally:
+            nv.EXCURSION, hyb = saved
+            nv.HYBRID_OPTIONS.clear()
+            nv.HYBRID_OPTIONS.update(hyb)
+
+    with pytest.raises(SolverDivergedError, match="shape ends .* from where its far end is driven"):
+        build("adaptive")
+    net = build("all_rod")
+    veh = nv.vehicle_position()
+    for k in range(1, 41):  # 0.2 s
+        t = 0.005 * k
+        p, v = nv.rc.fairlead_motion(t)
+        net.set_point_motion("ship", p, v)
+        net.set_point_motion("vehicle", veh, np.zeros(3))
+        net.tick(t)
+    exc = net.line("excursion")
+    assert 0.0 < exc.stats["closure_gap"] < 0.01 * 30.0
+    assert np.linalg.norm(exc.positions[-1] - veh) < 0.1

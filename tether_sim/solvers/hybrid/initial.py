@@ -36,11 +36,11 @@ class InitialStateMixin:
             out.append(max(1, int(math.ceil(self.opt.end_rod_length / self.ds))) if held else 0)
         return tuple(out)
 
-    def _classify(self, T_elem, previous, boost=1.0):
+    def _classify(self, T_elem, previous, boost=1.0, kappa_elem=None, shear_elem=None):
         o = self.opt
         f = boost ** -1.5  # T_on scales as chi_on^(-2/3): boost multiplies the switching tensions
         return zoning.classify(T_elem, previous, self.EI, max(self.net_weight, 1e-12), o.chi_on * f, o.chi_off * f,
-                               o.min_zone_elements, self._end_rod_elements())
+                               o.min_zone_elements, self._end_rod_elements(), kappa_elem, shear_elem)
 
     def _init_state(self):
         cfg = self.config

@@ -31,6 +31,7 @@ from tether_sim.solvers.hybrid.state_io import EndMotion, convert_state, node_pr
 from tether_sim.solvers.hybrid.winch import HybridWinchMixin
 
 MAX_HALVINGS = 6
+CLOSURE_LIMIT = 0.01  # largest gap between a rod-ended line's shape and its driven far end, per metre of line (_check_closure)
 MAX_BOOST = 256.0  # largest factor on the rod switching tension after failed Newton solves
 
 
@@ -358,11 +359,12 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         self.positions = self.positions + dt * ((1.0 - g) * self.rdot + g * rdot)
         self.rdot = rdot
         K = ch.grid.size
+        driven = [None, None]
         for e, node in ((0, 0), (1, K - 1)):  # kinematic ends sit exactly where they are driven
             if self.end_kinds[e].position == "motion":
-                self.positions[node] = self.end_motion[e].position_at(self.time)
+                driven[e] = self.positions[node] = self.end_motion[e].position_at(self.time)
             elif self.end_kinds[e].position == "fixed":
-                self.positions[node] = self.ends[e].position
+                driven[e] = self.positions[node] = self.ends[e].position
         for first, last in rod_blocks(ch):  # rod shape by integrating its tangents from the block start
             if first > 0 and ch.grid[first] == ch.grid[first - 1]:
                 self.positions[first] = self.positions[first - 1]  # starts at the joint's catenary node
@@ -370,6 +372,8 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
                 la, lb = 1.0 + self.Y[c - 1, ROD_EPS], 1.0 + self.Y[c, ROD_EPS]
                 self.positions[c] = self.positions[c - 1] + 0.5 * (ch.s[c] - ch.s[c - 1]) * (
                     la * self.Lf[c - 1, 0] + lb * self.Lf[c, 0])
+        if driven[1] is not None and ch.kind[K - 1] == zoning.ROD:
+            self._check_closure(driven[1])
         st = self.stats
         st["steps"] += 1
         st["newton_iterations"] += iterations
@@ -385,6 +389,25 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         if self.opt.zoning == "adaptive" and self.EI > 0.0 and (due or self._rho is not None):
             self._last_zoning = self.time
             self._rezone()
+
+    def _check_closure(self, driven):
+        """A rod block ending at a kinematic far end must end where that end is driven: its shape is the integral of
+        its tangents from the block start, and the kinematic condition holds its velocity only, so a shape that does
+        not close there is not this line's. The gap (largest so far in stats["closure_gap"], m) is the integration
+        error of the tangents (centimetres on the cross-check network's all-rod excursion tether) unless re-zoning
+        conversions have broken the shape (docs/hybrid_solver.md, "Zoning"); beyond CLOSURE_LIMIT of the line's
+        length the run stops with a clear error rather than go on with a line that ends elsewhere."""
+        K = self.chain.grid.size
+        gap = float(np.linalg.norm(self.positions[K - 1] - driven))
+        st = self.stats
+        st["closure_gap"] = max(st.get("closure_gap", 0.0), gap)
+        length = float(self.s_grid[-1] - self.s_grid[0])
+        if gap > CLOSURE_LIMIT * length:
+            raise SolverDivergedError(
+                f"hybrid solver: at t = {self.time:.6g} s the rod zone's shape ends {gap:.3g} m from where its far end "
+                f"is driven ({100.0 * gap / length:.3g} % of the line's {length:g} m; limit {100.0 * CLOSURE_LIMIT:g} %): "
+                f"re-zoning conversions broke the shape (hybrid.zoning: all_rod keeps it closed; docs/hybrid_solver.md, "
+                f"\"Zoning\")")
 
     def _integrate_frames(self):
         """Re-derive the frames of each rod block from kappa, L_b = exp(-kappa~ ds) L_a, starting at an
@@ -433,7 +456,10 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         T_grid = np.full(self.s_grid.size, np.inf)
         np.minimum.at(T_grid, self.chain.grid, T_node)
         T_elem = np.minimum(T_grid[1:], T_grid[:-1])
-        new = self._classify(T_elem, self.zones, boost)
+        # and the bending the line carries: a rod element bent or sheared more than its weight does it
+        # stays rod until the tension dominates (zoning.py)
+        kappa, shear = zoning.element_bending(self.chain.kind, self.Y, self.chain.grid, self.chain.s, self.zones.size)
+        new = self._classify(T_elem, self.zones, boost, kappa, shear)
         if boost > 1.0:
             new = np.maximum(new, self.zones)  # only add rod elements
         if np.array_equal(new, self.zones):

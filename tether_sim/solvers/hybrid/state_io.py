@@ -3,7 +3,7 @@
 import numpy as np
 
 from tether_sim.solvers.hybrid import zoning
-from tether_sim.solvers.hybrid.layout import CAT_T, CAT_TAN, CAT_V, ROD_F, ROD_KAPPA, ROD_V
+from tether_sim.solvers.hybrid.layout import CAT_EPS, CAT_T, CAT_TAN, CAT_V, ROD_F, ROD_KAPPA, ROD_V
 
 
 class EndMotion:
@@ -174,4 +174,87 @@ def convert_state(solver, new_zones):
             if kap:
                 Y[i, ROD_KAPPA:ROD_KAPPA + 3] = np.mean(kap, axis=0)
         n = m + 1
+    _anchor_new_catenary(solver, nodes, src, Y, pos)
     return Y, Yt, Lf, pos, rdot
+
+
+def _anchor_new_catenary(solver, nodes, src, Y, pos):
+    """Positions of nodes that became catenary, from the catenary's own geometry.
+
+    A rod zone's positions are integrated from its tangents after each step; nothing in the rod's
+    equations ties that shape to the point its far end is held at (its compatibility equation is in
+    rate form), so a rod block's integrated end misses a held end or a joint by the drift of its
+    shape (tens of mm on a 30 m slack line with bending). The catenary's cell equation is in position
+    form, (r_b - r_a) / ds = mean((1 + eps) t): a catenary zone taking over that shape from the rod
+    would close the miss through the strain of one cell in one step (EA x miss / ds, 100 kN and more
+    for a stiff line), and Newton does not converge. So a new catenary stretch is integrated with its
+    own cell equation from a node whose position is authoritative (a catenary node kept from the old
+    chain, or a held end: fixed, or driven at its commanded position); the miss stays at the joint
+    with the remaining rod zone, whose equations do not use positions. Held on both sides, the miss is
+    spread along the stretch in proportion to arc length.
+    """
+    K = len(nodes)
+    held = [None] * K
+    for e, n in ((0, 0), (1, K - 1)):
+        if nodes[n][1] != zoning.CATENARY:
+            continue
+        where = solver.end_kinds[e].position
+        if where == "fixed":
+            held[n] = np.asarray(solver.ends[e].position, dtype=float)
+        elif where == "motion":
+            held[n] = solver.end_motion[e].position_at(solver.time)
+    s_grid = solver.s_grid
+    n = 0
+    while n < K:
+        if nodes[n][1] != zoning.CATENARY:
+            n += 1
+            continue
+        m = n
+        while m + 1 < K and nodes[m + 1][1] == zoning.CATENARY and nodes[m + 1][0] != nodes[m][0]:
+            m += 1
+        run = list(range(n, m + 1))
+        n = m + 1
+        converted = [not src[i][1] for i in run]
+        if not any(converted):
+            continue
+        anchor = [held[i] is not None or not converted[k] for k, i in enumerate(run)]
+        for i in run:
+            if held[i] is not None:
+                pos[i] = held[i]
+        k = 0
+        while k < len(run):  # stretches of converted nodes between anchors
+            if anchor[k]:
+                k += 1
+                continue
+            a = k
+            while k < len(run) and not anchor[k]:
+                k += 1
+            left = a - 1 if a > 0 else None
+            right = k if k < len(run) else None
+            if left is None and right is None:
+                continue  # nothing authoritative in this run: the rod's shape stays
+            idx = [run[j] for j in range(a if left is None else left, (k - 1 if right is None else right) + 1)]
+            step = [0.5 * (s_grid[nodes[q][0]] - s_grid[nodes[p][0]]) * (
+                (1.0 + Y[p, CAT_EPS]) * _unit(Y[p, CAT_TAN:CAT_TAN + 3])
+                + (1.0 + Y[q, CAT_EPS]) * _unit(Y[q, CAT_TAN:CAT_TAN + 3])) for p, q in zip(idx[:-1], idx[1:])]
+            if left is not None:
+                new = [pos[idx[0]]]
+                for d in step:
+                    new.append(new[-1] + d)
+                if right is not None:  # held on both sides: spread the miss by arc length
+                    miss = pos[idx[-1]] - new[-1]
+                    s0, s1 = s_grid[nodes[idx[0]][0]], s_grid[nodes[idx[-1]][0]]
+                    for j, i in enumerate(idx):
+                        new[j] = new[j] + miss * (s_grid[nodes[i][0]] - s0) / max(s1 - s0, 1e-300)
+                for j, i in enumerate(idx[1:-1] if right is not None else idx[1:]):
+                    pos[i] = new[j + 1]
+            else:
+                new = [pos[idx[-1]]]
+                for d in reversed(step):
+                    new.append(new[-1] - d)
+                for j, i in enumerate(reversed(idx[:-1])):
+                    pos[i] = new[j + 1]
+
+
+def _unit(t):
+    return t / np.linalg.norm(t)

@@ -2,11 +2,20 @@
 
 Criterion (adaptive zoning)
 ---------------------------
-A catenary neglects the shear force EI d(kappa)/ds. Along a catenary the curvature is about w/T
-(w: net distributed load per length) and changes over the length T/w, while bending acts over the
-bending length l_b = sqrt(EI/T). Bending matters where l_b is not small against T/w:
+A catenary neglects the bending moment EI kappa and the shear force EI d(kappa)/ds. Bending acts
+over the bending length l_b = sqrt(EI/T); it matters where l_b is not small against the radius of
+curvature 1/kappa of the line, or where the shear force is not small against the tension:
 
-    chi = l_b / (T/w) = sqrt(EI w^2 / T^3)
+    chi = max( sqrt(EI/T) max(w/T, kappa),  sqrt(|f_shear| / T) )
+
+(w: net distributed load per length; kappa and f_shear the element's own bending curvature and, in
+a rod element, shear force). Along a static catenary kappa = w/T and the shear EI kappa' = EI w^2/T^2,
+so both terms are sqrt(EI w^2 / T^3), the criterion of the weight alone. A moving line can be bent
+and sheared far more than its weight does it (a slack rod zone under a jerk carries shear forces of
+the size of its tension): a rod element keeps them until the tension dominates. The shear term is
+what the spherical joint needs [GP Eq. 14]: there the catenary's tangent takes the direction of the
+rod's whole internal force, so a joint placed where the rod's shear is of the size of its tension
+kinks the catenary by tens of degrees within one step, and Newton does not converge.
 
 An element becomes rod when chi > chi_on (T below T_on = (EI w^2/chi_on^2)^(1/3), including T <= 0)
 and returns to catenary only when chi < chi_off < chi_on (hysteresis: T must rise by the factor
@@ -19,23 +28,60 @@ carries a moment or holds the tangent (clamped, held direction) keep a rod zone 
 import numpy as np
 
 from tether_sim.numerics.rotations import frame_with_tangent, minimal_rotation, rotation_vector
-from tether_sim.solvers.hybrid.layout import CAT_EPS, CAT_T, CAT_TAN, CAT_V, N_SLOTS, ROD_EPS, ROD_F, ROD_OMEGA, ROD_V
+from tether_sim.solvers.hybrid.layout import (CAT_EPS, CAT_T, CAT_TAN, CAT_V, N_SLOTS, ROD_EPS, ROD_F, ROD_KAPPA, ROD_OMEGA,
+                                              ROD_V)
 
 CATENARY, ROD = 0, 1
 
 
-def tension_ratio(T_elem, EI, w):
-    """chi = sqrt(EI w^2 / T^3) per element (inf where T <= 0)."""
+def tension_ratio(T_elem, EI, w, kappa_elem=None, shear_elem=None):
+    """chi per element (module docstring; inf where T <= 0); without kappa_elem and shear_elem the
+    static catenary's sqrt(EI w^2 / T^3)."""
     T = np.asarray(T_elem, dtype=float)
     chi = np.full(T.shape, np.inf)
     pos = T > 0
-    chi[pos] = np.sqrt(EI * w * w / T[pos] ** 3)
+    kap = w / T[pos]
+    if kappa_elem is not None:
+        kap = np.maximum(kap, np.asarray(kappa_elem, dtype=float)[pos])
+    chi[pos] = np.sqrt(EI / T[pos]) * kap
+    if shear_elem is not None:
+        chi[pos] = np.maximum(chi[pos], np.sqrt(np.asarray(shear_elem, dtype=float)[pos] / T[pos]))
     return chi
 
 
-def classify(T_elem, previous, EI, w, chi_on, chi_off, min_zone, end_rod=(0, 0)):
-    """New element zones from element tensions with hysteresis (see module docstring)."""
-    chi = tension_ratio(T_elem, EI, w)
+def _to_elements(node_values, grid, n_elements):
+    """Per element the largest value of its nodes (a node belongs to the elements on both sides)."""
+    out = np.zeros(n_elements)
+    np.maximum.at(out, np.minimum(grid, n_elements - 1), node_values)
+    np.maximum.at(out, np.maximum(grid - 1, 0), node_values)
+    return out
+
+
+def element_bending(kind, Y, grid, s, n_elements):
+    """(|kappa|, |f_shear|) per element from the chain's state: at a rod node the bending components
+    of kappa and of the internal force f, across a catenary cell the turn of its unit tangents over
+    the cell (a catenary carries no shear); each element takes the largest of its nodes and cells."""
+    rod = kind == ROD
+    kap_node = np.zeros(len(kind))
+    shear_node = np.zeros(len(kind))
+    kap_node[rod] = np.hypot(Y[rod, ROD_KAPPA + 1], Y[rod, ROD_KAPPA + 2])
+    shear_node[rod] = np.hypot(Y[rod, ROD_F + 1], Y[rod, ROD_F + 2])
+    out = _to_elements(kap_node, grid, n_elements)
+    shear = _to_elements(shear_node, grid, n_elements)
+    cat = (kind[:-1] == CATENARY) & (kind[1:] == CATENARY) & (grid[1:] > grid[:-1])
+    if np.any(cat):
+        ta = Y[:-1][cat, CAT_TAN:CAT_TAN + 3]
+        tb = Y[1:][cat, CAT_TAN:CAT_TAN + 3]
+        ta = ta / np.linalg.norm(ta, axis=1)[:, None]
+        tb = tb / np.linalg.norm(tb, axis=1)[:, None]
+        turn = 2.0 * np.arcsin(np.clip(0.5 * np.linalg.norm(tb - ta, axis=1), 0.0, 1.0))
+        np.maximum.at(out, grid[:-1][cat], turn / (s[1:][cat] - s[:-1][cat]))
+    return out, shear
+
+
+def classify(T_elem, previous, EI, w, chi_on, chi_off, min_zone, end_rod=(0, 0), kappa_elem=None, shear_elem=None):
+    """New element zones from element tensions (curvatures, shear forces) with hysteresis (module docstring)."""
+    chi = tension_ratio(T_elem, EI, w, kappa_elem, shear_elem)
     prev = np.asarray(previous)
     zones = np.where(prev == ROD, np.where(chi < chi_off, CATENARY, ROD), np.where(chi > chi_on, ROD, CATENARY))
     key = (zones.tobytes(), int(min_zone), tuple(end_rod))
