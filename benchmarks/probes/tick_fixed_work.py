@@ -7,8 +7,9 @@ fairlead on a 0.5 m circle, then, interleaved block by block in one process (thr
 - ``solver.tick`` over intervals of k = 1..4 substeps of the rule's step: a least-squares line through
   the four costs per call; its intercept is the fixed per-tick work (Python, the call, the kernel's own
   set-up, the output evaluation beyond the first stage it saves, the drain), its slope one substep;
-- the kernel ``tick.node_tick`` called directly with the same arguments (intercept and slope likewise):
-  solver.tick's Python is the difference of the intercepts;
+- the kernel solver.tick calls, called directly with the same arguments (intercept and slope likewise):
+  ``tick.ship_tick`` where the tree has it (the ship end's position and velocity as two arrays, the
+  substeps from the rule), else ``tick.node_tick``; solver.tick's Python is the difference of the intercepts;
 - ``node_tick`` with 0 substeps (t1 = t0: targets, checks, output evaluation, drain, no substep);
 - an empty compiled function with node_tick's signature: the cost of the call itself (dispatch).
 
@@ -48,7 +49,9 @@ def _tree(pkg, params, ei, warm):
 
     load_config = importlib.import_module(f"{pkg}.io.params").load_config
     build_solver = importlib.import_module(f"{pkg}.solvers.factory").build_solver
-    node_tick = importlib.import_module(f"{pkg}.solvers.dg.tick").node_tick
+    tick_mod = importlib.import_module(f"{pkg}.solvers.dg.tick")
+    node_tick = tick_mod.node_tick
+    ship_tick = getattr(tick_mod, "ship_tick", None)  # the kernel solver.tick calls, where the tree has it
     cfg = load_config(Path(params), overrides={"cable.EI": ei} if ei is not None else None)
     s = build_solver(cfg)
     t = s.time
@@ -74,10 +77,16 @@ def _tree(pkg, params, ei, warm):
         for i in range(calls):  # (made before the clock starts)
             p, v = _motion(t + (i + 1) * span)
             tins.append(np.concatenate((p, v)).reshape(1, 6).repeat(2, axis=0))
+        pvs = [(x[0, 0:3].copy(), x[0, 3:6].copy()) for x in tins]
         c = time.thread_time()
-        for x in tins:
-            node_tick(F, I, S, x, 1, t, t + span, k, span / k, True)
-            t += span
+        if ship_tick is not None:  # k substeps: the rule's n over span = k dt (1 - 1e-9) with step dt
+            for p, v in pvs:
+                ship_tick(F, I, S, p, v, t, t + span, dt, True)
+                t += span
+        else:
+            for x in tins:
+                node_tick(F, I, S, x, 1, t, t + span, k, span / k, True)
+                t += span
         el = (time.thread_time() - c) / calls
         s.time = t
         tin[:] = tins[-1]

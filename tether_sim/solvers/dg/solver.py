@@ -35,7 +35,7 @@ from tether_sim.solvers.dg.equilibrium import polish_equilibrium
 from tether_sim.solvers.dg.implicit_damping import DampingWork
 from tether_sim.solvers.dg.parameters import end_data, parameters, with_waves
 from tether_sim.solvers.dg.soa import TMP_HEAD, soa_scratch_size
-from tether_sim.solvers.dg.tick import EN_P, EN_V, TG_SET
+from tether_sim.solvers.dg.tick import EN_P, EN_V, NOT_PLAIN, TG_SET, ship_tick
 from tether_sim.solvers.dg.timestep import bending_multirate_steps, config_stable_dt
 from tether_sim.solvers.dg.workspace import Workspace
 from tether_sim.solvers.work import mesh_sizes
@@ -103,6 +103,7 @@ class DGCableSolver:
         for slot, a in _DAMPING_SLOTS.items():  # the damping's arrays become views of the workspace
             setattr(self._damp, a, getattr(self.ws, slot))
         self._tick = stepping.TickInputs(self.ends, self.kinds)  # tick(): the driven ends' targets, node_tick's tin
+        self._ship_tick = self.ends[0].position == "motion" and not self.winch_enabled  # tick() may take ship_tick
         self._plans = {}  # sampling plans (outputs.plan)
         self._outputs_valid = False  # the output work arrays hold the evaluation at the current state
         self._want_outputs = False  # outputs were asked for: the tick evaluates them (tick.py)
@@ -371,8 +372,27 @@ class DGCableSolver:
     def tick(self, t, ship=None, vehicle=None, drain=True) -> TickOutput:
         """One node tick in one compiled call (tick.node_tick): the targets of the driven ends given as
         (position, velocity), advance_to(t), the drain of the end tensions and the end loads; the
-        result's arrays are views, valid until the next call (base.py's contract)."""
-        t, ws, tin = float(t), self.ws, self._tick.tin
+        result's arrays are views, valid until the next call (base.py's contract). The common tick -- the
+        ship end's motion as two arrays, no winch -- is tick.ship_tick, which reads them itself and takes
+        the substeps of the rule; anything else (or what it declines) goes the general way."""
+        t = float(t)
+        if self._ship_tick and vehicle is None and ship is not None:  # the common node tick: ship_tick
+            try:
+                p, v = ship
+            except (TypeError, ValueError):
+                p = v = None  # (the general path says what is wrong)
+            if type(p) is np.ndarray and type(v) is np.ndarray:
+                ws, t0 = self.ws, self.time
+                r, n = ship_tick(ws.F, ws.I, ws.spec, p, v, t0, t, self.fixed_dt if self.fixed_dt > 0 else self._dt_rule,
+                                 drain)
+                if r >= 0:
+                    self.time = t
+                    self._want_outputs = self._outputs_valid = True
+                    return tuple.__new__(TickOutput, (r, ws.drain, ws.endf, n))  # (TickOutput's own __new__: a Python call)
+                if r != NOT_PLAIN:
+                    self._outputs_valid = False
+                    raise stepping.diverged(ws, t0, (t - t0) / n)
+        ws, tin = self.ws, self._tick.tin
         mask = self._tick.read(ship, vehicle)
         span = t - self.time  # (_substeps_to's span and substeps; its checks when the span is not plainly > 0)
         n, dt = (stepping.substeps(span, self._substep()) if 0.0 < span < math.inf and not self.winch_enabled

@@ -21,7 +21,8 @@ data bc and the end kinematics vbc at t0, all compared bit for bit against the c
 evaluation and cleared by every other evaluation), that stage does the momentum rate only. Not
 with implicit damping or a moving winch (their stage inputs differ from the output's). The
 result is bit-identical to evaluating again (test/solvers/dg/test_first_stage_reuse.py); it
-saves one of the seven internal-force evaluations of a two-substep tick.
+saves one of the seven internal-force evaluations of a two-substep tick. The comparisons run over flat
+views without early exit (one pass the compiler vectorises) and the kept copy is made the same way.
 
 The arrays come from the arenas of workspace.py (three array arguments per call).
 
@@ -32,7 +33,7 @@ compiled call (solver.tick, the interface's ``tick``).
 
 import math
 
-from tether_sim.numerics.jit import jit
+from tether_sim.numerics.jit import jit, jit_inline
 from tether_sim.physics.end_conditions import is_driven
 from tether_sim.solvers.dg.damping_layout import MODE_EXPLICIT
 from tether_sim.solvers.dg.layout import B_P0, B_P1, B_T0, B_T1, B_V0, B_V1, I_KIND0, P_TIME, P_ZETA, P_ZETAB
@@ -41,7 +42,7 @@ from tether_sim.solvers.dg.stepper import STATUS_OK, dg_advance, dg_evaluate, fi
 from tether_sim.solvers.dg.winch import winch_active, winch_finish, winch_moving
 from tether_sim.solvers.dg.workspace import (
     X_BC, X_BP, X_BS, X_BUF, X_CNT, X_DRAIN, X_DRAINED, X_ENDS, X_FRESH, X_H, X_HW, X_IDP, X_IPRM, X_IPRM_STEP,
-    X_NO_FDAMP, X_OUT, X_PRM, X_PRM_STEP, X_SNAP, X_SNAP_I, X_TARGET, X_U, X_VBC, _f1, _f2, bind,
+    X_NO_FDAMP, X_OUT, X_PRM, X_PRM_STEP, X_SNAP, X_SNAP_I, X_TARGET, X_U, X_VBC, _f1, _f2, bind, flat,
 )
 
 # target[end, :]: 0 = a target was set (1.0) or not (0.0), 1:4 position (m), 4:7 velocity (m/s)
@@ -52,6 +53,8 @@ EN_P, EN_V = 0, 3
 TI_P, TI_V = 0, 3
 # node_tick's results below zero: the stepper's status s as -1 - s; a non-finite row e of tin as BAD_INPUT - e
 BAD_INPUT = -10
+# ship_tick's result when it did nothing and the general path (node_tick from Python) must take the tick
+NOT_PLAIN = -20
 
 
 @jit
@@ -104,81 +107,90 @@ def finish_ends(bc, iprm, t, ends, target):
 @jit
 def outputs_now(F, I, S, t):
     """The evaluation the outputs read, at time t (sampling.evaluate_outputs, full parameters)."""
-    _outputs_bound(bind(F, I, S), t)
+    _outputs_bound(F, S, bind(F, I, S), t)
 
 
-@jit
-def _outputs_bound(A, t):
-    """outputs_now on views already bound (dg_tick: binding the ~50 views costs ~2 us a call); with the
-    explicit scheme the inputs of the evaluation are kept for its reuse (module docstring)."""
+@jit_inline
+def _outputs_bound(F, S, A, t):
+    """outputs_now on views already bound (inlined into dg_tick: the tuple of views is not passed on); with
+    the explicit scheme the inputs of the evaluation are kept for its reuse (module docstring)."""
     prm, iprm = A[X_PRM], A[X_IPRM]
     hold_ends(A[X_BC], iprm, t, A[X_ENDS])
     evaluate_outputs(t, A, prm, iprm)
     if A[X_IDP][0] == MODE_EXPLICIT:  # (implicit damping never reuses: its stages see other parameters)
-        keep_inputs(A[X_U], prm, iprm, A[X_H], A[X_BC], A[X_VBC], A[X_SNAP], A[X_SNAP_I])
+        keep_inputs(flat(F, S, X_U), prm, iprm, A[X_H], flat(F, S, X_BC), flat(F, S, X_VBC), A[X_SNAP], A[X_SNAP_I])
         A[X_FRESH][0] = 1
 
 
-@jit
+@jit_inline
 def _snap_offsets(nu, npr, nb, nv):
     """Offsets of prm, bc, vbc and h in snap, whose order is U, prm, bc, vbc, h (keep_inputs)."""
     return nu, nu + npr, nu + npr + nb, nu + npr + nb + nv
 
 
 @jit
-def keep_inputs(U, prm, iprm, h, bc, vbc, snap, snap_i):
-    """snap = (U, prm, bc, vbc, h) flattened, snap_i = iprm: the inputs of internal_forces."""
-    o_prm, o_bc, o_vbc, o_h = _snap_offsets(U.size, prm.size, bc.size, vbc.size)
-    _copy_into(snap, 0, U.reshape(U.size))
+def keep_inputs(Uf, prm, iprm, h, bcf, vbcf, snap, snap_i):
+    """snap = (U, prm, bc, vbc, h) flattened (Uf, bcf, vbcf: the flat U, bc, vbc), snap_i = iprm: the
+    inputs of internal_forces."""
+    o_prm, o_bc, o_vbc, o_h = _snap_offsets(Uf.size, prm.size, bcf.size, vbcf.size)
+    _copy_into(snap, 0, Uf)
     _copy_into(snap, o_prm, prm)
-    _copy_into(snap, o_bc, bc.reshape(bc.size))
-    _copy_into(snap, o_vbc, vbc.reshape(vbc.size))
+    _copy_into(snap, o_bc, bcf)
+    _copy_into(snap, o_vbc, vbcf)
     _copy_into(snap, o_h, h)
     for i in range(iprm.size):
         snap_i[i] = iprm[i]
 
 
-@jit
+@jit_inline
 def _copy_into(dst, k, src):
     for i in range(src.size):
         dst[k + i] = src[i]
 
 
-@jit
-def _equal_at(snap, k, src, skip):
-    """snap[k:k + src.size] equals src, index skip excepted: the same numbers and the same signs of
-    zero (a NaN never equals: no reuse)."""
-    for i in range(src.size):
-        if i == skip:
-            continue
+@jit_inline
+def _differs(snap, k, src, lo, hi):
+    """Whether src[lo:hi] differs from snap[k + lo:k + hi]: in a number or in the sign of a zero (a NaN
+    always differs: no reuse). No early exit: one pass without branches, which the compiler vectorises."""
+    d = False
+    for i in range(lo, hi):
         a = snap[k + i]
         b = src[i]
-        if a != b or (a == 0.0 and math.copysign(1.0, a) != math.copysign(1.0, b)):
-            return False
-    return True
+        d |= (a != b) | (math.copysign(1.0, a) != math.copysign(1.0, b))
+    return d
+
+
+@jit_inline
+def _equal_at(snap, k, src, skip):
+    """snap[k:k + src.size] equals src (_differs), index skip excepted (-1: none)."""
+    if skip < 0:
+        return not _differs(snap, k, src, 0, src.size)
+    return not (_differs(snap, k, src, 0, skip) or _differs(snap, k, src, skip + 1, src.size))
 
 
 @jit
-def same_inputs(U, prm, iprm, h, bc, vbc, snap, snap_i):
-    """U, prm (its stage time P_TIME aside), iprm, bc and h are those kept by keep_inputs."""
+def same_inputs(Uf, prm, iprm, h, bcf, vbcf, snap, snap_i):
+    """U, prm (its stage time P_TIME aside), iprm, bc and h are those kept by keep_inputs (flat Uf, bcf)."""
+    d = False
     for i in range(iprm.size):
-        if iprm[i] != snap_i[i]:
-            return False
-    o_prm, o_bc, o_vbc, o_h = _snap_offsets(U.size, prm.size, bc.size, vbc.size)
-    return (_equal_at(snap, 0, U.reshape(U.size), -1) and _equal_at(snap, o_prm, prm, P_TIME)
-            and _equal_at(snap, o_bc, bc.reshape(bc.size), -1) and _equal_at(snap, o_h, h, -1))
+        d |= iprm[i] != snap_i[i]
+    if d:
+        return False
+    o_prm, o_bc, o_vbc, o_h = _snap_offsets(Uf.size, prm.size, bcf.size, vbcf.size)
+    return (_equal_at(snap, 0, Uf, -1) and _equal_at(snap, o_prm, prm, P_TIME) and _equal_at(snap, o_bc, bcf, -1)
+            and _equal_at(snap, o_h, h, -1))
 
 
 @jit
-def first_stage_reusable(prm, prm_step, iprm_step, nu, bc, vbc, bs, bp, t0, snap):
+def first_stage_reusable(prm_step, iprm_step, nu, bc, vbc, vbcf, bs, bp, t0, snap):
     """After prepare_ends and the copy of the stepper's parameters, with the kept inputs matching at
     the start of the tick (dg_tick): the kept output evaluation is the first stage's internal_forces
     when the stages' parameters and the end kinematics at t0 are those it used (module docstring)."""
-    o_prm, _, o_vbc, _ = _snap_offsets(nu, prm.size, bc.size, vbc.size)
+    o_prm, _, o_vbc, _ = _snap_offsets(nu, prm_step.size, bc.size, vbcf.size)
     if not _equal_at(snap, o_prm, prm_step, P_TIME):  # the stages see prm_step (= prm when explicit)
         return False
     fill_end_kinematics(bc, iprm_step, t0, vbc, bs, bp)  # what the first stage computes
-    return _equal_at(snap, o_vbc, vbc.reshape(vbc.size), -1)
+    return _equal_at(snap, o_vbc, vbcf, -1)
 
 
 @jit
@@ -187,11 +199,12 @@ def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
     A = bind(F, I, S)
     prm, iprm, ends, target = A[X_PRM], A[X_IPRM], A[X_ENDS], A[X_TARGET]
     fresh, snap = A[X_FRESH], A[X_SNAP]
-    U, bc, vbc, prm_step, iprm_step = A[X_U], A[X_BC], A[X_VBC], A[X_PRM_STEP], A[X_IPRM_STEP]
+    bc, vbc, prm_step, iprm_step = A[X_BC], A[X_VBC], A[X_PRM_STEP], A[X_IPRM_STEP]
+    Uf, bcf, vbcf = flat(F, S, X_U), flat(F, S, X_BC), flat(F, S, X_VBC)
     # the kept evaluation counts only while the winch is still and every input is unchanged (checked
     # before prepare_ends rewrites the segment columns of bc)
     if fresh[0] != 0 and (winch_moving(prm, iprm) or winch_active(prm, iprm)
-                          or not same_inputs(U, prm, iprm_step, A[X_H], bc, vbc, snap, A[X_SNAP_I])):
+                          or not same_inputs(Uf, prm, iprm_step, A[X_H], bcf, vbcf, snap, A[X_SNAP_I])):
         fresh[0] = 0
     prepare_ends(bc, iprm, t0, t1, ends, target)
     for k in range(prm.shape[0]):
@@ -200,7 +213,7 @@ def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
         prm_step[P_ZETA] = 0.0
         prm_step[P_ZETAB] = 0.0
     winch = winch_moving(prm, iprm)
-    reuse = fresh[0] != 0 and first_stage_reusable(prm, prm_step, iprm_step, U.size, bc, vbc, A[X_BS], A[X_BP], t0,
+    reuse = fresh[0] != 0 and first_stage_reusable(prm_step, iprm_step, Uf.size, bc, vbc, vbcf, A[X_BS], A[X_BP], t0,
                                                    snap)
     fresh[0] = 0
     if reuse:
@@ -213,7 +226,7 @@ def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
         winch_finish(prm, prm_step, A[X_HW], A[X_H])
     finish_ends(bc, iprm, t1, ends, target)
     if outputs:
-        _outputs_bound(A, t1)
+        _outputs_bound(F, S, A, t1)
     return status
 
 
@@ -277,3 +290,30 @@ def node_tick(F, I, S, tin, ends_set, t0, t1, nsteps, dt, drain):
     if not drain:
         return 0
     return drain_now(F, I, S)
+
+
+@jit
+def ship_tick(F, I, S, p, v, t0, t1, step, drain):
+    """node_tick of the common node tick -- the ship end given (position p, velocity v), no winch -- with
+    the substeps of advance_to's rule over t1 - t0 (stepping.substeps: the same operations, so the same
+    numbers) and the inputs read from p and v themselves (no copy into tin in Python). Returns
+    (node_tick's result, substeps); (NOT_PLAIN, 0) without changing anything when the interval is not
+    plainly > 0 or p, v are not 3 finite numbers each: the general path then takes the tick."""
+    span = t1 - t0
+    if not (0.0 < span < math.inf) or p.size != 3 or v.size != 3:
+        return NOT_PLAIN, 0
+    for c in range(3):  # (.flat: an array of any shape with 3 numbers, as numpy's copy into tin takes it)
+        if not (math.isfinite(p.flat[c]) and math.isfinite(v.flat[c])):
+            return NOT_PLAIN, 0
+    n = max(1, math.ceil(span / step * (1.0 - 1e-12)))
+    target = _f2(F, S, X_TARGET)
+    for c in range(3):
+        target[0, TG_P + c] = p.flat[c]
+        target[0, TG_V + c] = v.flat[c]
+    target[0, TG_SET] = 1.0
+    status = dg_tick(F, I, S, t0, t1, n, span / n, True)
+    if status != STATUS_OK:
+        return -1 - status, n
+    if not drain:
+        return 0, n
+    return drain_now(F, I, S), n

@@ -14,9 +14,20 @@ constants), and ``bind(F, I, S)`` -- generated from ``SLOTS`` as well -- returns
 slots as one tuple ``A`` in ``SLOTS`` order, inside compiled code (inlined, without reference counting:
 numerics/jit.py ``jit_inline``). The kernels that take the workspace take ``A`` and read a slot by
 its name: ``A[X_U]`` (a constant index into a tuple: resolved at compile time, no cost).
+
+A view is made by ``_view_ir``, which writes the array structure from the arena's data pointer and the
+spec directly: numba's slice-and-reshape calls a C helper per view that the compiler can neither
+inline nor drop when the view is unused (binding all slots cost ~0.7 us a tick that way; the kernel of
+a node tick with no substep went 3.3 -> 2.0 us at the 1730 m live mesh, BENCHMARKS.md "Fixed per-tick
+work"). It checks nothing: the spec is Workspace's, which lays every slot inside its arena.
 """
 
 import numpy as np
+from numba import types
+from numba.core import cgutils
+from numba.core.imputils import impl_ret_borrowed
+from numba.extending import intrinsic
+from numba.np.arrayobj import make_array, populate_array
 
 from tether_sim.numerics.jit import jit_inline
 
@@ -140,29 +151,80 @@ class Workspace:
 
 
 # ------------------------------------------------------------------------------ compiled views
+def _view(arena, o, shape):
+    """arena[o:o + prod(shape)] as a C-contiguous array of that shape (a view, no copy); in compiled
+    code _view_ir."""
+    n = 1
+    for d in shape:
+        n *= d
+    return arena[o:o + n].reshape(shape)
+
+
+@intrinsic
+def _view_ir(typingctx, arena, o, shape):
+    """_view in compiled code without its checks: the view's array structure made directly from the
+    arena's data pointer (no slice bounds, no size check, no call out of the function: numba's reshape
+    calls a C helper per view, ~12 ns, and cannot be dropped when the view is unused). The spec comes
+    from Workspace, which lays every slot inside its arena."""
+    if not (isinstance(arena, types.Array) and arena.ndim == 1 and arena.layout == "C"
+            and isinstance(o, types.Integer) and isinstance(shape, types.UniTuple)
+            and isinstance(shape.dtype, types.Integer)):
+        return None
+    retty = types.Array(arena.dtype, len(shape), "C")
+
+    def codegen(context, builder, sig, args):
+        ary = make_array(sig.args[0])(context, builder, args[0])
+        dims = [context.cast(builder, d, sig.args[2].dtype, types.intp) for d in cgutils.unpack_tuple(builder, args[2])]
+        itemsize = context.get_constant(types.intp, context.get_abi_sizeof(context.get_data_type(arena.dtype)))
+        strides = [itemsize]
+        for d in dims[:0:-1]:
+            strides.insert(0, builder.mul(strides[0], d))
+        offset = context.cast(builder, args[1], sig.args[1], types.intp)
+        out = make_array(retty)(context, builder)
+        populate_array(out, data=builder.gep(ary.data, [offset]), shape=dims, strides=strides, itemsize=itemsize,
+                       meminfo=ary.meminfo, parent=ary.parent)
+        return impl_ret_borrowed(context, builder, retty, out._getvalue())
+
+    return retty(arena, o, shape), codegen
+
+
+class _ViewIntrinsic(type(_view_ir)):
+    """The intrinsic, callable from Python as _view (plain-Python callers of the binding: tests, py_func)."""
+
+    def __call__(self, arena, o, shape):
+        return _view(arena, o, shape)
+
+
+_view_ir.__class__ = _ViewIntrinsic
+
+
 @jit_inline
 def _f1(F, S, k):
-    o = S[k, 0]
-    return F[o:o + S[k, 2]]
+    return _view_ir(F, S[k, 0], (S[k, 2],))
 
 
 @jit_inline
 def _f2(F, S, k):
-    o = S[k, 0]
-    return F[o:o + S[k, 2] * S[k, 3]].reshape((S[k, 2], S[k, 3]))
+    return _view_ir(F, S[k, 0], (S[k, 2], S[k, 3]))
 
 
 @jit_inline
 def _f3(F, S, k):
-    o = S[k, 0]
-    return F[o:o + S[k, 2] * S[k, 3] * S[k, 4]].reshape((S[k, 2], S[k, 3], S[k, 4]))
+    return _view_ir(F, S[k, 0], (S[k, 2], S[k, 3], S[k, 4]))
 
 
 @jit_inline
 def _f5(F, S, k):
-    o = S[k, 0]
-    n = S[k, 2] * S[k, 3] * S[k, 4] * S[k, 5] * S[k, 6]
-    return F[o:o + n].reshape((S[k, 2], S[k, 3], S[k, 4], S[k, 5], S[k, 6]))
+    return _view_ir(F, S[k, 0], (S[k, 2], S[k, 3], S[k, 4], S[k, 5], S[k, 6]))
+
+
+@jit_inline
+def flat(F, S, k):
+    """The slot k of the float arena as one flat array (its elements in C order)."""
+    n = 1
+    for d in range(S[k, 1]):
+        n *= S[k, 2 + d]
+    return _view_ir(F, S[k, 0], (n,))
 
 
 def _bind_source(slots=SLOTS):
