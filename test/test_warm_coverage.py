@@ -86,3 +86,24 @@ def test_the_check_sees_a_kernel_the_warm_up_left_out():
             "new = t.compiled_signatures() - before; print(sorted(f for _, f, _ in new))")
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True).stdout
     assert "kdk_open" in out and "kdk_close" in out, out
+
+
+def test_a_forecast_members_tick_compiles_nothing_after_the_warm_up():
+    """The snap forecast runs its members with the interface's one-call tick (``solver.tick`` with the ship's
+    motion as two arrays: the compiled ``tick.ship_tick``), which the node's own ticks (``advance_to``) do not
+    use; without it in the warm-up the first forecast of a live node compiled that kernel (seconds, in the
+    forecast's worker thread). After the single-line DG group, a tick of the forecast file's solver adds no
+    signature (in a fresh process: this one may have run other groups)."""
+    groups = [g for g in warm.GROUPS if g[1] == "config/ropos_validation.yaml"]
+    import subprocess
+
+    code = ("import sys; sys.path.insert(0, 'test'); import numpy as np; from tether_sim import warm; "
+            "import test_warm_coverage as t; from tether_sim.io.params import load_config; "
+            "from tether_sim.solvers.factory import build_solver; "
+            f"warm.warm_groups({groups!r}, out=lambda text: None); before = t.compiled_signatures(); "
+            "cfg = load_config(t.ROOT / 'config/ropos_forecast.yaml'); s = build_solver(cfg); "
+            "p = np.asarray(cfg.ship_end.position, dtype=np.float64); "
+            "s.tick(0.02, ship=(p + 0.01, np.array([0.0, 0.0, 0.5]))); "
+            "new = t.compiled_signatures() - before; print(sorted(f for _, f, _ in new))")
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True).stdout
+    assert out.strip().splitlines()[-1] == "[]", out

@@ -84,6 +84,10 @@ def exercise(config, solver_factory=None) -> None:
         if cond.kind == "prescribed":
             solver.set_end_motion(end, cond.position, (0.0, 0.0, 0.0))
     solver.advance_to(solver.time + 2.0 * solver.stable_time_step())
+    if config.ship_end.kind == "prescribed":  # the interface's one-call tick with the ship's motion (a forecast
+        # member's tick, ForecastRunner; the network's lines): its compiled path is another kernel than advance_to's
+        solver.tick(solver.time + 2.0 * solver.stable_time_step(),
+                    ship=(np.asarray(config.ship_end.position, dtype=np.float64), np.zeros(3)))
     solver.state(np.linspace(0.0, config.cable.length, config.node.output_points))
     forces = solver.end_forces()
     for end in ends:
