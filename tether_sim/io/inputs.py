@@ -272,17 +272,13 @@ class EndPoseInput:
         return self._stamps[-1] - self._stamps[0] if self._stamps else 0.0
 
     def _knot_velocity(self, i: int) -> np.ndarray:
-        s = self._samples
-        if s[i].twist_velocity is not None:
-            return s[i].twist_velocity
-        if len(s) == 1:
-            return np.zeros(3)
-        lo, hi = self._knot_span(i)
-        return (s[hi].attachment - s[lo].attachment) / (s[hi].stamp - s[lo].stamp)
+        """Knot ``i``'s velocity as a (3,) array (:meth:`_knot_velocity_floats`, the same numbers)."""
+        return np.array(self._knot_velocity_floats(i))
 
     def _knot_velocity_floats(self, i: int) -> list:
-        """:meth:`_knot_velocity` as a list of 3 floats: the same operations per component (the
-        interpolation's inner loop, without numpy's small-array overheads)."""
+        """Knot ``i``'s velocity as a list of 3 floats (the interpolation's inner loop, without numpy's
+        small-array overheads): its twist when the pose came with one, else the difference quotient of
+        the samples around it (:meth:`_knot_span`)."""
         s = self._samples
         if s[i].twist_velocity is not None:
             return s[i].twist_velocity.tolist()

@@ -147,14 +147,7 @@ def convert_state(solver, new_zones):
                 Y[n], Yt[n] = solver.Y[c], solver.Yt[c]
             else:
                 Y[n], Yt[n] = zoning.rod_to_cat(solver.Y[c], solver.Yt[c], solver.Lf[c])
-    n = 0
-    while n < K:  # rod blocks: frames by minimal rotation from kept frames, then variables
-        if nodes[n][1] != zoning.ROD:
-            n += 1
-            continue
-        m = n
-        while m + 1 < K and nodes[m + 1][1] == zoning.ROD and nodes[m + 1][0] != nodes[m][0]:
-            m += 1
+    for n, m in _runs(nodes, zoning.ROD):  # rod blocks: frames by minimal rotation from kept frames, then variables
         block = range(n, m + 1)
         keep = [src[i][1] for i in block]
         tang = [solver.Lf[src[i][0]][0] if keep[k] else solver.Y[src[i][0], 4:7] / np.linalg.norm(
@@ -173,7 +166,6 @@ def convert_state(solver, new_zones):
                 kap.append(zoning.curvature_between(frames[k], frames[k + 1], ds[k]))
             if kap:
                 Y[i, ROD_KAPPA:ROD_KAPPA + 3] = np.mean(kap, axis=0)
-        n = m + 1
     _anchor_new_catenary(solver, nodes, src, Y, pos)
     return Y, Yt, Lf, pos, rdot
 
@@ -204,16 +196,8 @@ def _anchor_new_catenary(solver, nodes, src, Y, pos):
         elif where == "motion":
             held[n] = solver.end_motion[e].position_at(solver.time)
     s_grid = solver.s_grid
-    n = 0
-    while n < K:
-        if nodes[n][1] != zoning.CATENARY:
-            n += 1
-            continue
-        m = n
-        while m + 1 < K and nodes[m + 1][1] == zoning.CATENARY and nodes[m + 1][0] != nodes[m][0]:
-            m += 1
+    for n, m in _runs(nodes, zoning.CATENARY):
         run = list(range(n, m + 1))
-        n = m + 1
         converted = [not src[i][1] for i in run]
         if not any(converted):
             continue
@@ -254,6 +238,22 @@ def _anchor_new_catenary(solver, nodes, src, Y, pos):
                     new.append(new[-1] - d)
                 for j, i in enumerate(reversed(idx[:-1])):
                     pos[i] = new[j + 1]
+
+
+def _runs(nodes, kind):
+    """(first, last) of each run of consecutive chain nodes of ``kind`` (a joint's two nodes share a grid
+    point and end one run, start another)."""
+    K = len(nodes)
+    n = 0
+    while n < K:
+        if nodes[n][1] != kind:
+            n += 1
+            continue
+        m = n
+        while m + 1 < K and nodes[m + 1][1] == kind and nodes[m + 1][0] != nodes[m][0]:
+            m += 1
+        yield n, m
+        n = m + 1
 
 
 def _unit(t):
