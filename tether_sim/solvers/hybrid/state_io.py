@@ -2,13 +2,14 @@
 
 import numpy as np
 
+from tether_sim.numerics.jit import jit_alloc
 from tether_sim.numerics.rotations import minimal_rotation, rotate_frame
 from tether_sim.physics.bodies import body_attachment_kinematics
 from tether_sim.solvers.hybrid import zoning
 from tether_sim.solvers.hybrid.layout import (CAT_EPS, CAT_T, CAT_TAN, CAT_V, ROD_EPS, ROD_F, ROD_KAPPA, ROD_OMEGA,
                                               ROD_V)
 
-CLOSE_TOLERANCE = 1e-9  # a re-closed rod shape ends this close to its target, per metre of block (close_rod_blocks)
+CLOSE_TOLERANCE = 1e-7  # a re-closed rod shape ends this close to its target, per metre of block (close_rod_blocks)
 CLOSE_ITERATIONS = 6  # Gauss-Newton iterations of the closing correction at most
 CLOSE_RCOND = 1e-6  # directions of the bending correction with less than this share of the largest compliance are left
 CLOSE_KEEP = 1e-5  # at a zone evaluation without changes, a rod block ending this close to its target (per metre) is kept
@@ -268,22 +269,32 @@ def end_target(solver, e):
     return None
 
 
+@jit_alloc
 def frames_along(L0, kappa, ds):
     """Frames of a rod block from its first frame and its node curvatures, L_b = exp(-kappa_ab~ ds) L_a with
     kappa_ab the mean of the two nodes' (the recursion of the solver's frame re-derivation, same arithmetic)."""
-    out = np.empty((len(kappa), 3, 3))
+    n = kappa.shape[0]
+    out = np.empty((n, 3, 3))
     out[0] = L0
-    for k in range(1, len(kappa)):
-        rotate_frame(out[k - 1], 0.5 * (kappa[k] + kappa[k - 1]) * ds[k - 1], out[k])
+    th = np.empty(3)
+    for k in range(1, n):
+        for i in range(3):
+            th[i] = 0.5 * (kappa[k, i] + kappa[k - 1, i]) * ds[k - 1]
+        rotate_frame(out[k - 1], th, out[k])
     return out
 
 
+@jit_alloc
 def shape_along(r0, frames, eps, ds):
     """Positions of a rod block integrated from r0 along (1 + eps) t (trapezoid, as after every step)."""
-    r = np.empty((len(frames), 3))
+    n = frames.shape[0]
+    r = np.empty((n, 3))
     r[0] = r0
-    for k in range(1, len(frames)):
-        r[k] = r[k - 1] + 0.5 * ds[k - 1] * ((1.0 + eps[k - 1]) * frames[k - 1, 0] + (1.0 + eps[k]) * frames[k, 0])
+    for k in range(1, n):
+        a = 1.0 + eps[k - 1]
+        b = 1.0 + eps[k]
+        for i in range(3):
+            r[k, i] = r[k - 1, i] + 0.5 * ds[k - 1] * (a * frames[k - 1, 0, i] + b * frames[k, 0, i])
     return r
 
 
@@ -327,7 +338,7 @@ def close_rod_block(L0, kappa, free, eps, ds, r0, target, turn=True):
         J = 0.5 * (np.einsum("e,eij->ij", m[:-1], w) + np.einsum("e,eij->ij", m[1:], w))  # element: mean of its nodes
         lam = np.linalg.lstsq(J, -gap, rcond=CLOSE_RCOND)[0]
         dk = np.einsum("kij,kj->ki", frames, np.cross(R, lam) * m[:, None])
-        for _ in range(8):  # backtracking: the shape is nonlinear in kappa
+        for _ in range(4):  # backtracking: the shape is nonlinear in kappa
             k_try = kappa + dk
             f_try = frames_along(L0, k_try, ds)
             r_try = shape_along(r0, f_try, eps, ds)
@@ -337,7 +348,10 @@ def close_rod_block(L0, kappa, free, eps, ds, r0, target, turn=True):
             dk = 0.5 * dk
         else:
             break  # no decrease along this direction: keep the best shape so far
+        stalled = s_try > 0.5 * size  # what is left is along a straight chord, which bending barely shortens
         kappa, frames, r, size = k_try, f_try, r_try, s_try
+        if stalled:
+            break
     return kappa, frames, r, it
 
 
