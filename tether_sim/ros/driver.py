@@ -342,7 +342,12 @@ class SimulationDriver(EndCommands, BodyFrame):
             arc = np.asarray(arc, float)
             state = self.solver.state(arc)
             self.output_state = (self.solver, self.solver.time, arc.tobytes(), state)
-        speed = relative_end_speed(self.solver, self.config.cable.length, state)
+        memo = []
+
+        def speed():  # the relative end speed, computed when a detector reads it (SnapDetector.update)
+            if not memo:
+                memo.append(relative_end_speed(self.solver, self.config.cable.length, state))
+            return memo[0]
         if len(times):
             tensions = np.empty((len(times), 2))  # (np.column_stack's values, without its wrapper)
             tensions[:, 0] = t_ship
