@@ -196,6 +196,7 @@ MARKER_COLOUR = (1.0, 1.0, 0.0, 1.0)  # RGBA of the strip (the per-vertex colour
 
 
 SHAPE_TOPICS = ("/tether/state", "/tether/marker", "/tether/path")  # need the state at the output points
+VISUAL_TOPICS = ("/tether/marker", "/tether/path")  # drawn, not read: the node sends them (and /tf) at node.visual_rate
 
 
 class OutputFrame:
