@@ -105,6 +105,7 @@ class TetherSimNode(Node):
         # (with shape_rate 0 the two gates see the same stamps and pick the same outputs)
         self._visual_gate, self._tf_gate = convert.ShapeGate(node.visual_rate), convert.ShapeGate(node.visual_rate)
         self._first_tick = None
+        self._state_every_output = False  # /tether/state had a subscriber at the last output, at every output
         self.tick_errors, self.last_tick_error = 0, ""
         self.snaps_published = 0
         self._last_output = -float("inf")
@@ -256,6 +257,8 @@ class TetherSimNode(Node):
             if getattr(self.driver.solver, "start_warning", ""):
                 self.get_logger().warning(self.driver.solver.start_warning)
         try:
+            # the state at the output points, sampled once for snap detection and /tether/state (node.shape_rate 0)
+            self.driver.output_points = self.arc_lengths if self._state_every_output else None
             report = self.driver.tick(now)
             self._handle_report(now, report)
             if self.driver.stamp > max(self._last_output, 0.0):  # one output per simulated instant
@@ -263,6 +266,7 @@ class TetherSimNode(Node):
                 self.arc_lengths = self.winch_io.tick(self.arc_lengths)  # outputs follow L(t) (winch)
                 stamp = self.driver.stamp
                 wanted = {topic for topic, pub in self._tick_pubs if pub.get_subscription_count() > 0}
+                self._state_every_output = self.config.node.shape_rate <= 0.0 and "/tether/state" in wanted
                 shapes = self._shape_gate.due(stamp)  # node.shape_rate
                 if shapes and self._visual_gate.due(stamp):  # node.visual_rate: marker and path
                     wanted.update(topic for topic, pub in self._visual_pubs if pub.get_subscription_count() > 0)
@@ -316,7 +320,7 @@ class TetherSimNode(Node):
                 self._period["numerical"] += 1
                 log.warning(f"re-tensioning at {ev.location} rejected by the snap guard (numerical, not a snap): "
                             f"{ev.reason}")
-        for topic, msg in convert.event_outputs(report.events, self.driver):
+        for topic, msg in convert.event_outputs(report.events, self.driver) if report.events else ():
             if topic == "/tether/snap_events":
                 self._period["snaps"] += 1
                 self.snaps_published += 1
