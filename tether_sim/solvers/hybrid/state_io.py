@@ -10,7 +10,7 @@ from tether_sim.solvers.hybrid.layout import (CAT_EPS, CAT_T, CAT_TAN, CAT_V, RO
                                               ROD_V)
 
 CLOSE_TOLERANCE = 1e-7  # a re-closed rod shape ends this close to its target, per metre of block (close_rod_blocks)
-CLOSE_ITERATIONS = 6  # Gauss-Newton iterations of the closing correction at most
+CLOSE_ITERATIONS = 8  # Gauss-Newton iterations of the closing correction at most
 CLOSE_RCOND = 1e-6  # directions of the bending correction with less than this share of the largest compliance are left
 CLOSE_KEEP = 1e-5  # at a zone evaluation without changes, a rod block ending this close to its target (per metre) is kept
 
@@ -338,7 +338,7 @@ def close_rod_block(L0, kappa, free, eps, ds, r0, target, turn=True):
         J = 0.5 * (np.einsum("e,eij->ij", m[:-1], w) + np.einsum("e,eij->ij", m[1:], w))  # element: mean of its nodes
         lam = np.linalg.lstsq(J, -gap, rcond=CLOSE_RCOND)[0]
         dk = np.einsum("kij,kj->ki", frames, np.cross(R, lam) * m[:, None])
-        for _ in range(4):  # backtracking: the shape is nonlinear in kappa
+        for _ in range(8):  # backtracking: the shape is nonlinear in kappa
             k_try = kappa + dk
             f_try = frames_along(L0, k_try, ds)
             r_try = shape_along(r0, f_try, eps, ds)
@@ -348,7 +348,7 @@ def close_rod_block(L0, kappa, free, eps, ds, r0, target, turn=True):
             dk = 0.5 * dk
         else:
             break  # no decrease along this direction: keep the best shape so far
-        stalled = s_try > 0.5 * size  # what is left is along a straight chord, which bending barely shortens
+        stalled = s_try > 0.9 * size  # what is left is along a straight chord, which bending barely shortens
         kappa, frames, r, size = k_try, f_try, r_try, s_try
         if stalled:
             break
