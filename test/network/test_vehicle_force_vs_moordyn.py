@@ -38,3 +38,16 @@ def test_vehicle_force_impulse_and_filtered_peak_agree_with_moordyn():
         assert ours[0] == pytest.approx(md[0], rel=0.05), (ours, md)  # impulse over the take-up, N s
         assert ours[1] == pytest.approx(md[1], rel=0.05), (ours, md)  # peak after a 5 Hz low-pass, N
     assert hy[0] == pytest.approx(dg[0], rel=0.05) and hy[1] == pytest.approx(dg[1], rel=0.05)
+
+
+def test_bin_means_keep_the_impulse_of_a_one_substep_spike():
+    """The study's uniform series: bin means from the running trapezoidal impulse of irregular samples. A
+    spike one substep wide (5 kN over 13 us, as DG's at a take-up) keeps its impulse and loses its height."""
+    t = np.sort(np.concatenate([np.linspace(1e-4, 0.02, 37), [0.010, 0.010013, 0.010026]]))
+    F = 10.0 + 0.0 * t
+    F[np.searchsorted(t, 0.010013)] = 5000.0
+    tc, Fb = vfc.bin_means(t, F, 0.001, 0.02)
+    assert tc.size == 20 and np.allclose(np.diff(tc), 0.001)
+    total = np.trapezoid(np.concatenate([[F[0]], F]), np.concatenate([[0.0], t]))
+    assert np.sum(Fb) * 0.001 == pytest.approx(total, rel=1e-12)
+    assert Fb.max() == pytest.approx(10.0 + (5000.0 - 10.0) * 13e-6 / 0.001, rel=1e-9)  # 74.9 N, not 5 kN
