@@ -243,13 +243,13 @@ def measures(r, args):
         out[f"F({tq:g})"] = float(np.interp(tq, tc, Fb)) if tq <= end else nan
     lo, hi = args.slack_window
     m = (tc >= lo) & (tc <= hi)
-    out["mean"] = float(np.mean(Fb[m])) if hi <= end + 1e-9 else nan
-    out["rms"] = float(np.sqrt(np.mean(Fb[m] ** 2))) if hi <= end + 1e-9 else nan
+    out["mean"] = float(np.mean(Fb[m])) if hi <= end + args.bin else nan
+    out["rms"] = float(np.sqrt(np.mean(Fb[m] ** 2))) if hi <= end + args.bin else nan
     for i in range(0, len(args.jerk_windows), 2):
         a, b = args.jerk_windows[i], args.jerk_windows[i + 1]
         tag = f"{a:g}-{b:g}"
         names = [f"J {tag}"] + [f"lp{fc:g} {tag}" for fc in args.cutoffs] + [f"raw {tag}"]
-        if b > end + 1e-9:
+        if b > end + args.bin:  # (a run of T s ends within a substep of T)
             out.update({k: nan for k in names})
             continue
         w = (tc >= a) & (tc <= b)
