@@ -12,7 +12,8 @@ solver's parts (``advance_to``; ``state``; ``end_forces`` / ``body_state`` / ``d
 and the publish calls (``--split``) so the node's own work is the difference; the 1 Hz diagnostics and the pose callback are
 timed apart.
 
-``--profile N``: cProfile of N ticks after the timed ones (the functions by own time).
+``--profile N``: cProfile of N ticks after the timed ones (the functions by own time; environment
+BENCH_PROFILE_TIMER=thread times them in thread CPU, BENCH_PROFILE_SORT / BENCH_PROFILE_ROWS order and cut the list).
 ``--baseline DIR``: a second node from another checkout's ``tether_sim`` (renamed copy, as
 bench_tick.load_baseline; its first run compiles its kernels) in the same process, the two ticked
 alternately, so that their ratio does not depend on the machine's load. ``--baseline same``: the second
@@ -179,7 +180,8 @@ def child(params, ticks, alpha, profile, split, baseline, extra=()):
     for k in range(warm + ticks + (profile or 0)):
         if k == warm + ticks:
             import cProfile
-            prof = cProfile.Profile()
+            # BENCH_PROFILE_TIMER=thread: the thread's CPU time (a loaded machine's preemptions left out)
+            prof = cProfile.Profile(time.thread_time) if os.environ.get("BENCH_PROFILE_TIMER") == "thread" else cProfile.Profile()
         for b in (benches if k % 2 == 0 else benches[::-1]):
             b.tick(k, warm <= k < warm + ticks, prof if b is benches[0] else None)
     reports = [b.report(params, alpha) for b in benches]

@@ -10,6 +10,12 @@ bytes, else deserialized and compared field by field with the wall-clock fields 
 (TetherState.real_time_factor; the /diagnostics values real_time_factor, tick_load, tick_max_ms).
 Prints the counts and the first differences; exit code 1 when any message differs.
 
+A topic this tree sends less often than the baseline (``node.visual_rate``: marker, path and /tf on
+every fifth output by default) is compared where both sent it: each message this tree publishes must
+equal the baseline's of the same tick, and the ticks the baseline alone published are counted
+("left out"). A configuration key only one tree has (a new key) is left out of the comparison of
+/tether/description's parameter list and named.
+
 Usage: .venv/bin/python benchmarks/compare_node_outputs.py --baseline ../other-checkout
            [--params config/ropos_L1730.yaml ...] [--ticks 600] [-p node.tf_tether_frames:=3]
 """
@@ -82,6 +88,18 @@ def _type_of(node, topic):
     raise KeyError(topic)
 
 
+MAY_LEAVE_OUT = ("/tether/marker", "/tether/path", "/tf")  # node.visual_rate; any other topic left out differs
+NEW_KEYS = set()  # configuration keys only one tree has (/tether/description), named in the summary
+
+
+def _common_keys(ma, mb):
+    """Both descriptions' parameter lists without the keys only one of them has (recorded in NEW_KEYS)."""
+    ka, kb = {kv.key for kv in ma.parameters}, {kv.key for kv in mb.parameters}
+    NEW_KEYS.update(ka ^ kb)
+    ma.parameters = [kv for kv in ma.parameters if kv.key in kb]
+    mb.parameters = [kv for kv in mb.parameters if kv.key in ka]
+
+
 def _masked(msg):
     """The message with its wall-clock fields zeroed (module doc)."""
     if hasattr(msg, "real_time_factor"):
@@ -113,6 +131,8 @@ def compare(a, b, node, topic):
 
     msg_type = _type_of(node, topic)
     ma, mb = (_masked(deserialize_message(x, msg_type)) for x in (a, b))
+    if hasattr(ma, "parameters") and hasattr(ma, "output_arc_length"):  # TetherDescription
+        _common_keys(ma, mb)
     if ma == mb:
         return None
     for (name, va), (_, vb) in zip(_fields(ma), _fields(mb)):
@@ -158,18 +178,32 @@ def child(args):
     for k in range(args.ticks):
         this.tick(k)
         base.tick(k)
-    counts, diffs = {}, []
+    counts, left_out, diffs = {}, {}, []
     for k, (mine, theirs) in enumerate(zip(this.log, base.log)):
-        if [t for t, _ in mine] != [t for t, _ in theirs]:
-            diffs.append(f"tick {k}: topics {[t for t, _ in mine]} != {[t for t, _ in theirs]}")
-            continue
-        for (topic, a), (_, b) in zip(mine, theirs):
+        pending = list(theirs)  # the baseline's messages of tick k, in order; this tree's must be among them
+        skipped = []
+        for topic, a in mine:
+            at = next((i for i, (t, _) in enumerate(pending) if t == topic), None)
+            if at is None:
+                diffs.append(f"tick {k}: {topic} published here, not by the baseline")
+                continue
+            skipped.extend(t for t, _ in pending[:at])  # sent by the baseline alone, before this one
+            b = pending[at][1]
+            pending = pending[at + 1:]
             counts[topic] = counts.get(topic, 0) + 1
             why = compare(a, b, this.node, topic)
             if why is not None:
                 diffs.append(f"tick {k} {topic}: {why}")
+        for t in skipped + [t for t, _ in pending]:
+            left_out[t] = left_out.get(t, 0) + 1
+            if t not in MAY_LEAVE_OUT:
+                diffs.append(f"tick {k}: {t} published by the baseline, not here")
     print(f"{Path(params).name}: {args.ticks} ticks, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; messages "
           + ", ".join(f"{t} {n}" for t, n in sorted(counts.items()))
+          + (("; sent by the baseline alone: " + ", ".join(f"{t} {n}" for t, n in sorted(left_out.items())))
+             if left_out else "")
+          + (f"; keys of one tree only (left out of the description's comparison): {', '.join(sorted(NEW_KEYS))}"
+             if NEW_KEYS else "")
           + f"; snaps {this.node.snaps_published} / {base.node.snaps_published}; {len(diffs)} differing", flush=True)
     for line in diffs[:20]:
         print("  " + line)

@@ -28,6 +28,7 @@ class NodeOptions:
     output_rate: float = param(50.0, unit="Hz", doc="rate of the stepping timer and of the outputs", min=0.1, max=1000.0)
     output_points: int = param(41, doc="number of equally spaced output points along the cable", min=2, max=10000)
     shape_rate: float = param(0.0, unit="Hz", doc="the shape outputs (tether/state, tether/marker, tether/path) at most this often, every output_rate / shape_rate-th output (wrenches, poses, /tf, events stay at output_rate); 0: at every output. A lower rate saves the node the sampling, encoding and publishing of the shape on the other outputs", min=0.0, max=1000.0)
+    visual_rate: float = param(10.0, unit="Hz", doc="the simulation node's visualisation outputs (tether/marker, tether/path and the /tf transforms) at most this often: every output_rate / visual_rate-th output, the messages a node at the full rate publishes at those stamps (tether/state, the wrenches, sim poses and events stay at output_rate); 0: at every output. RViz and Foxglove draw them at 10-20 Hz; the node's tick cost of building them at every output is in docs/node.md. The offline runner and the line-network node write them at every output", min=0.0, max=1000.0)
     world_frame: str = param("map", doc="world frame id (ENU)")
     ship_frame: str = param("ship/base_link", doc="ship body frame id (FLU)")
     vehicle_frame: str = param("rov/base_link", doc="vehicle body frame id (FLU)")

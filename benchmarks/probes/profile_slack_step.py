@@ -162,8 +162,7 @@ def _factor(F, I, S, n, gh):
 
 @njit
 def _substeps(F, I, S, n, t, dt):
-    A = bind(F, I, S)
-    dg_advance(n, t, dt, False, A)
+    dg_advance(n, t, dt, False, F, I, S)
 
 
 def kernel_times(s, reps):

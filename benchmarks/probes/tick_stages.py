@@ -104,7 +104,7 @@ def st_first_stage_reusable(F, I, S, tin, t):
 
 @jit
 def st_dg_advance_0(F, I, S, tin, t):
-    dg_advance(0, t, 0.0, False, bind(F, I, S))
+    dg_advance(0, t, 0.0, False, F, I, S)
     return 0
 
 

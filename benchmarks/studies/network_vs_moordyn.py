@@ -190,9 +190,11 @@ def run_moordyn(duration, coupling):
         raise RuntimeError(f"MoorDyn Init failed with code {err}")
     line = moordyn.GetLine(system, 1)
     body = moordyn.GetBody(system, 1)
+    lower = moordyn.GetPoint(system, 3)  # the excursion tether's attachment on the cage
     n = int(round(duration / coupling))
     out = {k: np.empty(n) for k in ("t", "ship", "cage", "veh", "heave")}
     out["veh_force"] = np.empty((n, 3))
+    out["cage_attachment"] = np.empty((n, 3))
     t, p_now = 0.0, rc.fairlead_motion(0.0)[0]
     c0 = time.process_time()
     try:
@@ -208,6 +210,7 @@ def run_moordyn(duration, coupling):
             out["veh_force"][k] = f[3:6]
             out["cage"][k] = float(np.linalg.norm(moordyn.GetLineNodeTen(line, 0)))
             out["heave"][k] = moordyn.GetBodyPos(body)[2]
+            out["cage_attachment"][k] = moordyn.GetPointPos(lower)
     finally:
         moordyn.Close(system)
     out.update(cpu=time.process_time() - c0, dt=dt)

@@ -165,7 +165,7 @@ def test_guard_margin_zero_turns_the_guard_off():
 
 
 def _two_ends(ship_slack, ship_rise_start, vehicle=True, speed=0.35, dt=1e-4, ship_rise=0.030, ship_peak=157.6e3,
-              element=100.0, t_end=5.0, min_slack=0.1, vehicle_rise=0.0033):
+              element=100.0, t_end=5.0, min_slack=0.1, vehicle_rise=0.0033, lazy_calls=None):
     """The soak's pair (docs/node.md): the vehicle end (static 43.1 kN) slack 1.00-1.20 s and back in
     3.3 ms to 112 kN (numerical: shorter than the 25.7 ms crossing of a 100 m element); the ship end
     (static 48.1 kN) slack from ``ship_slack`` and back from ``ship_rise_start`` in 30 ms to 157.6 kN
@@ -192,9 +192,33 @@ def _two_ends(ship_slack, ship_rise_start, vehicle=True, speed=0.35, dt=1e-4, sh
     pulse(0, ship_slack, ship_rise_start, ship_rise, ship_peak)
     t = t[t < t_end]
     events = []
-    for i in range(0, t.size, 200):  # 20 ms chunks, like ticks
-        events += det.update(t[i:i + 200], T[i:i + 200], speed)
+    for k, i in enumerate(range(0, t.size, 200)):  # 20 ms chunks, like ticks
+        v = speed(k) if callable(speed) else speed  # (a function of the chunk: the speed of that chunk)
+        if lazy_calls is not None:  # given as a function of no arguments, as the node's driver does
+
+            def v(v=v):
+                lazy_calls.append(v)
+                return v
+        events += det.update(t[i:i + 200], T[i:i + 200], v)
     return [e for e in events + det.flush() if not type(e).__name__ == "SlackStarted"]
+
+
+def test_a_speed_given_as_a_function_is_read_only_out_of_the_taut_state_with_the_same_verdicts():
+    """The node's driver hands the detector its relative end speed as a function (computing it costs a tick
+    ~10 us). While both ends stay taut it is not called; the events are those of the numbers given every
+    chunk. The speeds make the verdict depend on them: 3 m/s while taut (read by nothing: a slack start
+    sets the speed anew), 1 m/s in the chunk where both ends go slack (t = 1.00 s), 0.2 m/s after. The
+    ship's 157.6 kN is a snap with the 1 m/s of its slack start (bound 1.5 x (96.2 + 1.0 x 30.2) kN = 189.6
+    kN) and numerical with 0.2 m/s alone (153.4 kN): a speed missed at the slack start changes the verdict."""
+    def speed(k):
+        return 3.0 if k < 50 else 1.0 if k == 50 else 0.2
+    eager = _two_ends(1.0, 1.22, vehicle=False, speed=speed)
+    calls = []
+    lazy = _two_ends(1.0, 1.22, vehicle=False, speed=speed, lazy_calls=calls)
+    assert lazy == eager
+    assert [type(e) for e in eager] == [SnapEvent]
+    assert [type(e) for e in _two_ends(1.0, 1.22, vehicle=False, speed=0.2)] == [NumericalSnapWarning]
+    assert calls[0] == 1.0 and 0 < len(calls) <= 250 - 50  # never in the 50 taut chunks before the slack
 
 
 def test_one_slack_episode_one_verdict_a_front_after_a_rejected_one_is_not_a_snap():

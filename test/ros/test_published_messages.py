@@ -49,7 +49,8 @@ def ship_quaternion():
 @pytest.fixture(scope="module")
 def run():
     flat = to_flat(load_config(ROOT / "config/ropos_L200.yaml"))
-    flat.update({"node.tick_budget": 1.0e6, "node.tf_tether_frames": 3, "node.ship_attachment": SHIP_ATTACH})
+    flat.update({"node.tick_budget": 1.0e6, "node.tf_tether_frames": 3, "node.ship_attachment": SHIP_ATTACH,
+                 "node.visual_rate": 0.0})  # every output carries every message (test_visual_rate.py: the rate)
     flat = {k: v for k, v in flat.items() if k != "use_sim_time"}
     context = rclpy.Context()
     rclpy.init(context=context)

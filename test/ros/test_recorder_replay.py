@@ -286,3 +286,61 @@ def test_replay_node_recorder_chain_decodes_custom_messages(tmp_path, isolated_r
     assert types["/tether/description"] == "tether_sim_msgs/msg/TetherDescription"
     assert len(decoded) >= len(states) and all(d is not None for d in decoded)
     assert read_summary(rec).topics["/tether/description"].latched
+
+
+def test_replay_waits_for_the_number_of_subscribers_it_is_told(tmp_path, ros_context):
+    """With min_subscribers 2 one listener (a recorder on sim time matches first) does not start the
+    clock: the wait runs to its limit and names what is short; a second listener (the node) ends it."""
+    from rosgraph_msgs.msg import Clock
+
+    from tether_sim.ros.bag_common import clock_qos
+    from tether_sim.ros.replay_node import ReplayNode
+
+    src = tmp_path / "input.mcap"
+    write_input(src)
+    replay = ReplayNode(str(src), overrides={"wait_for_subscribers_s": 1.0, "min_subscribers": 2,
+                                             "topics": ["/ship/pose"]}, context=ros_context)
+    listeners = []
+
+    def listen(name):
+        node = rclpy.create_node(name, context=ros_context)
+        node.create_subscription(PoseStamped, "/ship/pose", lambda m: None, 10)
+        node.create_subscription(Clock, "/clock", lambda m: None, clock_qos())
+        listeners.append(node)
+
+    try:
+        listen("recorder_like")
+        assert wait_counts(replay, 1), replay.subscriber_counts()
+        t0 = time.monotonic()
+        missing = replay.wait_for_subscribers()
+        assert time.monotonic() - t0 >= 0.95  # it waited its full second
+        assert missing == ["/clock (1 of 2)", "/ship/pose (1 of 2)"]
+        listen("node_like")
+        replay.wait_s = 10.0
+        t0 = time.monotonic()
+        assert replay.wait_for_subscribers() == []
+        assert time.monotonic() - t0 < 9.0
+        assert replay.subscriber_counts() == {"/clock": 2, "/ship/pose": 2}
+    finally:
+        for node in listeners:
+            node.destroy_node()
+        replay.destroy_node()
+
+
+def wait_counts(replay, n, timeout_s=10.0) -> bool:
+    """Until every topic of the replay has n matched subscribers (discovery takes a moment)."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        if all(k == n for k in replay.subscriber_counts().values()):
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def test_replay_rejects_a_minimum_below_one(tmp_path, ros_context):
+    from tether_sim.ros.replay_node import ReplayNode
+
+    src = tmp_path / "input.mcap"
+    write_input(src)
+    with pytest.raises(ValueError, match="min_subscribers must be >= 1, got 0"):
+        ReplayNode(str(src), overrides={"min_subscribers": 0}, context=ros_context)

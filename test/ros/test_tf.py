@@ -78,7 +78,7 @@ def test_tf_frames_compose_to_the_cable_ends():
         h.probe.create_subscription(tf2_msgs.TFMessage, "/tf_static", static.append, latched)
         ship_origin = -rotate(YAW90, SHEAVE)  # so that the sheave is at the world origin
         t, dt = 0.0, 0.02
-        while t < 0.6:
+        while t < 1.2:  # (/tf at node.visual_rate, 10 Hz: enough of them to check five)
             t += dt
             h.step(t, ship=h.pose_msg(t, ship_origin, YAW90))
         assert static and tf, "no /tf_static or /tf received"

@@ -71,7 +71,7 @@ def slerp(q0, q1, u: float) -> np.ndarray:
         q1, dot = -q1, -dot
     if dot > 0.9995:  # nearly parallel: normalised lerp is exact to rounding
         q = q0 + u * (q1 - q0)
-        return q / np.linalg.norm(q)
+        return q / math.sqrt(q.dot(q))  # (np.linalg.norm's own sqrt(q.dot(q)), without its wrapper)
     theta = np.arccos(min(dot, 1.0))
     s = np.sin(theta)
     return (np.sin((1 - u) * theta) * q0 + np.sin(u * theta) * q1) / s

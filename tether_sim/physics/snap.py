@@ -77,7 +77,7 @@ import numpy as np
 
 from tether_sim.physics.snap_guard import KINEMATIC_END_KINDS, NumericalSnapWarning, SnapGuard, snap_guard  # noqa: F401
 from tether_sim.physics.snap_kernel import (_MIN_T, _MODE, _N_EVENT, _N_STATE, _NEW_MAXIMUM, _PUBLISHED, _RISING, _SLACK,
-                                            _SLACK_START, _SNAP, _SPIKE, _TIME_COLUMNS, snap_detector_close,
+                                            _SLACK_START, _SNAP, _SPIKE, _TAUT, _TIME_COLUMNS, snap_detector_close,
                                             snap_detector_step)
 from tether_sim.spec import param
 
@@ -203,7 +203,7 @@ class SnapDetector:
     def slack_now(self) -> dict:
         """{location: bool}: slack now (the diagnostics' flag: it clears when the tension is back above the
         re-tension level, snap or not)."""
-        return dict(zip(self.locations, (bool(x) for x in self.is_slack())))
+        return dict(zip(self.locations, self.is_slack().tolist()))  # (tolist: Python bools)
 
     def is_rising(self) -> np.ndarray:
         """(n_loc,) bool: a re-tensioning window is open at the location and its snap event is pending (not a
@@ -220,7 +220,17 @@ class SnapDetector:
 
         ``relative_speed``: the relative speed of the two cable ends over these samples (m/s, a number
         or (k,) samples) for the guard's bound; without it the guard keeps the largest speed it was
-        given, so a guarded detector must be fed speeds from the start."""
+        given, so a guarded detector must be fed speeds from the start. A function of no arguments
+        that returns the number is called only when the speed is read: when a location is out of its
+        taut state at the start of these samples (its largest speed since its slack began is kept up),
+        or when they start a slack period or close a window (its events); while every location stays
+        taut the largest speed is read by nothing (a slack start sets it anew), so the events are those
+        of the number given every time."""
+        if callable(relative_speed):
+            lazy = relative_speed
+            relative_speed = lazy() if (self._state[:, _MODE] != _TAUT).any() else None
+        else:
+            lazy = None
         times = np.ascontiguousarray(times, dtype=np.float64).reshape(-1)
         tensions = np.ascontiguousarray(tensions, dtype=np.float64)
         if tensions.ndim == 1 and len(self.locations) == 1:
@@ -245,6 +255,10 @@ class SnapDetector:
             start, n_ev = snap_detector_step(times, tensions, start, self._state, self._thresholds,
                                              float(self.config.peak_window), float(self.config.min_slack_duration),
                                              self._crossing(), self._events)
+            if n_ev and speed is None and lazy is not None:  # (every location was taut: its events read it)
+                lazy, speed = None, abs(lazy())
+                if not math.isfinite(speed):
+                    raise ValueError("snap detector: non-finite relative end speed")
             out += self._rows(n_ev, speed)
         return out
 

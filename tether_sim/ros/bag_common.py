@@ -66,8 +66,9 @@ def clock_qos() -> QoSProfile:
     return QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
 
 
-def wait_for(predicate, timeout_s: float, spin_node=None, step_s: float = 0.05) -> bool:
-    """Poll predicate() (spinning spin_node if given) until true or timeout; returns the result."""
+def wait_for(predicate, timeout_s: float, spin_node=None, step_s: float = 0.05, context=None) -> bool:
+    """Poll predicate() (spinning spin_node if given) until true, timeout or the shutdown of
+    ``context`` (rclpy's default context if None); returns the result."""
     import time
 
     import rclpy
@@ -76,7 +77,7 @@ def wait_for(predicate, timeout_s: float, spin_node=None, step_s: float = 0.05) 
     while True:
         if predicate():
             return True
-        if time.monotonic() >= deadline or not rclpy.ok():
+        if time.monotonic() >= deadline or not rclpy.ok(context=context):
             return False
         if spin_node is not None:
             rclpy.spin_once(spin_node, timeout_sec=step_s)

@@ -196,6 +196,7 @@ MARKER_COLOUR = (1.0, 1.0, 0.0, 1.0)  # RGBA of the strip (the per-vertex colour
 
 
 SHAPE_TOPICS = ("/tether/state", "/tether/marker", "/tether/path")  # need the state at the output points
+VISUAL_TOPICS = ("/tether/marker", "/tether/path")  # drawn, not read: the node sends them (and /tf) at node.visual_rate
 
 
 class OutputFrame:
@@ -230,12 +231,17 @@ class OutputFrame:
         return q
 
     def state(self, arc_lengths):
-        """The solver's state at ``arc_lengths`` (one sampling per distinct set of points)."""
+        """The solver's state at ``arc_lengths`` (one sampling per distinct set of points; the driver's
+        ``output_state`` when its snap detection sampled these points at this instant)."""
         arc = np.asarray(arc_lengths, float)
         key = arc.tobytes()
         found = self._states.get(key)
         if found is None:
-            found = self._states[key] = (arc, self.solver.state(arc_lengths))
+            shared = getattr(self.driver, "output_state", None)
+            if shared is not None and shared[0] is self.solver and shared[1] == self.solver.time and shared[2] == key:
+                found = self._states[key] = (arc, shared[3])
+            else:
+                found = self._states[key] = (arc, self.solver.state(arc_lengths))
         return found[1]
 
     def end_positions(self, length: float) -> np.ndarray:

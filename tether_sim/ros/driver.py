@@ -131,6 +131,11 @@ class SimulationDriver(EndCommands, BodyFrame):
         self.span_arc = np.zeros(0)
         self.numerical_snaps = 0  # re-tensionings the snap guard rejected (published as warnings, never as snaps)
         self.last_numerical_snap = ""
+        # the node's output points when its next output carries the state there (else None): _detect samples
+        # the state there once, reads the relative end speed from its end samples and leaves it in
+        # output_state = (solver, solver time, arc lengths' bytes, state) for the outputs (convert.OutputFrame)
+        self.output_points = None
+        self.output_state = None
 
     # ------------------------------------------------------------------ set-up
     def _start_config(self, now):
@@ -192,8 +197,12 @@ class SimulationDriver(EndCommands, BodyFrame):
         if self.solver is None:
             self.start(now)
         now -= self.config.node.input_delay  # simulate the past, where the inputs are known
-        report = TickReport(stamp=self.stamp, blends=self._pending.blends)
-        self._pending = TickReport(stamp=now)
+        pending = self._pending.blends
+        if pending:  # what the last (re)start did; else the empty pending report is kept (one report a tick, not two)
+            report = TickReport(stamp=self.stamp, blends=pending)
+            self._pending = TickReport(stamp=now)
+        else:
+            report = TickReport(stamp=self.stamp)
         if self.last_now is not None and now < self.last_now:
             report.clock_jump = True
             self.anchor = now - self.solver.time
@@ -328,7 +337,17 @@ class SimulationDriver(EndCommands, BodyFrame):
             refs = self._reference.tensions(self.solver.unstretched_length)
             self.detector.set_static_tensions(refs)
             self.static_by_location.update(zip(END_NAMES, refs))
-        speed = relative_end_speed(self.solver, self.config.cable.length)
+        state, arc = None, self.output_points
+        if arc is not None and hasattr(self.solver, "end_bodies"):  # (the same numbers as end_kinematics': DG)
+            arc = np.asarray(arc, float)
+            state = self.solver.state(arc)
+            self.output_state = (self.solver, self.solver.time, arc.tobytes(), state)
+        memo = []
+
+        def speed():  # the relative end speed, computed when a detector reads it (SnapDetector.update)
+            if not memo:
+                memo.append(relative_end_speed(self.solver, self.config.cable.length, state))
+            return memo[0]
         if len(times):
             tensions = np.empty((len(times), 2))  # (np.column_stack's values, without its wrapper)
             tensions[:, 0] = t_ship

@@ -270,7 +270,8 @@ def _replay(root: Path, mcap: Path, args, group: ProcessGroup, node, record) -> 
     replay_args = ["--ros-args", "--params-file", str(root / "config/replay.yaml"),
                    "-p", f"input:={root / RECORD}", "-p", f"rate:={args.rate}",
                    "-p", f"start_offset_s:={args.start_offset}", "-p", f"duration_s:={args.duration}",
-                   "-p", "wait_for_subscribers_s:=20.0", "-p", "topics:=['/ship/pose']"]
+                   "-p", "wait_for_subscribers_s:=20.0", "-p", "min_subscribers:=2",  # the node and the recorder
+                   "-p", "topics:=['/ship/pose']"]
     replay = group.start("replay", command_for("tether-sim-replay") + replay_args)
     span = (args.duration or (record.end_ns - record.start_ns) / 1e9 - args.start_offset) / args.rate
     stage("replay", f"{RECORD} at x{args.rate:g} (about {span:.0f} s of wall time)")

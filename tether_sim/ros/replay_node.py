@@ -56,11 +56,13 @@ class ReplayNode(Node):
         p("clock_hz", 100.0, _describe("/clock publication rate, Hz", MIN_CLOCK_HZ, 1000.0))
         p("topics", [""], _describe("topics to replay (empty: all recorded topics)"))
         p("depth", 100, _describe("publisher queue depth of non-latched topics, messages"))
-        p("wait_for_subscribers_s", 0.0, _describe("before playing, wait up to this long for a "
-                                                   "subscriber on every replayed topic, s", 0.0, 600.0))
+        p("wait_for_subscribers_s", 0.0, _describe("before playing, wait up to this long for "
+                                                   "min_subscribers on every replayed topic, s", 0.0, 600.0))
+        p("min_subscribers", 1, _describe("subscribers every replayed topic (and /clock) must have "
+                                          "before playing starts (with wait_for_subscribers_s > 0), >= 1"))
         values = {name: self.get_parameter(name).value for name in
                   ("input", "rate", "start_offset_s", "duration_s", "loop", "clock", "clock_hz", "topics",
-                   "depth", "wait_for_subscribers_s")}
+                   "depth", "wait_for_subscribers_s", "min_subscribers")}
         values.update({k: v for k, v in (overrides or {}).items() if v is not None})
         if path:
             values["input"] = path
@@ -72,6 +74,9 @@ class ReplayNode(Node):
         self.start_offset_ns = int(float(values["start_offset_s"]) * 1e9)
         self.duration_ns = int(float(values["duration_s"]) * 1e9)
         self.loop, self.wait_s = bool(values["loop"]), float(values["wait_for_subscribers_s"])
+        self.min_subscribers = int(values["min_subscribers"])
+        if self.min_subscribers < 1:
+            raise ValueError(f"min_subscribers must be >= 1, got {self.min_subscribers}")
         self.clock_period = 1.0 / max(MIN_CLOCK_HZ, float(values["clock_hz"]))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", TruncatedMcapWarning)  # reported below, once
@@ -116,13 +121,24 @@ class ReplayNode(Node):
             self._clock_msg.clock.sec, self._clock_msg.clock.nanosec = divmod(int(t_ns), 10**9)
             self.clock_pub.publish(self._clock_msg)
 
-    def wait_for_subscribers(self) -> list[str]:
-        """Wait (up to wait_for_subscribers_s) for subscribers; returns topics still without one."""
+    def subscriber_counts(self) -> dict[str, int]:
+        """Matched subscriptions per replayed topic and /clock."""
         pubs = dict(self.publishers_by_topic)
         if self.clock_pub is not None:
             pubs["/clock"] = self.clock_pub
-        wait_for(lambda: all(p.get_subscription_count() > 0 for p in pubs.values()), self.wait_s)
-        return sorted(t for t, p in pubs.items() if p.get_subscription_count() == 0)
+        return {t: p.get_subscription_count() for t, p in sorted(pubs.items())}
+
+    def wait_for_subscribers(self) -> list[str]:
+        """Wait (up to wait_for_subscribers_s) until every replayed topic and /clock has matched
+        min_subscribers subscriptions; returns those still short, as "topic (k of n)".
+
+        One subscriber is not enough when several processes listen: a recorder on sim time
+        matches /clock and the poses as soon as it sees them, and a clock that starts before the
+        simulation node has matched runs away from it (the node then finds itself seconds behind)."""
+        n = self.min_subscribers
+        wait_for(lambda: all(k >= n for k in self.subscriber_counts().values()), self.wait_s,
+                 context=self.context)
+        return [f"{t} ({k} of {n})" for t, k in self.subscriber_counts().items() if k < n]
 
     def play_once(self) -> None:
         """One pass over the file with recorded timing."""
@@ -166,9 +182,10 @@ class ReplayNode(Node):
     def play(self) -> None:
         missing = self.wait_for_subscribers() if self.wait_s > 0 else []
         if missing:
-            self.get_logger().warning(f"no subscriber after {self.wait_s:.1f} s on: {', '.join(missing)}")
+            self.get_logger().warning(f"too few subscribers after {self.wait_s:.1f} s on: {', '.join(missing)}")
+        counts = ", ".join(f"{t} {k}" for t, k in self.subscriber_counts().items())
         self.get_logger().info(f"replaying {self.path} ({len(self.publishers_by_topic)} topics) at "
-                               f"x{self.rate:g}{', looping' if self.loop else ''}")
+                               f"x{self.rate:g}{', looping' if self.loop else ''}; subscribers: {counts}")
         while not self.stopped and rclpy.ok():
             self.play_once()
             if not self.loop:
@@ -196,6 +213,9 @@ def parse_args(argv):
     parser.add_argument("--wait-for-subscribers", type=float, dest="wait_for_subscribers_s",
                         help="wait up to this many seconds for a subscriber on every replayed topic "
                              "before starting (default 0: start at once)")
+    parser.add_argument("--min-subscribers", type=int, dest="min_subscribers",
+                        help="with --wait-for-subscribers: the subscribers every replayed topic and /clock "
+                             "must have (default 1)")
     return parser.parse_args(argv)
 
 

@@ -95,11 +95,17 @@ class TetherSimNode(Node):
         self.snap_markers = SnapMarkerPublisher(self)  # tether/snap_markers, for RViz
         self.winch_io = NodeWinch(self)  # winch/command in, winch/state out (winch.enabled; ros/winch_io.py)
         self.forecast_io = NodeForecast(self, solver_factory)  # tether/snap_forecast (forecast.enabled; ros/forecast_io.py)
-        # periodic outputs: built (and published) only while someone subscribes to them
+        # periodic outputs: built (and published) only while someone subscribes to them; the visual ones
+        # (marker, path, /tf) only at node.visual_rate, and nothing of them is asked for in between
         self._tick_topics = [t for t in self.pubs if t in convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
-        self._tick_pubs = [(t, self.pubs[t]) for t in self._tick_topics]
+        self._tick_pubs = [(t, self.pubs[t]) for t in self._tick_topics if t not in convert.VISUAL_TOPICS]
+        self._visual_pubs = [(t, self.pubs[t]) for t in self._tick_topics if t in convert.VISUAL_TOPICS]
         self._shape_gate = convert.ShapeGate(node.shape_rate)
+        # marker and path: at visual_rate among the outputs that carry the shape; /tf: among all outputs
+        # (with shape_rate 0 the two gates see the same stamps and pick the same outputs)
+        self._visual_gate, self._tf_gate = convert.ShapeGate(node.visual_rate), convert.ShapeGate(node.visual_rate)
         self._first_tick = None
+        self._state_every_output = False  # /tether/state had a subscriber at the last output, at every output
         self.tick_errors, self.last_tick_error = 0, ""
         self.snaps_published = 0
         self._last_output = -float("inf")
@@ -251,17 +257,23 @@ class TetherSimNode(Node):
             if getattr(self.driver.solver, "start_warning", ""):
                 self.get_logger().warning(self.driver.solver.start_warning)
         try:
+            # the state at the output points, sampled once for snap detection and /tether/state (node.shape_rate 0)
+            self.driver.output_points = self.arc_lengths if self._state_every_output else None
             report = self.driver.tick(now)
             self._handle_report(now, report)
             if self.driver.stamp > max(self._last_output, 0.0):  # one output per simulated instant
                 self._last_output = self.driver.stamp
                 self.arc_lengths = self.winch_io.tick(self.arc_lengths)  # outputs follow L(t) (winch)
+                stamp = self.driver.stamp
                 wanted = {topic for topic, pub in self._tick_pubs if pub.get_subscription_count() > 0}
+                self._state_every_output = self.config.node.shape_rate <= 0.0 and "/tether/state" in wanted
+                shapes = self._shape_gate.due(stamp)  # node.shape_rate
+                if shapes and self._visual_gate.due(stamp):  # node.visual_rate: marker and path
+                    wanted.update(topic for topic, pub in self._visual_pubs if pub.get_subscription_count() > 0)
                 frame = convert.OutputFrame(self.driver)  # what the outputs and /tf share
-                shapes = self._shape_gate.due(self.driver.stamp)  # node.shape_rate
                 for topic, data in convert.tick_outputs(self.driver, self.arc_lengths, wanted, frame, shapes):
                     self.pubs[topic].publish(data)
-                self.tf.publish(self.driver, frame)
+                self.tf.publish(self.driver, frame, self._tf_gate.due(stamp))  # /tf at node.visual_rate
                 self.forecast_io.tick(now)  # hands a due forecast to its worker thread; publishes finished ones
         except Exception as exc:  # noqa: BLE001 - the node must stay up; the error is reported
             if not self.context.ok():
@@ -308,7 +320,7 @@ class TetherSimNode(Node):
                 self._period["numerical"] += 1
                 log.warning(f"re-tensioning at {ev.location} rejected by the snap guard (numerical, not a snap): "
                             f"{ev.reason}")
-        for topic, msg in convert.event_outputs(report.events, self.driver):
+        for topic, msg in convert.event_outputs(report.events, self.driver) if report.events else ():
             if topic == "/tether/snap_events":
                 self._period["snaps"] += 1
                 self.snaps_published += 1

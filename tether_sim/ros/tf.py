@@ -7,7 +7,8 @@
   of them, and the tether frames, behind ``node.frame_prefix``), translated by the attachment offset
   (``node.*_attachment``, or ``body.attachment`` from the centre of gravity for a simulated body),
   no rotation.
-- ``/tf`` (each output, only while something subscribes): world (``node.world_frame``) -> each end's
+- ``/tf`` (at ``node.visual_rate``, every fifth 50 Hz output by default, only while something
+  subscribes): world (``node.world_frame``) -> each end's
   body frame: the simulated pose of a ``body`` end (cage or vehicle, origin at its centre of
   gravity), the interpolated input pose of a ``prescribed`` end (unless
   ``node.tf_prescribed_ends`` is false, for stacks that publish those transforms themselves), and a
@@ -192,13 +193,14 @@ class TfPublisher:
         self.pub = node.create_publisher(TFMessage, "/tf", TF_QOS)
         self.static_pub = node.create_publisher(TFMessage, "/tf_static", TF_STATIC_QOS)
 
-    def publish(self, driver, frame=None) -> None:
-        """``frame``: the :class:`~tether_sim.ros.convert.OutputFrame` the tick's other outputs read."""
+    def publish(self, driver, frame=None, due=True) -> None:
+        """``frame``: the :class:`~tether_sim.ros.convert.OutputFrame` the tick's other outputs read;
+        ``due``: False leaves /tf out of this output (``node.visual_rate``; /tf_static goes out regardless)."""
         if not self.enabled or driver.solver is None:
             return
         if not self._static_sent:
             self.static_pub.publish(TFMessage(transforms=static_transforms(driver, driver.stamp)))
             self._static_sent = True
-        if self.pub.get_subscription_count() > 0:
+        if due and self.pub.get_subscription_count() > 0:
             cfg = driver.config
             self.pub.publish(tf_message_cdr(driver.stamp, cfg.node.world_frame, dynamic_transforms(driver, frame)))

@@ -54,6 +54,7 @@ class HybridOptions:
     max_newton_iterations: int = param(25, doc="Newton iterations per implicit step before the step is halved", min=2, max=1000)
     newton_tolerance: float = param(1e-9, doc="Newton stops when every update is below this times its variable scale", min=1e-15, max=1e-2)
     frames_from_curvature: bool = param(True, doc="re-derive rod frames from kappa along s after each step (else pure incremental rotations in time)")
+    close_rod_shapes: str = param("evaluation", doc="adaptive zoning: turn and bend rod zones (least bending energy) so that their shape, re-derived from kappa, ends where their far end is held (body, driven end, joint): at every zone evaluation, only at zone changes (conversion), or off (docs/hybrid_solver.md)", choices=("evaluation", "conversion", "off"))
     compression_softening: float = param(10000.0, doc="material=bilinear/table: the law T = Phi(EA eps + zeta deps/dt) has slope 1/this in compression (a slack tether shortens almost freely; docs/hybrid_solver.md)", min=1.0, max=1e9)
     relax_time_step: float = param(1.0, unit="s", doc="step of the initial damped relaxation (large steps damp fastest); 0 = time_step", min=0.0, max=100.0)
     static_relax_time: float = param(60.0, unit="s", doc="initial.kind=static: duration of the damped (rho_inf=0) relaxation to rest", min=0.0, max=1e6)

@@ -42,7 +42,7 @@ from tether_sim.solvers.dg.layout import (
 from tether_sim.solvers.dg.workspace import (
     X_BAND, X_BC, X_BLK, X_BMR, X_BP, X_BS, X_BS0, X_BUF, X_BVEC, X_CNT, X_CX, X_CY, X_CZ, X_D, X_DBS, X_DPRM, X_DRA, X_DTMP,
     X_DWOOD, X_DU, X_ENDF, X_FDAMP, X_FL, X_H, X_HW, X_IDP, X_IPRM_STEP, X_IQ, X_LF, X_OUT, X_PJ, X_PRM_STEP, X_RA, X_RA0, X_RS,
-    X_TAB_EPS, X_TAB_T, X_TMP, X_TR, X_TRC, X_U, X_U0, X_V, X_VBC, X_VEC, X_WD, X_WM, X_WP, X_WQ,
+    X_TAB_EPS, X_TAB_T, X_TMP, X_TR, X_TRC, X_U, X_U0, X_V, X_VBC, X_VEC, X_WD, X_WM, X_WP, X_WQ, bind,
 )
 from tether_sim.solvers.dg.winch import (
     winch_active, winch_end_velocity, winch_length, winch_moving, winch_stage, winch_transport, winch_update,
@@ -179,9 +179,10 @@ def clip_end_fluxes(prm, iprm, h, V, Pj, Lf, vbc, wq, tr, fl, dU, endf, fdamp):
 
 
 @jit
-def dg_advance(nsteps, t0, dt, reuse, A):
-    """Take nsteps SSP-RK3 substeps of size dt from t0 on the workspace A (workspace.bind), with the
-    stepper's parameters (slots prm_step, iprm_step). out[0] = steps done, out[1] = status.
+def dg_advance(nsteps, t0, dt, reuse, F, I, S):
+    """Take nsteps SSP-RK3 substeps of size dt from t0 on the workspace of the arenas F, I and the spec S
+    (workspace.py; the views are bound here, so that a call passes three arrays, not the tuple of every
+    view), with the stepper's parameters (slots prm_step, iprm_step). out[0] = steps done, out[1] = status.
 
     reuse: the first stage's internal forces are already in the work arrays (the output evaluation
     at t0 on the same inputs, checked by tick.dg_tick); that stage does the momentum rate only.
@@ -191,6 +192,7 @@ def dg_advance(nsteps, t0, dt, reuse, A):
     idp ... fdamp: arrays of implicit_damping.DampingWork; idp[0] = 0 (explicit) skips the splitting.
     hw: element sizes / length; while a winch moves, the stages take h = hw L and update on L u (winch.py).
     """
+    A = bind(F, I, S)
     U, ra, prm, iprm, h, bc, vbc = A[X_U], A[X_RA], A[X_PRM_STEP], A[X_IPRM_STEP], A[X_H], A[X_BC], A[X_VBC]
     dU, dra, endf, bs, bp, dbs = A[X_DU], A[X_DRA], A[X_ENDF], A[X_BS], A[X_BP], A[X_DBS]
     bs0, U0, ra0, buf, cnt, out, idp, fdamp, hw = (A[X_BS0], A[X_U0], A[X_RA0], A[X_BUF], A[X_CNT], A[X_OUT],

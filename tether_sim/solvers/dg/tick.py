@@ -218,7 +218,7 @@ def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
     fresh[0] = 0
     if reuse:
         fresh[1] += 1  # first stages reused (a count for tests and benchmarks)
-    dg_advance(nsteps, t0, dt, reuse, A)
+    dg_advance(nsteps, t0, dt, reuse, F, I, S)
     status = int(A[X_OUT][1])
     if status != STATUS_OK:
         return status

@@ -27,11 +27,11 @@ from tether_sim.solvers.hybrid.kernels import elastic_strain, pack_parameters
 from tether_sim.solvers.hybrid.layout import (CAT_EPS, CAT_T, CAT_TAN, CAT_V, HP_AF, HP_AM, HP_GAM, HP_TIME, ROD_EPS,
                                               ROD_F, ROD_KAPPA, ROD_V)
 from tether_sim.solvers.hybrid.rod import frame_at
-from tether_sim.solvers.hybrid.state_io import EndMotion, convert_state, node_profile
+from tether_sim.solvers.hybrid.state_io import EndMotion, close_rod_shapes, convert_state, end_target, node_profile
 from tether_sim.solvers.hybrid.winch import HybridWinchMixin
 
 MAX_HALVINGS = 6
-CLOSURE_LIMIT = 0.01  # largest gap between a rod-ended line's shape and its driven far end, per metre of line (_check_closure)
+CLOSURE_LIMIT = 0.01  # largest gap between a line's shape and where its end is held (driven, body), per metre of line (_check_closure)
 MAX_BOOST = 256.0  # largest factor on the rod switching tension after failed Newton solves
 
 
@@ -374,6 +374,9 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
                     la * self.Lf[c - 1, 0] + lb * self.Lf[c, 0])
         if driven[1] is not None and ch.kind[K - 1] == zoning.ROD:
             self._check_closure(driven[1])
+        for e, node in ((0, 0), (1, K - 1)):  # a line's end on a body is where the body's attachment point is
+            if self.end_kinds[e].position == "body":
+                self._check_closure(end_target(self, e), node, body=True)
         st = self.stats
         st["steps"] += 1
         st["newton_iterations"] += iterations
@@ -390,22 +393,29 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
             self._last_zoning = self.time
             self._rezone()
 
-    def _check_closure(self, driven):
-        """A rod block ending at a kinematic far end must end where that end is driven: its shape is the integral of
-        its tangents from the block start, and the kinematic condition holds its velocity only, so a shape that does
-        not close there is not this line's. The gap (largest so far in stats["closure_gap"], m) is the integration
-        error of the tangents (centimetres on the cross-check network's all-rod excursion tether) unless re-zoning
-        conversions have broken the shape (docs/hybrid_solver.md, "Zoning"); beyond CLOSURE_LIMIT of the line's
-        length the run stops with a clear error rather than go on with a line that ends elsewhere."""
-        K = self.chain.grid.size
-        gap = float(np.linalg.norm(self.positions[K - 1] - driven))
+    def _check_closure(self, target, node=-1, body=False):
+        """A line must end where its end is held: a rod block ending at a kinematic far end where that end is driven,
+        a line's end on a body (rod or catenary) at the body's attachment point. A rod block's shape is the integral of
+        its tangents from the block start, and the kinematic or body condition holds its end's velocity only, so a
+        shape that does not close there is not this line's; a catenary end on a body keeps the gap a rod zone left
+        when it turned catenary. The gap (largest so far in stats["closure_gap"], m; the last one at a body end in
+        stats["body_gap"]), measured after each step before the zones are re-evaluated, is the integration error of
+        the tangents (centimetres on the cross-check network's all-rod excursion tether) unless re-zoning conversions
+        have broken the shape (docs/hybrid_solver.md, "Zoning"); beyond CLOSURE_LIMIT of the line's length the run
+        stops with a clear error rather than go on with a line that ends elsewhere."""
+        node = node % self.chain.grid.size
+        gap = float(np.linalg.norm(self.positions[node] - target))
         st = self.stats
         st["closure_gap"] = max(st.get("closure_gap", 0.0), gap)
+        if body:
+            st["body_gap"] = gap
+        where = "the body's attachment point it is joined to" if body else "where its far end is driven"
         length = float(self.s_grid[-1] - self.s_grid[0])
         if gap > CLOSURE_LIMIT * length:
+            shape = "rod zone's shape" if self.chain.kind[node] == zoning.ROD else "line's shape"
             raise SolverDivergedError(
-                f"hybrid solver: at t = {self.time:.6g} s the rod zone's shape ends {gap:.3g} m from where its far end "
-                f"is driven ({100.0 * gap / length:.3g} % of the line's {length:g} m; limit {100.0 * CLOSURE_LIMIT:g} %): "
+                f"hybrid solver: at t = {self.time:.6g} s the {shape} ends {gap:.3g} m from {where} "
+                f"({100.0 * gap / length:.3g} % of the line's {length:g} m; limit {100.0 * CLOSURE_LIMIT:g} %): "
                 f"re-zoning conversions broke the shape (hybrid.zoning: all_rod keeps it closed; docs/hybrid_solver.md, "
                 f"\"Zoning\")")
 
@@ -463,6 +473,8 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         if boost > 1.0:
             new = np.maximum(new, self.zones)  # only add rod elements
         if np.array_equal(new, self.zones):
+            if self.opt.close_rod_shapes == "evaluation" and (self.chain.kind == zoning.ROD).any():
+                close_rod_shapes(self)  # the rod shapes back onto their ends (state_io.close_rod_blocks)
             return False
 
         self.Y, self.Yt, self.Lf, self.positions, self.rdot = convert_state(self, new)

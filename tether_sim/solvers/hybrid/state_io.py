@@ -2,8 +2,17 @@
 
 import numpy as np
 
+from tether_sim.numerics.jit import jit_alloc
+from tether_sim.numerics.rotations import minimal_rotation, rotate_frame
+from tether_sim.physics.bodies import body_attachment_kinematics
 from tether_sim.solvers.hybrid import zoning
-from tether_sim.solvers.hybrid.layout import CAT_EPS, CAT_T, CAT_TAN, CAT_V, ROD_F, ROD_KAPPA, ROD_V
+from tether_sim.solvers.hybrid.layout import (CAT_EPS, CAT_T, CAT_TAN, CAT_V, ROD_EPS, ROD_F, ROD_KAPPA, ROD_OMEGA,
+                                              ROD_V)
+
+CLOSE_TOLERANCE = 1e-7  # a re-closed rod shape ends this close to its target, per metre of block (close_rod_blocks)
+CLOSE_ITERATIONS = 8  # Gauss-Newton iterations of the closing correction at most
+CLOSE_RCOND = 1e-6  # directions of the bending correction with less than this share of the largest compliance are left
+CLOSE_KEEP = 1e-5  # at a zone evaluation without changes, a rod block ending this close to its target (per metre) is kept
 
 
 class EndMotion:
@@ -167,6 +176,8 @@ def convert_state(solver, new_zones):
             if kap:
                 Y[i, ROD_KAPPA:ROD_KAPPA + 3] = np.mean(kap, axis=0)
     _anchor_new_catenary(solver, nodes, src, Y, pos)
+    if solver.opt.zoning == "adaptive" and solver.opt.close_rod_shapes != "off" and solver.opt.frames_from_curvature:
+        close_rod_blocks(solver, nodes, src, Y, Yt, Lf, pos)
     return Y, Yt, Lf, pos, rdot
 
 
@@ -238,6 +249,181 @@ def _anchor_new_catenary(solver, nodes, src, Y, pos):
                     new.append(new[-1] - d)
                 for j, i in enumerate(reversed(idx[:-1])):
                     pos[i] = new[j + 1]
+
+
+def end_target(solver, e):
+    """Where a line's end is: a body's attachment point, a driven end's commanded position, a fixed point; None for a
+    force or free end (nothing holds its position)."""
+    where = solver.end_kinds[e].position
+    if where == "body":
+        x = getattr(solver, "body_x", (None, None))[e]
+        if x is None:
+            return None  # the initial state: the body is placed at the line's end after it
+        p, v = np.empty(3), np.empty(3)
+        body_attachment_kinematics(x, solver.body_params[e], p, v)
+        return p
+    if where == "motion":
+        return solver.end_motion[e].position_at(solver.time)
+    if where == "fixed":
+        return np.asarray(solver.ends[e].position, dtype=float)
+    return None
+
+
+@jit_alloc
+def frames_along(L0, kappa, ds):
+    """Frames of a rod block from its first frame and its node curvatures, L_b = exp(-kappa_ab~ ds) L_a with
+    kappa_ab the mean of the two nodes' (the recursion of the solver's frame re-derivation, same arithmetic)."""
+    n = kappa.shape[0]
+    out = np.empty((n, 3, 3))
+    out[0] = L0
+    th = np.empty(3)
+    for k in range(1, n):
+        for i in range(3):
+            th[i] = 0.5 * (kappa[k, i] + kappa[k - 1, i]) * ds[k - 1]
+        rotate_frame(out[k - 1], th, out[k])
+    return out
+
+
+@jit_alloc
+def shape_along(r0, frames, eps, ds):
+    """Positions of a rod block integrated from r0 along (1 + eps) t (trapezoid, as after every step)."""
+    n = frames.shape[0]
+    r = np.empty((n, 3))
+    r[0] = r0
+    for k in range(1, n):
+        a = 1.0 + eps[k - 1]
+        b = 1.0 + eps[k]
+        for i in range(3):
+            r[k, i] = r[k - 1, i] + 0.5 * ds[k - 1] * (a * frames[k - 1, 0, i] + b * frames[k, 0, i])
+    return r
+
+
+def close_rod_block(L0, kappa, free, eps, ds, r0, target, turn=True):
+    """First frame and node curvatures of a rod block whose frames (frames_along) integrate to a shape (shape_along)
+    from r0 that ends at ``target``. Returns (kappa, frames, positions, iterations).
+
+    Two corrections, alternated: (1) with ``turn`` (a moment-free start: a spherical joint [GP Eq. 12-14] or a
+    pinned or body end), the block turns rigidly about its start so that its chord points at the target, which costs
+    no bending; (2) the ``free`` nodes' curvatures change by the correction of least bending energy that brings the
+    end onto the target, min sum EI |d kappa|^2 ds: linearised, a rotation phi_e = ds_e d kappa_e (world components)
+    of element e moves the end by phi_e x (r_end - r_e), so the minimiser is d kappa_c = (r_end - r_c) x lambda (the
+    curvature a point force at the end gives a cantilever, lambda its size over EI), with J lambda = -gap,
+    J = sum_e ds_e (|R_e|^2 I - R_e R_e^T); it is what changes the chord's length, and a straight block cannot
+    change it (J singular along the chord: the least-squares solution leaves that part)."""
+    kappa = np.array(kappa, dtype=float)
+    L0 = np.array(L0, dtype=float)
+    frames = frames_along(L0, kappa, ds)
+    r = shape_along(r0, frames, eps, ds)
+    if target is None:
+        return kappa, frames, r, 0
+    length = float(np.sum(ds))
+    tol = CLOSE_TOLERANCE * max(length, 1.0)
+    m = free.astype(float)
+    size = float(np.linalg.norm(r[-1] - target))
+    it = 0
+    while it < CLOSE_ITERATIONS and size > tol:
+        it += 1
+        if turn and float(np.linalg.norm(target - r0)) > tol:
+            L0 = L0 @ minimal_rotation(r[-1] - r0, target - r0).T  # tangents t -> Q t
+            frames = frames_along(L0, kappa, ds)
+            r = shape_along(r0, frames, eps, ds)
+            size = float(np.linalg.norm(r[-1] - target))
+            if size <= tol or not np.any(free):
+                continue
+        gap = r[-1] - target
+        R = r[-1] - r  # lever arms to the end
+        Rm = 0.5 * (R[1:] + R[:-1])
+        w = ds[:, None, None] * (np.einsum("e,ij->eij", np.einsum("ei,ei->e", Rm, Rm), np.eye(3))
+                                 - np.einsum("ei,ej->eij", Rm, Rm))
+        J = 0.5 * (np.einsum("e,eij->ij", m[:-1], w) + np.einsum("e,eij->ij", m[1:], w))  # element: mean of its nodes
+        lam = np.linalg.lstsq(J, -gap, rcond=CLOSE_RCOND)[0]
+        dk = np.einsum("kij,kj->ki", frames, np.cross(R, lam) * m[:, None])
+        for _ in range(8):  # backtracking: the shape is nonlinear in kappa
+            k_try = kappa + dk
+            f_try = frames_along(L0, k_try, ds)
+            r_try = shape_along(r0, f_try, eps, ds)
+            s_try = float(np.linalg.norm(r_try[-1] - target))
+            if s_try < size:
+                break
+            dk = 0.5 * dk
+        else:
+            break  # no decrease along this direction: keep the best shape so far
+        stalled = s_try > 0.9 * size  # what is left is along a straight chord, which bending barely shortens
+        kappa, frames, r, size = k_try, f_try, r_try, s_try
+        if stalled:
+            break
+    return kappa, frames, r, it
+
+
+def close_rod_blocks(solver, nodes, src, Y, Yt, Lf, pos, every=False):
+    """Rod blocks after a conversion whose frames, re-derived from their curvature, end where their far end is.
+
+    After each step the frames of a rod block are re-derived from kappa along s from the block's first frame and
+    its shape is integrated from its tangents (solver._integrate_frames, _commit); the kinematic conditions at its
+    far end hold the velocity only. A conversion sets the frames of new rod nodes from the catenary's tangents and
+    their kappa from the frame differences averaged over the two neighbouring elements; the element means of those
+    node values are not the frames' differences (an odd-even recursion would be: it forces a node-to-node zigzag of
+    kappa, a spurious bending moment), and the joint and a moment-free end have kappa = 0 from the next step on. So
+    the shape the next step re-derives is not the converted one, and its end moves off the body or driven end it
+    belongs to by centimetres a conversion (0.4-1 m over an L = 200 m slack phase). Here each rod block touched by
+    the conversion gets kappa = 0 where its conditions will impose it, frames re-derived from its kappa exactly as
+    the next step will (so that step keeps them), and the least-bending-energy correction of its kappa that brings
+    its integrated shape onto its far end (close_rod_block: the body's attachment point, the commanded or fixed
+    end, or the catenary node of its far joint). World velocities, angular velocities and internal forces of its
+    nodes are kept (their body components re-expressed in the new frames); strains are not touched."""
+    K = len(nodes)
+    s_grid = solver.s_grid
+    held = solver.end_held
+    kinds = solver.end_kinds
+    old = solver.chain
+    Kold = old.grid.size
+    for first, last in _runs(nodes, zoning.ROD):
+        if last == K - 1 and held[1] and not (first == 0 and held[0]):
+            continue  # frames anchored at the held end (solver._integrate_frames): nothing to close on
+        block = list(range(first, last + 1))
+        converted = [not src[i][1] for i in block]
+        c0, c1 = src[first][0], src[last][0]
+        shrunk = (src[first][1] and c0 > 0 and old.kind[c0 - 1] == zoning.ROD and old.grid[c0 - 1] != old.grid[c0]) or \
+            (src[last][1] and c1 < Kold - 1 and old.kind[c1 + 1] == zoning.ROD and old.grid[c1 + 1] != old.grid[c1])
+        if last < K - 1:
+            target = pos[last + 1]  # the catenary node of the far joint
+        else:
+            target = end_target(solver, 1)
+        ds = np.array([s_grid[nodes[i + 1][0]] - s_grid[nodes[i][0]] for i in block[:-1]])
+        if not (any(converted) or shrunk):
+            if not every or target is None or np.linalg.norm(pos[last] - target) <= CLOSE_KEEP * max(ds.sum(), 1.0):
+                continue
+        kappa = Y[block, ROD_KAPPA:ROD_KAPPA + 3].copy()
+        free = np.ones(len(block), dtype=bool)
+        # kappa = 0 at a joint [GP Eq. 12] and at a moment-free (pinned or body) line end; a force end keeps its own
+        if first > 0 or (kinds[0].kinematic and not held[0]):
+            kappa[0] = 0.0
+        if last < K - 1 or (kinds[1].kinematic and not held[1]):
+            kappa[-1] = 0.0
+        free[0] = free[-1] = False
+        r0 = pos[first - 1] if first > 0 else pos[first]
+        eps = Y[block, ROD_EPS]
+        turn = not held[0] if first == 0 else True
+        kappa, frames, r, it = close_rod_block(Lf[first], kappa, free, eps, ds, r0, target, turn)
+        for k, i in enumerate(block):
+            rot = frames[k] @ Lf[i].T  # old body components -> new
+            for a in (ROD_V, ROD_OMEGA, ROD_F):
+                Y[i, a:a + 3] = rot @ Y[i, a:a + 3]
+                Yt[i, a:a + 3] = rot @ Yt[i, a:a + 3]
+            Y[i, ROD_KAPPA:ROD_KAPPA + 3] = kappa[k]
+            Lf[i] = frames[k]
+            pos[i] = r[k]
+        st = solver.stats
+        st["closures"] = st.get("closures", 0) + 1
+
+
+def close_rod_shapes(solver):
+    """At a zone evaluation without changes: the solver's rod blocks whose shape has drifted off their far end
+    (more than CLOSE_KEEP per metre) closed again, in place (close_rod_blocks)."""
+    ch = solver.chain
+    nodes = list(zip(ch.grid.tolist(), ch.kind.tolist()))
+    src = [(c, True) for c in range(len(nodes))]
+    close_rod_blocks(solver, nodes, src, solver.Y, solver.Yt, solver.Lf, solver.positions, every=True)
 
 
 def _runs(nodes, kind):

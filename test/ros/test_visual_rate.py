@@ -1,0 +1,116 @@
+"""node.visual_rate: the simulation node sends its visualisation outputs (marker, path, /tf) on every
+output_rate / visual_rate-th output and builds nothing of them in between; those messages, and every
+message of the other outputs, are the bytes a node at the full rate publishes at the same ticks."""
+
+import math
+
+import pytest
+
+pytest.importorskip("rclpy")
+pytest.importorskip("tether_sim_msgs")
+import rclpy  # noqa: E402
+from geometry_msgs.msg import PoseStamped  # noqa: E402
+from sim_harness import overrides  # noqa: E402
+
+from tether_sim.io.params import load_config, to_flat  # noqa: E402
+from tether_sim.ros import convert  # noqa: E402
+from tether_sim.ros.convert import time_msg  # noqa: E402
+from tether_sim.ros.sim_node import TetherSimNode  # noqa: E402
+from tether_sim.ros.tf import TFMessage  # noqa: E402
+
+pytestmark = pytest.mark.ros
+
+ROOT = __import__("pathlib").Path(__file__).resolve().parents[2]
+TICKS = 40
+VISUAL = {"/tether/marker", "/tether/path", "/tf"}
+
+
+def _run(context, name, visual_rate, calls):
+    """Publishes of a node driven by hand for TICKS ticks at 50 Hz: [[(topic, bytes)] per tick]."""
+    flat = to_flat(load_config(ROOT / "config/ropos_L200.yaml"))
+    flat.update({"node.tick_budget": 1.0e6, "node.tf_tether_frames": 2})
+    if visual_rate is not None:
+        flat["node.visual_rate"] = visual_rate
+    flat = {k: v for k, v in flat.items() if k != "use_sim_time"}
+    node = TetherSimNode(node_name=name, context=context, parameter_overrides=overrides(flat))
+    node.driver.wall_budget = None
+    log = []
+    for publisher in node.publishers:
+        def record(msg, topic=publisher.topic_name):
+            log[-1].append((topic, msg))
+        publisher.publish = record
+        publisher.get_subscription_count = lambda: 1
+    calls[name] = calls_of(convert)  # counts what the node builds
+    clock = [100.0]
+    node._now = lambda: clock[0]
+    for _ in range(TICKS):
+        log.append([])
+        clock[0] += 0.02
+        msg = PoseStamped()
+        msg.header.stamp, msg.header.frame_id = time_msg(clock[0]), node.config.node.world_frame
+        msg.pose.position.z = 0.8 * math.sin(2.0 * math.pi * 0.5 * (clock[0] - 100.0))
+        msg.pose.orientation.w = 1.0
+        node._on_pose("ship", msg)
+        node._on_tick()
+    calls[name] = calls[name]()
+    node.destroy_node()
+    return log
+
+
+def calls_of(module):
+    """Counts the marker colourings of ``module`` until the returned function is called (it gives the count)."""
+    original, count = module.tension_colours, [0]
+
+    def counted(*a, **k):
+        count[0] += 1
+        return original(*a, **k)
+    module.tension_colours = counted
+
+    def stop():
+        module.tension_colours = original
+        return count[0]
+    return stop
+
+
+@pytest.fixture(scope="module")
+def runs():
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    calls = {}
+    try:
+        default = _run(context, "tether_sim_default", None, calls)
+        full = _run(context, "tether_sim_full", 0.0, calls)
+    finally:
+        rclpy.shutdown(context=context)
+    return default, full, calls
+
+
+def test_visual_outputs_every_fifth_output_at_the_default_10_hz(runs):
+    default, full, calls = runs
+    started = [k for k, msgs in enumerate(full) if any(t == "/tether/state" for t, _ in msgs)]
+    assert len(started) >= TICKS - 2
+    visual = VISUAL if TFMessage is not None else VISUAL - {"/tf"}
+    sent = {topic: [k for k in started if any(t == topic for t, _ in default[k])] for topic in visual}
+    first = started[0]
+    for topic in visual:
+        assert sent[topic] == list(range(first, started[-1] + 1, 5)), topic  # 50 Hz / 10 Hz: every fifth
+        assert [k for k in started if any(t == topic for t, _ in full[k])] == started  # 0: every output
+    # the marker's colours are computed only for the outputs that send it
+    assert calls["tether_sim_default"] == len(sent["/tether/marker"]) and calls["tether_sim_full"] == len(started)
+
+
+def test_the_messages_are_those_of_the_full_rate_node(runs):
+    default, full, _ = runs
+    for k, (mine, theirs) in enumerate(zip(default, full)):
+        theirs_by_topic = {}
+        for topic, data in theirs:
+            theirs_by_topic.setdefault(topic, []).append(data)
+        mine_topics = [t for t, _ in mine]
+        # the data outputs (state, wrenches, sim pose) at every output, in the same order
+        assert [t for t in mine_topics if t not in VISUAL] == [t for t, _ in theirs if t not in VISUAL], k
+        for topic, data in mine:
+            if topic == "/tether/state":
+                continue  # (its real-time factor is measured on the wall clock: test_shape_rate.py masks it)
+            if topic in ("/tether/description", "/tf_static"):
+                continue  # (object messages; the description names the node's own parameter values)
+            assert data == theirs_by_topic[topic].pop(0), (k, topic)  # bytes (events: message objects)
