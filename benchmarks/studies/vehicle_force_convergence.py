@@ -243,13 +243,13 @@ def measures(r, args):
         out[f"F({tq:g})"] = float(np.interp(tq, tc, Fb)) if tq <= end else nan
     lo, hi = args.slack_window
     m = (tc >= lo) & (tc <= hi)
-    out["mean"] = float(np.mean(Fb[m])) if hi <= end + 1e-9 else nan
-    out["rms"] = float(np.sqrt(np.mean(Fb[m] ** 2))) if hi <= end + 1e-9 else nan
+    out["mean"] = float(np.mean(Fb[m])) if hi <= end + args.bin else nan
+    out["rms"] = float(np.sqrt(np.mean(Fb[m] ** 2))) if hi <= end + args.bin else nan
     for i in range(0, len(args.jerk_windows), 2):
         a, b = args.jerk_windows[i], args.jerk_windows[i + 1]
         tag = f"{a:g}-{b:g}"
         names = [f"J {tag}"] + [f"lp{fc:g} {tag}" for fc in args.cutoffs] + [f"raw {tag}"]
-        if b > end + 1e-9:
+        if b > end + args.bin:  # (a run of T s ends within a substep of T)
             out.update({k: nan for k in names})
             continue
         w = (tc >= a) & (tc <= b)
@@ -292,6 +292,9 @@ def main(argv=None):
     ap.add_argument("--cutoffs", type=float, nargs="*", default=[2.0, 5.0, 10.0, 20.0])
     ap.add_argument("--prescribed-cage", default="",
                     help="a run (e.g. md_40) whose cage attachment path drives the excursion tether alone in every code")
+    ap.add_argument("--excursion-damping", type=float, default=None,
+                    help="the excursion tether's axial damping in every code (N s; default 2000; 0 wants --md-scheme RK4)")
+    ap.add_argument("--md-scheme", default="RK2", choices=["RK2", "RK4"], help="MoorDyn's time scheme")
     ap.add_argument("--cache", default="out/vehicle_force_convergence")
     ap.add_argument("--fresh", action="store_true")
     ap.add_argument("--json", default="out/vehicle_force_convergence.json")
@@ -299,6 +302,9 @@ def main(argv=None):
     ap.add_argument("--figure", default="")
     args = ap.parse_args(argv)
     print(f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}", flush=True)
+    if args.excursion_damping is not None:
+        nm.set_excursion_damping(args.excursion_damping)
+    nm.MD_SCHEME[:] = [args.md_scheme]
     keys = {"MoorDyn": [f"md_{n}" for n in args.md],
             "DG": [_dg_key(s) for s in args.dg],
             "hybrid": [f"hy_{s.split(':')[0]}_{s.split(':')[1]}" for s in args.hybrid]}
@@ -374,7 +380,11 @@ def plot(runs, keys, args):
     for a in ax:
         a.grid(alpha=0.3)
     ax[0].legend(fontsize=7, ncol=3)
-    ax[0].set_title("Excursion tether force on the vehicle: mesh ladders of MoorDyn, DG and the hybrid")
+    title = "Excursion tether force on the vehicle: mesh ladders of MoorDyn, DG and the hybrid"
+    if args.prescribed_cage:
+        title += f"\n(the excursion tether alone, its cage end on {args.prescribed_cage}'s path"
+        title += ", damping 0)" if args.excursion_damping == 0 else ")"
+    ax[0].set_title(title)
     fig.tight_layout()
     Path(args.figure).parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(args.figure, dpi=100)

@@ -100,3 +100,35 @@ def status(diag: DiagnosticArray, suffix: str):
 
 def values(st) -> dict:
     return {kv.key: kv.value for kv in st.values}
+
+
+class HandDriven:
+    """The node without executor or clock: ``tick(ship_pose)`` feeds one ship pose 20 ms after the
+    last and runs one timer tick; every publish of the tick lands in ``log[-1]`` as (topic, message),
+    and every publisher reports one subscriber (so nothing is skipped for want of one)."""
+
+    def __init__(self, context, flat: dict, node_name=None, t0=100.0):
+        flat = {k: v for k, v in flat.items() if k != "use_sim_time"}
+        kwargs = {} if node_name is None else {"node_name": node_name}
+        self.node = TetherSimNode(context=context, parameter_overrides=overrides(flat), **kwargs)
+        self.node.driver.wall_budget = None
+        self.log = []
+        for publisher in self.node.publishers:
+            def record(msg, topic=publisher.topic_name):
+                self.log[-1].append((topic, msg))
+            publisher.publish = record
+            publisher.get_subscription_count = lambda: 1
+        self.clock = t0
+        self.node._now = lambda: self.clock
+
+    def tick(self, z: float, quaternion=(0.0, 0.0, 0.0, 1.0)) -> None:
+        """The ship at height ``z`` with orientation (x, y, z, w), stamped 20 ms after the last tick."""
+        self.log.append([])
+        self.clock += 0.02
+        msg = PoseStamped()
+        msg.header.stamp, msg.header.frame_id = time_msg(self.clock), self.node.config.node.world_frame
+        msg.pose.position.z = z
+        o = msg.pose.orientation
+        o.x, o.y, o.z, o.w = quaternion
+        self.node._on_pose("ship", msg)
+        self.node._on_tick()

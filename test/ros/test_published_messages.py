@@ -22,14 +22,12 @@ import rclpy  # noqa: E402
 from geometry_msgs.msg import PoseStamped, WrenchStamped  # noqa: E402
 from nav_msgs.msg import Path  # noqa: E402
 from rclpy.serialization import deserialize_message  # noqa: E402
-from sim_harness import overrides  # noqa: E402
+from sim_harness import HandDriven  # noqa: E402
 from tether_sim_msgs.msg import TetherState  # noqa: E402
 from visualization_msgs.msg import Marker  # noqa: E402
 
 from tether_sim.io.params import load_config, to_flat  # noqa: E402
 from tether_sim.numerics.rotations import quaternion_matrix  # noqa: E402
-from tether_sim.ros.convert import time_msg  # noqa: E402
-from tether_sim.ros.sim_node import TetherSimNode  # noqa: E402
 from tether_sim.ros.tf import TFMessage  # noqa: E402
 
 pytestmark = pytest.mark.ros
@@ -51,30 +49,14 @@ def run():
     flat = to_flat(load_config(ROOT / "config/ropos_L200.yaml"))
     flat.update({"node.tick_budget": 1.0e6, "node.tf_tether_frames": 3, "node.ship_attachment": SHIP_ATTACH,
                  "node.visual_rate": 0.0})  # every output carries every message (test_visual_rate.py: the rate)
-    flat = {k: v for k, v in flat.items() if k != "use_sim_time"}
     context = rclpy.Context()
     rclpy.init(context=context)
-    node = TetherSimNode(context=context, parameter_overrides=overrides(flat))
-    node.driver.wall_budget = None
-    log = []
-    for publisher in node.publishers:
-        def record(msg, topic=publisher.topic_name):
-            log[-1].append((topic, msg))
-        publisher.publish = record
-        publisher.get_subscription_count = lambda: 1
-    clock = [100.0]
-    node._now = lambda: clock[0]
+    driven = HandDriven(context, flat)
+    node, log = driven.node, driven.log
     q = ship_quaternion()
     expected = []
     for k in range(TICKS):
-        log.append([])
-        clock[0] += 0.02
-        msg = PoseStamped()
-        msg.header.stamp, msg.header.frame_id = time_msg(clock[0]), node.config.node.world_frame
-        msg.pose.position.z = 0.8 * math.sin(2.0 * math.pi * 0.5 * (clock[0] - 100.0))
-        msg.pose.orientation.x, msg.pose.orientation.y, msg.pose.orientation.z, msg.pose.orientation.w = q
-        node._on_pose("ship", msg)
-        node._on_tick()
+        driven.tick(0.8 * math.sin(2.0 * math.pi * 0.5 * (driven.clock + 0.02 - 100.0)), q)
         expected.append(expected_messages(node) if node.driver.solver is not None else {})
     yield node, log, expected
     node.destroy_node()

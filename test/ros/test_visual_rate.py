@@ -9,13 +9,10 @@ import pytest
 pytest.importorskip("rclpy")
 pytest.importorskip("tether_sim_msgs")
 import rclpy  # noqa: E402
-from geometry_msgs.msg import PoseStamped  # noqa: E402
-from sim_harness import overrides  # noqa: E402
+from sim_harness import HandDriven  # noqa: E402
 
 from tether_sim.io.params import load_config, to_flat  # noqa: E402
 from tether_sim.ros import convert  # noqa: E402
-from tether_sim.ros.convert import time_msg  # noqa: E402
-from tether_sim.ros.sim_node import TetherSimNode  # noqa: E402
 from tether_sim.ros.tf import TFMessage  # noqa: E402
 
 pytestmark = pytest.mark.ros
@@ -31,30 +28,13 @@ def _run(context, name, visual_rate, calls):
     flat.update({"node.tick_budget": 1.0e6, "node.tf_tether_frames": 2})
     if visual_rate is not None:
         flat["node.visual_rate"] = visual_rate
-    flat = {k: v for k, v in flat.items() if k != "use_sim_time"}
-    node = TetherSimNode(node_name=name, context=context, parameter_overrides=overrides(flat))
-    node.driver.wall_budget = None
-    log = []
-    for publisher in node.publishers:
-        def record(msg, topic=publisher.topic_name):
-            log[-1].append((topic, msg))
-        publisher.publish = record
-        publisher.get_subscription_count = lambda: 1
+    driven = HandDriven(context, flat, node_name=name)
     calls[name] = calls_of(convert)  # counts what the node builds
-    clock = [100.0]
-    node._now = lambda: clock[0]
     for _ in range(TICKS):
-        log.append([])
-        clock[0] += 0.02
-        msg = PoseStamped()
-        msg.header.stamp, msg.header.frame_id = time_msg(clock[0]), node.config.node.world_frame
-        msg.pose.position.z = 0.8 * math.sin(2.0 * math.pi * 0.5 * (clock[0] - 100.0))
-        msg.pose.orientation.w = 1.0
-        node._on_pose("ship", msg)
-        node._on_tick()
+        driven.tick(0.8 * math.sin(2.0 * math.pi * 0.5 * (driven.clock + 0.02 - 100.0)))
     calls[name] = calls[name]()
-    node.destroy_node()
-    return log
+    driven.node.destroy_node()
+    return driven.log
 
 
 def calls_of(module):
