@@ -9,8 +9,10 @@ dg.bending_multirate as given; the fairlead orbit of bench_slack_bending.py), me
    shear extrapolated (the multirate's other stages), the damping step with a new LU, with the stored LU
    (defect correction) and the LU's assembly + factorisation alone; the parts of a right-hand side (steps 1-3,
    steps 1-4 with the shear extrapolated, the nested LDG alone, step 5: rows " part: ...", for the roofline count
-   of rhs_roofline.py); and --reps substeps of dg_advance from the sampled state (the state restored afterwards)
-   for the sum.
+   of rhs_roofline.py); the parts of the stored-LU damping step (rows " damping: ...": the frozen geometry, the
+   strain rates of the state, the clip set and released ends, one matrix-free K x of a defect correction and its
+   three pieces, one band solve, one solve with the low-rank update, the final divergence and the end forces);
+   and --reps substeps of dg_advance from the sampled state (the state restored afterwards) for the sum.
 
 Usage: PYTHONPATH=. python benchmarks/probes/profile_slack_step.py [--alpha 1] [--damping implicit]
        [--start 5] [--seconds 3] [--samples 6] [--reps 2000]
@@ -36,6 +38,11 @@ from benchmarks.studies.slack_bending_ladder import EI_STAR  # noqa: E402
 from tether_sim.numerics.banded import band_factor  # noqa: E402
 from tether_sim.solvers.dg import damping_layout as DL  # noqa: E402
 from tether_sim.solvers.dg import layout as Y  # noqa: E402
+from tether_sim.numerics.banded import band_solve  # noqa: E402
+from tether_sim.solvers.dg.damping_ops import (  # noqa: E402
+    axial_tension_points, clip_set, damping_geometry, end_damping_forces, release_ends, strain_rates, tension_divergence,
+)
+from tether_sim.solvers.dg.damping_update import update_solve  # noqa: E402
 from tether_sim.solvers.dg.implicit_damping import assemble_axial  # noqa: E402
 from tether_sim.solvers.dg.kernels import internal_forces, momentum_rate, tension_scalar  # noqa: E402
 from tether_sim.solvers.dg.ldg import ldg_shear_force  # noqa: E402
@@ -45,6 +52,11 @@ from tether_sim.solvers.dg.workspace import (  # noqa: E402
     X_IPRM_STEP, X_IQ, X_LF, X_PJ, X_PRM_STEP, X_RA, X_RS, X_TAB_EPS, X_TAB_T, X_TMP, X_TR, X_TRC, X_U, X_V, X_VBC,
     X_VEC, X_WM, X_WP, X_WQ, bind,
 )
+from tether_sim.solvers.dg.workspace import X_DWOOD, X_WD  # noqa: E402
+
+DAMPING_PARTS = ("geometry (damping_geometry)", "strain rates of the state", "clip set + released ends",
+                 "K x (defect correction)", " K x: tension points", " K x: tension_divergence", " K x: strain_rates",
+                 "band solve", "solve with the low-rank update", "final divergence", "final end forces")
 
 
 @njit
@@ -99,6 +111,45 @@ def _damp(F, I, S, n, dt, U0, fresh):
 
 
 @njit
+def _damp_part(F, I, S, n, which):
+    """One part of the stored-LU damping step (DAMPING_PARTS[which]), n times, on the frozen geometry and LU the
+    last damping step left in the work arrays."""
+    A = bind(F, I, S)
+    U, vbc, idp, dprm, blk, bvec, V, Pj, Tr = (A[X_U], A[X_VBC], A[X_IDP], A[X_DPRM], A[X_BLK], A[X_BVEC], A[X_V],
+                                               A[X_PJ], A[X_TR])
+    te, tT, wp, wd, band, vec, wood = A[X_TAB_EPS], A[X_TAB_T], A[X_WP], A[X_WD], A[X_BAND], A[X_VEC], A[X_DWOOD]
+    n_e = wp.shape[0] * wp.shape[1]
+    kl = idp[DL.ID_KL]
+    for _ in range(n):
+        if which == 0:
+            damping_geometry(U, V, idp, dprm, wp, te, tT)
+        elif which == 1:
+            strain_rates(U, 3, True, vbc, blk, bvec, wp, DL.WP_E0)
+        elif which == 2:
+            clip_set(idp, dprm, wp, te, tT)
+            release_ends(U, vbc, idp, dprm, bvec, Tr, wp, te, tT)
+        elif which == 3 or which == 4:
+            axial_tension_points(wp, DL.WP_KX, False)
+        if which == 3 or which == 5:
+            tension_divergence(blk, Pj, bvec, idp, dprm, wp, wd, DL.WD_P, False)
+        if which == 3 or which == 6:
+            strain_rates(wd, DL.WD_P, False, vbc, blk, bvec, wp, DL.WP_KY)
+        elif which == 7 or which == 8:
+            for r in range(n_e):
+                vec[3, r] = wp[r // wp.shape[1], r % wp.shape[1], DL.WP_E0]
+            if which == 7:
+                band_solve(band, n_e, kl, vec, 3)
+            else:
+                update_solve(band, n_e, kl, vec, 3, wood, idp)
+        elif which == 9:
+            axial_tension_points(wp, DL.WP_X, True)
+            tension_divergence(blk, Pj, bvec, idp, dprm, wp, wd, DL.WD_F, True)
+        elif which == 10:
+            axial_tension_points(wp, DL.WP_E2, True)
+            end_damping_forces(idp, dprm, bvec, U, Tr, wp, A[X_FDAMP])
+
+
+@njit
 def _factor(F, I, S, n, gh):
     A = bind(F, I, S)
     band, idp = A[X_BAND], A[X_IDP]
@@ -127,7 +178,8 @@ def kernel_times(s, reps):
                             (" part: steps 1-3 (tension_scalar)", _part, (0,)),
                             (" part: steps 1-4 (internal_forces)", _part, (1,)),
                             (" part: nested LDG alone", _part, (2,)),
-                            (" part: step 5 (momentum_rate)", _part, (3,))):
+                            (" part: step 5 (momentum_rate)", _part, (3,)),
+                            *((" damping: " + name, _damp_part, (k,)) for k, name in enumerate(DAMPING_PARTS))):
         fn(*args, 2, *extra)  # compile
         ws.F[:] = F0
         ws.I[:] = I0

@@ -78,7 +78,8 @@ def main():
         if self.locations == ["ship", "vehicle"]:
             rec["static"] = self.static_tensions.copy()
             k = len(rec["speed"])
-            rec["speed"].append(np.nan if relative_speed is None else float(relative_speed))
+            speed = relative_speed() if callable(relative_speed) else relative_speed  # (the driver passes a function)
+            rec["speed"].append(np.nan if speed is None else float(speed))
             rec["times"].append(np.array(times, float).reshape(-1))
             rec["tensions"].append(np.array(tensions, float).reshape(-1, 2))
             rec["chunk"].append(np.full(len(rec["times"][-1]), k))

@@ -283,8 +283,9 @@ def test_one_lu_per_step_size_and_released_ends():
 L, EA, GAMMA0, ZETA, EPS0, AMP = 1.0, 100.0, 1.0, 5.0, 0.05, 1e-3
 
 
-def taut_flat(dt, damping="implicit"):
+def taut_flat(dt, damping="implicit", substeps=2):
     return {"solver": "dg", "dg.n_elements": 8, "dg.order": 4, "dg.damping": damping, "dg.fixed_time_step": dt,
+            "dg.damping_substeps": substeps,
             "cable.length": L, "cable.EA": EA, "cable.gamma0": GAMMA0, "cable.damping": ZETA, "cable.material": "linear",
             "cable.EI": 0.0, "cable.Cmn": 0.0, "cable.Cmt": 0.0, "cable.Cdn": 0.0, "cable.Cdt": 0.0,
             "environment.g": 0.0, "environment.fluid_density": 0.0,
@@ -292,10 +293,10 @@ def taut_flat(dt, damping="implicit"):
             "vehicle_end.kind": "fixed", "vehicle_end.position": [L * (1 + EPS0), 0.0, 0.0], "initial.kind": "straight"}
 
 
-def modal_history(dt, times, damping="implicit"):
+def modal_history(dt, times, damping="implicit", substeps=2):
     """Amplitude of cos(k s) in the strain (mode-1 axial displacement A sin(k s)) at the given times."""
     k = np.pi / L
-    config, s = harness.make_solver(taut_flat(dt, damping))
+    config, s = harness.make_solver(taut_flat(dt, damping, substeps))
     s.set_shape(lambda x: np.stack([1 + EPS0 + AMP * k * np.cos(k * x), 0 * x, 0 * x], 1))
     sq, w = harness.quadrature_points(config)
     out = []
@@ -318,27 +319,46 @@ def explicit_limit():
     return stable_dt(h, 4, EA, GAMMA0, ZETA, 0.0, 0.0), stable_dt(h, 4, EA, GAMMA0, ZETA, 0.0, 0.0, implicit_damping=True)
 
 
-@pytest.mark.parametrize("damping", ["implicit", "rkl2"])
-def test_damped_axial_mode_matches_closed_form_at_ten_times_the_explicit_step(damping):
+@pytest.mark.parametrize("damping, substeps", [("implicit", 1), ("implicit", 2), ("rkl2", 1)])
+def test_damped_axial_mode_matches_closed_form_at_ten_times_the_explicit_step(damping, substeps):
     dt_exp, dt_imp = explicit_limit()
     assert dt_imp > 10 * dt_exp  # the damping sets the explicit step here
     dt = 10 * dt_exp
     times = np.arange(0.01, 0.2, 0.01)  # a period of the damped mode; amplitude decays to 1 %
-    a = modal_history(dt, times, damping)
+    a = modal_history(dt, times, damping, substeps)
     # dt = 10x the explicit limit, sigma dt ~ 0.01: time error ~1e-4 A (measured 2e-5 A, see the order
     # test); spatial error (N = 8, P = 4) ~1e-6 A
     np.testing.assert_allclose(a, closed_form(times), atol=3e-4 * AMP)
 
 
-@pytest.mark.parametrize("damping", ["implicit", "rkl2"])
-def test_time_discretisation_is_second_order(damping):
+@pytest.mark.parametrize("damping, substeps", [("implicit", 1), ("implicit", 2), ("rkl2", 1)])
+def test_time_discretisation_is_second_order(damping, substeps):
     dt_exp, _ = explicit_limit()
     times = np.array([0.05, 0.1])
     _, dt_imp = explicit_limit()
-    errs = [np.abs(modal_history(dt, times, damping) - closed_form(times)).max() for dt in (0.8 * dt_imp, 0.4 * dt_imp, 0.2 * dt_imp)]
+    errs = [np.abs(modal_history(dt, times, damping, substeps) - closed_form(times)).max()
+            for dt in (0.8 * dt_imp, 0.4 * dt_imp, 0.2 * dt_imp)]
     rates = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
     print("errors", errs, "rates", rates)
     assert np.all(rates > 1.7)  # Strang (2) with SDIRK2 or RKL2 (2) and SSP-RK3 (3): expected 2
+
+
+@pytest.mark.parametrize("substeps, n, sizes", [(1, 6, (0.5, 1.0)), (2, 6, (1.0, 2.0)), (2, 7, (1.0, 2.0, 1.5, 0.5)),
+                                                (3, 7, (1.5, 3.0, 2.0, 0.5))])
+def test_one_damping_step_per_macro_step(substeps, n, sizes):
+    """A call of n substeps takes a damping step at its start, after every dg.damping_substeps = m substeps and at
+    its end (the last macro step shorter when m does not divide n): ceil(n / m) + 1 steps, of the merged half steps'
+    sizes (m dt / 2 at the start, m dt between, (m + the last macro step) dt / 2, the last one's half at the end).
+    The linear law releases no end, so each size keeps its own LU (damping_update.select_lu): the stored LUs' step
+    sizes are exactly those."""
+    dt = 0.5 * explicit_limit()[1]
+    _, s = harness.make_solver(taut_flat(dt, "implicit", substeps))
+    dw = s._damp
+    assert s.advance_to(n * dt) == n
+    assert dw.idp[DL.ID_NSTEPS] == -(-n // substeps) + 1
+    kept = [dw.dprm[DL.DP_LU_H]] + [dw.dprm[DL.DP_PARK_H + k] for k in range(DL.LU_SLOTS - 1)
+                                    if dw.idp[DL.ID_PARK0 + k * DL.LU_INTS] >= 0]
+    np.testing.assert_allclose(sorted(kept), sorted(DL.GAMMA_SDIRK * dt * np.array(sizes)), rtol=1e-12)
 
 
 @pytest.mark.parametrize("damping", ["implicit", "rkl2"])

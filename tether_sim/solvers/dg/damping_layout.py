@@ -63,6 +63,8 @@ define(globals(), "idp", [
     ("ID_NUPD", 1, "-", "-", "of which with the low-rank update of changed points (counter)"),
     ("ID_NWHY", 5, "-", "-", "new LUs by reason WHY_* (counters)"),
     ("ID_PARK0", (LU_SLOTS - 1) * LU_INTS, "-", "-", "the parked LUs' ID_LU_AGE .. ID_PV0, LU_INTS each"),
+    ("ID_EVERY", 1, "-", "-", "substeps per damping step (stepper.dg_advance)"),
+    ("ID_DEFECT", 1, "-", "-", "1: defect correction of a stored LU's stage solves"),
 ], "N_ID")
 assert ID_PV0 + 8 - ID_LU_AGE == LU_INTS
 # why a step computed a new LU (counters ID_NWHY + WHY_*): none for this step size (none yet, or the step size

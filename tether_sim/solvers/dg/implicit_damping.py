@@ -27,9 +27,9 @@ Two linear-algebra paths (docs/dg_solver.md):
   probing f_d with coloured unit vectors.
 
 Both use a banded LU without pivoting (the matrix is I plus a dissipative operator times dt). The
-strain-rate LU is reused across steps (defect correction with K applied matrix-free; refactored
-after LU_MAX_AGE steps or when the correction exceeds LU_TOL; one LU is kept per step size and released
-ends, damping_update.select_lu). A change of Z at up to MAX_CHANGED points (the clip switching) is a change of as many
+strain-rate LU is reused across steps (refactored after LU_MAX_AGE steps; with dg.damping_correction a
+defect correction with K applied matrix-free, refactored when the correction exceeds LU_TOL; one LU is
+kept per step size and released ends, damping_update.select_lu). A change of Z at up to MAX_CHANGED points (the clip switching) is a change of as many
 columns: carried by a low-rank update of the stored LU (damping_update.py) instead of a refactor.
 Boundary conditions: velocity ends (prescribed, fixed, clamped, body) supply v_BC in G, their
 damping tension flux is the interior trace (axially replaced by a constant when the end is
@@ -42,10 +42,10 @@ import numpy as np
 
 from tether_sim.numerics.banded import band_factor, band_solve
 from tether_sim.numerics.jit import jit
-from tether_sim.physics.constitutive import cap_stiffness, compression_cap
+from tether_sim.physics.constitutive import LAW_LINEAR, cap_stiffness, compression_cap
 from tether_sim.solvers.dg.damping_layout import (
     DP_AN, DP_AT, DP_EA, DP_G0, DP_LAMBDA, DP_LU_H, DP_RHO, DP_ZETA, DP_ZETAB, GAMMA_SDIRK, ID_KIND0, ID_KIND1, ID_KL, ID_LAW,
-    ID_LU_AGE, ID_MODE, ID_NCH, ID_NFACT, ID_NSTEPS, ID_NUPD, ID_NWHY, ID_PARK0, ID_REACH, ID_REL0, ID_RELF0,
+    ID_DEFECT, ID_EVERY, ID_LU_AGE, ID_MODE, ID_NCH, ID_NFACT, ID_NSTEPS, ID_NUPD, ID_NWHY, ID_PARK0, ID_REACH, ID_REL0, ID_RELF0,
     LU_INTS, LU_MAX_AGE, LU_SLOTS, LU_TOL, WHY_AGE, WHY_ENDS, WHY_POINTS, WHY_STEP, WHY_TOL,
     MAX_CHANGED, MODE_AXIAL, MODE_GENERAL, MODE_RKL2, N_DP, N_ID, NWD, NWP, OP_DIV, OP_GP, OP_H, WD_F, WD_K1, WD_P, WD_Y, WOOD_ROWS, WP_BC0, WP_E0, WP_E1, WP_E2, WP_I,
     WP_KX, WP_KY, WP_PC, WP_TC, WP_TV, WP_X, WP_Z, WP_ZF, DP_IP0, build_operators,
@@ -61,7 +61,10 @@ from tether_sim.solvers.dg.rkl_damping import rho_bound, rkl2_step
 class DampingWork:
     """Arrays of the implicit damping step (allocated once; passed to the compiled loop)."""
 
-    def __init__(self, mode, ops, h, kinds, cable, gamma0, m_t, m_n, beta, law_code, kind_codes, lam_bc):
+    def __init__(self, mode, ops, h, kinds, cable, gamma0, m_t, m_n, beta, law_code, kind_codes, lam_bc, substeps=1,
+                 correction=True):
+        """substeps: SSP-RK3 substeps per damping step (MODE_AXIAL; stepper.dg_advance); correction: the defect
+        correction of a stored LU's stage solves (_stage_solve)."""
         N, nq, nm = len(h), ops.vandermonde.shape[0], ops.vandermonde.shape[1]
         self.mode = mode
         self.blk, self.bvec = build_operators(ops, h, kinds, gamma0, beta)
@@ -85,6 +88,12 @@ class DampingWork:
         self.idp[ID_KIND0], self.idp[ID_KIND1] = kind_codes
         self.idp[ID_REACH], self.idp[ID_KL] = reach, kl
         self.idp[ID_LU_AGE] = -1
+        # macro steps of several substeps with bending or the linear law only: a law without compression and no
+        # bending leaves the slack cable's element-scale folds to the damping alone, and there a damping step over
+        # two substeps broke the slack phases of the PE2020 Sec. 6.2 case (docs/dg_solver.md "Implicit damping")
+        smooth = law_code == LAW_LINEAR or cable.EI > 0.0
+        self.idp[ID_EVERY] = substeps if mode == MODE_AXIAL and smooth else 1
+        self.idp[ID_DEFECT] = int(correction)
         for s in range(LU_SLOTS - 1):  # no parked LU (its age)
             self.idp[ID_PARK0 + s * LU_INTS] = -1
         self.wp = np.zeros((N, nq, NWP))
@@ -312,15 +321,15 @@ def _rhs_stage2(wp, hs, g, vec):
 @jit
 def _stage_solve(col, exact, gh, Pj, vbc, idp, dprm, blk, bvec, wp, wd, band, kl, vec, wood):
     """vec[col]: right-hand side -> solution of (I - gh K) x = rhs with the stored LU (and its low-rank
-    update). If that LU is not exact for the present geometry, one defect correction with K applied
-    matrix-free (K x = i . G Pj AM Div(Z x i)); returns False when the correction exceeds LU_TOL of the
-    solution."""
+    update). If that LU is not exact for the present geometry and the defect correction is on (idp ID_DEFECT),
+    one defect correction with K applied matrix-free (K x = i . G Pj AM Div(Z x i)); returns False when the
+    correction exceeds LU_TOL of the solution."""
     N, nq = wp.shape[0], wp.shape[1]
     n = N * nq
     for r in range(n):
         vec[3, r] = vec[col, r]
     update_solve(band, n, kl, vec, col, wood, idp)
-    if exact:
+    if exact or idp[ID_DEFECT] == 0:
         return True
     for e in range(N):
         for j in range(nq):

@@ -147,7 +147,8 @@ class DGCableSolver:
                 mode = MODE_RKL2
         mt, mn = added_mass_per_length(cab, env)
         damp = DampingWork(mode, self.ops, h, self.kinds, cab, cab.gamma0, mt, mn, opt.beta, self.law.code,
-                           (iprm[Y.I_KIND0], iprm[Y.I_KIND1]), max(prm[Y.P_LAMBDA_BC], prm[Y.P_LAMBDA_FLOOR]))
+                           (iprm[Y.I_KIND0], iprm[Y.I_KIND1]), max(prm[Y.P_LAMBDA_BC], prm[Y.P_LAMBDA_FLOOR]),
+                           opt.damping_substeps, opt.damping_correction)
         prm_step, iprm_step = prm.copy(), iprm.copy()
         if mode != MODE_EXPLICIT:
             iprm_step[Y.I_AXDAMP] = iprm_step[Y.I_BENDDAMP] = 0

@@ -15,10 +15,11 @@ Anything that moved the state between calls (restore, set_shape, relax, a new st
 records: the first 2K substeps after it evaluate T_s at every stage. The first stage of every call evaluates
 T_s in full (as the output evaluation it may reuse did: tick.py; reuse or not, the same numbers).
 
-With ``dg.damping: implicit`` the loop is the Strang splitting D(dt/2) E(dt) D(dt/2) (consecutive
-half steps merged into one D(dt)): E is the SSP-RK3 step of the right-hand side without the
-damping terms (the caller passes prm/iprm with zeta = zeta_b = 0), D the implicit damping step of
-``implicit_damping.py``. The damping end forces of the latest D (fdamp) are added to the end loads
+With ``dg.damping: implicit`` the loop is the Strang splitting D(m dt/2) E(dt)^m D(m dt/2) over macro steps
+of m substeps (idp ID_EVERY: dg.damping_substeps with axial damping only, else 1; consecutive half steps
+merged into one D(m dt); the last macro step of a call is shorter when m does not divide its substeps): E is
+the SSP-RK3 step of the right-hand side without the damping terms (the caller passes prm/iprm with
+zeta = zeta_b = 0), D the implicit damping step of ``implicit_damping.py``. The damping end forces of the latest D (fdamp) are added to the end loads
 of every E stage (bodies feel them; the recorded end tension includes them).
 """
 
@@ -30,7 +31,7 @@ from tether_sim.physics.bodies import body_attachment_kinematics, body_derivativ
 from tether_sim.physics.constitutive import LAW_LINEAR, compression_cap
 from tether_sim.physics.end_conditions import has_body, is_kinematic
 from tether_sim.physics.hydrodynamics import added_mass_rate, current_at
-from tether_sim.solvers.dg.damping_layout import MODE_EXPLICIT
+from tether_sim.solvers.dg.damping_layout import ID_EVERY, MODE_EXPLICIT
 from tether_sim.solvers.dg.fluxes import axial_clip, trace_tangent
 from tether_sim.solvers.dg.implicit_damping import damping_step
 from tether_sim.solvers.dg.kernels import dg_rhs, hermite_end
@@ -224,9 +225,10 @@ def dg_advance(nsteps, t0, dt, reuse, F, I, S):
         r1 = bmr[BMR_R + 1]
         r2 = bmr[BMR_R + 2]
     bmr[BMR_OK] = 0.0
+    every = idp[ID_EVERY] if implicit else 1
     if implicit:
         fill_end_kinematics(bc, iprm, t0, vbc, bs, bp)
-        _damping(0.5 * dt, A)
+        _damping(0.5 * dt * max(1, min(every, nsteps)), A)
     cap = buf.shape[0]
     anchor = iprm[I_ANCHOR]
     kind_a = iprm[I_KIND0 + anchor]
@@ -293,9 +295,11 @@ def dg_advance(nsteps, t0, dt, reuse, F, I, S):
             fill_end_kinematics(bc, iprm, t_new, vbc, bs, bp)
             for c in range(3):
                 ra[c] = vbc[anchor, c]
-        if implicit:
+        if implicit and ((n + 1) % every == 0 or n == nsteps - 1):
             fill_end_kinematics(bc, iprm, t_new, vbc, bs, bp)
-            _damping(dt if n < nsteps - 1 else 0.5 * dt, A)
+            m_this = every if (n + 1) % every == 0 else (n + 1) % every  # substeps of the macro step just ended
+            m_next = min(every, nsteps - 1 - n)
+            _damping(0.5 * dt * (m_this + m_next), A)
         s = 0.0
         for i in range(nu):
             s += abs(Uf[i])
