@@ -9,9 +9,10 @@ min over --repeat blocks of --calls calls, the parts interleaved block by block.
 
 Parts: a substep (stepper.dg_advance, one substep of the rule's step; the first stage not reused); one
 right-hand side with the stepper's parameters (stepper.dg_evaluate) and its pieces: the end kinematics,
-steps 1-3 (kernels.tension_scalar), step 4 with the end fluxes and loads (the rest of internal_forces),
-step 5 (kernels.momentum_rate), the bodies' derivatives; the stage update of U, r_a and the bodies; the
-finiteness sum.
+steps 1-3 (kernels.tension_scalar, generic), steps 1-4 (internal_forces: the end fluxes and loads added),
+step 5 (kernels.momentum_rate, generic), the bodies' derivatives; the stage update of U, r_a and the bodies;
+and, where the mesh's size is one of kernels.SIZED, steps 1-3 and step 5 at fixed sizes (what the stepper
+calls there).
 
 Usage: PYTHONPATH=. python benchmarks/probes/substep_parts.py [--params config/ropos_L1730.yaml] [--ei 2620]
        [--calls 200] [--repeat 15]
@@ -137,6 +138,27 @@ PARTS = dict(empty=p_empty, substep=p_substep, rhs=p_rhs, end_kinematics=p_end_k
              bodies=p_bodies, stage_update=p_stage_update)
 
 
+def sized_parts(nm, nq):
+    """Steps 1-3 and step 5 at fixed sizes (kernels.SIZED: what the stepper calls at this mesh), as parts."""
+    ts, mr = getattr(KR, f"tension_scalar_{nm}_{nq}"), getattr(KR, f"momentum_rate_{nm}_{nq}")
+
+    @jit
+    def p_ts(F, I, S, t, dt):
+        A = bind(F, I, S)
+        ts(A[X_U], A[X_PRM_STEP], A[X_IPRM_STEP], A[X_H], A[X_V], A[X_PJ], A[X_D], A[X_LF], A[X_TR], A[X_TAB_EPS],
+           A[X_TAB_T], A[X_BC], A[X_VBC], A[X_WQ], A[X_WM], A[X_TRC], A[X_FL], A[X_DU])
+        return 0
+
+    @jit
+    def p_mr(F, I, S, t, dt):
+        A = bind(F, I, S)
+        mr(A[X_U], A[X_RA], A[X_PRM_STEP], A[X_IPRM_STEP], A[X_H], A[X_V], A[X_PJ], A[X_D], A[X_LF], A[X_IQ],
+           A[X_CZ], A[X_CX], A[X_CY], A[X_WQ], A[X_WM], A[X_TRC], A[X_FL], A[X_RS], A[X_TMP], A[X_DU])
+        return 0
+
+    return {f"tension_scalar_{nm}_{nq}": p_ts, f"momentum_rate_{nm}_{nq}": p_mr}
+
+
 def _motion(t):
     p = 0.5 * np.array((math.cos(t) - 1.0, math.sin(t), 0.0))
     v = 0.5 * np.array((-math.sin(t), math.cos(t), 0.0))
@@ -163,12 +185,16 @@ def main(argv=None):
         s.tick(t, ship=_motion(t))
     t = s.time
     dt = s._substep()
-    arenas = {name: (s.ws.F.copy(), s.ws.I.copy()) for name in PARTS}
+    parts = dict(PARTS)
+    nm, nq = s.ws.V.shape[1], s.ws.V.shape[0]
+    if (nm, nq) in KR.SIZED:
+        parts.update(sized_parts(nm, nq))
+    arenas = {name: (s.ws.F.copy(), s.ws.I.copy()) for name in parts}
     S = s.ws.spec
-    clock = {name: t for name in PARTS}
+    clock = {name: t for name in parts}
 
     def timed(name, calls):
-        fn = PARTS[name]
+        fn = parts[name]
         F, I = arenas[name]
         tt = clock[name]
         step = dt if name == "substep" else 0.0  # (the substep moves its copy on; the bc segment is held)
@@ -180,8 +206,8 @@ def main(argv=None):
         clock[name] = tt
         return el
 
-    best = {name: np.inf for name in PARTS}
-    names = list(PARTS)
+    best = {name: np.inf for name in parts}
+    names = list(parts)
     for r in range(args.repeat + 2):  # two rounds to compile and warm, then timed
         for name in (names if r % 2 == 0 else names[::-1]):
             v = timed(name, args.calls)

@@ -71,6 +71,28 @@ def test_tick_without_drain_keeps_the_samples_for_the_next_drain():
     np.testing.assert_array_equal(t, t_ref)
 
 
+def test_each_tick_result_says_its_own_count_and_substeps():
+    """tick() gives its previous result again when the count and the substeps repeat (the arrays are the
+    workspace's views): with the drain skipped every third tick and intervals of two lengths, each result
+    must still carry that tick's count, substeps and samples."""
+    fast, ref = pair(1730.0, 0.0, 6, 2)
+    t1 = 0.0
+    for k in range(9):
+        t1 += 0.02 if k < 5 else 0.005
+        drain = k % 3 != 1
+        out = fast.tick(t1, ship=rc.fairlead_motion(t1), drain=drain)
+        ref.set_end_motion("ship", *rc.fairlead_motion(t1))
+        n = ref.advance_to(t1)
+        assert out.substeps == n > 0
+        if drain:
+            want = ref.drain_end_tensions()
+            assert out.count == want[0].size > 0
+            np.testing.assert_array_equal(out.samples[:, :out.count], np.array(want))
+        else:
+            assert out.count == 0
+        np.testing.assert_array_equal(out.loads[0, LOAD_F:LOAD_F + 3], ref.end_forces().ship_force)
+
+
 def test_tick_rejects_bad_input_and_leaves_the_solver_unchanged():
     fast, _ = pair(200.0, 0.0, 2, 4)
     fast.tick(0.02, ship=rc.fairlead_motion(0.02))

@@ -542,8 +542,9 @@ def _project_tension(Pj, Tr, wq, wm, tr, e, nm, nq):
 # Q = 7): the same source with its two lines "nq = V.shape[0]", "nm = V.shape[1]" replaced by the numbers,
 # so the same operations in the same order (the same bits: test/solvers/dg/test_sized_kernels.py), while
 # the compiler unrolls the short loops over modes and points. internal_forces and dg_rhs pick one by
-# V's shape. Measured at the 1730 m live mesh (N = 6, P = 2), us per call: tension_scalar 0.78 -> 0.74,
-# momentum_rate 0.87 -> 0.76 (docs/performance.md, "the loops at fixed sizes").
+# V's shape. Measured at the 1730 m live mesh (N = 6, P = 2), us per call: tension_scalar 0.79 -> 0.67,
+# momentum_rate 0.59 -> 0.52 (benchmarks/probes/substep_parts.py; docs/performance.md, "the substep by part at
+# the 1730 m live mesh").
 SIZED = ((3, 4), (5, 7))
 
 

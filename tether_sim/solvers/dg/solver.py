@@ -47,6 +47,9 @@ from tether_sim.solvers.config import SPLIT_DAMPING
 RELAX_CHUNK_WALL = 0.2  # s
 RELAX_FIRST_CHUNK = 200
 
+# np.ndarray once: a module attribute of numpy is a slow look-up (tens of ns), and tick() asks twice per call
+_NDARRAY = np.ndarray
+
 # the implicit damping's arrays in the workspace: slot -> attribute of DampingWork
 _DAMPING_SLOTS = dict(idp="idp", dprm="dprm", blk="blk", bvec="bvec", wp="wp", wd="wd", band="band", vec="vec",
                       dtmp="tmp", dwood="wood", fdamp="fdamp")
@@ -104,6 +107,9 @@ class DGCableSolver:
             setattr(self._damp, a, getattr(self.ws, slot))
         self._tick = stepping.TickInputs(self.ends, self.kinds)  # tick(): the driven ends' targets, node_tick's tin
         self._ship_tick = self.ends[0].position == "motion" and not self.winch_enabled  # tick() may take ship_tick
+        # the last result of tick()'s common case: the same (count, substeps) next time is the same tuple (its arrays
+        # are the workspace's views), returned again instead of a new one
+        self._ship_out = tuple.__new__(TickOutput, (-1, self.ws.drain, self.ws.endf, -1))
         self._plans = {}  # sampling plans (outputs.plan)
         self._outputs_valid = False  # the output work arrays hold the evaluation at the current state
         self._want_outputs = False  # outputs were asked for: the tick evaluates them (tick.py)
@@ -382,14 +388,17 @@ class DGCableSolver:
                 p, v = ship
             except (TypeError, ValueError):
                 p = v = None  # (the general path says what is wrong)
-            if type(p) is np.ndarray and type(v) is np.ndarray:
+            if type(p) is _NDARRAY and type(v) is _NDARRAY:
                 ws, t0 = self.ws, self.time
                 r, n = ship_tick(ws.F, ws.I, ws.spec, p, v, t0, t, self.fixed_dt if self.fixed_dt > 0 else self._dt_rule,
                                  drain)
                 if r >= 0:
                     self.time = t
                     self._want_outputs = self._outputs_valid = True
-                    return tuple.__new__(TickOutput, (r, ws.drain, ws.endf, n))  # (TickOutput's own __new__: a Python call)
+                    out = self._ship_out
+                    if out[0] != r or out[3] != n:  # (a tuple subclass made costs ~0.1-0.3 us; TickOutput's own __new__ more)
+                        out = self._ship_out = tuple.__new__(TickOutput, (r, ws.drain, ws.endf, n))
+                    return out
                 if r != NOT_PLAIN:
                     self._outputs_valid = False
                     raise stepping.diverged(ws, t0, (t - t0) / n)
