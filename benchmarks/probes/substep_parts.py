@@ -18,7 +18,6 @@ Usage: PYTHONPATH=. python benchmarks/probes/substep_parts.py [--params config/r
        [--calls 200] [--repeat 15]
 """
 
-import argparse
 import math
 import os
 import sys
@@ -29,6 +28,8 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
+
+from benchmarks.probes.tick_fixed_work import motion, tick_parser, warmed_solver  # noqa: E402
 
 from numba import njit  # noqa: E402
 
@@ -159,30 +160,9 @@ def sized_parts(nm, nq):
     return {f"tension_scalar_{nm}_{nq}": p_ts, f"momentum_rate_{nm}_{nq}": p_mr}
 
 
-def _motion(t):
-    p = 0.5 * np.array((math.cos(t) - 1.0, math.sin(t), 0.0))
-    v = 0.5 * np.array((-math.sin(t), math.cos(t), 0.0))
-    return p, v
-
-
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--params", default=str(ROOT / "config" / "ropos_L1730.yaml"))
-    ap.add_argument("--ei", type=float, default=None, help="cable.EI override (N m^2)")
-    ap.add_argument("--warm", type=float, default=2.0)
-    ap.add_argument("--calls", type=int, default=200)
-    ap.add_argument("--repeat", type=int, default=15)
-    args = ap.parse_args(argv)
-
-    from tether_sim.io.params import load_config
-    from tether_sim.solvers.factory import build_solver
-
-    cfg = load_config(Path(args.params), overrides={"cable.EI": args.ei} if args.ei is not None else None)
-    s = build_solver(cfg)
-    t = s.time
-    while t < args.warm - 1e-9:
-        t += 0.02
-        s.tick(t, ship=_motion(t))
+    args = tick_parser(__doc__.split("\n")[0]).parse_args(argv)
+    cfg, s = warmed_solver(args.params, args.ei, args.warm)
     t = s.time
     dt = s._substep()
     parts = dict(PARTS)

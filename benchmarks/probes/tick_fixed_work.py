@@ -37,34 +37,55 @@ def _empty(F, I, S, tin, ends_set, t0, t1, nsteps, dt, drain):
     return 0
 
 
-def _motion(t):
+def motion(t):
+    """The fairlead's small circle (0.5 m, 1 rad/s) the tick probes drive their solvers with: (p, v)."""
     p = 0.5 * np.array((math.cos(t) - 1.0, math.sin(t), 0.0))
     v = 0.5 * np.array((-math.sin(t), math.cos(t), 0.0))
     return p, v
+
+
+def tick_parser(description):
+    """The options every tick probe takes (tick_fixed_work, tick_stages, substep_parts)."""
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument("--params", default=str(ROOT / "config" / "ropos_L1730.yaml"))
+    ap.add_argument("--ei", type=float, default=None, help="cable.EI override (N m^2)")
+    ap.add_argument("--warm", type=float, default=2.0)
+    ap.add_argument("--calls", type=int, default=200)
+    ap.add_argument("--repeat", type=int, default=15)
+    return ap
+
+
+def warmed_solver(params, ei, warm, pkg="tether_sim"):
+    """(config, solver) of the file ``params`` (cable.EI overridden by ``ei`` unless None), ticked at 50 Hz with
+    :func:`motion` up to ``warm`` s (compiles and settles the paths the probes time)."""
+    import importlib
+
+    load_config = importlib.import_module(f"{pkg}.io.params").load_config
+    build_solver = importlib.import_module(f"{pkg}.solvers.factory").build_solver
+    cfg = load_config(Path(params), overrides={"cable.EI": ei} if ei is not None else None)
+    s = build_solver(cfg)
+    t = s.time
+    while t < warm - 1e-9:
+        t += 0.02
+        s.tick(t, ship=motion(t))
+    return cfg, s
 
 
 def _tree(pkg, params, ei, warm):
     """A warmed solver of the package pkg (tether_sim or a baseline's tether_sim_base) and its block timers."""
     import importlib
 
-    load_config = importlib.import_module(f"{pkg}.io.params").load_config
-    build_solver = importlib.import_module(f"{pkg}.solvers.factory").build_solver
     tick_mod = importlib.import_module(f"{pkg}.solvers.dg.tick")
     node_tick = tick_mod.node_tick
     ship_tick = getattr(tick_mod, "ship_tick", None)  # the kernel solver.tick calls, where the tree has it
-    cfg = load_config(Path(params), overrides={"cable.EI": ei} if ei is not None else None)
-    s = build_solver(cfg)
-    t = s.time
-    while t < warm - 1e-9:
-        t += 0.02
-        s.tick(t, ship=_motion(t))
+    cfg, s = warmed_solver(params, ei, warm, pkg)
     dt = s._substep()
     F, I, S = s.ws.F, s.ws.I, s.ws.spec
 
     def tick(k, calls):
         t, span = s.time, k * dt * (1.0 - 1e-9)
         ts = [t + (i + 1) * span for i in range(calls)]
-        motions = [_motion(x) for x in ts]  # (made before the clock starts)
+        motions = [motion(x) for x in ts]  # (made before the clock starts)
         c = time.thread_time()
         for x, m in zip(ts, motions):
             s.tick(x, ship=m)
@@ -75,7 +96,7 @@ def _tree(pkg, params, ei, warm):
         t, span = s.time, k * dt * (1.0 - 1e-9)
         tins = []
         for i in range(calls):  # (made before the clock starts)
-            p, v = _motion(t + (i + 1) * span)
+            p, v = motion(t + (i + 1) * span)
             tins.append(np.concatenate((p, v)).reshape(1, 6).repeat(2, axis=0))
         pvs = [(x[0, 0:3].copy(), x[0, 3:6].copy()) for x in tins]
         c = time.thread_time()
@@ -112,12 +133,7 @@ def _tree(pkg, params, ei, warm):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--params", default=str(ROOT / "config" / "ropos_L1730.yaml"))
-    ap.add_argument("--ei", type=float, default=None, help="cable.EI override (N m^2)")
-    ap.add_argument("--warm", type=float, default=2.0)
-    ap.add_argument("--calls", type=int, default=200)
-    ap.add_argument("--repeat", type=int, default=15)
+    ap = tick_parser(__doc__.split("\n")[0])
     ap.add_argument("--baseline", default=None, help="another checkout, timed interleaved (bench_tick.load_baseline)")
     args = ap.parse_args(argv)
 

@@ -14,7 +14,6 @@ Usage: PYTHONPATH=. python benchmarks/probes/tick_stages.py [--params config/rop
        [--calls 200] [--repeat 15]
 """
 
-import argparse
 import math
 import os
 import sys
@@ -25,6 +24,8 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
+
+from benchmarks.probes.tick_fixed_work import motion, tick_parser, warmed_solver  # noqa: E402
 
 
 from numba import njit  # noqa: E402
@@ -154,32 +155,11 @@ STAGES = dict(empty=st_empty, bind=st_bind, targets=st_targets, same_inputs=st_s
               outputs_bound_total=st_outputs_bound, drain=st_drain, node_tick_0_substeps=st_node_tick_0)
 
 
-def _motion(t):
-    p = 0.5 * np.array((math.cos(t) - 1.0, math.sin(t), 0.0))
-    v = 0.5 * np.array((-math.sin(t), math.cos(t), 0.0))
-    return p, v
-
-
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--params", default=str(ROOT / "config" / "ropos_L1730.yaml"))
-    ap.add_argument("--ei", type=float, default=None, help="cable.EI override (N m^2)")
-    ap.add_argument("--warm", type=float, default=2.0)
-    ap.add_argument("--calls", type=int, default=200)
-    ap.add_argument("--repeat", type=int, default=15)
-    args = ap.parse_args(argv)
-
-    from tether_sim.io.params import load_config
-    from tether_sim.solvers.factory import build_solver
-
-    cfg = load_config(Path(args.params), overrides={"cable.EI": args.ei} if args.ei is not None else None)
-    s = build_solver(cfg)
+    args = tick_parser(__doc__.split("\n")[0]).parse_args(argv)
+    cfg, s = warmed_solver(args.params, args.ei, args.warm)
     t = s.time
-    while t < args.warm - 1e-9:
-        t += 0.02
-        s.tick(t, ship=_motion(t))
-    t = s.time
-    tin = np.concatenate(_motion(t)).reshape(1, 6).repeat(2, axis=0)
+    tin = np.concatenate(motion(t)).reshape(1, 6).repeat(2, axis=0)
     stages = dict(STAGES)
     arenas = {name: (s.ws.F.copy(), s.ws.I.copy()) for name in stages}
     S = s.ws.spec
