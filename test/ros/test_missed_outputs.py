@@ -7,7 +7,7 @@ The first ticks every period; the second gets the same poses but its ticks skip 
 then more than the node catches up on). Every TetherState and wrench the second node publishes must
 be one the first published at the same stamp (equal fields but the wall-clock real-time factor), in
 order, none repeated, and the second must publish the states of the skipped periods (at most
-``MISSED_OUTPUTS_MAX`` of them). Before the late tick caught up, it published only the newest instant:
+``node.missed_outputs`` of them). Before the late tick caught up, it published only the newest instant:
 the skipped periods' stamps were missing.
 """
 
@@ -25,12 +25,12 @@ from sim_harness import HandDriven  # noqa: E402
 from tether_sim_msgs.msg import TetherState  # noqa: E402
 
 from tether_sim.io.params import load_config, to_flat  # noqa: E402
-from tether_sim.ros.sim_node import MISSED_OUTPUTS_MAX  # noqa: E402
 
 pytestmark = pytest.mark.ros
 
 ROOT = __import__("pathlib").Path(__file__).resolve().parents[2]
 TICKS = 70
+MISSED_OUTPUTS_MAX = 5  # node.missed_outputs (the default)
 # the late node's instants are the clock minus whole periods, the on-time node's the clock's running sum: they
 # differ by float rounding (~1e-14 s), and so do the states, by ~1e-12 relative (measured: 1.8e-7 N in 73 kN)
 RTOL = 1e-8
@@ -77,7 +77,7 @@ def published(log, topic) -> list:
 @pytest.fixture(scope="module")
 def runs():
     flat = to_flat(load_config(ROOT / "config/ropos_L200.yaml"))
-    flat.update({"node.tick_budget": 1.0e6})
+    flat.update({"node.tick_budget": 1.0e6, "node.missed_outputs": MISSED_OUTPUTS_MAX})
     context = rclpy.Context()
     rclpy.init(context=context)
     on_time, late = HandDriven(context, flat, node_name="on_time"), HandDriven(context, flat, node_name="late")

@@ -51,7 +51,6 @@ _TYPES = {"TetherState": TetherState, "Marker": Marker, "Path": Path, "WrenchSta
           "DiagnosticArray": DiagnosticArray, "PoseStamped": PoseStamped}
 WARN_PERIOD = 2.0  # s between repeated warnings of one kind
 REJECT_SUMMARY_PERIOD = 10.0  # s between the counts of repeatedly rejected inputs of one kind
-MISSED_OUTPUTS_MAX = 5  # output periods a late tick catches up on (0.1 s at 50 Hz; each is a tick of its own)
 STALE_LOG_MAX = 60.0  # s: a stale input is logged at once, then after 2, 4, 8 ... s, at most this far apart
 _monotonic = time.monotonic  # the clock of the stale-input back-off (a test sets its own)
 
@@ -278,11 +277,11 @@ class TetherSimNode(Node):
 
     def _missed_instants(self, now) -> list:
         """Clock times of the output periods the timer skipped before this tick (a starved process: the
-        timer's call came more than a period late), the latest MISSED_OUTPUTS_MAX of them, spaced one output
+        timer's call came more than a period late), the latest ``node.missed_outputs`` of them, spaced one output
         period apart before ``now``; none while the simulation runs late (its outputs are late anyway), after
         a gap beyond ``node.max_lag`` (a re-synchronisation) or a clock jump. Each is stepped to and published
         as a tick of its own: a subscriber gets one state per output period through scheduler stalls."""
-        rate = self.config.node.output_rate
+        rate, most = self.config.node.output_rate, self.config.node.missed_outputs
         if self._grid is None:  # (driven by hand, without the timer: the first tick is on the grid)
             self._grid = now
         slot = math.floor((now - self._grid) * rate + 1e-6)
@@ -290,7 +289,7 @@ class TetherSimNode(Node):
         d = self.driver
         if last is None or d.solver is None or d.last_now is None:
             return []
-        missed = min(slot - last - 1, MISSED_OUTPUTS_MAX)
+        missed = min(slot - last - 1, most)
         if (missed <= 0 or d.lag > 1.5 / rate
                 or now - self.config.node.input_delay - d.last_now > self.config.node.max_lag):
             return []
