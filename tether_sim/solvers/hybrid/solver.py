@@ -92,6 +92,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
 
     # ------------------------------------------------------------------ set-up
     def _set_chain(self):
+        self._profile_cache = None
         self.chain = build_chain(self.zones, self.s_grid, self.end_kinds, self.end_held, self.free_ends,
                                  self.body_params)
         n = self.chain.nnz_max
@@ -135,7 +136,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         if arc_lengths is None:
             arc_lengths = np.linspace(0.0, self.length, self.config.node.output_points)
         s = np.asarray(arc_lengths, dtype=float)
-        prof = node_profile(self)
+        prof = self._profile()
         order = prof["s"]
         pos = np.stack([np.interp(s, order, prof["position"][:, k]) for k in range(3)], axis=1)
         vel = np.stack([np.interp(s, order, prof["velocity"][:, k]) for k in range(3)], axis=1)
@@ -151,8 +152,20 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
                            bending_moment=np.interp(s, order, prof["moment"]), time_step=self.opt.time_step,
                            extra=extra)
 
-    def end_forces(self):
+    def _profile(self):
+        """node_profile of the current state, evaluated once per state: a node's tick reads it through state(), end_forces()
+        and body_state() five times. Valid while the state's arrays are the same objects at the same time and no step,
+        restore or re-zoning has invalidated it (each sets _profile_cache to None)."""
+        key = (self.Y, self.Lf, self.positions, self.chain)
+        cached = self._profile_cache
+        if cached is not None and cached[1] == self.time and all(a is b for a, b in zip(cached[0], key)):
+            return cached[2]
         prof = node_profile(self)
+        self._profile_cache = (key, self.time, prof)
+        return prof
+
+    def end_forces(self):
+        prof = self._profile()
         f = prof["force"]
         q = prof["moment_vec"]
         return EndForces(ship_force=f[0].copy(), vehicle_force=-f[-1], ship_moment=q[0].copy(), vehicle_moment=-q[-1],
@@ -204,6 +217,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
     _rho = None
     _band = None
     _pcache = (None, None)
+    _profile_cache = None
 
     def _parameters(self, dt):
         rho = self.opt.rho_inf if self._rho is None else self._rho
@@ -340,6 +354,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         return it
 
     def _commit(self, Y, dt, P, iterations):
+        self._profile_cache = None
         ch = self.chain
         g = P[HP_GAM]
         v_old = self._world_velocities()
@@ -474,6 +489,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
             new = np.maximum(new, self.zones)  # only add rod elements
         if np.array_equal(new, self.zones):
             if self.opt.close_rod_shapes == "evaluation" and (self.chain.kind == zoning.ROD).any():
+                self._profile_cache = None
                 close_rod_shapes(self)  # the rod shapes back onto their ends (state_io.close_rod_blocks)
             return False
 
