@@ -184,10 +184,7 @@ def child(params, seconds, alpha, t_launch):
                          node.driver.solver.time, parts["publish"], parts["publish_cpu"], parts["outputs"],
                          parts["outputs_cpu"]))
 
-    # the node created its timer with the bound method; swap the callback the timer calls
-    for timer in node.timers:
-        if timer.callback == original:
-            timer.callback = timed_tick
+    node._on_tick = timed_tick  # (the node's timer calls its _on_timer, which calls _on_tick)
     on_pose = node._on_pose
 
     def first_pose(end, msg):

@@ -50,6 +50,20 @@ def _timed_class(cls, timed):
     return Timed
 
 
+def is_network(params) -> bool:
+    from tether_sim.network.params import file_is_network
+
+    return file_is_network(str(params))
+
+
+def network_ship_motion(position):
+    """The ship's motion on a line-network file (which has no motion section): the live files' fairlead
+    circle, radius 2 m at 0.2 Hz in the vertical x-z plane, ramped over 5 s (config/ropos_L1730.yaml)."""
+    from tether_sim.physics.motion import MotionConfig, build_motion
+
+    return build_motion(MotionConfig(kind="circle", amplitude=2.0, frequency=0.2, ramp_time=5.0), tuple(position))
+
+
 class _Bench:
     """One node of one tree, its simulated clock and pose feed, and its per-tick figures."""
 
@@ -76,11 +90,21 @@ class _Bench:
                 return out
             return wrapper
 
-        self.node = sim_node.TetherSimNode(where=str(params), solver_factory=instrument(build_solver, timed) if split else build_solver,
-                                           parameter_overrides=list(overrides))
+        self.network = is_network(params)
+        if self.network:  # a line network (docs/network.md): its own node; every periodic output of every line
+            if split or overrides:
+                raise SystemExit(f"{params}: a line network is timed whole (no --split, no -p)")
+            network_node = importlib.import_module(f"{pkg}.ros.network_node")
+            self.node = network_node.NetworkSimNode(files=[str(params)])
+            periodic = [t for t in self.node.pubs if not t.endswith(("/description", "/snap_events", "/slack_warnings"))
+                        and t != "/diagnostics"]
+            self.publishers = [self.node.pubs[t] for t in periodic] + ([self.node.tf_pub] if self.node.tf_pub else [])
+        else:
+            self.node = sim_node.TetherSimNode(where=str(params), solver_factory=instrument(build_solver, timed) if split else build_solver,
+                                               parameter_overrides=list(overrides))
+            wanted = [t for t in self.node.pubs if t in self.convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
+            self.publishers = [self.node.pubs[t] for t in wanted] + ([self.node.tf.pub] if self.node.tf.enabled else [])
         cfg = self.cfg = self.node.config
-        wanted = [t for t in self.node.pubs if t in self.convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
-        self.publishers = [self.node.pubs[t] for t in wanted] + ([self.node.tf.pub] if self.node.tf.enabled else [])
         if split:
             for publisher in self.publishers:
                 publisher.publish = timed(publisher.publish, "publish", "publish " + publisher.topic_name)
@@ -101,7 +125,14 @@ class _Bench:
                 if isinstance(cls, type) and name.endswith("Encoder") and hasattr(cls, "encode"):
                     cls.encode = timed(cls.encode, f"encode {name}")
         self.part_rows = []
-        self.motion = build_motion(cfg.motion, cfg.ship_end.position)
+        # the ship's pose on the file's motion, fed as the subscription would; none where the node moves the ship
+        # itself (motion.kind rao: the RAO response to the configured sea); a network's other driven points held
+        if self.network:
+            self.motion = network_ship_motion(self.node.spec.points["ship"].position)
+            self.held = {n: p.position for n, p in self.node.spec.points.items() if p.kind == "prescribed" and n != "ship"}
+        else:
+            self.motion = build_motion(cfg.motion, cfg.ship_end.position) if "ship" in self.node.inputs else None
+            self.held = {}
         self.period = 1.0 / cfg.node.output_rate
         self.clock = 100.0  # the node's clock, s; the motion's time is clock - 100
         self.node._now = lambda: self.clock
@@ -113,10 +144,14 @@ class _Bench:
     def tick(self, k, timed, prof=None):
         self.clock += self.period
         c = time.thread_time()
-        p, _, _ = self.motion.at(self.clock - 100.0)
         self.msg.header.stamp = self.convert.time_msg(self.clock)
-        self.msg.pose.position.x, self.msg.pose.position.y, self.msg.pose.position.z = (float(v) for v in p)
-        self.node._on_pose("ship", self.msg)
+        for name, position in self.held.items():
+            self.msg.pose.position.x, self.msg.pose.position.y, self.msg.pose.position.z = (float(v) for v in position)
+            self.node._on_pose(name, self.msg)
+        if self.motion is not None:
+            p, _, _ = self.motion.at(self.clock - 100.0)
+            self.msg.pose.position.x, self.msg.pose.position.y, self.msg.pose.position.z = (float(v) for v in p)
+            self.node._on_pose("ship", self.msg)
         self.pose_cpu.append(time.thread_time() - c)
         for key in self.parts:
             self.parts[key] = 0.0
@@ -130,7 +165,7 @@ class _Bench:
         if timed:
             self.part_rows.append(dict(self.parts))
             self.rows.append((cpu, self.parts["advance"], self.parts["state"], self.parts["outputs"], self.parts["publish"]))
-        if k % round(self.cfg.node.output_rate) == 0:
+        if k % round(self.cfg.node.output_rate) == 0:  # the 1 Hz diagnostics
             c = time.thread_time()
             self.node._publish_diagnostics()
             self.diag_cpu.append(time.thread_time() - c)
@@ -139,6 +174,7 @@ class _Bench:
         import numpy as np
 
         r = np.array(self.rows) * 1e3
+        output_rate = self.cfg.node.output_rate
         node_own = r[:, 0] - r[:, 1:].sum(axis=1)
         med = lambda a: [float(np.median(a)), float(np.percentile(a, 99))]  # noqa: E731
         return {"params": str(params), "alpha": alpha, "package": self.pkg, "ticks": len(self.rows),
@@ -149,7 +185,8 @@ class _Bench:
                 "diagnostics_ms": float(np.median(self.diag_cpu) * 1e3), "tick_errors": self.node.tick_errors,
                 "parts_ms": {key: float(np.median([row.get(key, 0.0) for row in self.part_rows]) * 1e3)
                              for key in sorted({k for row in self.part_rows for k in row})},
-                "snaps": self.node.snaps_published, "tick_cpu_s": [float(x) for x in r[:, 0] * 1e-3]}
+                "snaps": self.node.snaps_published, "tick_cpu_s": [float(x) for x in r[:, 0] * 1e-3],
+                "outputs_per_s": output_rate, "pose_input": self.motion is not None}
 
 
 def child(params, ticks, alpha, profile, split, baseline, extra=()):
@@ -205,8 +242,9 @@ def child(params, ticks, alpha, profile, split, baseline, extra=()):
     rclpy.shutdown()
 
 
-def sink():
-    """Runs in its own process: raw subscriptions to every periodic output and /tf, spun."""
+def sink(params=None):
+    """Runs in its own process: raw subscriptions to every periodic output and /tf, spun (a line network's
+    topics for a network file ``params``)."""
     import importlib
 
     import rclpy
@@ -218,8 +256,16 @@ def sink():
 
     rclpy.init()
     node = rclpy.create_node("bench_node_tick_sink")
-    for topic, (type_name, _) in convert.TOPICS.items():
-        if topic in convert.SHAPE_TOPICS or topic.endswith(("_wrench", "sim_pose")):
+    topics = convert.TOPICS
+    if params and is_network(params):
+        from tether_sim.network.params import load_network_files
+        from tether_sim.ros.network_outputs import output_topics
+
+        spec, _ = load_network_files([params])
+        topics = {t: v for t, v in output_topics(spec, list(spec.lines)).items()
+                  if not t.endswith(("/description", "/snap_events", "/slack_warnings")) and t != "/diagnostics"}
+    for topic, (type_name, _) in topics.items():
+        if topic in convert.SHAPE_TOPICS or topic.endswith(("_wrench", "sim_pose")) or topics is not convert.TOPICS:
             package, _, name = type_name.split("/")
             msg_type = getattr(importlib.import_module(f"{package}.msg"), name)
             node.create_subscription(msg_type, topic, lambda _m: None, RELIABLE, raw=True)
@@ -239,12 +285,14 @@ def bench_env(extra=None) -> dict:
     return env
 
 
-def run_child(cmd, env, marker, with_sink=True, timeout=3600) -> dict:
+def run_child(cmd, env, marker, with_sink=True, timeout=3600, params=None) -> dict:
     """Run the measuring child ``cmd`` (beside a subscriber process of every periodic output, :func:`sink`, when
-    ``with_sink``) and return the JSON it prints after ``marker``."""
+    ``with_sink``; of the line network's outputs for a network file ``params``) and return the JSON it prints
+    after ``marker``."""
     sink_proc = None
     if with_sink:
-        sink_proc = subprocess.Popen([sys.executable, str(Path(__file__).resolve()), "--sink"], env=env, cwd=ROOT,
+        sink_proc = subprocess.Popen([sys.executable, str(Path(__file__).resolve()), "--sink"]
+                                     + (["--sink-params", str(params)] if params else []), env=env, cwd=ROOT,
                                      stdout=subprocess.PIPE, text=True)
     try:
         if sink_proc is not None and sink_proc.stdout.readline().strip() != "SINK_READY":
@@ -273,7 +321,7 @@ def launch(params, ticks, alpha, profile, split, baseline=None, extra=()):
         cmd += ["--baseline", str(baseline)]
     for item in extra:
         cmd += ["-p", item]
-    return run_child(cmd, bench_env(), "BENCH_NODE_TICK")
+    return run_child(cmd, bench_env(), "BENCH_NODE_TICK", params=params)
 
 
 def main(argv=None):
@@ -288,11 +336,12 @@ def main(argv=None):
     ap.add_argument("--json", default="out/bench_node_tick.json")
     ap.add_argument("--child", default=None)
     ap.add_argument("--sink", action="store_true")
+    ap.add_argument("--sink-params", default=None)
     ap.add_argument("-p", dest="extra", action="append", default=[], metavar="KEY:=VALUE",
                     help="a parameter of this tree's node (not the baseline's), e.g. node.shape_rate:=10")
     args = ap.parse_args(argv)
     if args.sink:
-        return sink()
+        return sink(args.sink_params)
     if args.child:
         return child(args.child, args.ticks, args.alpha, args.profile, args.split, args.baseline, args.extra)
     print(f"bench_node_tick, {os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "

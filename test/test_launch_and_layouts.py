@@ -436,3 +436,85 @@ def test_foxglove_layout_panels_and_paths():
         assert resolve_path(path) in ("float64", "float32"), path
     raw = [v["topicPath"] for k, v in configs.items() if k.startswith("RawMessages!")]
     assert raw == ["/tether/snap_events"]
+
+
+# ------------------------------------------------------------------ the network's layouts (config/ropos_tms.yaml)
+RVIZ_TMS = ROOT / "rviz" / "tether_sim_tms.rviz"
+FOXGLOVE_TMS = ROOT / "foxglove" / "tether_sim_tms.json"
+
+
+def tms_topics() -> dict:
+    """What the network node publishes on config/ropos_tms.yaml (root namespace) -> message type:
+    network_outputs.output_topics of the file's network, and /tf."""
+    pytest.importorskip("rclpy")
+    pytest.importorskip("tether_sim_msgs")
+    from tether_sim.network.params import load_network_files
+    from tether_sim.ros.network_outputs import output_topics
+
+    spec, _ = load_network_files([str(ROOT / "config" / "ropos_tms.yaml")])
+    winches = [n for n, ln in spec.lines.items() if ln.config.winch.enabled]
+    return {**{t: typ for t, (typ, _) in output_topics(spec, winches).items()}, "/tf": "tf2_msgs/msg/TFMessage"}
+
+
+def test_network_rviz_config_shows_every_line_the_cage_and_the_wrenches():
+    topics = tms_topics()
+    config = yaml.safe_load(RVIZ_TMS.read_text())
+    manager = config["Visualization Manager"]
+    assert manager["Global Options"]["Fixed Frame"] == NodeOptions().world_frame
+    displays = manager["Displays"]
+    assert {d["Class"] for d in displays} | {p["Class"] for p in config["Panels"]} <= RVIZ_CLASSES | {
+        "rviz_default_plugins/Pose"}
+    by_topic = {d["Topic"]["Value"]: d["Class"] for d in displays if "Topic" in d}
+    expected = {"/tether/tether/marker": "rviz_default_plugins/Marker",
+                "/tether/excursion/marker": "rviz_default_plugins/Marker",
+                "/cage/sim_pose": "rviz_default_plugins/Pose",
+                "/tether/cage_wrench": "rviz_default_plugins/Wrench",
+                "/tether/ship_wrench": "rviz_default_plugins/Wrench",
+                "/tether/vehicle_wrench": "rviz_default_plugins/Wrench"}
+    assert by_topic == expected
+    for topic, cls in by_topic.items():  # each on a topic the node publishes, with the display's type
+        typ = {"rviz_default_plugins/Marker": "visualization_msgs/msg/Marker",
+               "rviz_default_plugins/Pose": "geometry_msgs/msg/PoseStamped",
+               "rviz_default_plugins/Wrench": "geometry_msgs/msg/WrenchStamped"}[cls]
+        assert topics.get(topic) == typ, topic
+    assert {f"/tether/{line}/marker" for line in ("tether", "excursion")} == {
+        t for t in topics if t.endswith("/marker")}  # every line of the file
+    for d in displays:
+        if "Topic" in d:
+            assert d["Topic"]["Reliability Policy"] == "Reliable" and d["Enabled"] is True
+    assert any(d["Class"] == "rviz_default_plugins/TF" for d in displays)
+
+
+def test_network_foxglove_layout_shows_every_line_and_the_cage():
+    topics = tms_topics()
+    layout = json.loads(FOXGLOVE_TMS.read_text())
+    configs = layout["configById"]
+
+    def leaves(node):
+        return [node] if isinstance(node, str) else leaves(node["first"]) + leaves(node["second"])
+
+    assert sorted(leaves(layout["layout"])) == sorted(configs)
+    three_d = next(v for k, v in configs.items() if k.startswith("3D!"))
+    assert three_d["followTf"] == NodeOptions().world_frame
+    visible = {t for t, c in three_d["topics"].items() if c["visible"]}
+    assert visible == {"/tether/tether/marker", "/tether/excursion/marker", "/cage/sim_pose"}
+    assert set(three_d["topics"]) <= set(topics)
+    plotted = [p["value"] for k, v in configs.items() if k.startswith("Plot!") for p in v["paths"]]
+    for needed in ("/tether/tether/state.ship_end_tension", "/tether/tether/state.vehicle_end_tension",
+                   "/tether/excursion/state.ship_end_tension", "/tether/excursion/state.vehicle_end_tension",
+                   "/tether/vehicle_wrench.wrench.force.z", "/cage/sim_pose.pose.position.z",
+                   "/cage/sim_twist.twist.linear.z", "/cage/sim_accel.accel.linear.z",
+                   "/tether/cage_wrench.wrench.force.z", "/cage/hydro_wrench.wrench.force.z"):
+        assert needed in plotted
+    for path in plotted:  # every plotted path a float field of the type the node publishes there
+        topic, _, rest = path.partition(".")
+        typ = topics[topic]
+        for part in rest.split("."):
+            fields = msg_fields(typ)
+            assert part in fields, (path, part, sorted(fields))
+            typ = fields[part]
+        assert typ in ("float64", "float32"), path
+    raw = sorted(v["topicPath"] for k, v in configs.items() if k.startswith("RawMessages!"))
+    assert raw == ["/tether/excursion/snap_events", "/tether/tether/snap_events"]
+    assert all(t in topics for t in raw)
+    assert any(k.startswith("DiagnosticSummary!") and v["topicToRender"] in topics for k, v in configs.items())

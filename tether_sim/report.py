@@ -20,7 +20,8 @@ misjudge every length but one.
 A line network's recording (docs/network.md: ``/tether/<line>/state`` ... per line) gets one report
 per line, in ``<out-dir>/<line>/``, each from that line's own state, snap, slack, description and
 winch topics (``--line`` picks one), all on the time axis of the first line's first state, and a
-``report.md`` in ``<out-dir>`` linking them.
+``report.md`` in ``<out-dir>`` linking them; each body (the cage) gets ``<out-dir>/<body>/``
+(``motion.png``, ``forces.png``, ``report.json``: tether_sim/report_body.py) and a section there.
 """
 
 from __future__ import annotations
@@ -39,6 +40,7 @@ from tether_sim.io.mcap_log import McapLogError, read_messages, read_summary
 from tether_sim.io.mcap_scan import CorruptMcapWarning
 from tether_sim.physics.boundary import END_NAMES
 from tether_sim.solvers.resolution import bending_mesh_warning, mesh_summary
+from tether_sim.report_body import body_figures, body_markdown, body_summary, load_body, network_bodies
 from tether_sim.report_winch import load_winch, winch_figures, winch_markdown
 from tether_sim.report_forecast import forecast_figures, forecast_markdown, load_forecasts
 
@@ -477,11 +479,21 @@ def make_network_report(mcap_path, out_dir=None, n_snapshots: int = 8, t0_s: flo
         run = r["run"]
         top = max(float(np.max(v)) for v in run.end_tension.values())
         md.append(f"| {line} | {run.solver} | {len(run.t)} | {len(run.snaps)} | {top:.1f} | `{line}/report.md` |")
+    bodies = {}
+    for name in network_bodies(mcap_path):  # the cage: its motion and the forces on it
+        series = load_body(mcap_path, name, t0_s)
+        if series is None:
+            continue
+        figures = body_figures(series, out_dir / name, time_label)
+        summary = body_summary(series)
+        (out_dir / name / "report.json").write_text(json.dumps(summary, indent=1, allow_nan=False) + "\n")
+        md += body_markdown(series, summary, figures, out_dir)
+        bodies[name] = {"series": series, "figures": figures, "summary": summary}
     markdown = "\n".join(md) + "\n"
     out_dir.mkdir(parents=True, exist_ok=True)
     report_path = out_dir / "report.md"
     report_path.write_text(markdown)
-    return {"lines": results, "markdown": markdown, "report_path": report_path}
+    return {"lines": results, "bodies": bodies, "markdown": markdown, "report_path": report_path}
 
 
 def make_report(mcap_path, out_dir=None, n_snapshots: int = 8, t0_s: float | None = None,

@@ -123,6 +123,12 @@ class HandDriven:
 
     def tick(self, z: float, quaternion=(0.0, 0.0, 0.0, 1.0)) -> None:
         """The ship at height ``z`` with orientation (x, y, z, w), stamped 20 ms after the last tick."""
+        self.feed(z, quaternion)
+        self.node._on_tick()
+
+    def feed(self, z: float, quaternion=(0.0, 0.0, 0.0, 1.0)) -> None:
+        """The ship pose of :meth:`tick` 20 ms after the last, without the tick (a period the timer skipped:
+        its ``log`` entry stays empty)."""
         self.log.append([])
         self.clock += 0.02
         msg = PoseStamped()
@@ -131,4 +137,3 @@ class HandDriven:
         o = msg.pose.orientation
         o.x, o.y, o.z, o.w = quaternion
         self.node._on_pose("ship", msg)
-        self.node._on_tick()

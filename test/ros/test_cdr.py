@@ -11,7 +11,7 @@ import pytest
 pytest.importorskip("rclpy")
 pytest.importorskip("tether_sim_msgs")
 from builtin_interfaces.msg import Time  # noqa: E402
-from geometry_msgs.msg import Point, PoseStamped, Vector3, WrenchStamped  # noqa: E402
+from geometry_msgs.msg import AccelStamped, Point, PoseStamped, TwistStamped, Vector3, WrenchStamped  # noqa: E402
 from nav_msgs.msg import Path  # noqa: E402
 from rclpy.serialization import deserialize_message, serialize_message  # noqa: E402
 from std_msgs.msg import ColorRGBA, Header  # noqa: E402
@@ -112,6 +112,18 @@ def test_wrench_and_pose(frame):
     pose.pose.position = Point(x=1.5, y=-2.0, z=3e4)
     pose.pose.orientation.x, pose.pose.orientation.y, pose.pose.orientation.z, pose.pose.orientation.w = q.tolist()
     _check(cdr.pose_stamped(stamp, frame, f, q), pose)
+
+
+@pytest.mark.parametrize("frame", FRAMES)
+def test_twist_and_accel(frame):
+    """A network body's velocity and acceleration (network_outputs: <body>/sim_twist, <body>/sim_accel)."""
+    stamp = (12, 345)
+    lin, ang = np.array([0.25, -1.5, 7e-3]), np.array([-0.01, 0.02, 3.5])
+    for encode, kind, fields in ((cdr.twist_stamped, TwistStamped, "twist"), (cdr.accel_stamped, AccelStamped, "accel")):
+        msg = kind(header=_header(stamp, frame))
+        inner = getattr(msg, fields)
+        inner.linear, inner.angular = Vector3(x=0.25, y=-1.5, z=7e-3), Vector3(x=-0.01, y=0.02, z=3.5)
+        _check(encode(stamp, frame, lin, ang), msg)
 
 
 @pytest.mark.parametrize("frame", FRAMES)

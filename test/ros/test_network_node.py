@@ -10,13 +10,14 @@ import pytest
 pytest.importorskip("rclpy")
 pytest.importorskip("tether_sim_msgs")
 import rclpy  # noqa: E402
-from geometry_msgs.msg import PoseStamped, WrenchStamped  # noqa: E402
+from geometry_msgs.msg import AccelStamped, PoseStamped, TwistStamped, WrenchStamped  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
 from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription, TetherState, WinchCommand, WinchState  # noqa: E402
 
+from tether_sim.numerics.rotations import quaternion_matrix  # noqa: E402
 from tether_sim.ros.convert import time_msg  # noqa: E402
 from tether_sim.ros.network_node import NetworkSimNode  # noqa: E402
 from tether_sim.ros.sim_node import main  # noqa: E402
@@ -42,12 +43,16 @@ class NetHarness:
                  "/tether/cage_wrench": WrenchStamped, "/cage/sim_pose": PoseStamped,
                  "/winch/excursion/state": WinchState, "/winch/tether/state": WinchState,
                  "/tether/excursion/slack_warnings": SlackWarning, "/tether/tether/snap_events": SnapLoadEvent,
-                 "/tether/excursion/snap_events": SnapLoadEvent}
+                 "/tether/excursion/snap_events": SnapLoadEvent, "/cage/sim_twist": TwistStamped,
+                 "/cage/sim_accel": AccelStamped, "/cage/hydro_wrench": WrenchStamped}
         self.received = {t: [] for t in types}
         for t, ty in types.items():
             self.probe.create_subscription(ty, t, self.received[t].append, 1000)
         latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self.received["/tether/excursion/description"] = []
+        self.received["/cage/wet_weight"] = []
+        self.probe.create_subscription(WrenchStamped, "/cage/wet_weight", self.received["/cage/wet_weight"].append,
+                                       latched)
         self.probe.create_subscription(TetherDescription, "/tether/excursion/description",
                                        self.received["/tether/excursion/description"].append, latched)
         try:
@@ -75,7 +80,7 @@ class NetHarness:
             self.poses["ship"].publish(self.pose(t, (0.0, 0.0, 0.0)))
             self.poses["vehicle"].publish(self.pose(t, vehicle(t)))
             self.clock.publish(Clock(clock=time_msg(t)))
-            for _ in range(4):
+            for _ in range(8):  # the node's tick and the probe's callbacks of this step (15 topics)
                 self.executor.spin_once(timeout_sec=0.002)
         for _ in range(10):
             self.executor.spin_once(timeout_sec=0.002)
@@ -131,6 +136,22 @@ def test_tms_node_publishes_both_lines_the_vehicle_wrench_and_the_cage(tms):
     # the cage's wrench: both lines on it balance its wet weight (at rest, within 1 %)
     cw = r["/tether/cage_wrench"][-1].wrench.force
     assert cw.z == pytest.approx(cage_wet, rel=1e-2)
+    # the cage's motion and loads, world frame: at rest, its wet weight latched (closed form), its
+    # acceleration Newton's on the lines' force, the weight and the drag ((m + m_a) = 14195 kg, isotropic)
+    weight = r["/cage/wet_weight"][-1]
+    assert weight.header.frame_id == "map" and weight.wrench.force.z == pytest.approx(-cage_wet, rel=1e-12)
+    stamps = {(m.header.stamp.sec, m.header.stamp.nanosec) for m in r["/cage/sim_accel"]}
+    assert len(stamps) >= 20 and stamps == {(m.header.stamp.sec, m.header.stamp.nanosec) for m in r["/cage/sim_twist"]}
+    assert abs(r["/cage/sim_twist"][-1].twist.linear.z) < 0.05
+    same = {(m.header.stamp.sec, m.header.stamp.nanosec): m for m in r["/tether/cage_wrench"]}
+    drag = {(m.header.stamp.sec, m.header.stamp.nanosec): m for m in r["/cage/hydro_wrench"]}
+    a = r["/cage/sim_accel"][-1]
+    key = (a.header.stamp.sec, a.header.stamp.nanosec)
+    o = {(m.header.stamp.sec, m.header.stamp.nanosec): m for m in r["/cage/sim_pose"]}[key].pose.orientation
+    lines = quaternion_matrix([o.x, o.y, o.z, o.w]) @ [same[key].wrench.force.x, same[key].wrench.force.y,
+                                                      same[key].wrench.force.z]
+    net = lines[2] - cage_wet + drag[key].wrench.force.z
+    assert (4995.0 + 9200.0) * a.accel.linear.z == pytest.approx(net, rel=1e-9, abs=1e-6 * cage_wet)
     # winches: the ship winch and the TMS drum report their lengths
     assert r["/winch/excursion/state"][-1].length == pytest.approx(30.0)
     assert r["/winch/tether/state"][-1].length == pytest.approx(1730.0)

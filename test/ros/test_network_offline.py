@@ -166,3 +166,117 @@ def test_point_and_body_wrenches_are_the_line_loads_in_the_body_frame(tmp_path):
     np.testing.assert_allclose(fb, Rb.T @ Fb.sum(axis=0), rtol=1e-13, atol=1e-13 * np.abs(Fb).max())
     np.testing.assert_allclose(mb, Rb.T @ (np.cross(lever, Fb).sum(axis=0) + Mb.sum(axis=0)), rtol=1e-13,
                                atol=1e-12 * np.abs(Fb).max())
+
+
+def test_the_report_of_the_cage_is_the_recorded_cage(tmp_path):
+    """The cage's figures (report_body.py) carry the recorded values, and those are the cage's
+    motion: the pose, velocity and acceleration of /cage/sim_*, each line's end tension at the cage
+    from its state, the lines' force (/tether/cage_wrench turned into the world frame), drag and wet
+    weight; the recorded acceleration is Newton's law on the recorded forces (isotropic added mass) to
+    round-off, the velocity the integral of it and the position the integral of the velocity (to
+    the 20 Hz output step), the wet weight the closed form (m - rho V) g."""
+    from tether_sim.numerics.rotations import quaternion_matrix
+    from tether_sim.report import make_network_report
+
+    t0 = 500.0
+    poses = write_poses(tmp_path / "poses.mcap", t0, span=2.0)
+    out = tmp_path / "net.mcap"
+    assert main(["--params", write_network(tmp_path / "net.yaml"), "--input", poses, "--output", str(out),
+                 "--no-progress"]) == 0
+    msgs = by_topic(out)
+    result = make_network_report(out, tmp_path / "report")
+    cage = result["bodies"]["cage"]
+    b = cage["series"]
+    pose = [m for _, m in msgs["/cage/sim_pose"]]
+    assert len(b.t) == len(pose) == 41
+    np.testing.assert_allclose(b.t + result["lines"]["umbilical"]["run"].t0,
+                               [m.header.stamp.sec + 1e-9 * m.header.stamp.nanosec for m in pose], rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(b.position, [[m.pose.position.x, m.pose.position.y, m.pose.position.z] for m in pose])
+
+    def vectors(topic, get):
+        return np.array([[getattr(get(m), c) for c in "xyz"] for _, m in msgs[topic]])
+
+    np.testing.assert_array_equal(b.velocity, vectors("/cage/sim_twist", lambda m: m.twist.linear))
+    np.testing.assert_array_equal(b.acceleration, vectors("/cage/sim_accel", lambda m: m.accel.linear))
+    np.testing.assert_array_equal(b.drag, vectors("/cage/hydro_wrench", lambda m: m.wrench.force))
+    body_frame = vectors("/tether/cage_wrench", lambda m: m.wrench.force)
+    q = [[m.pose.orientation.x, m.pose.orientation.y, m.pose.orientation.z, m.pose.orientation.w] for m in pose]
+    world = np.array([quaternion_matrix(np.array(x)) @ f for x, f in zip(q, body_frame)])
+    np.testing.assert_allclose(b.line_force, world, rtol=0, atol=1e-9 * np.abs(world).max())
+    # each line's end tension at the cage: the umbilical's s = L end, the excursion tether's s = 0 end
+    umb = [m.vehicle_end_tension for _, m in msgs["/tether/umbilical/state"]]
+    exc = [m.ship_end_tension for _, m in msgs["/tether/excursion/state"]]
+    np.testing.assert_array_equal(b.end_tension["umbilical (s = L end)"][1], umb)
+    np.testing.assert_array_equal(b.end_tension["excursion (s = 0 end)"][1], exc)
+    vehicle = vectors("/tether/vehicle_wrench", lambda m: m.wrench.force)
+    np.testing.assert_array_equal(b.vehicle_force[1], np.linalg.norm(vehicle, axis=1))
+    # the wet weight: the cage of write_network, (m - rho m / rho_c) g
+    assert b.wet_weight == pytest.approx(4995.0 * 9.81 * (1.0 - 1025.0 / 8448.0), rel=1e-12)
+    # Newton: (m + m_a) a = lines + wet weight + drag, every component (added mass 9200 kg on every axis)
+    net = b.line_force + b.drag + np.array([0.0, 0.0, -b.wet_weight])
+    np.testing.assert_allclose((4995.0 + 9200.0) * b.acceleration, net, rtol=0, atol=1e-9 * np.abs(net).max())
+    np.testing.assert_allclose(b.vertical_forces()["net"], net[:, 2], rtol=0, atol=1e-9 * np.abs(net).max())
+    # the motion is one: the velocity is the integral of the acceleration and the position that of the
+    # velocity (cumulative trapezoid over the 20 Hz outputs: the acceleration carries the umbilical's
+    # axial ringing, 2 L / c = 0.1 s, which 20 Hz samples cannot integrate better than a few per cent)
+    from scipy.integrate import cumulative_trapezoid
+
+    v, z = b.velocity[:, 2], b.position[:, 2]
+    assert np.ptp(z) > 0.5  # the heave moves the cage
+    assert np.abs(cumulative_trapezoid(v, b.t, initial=0.0) - (z - z[0])).max() < 5e-3 * np.ptp(z)
+    assert np.abs(cumulative_trapezoid(b.acceleration[:, 2], b.t, initial=0.0) - (v - v[0])).max() < 0.03 * np.abs(v).max()
+    # the summary and the figures
+    summary = cage["summary"]
+    assert summary["z_m"] == {"min": b.position[:, 2].min(), "max": b.position[:, 2].max()}
+    assert summary["vertical_acceleration_m_s2"]["max"] == b.acceleration[:, 2].max()
+    assert summary["end_tension_N"]["umbilical (s = L end)"]["max"] == max(umb)
+    for name in ("motion", "forces"):
+        assert cage["figures"][name] == tmp_path / "report" / "cage" / f"{name}.png"
+        assert cage["figures"][name].stat().st_size > 10_000
+    assert "## Body `cage`" in result["markdown"] and "cage/forces.png" in result["markdown"]
+
+
+def test_a_study_on_a_network_file_tabulates_every_line(tmp_path):
+    """tether-sim-study with a network base file: the cage's mass varied, the ship heaved (the study's
+    motion.* keys drive the network's ship point). Every line gets its per-end columns; the static
+    tension at the ship grows by the added wet weight of the cage (closed form, to the excursion
+    tether's change of pull); the vehicle force column is the largest |force| the run wrote on
+    /tether/vehicle_wrench; each line's T_min / T_max bound its recorded end tensions; the report
+    tabulates each line."""
+    from tether_sim.studies.report import write_report
+    from tether_sim.studies.results import read_results
+    from tether_sim.studies.runner import run_study
+
+    write_network(tmp_path / "net.yaml")
+    study = tmp_path / "study.yaml"
+    study.write_text(yaml.safe_dump({
+        "name": "cage_mass", "base": "net.yaml",
+        "vary": {"grid": {"network.bodies.cage.mass": [4995.0, 9990.0]}},
+        "set": {"motion.kind": "heave", "motion.amplitude": 0.5, "motion.frequency": 0.3, "duration": 1.0},
+        "keep": {"mcap": True, "events": True}}))
+    summary = run_study(study, tmp_path / "out", workers=1)
+    assert (summary["ran"], summary["ok"], summary["failed"]) == (2, 2, 0)
+    rows = sorted(read_results(tmp_path / "out"), key=lambda r: r["index"])
+    for r in rows:
+        assert r["network"] and r["status"] == "ok" and r["sim_s"] == 1.0
+        assert (r["umbilical.length_m"], r["excursion.length_m"], r["fairlead_amplitude_m"]) == (200.0, 30.0, 0.5)
+        msgs = by_topic(r["mcap"])
+        ship = [m.position[0].z for _, m in msgs["/tether/umbilical/state"]]
+        assert max(ship) == pytest.approx(0.5, abs=0.05)  # the heave drove the ship point
+        forces = [np.linalg.norm([m.wrench.force.x, m.wrench.force.y, m.wrench.force.z])
+                  for _, m in msgs["/tether/vehicle_wrench"][1:]]  # (the first: the state before the first tick)
+        assert r["vehicle_force_max_N"] == pytest.approx(max(forces), rel=1e-12)
+        for line in ("umbilical", "excursion"):
+            for end in ("ship", "vehicle"):
+                recorded = [getattr(m, f"{end}_end_tension") for _, m in msgs[f"/tether/{line}/state"][1:]]
+                # the substeps include the output instants (the detector's samples and the state's end
+                # tension agree to 1 % of the largest: end flux against axial tension on a slack line)
+                slack = 0.01 * max(recorded)
+                assert r[f"{line}.{end}_T_min_N"] - slack <= min(recorded) <= max(recorded) <= r[f"{line}.{end}_T_max_N"] + slack
+            snaps = msgs.get(f"/tether/{line}/snap_events", [])
+            assert r[f"{line}.ship_n_snap"] + r[f"{line}.vehicle_n_snap"] <= len(snaps)  # (one per slack episode)
+    added = (9990.0 - 4995.0) * 9.81 * (1.0 - 1025.0 / 8448.0)  # the cage's density kept: its volume doubles
+    grew = rows[1]["umbilical.ship_static_N"] - rows[0]["umbilical.ship_static_N"]
+    assert grew == pytest.approx(added, rel=2e-3)
+    md = write_report(tmp_path / "out").read_text()
+    assert "## Line `umbilical`" in md and "## Line `excursion`" in md and "vehicle kN" in md

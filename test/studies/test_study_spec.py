@@ -143,3 +143,22 @@ def test_the_study_variables_carry_their_units(tmp_path):
     assert pe2020.column_units() == {"var.L": "m", "var.alpha": "1", "var.f": "Hz"}
     assert load_study(STUDIES / "heave_sweep.yaml").column_units() == {"var.f": "Hz"}
     assert load_study(STUDIES / "heave_irregular_seeds.yaml").column_units() == {"var.level": "1"}
+
+
+def test_a_network_study_varies_network_keys_and_drives_the_ship():
+    """config/studies/ropos_tms_cage.yaml: network keys take the kind and unit of the key they stand
+    for; the motion keys stay the drive; a case's task is a network task keyed on its parameters."""
+    from tether_sim.studies.case import code_version, make_task
+
+    study = load_study(STUDIES / "ropos_tms_cage.yaml")
+    cases = study.cases()
+    assert len(cases) == 4
+    assert cases[3].overrides["network.bodies.cage.mass"] == 7500.0 and cases[3].overrides["motion.amplitude"] == 2.0
+    assert study.base.endswith("ropos_tms.yaml")
+    tasks = [make_task(c, study, code_version(), "/tmp/unused") for c in cases]
+    assert all(t["network"] for t in tasks) and len({t["key"] for t in tasks}) == 4
+    from tether_sim.studies.spec import study_keys
+
+    keys = study_keys()
+    assert keys["network.bodies.cage.mass"].unit == "kg" and keys["network.lines.excursion.cable.length"].unit == "m"
+    assert "network.lines.excursion.cable.lenght" not in keys and "network.bogus" not in keys

@@ -83,3 +83,29 @@ def load_network_files(paths, overrides: dict | None = None):
     if overrides:
         flat.update(overrides)
     return load_network(flat, where=", ".join(str(p) for p in paths) or "parameters")
+
+
+def network_key(name: str):
+    """The schema key (``io.schema.Key``: kind, unit) that a network file's flat key stands for, or
+    None: ``network.lines.<line>.<key>`` a single-line key, ``network.bodies.<body>.<key>`` a
+    ``body.*`` key, ``network.environment.<key>`` an ``environment.*`` key, ``network.coupling_step``
+    (s), ``network.points.<point>.position`` (m); ``node.*`` keys are schema keys themselves. The
+    names of lines, bodies and points are not checked here (the network's parser does, naming the key)."""
+    from tether_sim.io.schema import Key, key_map
+
+    keys = key_map()
+    parts = name.split(".")
+    if name.startswith("node.") or parts[0] != NETWORK_KEY or len(parts) < 2:
+        return keys.get(name) if name.startswith("node.") else None
+    if parts[1] == "coupling_step" and len(parts) == 2:
+        return Key(name, "float", 0.005, "s", "upper bound of the body-line coupling step", 0.0, 1.0, None, False)
+    if parts[1] == "environment" and len(parts) == 3:
+        return keys.get("environment." + parts[2])
+    if parts[1] == "lines" and len(parts) >= 4:
+        return keys.get(".".join(parts[3:]))
+    if parts[1] == "bodies" and len(parts) == 4:
+        return keys.get("body." + parts[3])
+    if parts[1] == "points" and len(parts) == 4 and parts[3] == "position":
+        return Key(name, "float_array", (0.0, 0.0, 0.0), "m", "position of a fixed or driven point", None, None, None,
+                   False)
+    return None

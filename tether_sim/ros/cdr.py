@@ -291,6 +291,16 @@ def wrench_stamped(stamp: tuple, frame: str, force, torque) -> bytes:
                                                             *(float(x) for x in torque))
 
 
+def twist_stamped(stamp: tuple, frame: str, linear, angular) -> bytes:
+    """geometry_msgs/TwistStamped (the same layout as WrenchStamped: a header and two Vector3)."""
+    return wrench_stamped(stamp, frame, linear, angular)
+
+
+def accel_stamped(stamp: tuple, frame: str, linear, angular) -> bytes:
+    """geometry_msgs/AccelStamped (the same layout as WrenchStamped: a header and two Vector3)."""
+    return wrench_stamped(stamp, frame, linear, angular)
+
+
 def pose_stamped(stamp: tuple, frame: str, position, orientation) -> bytes:
     """geometry_msgs/PoseStamped (orientation quaternion x, y, z, w)."""
     return encoder(StampedDoublesEncoder, frame, 7).encode(stamp, *(float(x) for x in position),

@@ -70,6 +70,7 @@ class MotionSource:
     """A prescribed end driven by an analytic motion ``motion.at(t) -> (position, velocity, ...)``."""
 
     time_base = "clock"  # the motion is a function of the clock (solver time + the driver's anchor)
+    has_data = True  # always (the network driver asks; the single-line code takes a missing one as True)
 
     def __init__(self, motion):
         self.motion = motion

@@ -14,7 +14,9 @@ summed force of every line ending there, on the point, in its body frame, torque
 origin; ``ship`` / ``vehicle`` use node.ship_frame / node.vehicle_frame and their attachments, as
 the single-line node). Per body ``<body>``: ``tether/<body>_wrench`` (the lines' force and moment
 about its centre of gravity, in its body frame ``<frame_prefix><body>/base_link``),
-``<body>/sim_pose`` and the transform world -> body frame on /tf. ``/diagnostics`` at 1 Hz.
+``<body>/sim_pose`` and the transform world -> body frame on /tf, ``<body>/sim_twist`` and
+``<body>/sim_accel`` (world frame), ``<body>/hydro_wrench`` (drag and rotational damping, world
+frame), ``<body>/wet_weight`` (latched). ``/diagnostics`` at 1 Hz.
 
 The network's keys are read from the parameter files (tether_sim/network/params.py); ``-p``
 overrides the ``node.*`` keys. A line solver failing (e.g. a hybrid Newton failure) stops the
@@ -25,7 +27,7 @@ import math
 import time
 
 from diagnostic_msgs.msg import DiagnosticArray
-from geometry_msgs.msg import PoseStamped, WrenchStamped
+from geometry_msgs.msg import AccelStamped, PoseStamped, TwistStamped, WrenchStamped
 from nav_msgs.msg import Path
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
@@ -42,7 +44,8 @@ from tether_sim.ros.tf import TF_QOS, TFMessage, tf_message_cdr
 
 _TYPES = {"TetherState": TetherState, "Path": Path, "Marker": Marker, "SnapLoadEvent": SnapLoadEvent,
           "SlackWarning": SlackWarning, "TetherDescription": TetherDescription, "WrenchStamped": WrenchStamped,
-          "PoseStamped": PoseStamped, "DiagnosticArray": DiagnosticArray, "WinchState": WinchState}
+          "PoseStamped": PoseStamped, "DiagnosticArray": DiagnosticArray, "WinchState": WinchState,
+          "TwistStamped": TwistStamped, "AccelStamped": AccelStamped}
 
 
 class NetworkSimNode(Node):
@@ -142,6 +145,8 @@ class NetworkSimNode(Node):
         self.started = True
         for line in self.spec.lines:
             self._publish_description(line)
+        for name in self.spec.bodies:
+            self.pubs[f"/{name}/wet_weight"].publish(outputs.wet_weight(d, self.config.node, name))
         tens = ", ".join(f"{ln} {d.static_tensions[ln][0]:.1f} / {d.static_tensions[ln][1]:.1f} N" for ln in self.spec.lines)
         self.get_logger().info(f"network started; static end tensions (from / to end): {tens}")
 

@@ -71,6 +71,8 @@ class _Writer:
         for line in self.spec.lines:
             self._put(f"/tether/{line}/description", outputs.description(self.spec, self.node, line, self.driver.stamp),
                       self.driver.stamp)
+        for name in self.spec.bodies:
+            self._put(f"/{name}/wet_weight", outputs.wet_weight(self.driver, self.node, name), self.driver.stamp)
 
     def line_events(self, line, events):
         self.events.extend((line, ev) for ev in events)
@@ -108,17 +110,22 @@ class _Writer:
                "slack": dict(d.slack), "numerical_snaps": d.numerical_snaps,
                "numerical_snaps_recent": 0, "last_numerical_snap": d.last_numerical_snap,
                "lines": ", ".join(self.spec.lines)}
-        health = {name: dict(src.health(now), rejected_recent=0) for name, src in sources.items()}
+        health = {name: dict(src.health(now), rejected_recent=0) for name, src in sources.items()
+                  if hasattr(src, "health")}  # (recorded pose inputs; an analytic motion has no input health)
         self._snaps_written = self.counts["snap_events"]
         self._put("/diagnostics", convert.diagnostics(now, NODE_NAME, sim, health), now)
 
 
 def run_network_offline(spec, config, output, *, duration=None, input_path=None, topics=None, progress=True,
-                        stop=None) -> dict:
+                        stop=None, sources=None, tap=None) -> dict:
     """Simulate the network ``spec`` and write every output topic to ``output`` (MCAP; None: no file).
 
     ``config``: the file's node options (``config.node``; ``config.duration`` is the default
     duration without ``--input``). ``topics``: {point: PoseStamped topic} of ``input_path``.
+    ``sources``: {point: analytic source} (``has_data``, ``attachment_at(t)``, ``orientation_at(t)``,
+    e.g. end_commands.MotionSource; a study's ship motion) for driven points without recorded poses;
+    the clock then starts at 0. ``tap(net, out)``: called after every tick of the network (after
+    the start and its settling) with the network and the tick's {line: {"samples", "loads"}}.
     Returns a summary dict (``events``: (line, SnapEvent | SlackStarted | NumericalSnapWarning))."""
     from tether_sim.io.mcap_log import RosMcapWriter
 
@@ -133,13 +140,22 @@ def run_network_offline(spec, config, output, *, duration=None, input_path=None,
         duration = config.duration if duration is None else duration
     for r in recorded.values():
         r.feed_until(t0)
-    sources = {name: r.input for name, r in recorded.items()}
+    sources = {**(sources or {}), **{name: r.input for name, r in recorded.items()}}
     driver = NetworkDriver(spec, node, sources)
     rate = node.output_rate
     n_ticks = max(1, int(round(duration * rate)))
     wall0 = wallclock.perf_counter()
     driver.start(t0)  # statics of every line (and the settling of an unpolished DG line) before the file opens
     start_wall = wallclock.perf_counter() - wall0
+    if tap is not None:  # every tick from here on (not the statics' settling)
+        net, advance = driver.net, driver.net.tick
+
+        def tapped(t, drain=True):
+            out = advance(t, drain)
+            tap(net, out)
+            return out
+
+        net.tick = tapped
     if stop is not None:
         stop.graceful = True
     done, cpu0, wall1 = 0, wallclock.process_time(), wallclock.perf_counter()

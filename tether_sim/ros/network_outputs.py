@@ -3,8 +3,11 @@
 
 Topics (resolved names in the root namespace; docs/network.md "The node on a network"): per line
 ``/tether/<line>/state|path|marker|snap_events|slack_warnings|description``; per point and per
-body ``/tether/<name>_wrench``; per body ``/<body>/sim_pose`` and its transform on /tf; per winch
-``/winch/<line>/state``; ``/diagnostics``.
+body ``/tether/<name>_wrench``; per body ``/<body>/sim_pose`` and its transform on /tf,
+``/<body>/sim_twist`` and ``/<body>/sim_accel`` (its centre of gravity's velocity and acceleration
+and its angular velocity and acceleration, world frame), ``/<body>/hydro_wrench`` (the water's
+drag on it and its rotational damping moment, world frame) and ``/<body>/wet_weight`` (latched:
+weight minus buoyancy, world frame); per winch ``/winch/<line>/state``; ``/diagnostics``.
 
 The periodic outputs (winch states included) are CDR bytes (:mod:`tether_sim.ros.cdr`), events and
 the description are message objects; a publisher takes either.
@@ -13,6 +16,7 @@ the description are message objects; a publisher takes either.
 from dataclasses import replace
 
 import numpy as np
+from diagnostic_msgs.msg import KeyValue
 
 from tether_sim.numerics.rotations import quaternion_rotation
 from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent
@@ -42,6 +46,10 @@ def output_topics(spec, winch_lines=()) -> dict:
         out[f"/tether/{name}_wrench"] = ("geometry_msgs/msg/WrenchStamped", "reliable")
     for name in spec.bodies:
         out[f"/{name}/sim_pose"] = ("geometry_msgs/msg/PoseStamped", "reliable")
+        out[f"/{name}/sim_twist"] = ("geometry_msgs/msg/TwistStamped", "reliable")
+        out[f"/{name}/sim_accel"] = ("geometry_msgs/msg/AccelStamped", "reliable")
+        out[f"/{name}/hydro_wrench"] = ("geometry_msgs/msg/WrenchStamped", "reliable")
+        out[f"/{name}/wet_weight"] = ("geometry_msgs/msg/WrenchStamped", "latched")
     for line in winch_lines:
         out[f"/winch/{line}/state"] = ("tether_sim_msgs/msg/WinchState", "reliable")
     out["/diagnostics"] = ("diagnostic_msgs/msg/DiagnosticArray", "reliable")
@@ -88,6 +96,13 @@ def body_wrench(net, name):
         cross = (lever[1] * f[2] - lever[2] * f[1], lever[2] * f[0] - lever[0] * f[2], lever[0] * f[1] - lever[1] * f[0])
         moment = [moment[c] + cross[c] + m[c] for c in range(3)]
     return np.array(_world_to_body(R, force)), np.array(_world_to_body(R, moment))
+
+
+def wet_weight(driver, node, name):
+    """The latched ``/<body>/wet_weight`` of body ``name``: (0, 0, -(weight - buoyancy)) at its
+    centre of gravity, world frame (CDR bytes)."""
+    w = float(driver.net.bodies[name].wet_weight)
+    return cdr.wrench_stamped(cdr.stamp_parts(driver.stamp), node.world_frame, (0.0, 0.0, -w), (0.0, 0.0, 0.0))
 
 
 def _rotation(q):
@@ -144,6 +159,14 @@ def tick_outputs(driver, node, orientation_of=lambda name: None, wanted=None, sh
             out.append((f"/tether/{name}_wrench", cdr.wrench_stamped(stamp, frame(node, name), force, moment)))
         if want(f"/{name}/sim_pose"):
             out.append((f"/{name}/sim_pose", cdr.pose_stamped(stamp, world, b.state[0:3], b.state[3:7])))
+        kinds = [t for t in (f"/{name}/sim_twist", f"/{name}/sim_accel", f"/{name}/hydro_wrench") if want(t)]
+        if kinds:
+            m = net.body_motion(name)
+            encoded = {f"/{name}/sim_twist": lambda: cdr.twist_stamped(stamp, world, m["velocity"], m["omega"]),
+                       f"/{name}/sim_accel": lambda: cdr.accel_stamped(stamp, world, m["acceleration"],
+                                                                       m["angular_acceleration"]),
+                       f"/{name}/hydro_wrench": lambda: cdr.wrench_stamped(stamp, world, m["drag"], m["damping_moment"])}
+            out.extend((t, encoded[t]()) for t in kinds)
         transforms.append((frame(node, name), b.state[0:3], b.state[3:7]))
     for line, link in net.winches.items():
         w, end = link.winch, link.config.winch.end
@@ -177,4 +200,9 @@ def description(spec, node, line, t):
     """TetherDescription of one line (its cable and every key), stamped ``t``."""
     cfg = replace(spec.lines[line].config, node=node)
     L = float(cfg.cable.length)
-    return convert.description(cfg, np.linspace(0.0, L, node.output_points), t)
+    msg = convert.description(cfg, np.linspace(0.0, L, node.output_points), t)
+    # where the line's ends are in the network (the report finds a body's lines by them)
+    for end in spec.lines[line].ends:
+        key = "from" if end.end == END_NAMES[0] else "to"
+        msg.parameters.append(KeyValue(key=f"network.lines.{line}.{key}", value=end.target))
+    return msg

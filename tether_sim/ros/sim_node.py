@@ -109,9 +109,12 @@ class TetherSimNode(Node):
         self.tick_errors, self.last_tick_error = 0, ""
         self.snaps_published = 0
         self._last_output = -float("inf")
+        # the output timer's grid (clock time of one of its periods' starts) and the period index of the last tick:
+        # a tick late by whole periods also publishes the instants of the periods the timer skipped
+        self._grid, self._last_slot = None, None
         self._period = _new_period(self.inputs)
         self.add_on_set_parameters_callback(self._on_set_parameters)
-        self.create_timer(1.0 / node.output_rate, self._on_tick)
+        self._output_timer = self.create_timer(1.0 / node.output_rate, self._on_timer)
         self.create_timer(1.0, self._publish_diagnostics)
 
     def destroy_node(self):
@@ -231,6 +234,16 @@ class TetherSimNode(Node):
             return True
         return now - self._first_tick >= self.config.node.input_timeout
 
+    def _on_timer(self):
+        """The output timer's callback: its grid read once (rcl keeps the timer on the grid of its first
+        period: a call late by more than a period skips the periods it missed), then :meth:`_on_tick`."""
+        if self._grid is None:
+            now = self._now()
+            until = self._output_timer.time_until_next_call()  # ns to the timer's next period start
+            if until is not None and now > 0.0:
+                self._grid = now + until * 1e-9
+        self._on_tick()
+
     def _on_tick(self):
         wall0 = time.perf_counter()
         try:
@@ -256,6 +269,35 @@ class TetherSimNode(Node):
                                    f"{self.driver.static_tensions[0]:.1f} N (ship), {self.driver.static_tensions[1]:.1f} N (vehicle)")
             if getattr(self.driver.solver, "start_warning", ""):
                 self.get_logger().warning(self.driver.solver.start_warning)
+        start, budget = time.perf_counter(), self.driver.wall_budget
+        for t in self._missed_instants(now):  # (they share the tick's stepping budget)
+            if not self._output_at(t) or (budget is not None and time.perf_counter() - start > budget):
+                break
+        self._output_at(now)
+
+    def _missed_instants(self, now) -> list:
+        """Clock times of the output periods the timer skipped before this tick (a starved process: the
+        timer's call came more than a period late), the latest ``node.missed_outputs`` of them, spaced one output
+        period apart before ``now``; none while the simulation runs late (its outputs are late anyway), after
+        a gap beyond ``node.max_lag`` (a re-synchronisation) or a clock jump. Each is stepped to and published
+        as a tick of its own: a subscriber gets one state per output period through scheduler stalls."""
+        rate, most = self.config.node.output_rate, self.config.node.missed_outputs
+        if self._grid is None:  # (driven by hand, without the timer: the first tick is on the grid)
+            self._grid = now
+        slot = math.floor((now - self._grid) * rate + 1e-6)
+        last, self._last_slot = self._last_slot, slot
+        d = self.driver
+        if last is None or d.solver is None or d.last_now is None:
+            return []
+        missed = min(slot - last - 1, most)
+        if (missed <= 0 or d.lag > 1.5 / rate
+                or now - self.config.node.input_delay - d.last_now > self.config.node.max_lag):
+            return []
+        return [now - j / rate for j in range(missed, 0, -1)]
+
+    def _output_at(self, now) -> bool:
+        """Step the driver to clock time ``now`` and publish the outputs of the state it reaches; False
+        when the tick failed or fell short of ``now`` (the stepping budget)."""
         try:
             # the state at the output points, sampled once for snap detection and /tether/state (node.shape_rate 0)
             self.driver.output_points = self.arc_lengths if self._state_every_output else None
@@ -275,13 +317,15 @@ class TetherSimNode(Node):
                     self.pubs[topic].publish(data)
                 self.tf.publish(self.driver, frame, self._tf_gate.due(stamp))  # /tf at node.visual_rate
                 self.forecast_io.tick(now)  # hands a due forecast to its worker thread; publishes finished ones
+            return not report.capped
         except Exception as exc:  # noqa: BLE001 - the node must stay up; the error is reported
             if not self.context.ok():
-                return  # shutting down (Ctrl-C): publishers are gone
+                return False  # shutting down (Ctrl-C): publishers are gone
             self._period["tick_errors"] += 1
             self.tick_errors += 1
             self.last_tick_error = f"{type(exc).__name__}: {exc}"
             self._log_throttled("tick failed", "error", f"tick failed (not a solver divergence): {self.last_tick_error}")
+            return False
 
     def _handle_report(self, now, report):
         log = self.get_logger()
@@ -294,6 +338,7 @@ class TetherSimNode(Node):
             self._publish_description()
         if report.clock_jump:
             self._last_output = -float("inf")
+            self._grid = self._last_slot = None  # (the timer starts a new grid after a jump)
             log.warning("clock jumped backwards: pose histories reset, simulation continues")
         if report.dropped > 0:
             self._period["resyncs"] += 1

@@ -249,6 +249,38 @@ def _table(rows, cols, names):
     return lines
 
 
+def network_lines(rows) -> list:
+    """The lines of a network study's rows (their ``<line>.ship_T_max_N`` columns), in table order."""
+    return [c[:-len(".ship_T_max_N")] for c in rows[0] if c.endswith(".ship_T_max_N")]
+
+
+def network_tables(ok, units) -> list:
+    """Markdown of a line-network study (case.run_network_task's columns): per line, both ends' largest
+    tension, snaps and largest snap peak; the largest force on each point; no figures yet."""
+    varied = _varied(ok)
+    head = ["case"] + [_unit_label(c, units) for c in varied]
+    text = ["Line network: per line, its s = 0 end (`ship` columns: the end its `from` names) and its s = L end "
+            "(`vehicle`: its `to`). T_max over every substep; snaps as the node's detector publishes them (one per "
+            "slack episode, its largest peak); numerical: re-tensioning peaks the snap guard rejected "
+            "(docs/snap_guard.md), never counted as snaps. No figures for network studies yet.", ""]
+    for line in network_lines(ok):
+        cols = ["index"] + varied + [
+            lambda r, p=f"{line}.ship_": r[p + "T_max_N"] / 1e3, lambda r, p=f"{line}.vehicle_": r[p + "T_max_N"] / 1e3,
+            f"{line}.ship_n_snap", lambda r, p=f"{line}.ship_": r[p + "snap_peak_N"] / 1e3,
+            f"{line}.vehicle_n_snap", lambda r, p=f"{line}.vehicle_": r[p + "snap_peak_N"] / 1e3,
+            f"{line}.ship_n_slack", f"{line}.vehicle_n_slack",
+            lambda r, p=line: (r.get(f"{p}.ship_n_numerical") or 0) + (r.get(f"{p}.vehicle_n_numerical") or 0)]
+        names = head + ["T_max s=0 kN", "T_max s=L kN", "snaps s=0", "snap peak s=0 kN", "snaps s=L",
+                        "snap peak s=L kN", "slack s=0", "slack s=L", "numerical warnings"]
+        text += [f"## Line `{line}`", ""] + _table(ok, cols, names) + [""]
+    points = [c[:-len("_force_max_N")] for c in ok[0] if c.endswith("_force_max_N")]
+    if points:
+        text += ["## Force of the lines on each point (largest |F| at the output instants)", ""]
+        text += _table(ok, ["index"] + varied + [lambda r, p=p: r[f"{p}_force_max_N"] / 1e3 for p in points] + ["rtf"],
+                       head + [f"{p} kN" for p in points] + ["RT factor"]) + [""]
+    return text
+
+
 def write_report(results, out=None) -> Path:
     """Figures and report.md for a results folder; returns the path of report.md."""
     results = Path(results)
@@ -261,7 +293,9 @@ def write_report(results, out=None) -> Path:
     name = rows[0]["study"] if rows else folder.name
     text = [f"# Study {name}: snap-load summary", "",
             f"{len(rows)} cases in the results: {len(ok)} ok, {len(failed)} failed.", ""]
-    if ok:
+    if ok and ok[0].get("network"):
+        text += network_tables(ok, read_units(results))
+    elif ok:
         units = read_units(results)
         axes = study_axes(ok, units)
         figures = []

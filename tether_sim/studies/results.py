@@ -109,9 +109,9 @@ def column_unit(name: str, units=None):
     parameter's unit; the study's own variables have the unit ``units`` (column -> unit, from
     Study.column_units) gives them."""
     if name.startswith("var."):
-        from tether_sim.io.schema import key_map
+        from tether_sim.studies.spec import study_keys
 
-        key = key_map().get(name[4:])
+        key = study_keys().get(name[4:])
         return (key.unit or None) if key is not None else (units or {}).get(name)
     if name in DIMENSIONLESS or name.endswith("_daf"):
         return "1"

@@ -3,6 +3,7 @@ the results, run the rest (local processes or Dask), journal each one as it fini
 
 import hashlib
 import json
+import math
 import os
 import shutil
 import sys
@@ -203,6 +204,9 @@ def _announce_cost(study, out_dir, retry_failed, cases, limit, selected, local, 
         scale = selected / examined
         n_tasks, cpu = max(n_tasks, round(n_tasks * scale)), cpu * scale
         what = f"about {n_tasks} case(s) (from the first {examined})"
+    if not math.isfinite(cpu):  # a network case has no cost model yet
+        print(f"[study] {what} to run (line-network cases: no estimate of their cost)", file=stream, flush=True)
+        return
     line = f"[study] {what} to run: expected about {span(cpu)} of CPU on idle cores"
     if local:
         n = max(1, min(workers or os.cpu_count() or 1, n_tasks))

@@ -48,6 +48,36 @@ class StudyError(ConfigError):
     """A study file is malformed; the message (one line) names the file and the entry."""
 
 
+class _StudyKeys(dict):
+    """The parameter keys a study may set: the schema's (``io.schema.key_map``) and a network
+    file's (``network.lines.<line>.cable.length``, ``network.bodies.<body>.mass``: their kind and
+    unit are those of the single-line key they stand for, :func:`tether_sim.network.params.network_key`)."""
+
+    def _network(self, name):
+        from tether_sim.network.params import network_key
+
+        return network_key(name) if isinstance(name, str) and name.startswith("network.") else None
+
+    def __contains__(self, name):
+        return dict.__contains__(self, name) or self._network(name) is not None
+
+    def __getitem__(self, name):
+        if dict.__contains__(self, name):
+            return dict.__getitem__(self, name)
+        key = self._network(name)
+        if key is None:
+            raise KeyError(name)
+        return key
+
+    def get(self, name, default=None):
+        return self[name] if name in self else default
+
+
+def study_keys() -> dict:
+    """Every key a study file may vary or set (:class:`_StudyKeys`)."""
+    return _StudyKeys(key_map())
+
+
 @dataclass(frozen=True)
 class Case:
     """One case of a study: its variables (in declared order) and the parameters they give."""
@@ -103,7 +133,7 @@ class Study:
 
     def case(self, index, variables) -> Case:
         """The case of these variables: its parameters (the ``set`` expressions evaluated) and base file."""
-        keys = key_map()
+        keys = study_keys()
         overrides = {k: _coerce(keys[k], v, self, k) for k, v in variables.items() if k in keys}
         for key, value in self.set.items():
             if isinstance(value, str) and value.lstrip().startswith("="):
@@ -285,7 +315,7 @@ def load_study(path) -> Study:
     if not isinstance(doc.get("base"), str):
         raise _err(path, "base: the parameter file of the study (a path relative to this file) is required")
     blocks = _blocks(path, doc.get("vary"), doc.get("seeds"))
-    keys = key_map()
+    keys = study_keys()
     names = [n for _, b in blocks for n in b]
     dupes = {n for n in names if names.count(n) > 1}
     if dupes:

@@ -1,0 +1,127 @@
+"""A tick that comes late by whole output periods (the timer skipped them: a starved process) publishes
+the states of the instants it missed, each with its own stamp, as the node ticking on time would have.
+
+Two nodes of the same file are driven by hand (test/ros/sim_harness.py ``HandDriven``: a hand clock,
+the ship pose given to the pose callback 20 ms apart, the tick called directly, no wall-clock budget).
+The first ticks every period; the second gets the same poses but its ticks skip periods (two, then one,
+then more than the node catches up on). Every TetherState and wrench the second node publishes must
+be one the first published at the same stamp (equal fields but the wall-clock real-time factor), in
+order, none repeated, and the second must publish the states of the skipped periods (at most
+``node.missed_outputs`` of them). Before the late tick caught up, it published only the newest instant:
+the skipped periods' stamps were missing.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+pytest.importorskip("rclpy")
+pytest.importorskip("tether_sim_msgs")
+import rclpy  # noqa: E402
+from geometry_msgs.msg import WrenchStamped  # noqa: E402
+from rclpy.serialization import deserialize_message  # noqa: E402
+from sim_harness import HandDriven  # noqa: E402
+from tether_sim_msgs.msg import TetherState  # noqa: E402
+
+from tether_sim.io.params import load_config, to_flat  # noqa: E402
+
+pytestmark = pytest.mark.ros
+
+ROOT = __import__("pathlib").Path(__file__).resolve().parents[2]
+TICKS = 70
+MISSED_OUTPUTS_MAX = 5  # node.missed_outputs (the default)
+# the late node's instants are the clock minus whole periods, the on-time node's the clock's running sum: they
+# differ by float rounding (~1e-14 s), and so do the states, by ~1e-12 relative (measured: 1.8e-7 N in 73 kN)
+RTOL = 1e-8
+ATOL = {"force": 1e-6, "torque": 1e-6, "ship_end_tension": 1e-6, "vehicle_end_tension": 1e-6, "time_step": 0.0, "lag": 1e-9,
+        "arc_length": 0.0, "tension": 1e-6, "curvature": 1e-12, "bending_moment": 1e-9, "position": 1e-9, "velocity": 1e-9}
+# periods whose tick the late node skips (its next tick comes that many periods late): two, one, and a stall
+# longer than the node catches up on
+SKIPPED = {20, 21, 30} | set(range(40, 40 + MISSED_OUTPUTS_MAX + 3))
+
+
+def heave(t):
+    return 0.3 * math.sin(2.0 * math.pi * 0.25 * (t - 100.0))  # (taut throughout: no slack period to amplify rounding)
+
+
+def stamp(msg) -> float:
+    return round(msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9, 6)
+
+
+def fields(msg) -> dict:
+    """The message's fields as plain values, without the real-time factor (wall clock)."""
+    if isinstance(msg, TetherState):
+        out = {k: getattr(msg, k) for k in ("ship_end_tension", "vehicle_end_tension", "time_step", "lag", "degraded", "solver")}
+        out.update({k: np.asarray(getattr(msg, k)).tolist() for k in ("arc_length", "tension", "curvature", "bending_moment")})
+        out.update({k: [(p.x, p.y, p.z) for p in getattr(msg, k)] for k in ("position", "velocity")})
+        return out
+    w = msg.wrench
+    return {"force": (w.force.x, w.force.y, w.force.z), "torque": (w.torque.x, w.torque.y, w.torque.z)}
+
+
+TYPES = {"/tether/state": TetherState, "/tether/ship_wrench": WrenchStamped, "/tether/vehicle_wrench": WrenchStamped}
+
+
+def published(log, topic) -> list:
+    """[(tick, stamp, fields)] of every message of ``topic``."""
+    out = []
+    for k, entries in enumerate(log):
+        for t, data in entries:
+            if t == topic:
+                msg = deserialize_message(data, TYPES[topic])
+                out.append((k, stamp(msg), fields(msg)))
+    return out
+
+
+@pytest.fixture(scope="module")
+def runs():
+    flat = to_flat(load_config(ROOT / "config/ropos_L200.yaml"))
+    flat.update({"node.tick_budget": 1.0e6, "node.missed_outputs": MISSED_OUTPUTS_MAX})
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    on_time, late = HandDriven(context, flat, node_name="on_time"), HandDriven(context, flat, node_name="late")
+    for k in range(TICKS):
+        z = heave(on_time.clock + 0.02)
+        on_time.tick(z)
+        if k in SKIPPED:
+            late.feed(z)  # the pose arrives, the timer's call does not
+        else:
+            late.tick(z)
+    yield on_time, late
+    for driven in (on_time, late):
+        driven.node.destroy_node()
+    rclpy.shutdown(context=context)
+
+
+@pytest.mark.parametrize("topic", sorted(TYPES))
+def test_a_late_tick_publishes_the_skipped_periods_states_as_an_on_time_node(runs, topic):
+    on_time, late = runs
+    reference = {s: f for _, s, f in published(on_time.log, topic)}
+    got = published(late.log, topic)
+    stamps = [s for _, s, _ in got]
+    assert stamps == sorted(set(stamps)), "stamps repeated or out of order"
+    stall = 40 + MISSED_OUTPUTS_MAX + 3  # the late node's tick after the stall (its ends then moved over one long chunk)
+    for k, s, f in got:  # the solver sampled at instants an on-time node published, the same numbers
+        assert s in reference, f"{topic}: stamp {s} is not an output instant of the node on time"
+        if k >= stall:
+            continue  # (the periods not caught up were stepped as one chunk: ~1e-5 relative, measured)
+        for key, value in f.items():  # (the instants agree to the float sums of the two clocks, ~1e-14 s)
+            if isinstance(value, (str, bool)):
+                assert value == reference[s][key], f"{topic} at {s}: {key} differs from the node on time"
+            else:
+                assert np.allclose(value, reference[s][key], rtol=RTOL, atol=ATOL[key]), \
+                    f"{topic} at {s}: {key} differs from the node on time"
+    by_tick = {}
+    for k, s, _ in got:
+        by_tick.setdefault(k, []).append(s)
+    late_ticks = sorted(k for k in range(1, TICKS) if k - 1 in SKIPPED and k not in SKIPPED)
+    assert late_ticks == [22, 31, stall]
+    period = 0.02
+    for k, skipped in zip(late_ticks, (2, 1, MISSED_OUTPUTS_MAX + 3)):
+        caught = min(skipped, MISSED_OUTPUTS_MAX)
+        assert len(by_tick[k]) == caught + 1, f"tick {k} after {skipped} skipped periods published {by_tick[k]}"
+        assert np.allclose(np.diff(by_tick[k]), period, atol=1e-6)
+    # every period of the run but those beyond the catch-up has its state: 50 per simulated second
+    missing = sorted(set(reference) - set(stamps))
+    assert len(missing) == len(SKIPPED) - sum(min(n, MISSED_OUTPUTS_MAX) for n in (2, 1, MISSED_OUTPUTS_MAX + 3))
