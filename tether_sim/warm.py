@@ -104,7 +104,8 @@ def exercise(config, solver_factory=None) -> None:
 def exercise_network(path, ticks: int = 4) -> None:
     """Run the line-network file ``path`` as the network node and the offline runner do: the
     driver's start (statics, settling, detectors), ``ticks`` output periods with every winch paying
-    out from the second on (a command's first tick must not compile), each line's state at the
+    out from the second on (a command's first tick must not compile), each body's motion for the
+    outputs (NetworkSolver.body_motion), each line's state at the
     output points (a read-only array, as the outputs pass it: numba compiles read-only arrays
     separately)."""
     from tether_sim.network.params import load_network_files
@@ -123,6 +124,8 @@ def exercise_network(path, ticks: int = 4) -> None:
         report = driver.tick(now)
         if report.error:
             raise RuntimeError(f"{path}: {report.error}")
+    for name in driver.net.bodies:  # the outputs' body motion (its compiled loads and accelerations)
+        driver.net.body_motion(name)
     for line, solver in driver.net.lines.items():
         length = float(getattr(solver, "unstretched_length", spec.lines[line].config.cable.length))
         at = np.linspace(0.0, length, node.output_points)

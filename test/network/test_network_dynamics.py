@@ -217,3 +217,30 @@ def test_compiled_body_step_matches_the_body_methods():
     for kind in ("lines", "weight", "drag"):
         np.testing.assert_allclose(b.impulse[kind], ref.impulse[kind], rtol=1e-13,
                                    atol=1e-13 * np.abs(ref.impulse["lines"]).max())
+
+
+@pytest.mark.jit_off
+def test_body_motion_for_the_outputs_is_the_body_methods():
+    """NetworkSolver.body_motion (the cage topics' velocity, acceleration, drag and damping moment,
+    from the compiled loads and accelerations) against NetworkBody.loads / accelerations on the same
+    state and line loads: a tilted, spinning cage with random end loads, to round-off."""
+    net = network()
+    b = net.bodies["cage"]
+    rng = np.random.default_rng(11)
+    b.state[3:7] = rng.normal(size=4)
+    b.state[3:7] /= np.linalg.norm(b.state[3:7])
+    b.state[7:13] = rng.normal(size=6)
+    for loads in net._loads.values():
+        loads[:] = rng.normal(size=loads.shape) * 1e4
+    m = net.body_motion("cage")
+    F, M = net._body_loads("cage")
+    total, moment, _, _, drag = b.loads(F, M, net._fluid_velocity(b))
+    a, alpha = b.accelerations(total, moment)
+    np.testing.assert_array_equal(m["velocity"], b.state[7:10])
+    np.testing.assert_array_equal(m["omega"], b.state[10:13])
+    np.testing.assert_allclose(m["acceleration"], a, rtol=1e-12, atol=1e-12 * np.abs(a).max())
+    np.testing.assert_allclose(m["angular_acceleration"], alpha, rtol=1e-12, atol=1e-12 * np.abs(alpha).max())
+    np.testing.assert_allclose(m["drag"], drag, rtol=1e-12, atol=1e-12 * np.abs(drag).max())
+    R = b.rotation
+    damping = R @ (-b.rot_damping * (R.T @ b.state[10:13]))
+    np.testing.assert_allclose(m["damping_moment"], damping, rtol=1e-12, atol=1e-12 * np.abs(damping).max() + 1e-300)

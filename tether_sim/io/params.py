@@ -197,9 +197,10 @@ class ParamFileOverlay:
     """A parameter file read and checked once, then many sets of overrides over it (the cases of a study):
     ``overlay(overrides)`` is ``load_config(path, overrides)`` without reading the file again."""
 
-    def __init__(self, path):
+    def __init__(self, path, flat: dict | None = None):
+        """``flat``: the file's flat parameters when already read (read_param_file), else read here."""
         self.path = Path(path)
-        self.checked = _checked(read_param_file(self.path), str(self.path))
+        self.checked = _checked(read_param_file(self.path) if flat is None else dict(flat), str(self.path))
         self.unresolved = _apply(SimConfig(), self.checked)
 
     def __call__(self, overrides: dict | None = None) -> SimConfig:

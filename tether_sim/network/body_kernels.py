@@ -188,3 +188,7 @@ def kdk_close(state, att, loads, rows, prm, fluid, dt, impulse, work):
     for c in range(3):
         state[10 + c] += h * acc[3 + c]
     _record(impulse, h, lo, prm[BP_WET])
+
+
+body_loads = _loads  # out[0:3] net force, [3:6] moment, [6:9] line force, [9:12] drag (NetworkSolver.body_motion)
+body_accelerations = _accelerations  # acc[0:6] of those loads (NetworkSolver.body_motion)

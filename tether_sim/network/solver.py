@@ -29,7 +29,8 @@ import numpy as np
 
 from tether_sim.errors import ConfigError
 from tether_sim.network.body import NetworkBody
-from tether_sim.network.body_kernels import BP_DRAG, BP_INERTIA, BP_MASS, BP_ROT_DAMPING, BP_WET, N_BP, kdk_close, kdk_open
+from tether_sim.network.body_kernels import (BP_DRAG, BP_INERTIA, BP_MASS, BP_ROT_DAMPING, BP_WET, N_BP, body_loads,
+                                            body_accelerations, kdk_close, kdk_open)
 from tether_sim.network.spec import line_end_condition
 from tether_sim.network.statics import solve_network_statics
 from tether_sim.physics.boundary import END_NAMES
@@ -141,6 +142,7 @@ class NetworkSolver:
             self._loads[n][:] = out.loads[:, :7]
         self._current = current_table(self.env)
         self._kernel = {n: self._body_arrays(n, b) for n, b in self.bodies.items()}
+        self._motion_scratch = np.zeros((2, 13))  # body_motion's loads and accelerations
         self.samples = {n: [] for n in self.lines}
         self.coupling_steps = 0
 
@@ -264,6 +266,25 @@ class NetworkSolver:
         """(force (3,), axial tension, moment (3,)) by the line on its end 'ship' or 'vehicle'."""
         row = self._loads[line][END_NAMES.index(end)]
         return row[LOAD_F:LOAD_F + 3].copy(), float(row[LOAD_T]), row[LOAD_M:LOAD_M + 3].copy()
+
+    def body_motion(self, name) -> dict:
+        """Body ``name`` now, world frame, as plain float lists: ``velocity`` / ``omega`` (its
+        state), ``acceleration`` / ``angular_acceleration`` under its present loads (the line ends'
+        loads of the last coupling step, wet weight, drag; the coupling step's own compiled loads and
+        accelerations, network/body_kernels.py), ``drag`` (the quadratic drag force at the centre of
+        gravity, relative to the current) and ``damping_moment`` (the rotational damping moment)."""
+        b = self.bodies[name]
+        prm, rows, _, _ = self._kernel[name]
+        scratch = self._motion_scratch
+        lo, acc = scratch[0], scratch[1]
+        body_loads(b.state, b.attachments, self._load_table, rows, prm, self._fluid_velocity(b), lo)
+        body_accelerations(b.state, prm, lo, acc)
+        s = b.state.tolist()
+        R = b.rotation
+        wb = R.T @ b.state[10:13]
+        return {"velocity": s[7:10], "omega": s[10:13], "acceleration": acc[0:3].tolist(),
+                "angular_acceleration": acc[3:6].tolist(), "drag": lo[9:12].tolist(),
+                "damping_moment": (R @ (-prm[BP_ROT_DAMPING:BP_ROT_DAMPING + 3] * wb)).tolist()}
 
     def end_tensions(self, line):
         """(axial tension at s = 0, at s = L) of ``line`` as floats (end_load's tension, without its copies)."""

@@ -18,8 +18,6 @@ from dataclasses import replace
 import numpy as np
 from diagnostic_msgs.msg import KeyValue
 
-from tether_sim.network import body_kernels
-from tether_sim.network.body_kernels import BP_ROT_DAMPING
 from tether_sim.numerics.rotations import quaternion_rotation
 from tether_sim.physics.snap import NumericalSnapWarning, SnapEvent
 from tether_sim.ros import cdr, convert
@@ -27,8 +25,6 @@ from tether_sim.physics.boundary import END_NAMES
 from tether_sim.solvers.base import LOAD_F, LOAD_M
 
 _plain_rotation = getattr(quaternion_rotation, "py_func", quaternion_rotation)  # no compiled call from Python
-_plain_loads = getattr(body_kernels._loads, "py_func", body_kernels._loads)
-_plain_accelerations = getattr(body_kernels._accelerations, "py_func", body_kernels._accelerations)
 
 
 def line_topics(line: str) -> dict:
@@ -102,27 +98,6 @@ def body_wrench(net, name):
     return np.array(_world_to_body(R, force)), np.array(_world_to_body(R, moment))
 
 
-def body_motion(net, name) -> dict:
-    """Body ``name`` now, world frame: ``velocity`` / ``omega`` (its state), ``acceleration`` /
-    ``angular_acceleration`` under its present loads (the line ends' loads of the last coupling step,
-    wet weight, drag: the coupling step's own ``_loads`` and ``_accelerations`` of
-    network/body_kernels.py, run as their plain-Python twins: no compiled call from Python),
-    ``drag`` (the quadratic drag force at the centre of gravity, relative to the current) and
-    ``damping_moment`` (the rotational damping moment)."""
-    b = net.bodies[name]
-    prm, rows, _, _ = net._kernel[name]
-    lo, acc = [0.0] * 12, [0.0] * 6
-    _plain_loads(b.state, b.attachments, net._load_table, rows, prm, net._fluid_velocity(b), lo)
-    _plain_accelerations(b.state, prm, lo, acc)
-    s = b.state.tolist()
-    R = _rotation(s[3:7])
-    wb = _world_to_body(R, s[10:13])
-    damping = [-float(prm[BP_ROT_DAMPING + c]) * wb[c] for c in range(3)]
-    return {"velocity": s[7:10], "omega": s[10:13], "acceleration": acc[0:3], "angular_acceleration": acc[3:6],
-            "drag": lo[9:12], "damping_moment": [R[3 * i] * damping[0] + R[3 * i + 1] * damping[1] + R[3 * i + 2] * damping[2]
-                                                for i in range(3)]}
-
-
 def wet_weight(driver, node, name):
     """The latched ``/<body>/wet_weight`` of body ``name``: (0, 0, -(weight - buoyancy)) at its
     centre of gravity, world frame (CDR bytes)."""
@@ -186,7 +161,7 @@ def tick_outputs(driver, node, orientation_of=lambda name: None, wanted=None, sh
             out.append((f"/{name}/sim_pose", cdr.pose_stamped(stamp, world, b.state[0:3], b.state[3:7])))
         kinds = [t for t in (f"/{name}/sim_twist", f"/{name}/sim_accel", f"/{name}/hydro_wrench") if want(t)]
         if kinds:
-            m = body_motion(net, name)
+            m = net.body_motion(name)
             encoded = {f"/{name}/sim_twist": lambda: cdr.twist_stamped(stamp, world, m["velocity"], m["omega"]),
                        f"/{name}/sim_accel": lambda: cdr.accel_stamped(stamp, world, m["acceleration"],
                                                                        m["angular_acceleration"]),

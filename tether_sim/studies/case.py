@@ -75,11 +75,11 @@ def _network_case(case, code, base_files):
     from tether_sim.network.params import is_network
 
     cache = base_files if base_files is not None else {}
-    flat = cache.get(("network", case.base))
-    if flat is None:
-        flat = read_param_file(case.base)
-        flat = cache[("network", case.base)] = flat if is_network(flat) else {}
-    if not flat:
+    flat = cache.get(("flat", case.base))
+    if flat is None:  # each base file read once (make_task's ParamFileOverlay takes it from here)
+        flat = cache[("flat", case.base)] = read_param_file(case.base)
+        cache[("network", case.base)] = is_network(flat)
+    if not cache[("network", case.base)]:
         return None
     drive = {k: v for k, v in case.overrides.items() if k.startswith(DRIVE_KEYS)}
     network = {**flat, **{k: v for k, v in case.overrides.items() if k not in drive}}
@@ -106,7 +106,7 @@ def make_task(case, study, code, out_dir, base_files=None) -> dict:
         config = load_config(case.base, case.overrides)
     else:
         if case.base not in base_files:
-            base_files[case.base] = ParamFileOverlay(case.base)
+            base_files[case.base] = ParamFileOverlay(case.base, flat=base_files[("flat", case.base)])
         config = base_files[case.base](case.overrides)
     key = case_key(config, code)
     mcap = str(Path(out_dir) / "mcap" / f"case{case.index:05d}_{key}.mcap") if study.keep.get("mcap") else None
