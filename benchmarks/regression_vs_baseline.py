@@ -9,7 +9,7 @@ file and variants for bending, implicit damping, current, seabed, free surface, 
 waves (the JONSWAP file), the winch (the descent file), the hybrid solver and a 24-element mesh
 (the structure-of-arrays momentum path). Each case is driven twice: set_end_motion + advance_to with the
 outputs read at the end, and solver.tick with state() read every tick (a node's calls). Prints the
-largest relative difference of each case.
+largest relative difference of each case and which arrays differ.
 
 Usage: PYTHONPATH=. python benchmarks/regression_vs_baseline.py --baseline /path/to/other/checkout [--duration 3]
        [--modes advance tick]
@@ -41,6 +41,9 @@ VARIANTS = (
 )
 
 
+ARRAYS = ("position", "velocity", "tension", "strain", "curvature", "bending_moment", "end_forces", "drained")  # outputs()'s
+
+
 def outputs(build, load, name, overrides, duration, mode="advance"):
     """The compared arrays of one run. mode "advance": set_end_motion + advance_to per 50 Hz step,
     outputs read at the end only; "tick": one solver.tick per step with state() read after each, as
@@ -62,8 +65,7 @@ def outputs(build, load, name, overrides, duration, mode="advance"):
             solver.set_end_motion("ship", *motion)
         solver.advance_to(t)
     st = solver.state()
-    arrays = [np.asarray(getattr(st, k), float) for k in ("position", "velocity", "tension", "strain", "curvature",
-                                                            "bending_moment")]
+    arrays = [np.asarray(getattr(st, k), float) for k in ARRAYS[:6]]
     ef = solver.end_forces()
     arrays.append(np.concatenate([np.ravel(np.asarray(v, float)) for v in vars(ef).values()
                                   if np.asarray(v).dtype.kind == "f"]))
@@ -96,10 +98,12 @@ def main(argv=None):
         for name, overrides in [(f, {}) for f in FILES] + list(VARIANTS):
             a = outputs(build_solver, load_config, name, overrides, args.duration, mode)
             b = outputs(factory_b.build_solver, params_b.load_config, name, overrides, args.duration, mode)
-            d = max(rel_diff(x, y) for x, y in zip(a, b))
+            each = [rel_diff(x, y) for x, y in zip(a, b)]
+            d = max(each)
             worst = max(worst, d)
+            differ = ", ".join(f"{n} {e:.1e}" for n, e in zip(ARRAYS, each) if e != 0.0)
             print(f"{mode:7s} {name:22s} {str(overrides)[:60]:60s} {len(a)} arrays, "
-                  f"largest relative difference {d:.3e}", flush=True)
+                  f"largest relative difference {d:.3e}" + (f" ({differ})" if differ else ""), flush=True)
     print(f"worst {worst:.3e}")
     return 0 if worst == 0.0 else 1
 

@@ -32,10 +32,11 @@ from numba import njit  # noqa: E402
 
 from tether_sim.numerics.jit import OPTIONS  # noqa: E402
 from tether_sim.solvers.dg import tick as K  # noqa: E402
+from tether_sim.solvers.dg.damping_layout import MODE_EXPLICIT  # noqa: E402
 from tether_sim.solvers.dg.sampling import evaluate_outputs  # noqa: E402
 from tether_sim.solvers.dg.stepper import dg_advance  # noqa: E402
 from tether_sim.solvers.dg.workspace import (  # noqa: E402
-    X_BC, X_BP, X_BS, X_ENDS, X_FRESH, X_H, X_IPRM, X_IPRM_STEP, X_PRM, X_PRM_STEP, X_SNAP, X_SNAP_I, X_TARGET, X_U,
+    X_BC, X_BP, X_BS, X_ENDS, X_FRESH, X_H, X_IDP, X_IPRM, X_IPRM_STEP, X_PRM, X_PRM_STEP, X_SNAP, X_SNAP_I, X_TARGET, X_U,
     X_VBC, bind, flat,
 )
 
@@ -100,7 +101,7 @@ def st_prm_copy(F, I, S, tin, t):
 def st_first_stage_reusable(F, I, S, tin, t):
     A = bind(F, I, S)
     return K.first_stage_reusable(A[X_PRM_STEP], A[X_IPRM_STEP], A[X_U].size, A[X_BC], A[X_VBC], flat(F, S, X_VBC),
-                                  A[X_BS], A[X_BP], t, A[X_SNAP])
+                                  A[X_BS], A[X_BP], t, A[X_SNAP], A[X_IDP][0] == MODE_EXPLICIT)
 
 
 @jit
@@ -118,8 +119,7 @@ def st_finish_ends(F, I, S, tin, t):
 
 @jit
 def st_output_evaluation(F, I, S, tin, t):
-    A = bind(F, I, S)
-    evaluate_outputs(t, A, A[X_PRM], A[X_IPRM])
+    evaluate_outputs(t, F, I, S)
     return 0
 
 
@@ -133,8 +133,8 @@ def st_keep_inputs(F, I, S, tin, t):
 
 
 @jit
-def st_outputs_bound(F, I, S, tin, t):
-    K._outputs_bound(F, S, bind(F, I, S), t)
+def st_outputs_total(F, I, S, tin, t):
+    K._outputs_held(F, I, S, bind(F, I, S), t)
     return 0
 
 
@@ -152,7 +152,7 @@ STAGES = dict(empty=st_empty, bind=st_bind, targets=st_targets, same_inputs=st_s
               prepare_ends=st_prepare_ends, prm_copy=st_prm_copy, first_stage_reusable=st_first_stage_reusable,
               dg_advance_0_substeps=st_dg_advance_0, finish_ends=st_finish_ends,
               output_evaluation=st_output_evaluation, keep_inputs=st_keep_inputs,
-              outputs_bound_total=st_outputs_bound, drain=st_drain, node_tick_0_substeps=st_node_tick_0)
+              outputs_total=st_outputs_total, drain=st_drain, node_tick_0_substeps=st_node_tick_0)
 
 
 def main(argv=None):

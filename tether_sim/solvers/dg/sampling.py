@@ -30,8 +30,8 @@ from tether_sim.solvers.dg.layout import E_F, E_T, F_V, I_ANCHOR, I_BENDING, M_K
 from tether_sim.solvers.dg.stepper import fill_end_kinematics
 from tether_sim.solvers.dg.winch import winch_active, winch_end_velocity
 from tether_sim.solvers.dg.workspace import (
-    X_BC, X_BP, X_BS, X_D, X_DU, X_ENDF, X_FL, X_H, X_LF, X_PJ, X_TAB_EPS, X_TAB_T, X_TMP, X_TR, X_TRC, X_U, X_V, X_VBC,
-    X_WM, X_WQ,
+    X_BC, X_BP, X_BS, X_D, X_DU, X_ENDF, X_FL, X_H, X_IPRM, X_LF, X_PJ, X_PRM, X_TAB_EPS, X_TAB_T, X_TMP, X_TR, X_TRC, X_U,
+    X_V, X_VBC, X_WM, X_WQ, bind,
 )
 
 S_POS = 0
@@ -72,11 +72,13 @@ class SamplingPlan:
 
 
 @jit
-def evaluate_outputs(t, A, prm, iprm):
+def evaluate_outputs(t, F, I, S):
     """The part of a right-hand-side evaluation at time t the outputs read (end loads endf, the
-    modal work channels of wm) on the workspace A (workspace.bind) with the parameters prm, iprm:
-    end kinematics and kernels.internal_forces, no momentum rate."""
-    U, bc, vbc, Tr = A[X_U], A[X_BC], A[X_VBC], A[X_TR]
+    modal work channels of wm) on the workspace of the arenas F, I and the spec S (workspace.bind,
+    bound here: a call passes three arrays, not the tuple of every view) with the full parameters
+    (slots prm, iprm): end kinematics and kernels.internal_forces, no momentum rate."""
+    A = bind(F, I, S)
+    U, bc, vbc, Tr, prm, iprm = A[X_U], A[X_BC], A[X_VBC], A[X_TR], A[X_PRM], A[X_IPRM]
     fill_end_kinematics(bc, iprm, t, vbc, A[X_BS], A[X_BP])
     if winch_active(prm, iprm):
         winch_end_velocity(U, prm, iprm, Tr, vbc)

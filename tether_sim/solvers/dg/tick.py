@@ -107,16 +107,19 @@ def finish_ends(bc, iprm, t, ends, target):
 @jit
 def outputs_now(F, I, S, t):
     """The evaluation the outputs read, at time t (sampling.evaluate_outputs, full parameters)."""
-    _outputs_bound(F, S, bind(F, I, S), t)
+    A = bind(F, I, S)
+    hold_ends(A[X_BC], A[X_IPRM], t, A[X_ENDS])
+    _outputs_held(F, I, S, A, t)
 
 
 @jit_inline
-def _outputs_bound(F, S, A, t):
-    """outputs_now on views already bound (inlined into dg_tick: the tuple of views is not passed on); with
-    the explicit scheme the inputs of the evaluation are kept for its reuse (module docstring)."""
+def _outputs_held(F, I, S, A, t):
+    """outputs_now once the driven ends are held at t (hold_ends; dg_tick's finish_ends has done it), on views
+    already bound (inlined into dg_tick; sampling.evaluate_outputs binds its own: a call passes the arenas, not
+    the tuple of every view); with the explicit scheme the inputs of the evaluation are kept for its reuse
+    (module docstring)."""
     prm, iprm = A[X_PRM], A[X_IPRM]
-    hold_ends(A[X_BC], iprm, t, A[X_ENDS])
-    evaluate_outputs(t, A, prm, iprm)
+    evaluate_outputs(t, F, I, S)
     if A[X_IDP][0] == MODE_EXPLICIT:  # (implicit damping never reuses: its stages see other parameters)
         keep_inputs(flat(F, S, X_U), prm, iprm, A[X_H], flat(F, S, X_BC), flat(F, S, X_VBC), A[X_SNAP], A[X_SNAP_I])
         A[X_FRESH][0] = 1
@@ -128,7 +131,7 @@ def _snap_offsets(nu, npr, nb, nv):
     return nu, nu + npr, nu + npr + nb, nu + npr + nb + nv
 
 
-@jit
+@jit_inline
 def keep_inputs(Uf, prm, iprm, h, bcf, vbcf, snap, snap_i):
     """snap = (U, prm, bc, vbc, h) flattened (Uf, bcf, vbcf: the flat U, bc, vbc), snap_i = iprm: the
     inputs of internal_forces."""
@@ -168,7 +171,7 @@ def _equal_at(snap, k, src, skip):
     return not (_differs(snap, k, src, 0, skip) or _differs(snap, k, src, skip + 1, src.size))
 
 
-@jit
+@jit_inline
 def same_inputs(Uf, prm, iprm, h, bcf, vbcf, snap, snap_i):
     """U, prm (its stage time P_TIME aside), iprm, bc and h are those kept by keep_inputs (flat Uf, bcf)."""
     d = False
@@ -181,13 +184,15 @@ def same_inputs(Uf, prm, iprm, h, bcf, vbcf, snap, snap_i):
             and _equal_at(snap, o_h, h, -1))
 
 
-@jit
-def first_stage_reusable(prm_step, iprm_step, nu, bc, vbc, vbcf, bs, bp, t0, snap):
+@jit_inline
+def first_stage_reusable(prm_step, iprm_step, nu, bc, vbc, vbcf, bs, bp, t0, snap, explicit):
     """After prepare_ends and the copy of the stepper's parameters, with the kept inputs matching at
     the start of the tick (dg_tick): the kept output evaluation is the first stage's internal_forces
-    when the stages' parameters and the end kinematics at t0 are those it used (module docstring)."""
+    when the stages' parameters and the end kinematics at t0 are those it used (module docstring).
+    explicit: prm_step is the copy of prm just made, unchanged (the explicit scheme), which same_inputs
+    has compared already: its comparison is not repeated (the same answer)."""
     o_prm, _, o_vbc, _ = _snap_offsets(nu, prm_step.size, bc.size, vbcf.size)
-    if not _equal_at(snap, o_prm, prm_step, P_TIME):  # the stages see prm_step (= prm when explicit)
+    if not explicit and not _equal_at(snap, o_prm, prm_step, P_TIME):  # the stages see prm_step
         return False
     fill_end_kinematics(bc, iprm_step, t0, vbc, bs, bp)  # what the first stage computes
     return _equal_at(snap, o_vbc, vbcf, -1)
@@ -209,12 +214,13 @@ def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
     prepare_ends(bc, iprm, t0, t1, ends, target)
     for k in range(prm.shape[0]):
         prm_step[k] = prm[k]
-    if A[X_IDP][0] != MODE_EXPLICIT:
+    explicit = A[X_IDP][0] == MODE_EXPLICIT
+    if not explicit:
         prm_step[P_ZETA] = 0.0
         prm_step[P_ZETAB] = 0.0
     winch = winch_moving(prm, iprm)
     reuse = fresh[0] != 0 and first_stage_reusable(prm_step, iprm_step, Uf.size, bc, vbc, vbcf, A[X_BS], A[X_BP], t0,
-                                                   snap)
+                                                   snap, explicit)
     fresh[0] = 0
     if reuse:
         fresh[1] += 1  # first stages reused (a count for tests and benchmarks)
@@ -224,9 +230,9 @@ def dg_tick(F, I, S, t0, t1, nsteps, dt, outputs):
         return status
     if winch:  # length, rate and element sizes at t1 back to the driver's parameters
         winch_finish(prm, prm_step, A[X_HW], A[X_H])
-    finish_ends(bc, iprm, t1, ends, target)
+    finish_ends(bc, iprm, t1, ends, target)  # (holds the ends at t1: what the outputs evaluate)
     if outputs:
-        _outputs_bound(F, S, A, t1)
+        _outputs_held(F, I, S, A, t1)
     return status
 
 
