@@ -10,7 +10,7 @@ at 1 %, 50 Hz), ``bench_moordyn`` (MoorDyn's ladder), ``bench_accuracy`` + ``sum
 (accuracy against cost), ``bench_solvers`` / ``bench_live_configs`` (real-time factors),
 ``bench_implicit_damping``, ``bench_free_surface``, ``bench_slack_bending`` (the PE2020 Sec. 6.2 case on the
 paper's mesh; no figures recorded in BENCHMARKS.md yet), ``bench_winch`` / ``bench_hybrid_winch`` /
-``bench_ropos_descent`` (winch), ``bench_hybrid`` / ``bench_hybrid_jacobian`` (hybrid solver),
+``bench_ropos_descent`` (winch), ``bench_hybrid`` / ``bench_hybrid_jacobian`` / ``bench_hybrid_tick`` (hybrid solver; the last its share of a node tick by part),
 ``bench_node`` / ``bench_node_tick`` / ``bench_publish_floor`` (what rclpy costs a tick before the node computes) / ``bench_tf`` / ``soak_node`` (the ROS node), ``bench_study_throughput`` (snap-load
 studies), ``forecast_skill`` / ``forecast_tick_load`` / ``forecast_perfect_member`` (the snap forecast: its skill, the tick with
 the look-aheads running, a member without forecast error against the run), ``bench_network`` / ``bench_tms`` (line networks), ``bench_work_estimate`` (the

@@ -12,6 +12,13 @@ solver's parts (``advance_to``; ``state``; ``end_forces`` / ``body_state`` / ``d
 and the publish calls (``--split``) so the node's own work is the difference; the 1 Hz diagnostics and the pose callback are
 timed apart.
 
+Every live file runs: a line-network file (config/ropos_tms.yaml) builds the network node
+(``NetworkSimNode``; the sink subscribes to its lines' and points' topics) with the ship on the live files'
+fairlead circle (a = 2 m, 0.2 Hz) and the other driven points held; a file whose ship follows its RAO
+response to the configured sea (``motion.kind rao``, config/ropos_forecast.yaml) gets no ship pose (the
+forecast's look-ahead runs in its worker thread, outside the tick's thread CPU); any other driven end (a
+vehicle on vehicle/pose) is held at its configured position.
+
 ``--profile N``: cProfile of N ticks after the timed ones (the functions by own time; environment
 BENCH_PROFILE_TIMER=thread times them in thread CPU, BENCH_PROFILE_SORT / BENCH_PROFILE_ROWS order and cut the list).
 ``--baseline DIR``: a second node from another checkout's ``tether_sim`` (renamed copy, as
@@ -126,13 +133,18 @@ class _Bench:
                     cls.encode = timed(cls.encode, f"encode {name}")
         self.part_rows = []
         # the ship's pose on the file's motion, fed as the subscription would; none where the node moves the ship
-        # itself (motion.kind rao: the RAO response to the configured sea); a network's other driven points held
+        # itself (motion.kind rao: the RAO response to the configured sea) or the ship end is not driven; the
+        # other driven ends and a network's other driven points held
         if self.network:
             self.motion = network_ship_motion(self.node.spec.points["ship"].position)
             self.held = {n: p.position for n, p in self.node.spec.points.items() if p.kind == "prescribed" and n != "ship"}
         else:
             self.motion = build_motion(cfg.motion, cfg.ship_end.position) if "ship" in self.node.inputs else None
-            self.held = {}
+            # another driven end (a vehicle on vehicle/pose): its body frame held where its attachment is the
+            # configured end position
+            self.held = {end: tuple(a - b for a, b in zip(getattr(cfg, f"{end}_end").position,
+                                                           getattr(cfg.node, f"{end}_attachment")))
+                         for end in self.node.inputs if end != "ship"}
         self.period = 1.0 / cfg.node.output_rate
         self.clock = 100.0  # the node's clock, s; the motion's time is clock - 100
         self.node._now = lambda: self.clock

@@ -12,7 +12,7 @@ outputs read at the end, and solver.tick with state() read every tick (a node's 
 largest relative difference of each case and which arrays differ.
 
 Usage: PYTHONPATH=. python benchmarks/regression_vs_baseline.py --baseline /path/to/other/checkout [--duration 3]
-       [--modes advance tick]
+       [--modes advance tick] [--only ropos_L200_hybrid goyal_perkins]
 """
 
 import argparse
@@ -87,6 +87,8 @@ def main(argv=None):
     ap.add_argument("--duration", type=float, default=3.0)
     ap.add_argument("--modes", nargs="+", choices=("advance", "tick"), default=["advance", "tick"],
                     help="the call paths compared (default both)")
+    ap.add_argument("--only", nargs="+", default=None, metavar="NAME",
+                    help="only the cases of these files (e.g. ropos_L200_hybrid goyal_perkins)")
     args = ap.parse_args(argv)
     factory_b, _ = load_baseline(args.baseline)
     import tether_sim_base.io.params as params_b
@@ -96,6 +98,8 @@ def main(argv=None):
     worst = 0.0
     for mode in args.modes:
         for name, overrides in [(f, {}) for f in FILES] + list(VARIANTS):
+            if args.only and name not in args.only:
+                continue
             a = outputs(build_solver, load_config, name, overrides, args.duration, mode)
             b = outputs(factory_b.build_solver, params_b.load_config, name, overrides, args.duration, mode)
             each = [rel_diff(x, y) for x, y in zip(a, b)]

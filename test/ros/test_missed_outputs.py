@@ -125,3 +125,26 @@ def test_a_late_tick_publishes_the_skipped_periods_states_as_an_on_time_node(run
     # every period of the run but those beyond the catch-up has its state: 50 per simulated second
     missing = sorted(set(reference) - set(stamps))
     assert len(missing) == len(SKIPPED) - sum(min(n, MISSED_OUTPUTS_MAX) for n in (2, 1, MISSED_OUTPUTS_MAX + 3))
+
+
+def test_the_real_time_factor_of_a_late_tick_spans_the_periods_it_caught_up_on(monkeypatch):
+    """A late tick after three skipped periods, 80 ms of wall time after the last: the skipped periods' ticks
+    (microseconds apart) leave the factor alone and add their 20 ms each to the tick's, 80 ms of simulated time
+    over 80 ms of wall time, a factor of 1 (before: 20 ms over the microseconds since the last catch-up tick)."""
+    import tether_sim.ros.driver as driver_module
+    from tether_sim.ros.driver import SimulationDriver
+
+    wall = [0.0]
+    monkeypatch.setattr(driver_module, "wallclock", type("Clock", (), {"perf_counter": staticmethod(lambda: wall[0])}))
+    d = SimulationDriver(load_config(ROOT / "config/ropos_L200.yaml"))
+    d._last_wall = 0.0
+    d.real_time_factor = 0.9  # the last regular tick's
+    d.catching_up = True
+    for k in range(3):
+        wall[0] = 0.060 + 1e-6 * k
+        d._update_rate(0.02, wall[0])
+        assert d.real_time_factor == 0.9  # (their outputs carry the last regular tick's factor)
+    d.catching_up = False
+    wall[0] = 0.080
+    d._update_rate(0.02, 0.0601)
+    assert d.real_time_factor == pytest.approx(1.0, rel=1e-12)

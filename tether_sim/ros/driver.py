@@ -123,6 +123,11 @@ class SimulationDriver(EndCommands, BodyFrame):
         self._substep = 0.0  # the solver's stable substep, s (re-read at each snapshot)
         self.real_time_factor = 0.0
         self._last_wall = None
+        # a node catching up on skipped output periods (sim_node.py): their ticks' advance is added to the next
+        # regular tick's, whose real-time factor then spans them all (a catch-up tick's own would be 20 ms of
+        # simulated time over microseconds of wall time); their outputs carry the last regular tick's factor
+        self.catching_up = False
+        self._rate_advance = 0.0
         self.static_tensions = (0.0, 0.0)
         self._reference = None  # winch_link.LengthReference while a winch changes the length
         self.detector = self.span_detector = None
@@ -370,6 +375,10 @@ class SimulationDriver(EndCommands, BodyFrame):
                 self.last_numerical_snap = f"{ev.location} t = {ev.time:.3f} s: {ev.reason}"
 
     def _update_rate(self, sim_advance, wall0):
+        if self.catching_up:
+            self._rate_advance += sim_advance
+            return
+        sim_advance, self._rate_advance = sim_advance + self._rate_advance, 0.0
         wall = wallclock.perf_counter()
         elapsed = wall - (self._last_wall if self._last_wall is not None else wall0)
         self._last_wall = wall

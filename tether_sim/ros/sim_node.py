@@ -270,9 +270,14 @@ class TetherSimNode(Node):
             if getattr(self.driver.solver, "start_warning", ""):
                 self.get_logger().warning(self.driver.solver.start_warning)
         start, budget = time.perf_counter(), self.driver.wall_budget
-        for t in self._missed_instants(now):  # (they share the tick's stepping budget)
-            if not self._output_at(t) or (budget is not None and time.perf_counter() - start > budget):
-                break
+        missed = self._missed_instants(now)
+        self.driver.catching_up = bool(missed)  # (the real-time factor then spans the whole tick)
+        try:
+            for t in missed:  # (they share the tick's stepping budget)
+                if not self._output_at(t) or (budget is not None and time.perf_counter() - start > budget):
+                    break
+        finally:
+            self.driver.catching_up = False
         self._output_at(now)
 
     def _missed_instants(self, now) -> list:

@@ -106,7 +106,8 @@ def _apply(Y, Ybase, idx_node, idx_slot, dx, lam, n):
 
 @jit_alloc
 def _line_search(ch, Y, Ytry, dx, lam, rs, R, Rt, n, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, counts):
-    """Backtracking on the scaled residual norm after a fresh Jacobian (as NewtonMixin._line_search)."""
+    """Backtracking on the scaled residual norm after a fresh Jacobian (as NewtonMixin._line_search). Returns
+    (lam, accepted): when accepted, Rt holds the residual at Y - lam dx (the next iteration's, bit for bit)."""
     gkind, ga, gb, grow, gpar, noff, nslot, idx_node, idx_slot = ch
     f0 = _scaled_norm2(rs, R, n)
     Ytry[:, :] = Y
@@ -114,10 +115,10 @@ def _line_search(ch, Y, Ytry, dx, lam, rs, R, Rt, n, Yn, Ytn, Ln, rn, s, P, cz, 
         _apply(Ytry, Y, idx_node, idx_slot, dx, lam, n)
         assemble_residual(gkind, ga, gb, grow, gpar, Ytry, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, Rt)
         if _all_finite(Rt, n) and _scaled_norm2(rs, Rt, n) <= (1.0 - 1e-4 * lam) * f0:
-            return lam
+            return lam, True
         lam *= 0.5
     counts[1] += 1
-    return lam * 2.0 ** LINE_SEARCH_HALVINGS if f0 > 0.0 else lam
+    return (lam * 2.0 ** LINE_SEARCH_HALVINGS if f0 > 0.0 else lam), False
 
 
 @jit_alloc
@@ -137,10 +138,13 @@ def newton_band(ch, kl, ku, low, last, tangent, scale, Y, Yn, Ytn, Ln, rn, s, P,
     have_lu = False
     res_prev = np.inf
     err_prev = np.inf
+    known = False  # R already holds the residual at Y (the line search's accepted point)
     for it in range(1, max_it + 1):
-        assemble_residual(gkind, ga, gb, grow, gpar, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, R)
-        if not _all_finite(R, n):
-            return FAIL_RESIDUAL
+        if not known:
+            assemble_residual(gkind, ga, gb, grow, gpar, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, R)
+            if not _all_finite(R, n):
+                return FAIL_RESIDUAL
+        known = False
         res = np.inf
         if have_lu:
             res = 0.0
@@ -172,7 +176,7 @@ def newton_band(ch, kl, ku, low, last, tangent, scale, Y, Yn, Ytn, Ln, rn, s, P,
                 turn = max(turn, abs(dx[i]))
         lam = min(1.0, max_turn / turn) if turn > 0.0 else 1.0
         if fresh:
-            lam = _line_search(ch, Y, Ytry, dx, lam, rs, R, Rt, n, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, counts)
+            lam, known = _line_search(ch, Y, Ytry, dx, lam, rs, R, Rt, n, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, counts)
         err = 0.0
         for i in range(n):
             Y[idx_node[i], idx_slot[i]] -= lam * dx[i]
@@ -181,4 +185,6 @@ def newton_band(ch, kl, ku, low, last, tangent, scale, Y, Yn, Ytn, Ln, rn, s, P,
         if lam == 1.0 and (err <= 1.0 or (err <= 1e3 and err * tol <= STAGNATION and err >= 0.5 * err_prev)):
             return it
         err_prev = err
+        if known:  # Y is now Ytry (the same operation, Y - lam dx): its residual is Rt
+            R[:] = Rt
     return FAIL_ITERATIONS

@@ -27,12 +27,14 @@ from tether_sim.solvers.hybrid.kernels import elastic_strain, pack_parameters
 from tether_sim.solvers.hybrid.layout import (CAT_EPS, CAT_T, CAT_TAN, CAT_V, HP_AF, HP_AM, HP_GAM, HP_TIME, ROD_EPS,
                                               ROD_F, ROD_KAPPA, ROD_V)
 from tether_sim.solvers.hybrid.rod import frame_at
-from tether_sim.solvers.hybrid.state_io import EndMotion, close_rod_shapes, convert_state, end_target, node_profile
+from tether_sim.solvers.hybrid.state_io import (EndMotion, close_rod_shapes, convert_state, end_target, frames_along,
+                                                node_profile, shape_along)
 from tether_sim.solvers.hybrid.winch import HybridWinchMixin
 
 MAX_HALVINGS = 6
 CLOSURE_LIMIT = 0.01  # largest gap between a line's shape and where its end is held (driven, body), per metre of line (_check_closure)
-MAX_BOOST = 256.0  # largest factor on the rod switching tension after failed Newton solves
+MAX_BOOST = 256.0
+_EYE = np.eye(3)  # largest factor on the rod switching tension after failed Newton solves
 
 
 FAILURES = {FAIL_RESIDUAL: "non-finite residual", FAIL_SINGULAR: "singular Jacobian",
@@ -92,6 +94,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
 
     # ------------------------------------------------------------------ set-up
     def _set_chain(self):
+        self._profile_cache = None
         self.chain = build_chain(self.zones, self.s_grid, self.end_kinds, self.end_held, self.free_ends,
                                  self.body_params)
         n = self.chain.nnz_max
@@ -135,7 +138,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         if arc_lengths is None:
             arc_lengths = np.linspace(0.0, self.length, self.config.node.output_points)
         s = np.asarray(arc_lengths, dtype=float)
-        prof = node_profile(self)
+        prof = self._profile()
         order = prof["s"]
         pos = np.stack([np.interp(s, order, prof["position"][:, k]) for k in range(3)], axis=1)
         vel = np.stack([np.interp(s, order, prof["velocity"][:, k]) for k in range(3)], axis=1)
@@ -151,8 +154,20 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
                            bending_moment=np.interp(s, order, prof["moment"]), time_step=self.opt.time_step,
                            extra=extra)
 
-    def end_forces(self):
+    def _profile(self):
+        """node_profile of the current state, evaluated once per state: a node's tick reads it through state(), end_forces()
+        and body_state() five times. Valid while the state's arrays are the same objects at the same time and no step,
+        restore or re-zoning has invalidated it (each sets _profile_cache to None)."""
+        key = (self.Y, self.Lf, self.positions, self.chain)
+        cached = self._profile_cache
+        if cached is not None and cached[1] == self.time and all(a is b for a, b in zip(cached[0], key)):
+            return cached[2]
         prof = node_profile(self)
+        self._profile_cache = (key, self.time, prof)
+        return prof
+
+    def end_forces(self):
+        prof = self._profile()
         f = prof["force"]
         q = prof["moment_vec"]
         return EndForces(ship_force=f[0].copy(), vehicle_force=-f[-1], ship_moment=q[0].copy(), vehicle_moment=-q[-1],
@@ -204,6 +219,7 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
     _rho = None
     _band = None
     _pcache = (None, None)
+    _profile_cache = None
 
     def _parameters(self, dt):
         rho = self.opt.rho_inf if self._rho is None else self._rho
@@ -294,10 +310,15 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         bodies.sort(key=lambda e: ch.body_node[e])
         nb = len(bodies)
         # body nodes follow the cable nodes in every node array
-        rn = np.ascontiguousarray(np.vstack([np.hstack([self.positions, self.rdot]), np.zeros((nb, 6))]))
-        Yn = np.vstack([self.Y] + [self.body_x[e][None] for e in bodies])
-        Ytn = np.vstack([self.Yt] + [self.body_xd[e][None] for e in bodies])
-        Ln = np.ascontiguousarray(np.concatenate([self.Lf, np.repeat(np.eye(3)[None], nb, axis=0)]))
+        rn = np.zeros((K + nb, 6))
+        rn[:K, 0:3] = self.positions
+        rn[:K, 3:6] = self.rdot
+        Yn = np.empty((K + nb, self.Y.shape[1]))
+        Ytn = np.empty_like(Yn)
+        Ln = np.empty((K + nb, 3, 3))
+        Yn[:K], Ytn[:K], Ln[:K], Ln[K:] = self.Y, self.Yt, self.Lf, _EYE
+        for i, e in enumerate(bodies):
+            Yn[K + i], Ytn[K + i] = self.body_x[e], self.body_xd[e]
         Y = Yn.copy()  # predictor: the state at t_n (robust after abrupt starts)
         cat = ch.kind != zoning.ROD
         Y[:K][cat, 4:7] /= np.linalg.norm(Y[:K][cat, 4:7], axis=1)[:, None]
@@ -340,17 +361,23 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         return it
 
     def _commit(self, Y, dt, P, iterations):
+        self._profile_cache = None
         ch = self.chain
         g = P[HP_GAM]
         v_old = self._world_velocities()
         self.Yt = ((Y - self.Y) / dt - (1.0 - g) * self.Yt) / g
-        for c in np.nonzero(ch.kind == zoning.ROD)[0]:
+        blocks = rod_blocks(ch)
+        if self.opt.frames_from_curvature:  # only each block's anchor keeps its frame advanced in time
+            advanced = [last if self._anchored_at_last(first, last) else first for first, last in blocks]
+        else:
+            advanced = np.nonzero(ch.kind == zoning.ROD)[0]
+        for c in advanced:
             out = np.empty((3, 3))
             frame_at(Y[c], self.Y[c], self.Lf[c], dt, out)
             self.Lf[c] = out
         self.Y = Y
         if self.opt.frames_from_curvature:
-            self._integrate_frames()
+            self._integrate_frames(blocks)
         self.time += dt
         # node positions: generalized-alpha variables of dr/dt = v (their rate r' collocated: r'_am = v_af)
         am, af = P[HP_AM], P[HP_AF]
@@ -365,13 +392,13 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
                 driven[e] = self.positions[node] = self.end_motion[e].position_at(self.time)
             elif self.end_kinds[e].position == "fixed":
                 driven[e] = self.positions[node] = self.ends[e].position
-        for first, last in rod_blocks(ch):  # rod shape by integrating its tangents from the block start
+        for first, last in blocks:  # rod shape by integrating its tangents from the block start
             if first > 0 and ch.grid[first] == ch.grid[first - 1]:
                 self.positions[first] = self.positions[first - 1]  # starts at the joint's catenary node
-            for c in range(first + 1, last + 1):
-                la, lb = 1.0 + self.Y[c - 1, ROD_EPS], 1.0 + self.Y[c, ROD_EPS]
-                self.positions[c] = self.positions[c - 1] + 0.5 * (ch.s[c] - ch.s[c - 1]) * (
-                    la * self.Lf[c - 1, 0] + lb * self.Lf[c, 0])
+            if last > first:
+                self.positions[first + 1:last + 1] = shape_along(self.positions[first], self.Lf[first:last + 1],
+                                                                 self.Y[first:last + 1, ROD_EPS],
+                                                                 np.diff(ch.s[first:last + 1]))[1:]
         if driven[1] is not None and ch.kind[K - 1] == zoning.ROD:
             self._check_closure(driven[1])
         for e, node in ((0, 0), (1, K - 1)):  # a line's end on a body is where the body's attachment point is
@@ -419,25 +446,27 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
                 f"re-zoning conversions broke the shape (hybrid.zoning: all_rod keeps it closed; docs/hybrid_solver.md, "
                 f"\"Zoning\")")
 
-    def _integrate_frames(self):
+    def _anchored_at_last(self, first, last):
+        """A rod block's frames are re-derived from its last node when that node is a held vehicle end (and the
+        block does not also start at a held ship end), else from its first (_integrate_frames)."""
+        return last == self.chain.grid.size - 1 and self.end_held[1] and not (first == 0 and self.end_held[0])
+
+    def _integrate_frames(self, blocks=None):
         """Re-derive the frames of each rod block from kappa, L_b = exp(-kappa~ ds) L_a, starting at an
         anchor whose frame was advanced in time [GP Eq. 15-18]: a held end if the block has one, else the
-        block's first node. Keeps frames and curvature consistent (no drift of the incremental update)."""
+        block's first node. Keeps frames and curvature consistent (no drift of the incremental update).
+        From the first node: state_io.frames_along (compiled, the same arithmetic as the loop below)."""
         ch = self.chain
-        K = ch.grid.size
-        held = self.end_held
         out = np.empty((3, 3))
-        for first, last in rod_blocks(ch):
-            if last == K - 1 and held[1] and not (first == 0 and held[0]):
-                order = range(last - 1, first - 1, -1)
-                sign = 1.0
-            else:
-                order = range(first + 1, last + 1)
-                sign = -1.0
-            for c in order:
-                nb = c + 1 if sign > 0 else c - 1
-                kap = (0.5 * (self.Y[c, ROD_KAPPA:ROD_KAPPA + 3] + self.Y[nb, ROD_KAPPA:ROD_KAPPA + 3])
-                       * (sign * abs(ch.s[c] - ch.s[nb])))
+        for first, last in rod_blocks(ch) if blocks is None else blocks:
+            if not self._anchored_at_last(first, last):
+                if last > first:
+                    self.Lf[first + 1:last + 1] = frames_along(self.Lf[first], self.Y[first:last + 1, ROD_KAPPA:ROD_KAPPA + 3],
+                                                               np.diff(ch.s[first:last + 1]))[1:]
+                continue
+            for c in range(last - 1, first - 1, -1):
+                nb = c + 1
+                kap = 0.5 * (self.Y[c, ROD_KAPPA:ROD_KAPPA + 3] + self.Y[nb, ROD_KAPPA:ROD_KAPPA + 3]) * abs(ch.s[c] - ch.s[nb])
                 rotate_frame(self.Lf[nb], -kap, out)
                 self.Lf[c] = out
 
@@ -462,18 +491,22 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         """Re-evaluate the zones (after each step; with boost > 1 after a failed step); True if changed."""
         # the lower tension of each element's two nodes (at a joint: the lower of both sides), so that
         # no catenary node is left slack
-        T_node = np.where(self.chain.kind == zoning.ROD, self.Y[:, ROD_F], self.Y[:, CAT_T])
-        T_grid = np.full(self.s_grid.size, np.inf)
-        np.minimum.at(T_grid, self.chain.grid, T_node)
+        ch = self.chain
+        ends = getattr(ch, "grid_ends", None)
+        if ends is None:
+            ends = ch.grid_ends = zoning.grid_ends(ch.grid)
+        T_node = np.where(ch.kind == zoning.ROD, self.Y[:, ROD_F], self.Y[:, CAT_T])
+        T_grid = np.minimum(T_node[ends[0]], T_node[ends[1]])
         T_elem = np.minimum(T_grid[1:], T_grid[:-1])
         # and the bending the line carries: a rod element bent or sheared more than its weight does it
         # stays rod until the tension dominates (zoning.py)
-        kappa, shear = zoning.element_bending(self.chain.kind, self.Y, self.chain.grid, self.chain.s, self.zones.size)
+        kappa, shear = zoning.element_bending(ch.kind, self.Y, ch.grid, ch.s, self.zones.size, ends)
         new = self._classify(T_elem, self.zones, boost, kappa, shear)
         if boost > 1.0:
             new = np.maximum(new, self.zones)  # only add rod elements
         if np.array_equal(new, self.zones):
             if self.opt.close_rod_shapes == "evaluation" and (self.chain.kind == zoning.ROD).any():
+                self._profile_cache = None
                 close_rod_shapes(self)  # the rod shapes back onto their ends (state_io.close_rod_blocks)
             return False
 

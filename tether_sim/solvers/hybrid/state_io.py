@@ -88,44 +88,58 @@ def reconstruct_positions(solver):
     return r
 
 
+def _norms(x):
+    """Row norms of a (k, 3) array, each the number np.linalg.norm gives for the row (sqrt of the row's BLAS dot
+    product with itself: a stacked matmul takes the same dot per row; a sum of squares rounds differently)."""
+    return np.sqrt(np.matmul(x[:, None, :], x[:, :, None])[:, 0, 0])
+
+
 def node_profile(solver):
-    """Per chain node: s, position, velocity, tension, strain, force (world), shear, moment, curvature."""
+    """Per chain node: s, position, velocity, tension, strain, force (world), shear, moment, curvature.
+
+    Array operations, each node's numbers those of the same operations on the node alone (the unit tangent
+    t / |t|, L^T y per rod node, the hypot of two components): the profile the node loop gave, bit for bit."""
     ch = solver.chain
     K = ch.grid.size
-    Y, Lf = solver.Y, solver.Lf
-    B = np.array([solver.GJ, solver.EI, solver.EI])
+    Y, Lf = solver.Y[:K], solver.Lf[:K]
     out = {k: np.zeros(K) for k in ("tension", "strain", "shear", "moment", "torsion", "curvature")}
-    out["velocity"] = np.zeros((K, 3))
-    out["force"] = np.zeros((K, 3))
-    out["moment_vec"] = np.zeros((K, 3))
+    velocity, force, moment_vec = np.zeros((K, 3)), np.zeros((K, 3)), np.zeros((K, 3))
     rod = ch.kind == zoning.ROD
-    for c in range(K):
-        if rod[c]:
-            L = Lf[c]
-            out["velocity"][c] = L.T @ Y[c, ROD_V:ROD_V + 3]
-            out["force"][c] = L.T @ Y[c, ROD_F:ROD_F + 3]
-            out["tension"][c] = Y[c, ROD_F]
-            out["strain"][c] = solver._node_strain(c)
-            out["shear"][c] = np.hypot(Y[c, ROD_F + 1], Y[c, ROD_F + 2])
-            q = B * Y[c, ROD_KAPPA:ROD_KAPPA + 3]
-            out["moment_vec"][c] = L.T @ q
-            out["moment"][c] = np.hypot(q[1], q[2])
-            out["torsion"][c] = q[0]
-            out["curvature"][c] = np.hypot(Y[c, ROD_KAPPA + 1], Y[c, ROD_KAPPA + 2])
-        else:
-            t = Y[c, CAT_TAN:CAT_TAN + 3] / np.linalg.norm(Y[c, CAT_TAN:CAT_TAN + 3])
-            out["velocity"][c] = Y[c, CAT_V:CAT_V + 3]
-            out["force"][c] = Y[c, CAT_T] * t
-            out["tension"][c] = Y[c, CAT_T]
-            out["strain"][c] = solver._node_strain(c)
-    cat_idx = np.nonzero(~rod)[0]
-    for c in cat_idx:  # geometric curvature of the catenary (no moment carried)
-        a = c - 1 if c > 0 and not rod[c - 1] and ch.grid[c - 1] != ch.grid[c] else c
-        b = c + 1 if c < K - 1 and not rod[c + 1] and ch.grid[c + 1] != ch.grid[c] else c
-        if b != a:
-            ta = Y[a, CAT_TAN:CAT_TAN + 3] / np.linalg.norm(Y[a, CAT_TAN:CAT_TAN + 3])
-            tb = Y[b, CAT_TAN:CAT_TAN + 3] / np.linalg.norm(Y[b, CAT_TAN:CAT_TAN + 3])
-            out["curvature"][c] = np.linalg.norm(tb - ta) / (ch.s[b] - ch.s[a])
+    cat = ~rod
+    if rod.any():
+        Yr = Y[rod]
+        LT = np.swapaxes(Lf[rod], 1, 2)
+        velocity[rod] = np.matmul(LT, Yr[:, ROD_V:ROD_V + 3, None])[:, :, 0]
+        force[rod] = np.matmul(LT, Yr[:, ROD_F:ROD_F + 3, None])[:, :, 0]
+        q = np.array([solver.GJ, solver.EI, solver.EI]) * Yr[:, ROD_KAPPA:ROD_KAPPA + 3]
+        moment_vec[rod] = np.matmul(LT, q[:, :, None])[:, :, 0]
+        out["tension"][rod] = Yr[:, ROD_F]
+        out["strain"][rod] = Yr[:, ROD_EPS]
+        out["shear"][rod] = np.hypot(Yr[:, ROD_F + 1], Yr[:, ROD_F + 2])
+        out["moment"][rod] = np.hypot(q[:, 1], q[:, 2])
+        out["torsion"][rod] = q[:, 0]
+        out["curvature"][rod] = np.hypot(Yr[:, ROD_KAPPA + 1], Yr[:, ROD_KAPPA + 2])
+    if cat.any():
+        Yc = Y[cat]
+        tan = Yc[:, CAT_TAN:CAT_TAN + 3]
+        unit = np.zeros((K, 3))
+        unit[cat] = tan / _norms(tan)[:, None]
+        velocity[cat] = Yc[:, CAT_V:CAT_V + 3]
+        force[cat] = Yc[:, CAT_T, None] * unit[cat]
+        out["tension"][cat] = Yc[:, CAT_T]
+        out["strain"][cat] = Yc[:, CAT_EPS]
+        # geometric curvature of the catenary (no moment carried): the turn of the unit tangent between the
+        # node's catenary neighbours on other grid points (the node itself at a zone end or joint)
+        c = np.arange(K)
+        grid = ch.grid
+        a, b = c.copy(), c.copy()
+        a[1:] = np.where(cat[:-1] & (grid[:-1] != grid[1:]), c[:-1], c[1:])
+        b[:-1] = np.where(cat[1:] & (grid[1:] != grid[:-1]), c[1:], c[:-1])
+        use = cat & (a != b)
+        if use.any():
+            a, b = a[use], b[use]
+            out["curvature"][use] = _norms(unit[b] - unit[a]) / (ch.s[b] - ch.s[a])
+    out["velocity"], out["force"], out["moment_vec"] = velocity, force, moment_vec
     out["s"] = ch.s
     out["position"] = solver.positions
     out["zone"] = ch.kind.copy()

@@ -49,25 +49,33 @@ def tension_ratio(T_elem, EI, w, kappa_elem=None, shear_elem=None):
     return chi
 
 
-def _to_elements(node_values, grid, n_elements):
-    """Per element the largest value of its nodes (a node belongs to the elements on both sides)."""
-    out = np.zeros(n_elements)
-    np.maximum.at(out, np.minimum(grid, n_elements - 1), node_values)
-    np.maximum.at(out, np.maximum(grid - 1, 0), node_values)
-    return out
+def grid_ends(grid):
+    """(first, last) chain node of each grid point: one node per grid point, two at a joint (chain_nodes)."""
+    change = np.flatnonzero(grid[1:] != grid[:-1])
+    return np.concatenate(([0], change + 1)), np.concatenate((change, [grid.size - 1]))
 
 
-def element_bending(kind, Y, grid, s, n_elements):
+def _to_elements(node_values, ends):
+    """Per element the largest value of its nodes (a node belongs to the elements on both sides), at least 0."""
+    first, last = ends
+    at_grid = np.maximum(node_values[first], node_values[last])
+    return np.maximum(np.maximum(at_grid[:-1], at_grid[1:]), 0.0)
+
+
+def element_bending(kind, Y, grid, s, n_elements, ends=None):
     """(|kappa|, |f_shear|) per element from the chain's state: at a rod node the bending components
     of kappa and of the internal force f, across a catenary cell the turn of its unit tangents over
-    the cell (a catenary carries no shear); each element takes the largest of its nodes and cells."""
+    the cell (a catenary carries no shear); each element takes the largest of its nodes and cells.
+    ``ends``: grid_ends(grid), if known."""
+    ends = grid_ends(grid) if ends is None else ends
+    assert ends[0].size == n_elements + 1
     rod = kind == ROD
     kap_node = np.zeros(len(kind))
     shear_node = np.zeros(len(kind))
     kap_node[rod] = np.hypot(Y[rod, ROD_KAPPA + 1], Y[rod, ROD_KAPPA + 2])
     shear_node[rod] = np.hypot(Y[rod, ROD_F + 1], Y[rod, ROD_F + 2])
-    out = _to_elements(kap_node, grid, n_elements)
-    shear = _to_elements(shear_node, grid, n_elements)
+    out = _to_elements(kap_node, ends)
+    shear = _to_elements(shear_node, ends)
     cat = (kind[:-1] == CATENARY) & (kind[1:] == CATENARY) & (grid[1:] > grid[:-1])
     if np.any(cat):
         ta = Y[:-1][cat, CAT_TAN:CAT_TAN + 3]
@@ -75,7 +83,8 @@ def element_bending(kind, Y, grid, s, n_elements):
         ta = ta / np.linalg.norm(ta, axis=1)[:, None]
         tb = tb / np.linalg.norm(tb, axis=1)[:, None]
         turn = 2.0 * np.arcsin(np.clip(0.5 * np.linalg.norm(tb - ta, axis=1), 0.0, 1.0))
-        np.maximum.at(out, grid[:-1][cat], turn / (s[1:][cat] - s[:-1][cat]))
+        e = grid[:-1][cat]  # one catenary cell per element at most
+        out[e] = np.maximum(out[e], turn / (s[1:][cat] - s[:-1][cat]))
     return out, shear
 
 
