@@ -404,9 +404,10 @@ def msg_fields(type_name: str) -> dict:
     return fields
 
 
-def resolve_path(path: str):
+def resolve_path(path: str, topics=None):
+    """The message type at a plotted path ``/topic.field.field`` of ``topics`` (default: the single-line node's)."""
     topic, _, rest = path.partition(".")
-    typ = NODE_TOPICS[topic]
+    typ = (topics or NODE_TOPICS)[topic]
     for part in rest.split("."):
         fields = msg_fields(typ)
         assert part in fields, (path, part, sorted(fields))
@@ -507,13 +508,7 @@ def test_network_foxglove_layout_shows_every_line_and_the_cage():
                    "/tether/cage_wrench.wrench.force.z", "/cage/hydro_wrench.wrench.force.z"):
         assert needed in plotted
     for path in plotted:  # every plotted path a float field of the type the node publishes there
-        topic, _, rest = path.partition(".")
-        typ = topics[topic]
-        for part in rest.split("."):
-            fields = msg_fields(typ)
-            assert part in fields, (path, part, sorted(fields))
-            typ = fields[part]
-        assert typ in ("float64", "float32"), path
+        assert resolve_path(path, topics) in ("float64", "float32"), path
     raw = sorted(v["topicPath"] for k, v in configs.items() if k.startswith("RawMessages!"))
     assert raw == ["/tether/excursion/snap_events", "/tether/tether/snap_events"]
     assert all(t in topics for t in raw)
