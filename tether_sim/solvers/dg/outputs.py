@@ -57,12 +57,12 @@ def plan(plans, arc_lengths, s_edges, h, P, L, output_points):
     return found
 
 
-def sampled_state(ws, plan, gamma0, time, time_step) -> SolverState:
+def sampled_state(ws, plan, law, gamma0, time, time_step) -> SolverState:
     """Position, velocity, strain, tension, curvature and bending moment at the plan's arc lengths
     (one compiled sampling kernel, sampling.py)."""
     o = np.empty((NS, plan.s.size))
-    sample_state(ws.U, ws.ra, ws.wm, ws.h, ws.iprm, gamma0, ws.trc, ws.fl, ws.endf, plan.elem, plan.face, plan.phi,
-                 plan.iphi, plan.starts, o)
+    sample_state(ws.U, ws.ra, ws.wm, ws.h, ws.iprm, gamma0, law.code, law.EA, law.zeta, ws.prm[Y.P_EIC],
+                 law.tab_eps, law.tab_T, plan.elem, plan.phi, plan.iphi, plan.starts, o)
     vec = lambda c0: o[c0:c0 + 3].T.copy()  # noqa: E731  (n, 3) C-contiguous
     extra = {"moment_vector": vec(S_MVEC), "shear_force": vec(S_SHEAR), "tension_vector": vec(S_TV)}
     return SolverState(time=time, arc_length=plan.s.copy(), position=vec(S_POS), velocity=vec(S_VEL),
@@ -70,12 +70,12 @@ def sampled_state(ws, plan, gamma0, time, time_step) -> SolverState:
                        time_step=time_step, extra=extra)
 
 
-def sampled_kinematics(ws, plan, gamma0):
+def sampled_kinematics(ws, plan, law, gamma0):
     """(positions (n, 3), velocities (n, 3)) at the plan's arc lengths: those of :func:`sampled_state`
     (the same kernel), without building the rest of the state."""
     o = np.empty((NS, plan.s.size))
-    sample_state(ws.U, ws.ra, ws.wm, ws.h, ws.iprm, gamma0, ws.trc, ws.fl, ws.endf, plan.elem, plan.face, plan.phi,
-                 plan.iphi, plan.starts, o)
+    sample_state(ws.U, ws.ra, ws.wm, ws.h, ws.iprm, gamma0, law.code, law.EA, law.zeta, ws.prm[Y.P_EIC],
+                 law.tab_eps, law.tab_T, plan.elem, plan.phi, plan.iphi, plan.starts, o)
     return o[S_POS:S_POS + 3].T, o[S_VEL:S_VEL + 3].T
 
 

@@ -5,28 +5,19 @@ element of each point, the Legendre values phi_k(xi) and their integrals int_{-1
 computed once (:class:`SamplingPlan`) and one kernel fills every output field per call.
 
 Output block ``out`` (NS, n), one row per scalar field: position r(s) = r_a + int q ds, velocity v / gamma0,
-tension, strain eps = |q| - 1, curvature |kappa|, bending moment |M| with M = l^2 M*, the moment
-vector M, the shear force (1/l) i x tau [Eq. 20] and the tension vector, from the work arrays that
-the last right-hand-side evaluation left (layout.py).
-
-The tension is the one the scheme applies [PE2020 Eq. 23]: inside an element the modal tension
-vector F~ (T(eps, deps/dt) i + T_s at the Gauss points, projected on the modes: the flux the strong
-form differentiates), its axial part i . F~ with i = q / |q| at the point; at an element interface,
-where the DG solution has two traces, the numerical flux T_hat both elements use [Eq. 24, Table 1]:
-at the ends the end loads' axial tension (layout.py E_T, the value end_forces() and the snap
-detector read), at an interior interface T_hat . i_hat with i_hat the mean of the two trace
-tangents. The tension vector is F~ inside and T_hat at the interfaces. T(eps(q(s))) evaluated
-between the Gauss points is no quantity of the scheme: in a kinked slack element the polynomial q
-overshoots |q| = 1 between them and there it reads tens of kN where the scheme carries tens of N
-(docs/dg_solver.md, "Sampled tension").
+tension T(eps, i . d(v/gamma0)/ds) [PE2020 Eq. 22], strain eps = |q| - 1, curvature |kappa|,
+bending moment |M| with M = l^2 M*, the moment vector M, the shear force (1/l) i x tau [Eq. 20]
+and the tension vector (T i + T_s, modal projection), from the work arrays that the last
+right-hand-side evaluation left (layout.py).
 """
 
 import numpy as np
 
 from tether_sim.numerics.jit import jit
 from tether_sim.numerics.polys import legendre_at, legendre_integral_at
+from tether_sim.physics.constitutive import axial_tension, compression_cap
 from tether_sim.solvers.dg.kernels import internal_forces
-from tether_sim.solvers.dg.layout import E_F, E_T, F_V, I_ANCHOR, I_BENDING, M_KAP, M_MS, M_TAU, M_TV, T_Q
+from tether_sim.solvers.dg.layout import I_ANCHOR, I_BENDING, I_P, M_KAP, M_MS, M_NUS, M_TAU, M_TV
 from tether_sim.solvers.dg.stepper import fill_end_kinematics
 from tether_sim.solvers.dg.winch import winch_active, winch_end_velocity
 from tether_sim.solvers.dg.workspace import (
@@ -46,13 +37,8 @@ S_TV = 16
 NS = 19
 
 
-FACE_TOLERANCE = 1e-9  # a point within this fraction of its element's length of an interface is on it
-
-
 class SamplingPlan:
-    """Element index, Legendre values and integrals at fixed arc lengths (clipped to [0, L]), and the
-    interface each point lies on (``face``: 0 ... N, -1 inside an element; within FACE_TOLERANCE of
-    the element's length, so that a grid meant to hit the interfaces does despite round-off)."""
+    """Element index, Legendre values and integrals at fixed arc lengths (clipped to [0, L])."""
 
     def __init__(self, arc_lengths, s_edges, h, order):
         N = h.size
@@ -60,11 +46,7 @@ class SamplingPlan:
         s = np.clip(np.atleast_1d(np.asarray(arc_lengths, float)), 0.0, L)
         e = np.clip(np.searchsorted(s_edges, s, side="right") - 1, 0, N - 1)
         xi = np.clip(2.0 * (s - s_edges[e]) / h[e] - 1.0, -1.0, 1.0)
-        face = np.full(s.size, -1, dtype=np.int64)
-        face[xi <= -1.0 + 2.0 * FACE_TOLERANCE] = e[xi <= -1.0 + 2.0 * FACE_TOLERANCE]
-        face[xi >= 1.0 - 2.0 * FACE_TOLERANCE] = e[xi >= 1.0 - 2.0 * FACE_TOLERANCE] + 1
         self.s = s
-        self.face = face
         self.elem = np.ascontiguousarray(e, dtype=np.int64)
         self.phi = np.ascontiguousarray(legendre_at(order, xi))
         self.iphi = np.ascontiguousarray(legendre_integral_at(order, xi))
@@ -120,7 +102,7 @@ def _at3(w, p, arr, e, col):
 
 
 @jit
-def sample_state(U, ra, wm, h, iprm, g0, tr, fl, endf, elem, face, phi, iphi, starts, out):
+def sample_state(U, ra, wm, h, iprm, g0, law, EA, zeta, EI, tab_eps, tab_T, elem, phi, iphi, starts, out):
     """Fill out (NS, n) at the points of a sampling plan (module docstring)."""
     element_starts(U, ra, h, iprm, starts)
     bending = iprm[I_BENDING] != 0
@@ -129,6 +111,7 @@ def sample_state(U, ra, wm, h, iprm, g0, tr, fl, endf, elem, face, phi, iphi, st
         e = elem[p]
         q0, q1, q2 = _at3(phi, p, U, e, 0)
         v0, v1, v2 = _at3(phi, p, U, e, 3)
+        d0, d1, d2 = _at3(phi, p, wm, e, M_NUS)
         r0, r1, r2 = _at3(iphi, p, U, e, 0)
         hh = 0.5 * h[e]
         out[S_POS, p] = starts[e, 0] + hh * r0
@@ -142,53 +125,15 @@ def sample_state(U, ra, wm, h, iprm, g0, tr, fl, endf, elem, face, phi, iphi, st
         i0 = q0 * il
         i1 = q1 * il
         i2 = q2 * il
-        out[S_STRAIN, p] = l - 1.0
-        t0, t1, t2 = _at3(phi, p, wm, e, M_TV)
-        out[S_TV, p] = t0
-        out[S_TV + 1, p] = t1
-        out[S_TV + 2, p] = t2
-        out[S_TENSION, p] = i0 * t0 + i1 * t1 + i2 * t2
-        k = face[p]
-        if k >= 0:
-            interface_tension(k, tr, fl, endf, out, p)
+        eps = l - 1.0
+        out[S_STRAIN, p] = eps
+        out[S_TENSION, p] = axial_tension(law, eps, i0 * d0 + i1 * d1 + i2 * d2, EA, zeta, tab_eps, tab_T,
+                                          compression_cap(law, EI, iprm[I_P], h[e]))
+        out[S_TV, p], out[S_TV + 1, p], out[S_TV + 2, p] = _at3(phi, p, wm, e, M_TV)
         for c in range(S_CURV, S_SHEAR + 3):
             out[c, p] = 0.0
         if bending:
             _bending_at(phi, p, wm, e, l, il, i0, i1, i2, out)
-
-
-@jit
-def interface_tension(k, tr, fl, endf, out, p):
-    """Tension and tension vector of point p on interface k (0 ... N): the numerical flux T_hat [PE2020
-    Eq. 24, Table 1]; at an end the end load's (axial tension E_T, vector -n E_F: with any clip of the
-    end flux), inside T_hat . i_hat, i_hat the normalised mean of the two trace tangents."""
-    N = fl.shape[0] - 1
-    if k == 0 or k == N:
-        end = 0 if k == 0 else 1
-        sgn = 1.0 if k == 0 else -1.0  # T_hat = -n (-n T_hat)
-        out[S_TENSION, p] = endf[end, E_T]
-        for c in range(3):
-            out[S_TV + c, p] = sgn * endf[end, E_F + c]
-        return
-    a0, a1, a2 = _unit(tr[k - 1, 1, T_Q], tr[k - 1, 1, T_Q + 1], tr[k - 1, 1, T_Q + 2])
-    b0, b1, b2 = _unit(tr[k, 0, T_Q], tr[k, 0, T_Q + 1], tr[k, 0, T_Q + 2])
-    m0, m1, m2 = _unit(a0 + b0, a1 + b1, a2 + b2)
-    f0 = fl[k, F_V]
-    f1 = fl[k, F_V + 1]
-    f2 = fl[k, F_V + 2]
-    out[S_TENSION, p] = f0 * m0 + f1 * m1 + f2 * m2
-    out[S_TV, p] = f0
-    out[S_TV + 1, p] = f1
-    out[S_TV + 2, p] = f2
-
-
-@jit
-def _unit(x0, x1, x2):
-    """x / |x| (0 for x = 0)."""
-    n = np.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
-    if n <= 1e-300:
-        return 0.0, 0.0, 0.0
-    return x0 / n, x1 / n, x2 / n
 
 
 @jit

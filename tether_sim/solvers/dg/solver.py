@@ -461,7 +461,7 @@ class DGCableSolver:
         self._evaluate_outputs()
         plan = outputs.plan(self._plans, arc_lengths, self.s_edges, self.ws.h, self.P, self.L,
                             self.config.node.output_points)
-        return outputs.sampled_state(self.ws, plan, self.config.cable.gamma0, self.time, self._substep())
+        return outputs.sampled_state(self.ws, plan, self.law, self.config.cable.gamma0, self.time, self._substep())
 
     def end_forces(self):
         """Force (and moment) BY the cable ON each end: -n T_hat at the boundary fluxes."""
@@ -481,7 +481,7 @@ class DGCableSolver:
         self._evaluate_outputs()
         plan = outputs.plan(self._plans, arc_lengths, self.s_edges, self.ws.h, self.P, self.L,
                             self.config.node.output_points)
-        pos, vel = outputs.sampled_kinematics(self.ws, plan, self.config.cable.gamma0)
+        pos, vel = outputs.sampled_kinematics(self.ws, plan, self.law, self.config.cable.gamma0)
         return pos, vel, self.end_bodies()
 
     def end_bodies(self):
