@@ -218,6 +218,8 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
     # ------------------------------------------------------------------ stepping
     _rho = None
     _band = None
+    _lu = None
+    _lu_key = None  # (chain, dt, rho_inf, relaxing) of the last step's factorisation (_factorisation_kept)
     _pcache = (None, None)
     _profile_cache = None
 
@@ -341,24 +343,43 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         self._commit(np.ascontiguousarray(Y[:K]), dt, P, it)
 
     def _newton_compiled(self, Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns):
-        """Newton iterations with the analytic band Jacobian, compiled (newton_band.py)."""
+        """Newton iterations with the analytic band Jacobian, compiled (newton_band.py). With
+        hybrid.reuse_factorisation the factorised iteration matrix of the last step is kept for the next one while the
+        chain and the step's parameters (step size, rho_inf) are the same (_kept_factorisation)."""
         ch = self.chain
         kl, ku = ch.kl, ch.ku
         n = ch.n_unknowns
         if self._band is None or self._band.shape != (2 * kl + ku + 1, n):
             self._band = np.zeros((2 * kl + ku + 1, n))
-        counts = np.zeros(2, dtype=np.int64)
+            self._lu = (np.empty(n, dtype=np.int64), np.ones(n), np.zeros(1, dtype=np.int64))
+        ipiv, rs, held = self._lu
+        if not self._factorisation_kept():
+            held[0] = 0
+        counts = np.zeros(3, dtype=np.int64)
         groups = (ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, ch.noff, ch.nslot, ch.idx_node, ch.idx_slot)
         it = newton_band(groups, kl, ku, ch.low, ch.last, tangent_unknowns, scale, Y, Yn, Ytn, Ln, rn, ch.s, P, self.cz, self.cx,
                          self.cy, self.opt.max_newton_iterations, self.opt.newton_tolerance, MAX_TURN, self._band,
-                         counts)
+                         ipiv, rs, held, counts)
         st = self.stats
         st["jacobians"] = st.get("jacobians", 0) + int(counts[0])
         if counts[1]:
             st["line_search_exhausted"] = st.get("line_search_exhausted", 0) + int(counts[1])
+        if counts[2]:
+            st["kept_factorisation_failures"] = st.get("kept_factorisation_failures", 0) + int(counts[2])
         if it < 0:
             raise _NewtonFailure(FAILURES[it])
         return it
+
+    def _factorisation_kept(self):
+        """hybrid.reuse_factorisation: may the step being solved start with the factorisation of the last one? Yes if
+        it was made for this chain (the same zones, joints and ends) and the same step size and rho_inf. Step sizes
+        equal to 1e-9 relative count as the same: advance_to's steps to a tick's time differ in the last bits, and
+        the iteration matrix changes by as much (it is an approximation anyway; the converged step does not depend
+        on it). Records this step's key for the next."""
+        dt, rho, relaxing = self._pcache[0]
+        key, self._lu_key = self._lu_key, (self.chain, dt, rho, relaxing)
+        return (self.opt.reuse_factorisation and key is not None and key[0] is self.chain and key[2:] == (rho, relaxing)
+                and abs(key[1] - dt) <= 1e-9 * dt)
 
     def _commit(self, Y, dt, P, iterations):
         self._profile_cache = None
