@@ -12,7 +12,9 @@ segments, DG on the 1 % rule mesh):
   all_rod, all_catenary; default the solver's, adaptive).
 
 ``--excursion-EI`` gives the excursion tether a bending stiffness in every code (tether_sim's cable.EI, MoorDyn's
-line-type EI column; use its own ``--cache``, since the run keys do not hold it).
+line-type EI column; use its own ``--cache``, since the run keys do not hold it). A hybrid run that the solver stops
+(the closure check of an adaptive line with bending) is reported and left out of the table; ``--no-closure-stop``
+lets it go on, to measure what the check prevents (diagnosis only, its own ``--cache``).
 
 Each run's vehicle |F| is turned into a uniform series of bin means (width ``--bin``, from the running
 impulse, so a one-substep spike keeps its impulse and loses its height) and the measures are:
@@ -316,6 +318,9 @@ def main(argv=None):
                     help="the excursion tether's axial damping in every code (N s; default 2000; 0 wants --md-scheme RK4)")
     ap.add_argument("--excursion-EI", type=float, default=0.0,
                     help="the excursion tether's bending stiffness in every code (N m^2; give it its own --cache)")
+    ap.add_argument("--no-closure-stop", action="store_true",
+                    help="diagnosis only: let a hybrid run go on past the closure check (its shape off its driven end; "
+                         "docs/hybrid_solver.md, \"Zoning\"); give it its own --cache")
     ap.add_argument("--md-scheme", default="RK2", choices=["RK2", "RK4"], help="MoorDyn's time scheme")
     ap.add_argument("--cache", default="out/vehicle_force_convergence")
     ap.add_argument("--fresh", action="store_true")
@@ -336,10 +341,21 @@ def main(argv=None):
         TRACK["spline"] = cage_track(run_cached(args.prescribed_cage, args.duration, args, need_cage=True))
         keys = {c: ["pc_" + k for k in ks] for c, ks in keys.items()}
     runs, table = {}, {}
+    if args.no_closure_stop:
+        import tether_sim.solvers.hybrid.solver as hybrid_solver
+
+        hybrid_solver.CLOSURE_LIMIT = float("inf")
+    from tether_sim.errors import SolverDivergedError
+
     for code, ks in keys.items():
-        for k in ks:
+        for k in list(ks):
             key, _, dur = k.partition("@")
-            r = run_cached(key, float(dur) if dur else args.duration, args)
+            try:
+                r = run_cached(key, float(dur) if dur else args.duration, args)
+            except SolverDivergedError as exc:  # a run that stops is reported, and left out of the table
+                print(f"{k}: stopped: {exc}", flush=True)
+                ks.remove(k)
+                continue
             runs[k] = r
             table[k] = dict(measures(r, args), cpu=float(r["cpu"]))
             print(f"{k}: " + ", ".join(f"{m} {v:.4g}" for m, v in table[k].items()), flush=True)

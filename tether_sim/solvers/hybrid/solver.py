@@ -460,7 +460,8 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         its tangents from the block start, and the kinematic or body condition holds its end's velocity only, so a
         shape that does not close there is not this line's; a catenary end on a body keeps the gap a rod zone left
         when it turned catenary. The gap (largest so far in stats["closure_gap"], m; the last one at a body end in
-        stats["body_gap"]), measured after each step before the zones are re-evaluated, is the integration error of
+        stats["body_gap"]), measured after each step before the zones are re-evaluated (after, in a relaxation step that
+        re-closes the rod shapes: _relaxation_recloses), is the integration error of
         the tangents (centimetres on the cross-check network's all-rod excursion tether) unless re-zoning conversions
         have broken the shape (docs/hybrid_solver.md, "Zoning"); beyond CLOSURE_LIMIT of the line's length the run
         stops with a clear error rather than go on with a line that ends elsewhere."""
