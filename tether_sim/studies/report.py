@@ -265,7 +265,7 @@ def exceedance_figure(groups, path, what="the cage tension"):
             fits[label] = (loc, scale, x.size)
             xs = np.linspace(x[0] - 0.1 * np.ptp(x), x[-1] + 0.5 * np.ptp(x), 200)
             ax.semilogy(xs / 1e3, gumbel_r.sf(xs, loc, scale), "-", color=line.get_color(), lw=1,
-                        label=f"Gumbel fit: mu = {loc / 1e3:.1f} kN, beta = {scale / 1e3:.2f} kN")
+                        label=f"Gumbel fit: mu = {loc / 1e3:.4g} kN, beta = {scale / 1e3:.3g} kN")
     ax.set_xlabel(f"per-case maximum of {what} (kN)")
     ax.set_ylabel("exceedance probability P(T_max > x)")
     ax.set_title("Exceedance of per-case maxima per condition (over its seeds)", fontsize=9)
