@@ -420,11 +420,11 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
                 self.positions[first + 1:last + 1] = shape_along(self.positions[first], self.Lf[first:last + 1],
                                                                  self.Y[first:last + 1, ROD_EPS],
                                                                  np.diff(ch.s[first:last + 1]))[1:]
-        if driven[1] is not None and ch.kind[K - 1] == zoning.ROD:
-            self._check_closure(driven[1])
-        for e, node in ((0, 0), (1, K - 1)):  # a line's end on a body is where the body's attachment point is
-            if self.end_kinds[e].position == "body":
-                self._check_closure(end_target(self, e), node, body=True)
+        relax_closes = self._relaxation_recloses()
+        if relax_closes:  # judged on the shape the next step starts from, after the re-closing below
+            self._note_relaxation_drift(driven[1])
+        else:
+            self._check_closures(driven[1])
         st = self.stats
         st["steps"] += 1
         st["newton_iterations"] += iterations
@@ -440,6 +440,40 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         if self.opt.zoning == "adaptive" and self.EI > 0.0 and (due or self._rho is not None):
             self._last_zoning = self.time
             self._rezone()
+        if relax_closes:
+            self._check_closures(driven[1])
+
+    def _relaxation_recloses(self):
+        """True in a step of the damped initial relaxation (rho_inf = 0, ``relax_time_step``) of an adaptive line whose
+        rod shapes are re-closed on their ends: the zones are evaluated after every such step and each rod block closed
+        again (close_rod_shapes). The relaxation is a pseudo-time path to the rest shape (its velocities are zeroed and
+        its clock reset at the end) in steps 500x the dynamic ones, over which a relaxing rod's rate-form positions
+        drift decimetres off its held end within one step; only the re-closed shape is carried on, so the closure check
+        judges that one there. In dynamics the check looks before the re-closing (the published shape)."""
+        o = self.opt
+        return (self._rho is not None and o.zoning == "adaptive" and self.EI > 0.0 and o.close_rod_shapes == "evaluation"
+                and o.frames_from_curvature)
+
+    def _note_relaxation_drift(self, driven_far):
+        """The within-step drift of a relaxing rod shape off its held far end before the re-closing:
+        stats["relax_step_gap"], the largest over the relaxation (m)."""
+        K = self.chain.grid.size
+        gaps = [float(np.linalg.norm(self.positions[K - 1] - driven_far))] if (
+            driven_far is not None and self.chain.kind[K - 1] == zoning.ROD) else []
+        gaps += [float(np.linalg.norm(self.positions[node] - end_target(self, e)))
+                 for e, node in ((0, 0), (1, K - 1)) if self.end_kinds[e].position == "body"]
+        if gaps:
+            self.stats["relax_step_gap"] = max(self.stats.get("relax_step_gap", 0.0), max(gaps))
+
+    def _check_closures(self, driven_far):
+        """The closure checks of a step (_check_closure): a rod zone ending at a driven or fixed far end, a line's end
+        on a body."""
+        K = self.chain.grid.size
+        if driven_far is not None and self.chain.kind[K - 1] == zoning.ROD:
+            self._check_closure(driven_far)
+        for e, node in ((0, 0), (1, K - 1)):  # a line's end on a body is where the body's attachment point is
+            if self.end_kinds[e].position == "body":
+                self._check_closure(end_target(self, e), node, body=True)
 
     def _check_closure(self, target, node=-1, body=False):
         """A line must end where its end is held: a rod block ending at a kinematic far end where that end is driven,
@@ -447,7 +481,8 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         its tangents from the block start, and the kinematic or body condition holds its end's velocity only, so a
         shape that does not close there is not this line's; a catenary end on a body keeps the gap a rod zone left
         when it turned catenary. The gap (largest so far in stats["closure_gap"], m; the last one at a body end in
-        stats["body_gap"]), measured after each step before the zones are re-evaluated, is the integration error of
+        stats["body_gap"]), measured after each step before the zones are re-evaluated (after, in a relaxation step that
+        re-closes the rod shapes: _relaxation_recloses), is the integration error of
         the tangents (centimetres on the cross-check network's all-rod excursion tether) unless re-zoning conversions
         have broken the shape (docs/hybrid_solver.md, "Zoning"); beyond CLOSURE_LIMIT of the line's length the run
         stops with a clear error rather than go on with a line that ends elsewhere."""
