@@ -202,10 +202,12 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         return copy.deepcopy({"Y": self.Y, "Yt": self.Yt, "Lf": self.Lf, "zones": self.zones, "time": self.time,
                               "positions": self.positions, "rdot": self.rdot, "motion": self.end_motion,
                               "load": self.end_load, "stats": self.stats, "body_x": self.body_x,
-                              "body_xd": self.body_xd, "last_zoning": self._last_zoning, **self._winch_snapshot()})
+                              "body_xd": self.body_xd, "last_zoning": self._last_zoning, **self._winch_snapshot()}) | {
+            "factorisation": self._factorisation_snapshot()}
 
     def restore(self, snap):
-        snap = copy.deepcopy(snap)
+        kept = snap.get("factorisation")
+        snap = copy.deepcopy({k: v for k, v in snap.items() if k != "factorisation"})
         self.Y, self.Yt, self.Lf, self.zones = snap["Y"], snap["Yt"], snap["Lf"], snap["zones"]
         self.time, self.positions, self.rdot = snap["time"], snap["positions"], snap["rdot"]
         self.end_motion, self.end_load, self.stats = snap["motion"], snap["load"], snap["stats"]
@@ -214,6 +216,26 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         self._winch_restore(snap)
         self._set_chain()
         self._record = ([], [], [])
+        self._factorisation_restore(kept)
+
+    def _factorisation_snapshot(self):
+        """The factorisation the next step would start with (hybrid.reuse_factorisation), so that a restored run
+        takes the same Newton path as the run it was taken from: (step key without the chain, band LU arrays, the
+        Python twin's factorisation), or None. The twin's SuperLU object is shared, not copied (it is only read)."""
+        key = self._lu_key
+        if key is None or key[0] is not self.chain:
+            return None
+        band = None if self._band is None else (self._band.copy(), *(a.copy() for a in self._lu))
+        return key[1:], band, self._fd_lu
+
+    def _factorisation_restore(self, kept):
+        """The factorisation of a snapshot (_factorisation_snapshot) for the chain restore() just built."""
+        self._lu_key, self._fd_lu = None, None
+        if kept is not None:
+            key, band, self._fd_lu = kept
+            self._lu_key = (self.chain, *key)
+            if band is not None:
+                self._band, self._lu = band[0].copy(), tuple(a.copy() for a in band[1:])
 
     # ------------------------------------------------------------------ stepping
     _rho = None
