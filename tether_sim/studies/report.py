@@ -17,6 +17,9 @@ an axis, and values equal to 10 significant digits are one value.
   with a Gumbel fit (``scipy.stats.gumbel_r``, maximum likelihood) per condition. A deterministic
   sweep has no such figure: its cases are different conditions, not samples of one sea state.
 - ``report.md``: cases, failures, the table of headline statistics, Gumbel parameters, throughput.
+
+A line-network study (rows of ``case.run_network_task``) gets its tables per line and of the point forces, and the
+same figures per line, per body and for the points (:func:`network_figures`).
 """
 
 import math
