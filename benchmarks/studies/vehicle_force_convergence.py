@@ -8,7 +8,13 @@ segments, DG on the 1 % rule mesh):
 
 - MoorDyn v2 ``--md`` segments (vehicle force sampled every ``--md-coupling`` s);
 - DG ``--dg`` N P ... (every substep);
-- hybrid ``--hybrid`` segments:step ... (every step).
+- hybrid ``--hybrid`` segments:step ... (every step), or segments:step:zoning (``hybrid.zoning``: adaptive,
+  all_rod, all_catenary; default the solver's, adaptive).
+
+``--excursion-EI`` gives the excursion tether a bending stiffness in every code (tether_sim's cable.EI, MoorDyn's
+line-type EI column; use its own ``--cache``, since the run keys do not hold it). A hybrid run that the solver stops
+(the closure check of an adaptive line with bending) is reported and left out of the table; ``--no-closure-stop``
+lets it go on, to measure what the check prevents (diagnosis only, its own ``--cache``).
 
 Each run's vehicle |F| is turned into a uniform series of bin means (width ``--bin``, from the running
 impulse, so a one-substep spike keeps its impulse and loses its height) and the measures are:
@@ -31,7 +37,7 @@ excursion tether without the tether's and the cage's differences between the cod
 
 Usage: PYTHONPATH=. python benchmarks/studies/vehicle_force_convergence.py [--md 10 20 40 80]
        [--dg 5:4 10:4 20:4 40:4:5] [--hybrid 15:0.002 30:0.002 30:0.001 60:0.002 60:0.001] [--duration 11]
-       [--prescribed-cage md_40] [--figure docs/figures/vehicle_force_convergence.png]
+       [--prescribed-cage md_40] [--excursion-EI 78.125] [--figure docs/figures/vehicle_force_convergence.png]
        [--json out/vehicle_force_convergence.json] [--table out/vehicle_force_convergence.md]
 """
 
@@ -59,11 +65,20 @@ def run_md(segments, duration, coupling):
                 cage_t=md["t"], cage_x=md["cage_attachment"])
 
 
+def hybrid_zoning(zoning):
+    """nm.HYBRID_OPTIONS with ``hybrid.zoning`` set (or left to the solver's default) for the next network built."""
+    nm.HYBRID_OPTIONS.pop("zoning", None)
+    if zoning:
+        nm.HYBRID_OPTIONS["zoning"] = zoning
+
+
 def run_ours(solver, duration, mesh):
     from tether_sim.network.solver import NetworkSolver
     from tether_sim.network.spec import parse_network
 
     kw = {"exc_dg": tuple(mesh)} if solver == "dg" else {"exc_hybrid": (int(mesh[0]), float(mesh[1]))}
+    if solver == "hybrid":
+        hybrid_zoning(mesh[2] if len(mesh) > 2 else None)
     net = NetworkSolver(parse_network(nm.network_tree(solver, TICK, **kw)))
     veh = nm.vehicle_position()
     body = net.bodies["cage"]
@@ -104,6 +119,8 @@ def run_ours_alone(solver, duration, mesh, track):
     from tether_sim.network.solver import NetworkSolver
     from tether_sim.network.spec import parse_network
 
+    if solver == "hybrid":
+        hybrid_zoning(mesh[2] if len(mesh) > 2 else None)
     tree = nm.network_tree(solver, TICK, **({"exc_dg": tuple(mesh)} if solver == "dg"
                                            else {"exc_hybrid": (int(mesh[0]), float(mesh[1]))}))
     exc = dict(tree["lines"]["excursion"])
@@ -207,7 +224,7 @@ def run_cached(key, duration, args, need_cage=False):
         mesh = (int(rest[0]), int(rest[1]))
         r = run_ours_alone("dg", duration, mesh, track) if alone else run_ours("dg", duration, mesh)
     else:
-        mesh = (int(rest[0]), float(rest[1]))
+        mesh = (int(rest[0]), float(rest[1])) + (("_".join(rest[2:]),) if rest[2:] else ())
         r = run_ours_alone("hybrid", duration, mesh, track) if alone else run_ours("hybrid", duration, mesh)
     path.parent.mkdir(parents=True, exist_ok=True)
     np.savez(path, **r)
@@ -266,6 +283,11 @@ def _dg_key(spec):
     return f"dg_{n}_{p}" + (f"@{t[0]}" if t else "")
 
 
+def _label(key):
+    """The mesh of a run key: md_40 -> 40, dg_10_4 -> 10:4, hy_30_0.002_all_rod -> 30:0.002:all_rod."""
+    return ":".join(key.removeprefix("pc_").split("_", 3)[1:])
+
+
 def spread(values):
     """Relative change between the two finest meshes of a ladder that have the measure (last two finite values)."""
     values = [v for v in values if np.isfinite(v)]
@@ -294,6 +316,11 @@ def main(argv=None):
                     help="a run (e.g. md_40) whose cage attachment path drives the excursion tether alone in every code")
     ap.add_argument("--excursion-damping", type=float, default=None,
                     help="the excursion tether's axial damping in every code (N s; default 2000; 0 wants --md-scheme RK4)")
+    ap.add_argument("--excursion-EI", type=float, default=0.0,
+                    help="the excursion tether's bending stiffness in every code (N m^2; give it its own --cache)")
+    ap.add_argument("--no-closure-stop", action="store_true",
+                    help="diagnosis only: let a hybrid run go on past the closure check (its shape off its driven end; "
+                         "docs/hybrid_solver.md, \"Zoning\"); give it its own --cache")
     ap.add_argument("--md-scheme", default="RK2", choices=["RK2", "RK4"], help="MoorDyn's time scheme")
     ap.add_argument("--cache", default="out/vehicle_force_convergence")
     ap.add_argument("--fresh", action="store_true")
@@ -304,23 +331,36 @@ def main(argv=None):
     print(f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}", flush=True)
     if args.excursion_damping is not None:
         nm.set_excursion_damping(args.excursion_damping)
+    if args.excursion_EI:
+        nm.set_excursion_bending(args.excursion_EI)
     nm.MD_SCHEME[:] = [args.md_scheme]
     keys = {"MoorDyn": [f"md_{n}" for n in args.md],
             "DG": [_dg_key(s) for s in args.dg],
-            "hybrid": [f"hy_{s.split(':')[0]}_{s.split(':')[1]}" for s in args.hybrid]}
+            "hybrid": [f"hy_{s.replace(':', '_')}" for s in args.hybrid]}
     if args.prescribed_cage:
         TRACK["spline"] = cage_track(run_cached(args.prescribed_cage, args.duration, args, need_cage=True))
         keys = {c: ["pc_" + k for k in ks] for c, ks in keys.items()}
     runs, table = {}, {}
+    if args.no_closure_stop:
+        import tether_sim.solvers.hybrid.solver as hybrid_solver
+
+        hybrid_solver.CLOSURE_LIMIT = float("inf")
+    from tether_sim.errors import SolverDivergedError
+
     for code, ks in keys.items():
-        for k in ks:
+        for k in list(ks):
             key, _, dur = k.partition("@")
-            r = run_cached(key, float(dur) if dur else args.duration, args)
+            try:
+                r = run_cached(key, float(dur) if dur else args.duration, args)
+            except SolverDivergedError as exc:  # a run that stops is reported, and left out of the table
+                print(f"{k}: stopped: {exc}", flush=True)
+                ks.remove(k)
+                continue
             runs[k] = r
             table[k] = dict(measures(r, args), cpu=float(r["cpu"]))
             print(f"{k}: " + ", ".join(f"{m} {v:.4g}" for m, v in table[k].items()), flush=True)
     names = [m for m in next(iter(table.values())) if m != "cpu"]
-    lines = ["| measure | " + " | ".join(f"{c} ({', '.join(k.removeprefix('pc_').split('_', 1)[1].replace('_', ':') for k in ks)})" for c, ks in keys.items() if ks)
+    lines = ["| measure | " + " | ".join(f"{c} ({', '.join(_label(k) for k in ks)})" for c, ks in keys.items() if ks)
              + " | DG vs MoorDyn | hybrid vs MoorDyn | hybrid vs DG |",
              "|---|" + "---|" * (sum(1 for ks in keys.values() if ks) + 3)]
     summary = {}
@@ -362,7 +402,7 @@ def plot(runs, keys, args):
             col = cmaps[code](0.35 + 0.65 * (i + 1) / len(ks))
             r = runs[k]
             tc, Fb = bin_means(r["t"], r["F"], args.bin, float(r["t"][-1]))
-            lab = f"{code} {k.removeprefix('pc_').split('_', 1)[1].replace('_', ':')}"
+            lab = f"{code} {_label(k)}"
             ax[0].plot(r["t"], r["F"], color=col, lw=0.7, label=lab)
             ax[1].plot(tc, Fb, color=col, lw=0.8, label=lab)
             ax[2].plot(tc, lowpass(Fb, args.bin, fc), color=col, lw=1.0, label=lab)

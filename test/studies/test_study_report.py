@@ -141,3 +141,112 @@ def test_results_table_carries_units(tmp_path):
     assert study_axes(grid, {"var.L": "m", "var.alpha": "1"})[1:] == [("var.L", "L (m)")]
     assert study_axes(grid)[1:] == [("var.L", "L")]  # a table without the unit
     assert column_unit("ship_snap_daf") == "1" and column_unit("hybrid_dt_s") == "s"
+
+
+def network_rows(grid: dict) -> list:
+    """Rows of a line-network study (case.run_network_task's columns) over ``grid`` (the cage mass x the heave
+    amplitude, as config/studies/ropos_tms_cage.yaml): lines ``tether`` (ship -> cage) and ``excursion`` (cage ->
+    vehicle), body ``cage``, points ``ship`` and ``vehicle``; tensions made up from the variables."""
+    import itertools
+
+    rows = []
+    for mass, a in itertools.product(*grid.values()):
+        row = {"key": f"k{len(rows)}", "index": len(rows), "study": "net", "status": "ok", "error": "", "network": True,
+               "var.network.bodies.cage.mass": mass, "var.motion.amplitude": a, "motion.kind": "heave",
+               "fairlead_amplitude_m": a, "fairlead_frequency_Hz": 0.2, "duration_s": 60.0, "cage.mass_kg": mass,
+               "ship_force_max_N": 9.0e4 * a + 20.0 * mass, "vehicle_force_max_N": 300.0 * a + 0.01 * mass,
+               "rtf": 12.0, "cpu_s": 5.0, "sim_s": 60.0}
+        for line, ends, static in (("tether", ("ship", "cage"), (8.0e4 + 8.0 * mass, 4.0e4 + 8.0 * mass)),
+                                   ("excursion", ("cage", "vehicle"), (40.0, 25.0))):
+            row.update({f"{line}.length_m": 30.0 if line == "excursion" else 1730.0, f"{line}.solver": "dg",
+                        f"{line}.from": ends[0], f"{line}.to": ends[1]})
+            for end, st, k in (("ship", static[0], 1.0), ("vehicle", static[1], 1.5)):
+                t_max = st * (1.0 + 0.3 * k * a) + 0.001 * mass
+                row.update({f"{line}.{end}_static_N": st, f"{line}.{end}_T_max_N": t_max,
+                            f"{line}.{end}_T_min_N": st * (1.0 - 0.6 * a), f"{line}.{end}_daf": t_max / st,
+                            f"{line}.{end}_dnv_slack_ok": a < 1.5, f"{line}.{end}_n_slack": int(a > 1.5),
+                            f"{line}.{end}_n_snap": int(a > 1.5), f"{line}.{end}_snap_peak_N": t_max if a > 1.5 else math.nan,
+                            f"{line}.{end}_n_numerical": 0})
+        rows.append(row)
+    return rows
+
+
+def _table_column(md, section, header):
+    """The values of column ``header`` of the first table after ``section`` in a report's markdown."""
+    lines = md[md.index(section):].splitlines()
+    start = next(i for i, x in enumerate(lines) if x.startswith("|"))
+    names = [c.strip() for c in lines[start].strip("|").split("|")]
+    col = names.index(header)
+    out = []
+    for x in lines[start + 2:]:
+        if not x.startswith("|"):
+            break
+        out.append(float(x.strip("|").split("|")[col]))
+    return np.array(out)
+
+
+def test_a_network_study_report_has_the_figures_per_line_body_and_point(tmp_path):
+    """A network study's report: per line its peak-tension figure (both ends) and its DAF figure, the tension of
+    each line at the cage, the force on each point, as the single-line report gives them over what the study
+    varies (heat maps over cage mass x amplitude, points over one axis); what a figure plots is the table's column
+    (to the table's 4 significant digits, and exactly the rows' values)."""
+    from tether_sim.studies.report import network_figures
+
+    rows = network_rows({"mass": [4995.0, 7500.0], "a": [1.0, 2.0]})
+    pq.write_table(to_table(rows), tmp_path / "results.parquet")
+    assert main(["report", str(tmp_path)]) == 0
+    out = tmp_path / "report"
+    names = ["cage_loads_peak_heatmap.png", "excursion_daf.png", "excursion_peak_heatmap.png",
+             "points_force_peak_heatmap.png", "tether_daf.png", "tether_peak_heatmap.png"]
+    assert sorted(p.name for p in out.glob("*.png")) == names
+    md = (out / "report.md").read_text()
+    for n in names:
+        assert (out / n).stat().st_size > 10_000 and f"]({n})" in md
+    assert "No figures" not in md
+    # the excursion tether's s = L end as the heat map shows it: rows = amplitude (second axis), columns = mass
+    axes = study_axes(rows)
+    assert [c for c, _ in axes] == ["fairlead_amplitude_m", "var.network.bodies.cage.mass"]
+    _, plotted = network_figures(rows, {}, tmp_path / "again")
+    grid = plotted["excursion_peak_heatmap.png"][("excursion s = L (vehicle)", None)]
+    by_case = {(r["var.network.bodies.cage.mass"], r["fairlead_amplitude_m"]): r for r in rows}
+    expect = np.array([[by_case[(m, a)]["excursion.vehicle_T_max_N"] / 1e3 for a in (1.0, 2.0)] for m in (4995.0, 7500.0)])
+    assert np.array_equal(grid, expect)  # (heat map rows: the second axis, the mass)
+    table = _table_column(md, "## Line `excursion`", "T_max s=L kN")
+    assert np.allclose(table, [r["excursion.vehicle_T_max_N"] / 1e3 for r in rows], rtol=5e-4, atol=0)
+    assert np.allclose(grid.T.ravel(), table.reshape(2, 2).T.ravel(), rtol=5e-4)  # (table: mass slowest)
+    assert plotted["cage_loads_peak_heatmap.png"].keys() == {("tether (s = L)", None), ("excursion (s = 0)", None)}
+
+    # one axis (the amplitude only): points, read back from the figure's artists, equal the table's columns
+    one = network_rows({"mass": [4995.0], "a": [0.5, 1.0, 2.0]})
+    _, plotted = network_figures(one, {}, tmp_path / "one")
+    assert sorted(p.name for p in (tmp_path / "one").glob("*.png")) == [
+        "cage_loads_peak.png", "excursion_daf.png", "excursion_peak.png", "points_force_peak.png", "tether_daf.png",
+        "tether_peak.png"]
+    x, y = plotted["points_force_peak.png"]["vehicle"]
+    order = np.argsort(x)
+    assert np.array_equal(x[order], [0.5, 1.0, 2.0])
+    assert np.array_equal(y[order], [r["vehicle_force_max_N"] / 1e3 for r in one])
+    x, y = plotted["tether_daf.png"]["tether s = 0 (ship)"]
+    assert np.array_equal(y, [r["tether.ship_daf"] for r in one])
+    # slack cases (a = 2) are plotted too, hollow: the series holds every case
+    x, y = plotted["tether_peak.png"]["tether s = L (cage)"]
+    assert sorted(y) == sorted(r["tether.vehicle_T_max_N"] / 1e3 for r in one)
+
+
+def test_a_seeded_network_study_gets_an_exceedance_figure_per_line(tmp_path):
+    """With seeds, each line's per-case maxima at its s = L end get the exceedance figure and Gumbel fit of the
+    single-line report; the groups it plots are the table's column."""
+    from tether_sim.studies.report import network_figures
+
+    rows = []
+    for seed in range(6):
+        for r in network_rows({"mass": [4995.0], "a": [1.0, 2.0]}):
+            r.update({"key": f"{r['key']}-{seed}", "index": len(rows), "var.seed": seed})
+            r["excursion.vehicle_T_max_N"] *= 1.0 + 0.05 * seed
+            rows.append(r)
+    _, plotted = network_figures(rows, {}, tmp_path)
+    assert {"tether_exceedance.png", "excursion_exceedance.png"} <= set(plotted)
+    groups = plotted["excursion_exceedance.png"]
+    assert sorted(groups) == ["motion.amplitude=1", "motion.amplitude=2"]
+    assert groups["motion.amplitude=2"] == [r["excursion.vehicle_T_max_N"] for r in rows if r["var.motion.amplitude"] == 2.0]
+    assert (tmp_path / "excursion_exceedance.png").stat().st_size > 10_000

@@ -191,6 +191,7 @@ def _network_columns(spec, drive) -> dict:
     for name, line in spec.lines.items():
         row[f"{name}.length_m"] = float(line.config.cable.length)
         row[f"{name}.solver"] = str(line.config.solver)
+        row[f"{name}.from"], row[f"{name}.to"] = (str(e.target) for e in line.ends)  # point, body or free
     for name, body in spec.bodies.items():
         row[f"{name}.mass_kg"] = float(body.props.mass)
     return row
