@@ -16,10 +16,15 @@ Three cases, each printed as a table row per mesh:
   every 2 ms for 1 s, 201 points): the lowest state tension, the largest excursion beyond the
   element's range and the largest tension.
 
+With ``--network N:P`` (and ``--times``), instead: the slack excursion tether of the MoorDyn cross-check
+(benchmarks/studies/network_vs_moordyn.py, its DG network with the excursion tether on N:P), every 50 Hz
+tick to the last time, 401 points: the state's end samples against the end loads and its largest
+interior value at each time, and the largest excursion beyond the element's scheme values so far.
+
 Run it on another checkout (``--root``) to see its numbers with the same cases.
 
 Usage: PYTHONPATH=. python benchmarks/studies/sampled_tension.py [--root PATH] [--meshes 10:4 4:3 3:2]
-       [--slack-meshes 3:3 10:4] [--snap-meshes 10:4]
+       [--slack-meshes 3:3 10:4] [--snap-meshes 10:4] [--network 10:4 [--times 3.6 8.32 9.4]]
 """
 
 import argparse
@@ -55,15 +60,49 @@ def excursion(solver, s, T):
     return float(max(0.0, np.max(T - hi[e]), np.max(lo[e] - T)))
 
 
+def network_case(mesh, times):
+    """The cross-check's excursion tether (module docstring)."""
+    from benchmarks import ropos_case as rc
+    from benchmarks.studies import network_vs_moordyn as nm
+    from tether_sim.network.solver import NetworkSolver
+    from tether_sim.network.spec import parse_network
+
+    net = NetworkSolver(parse_network(nm.network_tree("dg", 0.005, exc_dg=mesh)))
+    veh = nm.vehicle_position()
+    exc = net.line("excursion")
+    arc = np.linspace(0.0, exc.config.cable.length, 401)
+    print(f"excursion tether N = {mesh[0]}, P = {mesh[1]} | time s | state ends N | end loads N | "
+          "interior max N | max excursion so far N")
+    k, worst = 0, 0.0
+    while times:
+        k += 1
+        t = 0.02 * k
+        p, v = rc.fairlead_motion(t)
+        net.set_point_motion("ship", p, v)
+        net.set_point_motion("vehicle", veh, np.zeros(3))
+        net.tick(t)
+        st, ef = exc.state(arc), exc.end_forces()
+        worst = max(worst, excursion(exc, arc, st.tension))
+        if abs(t - times[0]) < 1e-9:
+            times.pop(0)
+            print(f" | {t:.2f} | {st.tension[0]:.4g}, {st.tension[-1]:.4g} | {ef.ship_tension:.4g}, "
+                  f"{ef.vehicle_tension:.4g} | {st.tension[1:-1].max():.4g} | {worst:.3g}", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--root", default=str(Path(__file__).resolve().parents[2]), help="the checkout whose solver runs")
     ap.add_argument("--meshes", nargs="+", default=["10:4", "4:3", "3:2"])
     ap.add_argument("--slack-meshes", nargs="+", default=["3:3", "10:4"])
     ap.add_argument("--snap-meshes", nargs="+", default=["10:4"])
+    ap.add_argument("--network", default=None, help="N:P of the cross-check's excursion tether (the network case only)")
+    ap.add_argument("--times", nargs="+", type=float, default=[3.6, 8.32, 9.4])
     a = ap.parse_args()
     sys.path.insert(0, a.root)
     sys.path.insert(0, str(Path(a.root) / "test" / "solvers" / "dg"))
+    if a.network:
+        network_case(meshes([a.network])[0], sorted(a.times))
+        return
     from tether_sim.scenarios import harness
     from tether_sim.scenarios import references as ref
     from test_catenary_statics import EA, L, W, catenary_flat
