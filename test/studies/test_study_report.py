@@ -231,3 +231,22 @@ def test_a_network_study_report_has_the_figures_per_line_body_and_point(tmp_path
     # slack cases (a = 2) are plotted too, hollow: the series holds every case
     x, y = plotted["tether_peak.png"]["tether s = L (cage)"]
     assert sorted(y) == sorted(r["tether.vehicle_T_max_N"] / 1e3 for r in one)
+
+
+def test_a_seeded_network_study_gets_an_exceedance_figure_per_line(tmp_path):
+    """With seeds, each line's per-case maxima at its s = L end get the exceedance figure and Gumbel fit of the
+    single-line report; the groups it plots are the table's column."""
+    from tether_sim.studies.report import network_figures
+
+    rows = []
+    for seed in range(6):
+        for r in network_rows({"mass": [4995.0], "a": [1.0, 2.0]}):
+            r.update({"key": f"{r['key']}-{seed}", "index": len(rows), "var.seed": seed})
+            r["excursion.vehicle_T_max_N"] *= 1.0 + 0.05 * seed
+            rows.append(r)
+    _, plotted = network_figures(rows, {}, tmp_path)
+    assert {"tether_exceedance.png", "excursion_exceedance.png"} <= set(plotted)
+    groups = plotted["excursion_exceedance.png"]
+    assert sorted(groups) == ["motion.amplitude=1", "motion.amplitude=2"]
+    assert groups["motion.amplitude=2"] == [r["excursion.vehicle_T_max_N"] for r in rows if r["var.motion.amplitude"] == 2.0]
+    assert (tmp_path / "excursion_exceedance.png").stat().st_size > 10_000

@@ -37,7 +37,8 @@ def _report_parser():
     ap = argparse.ArgumentParser(prog="tether-sim-study report", description="Figures (PNG) and a markdown summary "
                                  "of a study's results, chosen from what it varies: peak tension (a heat map over two "
                                  "axes), cage DAF, and for a study with seeds the exceedance of the per-case maxima "
-                                 "with a Gumbel fit per condition.")
+                                 "with a Gumbel fit per condition; for a line-network study the same per line (both ends), the "
+                                 "tension of each line at each body and the force on each point.")
     ap.add_argument("results", help="results folder (or its results.parquet)")
     ap.add_argument("--out", default=None, help="folder of the figures and report.md (default RESULTS/report)")
     return ap

@@ -17,6 +17,9 @@ an axis, and values equal to 10 significant digits are one value.
   with a Gumbel fit (``scipy.stats.gumbel_r``, maximum likelihood) per condition. A deterministic
   sweep has no such figure: its cases are different conditions, not samples of one sea state.
 - ``report.md``: cases, failures, the table of headline statistics, Gumbel parameters, throughput.
+
+A line-network study (rows of ``case.run_network_task``) gets its tables per line and of the point forces, and the
+same figures per line, per body and for the points (:func:`network_figures`).
 """
 
 import math
@@ -265,7 +268,7 @@ def exceedance_figure(groups, path, what="the cage tension"):
             fits[label] = (loc, scale, x.size)
             xs = np.linspace(x[0] - 0.1 * np.ptp(x), x[-1] + 0.5 * np.ptp(x), 200)
             ax.semilogy(xs / 1e3, gumbel_r.sf(xs, loc, scale), "-", color=line.get_color(), lw=1,
-                        label=f"Gumbel fit: mu = {loc / 1e3:.1f} kN, beta = {scale / 1e3:.2f} kN")
+                        label=f"Gumbel fit: mu = {loc / 1e3:.4g} kN, beta = {scale / 1e3:.3g} kN")
     ax.set_xlabel(f"per-case maximum of {what} (kN)")
     ax.set_ylabel("exceedance probability P(T_max > x)")
     ax.set_title("Exceedance of per-case maxima per condition (over its seeds)", fontsize=9)
