@@ -239,35 +239,3 @@ def test_knots_of_a_fast_stream_are_min_spacing_apart_and_the_newest_sample_is_a
     for t in np.linspace(0.1, 0.95, 18):  # 10 ms knots: central differences err by a w^3 h^2 / 6 ~ 3e-4 m/s
         p, v = inp.attachment_at(t)
         assert np.linalg.norm(p - circle(t)[0]) < 1e-5 and np.linalg.norm(v - circle(t)[1]) < 2e-3
-
-
-def test_knot_velocities_follow_every_change_of_the_history():
-    """The knots' velocities are kept between changes of the history (a tick interpolates twice in one
-    bracket): after each new pose, a replaced newest knot, a twist that arrives after its pose and a reset,
-    the interpolation equals that of an input fed the same history afresh, bit for bit."""
-    def fresh(poses, twists=()):
-        inp = EndPoseInput("ship", min_spacing=0.01)
-        for t, p in poses:
-            inp.add_pose(t, p, IDENTITY)
-        for t, v in twists:
-            inp.add_twist(t, v, (0.0, 0.0, 0.0))
-        return inp
-
-    live, poses, twists = EndPoseInput("ship", min_spacing=0.01), [], []
-    stamps = [0.0, 0.02, 0.04, 0.045, 0.06, 0.08, 0.1]  # 0.045: closer than min_spacing, replaces 0.04
-    for k, t in enumerate(stamps):
-        p = circle(t)[0]
-        assert live.add_pose(t, p, IDENTITY) is None
-        poses.append((t, p))
-        if k == 4:
-            twists.append((t, circle(t)[1]))
-            assert live.add_twist(t, circle(t)[1], (0.0, 0.0, 0.0)) is None
-        if k >= 1:
-            for q in (0.5 * t, 0.9 * t, t + 0.01):
-                live.attachment_at(q)  # fills the memo before the next change
-                a, b = live.attachment_at(q), fresh(poses, twists).attachment_at(q)
-                assert a[0].tobytes() == b[0].tobytes() and a[1].tobytes() == b[1].tobytes()
-    live.reset()
-    assert live.add_pose(0.5, circle(0.5)[0], IDENTITY) is None and live.add_pose(0.52, circle(0.52)[0], IDENTITY) is None
-    a, b = live.attachment_at(0.51), fresh([(0.5, circle(0.5)[0]), (0.52, circle(0.52)[0])]).attachment_at(0.51)
-    assert a[0].tobytes() == b[0].tobytes() and a[1].tobytes() == b[1].tobytes()

@@ -116,7 +116,6 @@ class EndPoseInput:
         self._samples: list[_Sample] = []
         self._stamps: list[float] = []  # the samples' stamps (bisect)
         self._twists: list = []  # (stamp, linear_world, angular_world)
-        self._knots: dict = {}  # knot index -> its velocity (floats), while the history is unchanged
         self._accepted_at = -math.inf  # clock time of the last accepted pose
         self.accepted = 0
         self.rejected: Counter = Counter()
@@ -139,7 +138,6 @@ class EndPoseInput:
         self._samples.clear()
         self._stamps.clear()
         self._twists.clear()
-        self._knots.clear()
         self._accepted_at = -math.inf
 
     def _reject(self, reason: str) -> str:
@@ -164,7 +162,6 @@ class EndPoseInput:
                 return self._reject("jump")
         sample = _Sample(float(stamp), p, q, att, self._twist_velocity_at(stamp, q))
         s = self._samples
-        self._knots.clear()  # (a new sample, and the pruning below, change knots' velocities and indices)
         if len(s) >= 2 and s[-1].stamp - s[-2].stamp < self.min_spacing:
             s[-1], self._stamps[-1] = sample, float(stamp)  # the newest knot was too close: replaced
         else:
@@ -215,7 +212,6 @@ class EndPoseInput:
         for s in self._samples[i:i + 2]:  # a twist may arrive just after its pose
             if s.twist_velocity is None and abs(s.stamp - stamp) < 1e-6:
                 s.twist_velocity = self._attachment_velocity(v, w, s.orientation)
-                self._knots.clear()
         return None
 
     def _check_clock(self, stamp, now) -> str | None:
@@ -279,25 +275,18 @@ class EndPoseInput:
         """Knot ``i``'s velocity as a (3,) array (:meth:`_knot_velocity_floats`, the same numbers)."""
         return np.array(self._knot_velocity_floats(i))
 
-    def _knot_velocity_floats(self, i: int) -> tuple:
-        """Knot ``i``'s velocity as a tuple of 3 floats (the interpolation's inner loop, without numpy's
+    def _knot_velocity_floats(self, i: int) -> list:
+        """Knot ``i``'s velocity as a list of 3 floats (the interpolation's inner loop, without numpy's
         small-array overheads): its twist when the pose came with one, else the difference quotient of
-        the samples around it (:meth:`_knot_span`). Kept until the history changes (a node's tick
-        interpolates twice in one bracket: at the chunk's start and at its end)."""
-        known = self._knots.get(i)
-        if known is None:
-            known = self._knots[i] = self._knot_velocity_computed(i)
-        return known
-
-    def _knot_velocity_computed(self, i: int) -> tuple:
+        the samples around it (:meth:`_knot_span`)."""
         s = self._samples
         if s[i].twist_velocity is not None:
-            return tuple(s[i].twist_velocity.tolist())
+            return s[i].twist_velocity.tolist()
         if len(s) == 1:
-            return (0.0, 0.0, 0.0)
+            return [0.0, 0.0, 0.0]
         lo, hi = self._knot_span(i)
         (a0, a1, a2), (b0, b1, b2), dt = s[hi].attachment.tolist(), s[lo].attachment.tolist(), s[hi].stamp - s[lo].stamp
-        return ((a0 - b0) / dt, (a1 - b1) / dt, (a2 - b2) / dt)
+        return [(a0 - b0) / dt, (a1 - b1) / dt, (a2 - b2) / dt]
 
     def _knot_span(self, i: int) -> tuple:
         """(lo, hi): the samples whose difference quotient is knot ``i``'s velocity."""
