@@ -12,7 +12,7 @@ outputs read at the end, and solver.tick with state() read every tick (a node's 
 largest relative difference of each case and which arrays differ.
 
 Usage: PYTHONPATH=. python benchmarks/regression_vs_baseline.py --baseline /path/to/other/checkout [--duration 3]
-       [--modes advance tick] [--only ropos_L200_hybrid goyal_perkins]
+       [--modes advance tick] [--only ropos_L200_hybrid goyal_perkins] [--set hybrid.reuse_factorisation=false]
 """
 
 import argparse
@@ -27,7 +27,7 @@ sys.path.insert(0, str(ROOT))
 from benchmarks.bench_tick import load_baseline  # noqa: E402
 
 FILES = ("ropos_L200", "ropos_L500", "ropos_L1730", "ropos_aframe_jonswap", "ropos_descent", "koh_swinging_cable",
-         "cantilever", "ring_beam", "goyal_perkins", "ropos_L200_hybrid")
+         "cantilever", "ring_beam", "goyal_perkins", "ropos_L200_hybrid", "ropos_L1730_hybrid")
 VARIANTS = (
     ("ropos_L200", {"cable.EI": 2620.0}),
     ("ropos_L200", {"dg.damping": "implicit", "dg.resolution": "manual", "dg.n_elements": 4}),
@@ -89,7 +89,11 @@ def main(argv=None):
                     help="the call paths compared (default both)")
     ap.add_argument("--only", nargs="+", default=None, metavar="NAME",
                     help="only the cases of these files (e.g. ropos_L200_hybrid goyal_perkins)")
+    ap.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE",
+                    help="overrides of this tree's configurations only (e.g. a new key whose off value must reproduce "
+                         "the baseline: hybrid.reuse_factorisation=false)")
     args = ap.parse_args(argv)
+    mine = {k: {"true": True, "false": False}.get(v.lower(), v) for k, v in (x.split("=", 1) for x in args.set)}
     factory_b, _ = load_baseline(args.baseline)
     import tether_sim_base.io.params as params_b
 
@@ -100,7 +104,7 @@ def main(argv=None):
         for name, overrides in [(f, {}) for f in FILES] + list(VARIANTS):
             if args.only and name not in args.only:
                 continue
-            a = outputs(build_solver, load_config, name, overrides, args.duration, mode)
+            a = outputs(build_solver, load_config, name, {**dict(overrides), **mine}, args.duration, mode)
             b = outputs(factory_b.build_solver, params_b.load_config, name, overrides, args.duration, mode)
             each = [rel_diff(x, y) for x, y in zip(a, b)]
             d = max(each)

@@ -4,8 +4,8 @@ config/ropos_L200_hybrid.yaml (ROPOS L = 200 m, the cage simulated, EI* = 2620 N
 snap every 5 s). The body condition holds the end's velocity only; a rod zone's shape is the integral of its tangents
 from the block start, and a catenary end keeps the gap a rod zone left. Without re-closing the rod shapes
 (hybrid.close_rod_shapes: off) the rod/catenary conversions of the first slack phase leave the line's end 0.42 m
-from the cage's attachment point once it is taut again (t = 8-10 s; 0.98 m by 16 s, and the closure check stops the
-run at 22.16 s, 2.02 m); re-closed at every zone evaluation it stays within 4 cm over 20 s of the orbit (measured
+from the cage's attachment point once it is taut again (t = 8-10 s, with a fresh Jacobian every step; 0.24-0.93 m on
+other converged Newton paths; 0.98 m by 16 s, and the closure check stops the run at 22.16 s, 2.02 m); re-closed at every zone evaluation it stays within 4 cm over 20 s of the orbit (measured
 2026-11-29, docs/hybrid_solver.md "Zoning").
 """
 
@@ -62,11 +62,14 @@ def test_the_gap_at_a_body_end_is_measured_every_step_and_stops_the_run_beyond_t
 @pytest.mark.slow
 def test_the_shipped_file_keeps_its_line_on_the_cage_through_slack_and_snap():
     """Through the first slack phase (4.9-7.6 s) and snap (8.2 s) to 10 s: with the rod shapes re-closed the line
-    ends within 3 cm of the cage after every command (measured at most 1.5 cm), against 0.42 m without."""
+    ends within 3 cm of the cage after every command (measured at most 1.5 cm), against decimetres without. That gap is
+    the sum of the conversions' perturbations, and which conversions happen at which step depends on the Newton path:
+    measured 0.41 m with a fresh Jacobian every step (newton_tolerance 1e-9 and 1e-10), 0.93 m at 1e-11 and 0.24 m
+    with the factorisation kept across steps (the default; 2026-11-29), so it is asserted above 0.1 m."""
     solver, motion = _solver()
     gaps = _run(solver, motion, 10.0)
     assert gaps.max() < 0.03, gaps.max()
     assert solver.stats["closures"] > 0
     solver, motion = _solver(close_rod_shapes="off")
     gaps = _run(solver, motion, 10.0)
-    assert gaps[-1] > 0.3  # the gap the first slack phase left, carried through the taut phase
+    assert gaps[-1] > 0.1  # the gap the first slack phase left, carried through the taut phase

@@ -31,9 +31,10 @@ TOL = 1e-3
 REFERENCE_TOL = 1e-10
 
 
-def _run(jacobian, until=1.5):
+def _run(jacobian, reuse, until=1.5):
     cfg = load_config(ROOT / "config" / "ropos_L200_hybrid.yaml",
-                      {"hybrid.newton_tolerance": TOL, "hybrid.jacobian": jacobian, "motion.ramp_time": 1.0})
+                      {"hybrid.newton_tolerance": TOL, "hybrid.jacobian": jacobian, "motion.ramp_time": 1.0,
+                       "hybrid.reuse_factorisation": reuse})
     solver = HybridRodCatenarySolver(cfg)
     motion = build_motion(cfg.motion, np.asarray(cfg.ship_end.position, float))
     while solver.time < until - 1e-9:
@@ -49,19 +50,22 @@ def _offsets(chain, Y, Y_ref, scale):
 
 
 @pytest.mark.parametrize("jacobian", ["analytic", "finite_difference"])
-def test_an_accepted_step_is_converged_to_the_tolerance(monkeypatch, jacobian):
+@pytest.mark.parametrize("reuse", [True, False])
+def test_an_accepted_step_is_converged_to_the_tolerance(monkeypatch, jacobian, reuse):
+    """With the factorisation kept across steps (hybrid.reuse_factorisation, the default) and without."""
     worst = []
     if jacobian == "analytic":
         compiled = hybrid_solver.newton_band
 
         def newton_band(ch, kl, ku, low, last, tangent, scale, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, max_it, tol,
-                        max_turn, ab, counts):
+                        max_turn, ab, ipiv, rs, held, counts):
             it = compiled(ch, kl, ku, low, last, tangent, scale, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, max_it, tol,
-                          max_turn, ab, counts)
+                          max_turn, ab, ipiv, rs, held, counts)
             if it > 0:
                 Y_ref = Y.copy()
                 again = compiled(ch, kl, ku, low, last, tangent, scale, Y_ref, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, 30,
-                                 REFERENCE_TOL, max_turn, ab.copy(), np.zeros(2, dtype=np.int64))
+                                 REFERENCE_TOL, max_turn, ab.copy(), ipiv.copy(), rs.copy(), np.zeros(1, dtype=np.int64),
+                                 np.zeros(3, dtype=np.int64))
                 assert again > 0, "the accepted state does not re-converge"
                 worst.append(_offsets(type("C", (), {"idx_node": ch[7], "idx_slot": ch[8]}), Y, Y_ref, scale))
             return it
@@ -72,16 +76,17 @@ def test_an_accepted_step_is_converged_to_the_tolerance(monkeypatch, jacobian):
 
         def newton_python(self, Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns, n, bodies):
             it = twin(self, Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns, n, bodies)
-            opt, Y_ref = self.opt, Y.copy()
+            opt, Y_ref, kept = self.opt, Y.copy(), (self._fd_lu, self._lu_key)
             self.opt = replace(opt, newton_tolerance=REFERENCE_TOL, max_newton_iterations=30)
             try:
                 twin(self, Y_ref, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns, n, bodies)
             finally:
                 self.opt = opt
+                self._fd_lu, self._lu_key = kept  # the next step sees the run's own factorisation
             worst.append(_offsets(self.chain, Y, Y_ref, scale))
             return it
 
         monkeypatch.setattr(HybridRodCatenarySolver, "_newton_python", newton_python)
-    solver = _run(jacobian)
+    solver = _run(jacobian, reuse)
     assert solver.stats["steps"] >= 75 and len(worst) >= 75
     assert max(worst) <= 10.0 * TOL, f"an accepted step lay {max(worst) / TOL:.3g} x tolerance x scale from convergence"

@@ -287,3 +287,55 @@ def test_block_frames_and_shape_against_their_plain_transcriptions():
     mine = frames_along(s.Lf[0].copy(), s.Y[:, ROD_KAPPA:ROD_KAPPA + 3].copy(), np.diff(s.chain.s))
     s._integrate_frames()
     assert np.array_equal(mine, s.Lf)
+
+
+@pytest.mark.jit_off
+def test_zone_criterion_against_the_numpy_classification():
+    """zoning.zone_criterion (compiled, one pass) gives the raw zones of the numpy classification (solver's element
+    tensions, element_bending, raw_zones) wherever it claims certainty, on chains with rod blocks and joints: tensions
+    spread across both switching tensions, random bending and shear at rod nodes, turned catenary tangents. States
+    within CRITERION_MARGIN of a switching value are left to classify (False). A wrong element tension (one node
+    instead of the four of its two grid points), a missing turn of a catenary cell or a swapped hysteresis fails."""
+    from tether_sim.solvers.hybrid.layout import CAT_T, CAT_TAN, ROD_F, ROD_KAPPA
+    from tether_sim.solvers.hybrid.state_io import convert_state
+
+    s = _excursion("all_catenary")
+    zones = np.zeros_like(s.zones)
+    zones[3:9] = 1  # a rod block inside catenary: two joints
+    zones[-4:] = 1  # and one at the far end
+    s.Y, s.Yt, s.Lf, s.positions, s.rdot = convert_state(s, zones)
+    s.zones = zones
+    s._set_chain()
+    ch = s.chain
+    ends = zoning.grid_ends(ch.grid)
+    w = max(s.net_weight, 1e-12)
+    T_on = (s.EI * w ** 2 / s.opt.chi_on ** 2) ** (1 / 3)
+    rng = np.random.default_rng(5)
+    rod = ch.kind == zoning.ROD
+    certain = 0
+    for trial in range(200):
+        Y = s.Y.copy()
+        T = T_on * rng.uniform(-0.2, 3.0, len(Y))
+        Y[rod, ROD_F] = T[rod]
+        Y[~rod, CAT_T] = T[~rod]
+        Y[rod, ROD_KAPPA + 1:ROD_KAPPA + 3] = rng.normal(0.0, 0.02, (rod.sum(), 2)) * rng.uniform(0, 1)
+        Y[rod, ROD_F + 1:ROD_F + 3] = rng.normal(0.0, 0.2 * T_on, (rod.sum(), 2)) * rng.uniform(0, 1)
+        Y[~rod, CAT_TAN:CAT_TAN + 3] += rng.normal(0.0, rng.uniform(0.0, 0.3), ((~rod).sum(), 3))
+        s.Y = Y
+        previous = rng.integers(0, 2, s.zones.size) if trial % 2 else s.zones
+        T_elem, kappa, shear = s._element_criteria(ends)
+        ref = zoning.raw_zones(T_elem, previous, s.EI, w, s.opt.chi_on, s.opt.chi_off, kappa, shear)
+        raw = np.full(s.zones.size, -1, dtype=s.zones.dtype)
+        if zoning.zone_criterion(ch.kind, Y, ch.grid, ch.s, ends[0], ends[1], previous, s.EI, w, s.opt.chi_on,
+                                 s.opt.chi_off, raw):
+            certain += 1
+            assert np.array_equal(raw, ref), trial
+    assert certain >= 190
+    # within the margin of a switching value it does not decide
+    Y[:, CAT_T] = T_on * (1.0 + 0.1 * zoning.CRITERION_MARGIN)
+    Y[rod, ROD_F] = T_on * (1.0 + 0.1 * zoning.CRITERION_MARGIN)
+    Y[rod, ROD_KAPPA:ROD_KAPPA + 3] = 0.0
+    Y[rod, ROD_F + 1:ROD_F + 3] = 0.0
+    Y[~rod, CAT_TAN:CAT_TAN + 3] = s.Y[~rod, CAT_TAN:CAT_TAN + 3] * 0.0 + [0.0, 0.0, -1.0]
+    assert not zoning.zone_criterion(ch.kind, Y, ch.grid, ch.s, ends[0], ends[1], np.zeros_like(s.zones), s.EI, w,
+                                     s.opt.chi_on, s.opt.chi_off, raw)

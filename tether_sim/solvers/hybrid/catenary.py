@@ -75,7 +75,13 @@ def catenary_cell_residual(Ya, Yna, Ytna, rna, Yb, Ynb, Ytnb, rnb, ds, P, cz, cx
 @jit_alloc
 def unit_tangent_residual(Y, out):
     """|t|^2 - 1 = 0 at a catenary node (replaces the angle chart of GP Eq. 4)."""
-    out[0] = Y[CAT_TAN] * Y[CAT_TAN] + Y[CAT_TAN + 1] * Y[CAT_TAN + 1] + Y[CAT_TAN + 2] * Y[CAT_TAN + 2] - 1.0
+    out[0] = unit_tangent_value(Y[CAT_TAN], Y[CAT_TAN + 1], Y[CAT_TAN + 2])
+
+
+@jit_alloc
+def unit_tangent_value(t0, t1, t2):
+    """|t|^2 - 1 of a tangent's components."""
+    return t0 * t0 + t1 * t1 + t2 * t2 - 1.0
 
 
 @jit_alloc

@@ -25,10 +25,27 @@ class NewtonMixin:
 
     def _newton_python(self, Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns, n, bodies):
         """Newton iterations in Python with the forward-difference twin (hybrid.jacobian: finite_difference);
-        the same algorithm as newton_band.newton_band. Returns the iteration count."""
+        the same algorithm as newton_band.newton_band, the factorisation kept across steps included. Returns the
+        iteration count."""
+        kept = self._fd_lu if self._factorisation_kept() else None
+        self._fd_lu = None
+        if kept is not None:
+            Y0 = Y.copy()
+            try:
+                return self._newton_iterations(Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns, n, bodies, kept)
+            except _NewtonFailure:
+                self.stats["kept_factorisation_failures"] = self.stats.get("kept_factorisation_failures", 0) + 1
+                Y[...] = Y0
+        return self._newton_iterations(Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns, n, bodies, None)
+
+    _fd_lu = None  # (solve, row scales) of the last step's factorisation
+
+    def _newton_iterations(self, Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns, n, bodies, kept):
+        """newton_band._iterate in Python: starting with kept = (solve, row scales) if given, else a fresh Jacobian."""
         ch = self.chain
         R = np.empty(n)
-        lin = None
+        lin, rs = kept if kept is not None else (None, None)
+        own = False
         res_prev = np.inf
         err_prev = np.inf
         args = (Yn, Ytn, Ln, rn, ch.s, P, self.cz, self.cx, self.cy)
@@ -42,6 +59,7 @@ class NewtonMixin:
             fresh = lin is None or res > 0.1 * res_prev
             if fresh:
                 lin, rs = self._factorise(Y, args, n, bodies)
+                own = True
                 self.stats["jacobians"] = self.stats.get("jacobians", 0) + 1
                 res = np.abs(rs * R).max()
             res_prev = res
@@ -57,12 +75,14 @@ class NewtonMixin:
             Y[ch.idx_node, ch.idx_slot] -= lam * dx
             tol = self.opt.newton_tolerance
             err = float(np.max(np.abs(dx) / scale)) / tol
-            # converged, or stagnating at round-off: within 1000x of the tolerance and STAGNATION of the scale
-            if lam == 1.0 and (err <= 1.0 or (err <= 1e3 and err * tol <= STAGNATION and err >= 0.5 * err_prev)):
+            # converged, or stagnating at round-off (with a Jacobian of this step): within 1000x of the tolerance
+            # and STAGNATION of the scale
+            if lam == 1.0 and (err <= 1.0 or (own and err <= 1e3 and err * tol <= STAGNATION and err >= 0.5 * err_prev)):
                 break
             err_prev = err
         else:
             raise _NewtonFailure(f"no convergence in {self.opt.max_newton_iterations} iterations")
+        self._fd_lu = (lin, rs)
         return it
 
     def _factorise(self, Y, args, n, bodies):

@@ -122,20 +122,44 @@ def _line_search(ch, Y, Ytry, dx, lam, rs, R, Rt, n, Yn, Ytn, Ln, rn, s, P, cz, 
 
 
 @jit_alloc
-def newton_band(ch, kl, ku, low, last, tangent, scale, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, max_it, tol, max_turn, ab, counts):
+def newton_band(ch, kl, ku, low, last, tangent, scale, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, max_it, tol, max_turn, ab,
+                ipiv, rs, held, counts):
     """Newton iterations of one step on Y (in place). ch = (gkind, ga, gb, grow, gpar, noff, nslot,
     idx_node, idx_slot); low, last: the structure of band_lu; tangent: bool mask of the catenary tangent unknowns; scale: per-unknown scales
-    of the stopping test. Returns the iteration count, or a FAIL_* code. counts[0] += fresh Jacobians,
-    counts[1] += exhausted line searches."""
+    of the stopping test; ab, ipiv, rs: the factorised, row-equilibrated iteration matrix and its row scales.
+    held[0] = 1 on entry: they hold the factorisation of an earlier step of this chain and step size, and the
+    step starts with it (simplified Newton across steps, refactorised by the same rule as within a step); if
+    that attempt fails, the step starts again from the same Y with a fresh Jacobian, as without it. On return
+    held[0] = 1 if they hold a factorisation. Returns the iteration count, or a FAIL_* code. counts[0] += fresh
+    Jacobians, counts[1] += exhausted line searches, counts[2] += steps started again after a failed attempt with a
+    kept factorisation."""
+    if held[0] == 1:
+        Y0 = Y.copy()
+        it = _iterate(ch, kl, ku, low, last, tangent, scale, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, max_it, tol,
+                      max_turn, ab, ipiv, rs, True, counts)
+        if it > 0:
+            return it
+        counts[2] += 1
+        Y[:, :] = Y0
+    it = _iterate(ch, kl, ku, low, last, tangent, scale, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, max_it, tol,
+                  max_turn, ab, ipiv, rs, False, counts)
+    held[0] = 1 if it > 0 else 0
+    return it
+
+
+@jit_alloc
+def _iterate(ch, kl, ku, low, last, tangent, scale, Y, Yn, Ytn, Ln, rn, s, P, cz, cx, cy, max_it, tol, max_turn, ab,
+             ipiv, rs, kept, counts):
+    """The iterations of newton_band, starting with the kept factorisation in ab, ipiv, rs if kept, else with a
+    fresh Jacobian. Stagnation at round-off is accepted only with a Jacobian of this step."""
     gkind, ga, gb, grow, gpar, noff, nslot, idx_node, idx_slot = ch
     n = idx_node.shape[0]
     R = np.empty(n)
     Rt = np.empty(n)
-    rs = np.ones(n)
     dx = np.empty(n)
-    ipiv = np.empty(n, dtype=np.int64)
     Ytry = np.empty_like(Y)
-    have_lu = False
+    have_lu = kept
+    own = False  # the factorisation is of a Jacobian of this step
     res_prev = np.inf
     err_prev = np.inf
     known = False  # R already holds the residual at Y (the line search's accepted point)
@@ -159,6 +183,7 @@ def newton_band(ch, kl, ku, low, last, tangent, scale, Y, Yn, Ytn, Ln, rn, s, P,
             if band_lu(ab, n, kl, ku, low, lastw, ipiv) != 0:
                 return FAIL_SINGULAR
             have_lu = True
+            own = True
             counts[0] += 1
             res = 0.0
             for i in range(n):
@@ -182,7 +207,7 @@ def newton_band(ch, kl, ku, low, last, tangent, scale, Y, Yn, Ytn, Ln, rn, s, P,
             Y[idx_node[i], idx_slot[i]] -= lam * dx[i]
             err = max(err, abs(dx[i]) / scale[i])
         err /= tol
-        if lam == 1.0 and (err <= 1.0 or (err <= 1e3 and err * tol <= STAGNATION and err >= 0.5 * err_prev)):
+        if lam == 1.0 and (err <= 1.0 or (own and err <= 1e3 and err * tol <= STAGNATION and err >= 0.5 * err_prev)):
             return it
         err_prev = err
         if known:  # Y is now Ytry (the same operation, Y - lam dx): its residual is Rt

@@ -202,10 +202,12 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         return copy.deepcopy({"Y": self.Y, "Yt": self.Yt, "Lf": self.Lf, "zones": self.zones, "time": self.time,
                               "positions": self.positions, "rdot": self.rdot, "motion": self.end_motion,
                               "load": self.end_load, "stats": self.stats, "body_x": self.body_x,
-                              "body_xd": self.body_xd, "last_zoning": self._last_zoning, **self._winch_snapshot()})
+                              "body_xd": self.body_xd, "last_zoning": self._last_zoning, **self._winch_snapshot()}) | {
+            "factorisation": self._factorisation_snapshot()}
 
     def restore(self, snap):
-        snap = copy.deepcopy(snap)
+        kept = snap.get("factorisation")
+        snap = copy.deepcopy({k: v for k, v in snap.items() if k != "factorisation"})
         self.Y, self.Yt, self.Lf, self.zones = snap["Y"], snap["Yt"], snap["Lf"], snap["zones"]
         self.time, self.positions, self.rdot = snap["time"], snap["positions"], snap["rdot"]
         self.end_motion, self.end_load, self.stats = snap["motion"], snap["load"], snap["stats"]
@@ -214,10 +216,32 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         self._winch_restore(snap)
         self._set_chain()
         self._record = ([], [], [])
+        self._factorisation_restore(kept)
+
+    def _factorisation_snapshot(self):
+        """The factorisation the next step would start with (hybrid.reuse_factorisation), so that a restored run
+        takes the same Newton path as the run it was taken from: (step key without the chain, band LU arrays, the
+        Python twin's factorisation), or None. The twin's SuperLU object is shared, not copied (it is only read)."""
+        key = self._lu_key
+        if key is None or key[0] is not self.chain:
+            return None
+        band = None if self._band is None else (self._band.copy(), *(a.copy() for a in self._lu))
+        return key[1:], band, self._fd_lu
+
+    def _factorisation_restore(self, kept):
+        """The factorisation of a snapshot (_factorisation_snapshot) for the chain restore() just built."""
+        self._lu_key, self._fd_lu = None, None
+        if kept is not None:
+            key, band, self._fd_lu = kept
+            self._lu_key = (self.chain, *key)
+            if band is not None:
+                self._band, self._lu = band[0].copy(), tuple(a.copy() for a in band[1:])
 
     # ------------------------------------------------------------------ stepping
     _rho = None
     _band = None
+    _lu = None
+    _lu_key = None  # (chain, dt, rho_inf, relaxing) of the last step's factorisation (_factorisation_kept)
     _pcache = (None, None)
     _profile_cache = None
 
@@ -341,24 +365,43 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
         self._commit(np.ascontiguousarray(Y[:K]), dt, P, it)
 
     def _newton_compiled(self, Y, Yn, Ytn, Ln, rn, P, scale, tangent_unknowns):
-        """Newton iterations with the analytic band Jacobian, compiled (newton_band.py)."""
+        """Newton iterations with the analytic band Jacobian, compiled (newton_band.py). With
+        hybrid.reuse_factorisation the factorised iteration matrix of the last step is kept for the next one while the
+        chain and the step's parameters (step size, rho_inf) are the same (_kept_factorisation)."""
         ch = self.chain
         kl, ku = ch.kl, ch.ku
         n = ch.n_unknowns
         if self._band is None or self._band.shape != (2 * kl + ku + 1, n):
             self._band = np.zeros((2 * kl + ku + 1, n))
-        counts = np.zeros(2, dtype=np.int64)
+            self._lu = (np.empty(n, dtype=np.int64), np.ones(n), np.zeros(1, dtype=np.int64))
+        ipiv, rs, held = self._lu
+        if not self._factorisation_kept():
+            held[0] = 0
+        counts = np.zeros(3, dtype=np.int64)
         groups = (ch.gkind, ch.ga, ch.gb, ch.grow, ch.gpar, ch.noff, ch.nslot, ch.idx_node, ch.idx_slot)
         it = newton_band(groups, kl, ku, ch.low, ch.last, tangent_unknowns, scale, Y, Yn, Ytn, Ln, rn, ch.s, P, self.cz, self.cx,
                          self.cy, self.opt.max_newton_iterations, self.opt.newton_tolerance, MAX_TURN, self._band,
-                         counts)
+                         ipiv, rs, held, counts)
         st = self.stats
         st["jacobians"] = st.get("jacobians", 0) + int(counts[0])
         if counts[1]:
             st["line_search_exhausted"] = st.get("line_search_exhausted", 0) + int(counts[1])
+        if counts[2]:
+            st["kept_factorisation_failures"] = st.get("kept_factorisation_failures", 0) + int(counts[2])
         if it < 0:
             raise _NewtonFailure(FAILURES[it])
         return it
+
+    def _factorisation_kept(self):
+        """hybrid.reuse_factorisation: may the step being solved start with the factorisation of the last one? Yes if
+        it was made for this chain (the same zones, joints and ends) and the same step size and rho_inf. Step sizes
+        equal to 1e-9 relative count as the same: advance_to's steps to a tick's time differ in the last bits, and
+        the iteration matrix changes by as much (it is an approximation anyway; the converged step does not depend
+        on it). Records this step's key for the next."""
+        dt, rho, relaxing = self._pcache[0]
+        key, self._lu_key = self._lu_key, (self.chain, dt, rho, relaxing)
+        return (self.opt.reuse_factorisation and key is not None and key[0] is self.chain and key[2:] == (rho, relaxing)
+                and abs(key[1] - dt) <= 1e-9 * dt)
 
     def _commit(self, Y, dt, P, iterations):
         self._profile_cache = None
@@ -524,29 +567,60 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
 
     def _rezone(self, boost=1.0):
         """Re-evaluate the zones (after each step; with boost > 1 after a failed step); True if changed."""
-        # the lower tension of each element's two nodes (at a joint: the lower of both sides), so that
-        # no catenary node is left slack
         ch = self.chain
         ends = getattr(ch, "grid_ends", None)
         if ends is None:
             ends = ch.grid_ends = zoning.grid_ends(ch.grid)
-        T_node = np.where(ch.kind == zoning.ROD, self.Y[:, ROD_F], self.Y[:, CAT_T])
-        T_grid = np.minimum(T_node[ends[0]], T_node[ends[1]])
-        T_elem = np.minimum(T_grid[1:], T_grid[:-1])
-        # and the bending the line carries: a rod element bent or sheared more than its weight does it
-        # stays rod until the tension dominates (zoning.py)
-        kappa, shear = zoning.element_bending(ch.kind, self.Y, ch.grid, ch.s, self.zones.size, ends)
+        if boost == 1.0 and self._quiet is not None and self._quiet[0] is ch:
+            raw = self._raw_zones(ends)
+            if raw is not None and np.array_equal(raw, self._quiet[2]) and self._quiet[1] == self._end_rod_elements():
+                return self._zones_kept()
+        T_elem, kappa, shear = self._element_criteria(ends)
         new = self._classify(T_elem, self.zones, boost, kappa, shear)
         if boost > 1.0:
             new = np.maximum(new, self.zones)  # only add rod elements
         if np.array_equal(new, self.zones):
-            if self.opt.close_rod_shapes == "evaluation" and (self.chain.kind == zoning.ROD).any():
-                self._profile_cache = None
-                close_rod_shapes(self)  # the rod shapes back onto their ends (state_io.close_rod_blocks)
-            return False
+            if boost == 1.0:
+                raw = self._raw_zones(ends)
+                self._quiet = None if raw is None else (ch, self._end_rod_elements(), raw)
+            return self._zones_kept()
 
         self.Y, self.Yt, self.Lf, self.positions, self.rdot = convert_state(self, new)
         self.zones = new
         self._set_chain()
         self.stats["rezonings"] += 1
         return True
+
+    def _element_criteria(self, ends):
+        """(T_elem, kappa, shear) per element: the lower tension of each element's nodes (at a joint: the lower of
+        both sides), so that no catenary node is left slack; and the bending the line carries: a rod element bent or
+        sheared more than its weight does it stays rod until the tension dominates (zoning.py)."""
+        ch = self.chain
+        T_node = np.where(ch.kind == zoning.ROD, self.Y[:, ROD_F], self.Y[:, CAT_T])
+        T_grid = np.minimum(T_node[ends[0]], T_node[ends[1]])
+        T_elem = np.minimum(T_grid[1:], T_grid[:-1])
+        kappa, shear = zoning.element_bending(ch.kind, self.Y, ch.grid, ch.s, self.zones.size, ends)
+        return T_elem, kappa, shear
+
+    # (chain, end rod elements, zone_criterion's raw zones) of the last full zone evaluation that changed nothing
+    _quiet = None
+
+    def _raw_zones(self, ends):
+        """The zones by the criterion alone (zoning.zone_criterion), or None where it leaves the decision to classify.
+        A zone evaluation whose raw zones equal those of an evaluation of the same chain that changed nothing changes
+        nothing either: classify's clean-up is a function of the raw zones (and of min_zone_elements and the held
+        end rods). So the full evaluation (~70 us of numpy at 50 elements) runs only when a zone can change."""
+        o = self.opt
+        raw = np.empty(self.zones.size, dtype=self.zones.dtype)
+        ch = self.chain
+        if zoning.zone_criterion(ch.kind, self.Y, ch.grid, ch.s, ends[0], ends[1], self.zones, self.EI,
+                                 max(self.net_weight, 1e-12), o.chi_on, o.chi_off, raw):
+            return raw
+        return None
+
+    def _zones_kept(self):
+        """A zone evaluation without a change: the rod shapes back onto their ends (state_io.close_rod_blocks)."""
+        if self.opt.close_rod_shapes == "evaluation" and (self.chain.kind == zoning.ROD).any():
+            self._profile_cache = None
+            close_rod_shapes(self)
+        return False

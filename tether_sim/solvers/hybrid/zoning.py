@@ -25,8 +25,11 @@ carries a moment or holds the tangent (clamped, held direction) keep a rod zone 
 ``end_rod_length``. The criterion is evaluated after every accepted step.
 """
 
+import math
+
 import numpy as np
 
+from tether_sim.numerics.jit import jit
 from tether_sim.numerics.rotations import frame_with_tangent, minimal_rotation, rotation_vector
 from tether_sim.solvers.hybrid.layout import (CAT_EPS, CAT_T, CAT_TAN, CAT_V, N_SLOTS, ROD_EPS, ROD_F, ROD_KAPPA, ROD_OMEGA,
                                               ROD_V)
@@ -88,11 +91,68 @@ def element_bending(kind, Y, grid, s, n_elements, ends=None):
     return out, shear
 
 
-def classify(T_elem, previous, EI, w, chi_on, chi_off, min_zone, end_rod=(0, 0), kappa_elem=None, shear_elem=None):
-    """New element zones from element tensions (curvatures, shear forces) with hysteresis (module docstring)."""
+# relative distance of chi from its switching value below which zone_criterion leaves the decision to classify
+CRITERION_MARGIN = 1e-9
+
+
+@jit
+def zone_criterion(kind, Y, grid, s, first, last, previous, EI, w, chi_on, chi_off, raw):
+    """Each element's zone by the criterion alone, before classify's clean-up: raw[e] as classify computes it from
+    the chain's state (the element tensions of solver._rezone, element_bending, tension_ratio and the hysteresis),
+    in one pass without temporaries. Returns True if every element's chi is farther than CRITERION_MARGIN
+    (relative) from its switching value, so that numpy's chi, equal up to rounding, decides the same; False
+    (raw not to be used) otherwise or if a value is not finite. first, last: grid_ends(grid)."""
+    n = previous.shape[0]
+    for e in range(n):
+        T = np.inf
+        kap = 0.0
+        shear = 0.0
+        for j in (e, e + 1):
+            for c in (first[j], last[j]):
+                if kind[c] == ROD:
+                    t = Y[c, ROD_F]
+                    kap = max(kap, math.hypot(Y[c, ROD_KAPPA + 1], Y[c, ROD_KAPPA + 2]))
+                    shear = max(shear, math.hypot(Y[c, ROD_F + 1], Y[c, ROD_F + 2]))
+                else:
+                    t = Y[c, CAT_T]
+                T = min(T, t)
+        c = last[e]  # the element's catenary cell, if both its nodes are catenary nodes
+        if kind[c] == CATENARY and kind[c + 1] == CATENARY:
+            na = math.sqrt(Y[c, CAT_TAN] ** 2 + Y[c, CAT_TAN + 1] ** 2 + Y[c, CAT_TAN + 2] ** 2)
+            nb = math.sqrt(Y[c + 1, CAT_TAN] ** 2 + Y[c + 1, CAT_TAN + 1] ** 2 + Y[c + 1, CAT_TAN + 2] ** 2)
+            d = 0.0
+            for k in range(3):
+                d += (Y[c + 1, CAT_TAN + k] / nb - Y[c, CAT_TAN + k] / na) ** 2
+            turn = 2.0 * math.asin(min(max(0.5 * math.sqrt(d), 0.0), 1.0))
+            kap = max(kap, turn / (s[c + 1] - s[c]))
+        if not (np.isfinite(T) and np.isfinite(kap) and np.isfinite(shear)):
+            return False
+        rod = previous[e] == ROD
+        if T <= 0.0:
+            raw[e] = ROD
+            continue
+        chi = math.sqrt(EI / T) * max(w / T, kap)
+        chi = max(chi, math.sqrt(shear / T))
+        switch = chi_off if rod else chi_on
+        if not abs(chi - switch) > CRITERION_MARGIN * switch:
+            return False
+        if rod:
+            raw[e] = CATENARY if chi < chi_off else ROD
+        else:
+            raw[e] = ROD if chi > chi_on else CATENARY
+    return True
+
+
+def raw_zones(T_elem, previous, EI, w, chi_on, chi_off, kappa_elem=None, shear_elem=None):
+    """Each element's zone by the criterion and its hysteresis alone (classify before its clean-up)."""
     chi = tension_ratio(T_elem, EI, w, kappa_elem, shear_elem)
     prev = np.asarray(previous)
-    zones = np.where(prev == ROD, np.where(chi < chi_off, CATENARY, ROD), np.where(chi > chi_on, ROD, CATENARY))
+    return np.where(prev == ROD, np.where(chi < chi_off, CATENARY, ROD), np.where(chi > chi_on, ROD, CATENARY))
+
+
+def classify(T_elem, previous, EI, w, chi_on, chi_off, min_zone, end_rod=(0, 0), kappa_elem=None, shear_elem=None):
+    """New element zones from element tensions (curvatures, shear forces) with hysteresis (module docstring)."""
+    zones = raw_zones(T_elem, previous, EI, w, chi_on, chi_off, kappa_elem, shear_elem)
     key = (zones.tobytes(), int(min_zone), tuple(end_rod))
     if _LAST[0] == key:  # the rest depends only on these (the zones are re-evaluated after every step)
         return _LAST[1].copy()
