@@ -110,7 +110,23 @@ class HandDriven:
     def __init__(self, context, flat: dict, node_name=None, t0=100.0):
         flat = {k: v for k, v in flat.items() if k != "use_sim_time"}
         kwargs = {} if node_name is None else {"node_name": node_name}
-        self.node = TetherSimNode(context=context, parameter_overrides=overrides(flat), **kwargs)
+        self._drive(TetherSimNode(context=context, parameter_overrides=overrides(flat), **kwargs), t0)
+
+    @classmethod
+    def network(cls, context, files, overrides=None, node_name=None, held=None, t0=100.0):
+        """The line-network node of ``files`` (NetworkSimNode; ``overrides``: flat ``node.*`` keys) driven
+        the same way; ``held``: {point: position} of the other driven points, fed with every ship pose."""
+        from tether_sim.ros.network_node import NetworkSimNode
+
+        self = cls.__new__(cls)
+        kwargs = {} if node_name is None else {"node_name": node_name}
+        self._drive(NetworkSimNode(files=[str(f) for f in files], overrides=overrides, context=context, **kwargs), t0,
+                    held)
+        return self
+
+    def _drive(self, node, t0, held=None):
+        self.node = node
+        self.held = dict(held or {})
         self.node.driver.wall_budget = None
         self.log = []
         for publisher in self.node.publishers:
@@ -137,3 +153,9 @@ class HandDriven:
         o = msg.pose.orientation
         o.x, o.y, o.z, o.w = quaternion
         self.node._on_pose("ship", msg)
+        for name, position in self.held.items():
+            held = PoseStamped()
+            held.header = msg.header
+            held.pose.position.x, held.pose.position.y, held.pose.position.z = (float(v) for v in position)
+            held.pose.orientation.w = 1.0
+            self.node._on_pose(name, held)

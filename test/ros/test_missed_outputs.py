@@ -8,7 +8,9 @@ then more than the node catches up on). Every TetherState and wrench the second 
 be one the first published at the same stamp (equal fields but the wall-clock real-time factor), in
 order, none repeated, and the second must publish the states of the skipped periods (at most
 ``node.missed_outputs`` of them). Before the late tick caught up, it published only the newest instant:
-the skipped periods' stamps were missing.
+the skipped periods' stamps were missing. The line-network node (config/ropos_tms.yaml, the vehicle held) is
+driven the same way and checked the same on its lines' states, the wrenches and the cage's pose: it shares the
+single-line node's catch-up, and published only the newest instant before.
 """
 
 import math
@@ -19,7 +21,7 @@ import pytest
 pytest.importorskip("rclpy")
 pytest.importorskip("tether_sim_msgs")
 import rclpy  # noqa: E402
-from geometry_msgs.msg import WrenchStamped  # noqa: E402
+from geometry_msgs.msg import PoseStamped, WrenchStamped  # noqa: E402
 from rclpy.serialization import deserialize_message  # noqa: E402
 from sim_harness import HandDriven  # noqa: E402
 from tether_sim_msgs.msg import TetherState  # noqa: E402
@@ -35,7 +37,7 @@ MISSED_OUTPUTS_MAX = 5  # node.missed_outputs (the default)
 # differ by float rounding (~1e-14 s), and so do the states, by ~1e-12 relative (measured: 1.8e-7 N in 73 kN)
 RTOL = 1e-8
 ATOL = {"force": 1e-6, "torque": 1e-6, "ship_end_tension": 1e-6, "vehicle_end_tension": 1e-6, "time_step": 0.0, "lag": 1e-9,
-        "arc_length": 0.0, "tension": 1e-6, "curvature": 1e-12, "bending_moment": 1e-9, "position": 1e-9, "velocity": 1e-9}
+        "arc_length": 0.0, "tension": 1e-6, "orientation": 1e-12, "curvature": 1e-12, "bending_moment": 1e-9, "position": 1e-9, "velocity": 1e-9}
 # periods whose tick the late node skips (its next tick comes that many periods late): two, one, and a stall
 # longer than the node catches up on
 SKIPPED = {20, 21, 30} | set(range(40, 40 + MISSED_OUTPUTS_MAX + 3))
@@ -56,6 +58,9 @@ def fields(msg) -> dict:
         out.update({k: np.asarray(getattr(msg, k)).tolist() for k in ("arc_length", "tension", "curvature", "bending_moment")})
         out.update({k: [(p.x, p.y, p.z) for p in getattr(msg, k)] for k in ("position", "velocity")})
         return out
+    if isinstance(msg, PoseStamped):
+        p, q = msg.pose.position, msg.pose.orientation
+        return {"position": (p.x, p.y, p.z), "orientation": (q.x, q.y, q.z, q.w)}
     w = msg.wrench
     return {"force": (w.force.x, w.force.y, w.force.z), "torque": (w.torque.x, w.torque.y, w.torque.z)}
 
@@ -63,13 +68,13 @@ def fields(msg) -> dict:
 TYPES = {"/tether/state": TetherState, "/tether/ship_wrench": WrenchStamped, "/tether/vehicle_wrench": WrenchStamped}
 
 
-def published(log, topic) -> list:
+def published(log, topic, types=TYPES) -> list:
     """[(tick, stamp, fields)] of every message of ``topic``."""
     out = []
     for k, entries in enumerate(log):
         for t, data in entries:
             if t == topic:
-                msg = deserialize_message(data, TYPES[topic])
+                msg = deserialize_message(data, types[topic])
                 out.append((k, stamp(msg), fields(msg)))
     return out
 
@@ -81,6 +86,15 @@ def runs():
     context = rclpy.Context()
     rclpy.init(context=context)
     on_time, late = HandDriven(context, flat, node_name="on_time"), HandDriven(context, flat, node_name="late")
+    drive(on_time, late)
+    yield on_time, late
+    for driven in (on_time, late):
+        driven.node.destroy_node()
+    rclpy.shutdown(context=context)
+
+
+def drive(on_time, late):
+    """The same poses to both nodes; the late one's ticks skip the periods of SKIPPED."""
     for k in range(TICKS):
         z = heave(on_time.clock + 0.02)
         on_time.tick(z)
@@ -88,17 +102,13 @@ def runs():
             late.feed(z)  # the pose arrives, the timer's call does not
         else:
             late.tick(z)
-    yield on_time, late
-    for driven in (on_time, late):
-        driven.node.destroy_node()
-    rclpy.shutdown(context=context)
 
 
-@pytest.mark.parametrize("topic", sorted(TYPES))
-def test_a_late_tick_publishes_the_skipped_periods_states_as_an_on_time_node(runs, topic):
-    on_time, late = runs
-    reference = {s: f for _, s, f in published(on_time.log, topic)}
-    got = published(late.log, topic)
+def check_caught_up(on_time, late, topic, types=TYPES, rtol=RTOL, atol=ATOL):
+    """Every message of ``topic`` the late node published is the on-time node's of its stamp, in order, none
+    repeated, and each late tick published the skipped periods' states (at most MISSED_OUTPUTS_MAX)."""
+    reference = {s: f for _, s, f in published(on_time.log, topic, types)}
+    got = published(late.log, topic, types)
     stamps = [s for _, s, _ in got]
     assert stamps == sorted(set(stamps)), "stamps repeated or out of order"
     stall = 40 + MISSED_OUTPUTS_MAX + 3  # the late node's tick after the stall (its ends then moved over one long chunk)
@@ -110,7 +120,7 @@ def test_a_late_tick_publishes_the_skipped_periods_states_as_an_on_time_node(run
             if isinstance(value, (str, bool)):
                 assert value == reference[s][key], f"{topic} at {s}: {key} differs from the node on time"
             else:
-                assert np.allclose(value, reference[s][key], rtol=RTOL, atol=ATOL[key]), \
+                assert np.allclose(value, reference[s][key], rtol=rtol, atol=atol[key]), \
                     f"{topic} at {s}: {key} differs from the node on time"
     by_tick = {}
     for k, s, _ in got:
@@ -125,6 +135,43 @@ def test_a_late_tick_publishes_the_skipped_periods_states_as_an_on_time_node(run
     # every period of the run but those beyond the catch-up has its state: 50 per simulated second
     missing = sorted(set(reference) - set(stamps))
     assert len(missing) == len(SKIPPED) - sum(min(n, MISSED_OUTPUTS_MAX) for n in (2, 1, MISSED_OUTPUTS_MAX + 3))
+
+
+@pytest.mark.parametrize("topic", sorted(TYPES))
+def test_a_late_tick_publishes_the_skipped_periods_states_as_an_on_time_node(runs, topic):
+    check_caught_up(*runs, topic)
+
+
+NETWORK_TYPES = {"/tether/tether/state": TetherState, "/tether/excursion/state": TetherState,
+                 "/tether/ship_wrench": WrenchStamped, "/tether/vehicle_wrench": WrenchStamped,
+                 "/tether/cage_wrench": WrenchStamped, "/cage/sim_pose": PoseStamped}
+
+
+@pytest.fixture(scope="module")
+def network_runs():
+    """The line-network node (config/ropos_tms.yaml: ship on the heave, the vehicle held), on time and late."""
+    from tether_sim.network.params import load_network_files
+
+    tms = ROOT / "config/ropos_tms.yaml"
+    spec, config = load_network_files([tms])
+    vehicle = tuple(p - a for p, a in zip(spec.points["vehicle"].position, config.node.vehicle_attachment))
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    keys = {"node.tick_budget": 1.0e6, "node.missed_outputs": MISSED_OUTPUTS_MAX}
+    on_time, late = (HandDriven.network(context, [tms], keys, node_name=name, held={"vehicle": vehicle})
+                     for name in ("on_time", "late"))
+    drive(on_time, late)
+    yield on_time, late
+    for driven in (on_time, late):
+        driven.node.destroy_node()
+    rclpy.shutdown(context=context)
+
+
+@pytest.mark.parametrize("topic", sorted(NETWORK_TYPES))
+def test_the_network_node_catches_up_on_skipped_periods_as_the_single_line_node(network_runs, topic):
+    """The same on the line-network node (its lines' states, the points' and the cage's wrenches, the cage's
+    pose). Before it shared the single-line node's catch-up, its late tick published only the newest instant."""
+    check_caught_up(*network_runs, topic, NETWORK_TYPES)
 
 
 def test_the_real_time_factor_of_a_late_tick_spans_the_periods_it_caught_up_on(monkeypatch):

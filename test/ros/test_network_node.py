@@ -82,9 +82,21 @@ class NetHarness:
             self.clock.publish(Clock(clock=time_msg(t)))
             for _ in range(8):  # the node's tick and the probe's callbacks of this step (15 topics)
                 self.executor.spin_once(timeout_sec=0.002)
-        for _ in range(10):
-            self.executor.spin_once(timeout_sec=0.002)
+        self.drain()
         return t
+
+    def drain(self, quiet=10, most=5000):
+        """Spin until ``quiet`` spins in a row bring the probe nothing: every message published is taken (a
+        tick the executor's timer called late publishes the skipped periods' states too, node.missed_outputs;
+        one spin takes one message)."""
+        count, still = -1, 0
+        for _ in range(most):
+            self.executor.spin_once(timeout_sec=0.002)
+            n = sum(len(v) for v in self.received.values())
+            still = still + 1 if n == count else 0
+            count = n
+            if still >= quiet:
+                return
 
     def close(self):
         self.executor.shutdown()

@@ -163,6 +163,11 @@ class NetworkDriver(EndCommands, Recovery):
         self.slack = {}
         self.real_time_factor = 0.0
         self.lag = 0.0
+        # the node's catch-up of skipped output periods (sim_node.py, shared): its ticks share one tick's stepping
+        # budget; the real-time factor here is the network's simulated time over its own stepping's wall time,
+        # which a catch-up tick does not distort (catching_up is set, and unused)
+        self.wall_budget = node_options.tick_budget / node_options.output_rate
+        self.catching_up = False
         self.catchup = CatchUp()  # point -> the offsets re-synchronisations added
         self.bridges = Bridges()  # clock spans of the latest re-synchronisations and input blends (bridged)
         self._held = {}  # point -> the last command came from a held (silent) input
@@ -178,6 +183,11 @@ class NetworkDriver(EndCommands, Recovery):
     def stamp(self) -> float:
         """Clock time of the current state."""
         return self.anchor + (self.net.time if self.net is not None else 0.0)
+
+    @property
+    def last_now(self):
+        """The clock time minus ``node.input_delay`` of the last tick (None before the clock starts)."""
+        return self._last_target
 
     @property
     def end_speed_limit(self) -> float:

@@ -63,6 +63,10 @@ class NetworkSimNode(Node):
     _reject = TetherSimNode._reject
     _log_throttled = TetherSimNode._log_throttled
     _now = TetherSimNode._now
+    # the catch-up of output periods the timer skipped (a starved process), as the single-line node's
+    _on_timer = TetherSimNode._on_timer
+    _missed_instants = TetherSimNode._missed_instants
+    _outputs_catching_up = TetherSimNode._outputs_catching_up
 
     def __init__(self, *, files=(), overrides=None, flat=None, node_name="tether_sim", **kwargs):
         super().__init__(node_name, **kwargs)
@@ -108,7 +112,9 @@ class NetworkSimNode(Node):
         self.snaps_published = 0  # snap events published since the start (diagnostics "snaps")
         self._failure_logged = False
         self._period = _new_period(self.inputs)
-        self.create_timer(1.0 / node.output_rate, self._on_tick)
+        # the output timer's grid and the period index of the last tick (the catch-up: _missed_instants)
+        self._grid, self._last_slot = None, None
+        self._output_timer = self.create_timer(1.0 / node.output_rate, self._on_timer)
         self.create_timer(1.0, self._publish_diagnostics)
 
     # ------------------------------------------------------------------ frames
@@ -174,6 +180,12 @@ class NetworkSimNode(Node):
             self._start(now)
         if d.failed:
             return
+        self._outputs_catching_up(now)
+
+    def _output_at(self, now) -> bool:
+        """Step the network to clock time ``now`` and publish its events and the outputs of the state it
+        reaches; False when the simulation stopped (a line solver failed)."""
+        d = self.driver
         report = d.tick(now)
         if report.recovery:
             self._period["errors"] += 1
@@ -184,9 +196,10 @@ class NetworkSimNode(Node):
         elif report.error:
             self.get_logger().error(f"network simulation stopped: {report.error} (no further outputs; restart the node)")
             self._publish_diagnostics()
-            return
+            return False
         if report.clock_jump:
             self._last_output = -math.inf
+            self._grid = self._last_slot = None  # (the timer starts a new grid after a jump)
             self.get_logger().warning("clock jumped backwards: pose histories reset, points held until their inputs "
                                       "resume, snap detection suspended until then; simulation continues")
         for point, duration, reason in report.blends:
@@ -200,6 +213,7 @@ class NetworkSimNode(Node):
         if report.advanced and d.stamp > self._last_output:
             self._last_output = d.stamp
             self._publish_outputs()
+        return True
 
     # ------------------------------------------------------------------ outputs
     def _publish_events(self, line, events):

@@ -269,6 +269,11 @@ class TetherSimNode(Node):
                                    f"{self.driver.static_tensions[0]:.1f} N (ship), {self.driver.static_tensions[1]:.1f} N (vehicle)")
             if getattr(self.driver.solver, "start_warning", ""):
                 self.get_logger().warning(self.driver.solver.start_warning)
+        self._outputs_catching_up(now)
+
+    def _outputs_catching_up(self, now):
+        """The outputs of the output periods the timer skipped (:meth:`_missed_instants`), each stepped to
+        and published by ``_output_at`` as a tick of its own, then those of ``now`` (the network node's too)."""
         start, budget = time.perf_counter(), self.driver.wall_budget
         missed = self._missed_instants(now)
         self.driver.catching_up = bool(missed)  # (the real-time factor then spans the whole tick)
@@ -292,7 +297,7 @@ class TetherSimNode(Node):
         slot = math.floor((now - self._grid) * rate + 1e-6)
         last, self._last_slot = self._last_slot, slot
         d = self.driver
-        if last is None or d.solver is None or d.last_now is None:
+        if last is None or d.last_now is None:  # (the driver's last clock time minus the input delay: none before its start)
             return []
         missed = min(slot - last - 1, most)
         if (missed <= 0 or d.lag > 1.5 / rate
