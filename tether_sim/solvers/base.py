@@ -71,6 +71,13 @@ class BodyState:
     acceleration: np.ndarray  # (3,) m/s^2
 
 
+class BodyPose(NamedTuple):
+    """Pose of a simulated rigid body at an end: :class:`BodyState`'s first two fields (a solver's ``body_pose``)."""
+
+    position: np.ndarray  # (3,) centre of gravity, m
+    orientation: np.ndarray  # (4,) quaternion x, y, z, w (body FLU -> world)
+
+
 # columns of TickOutput.loads[end]: force by the cable on the end (N), axial end tension (N), moment (N m)
 LOAD_F, LOAD_T, LOAD_M = 0, 3, 4
 N_LOAD = 7
