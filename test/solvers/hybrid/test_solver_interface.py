@@ -43,6 +43,28 @@ def test_advance_to_substeps_state_and_drained_tensions():
     assert solver.body_state("vehicle") is None
 
 
+
+def test_state_fields_are_np_interp_of_the_profile():
+    """state() at any points: each field the np.interp of its node_profile column (the compiled many-column pass is
+    held to numpy's numbers bit for bit), on a chain with rod and catenary zones (joint nodes share an arc length),
+    at grid values, between them and outside the cable; a second call on the same state gives the same numbers."""
+    solver = HybridRodCatenarySolver(small_config())
+    solver.advance_to(1.0)
+    prof = solver._profile()
+    xp = prof["s"]
+    assert np.any(np.diff(xp) == 0.0)  # a joint: a repeated arc length
+    pts = np.concatenate([np.linspace(-1.0, solver.length + 1.0, 97), xp, [solver.length * 0.3371]])
+    for s in (pts, np.array([0.0, solver.length])):
+        for st in (solver.state(s), solver.state(s)):
+            fields = {"position": st.position, "velocity": st.velocity, "shear": st.extra["shear"],
+                      "torsion": st.extra["torsion_moment"], "tension": st.tension, "strain": st.strain,
+                      "curvature": st.curvature, "moment": st.bending_moment}
+            for name, got in fields.items():
+                col = prof[name]
+                want = np.stack([np.interp(s, xp, col[:, k]) for k in range(3)], axis=1) if col.ndim == 2 else \
+                    np.interp(s, xp, col)
+                assert got.shape == want.shape and np.ascontiguousarray(got).tobytes() == want.tobytes(), name
+
 def test_snapshot_restore_reproduces_the_run():
     solver = HybridRodCatenarySolver(small_config())
     solver.advance_to(0.5)

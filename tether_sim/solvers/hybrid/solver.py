@@ -12,6 +12,7 @@ import numpy as np
 
 from tether_sim.errors import ConfigError, SolverDivergedError
 from tether_sim.numerics.gen_alpha import gen_alpha_coefficients
+from tether_sim.numerics.interp import interp_columns
 from tether_sim.numerics.rotations import rotate_frame
 from tether_sim.physics.bodies import body_acceleration, pack_body_params, submerged_weight
 from tether_sim.physics.end_conditions import end_kind
@@ -139,20 +140,33 @@ class HybridRodCatenarySolver(InitialStateMixin, NewtonMixin, HybridWinchMixin):
             arc_lengths = np.linspace(0.0, self.length, self.config.node.output_points)
         s = np.asarray(arc_lengths, dtype=float)
         prof = self._profile()
-        order = prof["s"]
-        pos = np.stack([np.interp(s, order, prof["position"][:, k]) for k in range(3)], axis=1)
-        vel = np.stack([np.interp(s, order, prof["velocity"][:, k]) for k in range(3)], axis=1)
+        v = np.empty((s.size, 12))
+        interp_columns(s, prof["s"], self._state_columns(prof), v)
         if self.winch_end is None:
             elem = np.clip((s / self.ds).astype(int), 0, self.n_seg - 1)
         else:  # the grid is not uniform with a winch
             elem = np.clip(np.searchsorted(self.s_grid, s, side="right") - 1, 0, self.n_seg - 1)
-        extra = {"zone": self.zones[elem].astype(np.int64), "shear": np.interp(s, order, prof["shear"]),
-                 "torsion_moment": np.interp(s, order, prof["torsion"]), "newton": dict(self.stats)}
-        return SolverState(time=self.time, arc_length=s, position=pos, velocity=vel,
-                           tension=np.interp(s, order, prof["tension"]), strain=np.interp(s, order, prof["strain"]),
-                           curvature=np.interp(s, order, prof["curvature"]),
-                           bending_moment=np.interp(s, order, prof["moment"]), time_step=self.opt.time_step,
+        extra = {"zone": self.zones[elem].astype(np.int64), "shear": v[:, 6], "torsion_moment": v[:, 7],
+                 "newton": dict(self.stats)}
+        return SolverState(time=self.time, arc_length=s, position=v[:, 0:3], velocity=v[:, 3:6], tension=v[:, 8],
+                           strain=v[:, 9], curvature=v[:, 10], bending_moment=v[:, 11], time_step=self.opt.time_step,
                            extra=extra)
+
+    @staticmethod
+    def _state_columns(prof):
+        """The profile's fields state() interpolates, as the columns of one array: position (3), velocity (3), shear,
+        torsion, tension, strain, curvature, moment. Made once per profile (a tick's state() calls share it)."""
+        cols = prof.get("state_columns")
+        if cols is not None:
+            return cols
+        K = prof["s"].size
+        cols = np.empty((K, 12))
+        cols[:, 0:3] = prof["position"]
+        cols[:, 3:6] = prof["velocity"]
+        for k, name in enumerate(("shear", "torsion", "tension", "strain", "curvature", "moment")):
+            cols[:, 6 + k] = prof[name]
+        prof["state_columns"] = cols
+        return cols
 
     def _profile(self):
         """node_profile of the current state, evaluated once per state: a node's tick reads it through state(), end_forces()

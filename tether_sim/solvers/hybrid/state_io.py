@@ -106,7 +106,8 @@ def node_profile(solver):
     velocity, force, moment_vec = np.zeros((K, 3)), np.zeros((K, 3)), np.zeros((K, 3))
     rod = ch.kind == zoning.ROD
     cat = ~rod
-    if rod.any():
+    has_rod = bool(rod.any())
+    if has_rod:
         Yr = Y[rod]
         LT = np.swapaxes(Lf[rod], 1, 2)
         velocity[rod] = np.matmul(LT, Yr[:, ROD_V:ROD_V + 3, None])[:, :, 0]
@@ -119,7 +120,13 @@ def node_profile(solver):
         out["moment"][rod] = np.hypot(q[:, 1], q[:, 2])
         out["torsion"][rod] = q[:, 0]
         out["curvature"][rod] = np.hypot(Yr[:, ROD_KAPPA + 1], Yr[:, ROD_KAPPA + 2])
-    if cat.any():
+    if not has_rod:  # all catenary (a live file's usual chain): the same operations on whole columns, no gathers
+        unit = Y[:, CAT_TAN:CAT_TAN + 3] / _norms(Y[:, CAT_TAN:CAT_TAN + 3])[:, None]
+        velocity = Y[:, CAT_V:CAT_V + 3].copy()
+        force = Y[:, CAT_T, None] * unit
+        out["tension"] = Y[:, CAT_T].copy()
+        out["strain"] = Y[:, CAT_EPS].copy()
+    elif cat.any():
         Yc = Y[cat]
         tan = Yc[:, CAT_TAN:CAT_TAN + 3]
         unit = np.zeros((K, 3))
@@ -128,6 +135,7 @@ def node_profile(solver):
         force[cat] = Yc[:, CAT_T, None] * unit[cat]
         out["tension"][cat] = Yc[:, CAT_T]
         out["strain"][cat] = Yc[:, CAT_EPS]
+    if cat.any():
         # geometric curvature of the catenary (no moment carried): the turn of the unit tangent between the
         # node's catenary neighbours on other grid points (the node itself at a zone end or joint)
         c = np.arange(K)
