@@ -19,8 +19,13 @@ about its centre of gravity, in its body frame ``<frame_prefix><body>/base_link`
 frame), ``<body>/wet_weight`` (latched). ``/diagnostics`` at 1 Hz.
 
 The network's keys are read from the parameter files (tether_sim/network/params.py); ``-p``
-overrides the ``node.*`` keys. A line solver failing (e.g. a hybrid Newton failure) stops the
-simulation with an error in the log and /diagnostics; nothing more is published.
+overrides the ``node.*`` keys. A line solver diverging (e.g. a hybrid Newton failure) is recovered
+as on the single-line node (tether_sim/ros/network_driver.py, tether_sim/ros/recovery.py): the last
+snapshot of the whole network restored, or the network rebuilt from its statics after a second
+divergence, the driven points blended onto their inputs, snap detection suspended meanwhile, the
+outputs degraded; an error in the log and /diagnostics ERROR (``divergences``, ``last_error``). Any
+other failure of a tick stops the simulation with an error in the log and /diagnostics; nothing
+more is published.
 """
 
 import math
@@ -188,7 +193,13 @@ class NetworkSimNode(Node):
         reaches; False when the simulation stopped (a line solver failed)."""
         d = self.driver
         report = d.tick(now)
-        if report.error:
+        if report.recovery:
+            self._period["errors"] += 1
+            how = "the last snapshot" if report.recovery == "snapshot" else "a fresh static equilibrium of the network"
+            self.get_logger().error(f"network: line solver diverged ({report.error}); recovered from {how}, "
+                                    "snap detection suspended until the points are back on their inputs")
+            self._publish_diagnostics()
+        elif report.error:
             self.get_logger().error(f"network simulation stopped: {report.error} (no further outputs; restart the node)")
             self._publish_diagnostics()
             return False
@@ -260,7 +271,8 @@ class NetworkSimNode(Node):
         sim = {"running": self.started and not d.failed, "real_time_factor": float(d.real_time_factor),
                "time_step": float(min(self.spec.coupling_step, d.net.coupling_limit)), "lag": float(d.lag),
                "degraded": bool(d.degraded), "dropped_total": float(d.dropped_total), "resyncs": d.resyncs,
-               "resyncs_recent": p["resyncs"], "tick_errors": self.tick_errors,
+               "resyncs_recent": p["resyncs"], "divergences": d.divergences, "error_recent": p["errors"] > 0,
+               "last_error": d.last_error or "", "tick_errors": self.tick_errors,
                "tick_errors_recent": p["tick_errors"] + (1 if d.failed else 0),
                "last_tick_error": f"network simulation stopped: {d.failed}" if d.failed else self.last_tick_error, "snaps": self.snaps_published, "snaps_recent": p["snaps"], "slack": dict(d.slack),
                "numerical_snaps": d.numerical_snaps, "numerical_snaps_recent": p["numerical"],
