@@ -63,7 +63,7 @@ from tether_sim.ros.body_frame import BodyFrame
 from tether_sim.ros.bridging import Bridges, CatchUp, shift_detectors
 from tether_sim.ros.end_commands import BLEND_ACCELERATION, BLEND_MIN_TIME, Blend, EndCommands, MotionSource, blend_time
 from tether_sim.ros.recovery import Recovery
-from tether_sim.solvers.base import relative_end_speed, shortest_element
+from tether_sim.solvers.base import lazy_relative_end_speed, shortest_element
 from tether_sim.solvers.factory import build_solver
 
 @dataclass
@@ -357,12 +357,7 @@ class SimulationDriver(EndCommands, Recovery, BodyFrame):
             arc = np.asarray(arc, float)
             state = self.solver.state(arc)
             self.output_state = (self.solver, self.solver.time, arc.tobytes(), state)
-        memo = []
-
-        def speed():  # the relative end speed, computed when a detector reads it (SnapDetector.update)
-            if not memo:
-                memo.append(relative_end_speed(self.solver, self.config.cable.length, state))
-            return memo[0]
+        speed = lazy_relative_end_speed(self.solver, self.config.cable.length, state)  # (read when a detector needs it)
         if len(times):
             tensions = np.empty((len(times), 2))  # (np.column_stack's values, without its wrapper)
             tensions[:, 0] = t_ship

@@ -67,7 +67,7 @@ from tether_sim.physics.snap import NumericalSnapWarning, SnapDetector, SnapEven
 from tether_sim.ros.bridging import Bridges, CatchUp, shift_detectors
 from tether_sim.ros.end_commands import EndCommands
 from tether_sim.ros.recovery import Recovery
-from tether_sim.solvers.base import relative_end_speed, shortest_element
+from tether_sim.solvers.base import lazy_relative_end_speed, shortest_element
 
 SETTLE_TIME = 3.0  # s: the least simulated time a network with an unpolished DG line settles before its clock starts
 SETTLE_MAX = 30.0  # s: the most (the clock then starts with the lines as they are)
@@ -168,6 +168,7 @@ class NetworkDriver(EndCommands, Recovery):
         # which a catch-up tick does not distort (catching_up is set, and unused)
         self.wall_budget = node_options.tick_budget / node_options.output_rate
         self.catching_up = False
+        self.output_layout = None  # what network_outputs.tick_outputs keeps of this network (its _Layout)
         self.catchup = CatchUp()  # point -> the offsets re-synchronisations added
         self.bridges = Bridges()  # clock spans of the latest re-synchronisations and input blends (bridged)
         self._held = {}  # point -> the last command came from a held (silent) input
@@ -461,9 +462,10 @@ class NetworkDriver(EndCommands, Recovery):
                 continue
             solver = self.net.lines[name]
             # the output points' state serves the speed where its ends are the solver's end samples
-            # (end_bodies, DG) and the shapes go out at every output (else two end samples are cheaper)
-            shared = self.line_state(name) if self._share_states and hasattr(solver, "end_bodies") else None
-            speed = relative_end_speed(solver, self.spec.lines[name].config.cable.length, shared)
+            # (end_bodies, DG) and the shapes go out at every output (else two end samples are cheaper);
+            # the speed is read only when a detector needs it (as the single-line driver's)
+            shared = (lambda n=name: self.line_state(n)) if self._share_states and hasattr(solver, "end_bodies") else None
+            speed = lazy_relative_end_speed(solver, self.spec.lines[name].config.cable.length, shared)
             events = self.detectors[name].update(times, s[1:3].T, speed)  # (k, 2): the detector makes it contiguous
             for ev in events:
                 if isinstance(ev, NumericalSnapWarning):

@@ -92,12 +92,18 @@ class NetworkSimNode(Node):
                                f"{len(self.spec.bodies)} body(ies), built in {time.perf_counter() - t0:.1f} s; "
                                f"coupling step {min(self.spec.coupling_step, self.driver.net.coupling_limit):.4g} s")
         self.pubs = {}
+        self._tick_pubs = []  # the periodic outputs, built only while someone subscribes (the winch states regardless)
         for topic, (type_name, kind) in outputs.output_topics(self.spec, self.driver.net.winches).items():
             profile = LATCHED if kind == "latched" else EVENTS if kind == "events" else RELIABLE
             self.pubs[topic] = self.create_publisher(_TYPES[type_name.rsplit("/", 1)[1]], convert.ros_name(topic),
                                                      profile)
+            if kind == "reliable" and topic != "/diagnostics" and not topic.startswith("/winch/"):
+                self._tick_pubs.append((topic, self.pubs[topic]))
         self.tf_pub = None
         self._shape_gate = convert.ShapeGate(self.config.node.shape_rate)
+        # the lines' marker and path at node.visual_rate among the outputs that carry the shapes, /tf among all
+        # outputs, as the single-line node
+        self._visual_gate, self._tf_gate = convert.ShapeGate(node.visual_rate), convert.ShapeGate(node.visual_rate)
         if TFMessage is not None and node.publish_tf:
             self.tf_pub = self.create_publisher(TFMessage, "/tf", TF_QOS)
         reliable = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
@@ -230,19 +236,20 @@ class NetworkSimNode(Node):
                 self.get_logger().warning(f"snap load on {line} at its {msg.end} end: peak {msg.peak_tension:.1f} N")
             self.pubs[topic].publish(msg)
 
-    def _wanted(self, topic):
-        return self.pubs[topic].get_subscription_count() > 0
-
     def _orientation(self, name):
         inp = self.inputs.get(name)
         return inp.orientation_at(self.driver.stamp) if inp is not None and inp.has_data else None
 
     def _publish_outputs(self):
-        wanted = lambda topic: topic.startswith("/winch/") or self._wanted(topic)  # noqa: E731
-        shapes = self._shape_gate.due(self.driver.stamp)
-        for topic, payload in outputs.tick_outputs(self.driver, self.config.node, self._orientation, wanted, shapes):
+        stamp = self.driver.stamp
+        wanted = {topic for topic, pub in self._tick_pubs if pub.get_subscription_count() > 0}
+        shapes = self._shape_gate.due(stamp)  # node.shape_rate
+        visuals = shapes and self._visual_gate.due(stamp)  # node.visual_rate: the lines' marker and path
+        tf = self._tf_gate.due(stamp)  # /tf at node.visual_rate
+        for topic, payload in outputs.tick_outputs(self.driver, self.config.node, self._orientation, wanted, shapes,
+                                                   visuals):
             if topic == "/tf":
-                if self.tf_pub is not None and payload:
+                if self.tf_pub is not None and payload and tf:
                     self.tf_pub.publish(tf_message_cdr(self.driver.stamp, self.config.node.world_frame, payload))
             else:
                 self.pubs[topic].publish(payload)

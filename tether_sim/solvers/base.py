@@ -196,6 +196,20 @@ def _floats(x) -> list:
     return [float(c) for c in x]
 
 
+def lazy_relative_end_speed(solver, length: float, state=None):
+    """:func:`relative_end_speed` as a function of no arguments, computed at its first call and kept: what the
+    drivers hand ``SnapDetector.update``, which reads it only while a location is out of its taut state
+    (the same events as with the number). ``state``: as there, or a function of no arguments that
+    returns it (called then too)."""
+    memo = []
+
+    def speed():
+        if not memo:
+            memo.append(relative_end_speed(solver, length, state() if callable(state) else state))
+        return memo[0]
+    return speed
+
+
 def relative_end_speed(solver, length: float, state=None) -> float:
     """|v(0) - v(L)|: the relative speed of the two cable ends now, m/s (the snap guard's speed;
     ``length`` is the unstretched length, a winch's current one where there is a winch).
