@@ -33,9 +33,17 @@ def main(argv=None) -> int:
     body_topics = {f"/{b}/{k}" for b in spec.bodies for k in ("sim_twist", "sim_accel", "hydro_wrench")}
     every = outputs.tick_outputs
 
-    def without(driver, node, orientation_of=lambda name: None, wanted=None, shapes=True):
-        return every(driver, node, orientation_of, lambda t: t not in body_topics and (wanted is None or wanted(t)),
-                     shapes)
+    class Without:
+        """The topics of ``wanted`` (None: all) but the body topics (tick_outputs takes a container)."""
+
+        def __init__(self, wanted):
+            self.wanted = wanted
+
+        def __contains__(self, topic):
+            return topic not in body_topics and (self.wanted is None or topic in self.wanted)
+
+    def without(driver, node, orientation_of=lambda name: None, wanted=None, shapes=True, visuals=True):
+        return every(driver, node, orientation_of, Without(wanted), shapes, visuals)
 
     speeds = {"with": [], "without": []}
     with tempfile.TemporaryDirectory() as tmp:

@@ -99,20 +99,22 @@ class _Bench:
 
         self.network = is_network(params)
         if self.network:  # a line network (docs/network.md): its own node; every periodic output of every line
-            if split or overrides:
-                raise SystemExit(f"{params}: a line network is timed whole (no --split, no -p)")
+            if overrides:
+                raise SystemExit(f"{params}: a line network takes no -p here")
             network_node = importlib.import_module(f"{pkg}.ros.network_node")
             self.node = network_node.NetworkSimNode(files=[str(params)])
             periodic = [t for t in self.node.pubs if not t.endswith(("/description", "/snap_events", "/slack_warnings"))
                         and t != "/diagnostics"]
             self.publishers = [self.node.pubs[t] for t in periodic] + ([self.node.tf_pub] if self.node.tf_pub else [])
+            if split:
+                self._split_network(pkg, timed)
         else:
             self.node = sim_node.TetherSimNode(where=str(params), solver_factory=instrument(build_solver, timed) if split else build_solver,
                                                parameter_overrides=list(overrides))
             wanted = [t for t in self.node.pubs if t in self.convert.SHAPE_TOPICS or t.endswith(("_wrench", "sim_pose"))]
             self.publishers = [self.node.pubs[t] for t in wanted] + ([self.node.tf.pub] if self.node.tf.enabled else [])
         cfg = self.cfg = self.node.config
-        if split:
+        if split and not self.network:
             for publisher in self.publishers:
                 publisher.publish = timed(publisher.publish, "publish", "publish " + publisher.topic_name)
             # inclusive parts of the node's tick (each holds the solver calls and publishes made inside it)
@@ -153,7 +155,55 @@ class _Bench:
         self.msg.pose.orientation.w = 1.0
         self.rows, self.pose_cpu, self.diag_cpu = [], [], []
 
+    def _split_network(self, pkg, timed):
+        """--split on a line network: the network solver's tick (advance) and each line solver's inside it, each
+        line's snap detection and state sampling (state), the bodies' and points' outputs (outputs: body motion,
+        wrenches), the encoders and each publish; inclusive parts as the single-line split."""
+        import importlib
+
+        node, driver = self.node, self.node.driver
+        outputs = importlib.import_module(f"{pkg}.ros.network_outputs")
+        snap = importlib.import_module(f"{pkg}.physics.snap")
+        cdr = importlib.import_module(f"{pkg}.ros.cdr")
+        for publisher in self.publishers:
+            publisher.publish = timed(publisher.publish, "publish", "publish " + publisher.topic_name)
+        driver.tick = timed(driver.tick, "driver tick (network tick + detection)")
+        self._patch_net = lambda: self._split_net(timed)  # (the node rebuilds the network at its first ticks)
+        driver.line_state = timed(driver.line_state, "state", "line states (sampled once per tick)")
+        driver._command = timed(driver._command, "point commands (pose inputs)")
+        base = importlib.import_module(f"{pkg}.solvers.base")  # (read by the drivers' lazy speed, when needed)
+        base.relative_end_speed = timed(base.relative_end_speed, "relative end speed (snap guard)")
+        update = snap.SnapDetector.update
+
+        def detector_update(det, *a, **k):
+            c = time.thread_time()
+            out = update(det, *a, **k)
+            key = "snap detection: " + det.locations[0].split("/")[0]
+            self.parts[key] = self.parts.get(key, 0.0) + time.thread_time() - c
+            return out
+        snap.SnapDetector.update = detector_update
+        outputs.tick_outputs = timed(outputs.tick_outputs, "periodic outputs (solver outputs + encoders)")
+        outputs.point_wrench = timed(outputs.point_wrench, "outputs", "point wrenches")
+        outputs.body_wrench = timed(outputs.body_wrench, "outputs", "body wrenches")
+        network_node = importlib.import_module(f"{pkg}.ros.network_node")
+        network_node.tf_message_cdr = timed(network_node.tf_message_cdr, "/tf encode")
+        node._publish_outputs = timed(node._publish_outputs, "outputs and publishing (all)")
+        for name in dir(cdr):
+            cls = getattr(cdr, name)
+            if isinstance(cls, type) and name.endswith("Encoder") and hasattr(cls, "encode"):
+                cls.encode = timed(cls.encode, f"encode {name}")
+
+    def _split_net(self, timed):
+        """The network solver's calls timed (again after the node rebuilt it)."""
+        net = self._patched = self.node.driver.net
+        net.tick = timed(net.tick, "advance", "network solver tick (lines + bodies)")
+        for name, solver in net.lines.items():
+            solver.tick = timed(solver.tick, f"line solver tick: {name}")
+        net.body_motion = timed(net.body_motion, "outputs", "body motion (sim_twist, sim_accel, hydro_wrench)")
+
     def tick(self, k, timed, prof=None):
+        if getattr(self, "_patch_net", None) is not None and self.node.driver.net is not getattr(self, "_patched", None):
+            self._patch_net()
         self.clock += self.period
         c = time.thread_time()
         self.msg.header.stamp = self.convert.time_msg(self.clock)

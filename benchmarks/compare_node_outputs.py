@@ -10,6 +10,9 @@ bytes, else deserialized and compared field by field with the wall-clock fields 
 (TetherState.real_time_factor; the /diagnostics values real_time_factor, tick_load, tick_max_ms).
 Prints the counts and the first differences; exit code 1 when any message differs.
 
+A line-network file (config/ropos_tms.yaml) builds the network node of each tree, the ship on the
+fairlead circle of bench_node_tick.py, the other driven points held at their configured positions.
+
 A topic this tree sends less often than the baseline (``node.visual_rate``: marker, path and /tf on
 every fifth output by default) is compared where both sent it: each message this tree publishes must
 equal the baseline's of the same tick, and the ticks the baseline alone published are counted
@@ -40,16 +43,25 @@ class _Recorded:
 
         from geometry_msgs.msg import PoseStamped
 
+        from benchmarks.bench_node_tick import is_network, network_ship_motion
+
         sim_node = importlib.import_module(f"{pkg}.ros.sim_node")
         self.convert = importlib.import_module(f"{pkg}.ros.convert")
         build_motion = importlib.import_module(f"{pkg}.physics.motion").build_motion
-        self.node = sim_node.TetherSimNode(where=str(params), parameter_overrides=list(overrides))
+        self.held = {}
+        if is_network(params):  # a line network: its node, the ship on the live files' circle, the other points held
+            network_node = importlib.import_module(f"{pkg}.ros.network_node")
+            self.node = network_node.NetworkSimNode(files=[str(params)], overrides={p.name: p.value for p in overrides})
+            self.motion = network_ship_motion(self.node.spec.points["ship"].position)
+            self.held = {n: p.position for n, p in self.node.spec.points.items() if p.kind == "prescribed" and n != "ship"}
+        else:
+            self.node = sim_node.TetherSimNode(where=str(params), parameter_overrides=list(overrides))
+            self.motion = build_motion(self.node.config.motion, self.node.config.ship_end.position)
         self.node.driver.wall_budget = None  # no tick cut short by the machine's load: both nodes step alike
         self.log, self.current = [], None
         for publisher in self.node.publishers:
             self._record(publisher)
         cfg = self.node.config
-        self.motion = build_motion(cfg.motion, cfg.ship_end.position)
         self.period = 1.0 / cfg.node.output_rate
         self.clock = 100.0
         self.node._now = lambda: self.clock
@@ -74,6 +86,9 @@ class _Recorded:
         self.clock += self.period
         p, _, _ = self.motion.at(self.clock - 100.0)
         self.msg.header.stamp = self.convert.time_msg(self.clock)
+        for name, position in self.held.items():
+            self.msg.pose.position.x, self.msg.pose.position.y, self.msg.pose.position.z = (float(v) for v in position)
+            self.node._on_pose(name, self.msg)
         self.msg.pose.position.x, self.msg.pose.position.y, self.msg.pose.position.z = (float(v) for v in p)
         self.node._on_pose("ship", self.msg)
         self.node._on_tick()
@@ -89,6 +104,11 @@ def _type_of(node, topic):
 
 
 MAY_LEAVE_OUT = ("/tether/marker", "/tether/path", "/tf")  # node.visual_rate; any other topic left out differs
+
+
+def may_leave_out(topic) -> bool:
+    """node.visual_rate's topics, a line network's lines' marker and path among them."""
+    return topic in MAY_LEAVE_OUT or (topic.startswith("/tether/") and topic.endswith(("/marker", "/path")))
 NEW_KEYS = set()  # configuration keys only one tree has (/tether/description), named in the summary
 
 
@@ -196,7 +216,7 @@ def child(args):
                 diffs.append(f"tick {k} {topic}: {why}")
         for t in skipped + [t for t, _ in pending]:
             left_out[t] = left_out.get(t, 0) + 1
-            if t not in MAY_LEAVE_OUT:
+            if not may_leave_out(t):
                 diffs.append(f"tick {k}: {t} published by the baseline, not here")
     print(f"{Path(params).name}: {args.ticks} ticks, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; messages "
           + ", ".join(f"{t} {n}" for t, n in sorted(counts.items()))

@@ -1,5 +1,6 @@
 """The network node's driver (tether_sim/ros/network_driver.py, no rclpy): clock, inputs, snap
-detectors per line, re-synchronisation with blended points, a failing line stops the run."""
+detectors per line, re-synchronisation with blended points, recovery after a line diverges (a failure
+that is not a divergence stops the run)."""
 
 import numpy as np
 import pytest
@@ -83,12 +84,13 @@ def test_clock_inputs_resync_blend_and_failure(spec):
             msgs = outputs.event_outputs(d, node, line, [e for e in evs if isinstance(e, SnapEvent)])
             assert all(m.degraded for _, m in msgs)
     assert d.net.points["ship"].pos[2] == pytest.approx(0.5 * np.sin(d.stamp), abs=1e-9)
-    # a line solver failing (e.g. a hybrid Newton failure) stops the run with its reason, for good
+    # a tick failing with an error that is not a divergence (a defect: the network is half-stepped) stops
+    # the run with its reason, for good (a divergence is recovered: test_a_line_divergence_...)
     def fail(*a, **k):
-        raise RuntimeError("hybrid: Newton failed to converge at t = 8.96 s")
+        raise RuntimeError("a defect in a line's tick at t = 8.96 s")
     d.net.lines["excursion"].tick = fail
     r = d.tick(now + 0.02)
-    assert "Newton failed" in r.error and "Newton failed" in d.failed and not r.advanced
+    assert "a defect" in r.error and "a defect" in d.failed and not r.advanced and not r.recovery
     assert not d.tick(now + 0.04).advanced
 
 
@@ -391,3 +393,157 @@ def test_the_node_start_counts_the_clock_from_the_built_network(spec):
     assert np.abs(dz - 0.5 * (v[1:] + v[:-1]) * dt).max() < 1e-4  # C1: no step onto the input
     assert h[0, 3] == 1.0 and h[-1, 3] == 0.0  # degraded while it blends, then on its input
     assert abs(h[-1, 1] - src.attachment_at(d.stamp)[0][2]) < 1e-9
+
+
+def poison(d, line, end="ship"):
+    """Force a divergence through the solver interface: the next tick of ``line`` throws its ``end``
+    1e30 m away (finite, so it passes the end-motion check) and its DG state blows up (once)."""
+    solver = d.net.lines[line]
+    tick = solver.tick
+
+    def bad(t, ship=None, vehicle=None, drain=True):
+        solver.tick = tick
+        motion = {"ship": ship, "vehicle": vehicle}
+        p, v = motion[end]
+        motion[end] = (np.asarray(p, float) + 1e30, v)
+        return tick(t, drain=drain, **motion)
+    solver.tick = bad
+
+
+class Run:
+    """A NetworkDriver on the two-line TREE with a calm heave (0.1 m at 1 rad/s: no slack, no snap) at
+    50 Hz; ``go`` ticks and checks every output it would publish: finite, stamps strictly increasing."""
+
+    def __init__(self, spec):
+        self.node = SimConfig().node  # snapshot_interval 1 s
+        self.d = NetworkDriver(spec, self.node, {"ship": Heave(a=0.1)})
+        self.d.start(10.0)
+        self.t0 = self.d.net.time  # (the excursion tether settles before the clock starts)
+        self.now, self.stamps, self.reports = 10.0, [self.d.stamp], []
+
+    def go(self, seconds):
+        d = self.d
+        for _ in range(int(round(seconds * 50))):
+            self.now += 0.02
+            r = d.tick(self.now)
+            self.reports.append(r)
+            assert not d.failed
+            if r.advanced:  # what the node publishes: every line's state, the cage
+                assert d.stamp > self.stamps[-1]
+                self.stamps.append(d.stamp)
+                for name in d.net.lines:
+                    st = d.line_state(name)
+                    assert np.all(np.isfinite(st.position)) and np.all(np.isfinite(st.tension))
+                    assert np.all(np.isfinite(d.net.end_tensions(name)))
+                assert np.all(np.isfinite(d.net.bodies["cage"].state))
+        return self
+
+    def events(self, since=0):
+        return [e for r in self.reports[since:] for evs in r.events.values() for e in evs]
+
+
+def test_a_line_divergence_restores_the_network_snapshot_and_runs_on(spec):
+    """The excursion tether's DG state blows up (its cage end thrown 1e30 m away) 1.5 s into a calm
+    heave: the network snapshot of 1.0 s (every line, the cage, the points) is restored, the lost clock
+    time skipped, the ship point blended from its snapshot state onto its input with snap detection
+    suspended, the outputs degraded; the node stays up with finite outputs, monotonic stamps, no snap
+    or slack event, the cage continuous with its snapshot. (Before, the network stopped for good.)"""
+    run = Run(spec).go(1.5)
+    d = run.d
+    assert not run.events()  # the calm heave alone: no slack, no snap
+    snap = d._snapshot
+    assert snap["time"] == pytest.approx(run.t0 + 1.0, abs=0.021)
+    cage0 = snap["bodies"]["cage"][0].copy()
+    before = d.stamp
+    poison(d, "excursion")
+    k = len(run.reports)
+    run.go(0.02)
+    r = run.reports[k]
+    assert "excursion" in r.error and "non-finite" in r.error and r.recovery == "snapshot" and not r.advanced
+    assert d.divergences == 1 and d.last_recovery == "snapshot" and "excursion" in d.last_error and not d.failed
+    assert np.array_equal(d.net.bodies["cage"].state, cage0) and d.net.time == snap["time"]  # the snapshot
+    assert d.stamp == pytest.approx(run.now - run.node.input_delay) and d.stamp >= before  # lost time skipped
+    assert d.degraded and any(reason == "recovered from a snapshot" for p, _, reason in r.blends if p == "ship")
+    run.go(0.02)
+    assert np.linalg.norm(d.net.bodies["cage"].state[:3] - cage0[:3]) < 2e-3  # one tick on from the snapshot
+    run.go(6.0)
+    assert not run.events(k)  # no snap (or slack) made of the recovery
+    assert not d.degraded and d._suspended_until is None and not d._blends  # blended back, detecting again
+    assert d.net.points["ship"].pos[2] == pytest.approx(0.1 * np.sin(d.stamp), abs=1e-9)  # on its input
+    for name in d.net.lines:
+        tension = np.array(d.net.end_tensions(name))
+        assert np.all(np.abs(tension / np.array(d.static_tensions[name]) - 1.0) < 0.5)
+    assert d._snapshot["time"] > snap["time"] and not d._snapshot_failed  # newer snapshots again
+
+
+def test_a_second_divergence_before_a_newer_snapshot_rebuilds_the_network_from_its_statics(spec):
+    """The restored snapshot diverges again before a newer one exists: the network is rebuilt from its
+    static equilibrium at the ship's input position now, the ship point blended from rest onto its
+    input, fresh reference tensions and a fresh snapshot; it runs on with finite outputs, monotonic
+    stamps and no snap event; a third divergence then restores the new snapshot."""
+    run = Run(spec).go(1.5)
+    d = run.d
+    poison(d, "excursion")
+    run.go(0.02)
+    assert run.reports[-1].recovery == "snapshot"
+    net0 = d.net
+    poison(d, "umbilical", "vehicle")  # (the umbilical's cage end)
+    run.go(0.02)
+    r = run.reports[-1]
+    assert r.recovery == "static" and "umbilical" in r.error and d.divergences == 2 and d.last_recovery == "static"
+    assert d.net is not net0 and d.net.time == pytest.approx(run.t0)  # (settled again)
+    assert d.net.statics_residual < 1e-9 and np.linalg.norm(d.net.bodies["cage"].state[7:13]) < 1e-4  # at rest
+    target = run.now - run.node.input_delay
+    assert d.stamp == pytest.approx(target) and np.allclose(d.net.points["ship"].pos, Heave(a=0.1).attachment_at(target)[0])
+    assert d._snapshot["time"] == d.net.time and not d._snapshot_failed
+    k = len(run.reports)
+    run.go(4.0)
+    assert not run.events(k) and not d.degraded
+    poison(d, "excursion")
+    run.go(0.02)
+    assert run.reports[-1].recovery == "snapshot" and d.divergences == 3
+    run.go(2.0)
+    assert not run.events(k)
+
+
+def test_a_rebuild_after_divergences_keeps_the_winch_length_and_command(spec):
+    """The excursion tether's drum pays out at 0.5 m/s: a snapshot restore puts the drum back with the
+    line (its length the line's), and the static rebuild after a second divergence builds the line at
+    the drum's length, not the configured 30 m (a line snapping back 0.25 m is physics that did not
+    happen), with its command running on."""
+    import dataclasses
+
+    ln = spec.lines["excursion"]
+    winch = dataclasses.replace(ln.config.winch, enabled=True, end="ship", mode="speed", setpoint=0.5, max_acceleration=0.5)
+    lines = dict(spec.lines, excursion=dataclasses.replace(ln, config=dataclasses.replace(ln.config, winch=winch)))
+    run = Run(dataclasses.replace(spec, lines=lines)).go(1.5)
+    d = run.d
+    L0 = EXC["length"]
+    poison(d, "excursion")
+    run.go(0.02)
+    assert run.reports[-1].recovery == "snapshot"
+    assert d.net.winch_state("excursion").length == pytest.approx(d.net.line("excursion").unstretched_length, abs=1e-12)
+    poison(d, "umbilical", "vehicle")
+    before = d.net.winch_state("excursion").length  # (0.25 m paid out at the snapshot, 1 s into the ramp)
+    run.go(0.02)
+    assert run.reports[-1].recovery == "static" and before > L0 + 0.2
+    assert d.net.line("excursion").unstretched_length == pytest.approx(before, abs=1e-9)
+    assert d.net.winch_state("excursion").length == pytest.approx(before, abs=1e-9)
+    run.go(1.0)
+    st = d.net.winch_state("excursion")
+    assert st.length > before + 0.1 and st.speed > 0.3  # its command runs on (the drum restarts from rest)
+    assert d.net.line("excursion").unstretched_length == pytest.approx(st.length, abs=1e-9)
+
+
+def test_a_body_turning_non_finite_is_a_divergence_naming_it(spec):
+    """A body whose state turns non-finite raises SolverDivergedError naming it, before any line is given
+    its motion (recovered as a line's divergence; before, the DG line's end-motion check raised a
+    ValueError, which stopped the network); a line's divergence names the line."""
+    from tether_sim.errors import SolverDivergedError
+    from tether_sim.network.solver import NetworkSolver
+
+    net = NetworkSolver(spec)
+    net.tick(0.04)
+    net.bodies["cage"].state[8] = np.inf
+    with pytest.raises(SolverDivergedError, match="network body cage: non-finite state"):
+        net.tick(0.06)

@@ -336,3 +336,38 @@ def test_an_input_lost_blend_starts_where_the_end_is():
     x = np.array([p[0] for _, p in calls])
     speed = np.diff(x) / np.diff(times)
     assert speed.max() <= 0.1 * (1.0 + 1e-9) and speed.min() > -0.1
+
+
+def test_an_analytic_motion_is_commanded_without_its_acceleration():
+    """MotionSource (the RAO ship of the node, the offline runner's motions) commands position and velocity:
+    it takes them from the generator's position_velocity, at()'s first two numbers bit for bit, and does not
+    compute the acceleration no end is told (the RAO response's rotations cost the node's tick ~30 us)."""
+    from tether_sim.physics.motion import MotionConfig, build_motion
+    from tether_sim.ros.end_commands import MotionSource
+
+    class Counted:
+        def __init__(self, motion):
+            self.motion, self.full = motion, 0
+
+        def at(self, t):
+            self.full += 1
+            return self.motion.at(t)
+
+        def position_velocity(self, t):
+            return self.motion.position_velocity(t)
+
+    motion = build_motion(MotionConfig(kind="circle", amplitude=2.0, frequency=0.2, ramp_time=5.0), (0.0, 0.0, -5.0))
+    counted = Counted(motion)
+    source = MotionSource(counted)
+    for t in (0.0, 1.3, 4.99, 7.25):
+        p, v = source.attachment_at(t)
+        ref = motion.at(t)
+        assert p.tobytes() == np.asarray(ref[0], float).tobytes() and v.tobytes() == np.asarray(ref[1], float).tobytes()
+    assert counted.full == 0
+
+    class AtOnly:  # a motion with at() alone is still followed
+        def at(self, t):
+            return np.array([t, 0.0, 0.0]), np.array([1.0, 0.0, 0.0]), np.zeros(3)
+
+    p, v = MotionSource(AtOnly()).attachment_at(2.0)
+    assert p.tolist() == [2.0, 0.0, 0.0] and v.tolist() == [1.0, 0.0, 0.0]

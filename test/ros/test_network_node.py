@@ -18,7 +18,7 @@ from rosgraph_msgs.msg import Clock  # noqa: E402
 from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription, TetherState, WinchCommand, WinchState  # noqa: E402
 
 from tether_sim.numerics.rotations import quaternion_matrix  # noqa: E402
-from tether_sim.ros.convert import time_msg  # noqa: E402
+from tether_sim.ros.convert import LEVEL_ERROR, time_msg  # noqa: E402
 from tether_sim.ros.network_node import NetworkSimNode  # noqa: E402
 from tether_sim.ros.sim_node import main  # noqa: E402
 
@@ -185,6 +185,44 @@ def test_tms_drum_pays_out_the_excursion_tether_on_command(tms):
     exc = [m for m in h.received["/tether/excursion/state"]
            if (m.header.stamp.sec, m.header.stamp.nanosec) in lengths][-1]
     assert exc.arc_length[-1] == pytest.approx(lengths[(exc.header.stamp.sec, exc.header.stamp.nanosec)], abs=0.05)
+
+
+def test_a_line_divergence_is_recovered_and_the_node_publishes_only_finite_states(tms):
+    """The excursion tether's DG state blows up (its cage end thrown 1e30 m away through the solver
+    interface): the node logs it, turns /diagnostics ERROR with the divergence counted, restores the
+    network's snapshot and runs on: finite states of both lines with strictly increasing stamps, no
+    snap event, the states degraded while the points blend back. (Before, the node stopped publishing.)"""
+    from diagnostic_msgs.msg import DiagnosticArray
+
+    h = tms
+    diags = []
+    h.probe.create_subscription(DiagnosticArray, "/diagnostics", diags.append, 100)
+    h.run(13.0, 13.5)
+    solver = h.node.driver.net.lines["excursion"]
+    tick = solver.tick
+
+    def bad(t, ship=None, vehicle=None, drain=True):  # once: the cage end 1e30 m away
+        solver.tick = tick
+        return tick(t, ship=(np.asarray(ship[0]) + 1e30, ship[1]), vehicle=vehicle, drain=drain)
+    solver.tick = bad
+    n = {t: len(h.received[t]) for t in h.received}
+    h.run(13.5, 16.0)
+    d = h.node.driver
+    assert d.divergences == 1 and d.last_recovery == "snapshot" and not d.failed and "excursion" in d.last_error
+    for line in ("tether", "excursion"):
+        states = h.received[f"/tether/{line}/state"][n[f"/tether/{line}/state"]:]
+        assert len(states) > 25  # still publishing (2.5 s at 50 Hz; the harness under load takes fewer)
+        stamps = [m.header.stamp.sec + 1e-9 * m.header.stamp.nanosec for m in states]
+        assert np.all(np.diff(stamps) > 0.0)
+        for m in states:
+            assert np.all(np.isfinite([(q.x, q.y, q.z) for q in m.position])) and np.all(np.isfinite(m.tension))
+            assert np.isfinite(m.ship_end_tension) and np.isfinite(m.vehicle_end_tension)
+        assert any(m.degraded for m in states) and not states[-1].degraded  # blended back
+    assert len(h.received["/tether/tether/snap_events"]) == n["/tether/tether/snap_events"]
+    assert len(h.received["/tether/excursion/snap_events"]) == n["/tether/excursion/snap_events"]
+    status = [s for m in diags for s in m.status if s.name.endswith("simulation") and "diverged" in s.message]
+    assert status and status[0].level == LEVEL_ERROR
+    assert {v.key: v.value for v in status[0].values}["divergences"] == "1"
 
 
 def test_console_script_names_the_key_of_a_bad_network(tmp_path, capsys):

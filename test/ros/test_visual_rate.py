@@ -94,3 +94,56 @@ def test_the_messages_are_those_of_the_full_rate_node(runs):
             if topic in ("/tether/description", "/tf_static"):
                 continue  # (object messages; the description names the node's own parameter values)
             assert data == theirs_by_topic[topic].pop(0), (k, topic)  # bytes (events: message objects)
+
+
+NETWORK_VISUAL = {"/tether/tether/marker", "/tether/tether/path", "/tether/excursion/marker",
+                  "/tether/excursion/path", "/tf"}
+
+
+@pytest.fixture(scope="module")
+def network_runs():
+    """The line-network node of config/ropos_tms.yaml (the vehicle held) at the default visual rate and at 0."""
+    from tether_sim.network.params import load_network_files
+
+    tms = ROOT / "config/ropos_tms.yaml"
+    spec, config = load_network_files([tms])
+    vehicle = tuple(p - a for p, a in zip(spec.points["vehicle"].position, config.node.vehicle_attachment))
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    logs, calls = {}, {}
+    try:
+        for name, keys in (("tms_default", {}), ("tms_full", {"node.visual_rate": 0.0})):
+            driven = HandDriven.network(context, [tms], keys, node_name=name, held={"vehicle": vehicle})
+            count = calls_of(convert)
+            for _ in range(TICKS):
+                driven.tick(0.8 * math.sin(2.0 * math.pi * 0.5 * (driven.clock + 0.02 - 100.0)))
+            calls[name] = count()
+            logs[name] = driven.log
+            driven.node.destroy_node()
+    finally:
+        rclpy.shutdown(context=context)
+    return logs["tms_default"], logs["tms_full"], calls
+
+
+def test_the_network_node_sends_its_visual_outputs_every_fifth_output_the_full_rate_nodes_bytes(network_runs):
+    """The line-network node as the single-line node: its lines' marker and path and its /tf on every fifth
+    output at the default 10 Hz, nothing of them built in between, every message the bytes of a node at the
+    full rate at the same tick (before, they went out at every output whatever node.visual_rate said)."""
+    default, full, calls = network_runs
+    started = [k for k, msgs in enumerate(full) if any(t == "/tether/tether/state" for t, _ in msgs)]
+    assert len(started) >= TICKS - 3
+    visual = NETWORK_VISUAL if TFMessage is not None else NETWORK_VISUAL - {"/tf"}
+    for topic in visual:
+        sent = [k for k in started if any(t == topic for t, _ in default[k])]
+        assert sent == list(range(started[0], started[-1] + 1, 5)), topic
+        assert [k for k in started if any(t == topic for t, _ in full[k])] == started, topic
+    assert calls["tms_default"] == 2 * len(range(started[0], started[-1] + 1, 5)) and calls["tms_full"] == 2 * len(started)
+    for k, (mine, theirs) in enumerate(zip(default, full)):
+        theirs_by_topic = {}
+        for topic, data in theirs:
+            theirs_by_topic.setdefault(topic, []).append(data)
+        assert [t for t, _ in mine if t not in NETWORK_VISUAL] == [t for t, _ in theirs if t not in NETWORK_VISUAL], k
+        for topic, data in mine:
+            if topic.startswith("/tether/") and topic.endswith("/state") or not isinstance(data, bytes):
+                continue  # (TetherState's real-time factor is the wall clock's; events and the description are objects)
+            assert data == theirs_by_topic[topic].pop(0), (k, topic)

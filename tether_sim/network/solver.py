@@ -21,13 +21,19 @@ kicks are stable while dt * Z / M < 2 for the stiffest line (Z = sqrt(max dT/dep
 axial impedance with which a kinematic end's force answers its velocity) and the spring part
 dt * sqrt(k / M) < 2 (k = max dT/deps / L); :func:`max_coupling_step` takes half of the smaller
 bound over every body and axis (rotations with I and Z r^2, k r^2).
+
+A body whose state turns non-finite (its lines' loads blew up) raises
+:class:`~tether_sim.errors.SolverDivergedError` before any line is given its motion, as a line
+solver diverging does; ``snapshot()`` / ``restore()`` keep and put back the whole network (every
+line's state with its winch, every body, every point's motion, the end loads): the node's
+recovery after a divergence (tether_sim/ros/recovery.py).
 """
 
 import math
 
 import numpy as np
 
-from tether_sim.errors import ConfigError
+from tether_sim.errors import ConfigError, SolverDivergedError
 from tether_sim.network.body import NetworkBody
 from tether_sim.network.body_kernels import (BP_DRAG, BP_INERTIA, BP_MASS, BP_ROT_DAMPING, BP_WET, N_BP, body_loads,
                                             body_accelerations, kdk_close, kdk_open)
@@ -97,7 +103,9 @@ class NetworkSolver:
 
     name = "network"
 
-    def __init__(self, spec, statics=True):
+    def __init__(self, spec, statics=True, winches=None):
+        """``winches``: {line: WinchLink} to carry on (a rebuild: each winch keeps its length, command
+        and clock; the spec's line lengths should then be the winches' lengths), else new ones."""
         self.spec = spec
         self.env = spec.environment
         self.points = {n: _Point(p) for n, p in spec.points.items()}
@@ -125,7 +133,7 @@ class NetworkSolver:
             cfg = self._statics.line_config(line, states)
             try:
                 if cfg.winch.enabled:
-                    link = WinchLink(cfg)
+                    link = (winches or {}).get(name) or WinchLink(cfg)
                     self.lines[name] = link.build(build_solver, cfg)
                     self.winches[name] = link
                 else:
@@ -243,6 +251,8 @@ class NetworkSolver:
         for n, b in self.bodies.items():  # half kick, drift, end targets (NetworkBody.kick, drift, ...)
             prm, rows, work, tg = self._kernel[n]
             kdk_open(b.state, b.attachments, loads, rows, prm, fluid[n], dt, b.impulse_table, work, tg)
+            if not math.isfinite(float(tg.sum())):  # (a NaN or inf anywhere makes the sum non-finite)
+                raise SolverDivergedError(f"network body {n}: non-finite state at t = {t_new:.6g} s")
             targets[n] = tg
         for p in self.points.values():
             if p.spec.kind == "prescribed":
@@ -251,7 +261,10 @@ class NetworkSolver:
             motion = {}
             for end, body, k, p in self._moving_ends[name]:
                 motion[end] = (targets[body][k, 0:3], targets[body][k, 3:6]) if body is not None else (p.pos, p.vel)
-            out = solver.tick(t_new, ship=motion.get("ship"), vehicle=motion.get("vehicle"), drain=True)
+            try:
+                out = solver.tick(t_new, ship=motion.get("ship"), vehicle=motion.get("vehicle"), drain=True)
+            except SolverDivergedError as exc:  # (named: the node's log and diagnostics say which line)
+                raise SolverDivergedError(f"network line {name}: {exc}") from exc
             self._loads[name][:] = out.loads[:, :7]
             if out.count:
                 chunks[name].append(np.array(out.samples[:, :out.count]))

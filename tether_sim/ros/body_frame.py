@@ -39,13 +39,14 @@ class BodyFrame:
         f, torque = self.body_wrench_floats(end, forces, body, orientation)
         return np.array(f), np.array(torque)
 
-    def body_wrench_floats(self, end, forces, body=None, orientation=None):
+    def body_wrench_floats(self, end, forces, body=None, orientation=None, offset=None):
         """:meth:`body_wrench` as two tuples of 3 floats (the same numbers, no arrays: the node's
-        tick writes them straight into its messages)."""
+        tick writes them straight into its messages; ``offset``: the end's :meth:`offset`, if the caller
+        has it)."""
         q = (self.end_orientation(end, body) if orientation is None else orientation).tolist()
         f = _to_body(q, getattr(forces, f"{end}_force"))
         m = _to_body(q, getattr(forces, f"{end}_moment"))
-        (rx, ry, rz), (fx, fy, fz) = self.offset(end), f
+        (rx, ry, rz), (fx, fy, fz) = self.offset(end) if offset is None else offset, f
         return f, (ry * fz - rz * fy + m[0], rz * fx - rx * fz + m[1], rx * fy - ry * fx + m[2])
 
 

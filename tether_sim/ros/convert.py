@@ -217,10 +217,15 @@ class OutputFrame:
         return self._forces
 
     def body(self, end):
-        """BodyState of a ``body`` end (None for the other kinds)."""
+        """Pose of a ``body`` end (``position``, ``orientation``: the solver's ``body_pose`` where it has one,
+        else its BodyState; what the outputs read of it), None for the other kinds."""
         if end not in self._bodies:
             is_body = getattr(self.driver.config, f"{end}_end").kind == "body"
-            self._bodies[end] = self.solver.body_state(end) if is_body else None
+            if is_body:
+                pose = getattr(self.solver, "body_pose", None)
+                self._bodies[end] = pose(end) if pose is not None else self.solver.body_state(end)
+            else:
+                self._bodies[end] = None
         return self._bodies[end]
 
     def orientation(self, end) -> np.ndarray:
@@ -293,11 +298,11 @@ class _Layout:
         self.scale = tension_scale(driver)
         # (end, kind, attachment offset in the end's body frame)
         self.offsets = [(end, getattr(cfg, f"{end}_end").kind, tuple(driver.offset(end))) for end in END_NAMES]
-        self.ends = []  # (end, wrench topic, pose topic, is body, wrench encoder, pose encoder)
-        for end, kind, _ in self.offsets:
+        self.ends = []  # (end, wrench topic, pose topic, is body, wrench encoder, pose encoder, attachment offset)
+        for end, kind, offset in self.offsets:
             self.ends.append((end, f"/tether/{end}_wrench", f"/{end}/sim_pose", kind == "body",
                               cdr.encoder(cdr.StampedDoublesEncoder, node.body_frame(end), 6),
-                              cdr.encoder(cdr.StampedDoublesEncoder, self.world, 7)))
+                              cdr.encoder(cdr.StampedDoublesEncoder, self.world, 7), offset))
 
     def valid(self, driver) -> bool:
         return (driver.config is self.config and driver.solver is self.solver and driver.static_tensions is self.statics
@@ -344,13 +349,13 @@ def tick_outputs(driver, arc_lengths, wanted=None, frame=None, shapes=True) -> l
                 stamp, points, tension_colours(state.tension, layout.scale))))
         if "/tether/path" in want:
             out.append(("/tether/path", cdr.encoder(cdr.PathEncoder, world, len(points)).encode(stamp, points)))
-    for end, wrench_topic, pose_topic, is_body, wrench_enc, pose_enc in layout.ends:
+    for end, wrench_topic, pose_topic, is_body, wrench_enc, pose_enc, offset in layout.ends:
         wrench, pose = wrench_topic in want, is_body and pose_topic in want
         if not (wrench or pose):
             continue
         body = frame.body(end)
         if wrench:
-            force, torque = driver.body_wrench_floats(end, forces, body, frame.orientation(end))
+            force, torque = driver.body_wrench_floats(end, forces, body, frame.orientation(end), offset)
             out.append((wrench_topic, wrench_enc.encode(stamp, *force, *torque)))
         if body is not None and pose:
             out.append((pose_topic, pose_enc.encode(stamp, *body.position.tolist(), *body.orientation.tolist())))

@@ -34,7 +34,8 @@ simulation never squeezes motion in time and never invents a snap from a discont
 5. A :class:`SolverDivergedError` is caught: the last good snapshot (cable and end states) is
    restored (or, if that fails again from the same snapshot, the solver is rebuilt from a fresh
    static equilibrium at the current end positions); the anchor moves so the lost time is skipped
-   and the ends are blended onto the stream; the error is reported.
+   and the ends are blended onto the stream; the error is reported. The code and its policy are
+   shared with the network driver (tether_sim/ros/recovery.py).
 6. The end tensions of every substep go through the streaming snap detector, except across a
    discontinuity of the cable state or its clock (recovery, restart, clock jump, the start-up
    blend): detection is suspended from the discontinuity until the blend ends and then restarts
@@ -61,7 +62,8 @@ from tether_sim.ros import winch_link
 from tether_sim.ros.body_frame import BodyFrame
 from tether_sim.ros.bridging import Bridges, CatchUp, shift_detectors
 from tether_sim.ros.end_commands import BLEND_ACCELERATION, BLEND_MIN_TIME, Blend, EndCommands, MotionSource, blend_time
-from tether_sim.solvers.base import relative_end_speed, shortest_element
+from tether_sim.ros.recovery import Recovery
+from tether_sim.solvers.base import lazy_relative_end_speed, shortest_element
 from tether_sim.solvers.factory import build_solver
 
 @dataclass
@@ -83,9 +85,10 @@ class TickReport:
     blends: list = field(default_factory=list)  # (end, duration s, reason) of blends started this tick
 
 
-class SimulationDriver(EndCommands, BodyFrame):
+class SimulationDriver(EndCommands, Recovery, BodyFrame):
     """Owns the solver, the clock mapping, recovery and the snap detector; the end commands and blends
-    (input handling) are :class:`~tether_sim.ros.end_commands.EndCommands`, the body-frame queries
+    (input handling) are :class:`~tether_sim.ros.end_commands.EndCommands`, the snapshots and divergence
+    recovery :class:`~tether_sim.ros.recovery.Recovery`, the body-frame queries
     :class:`~tether_sim.ros.body_frame.BodyFrame`."""
 
     def __init__(self, config, sources: dict | None = None, *, solver_factory=build_solver, wall_budget=None,
@@ -109,17 +112,12 @@ class SimulationDriver(EndCommands, BodyFrame):
         self._pending = TickReport(stamp=0.0)  # what a (re)start did, reported by the next tick
         self.anchor = 0.0
         self.last_now = None
-        self.divergences = 0
+        self._init_recovery()  # divergences, last_error, last_recovery, the snapshot (recovery.py)
         self.resyncs = 0
         self.dropped_total = 0.0
         self.capped_ticks = 0
         self.lag = 0.0  # simulated instant behind (clock - input_delay), s, after the last tick
         self.degraded = False  # the last tick's outputs are late, blended or unmonitored for snaps
-        self.last_error = None
-        self.last_recovery = None  # "snapshot" or "static" after a divergence
-        self._snapshot = None
-        self._snapshot_time = -np.inf
-        self._snapshot_failed = False
         self._substep = 0.0  # the solver's stable substep, s (re-read at each snapshot)
         self.real_time_factor = 0.0
         self._last_wall = None
@@ -189,12 +187,24 @@ class SimulationDriver(EndCommands, BodyFrame):
             if detector is not None:
                 detector.set_config(snap_config)
 
-    def _take_snapshot(self):
+    @property
+    def _sim_time(self):
+        return self.solver.time
+
+    def _capture_snapshot(self):
+        """The cable's state and the ends' commanded states (Recovery._take_snapshot)."""
         # (the substep is re-read here, not every tick: it only sizes the substep cap)
         self._substep = self.solver.stable_time_step()
-        self._snapshot = (self.solver.snapshot(), {e: (p.copy(), v.copy()) for e, (p, v) in self._end_state.items()})
-        self._snapshot_time = self.solver.time
-        self._snapshot_failed = False
+        return self.solver.snapshot(), {e: (p.copy(), v.copy()) for e, (p, v) in self._end_state.items()}
+
+    def _restore_snapshot(self, snap):
+        state, ends = snap
+        self.solver.restore(state)
+        self.solver.drain_end_tensions()
+        self._end_state = {e: (p.copy(), v.copy()) for e, (p, v) in ends.items()}
+
+    def _rebuild_static(self, now, report):
+        self._rebuild(now)
 
     # ------------------------------------------------------------------ stepping
     def tick(self, now: float) -> TickReport:
@@ -229,7 +239,7 @@ class SimulationDriver(EndCommands, BodyFrame):
                 return self._finish(now, report)
             self._update_rate(self.solver.time - t0, wall0)
             self._detect(report)
-            if self.solver.time - self._snapshot_time >= node.snapshot_interval:
+            if self._snapshot_due(node.snapshot_interval):
                 self._take_snapshot()
         return self._finish(now, report)
 
@@ -347,12 +357,7 @@ class SimulationDriver(EndCommands, BodyFrame):
             arc = np.asarray(arc, float)
             state = self.solver.state(arc)
             self.output_state = (self.solver, self.solver.time, arc.tobytes(), state)
-        memo = []
-
-        def speed():  # the relative end speed, computed when a detector reads it (SnapDetector.update)
-            if not memo:
-                memo.append(relative_end_speed(self.solver, self.config.cable.length, state))
-            return memo[0]
+        speed = lazy_relative_end_speed(self.solver, self.config.cable.length, state)  # (read when a detector needs it)
         if len(times):
             tensions = np.empty((len(times), 2))  # (np.column_stack's values, without its wrapper)
             tensions[:, 0] = t_ship
@@ -384,29 +389,6 @@ class SimulationDriver(EndCommands, BodyFrame):
         self._last_wall = wall
         if elapsed > 0:
             self.real_time_factor = sim_advance / elapsed
-
-    def _recover(self, now, message, report):
-        """Restore the last good snapshot, or rebuild from a static equilibrium (see module doc)."""
-        self.divergences += 1
-        self.last_error = message
-        self.last_recovery = None
-        report.error = message
-        self._blends.clear()
-        self.catchup.clear()
-        if self._snapshot is not None and not self._snapshot_failed:
-            state, ends = self._snapshot
-            self.solver.restore(state)
-            self._snapshot_failed = True  # a second divergence before a new snapshot -> rebuild
-            report.recovery = self.last_recovery = "snapshot"
-            self.solver.drain_end_tensions()
-            self.anchor = now - self.solver.time
-            self._end_state = {e: (p.copy(), v.copy()) for e, (p, v) in ends.items()}
-            for end in self._end_state:
-                self._start_blend(end, now, "recovered from a snapshot", report)
-            self._suspend_detection(now)
-        else:
-            self._rebuild(now)
-            report.recovery = self.last_recovery = "static"
 
     def _rebuild(self, now):
         """A fresh solver (static equilibrium) at the current end positions, clock ``now``."""

@@ -76,7 +76,9 @@ class MotionSource:
         self.motion = motion
 
     def attachment_at(self, t):
-        result = self.motion.at(t)
+        # (a generator's position_velocity: at()'s first two, the same numbers, without the acceleration)
+        pv = getattr(self.motion, "position_velocity", None)
+        result = pv(t) if pv is not None else self.motion.at(t)
         return np.asarray(result[0], float), np.asarray(result[1], float)
 
     def orientation_at(self, t):

@@ -36,9 +36,22 @@ single-line node's counterpart is tether_sim/ros/driver.py).
   end tensions, guarded by :func:`line_snap_guard` (the snap plausibility bound with the mass of
   the bodies the line ends on). Event locations are ``<line>/ship`` and ``<line>/vehicle`` (the
   line's s = 0 and s = L ends).
-- A failing tick (a line solver diverging, e.g. a hybrid Newton failure) stops the simulation:
-  :attr:`failed` holds the reason and nothing more is published (never physics that did not
-  happen); there is no silent recovery of a network yet.
+- Divergence (a line solver diverging: a hybrid Newton failure, a DG state turning non-finite; or
+  a body's state turning non-finite): recovered as the single-line node recovers, with the same
+  code and policy (tether_sim/ros/recovery.py). A snapshot of the whole network (every line's
+  state with its winch, every body's state, every point's motion, the end loads) is taken when the
+  clock starts and then every ``node.snapshot_interval`` s of simulated time; on a divergence it
+  is restored, the anchor moves so that the lost clock time is skipped (the restored state carries
+  the clock time the failed tick was heading for: stamps stay monotonic), each driven point is
+  blended from its snapshot state onto its input, and every line's snap detection is suspended
+  until the blends end and restarts with fresh detectors (no snap is made of the recovery); the
+  outputs are degraded meanwhile. A second divergence before a newer snapshot rebuilds the network
+  from its static equilibrium at the driven points' current positions (each winch keeps its length
+  and command; fresh reference tensions). Counted in ``divergences``, ``last_error``,
+  ``last_recovery``; the report's ``error`` and ``recovery`` say it (the node logs an error,
+  diagnostics ERROR). Any other exception in a tick (not a divergence: a defect) leaves the
+  network half-stepped: it stops the simulation, :attr:`failed` holds the reason and nothing more
+  is published (never physics that did not happen).
 """
 
 import time
@@ -46,13 +59,15 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from tether_sim.errors import SolverDivergedError
 from tether_sim.network.solver import NetworkSolver
 from tether_sim.network.spec import NetworkSpec, PointSpec
 from tether_sim.physics.boundary import END_NAMES, EndCondition
 from tether_sim.physics.snap import NumericalSnapWarning, SnapDetector, SnapEvent, snap_guard
 from tether_sim.ros.bridging import Bridges, CatchUp, shift_detectors
 from tether_sim.ros.end_commands import EndCommands
-from tether_sim.solvers.base import relative_end_speed, shortest_element
+from tether_sim.ros.recovery import Recovery
+from tether_sim.solvers.base import lazy_relative_end_speed, shortest_element
 
 SETTLE_TIME = 3.0  # s: the least simulated time a network with an unpolished DG line settles before its clock starts
 SETTLE_MAX = 30.0  # s: the most (the clock then starts with the lines as they are)
@@ -113,15 +128,17 @@ def line_snap_guard(spec: NetworkSpec, line: str, solver):
 class NetworkTickReport:
     events: dict = field(default_factory=dict)  # line -> [SnapEvent | SlackStarted | NumericalSnapWarning]
     dropped: float = 0.0  # s skipped by a re-synchronisation
-    error: str = ""  # the tick failed: the simulation stopped
+    error: str = ""  # a divergence (recovered: ``recovery``) or a failure that stopped the simulation
+    recovery: str = ""  # "snapshot" or "static" after a divergence (tether_sim/ros/recovery.py)
     advanced: bool = False
     blends: list = field(default_factory=list)  # (point, duration, reason) of the blends started
     clock_jump: bool = False  # the clock went backwards: re-anchored, points held until their inputs resume
 
 
-class NetworkDriver(EndCommands):
+class NetworkDriver(EndCommands, Recovery):
     """Owns the NetworkSolver, the clock mapping and one snap detector per line (module doc); its
-    driven points' commands are :class:`~tether_sim.ros.end_commands.EndCommands`'s."""
+    driven points' commands are :class:`~tether_sim.ros.end_commands.EndCommands`'s, its snapshots and
+    divergence recovery :class:`~tether_sim.ros.recovery.Recovery`'s (the single-line driver's)."""
 
     def __init__(self, spec: NetworkSpec, node_options, sources: dict | None = None, statics: bool = True,
                  settle: float = SETTLE_TIME):
@@ -138,7 +155,8 @@ class NetworkDriver(EndCommands):
         self.degraded = False
         self.dropped_total = 0.0
         self.resyncs = 0
-        self.failed = ""
+        self.failed = ""  # a failure that is not a divergence stopped the simulation: its reason
+        self._init_recovery()  # divergences, last_error, last_recovery, the snapshot (recovery.py)
         self.snaps = 0
         self.numerical_snaps = 0
         self.last_numerical_snap = ""
@@ -150,6 +168,7 @@ class NetworkDriver(EndCommands):
         # which a catch-up tick does not distort (catching_up is set, and unused)
         self.wall_budget = node_options.tick_budget / node_options.output_rate
         self.catching_up = False
+        self.output_layout = None  # what network_outputs.tick_outputs keeps of this network (its _Layout)
         self.catchup = CatchUp()  # point -> the offsets re-synchronisations added
         self.bridges = Bridges()  # clock spans of the latest re-synchronisations and input blends (bridged)
         self._held = {}  # point -> the last command came from a held (silent) input
@@ -232,30 +251,40 @@ class NetworkDriver(EndCommands):
         rest at its static position onto its input, as the single-line node starts (EndCommands'
         "started from rest" blend; snap detection waits for it). Returns the blends started,
         (point, duration, reason)."""
-        t0 = now - self.node.input_delay
+        report = NetworkTickReport()
+        self._start_at(now - self.node.input_delay, blend, report)
+        return report.blends
+
+    def _start_at(self, t0, blend, report):
+        """The clock starts at ``t0`` (clock time minus the input delay) on the network as built
+        (start_clock, the static rebuild after a divergence); the first snapshot."""
         self.anchor = t0 - self.net.time
         self._clear_commands()
         self._build_detectors()
-        report = NetworkTickReport()
         for name in self.driven_points() if blend else ():
             if hasattr(self.sources.get(name), "is_held"):  # a pose input (not an analytic motion)
                 self._start_blend(name, t0, "started from rest", report)
-        return report.blends
+        self._take_snapshot()
 
-    def _build(self, spec):
-        """The network statics of ``spec`` (and the settling of an unpolished DG line)."""
+    def _build(self, spec, winches=None):
+        """The network statics of ``spec`` (and the settling of an unpolished DG line); ``winches``:
+        the winch links to carry on (NetworkSolver)."""
         self.spec = spec
-        self.net = NetworkSolver(self.spec, statics=self.statics)
+        self.net = NetworkSolver(self.spec, statics=self.statics, winches=winches)
         # a DG line whose static polish failed (a near-neutral slack line: equilibrium_iterations -1)
         # starts off its discrete equilibrium and rings; let the network settle with the points held
         # before the clock starts, so that start-up ringing is neither published nor detected
         self.settled = [n for n, s in self.net.lines.items() if getattr(s, "equilibrium_iterations", 0) == -1]
         if self.settled and self.settle > 0.0:
+            for link in (winches or {}).values():  # a rebuild: the drums stand still while it settles
+                link.hold()
             self.net.tick(self.settle)
             quiet = 0  # then in chunks until the unpolished lines' end tensions are steady (a coarse mesh rings longer)
             while quiet < 2 and self.net.time < SETTLE_MAX - 1e-9:
                 out = self.net.tick(min(self.net.time + SETTLE_CHUNK, SETTLE_MAX))
                 quiet = quiet + 1 if all(settle_quiet(out[n]["samples"]) for n in self.settled) else 0
+            for name, link in (winches or {}).items():
+                link.release(self.net.lines[name])
 
     def _build_detectors(self, static=True):
         """Fresh detectors; ``static``: take the reference (static) end tensions from the current
@@ -272,6 +301,32 @@ class NetworkDriver(EndCommands):
             for e in END_NAMES:
                 self.slack[f"{name}/{e}"] = False
         self.bridges.clear()
+
+    # ------------------------------------------------------------------ recovery (tether_sim/ros/recovery.py)
+    @property
+    def _sim_time(self):
+        return self.net.time
+
+    def _capture_snapshot(self):
+        """The whole network: every line (with its winch), body and point, the end loads."""
+        return self.net.snapshot()
+
+    def _restore_snapshot(self, snap):
+        self.net.restore(snap)
+        for solver in self.net.lines.values():  # (samples of the failed tick's partial steps)
+            solver.drain_end_tensions()
+        self._states.clear()
+
+    def _rebuild_static(self, target, report):
+        """The network statics at the driven points' positions at clock time ``target``, each winch
+        carried on with its current length; the clock restarts there (fresh reference tensions)."""
+        links = dict(self.net.winches)
+        spec = self._start_spec(target)
+        lines = {n: replace(ln, config=replace(ln.config, cable=replace(ln.config.cable, length=links[n].winch.length)))
+                 if n in links else ln for n, ln in spec.lines.items()}
+        self._build(replace(spec, lines=lines), links)
+        self._states.clear()
+        self._start_at(target, True, report)
 
     def _clear_commands(self):
         """No catch-up offsets, blends or held inputs: the points start on their inputs."""
@@ -378,7 +433,13 @@ class NetworkDriver(EndCommands):
         sim0 = self.net.time
         try:
             out = self.net.tick(target - self.anchor)
-        except Exception as exc:  # noqa: BLE001 - a line solver failing stops the network, reported
+        except SolverDivergedError as exc:  # restored (or rebuilt), reported (module doc)
+            self._recover(target, str(exc), report)
+            self._last_target = target
+            self.degraded = True
+            self.lag = max(0.0, target - self.stamp)
+            return report
+        except Exception as exc:  # noqa: BLE001 - not a divergence: the network is half-stepped, it stops
             self.failed = f"{type(exc).__name__}: {exc}"
             report.error = self.failed
             return report
@@ -387,6 +448,8 @@ class NetworkDriver(EndCommands):
             self.real_time_factor = (self.net.time - sim0) / wall
         self.lag = max(0.0, now - self.node.input_delay - self.stamp)
         report.advanced = True
+        if self._snapshot_due(self.node.snapshot_interval):
+            self._take_snapshot()
         if not self._detecting():
             return report
         for name, o in out.items():
@@ -399,9 +462,10 @@ class NetworkDriver(EndCommands):
                 continue
             solver = self.net.lines[name]
             # the output points' state serves the speed where its ends are the solver's end samples
-            # (end_bodies, DG) and the shapes go out at every output (else two end samples are cheaper)
-            shared = self.line_state(name) if self._share_states and hasattr(solver, "end_bodies") else None
-            speed = relative_end_speed(solver, self.spec.lines[name].config.cable.length, shared)
+            # (end_bodies, DG) and the shapes go out at every output (else two end samples are cheaper);
+            # the speed is read only when a detector needs it (as the single-line driver's)
+            shared = (lambda n=name: self.line_state(n)) if self._share_states and hasattr(solver, "end_bodies") else None
+            speed = lazy_relative_end_speed(solver, self.spec.lines[name].config.cable.length, shared)
             events = self.detectors[name].update(times, s[1:3].T, speed)  # (k, 2): the detector makes it contiguous
             for ev in events:
                 if isinstance(ev, NumericalSnapWarning):

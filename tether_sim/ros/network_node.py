@@ -19,8 +19,13 @@ about its centre of gravity, in its body frame ``<frame_prefix><body>/base_link`
 frame), ``<body>/wet_weight`` (latched). ``/diagnostics`` at 1 Hz.
 
 The network's keys are read from the parameter files (tether_sim/network/params.py); ``-p``
-overrides the ``node.*`` keys. A line solver failing (e.g. a hybrid Newton failure) stops the
-simulation with an error in the log and /diagnostics; nothing more is published.
+overrides the ``node.*`` keys. A line solver diverging (e.g. a hybrid Newton failure) is recovered
+as on the single-line node (tether_sim/ros/network_driver.py, tether_sim/ros/recovery.py): the last
+snapshot of the whole network restored, or the network rebuilt from its statics after a second
+divergence, the driven points blended onto their inputs, snap detection suspended meanwhile, the
+outputs degraded; an error in the log and /diagnostics ERROR (``divergences``, ``last_error``). Any
+other failure of a tick stops the simulation with an error in the log and /diagnostics; nothing
+more is published.
 """
 
 import math
@@ -87,12 +92,18 @@ class NetworkSimNode(Node):
                                f"{len(self.spec.bodies)} body(ies), built in {time.perf_counter() - t0:.1f} s; "
                                f"coupling step {min(self.spec.coupling_step, self.driver.net.coupling_limit):.4g} s")
         self.pubs = {}
+        self._tick_pubs = []  # the periodic outputs, built only while someone subscribes (the winch states regardless)
         for topic, (type_name, kind) in outputs.output_topics(self.spec, self.driver.net.winches).items():
             profile = LATCHED if kind == "latched" else EVENTS if kind == "events" else RELIABLE
             self.pubs[topic] = self.create_publisher(_TYPES[type_name.rsplit("/", 1)[1]], convert.ros_name(topic),
                                                      profile)
+            if kind == "reliable" and topic != "/diagnostics" and not topic.startswith("/winch/"):
+                self._tick_pubs.append((topic, self.pubs[topic]))
         self.tf_pub = None
         self._shape_gate = convert.ShapeGate(self.config.node.shape_rate)
+        # the lines' marker and path at node.visual_rate among the outputs that carry the shapes, /tf among all
+        # outputs, as the single-line node
+        self._visual_gate, self._tf_gate = convert.ShapeGate(node.visual_rate), convert.ShapeGate(node.visual_rate)
         if TFMessage is not None and node.publish_tf:
             self.tf_pub = self.create_publisher(TFMessage, "/tf", TF_QOS)
         reliable = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
@@ -182,7 +193,13 @@ class NetworkSimNode(Node):
         reaches; False when the simulation stopped (a line solver failed)."""
         d = self.driver
         report = d.tick(now)
-        if report.error:
+        if report.recovery:
+            self._period["errors"] += 1
+            how = "the last snapshot" if report.recovery == "snapshot" else "a fresh static equilibrium of the network"
+            self.get_logger().error(f"network: line solver diverged ({report.error}); recovered from {how}, "
+                                    "snap detection suspended until the points are back on their inputs")
+            self._publish_diagnostics()
+        elif report.error:
             self.get_logger().error(f"network simulation stopped: {report.error} (no further outputs; restart the node)")
             self._publish_diagnostics()
             return False
@@ -219,19 +236,20 @@ class NetworkSimNode(Node):
                 self.get_logger().warning(f"snap load on {line} at its {msg.end} end: peak {msg.peak_tension:.1f} N")
             self.pubs[topic].publish(msg)
 
-    def _wanted(self, topic):
-        return self.pubs[topic].get_subscription_count() > 0
-
     def _orientation(self, name):
         inp = self.inputs.get(name)
         return inp.orientation_at(self.driver.stamp) if inp is not None and inp.has_data else None
 
     def _publish_outputs(self):
-        wanted = lambda topic: topic.startswith("/winch/") or self._wanted(topic)  # noqa: E731
-        shapes = self._shape_gate.due(self.driver.stamp)
-        for topic, payload in outputs.tick_outputs(self.driver, self.config.node, self._orientation, wanted, shapes):
+        stamp = self.driver.stamp
+        wanted = {topic for topic, pub in self._tick_pubs if pub.get_subscription_count() > 0}
+        shapes = self._shape_gate.due(stamp)  # node.shape_rate
+        visuals = shapes and self._visual_gate.due(stamp)  # node.visual_rate: the lines' marker and path
+        tf = self._tf_gate.due(stamp)  # /tf at node.visual_rate
+        for topic, payload in outputs.tick_outputs(self.driver, self.config.node, self._orientation, wanted, shapes,
+                                                   visuals):
             if topic == "/tf":
-                if self.tf_pub is not None and payload:
+                if self.tf_pub is not None and payload and tf:
                     self.tf_pub.publish(tf_message_cdr(self.driver.stamp, self.config.node.world_frame, payload))
             else:
                 self.pubs[topic].publish(payload)
@@ -253,7 +271,8 @@ class NetworkSimNode(Node):
         sim = {"running": self.started and not d.failed, "real_time_factor": float(d.real_time_factor),
                "time_step": float(min(self.spec.coupling_step, d.net.coupling_limit)), "lag": float(d.lag),
                "degraded": bool(d.degraded), "dropped_total": float(d.dropped_total), "resyncs": d.resyncs,
-               "resyncs_recent": p["resyncs"], "tick_errors": self.tick_errors,
+               "resyncs_recent": p["resyncs"], "divergences": d.divergences, "error_recent": p["errors"] > 0,
+               "last_error": d.last_error or "", "tick_errors": self.tick_errors,
                "tick_errors_recent": p["tick_errors"] + (1 if d.failed else 0),
                "last_tick_error": f"network simulation stopped: {d.failed}" if d.failed else self.last_tick_error, "snaps": self.snaps_published, "snaps_recent": p["snaps"], "slack": dict(d.slack),
                "numerical_snaps": d.numerical_snaps, "numerical_snaps_recent": p["numerical"],

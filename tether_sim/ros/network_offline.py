@@ -53,7 +53,7 @@ class _Writer:
     def __init__(self, writer, driver, spec, node):
         self.writer, self.driver, self.spec, self.node = writer, driver, spec, node
         self.shape_gate = convert.ShapeGate(node.shape_rate)
-        self.counts = {"snap_events": 0, "slack_warnings": 0, "numerical_snaps": 0}
+        self.counts = {"snap_events": 0, "slack_warnings": 0, "numerical_snaps": 0, "divergences": 0}
         self._snaps_written = 0  # snap events up to the last diagnostics (its "snaps_recent")
         self.peaks, self.events = [], []
         for topic, (type_name, qos) in outputs.output_topics(spec, driver.net.winches).items():
@@ -100,9 +100,10 @@ class _Writer:
                 batch.append((topic, payload if isinstance(payload, (bytes, bytearray)) else serialize_message(payload)))
         self.writer.write_many(batch, int(round(t * 1e9)))  # as _put, one message after the other
 
-    def diagnostics(self, now, sources):
+    def diagnostics(self, now, sources, report=None):
         d = self.driver
-        sim = {"running": True, "real_time_factor": float(d.real_time_factor),
+        sim = {"running": True, "real_time_factor": float(d.real_time_factor), "divergences": d.divergences,
+               "error_recent": bool(report is not None and report.recovery), "last_error": d.last_error or "",
                "time_step": float(min(self.spec.coupling_step, d.net.coupling_limit)), "lag": 0.0,
                "degraded": bool(d.degraded), "tick_errors_recent": 1 if d.failed else 0,
                "last_tick_error": f"network simulation stopped: {d.failed}" if d.failed else "",
@@ -125,7 +126,8 @@ def run_network_offline(spec, config, output, *, duration=None, input_path=None,
     ``sources``: {point: analytic source} (``has_data``, ``attachment_at(t)``, ``orientation_at(t)``,
     e.g. end_commands.MotionSource; a study's ship motion) for driven points without recorded poses;
     the clock then starts at 0. ``tap(net, out)``: called after every tick of the network (after
-    the start and its settling) with the network and the tick's {line: {"samples", "loads"}}.
+    the start and its settling) with the network and the tick's {line: {"samples", "loads"}} (the
+    network built at the start: after a static rebuild, recovery.py, it is no longer called).
     Returns a summary dict (``events``: (line, SnapEvent | SlackStarted | NumericalSnapWarning))."""
     from tether_sim.io.mcap_log import RosMcapWriter
 
@@ -174,8 +176,12 @@ def run_network_offline(spec, config, output, *, duration=None, input_path=None,
             for line, events in report.events.items():
                 run.line_events(line, events)
             if report.error:
-                run.diagnostics(now, sources)
-                break
+                run.counts["divergences"] += bool(report.recovery)
+                run.diagnostics(now, sources, report)
+                if driver.failed:
+                    break
+                done = k
+                continue  # recovered (tether_sim/ros/recovery.py): nothing advanced, nothing to write
             run.tick(orientation_of)
             if now >= next_diag:
                 next_diag += 1.0
@@ -211,6 +217,7 @@ def print_summary(s, stderr) -> None:
           f"({s['speed']:.3g} x real time, {s['speed_cpu']:.3g} x per CPU s; start-up {s['start_wall']:.3g} s); "
           f"static end tensions (from / to end) {tens}; {s['slack_warnings']} slack warnings, "
           f"{s['snap_events']} snap events"
+          + (f", {s['divergences']} solver divergence(s) (recovered)" if s["divergences"] else "")
           + (f", {s['numerical_snaps']} re-tensioning peak(s) rejected by the snap guard as numerical (not snaps)"
              if s["numerical_snaps"] else ""))
     if s["held_points"]:

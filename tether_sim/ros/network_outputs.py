@@ -13,6 +13,7 @@ The periodic outputs (winch states included) are CDR bytes (:mod:`tether_sim.ros
 the description are message objects; a publisher takes either.
 """
 
+import threading
 from dataclasses import replace
 
 import numpy as np
@@ -70,21 +71,32 @@ def point_wrench(driver, node, name, orientation=None):
     """Force and torque by the lines on point ``name`` in its body frame (``orientation``: its pose
     input's quaternion x, y, z, w; None: world-aligned, as a fixed point or before the first pose),
     torque about the frame origin."""
+    f, t = _point_wrench_floats(driver.net, name, [float(c) for c in attachment(node, name)], orientation)
+    return np.array(f), np.array(t)
+
+
+def _point_wrench_floats(net, name, r, orientation):
+    """:func:`point_wrench` as two lists of 3 floats, ``r`` the attachment as floats."""
     F, M = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]  # plain floats: numpy costs ~1 us per operation on 3-vectors
-    for row in driver.net.load_rows(name):
+    for row in net.load_rows(name):
         for c in range(3):
             F[c] += row[LOAD_F + c]
             M[c] += row[LOAD_M + c]
     q = (0.0, 0.0, 0.0, 1.0) if orientation is None else orientation
     R = _rotation(q)
     f, m = _world_to_body(R, F), _world_to_body(R, M)
-    r = [float(c) for c in attachment(node, name)]
     t = [r[1] * f[2] - r[2] * f[1] + m[0], r[2] * f[0] - r[0] * f[2] + m[1], r[0] * f[1] - r[1] * f[0] + m[2]]
-    return np.array(f), np.array(t)
+    return f, t
 
 
 def body_wrench(net, name):
     """Force and moment about the CoG by the lines on body ``name``, in its body frame."""
+    f, m = _body_wrench_floats(net, name)
+    return np.array(f), np.array(m)
+
+
+def _body_wrench_floats(net, name):
+    """:func:`body_wrench` as two lists of 3 floats."""
     b = net.bodies[name]
     rows = net.load_rows(name)
     R = _rotation(b.state[3:7])
@@ -95,7 +107,7 @@ def body_wrench(net, name):
         force = [force[c] + f[c] for c in range(3)]
         cross = (lever[1] * f[2] - lever[2] * f[1], lever[2] * f[0] - lever[0] * f[2], lever[0] * f[1] - lever[1] * f[0])
         moment = [moment[c] + cross[c] + m[c] for c in range(3)]
-    return np.array(_world_to_body(R, force)), np.array(_world_to_body(R, moment))
+    return _world_to_body(R, force), _world_to_body(R, moment)
 
 
 def wet_weight(driver, node, name):
@@ -117,62 +129,109 @@ def _world_to_body(R, v):
             R[2] * v[0] + R[5] * v[1] + R[8] * v[2]]
 
 
-def tick_outputs(driver, node, orientation_of=lambda name: None, wanted=None, shapes=True) -> list:
+class _Layout:
+    """What the periodic outputs of a network read that holds while its network, node options and
+    thread do: topic names, frames, attachments and the fixed-layout encoders (cdr.encoder's, per
+    thread), so that a tick formats no topic name and looks up no encoder for them."""
+
+    def __init__(self, driver, node):
+        net = self.net = driver.net
+        self.node, self.thread = node, threading.get_ident()
+        world = node.world_frame
+        self.lines = [(line, solver, f"/tether/{line}/state", f"/tether/{line}/path", f"/tether/{line}/marker",
+                       f"tether/{line}") for line, solver in net.lines.items()]
+        wrench = lambda frame_id: cdr.encoder(cdr.StampedDoublesEncoder, frame_id, 6)  # noqa: E731
+        self.points = [(name, f"/tether/{name}_wrench", wrench(frame(node, name)),
+                        [float(c) for c in attachment(node, name)]) for name in driver.spec.points]
+        self.bodies = [(name, b, frame(node, name), f"/tether/{name}_wrench", wrench(frame(node, name)),
+                        f"/{name}/sim_pose", cdr.encoder(cdr.StampedDoublesEncoder, world, 7),
+                        (f"/{name}/sim_twist", f"/{name}/sim_accel", f"/{name}/hydro_wrench"), wrench(world))
+                       for name, b in net.bodies.items()]
+        self.winches = [(f"/winch/{line}/state", line, link, END_NAMES.index(link.config.winch.end))
+                        for line, link in net.winches.items()]
+
+    def valid(self, driver, node) -> bool:
+        return driver.net is self.net and node is self.node and threading.get_ident() == self.thread
+
+
+def _layout(driver, node) -> _Layout:
+    layout = driver.output_layout
+    if layout is None or not layout.valid(driver, node):
+        layout = driver.output_layout = _Layout(driver, node)
+    return layout
+
+
+class _Everything:
+    """A ``wanted`` that holds every topic."""
+
+    def __contains__(self, topic) -> bool:
+        return True
+
+
+_ALL = _Everything()
+
+
+def tick_outputs(driver, node, orientation_of=lambda name: None, wanted=None, shapes=True, visuals=True) -> list:
     """(topic, payload) of every periodic output of the driver's current state, stamped with its
     clock time; ``orientation_of(point)``: a driven point's quaternion (None: world-aligned);
-    ``wanted(topic)``: only these (None: all). Returns also the body transforms for /tf as the
-    last item ``("/tf", [(frame, position, quaternion), ...])`` (an empty list without bodies).
-    ``shapes``: False leaves out the lines' state, path and marker (``node.shape_rate``, convert.ShapeGate)."""
+    ``wanted``: only these topics (a container; None: all; the winch states go out regardless). Returns
+    also the body transforms for /tf as the last item ``("/tf", [(frame, position, quaternion), ...])``
+    (an empty list without bodies). ``shapes``: False leaves out the lines' state, path and marker
+    (``node.shape_rate``, convert.ShapeGate); ``visuals``: False leaves out their path and marker
+    (``node.visual_rate``)."""
     net = driver.net
-    spec = driver.spec
-    want = (lambda topic: True) if wanted is None else wanted
+    layout = _layout(driver, node)
+    want = _ALL if wanted is None else wanted
     stamp = cdr.stamp_parts(driver.stamp)
     world = node.world_frame
     out = []
-    for line, solver in net.lines.items():
-        names = [f"/tether/{line}/{k}" for k in ("state", "path", "marker")]
-        if shapes and any(want(t) for t in names):
+    if shapes:
+        for line, solver, state_topic, path_topic, marker_topic, ns in layout.lines:
+            state, path, marker = state_topic in want, visuals and path_topic in want, visuals and marker_topic in want
+            if not (state or path or marker):
+                continue
             st = driver.line_state(line, node.output_points)
             pts = np.asarray(st.position, float)
-            t0, t1 = net.end_tensions(line)
-            if want(names[0]):
-                out.append((names[0], cdr.tether_state(
+            if state:
+                t0, t1 = net.end_tensions(line)
+                out.append((state_topic, cdr.tether_state(
                     stamp, world, solver.name, st.arc_length, pts, st.velocity, st.tension, st.curvature,
                     st.bending_moment, t0, t1, float(st.time_step), float(driver.real_time_factor), float(driver.lag),
                     bool(driver.degraded))))
-            if want(names[1]):
-                out.append((names[1], cdr.path(stamp, world, pts)))
-            if want(names[2]):
+            if path:
+                out.append((path_topic, cdr.path(stamp, world, pts)))
+            if marker:
                 scale = 2.0 * max(max(driver.static_tensions[line]), 1.0)
-                out.append((names[2], cdr.marker_line_strip(
-                    stamp, world, f"tether/{line}", 0, convert.MARKER_WIDTH, convert.MARKER_COLOUR, pts,
+                out.append((marker_topic, cdr.marker_line_strip(
+                    stamp, world, ns, 0, convert.MARKER_WIDTH, convert.MARKER_COLOUR, pts,
                     convert.tension_colours(st.tension, scale))))
-    for name in spec.points:
-        topic = f"/tether/{name}_wrench"
-        if want(topic):
-            force, torque = point_wrench(driver, node, name, orientation_of(name))
-            out.append((topic, cdr.wrench_stamped(stamp, frame(node, name), force, torque)))
+    for name, topic, enc, r in layout.points:
+        if topic in want:
+            force, torque = _point_wrench_floats(net, name, r, orientation_of(name))
+            out.append((topic, enc.encode(stamp, *force, *torque)))
     transforms = []
-    for name, b in net.bodies.items():
-        if want(f"/tether/{name}_wrench"):
-            force, moment = body_wrench(net, name)
-            out.append((f"/tether/{name}_wrench", cdr.wrench_stamped(stamp, frame(node, name), force, moment)))
-        if want(f"/{name}/sim_pose"):
-            out.append((f"/{name}/sim_pose", cdr.pose_stamped(stamp, world, b.state[0:3], b.state[3:7])))
-        kinds = [t for t in (f"/{name}/sim_twist", f"/{name}/sim_accel", f"/{name}/hydro_wrench") if want(t)]
-        if kinds:
+    for name, b, frame_id, wrench_topic, wrench_enc, pose_topic, pose_enc, kinds, world_enc in layout.bodies:
+        if wrench_topic in want:
+            force, moment = _body_wrench_floats(net, name)
+            out.append((wrench_topic, wrench_enc.encode(stamp, *force, *moment)))
+        pose = b.state[0:7]
+        if pose_topic in want:
+            out.append((pose_topic, pose_enc.encode(stamp, *pose.tolist())))
+        twist, accel, hydro = (t in want for t in kinds)
+        if twist or accel or hydro:
             m = net.body_motion(name)
-            encoded = {f"/{name}/sim_twist": lambda: cdr.twist_stamped(stamp, world, m["velocity"], m["omega"]),
-                       f"/{name}/sim_accel": lambda: cdr.accel_stamped(stamp, world, m["acceleration"],
-                                                                       m["angular_acceleration"]),
-                       f"/{name}/hydro_wrench": lambda: cdr.wrench_stamped(stamp, world, m["drag"], m["damping_moment"])}
-            out.extend((t, encoded[t]()) for t in kinds)
-        transforms.append((frame(node, name), b.state[0:3], b.state[3:7]))
-    for line, link in net.winches.items():
-        w, end = link.winch, link.config.winch.end
-        out.append((f"/winch/{line}/state", cdr.winch_state(
-            stamp, world, end, w.mode, w.setpoint, w.length, w.speed, w.commanded_speed,
-            net.end_tensions(line)[END_NAMES.index(end)], **w.flags)))
+            if twist:
+                out.append((kinds[0], world_enc.encode(stamp, *m["velocity"], *m["omega"])))
+            if accel:
+                out.append((kinds[1], world_enc.encode(stamp, *m["acceleration"], *m["angular_acceleration"])))
+            if hydro:
+                out.append((kinds[2], world_enc.encode(stamp, *m["drag"], *m["damping_moment"])))
+        transforms.append((frame_id, b.state[0:3], b.state[3:7]))
+    for topic, line, link, end in layout.winches:
+        w = link.winch
+        out.append((topic, cdr.winch_state(
+            stamp, world, link.config.winch.end, w.mode, w.setpoint, w.length, w.speed, w.commanded_speed,
+            net.end_tensions(line)[end], **w.flags)))
     out.append(("/tf", transforms))
     return out
 

@@ -71,6 +71,13 @@ class BodyState:
     acceleration: np.ndarray  # (3,) m/s^2
 
 
+class BodyPose(NamedTuple):
+    """Pose of a simulated rigid body at an end: :class:`BodyState`'s first two fields (a solver's ``body_pose``)."""
+
+    position: np.ndarray  # (3,) centre of gravity, m
+    orientation: np.ndarray  # (4,) quaternion x, y, z, w (body FLU -> world)
+
+
 # columns of TickOutput.loads[end]: force by the cable on the end (N), axial end tension (N), moment (N m)
 LOAD_F, LOAD_T, LOAD_M = 0, 3, 4
 N_LOAD = 7
@@ -187,6 +194,20 @@ def _floats(x) -> list:
     if type(x) is np.ndarray and x.dtype == np.float64:
         return x.tolist()
     return [float(c) for c in x]
+
+
+def lazy_relative_end_speed(solver, length: float, state=None):
+    """:func:`relative_end_speed` as a function of no arguments, computed at its first call and kept: what the
+    drivers hand ``SnapDetector.update``, which reads it only while a location is out of its taut state
+    (the same events as with the number). ``state``: as there, or a function of no arguments that
+    returns it (called then too)."""
+    memo = []
+
+    def speed():
+        if not memo:
+            memo.append(relative_end_speed(solver, length, state() if callable(state) else state))
+        return memo[0]
+    return speed
 
 
 def relative_end_speed(solver, length: float, state=None) -> float:

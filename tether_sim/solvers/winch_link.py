@@ -11,7 +11,9 @@ its recoveries see one solver.
 :class:`WinchLink` lives as long as the driver, across solver rebuilds: it keeps the winch, the
 schedule (``winch.schedule_*``, times from the start of the run), the commands waiting for the next
 interval (topic) and the record of applied commands (for the MCAP). A rebuilt solver (static restart
-after a divergence) starts at the winch's current length, not at ``cable.length``.
+after a divergence) starts at the winch's current length, not at ``cable.length``. While held
+(:meth:`WinchLink.hold`: a rebuilt network settling before its clock restarts) the drum stands still
+and the winch's clock stops; :meth:`WinchLink.release` carries its clock on from there.
 """
 
 from dataclasses import replace
@@ -35,6 +37,7 @@ class WinchLink:
         self.queue = []  # (mode, setpoint, source) waiting for the next interval
         self.applied = []  # (run time s, mode, setpoint, source): drained by the outputs
         self.offset = 0.0  # run time at solver time 0 (moves when the solver is rebuilt)
+        self.held = False  # the drum stands still and the run time stops (hold / release)
 
     @property
     def length(self) -> float:
@@ -67,10 +70,22 @@ class WinchLink:
         self.winch.speed = 0.0  # a (re)built solver starts at rest, and so does its drum
         return WinchedSolver(solver, self)
 
+    def hold(self):
+        """Stand the drum still and stop the run time (commands wait) until :meth:`release`."""
+        self.held = True
+
+    def release(self, solver):
+        """End a hold: the run time goes on from where it stopped, at ``solver``'s time now."""
+        self.held = False
+        self.offset = self.winch.time - float(solver.time)
+
     def before(self, solver, t_end):
         """Run the controller over [solver.time, t_end]: schedule, queued commands, rate to the solver."""
         dt = t_end - solver.time
         if dt <= 0.0:
+            return
+        if self.held:
+            solver.set_pay_out_rate(0.0)
             return
         run_time = self.offset + solver.time
         for _, mode, setpoint in self.schedule.due(run_time):
@@ -85,6 +100,8 @@ class WinchLink:
         solver.set_pay_out_rate(self.winch.step(dt, tension))
 
     def after(self, solver):
+        if self.held:
+            return
         self.winch.observe_length(solver.unstretched_length)
         self.winch.time = self.offset + solver.time
 

@@ -140,3 +140,19 @@ def test_outputs_evaluated_inside_the_tick_equal_a_fresh_evaluation():
     t_a, ship_a, _ = a.drain_end_tensions()
     assert t_a.size == 16 and np.all(np.diff(t_a) > 0) and t_a[-1] < 0.15  # the newest 16 substep starts
     assert np.array_equal(t_a, b.drain_end_tensions()[0])
+
+
+def test_body_pose_is_the_body_states_position_and_orientation():
+    """body_pose (what the node's outputs read of a body end) gives body_state's two arrays bit for bit, as
+    copies, at every tick of a driven run; None for an end that is no body."""
+    s = DGCableSolver(small_config(vehicle="body"))
+    for k in range(1, 6):
+        t = 0.03 * k
+        s.set_end_motion("ship", np.array([0.2 * np.sin(4 * t), 0.0, 0.1 * t]), np.array([0.8 * np.cos(4 * t), 0.0, 0.1]))
+        s.advance_to(t)
+        pose, full = s.body_pose("vehicle"), s.body_state("vehicle")
+        assert pose.position.tobytes() == full.position.tobytes()
+        assert pose.orientation.tobytes() == full.orientation.tobytes()
+        pose.position[:] = 0.0  # a copy: the solver's body state is not touched
+        assert s.body_state("vehicle").position.tobytes() == full.position.tobytes()
+    assert s.body_pose("ship") is None

@@ -27,7 +27,7 @@ from tether_sim.physics.constitutive import TensionLaw
 from tether_sim.physics.end_conditions import end_kind, held_in_place
 from tether_sim.physics.hydrodynamics import added_mass_per_length, current_table
 from tether_sim.physics.statics import solve_static
-from tether_sim.solvers.base import TickOutput, end_index
+from tether_sim.solvers.base import BodyPose, TickOutput, end_index
 from tether_sim.solvers.dg import layout as Y
 from tether_sim.solvers.dg import outputs, stepping, winch_driver
 from tether_sim.solvers.dg.damping_layout import MODE_AXIAL, MODE_EXPLICIT, MODE_GENERAL, MODE_RKL2
@@ -496,6 +496,16 @@ class DGCableSolver:
             return None
         self._evaluate_outputs()
         return outputs.body_state(self.ws, e)
+
+    def body_pose(self, end):
+        """(position, orientation) of the rigid body at a "body" end, body_state()'s two arrays without its
+        velocities and acceleration (the node's outputs read no more); None for other kinds."""
+        e = end_index(end)
+        if self.ends[e].position != "body":
+            return None
+        self._evaluate_outputs()
+        b = self.ws.bs[e]
+        return BodyPose(b[0:3].copy(), b[3:7].copy())
 
     # ------------------------------------------------------------------ winch (winch_driver.py)
     @property
