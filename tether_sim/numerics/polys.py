@@ -43,3 +43,17 @@ def modal_mass_diagonal(order: int) -> np.ndarray:
     """(phi_k, phi_k) on [-1, 1] = 2 / (2k + 1); the modal mass matrix is diagonal."""
     k = np.arange(order + 1)
     return 2.0 / (2 * k + 1)
+
+
+def lagrange_at(nodes, x) -> np.ndarray:
+    """Lagrange basis of distinct nodes x_j at x: l_j(x) = prod_{k != j} (x - x_k) / (x_j - x_k); (n, m).
+    At a node every factor of its own l_j is exactly 1 and every other l_j has a factor 0, so the
+    interpolant takes the node values there exactly."""
+    nodes = np.asarray(nodes, dtype=float)
+    x = np.atleast_1d(np.asarray(x, dtype=float))
+    out = np.ones((x.size, nodes.size))
+    for j in range(nodes.size):
+        for k in range(nodes.size):
+            if k != j:
+                out[:, j] *= (x - nodes[k]) / (nodes[j] - nodes[k])
+    return out

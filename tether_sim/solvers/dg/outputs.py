@@ -39,8 +39,9 @@ def positions_at(ws, P, s_edges, L, arc_lengths):
     return starts[e] + 0.5 * h[e][:, None] * np.einsum("nk,nkc->nc", I, U[e, :, 0:3])
 
 
-def plan(plans, arc_lengths, s_edges, h, P, L, output_points):
-    """Sampling plan of these arc lengths (None: output_points evenly spaced on [0, L]), cached in plans."""
+def plan(plans, arc_lengths, s_edges, h, P, L, output_points, points):
+    """Sampling plan of these arc lengths (None: output_points evenly spaced on [0, L]), cached in plans;
+    points: the Gauss points of the element (its tension nodes, sampling.py)."""
     if arc_lengths is None:
         key = None
     else:
@@ -50,19 +51,25 @@ def plan(plans, arc_lengths, s_edges, h, P, L, output_points):
     if found is None:
         if arc_lengths is None:
             arr = np.linspace(0.0, L, output_points)
-        found = SamplingPlan(arr, s_edges, h, P)
+        found = SamplingPlan(arr, s_edges, h, P, points)
         if len(plans) >= PLANS_KEPT:
             plans.clear()
         plans[key] = found
     return found
 
 
+def _sample(ws, plan, law, gamma0, o):
+    """The sampling kernel on the workspace, the law and the plan (sampling.sample_state)."""
+    sample_state(ws.U, ws.ra, ws.wq, ws.wm, ws.trc, ws.fl, ws.endf, ws.h, ws.iprm, gamma0, law.code, law.EA,
+                 law.zeta, ws.prm[Y.P_EIC], law.tab_eps, law.tab_T, plan.elem, plan.phi, plan.iphi, plan.lag,
+                 plan.starts, plan.tnodes, o)
+
+
 def sampled_state(ws, plan, law, gamma0, time, time_step) -> SolverState:
     """Position, velocity, strain, tension, curvature and bending moment at the plan's arc lengths
     (one compiled sampling kernel, sampling.py)."""
     o = np.empty((NS, plan.s.size))
-    sample_state(ws.U, ws.ra, ws.wm, ws.h, ws.iprm, gamma0, law.code, law.EA, law.zeta, ws.prm[Y.P_EIC],
-                 law.tab_eps, law.tab_T, plan.elem, plan.phi, plan.iphi, plan.starts, o)
+    _sample(ws, plan, law, gamma0, o)
     vec = lambda c0: o[c0:c0 + 3].T.copy()  # noqa: E731  (n, 3) C-contiguous
     extra = {"moment_vector": vec(S_MVEC), "shear_force": vec(S_SHEAR), "tension_vector": vec(S_TV)}
     return SolverState(time=time, arc_length=plan.s.copy(), position=vec(S_POS), velocity=vec(S_VEL),
@@ -74,8 +81,7 @@ def sampled_kinematics(ws, plan, law, gamma0):
     """(positions (n, 3), velocities (n, 3)) at the plan's arc lengths: those of :func:`sampled_state`
     (the same kernel), without building the rest of the state."""
     o = np.empty((NS, plan.s.size))
-    sample_state(ws.U, ws.ra, ws.wm, ws.h, ws.iprm, gamma0, law.code, law.EA, law.zeta, ws.prm[Y.P_EIC],
-                 law.tab_eps, law.tab_T, plan.elem, plan.phi, plan.iphi, plan.starts, o)
+    _sample(ws, plan, law, gamma0, o)
     return o[S_POS:S_POS + 3].T, o[S_VEL:S_VEL + 3].T
 
 

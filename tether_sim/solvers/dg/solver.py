@@ -460,7 +460,7 @@ class DGCableSolver:
         (one compiled sampling kernel, sampling.py)."""
         self._evaluate_outputs()
         plan = outputs.plan(self._plans, arc_lengths, self.s_edges, self.ws.h, self.P, self.L,
-                            self.config.node.output_points)
+                            self.config.node.output_points, self.ops.points)
         return outputs.sampled_state(self.ws, plan, self.law, self.config.cable.gamma0, self.time, self._substep())
 
     def end_forces(self):
@@ -480,7 +480,7 @@ class DGCableSolver:
         sampled state or the bodies' accelerations (a look-ahead asks every tick)."""
         self._evaluate_outputs()
         plan = outputs.plan(self._plans, arc_lengths, self.s_edges, self.ws.h, self.P, self.L,
-                            self.config.node.output_points)
+                            self.config.node.output_points, self.ops.points)
         pos, vel = outputs.sampled_kinematics(self.ws, plan, self.law, self.config.cable.gamma0)
         return pos, vel, self.end_bodies()
 
