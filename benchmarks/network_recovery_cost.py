@@ -1,8 +1,8 @@
 """CPU cost of the network driver's recovery ticks on config/ropos_tms.yaml (docs/network.md,
 "Recovery after a divergence"): a regular 20 ms tick, the tick that restores the network's snapshot,
 and the tick that rebuilds the network from its statics (a second divergence before a newer snapshot).
-The divergences are forced through the solver interface as in test/network/test_network_driver.py:
-one line's end motion thrown 1e30 m away for one tick, its DG state blows up.
+The divergences are forced through the solver interface (tether_sim.network.faults, as the fault tests
+do): one line's end motion thrown 1e30 m away for one tick, its DG state blows up.
 
 Usage: PYTHONPATH=. nice -n 5 python benchmarks/network_recovery_cost.py [--repeat 3]
 """
@@ -12,27 +12,13 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from tether_sim.network.faults import throw_end_once  # noqa: E402
 from tether_sim.network.params import load_network_files  # noqa: E402
 from tether_sim.ros.network_driver import NetworkDriver  # noqa: E402
-
-
-def throw_off(driver, line, end):
-    """The next tick of ``line`` gets its ``end`` 1e30 m away (once)."""
-    solver = driver.net.lines[line]
-    tick = solver.tick
-
-    def bad(t, ship=None, vehicle=None, drain=True):
-        solver.tick = tick
-        motion = {"ship": ship, "vehicle": vehicle}
-        p, v = motion[end]
-        motion[end] = (np.asarray(p, float) + 1e30, v)
-        return tick(t, drain=drain, **motion)
-    solver.tick = bad
 
 
 def once():
@@ -46,7 +32,7 @@ def once():
     out = {}
     for what, line, end in (("regular", None, None), ("restore", "excursion", "ship"), ("rebuild", "tether", "vehicle")):
         if line is not None:
-            throw_off(d, line, end)
+            throw_end_once(d.net.lines[line], end)
         now += 0.02
         c = time.process_time()
         r = d.tick(now)

@@ -19,8 +19,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from benchmarks.bench_slack_bending import tree  # noqa: E402
-from benchmarks.studies.slack_bending_ladder import EI_STAR  # noqa: E402
+from benchmarks.probes.damping_rhs_gate import sec62_case  # noqa: E402
 from tether_sim.solvers.dg.damping_layout import WP_TC, WP_Z  # noqa: E402
 
 
@@ -30,13 +29,7 @@ def main(argv=None):
     ap.add_argument("--start", type=float, default=5.0)
     ap.add_argument("--seconds", type=float, default=3.0)
     args = ap.parse_args(argv)
-    load_config, build_motion, build_solver = tree("tether_sim")
-    overrides = {"cable.EI": args.alpha * EI_STAR, "motion.kind": "circle", "motion.amplitude": 2.0,
-                 "motion.frequency": 0.2, "motion.ramp_time": 5.0, "duration": 60.0, "dg.n_elements": 20,
-                 "dg.order": 4, "dg.damping": "implicit", "dg.bending_multirate": True}
-    cfg = load_config(ROOT / "config" / "ropos_L200_paper.yaml", overrides)
-    motion = build_motion(cfg.motion, cfg.ship_end.position)
-    s = build_solver(cfg)
+    motion, s = sec62_case(args.alpha)
     print(f"# {time.strftime('%Y-%m-%d %H:%M')} load {os.getloadavg()[0]:.1f}; alpha {args.alpha:g}, window "
           f"{args.start:g}-{args.start + args.seconds:g} s", flush=True)
     rate, t0, k, rows = 50.0, s.time, 0, []

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from tether_sim.config import SimConfig
+from tether_sim.network.faults import throw_end_once
 from tether_sim.network.spec import parse_network
 from tether_sim.physics.snap import SnapEvent
 from tether_sim.ros.network_driver import NetworkDriver, line_snap_guard
@@ -398,16 +399,7 @@ def test_the_node_start_counts_the_clock_from_the_built_network(spec):
 def poison(d, line, end="ship"):
     """Force a divergence through the solver interface: the next tick of ``line`` throws its ``end``
     1e30 m away (finite, so it passes the end-motion check) and its DG state blows up (once)."""
-    solver = d.net.lines[line]
-    tick = solver.tick
-
-    def bad(t, ship=None, vehicle=None, drain=True):
-        solver.tick = tick
-        motion = {"ship": ship, "vehicle": vehicle}
-        p, v = motion[end]
-        motion[end] = (np.asarray(p, float) + 1e30, v)
-        return tick(t, drain=drain, **motion)
-    solver.tick = bad
+    throw_end_once(d.net.lines[line], end)
 
 
 class Run:

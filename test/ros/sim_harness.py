@@ -124,6 +124,18 @@ class HandDriven:
                     held)
         return self
 
+    @classmethod
+    def tms(cls, context, overrides=None, node_name=None, t0=100.0):
+        """The line-network node of config/ropos_tms.yaml with its vehicle held where the file puts it."""
+        from pathlib import Path
+
+        from tether_sim.network.params import load_network_files
+
+        tms = Path(__file__).resolve().parents[2] / "config" / "ropos_tms.yaml"
+        spec, config = load_network_files([tms])
+        vehicle = tuple(p - a for p, a in zip(spec.points["vehicle"].position, config.node.vehicle_attachment))
+        return cls.network(context, [tms], overrides, node_name=node_name, held={"vehicle": vehicle}, t0=t0)
+
     def _drive(self, node, t0, held=None):
         self.node = node
         self.held = dict(held or {})

@@ -150,16 +150,10 @@ NETWORK_TYPES = {"/tether/tether/state": TetherState, "/tether/excursion/state":
 @pytest.fixture(scope="module")
 def network_runs():
     """The line-network node (config/ropos_tms.yaml: ship on the heave, the vehicle held), on time and late."""
-    from tether_sim.network.params import load_network_files
-
-    tms = ROOT / "config/ropos_tms.yaml"
-    spec, config = load_network_files([tms])
-    vehicle = tuple(p - a for p, a in zip(spec.points["vehicle"].position, config.node.vehicle_attachment))
     context = rclpy.Context()
     rclpy.init(context=context)
     keys = {"node.tick_budget": 1.0e6, "node.missed_outputs": MISSED_OUTPUTS_MAX}
-    on_time, late = (HandDriven.network(context, [tms], keys, node_name=name, held={"vehicle": vehicle})
-                     for name in ("on_time", "late"))
+    on_time, late = (HandDriven.tms(context, keys, node_name=name) for name in ("on_time", "late"))
     drive(on_time, late)
     yield on_time, late
     for driven in (on_time, late):

@@ -17,6 +17,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy  # noqa: E
 from rosgraph_msgs.msg import Clock  # noqa: E402
 from tether_sim_msgs.msg import SlackWarning, SnapLoadEvent, TetherDescription, TetherState, WinchCommand, WinchState  # noqa: E402
 
+from tether_sim.network.faults import throw_end_once  # noqa: E402
 from tether_sim.numerics.rotations import quaternion_matrix  # noqa: E402
 from tether_sim.ros.convert import LEVEL_ERROR, time_msg  # noqa: E402
 from tether_sim.ros.network_node import NetworkSimNode  # noqa: E402
@@ -198,13 +199,7 @@ def test_a_line_divergence_is_recovered_and_the_node_publishes_only_finite_state
     diags = []
     h.probe.create_subscription(DiagnosticArray, "/diagnostics", diags.append, 100)
     h.run(13.0, 13.5)
-    solver = h.node.driver.net.lines["excursion"]
-    tick = solver.tick
-
-    def bad(t, ship=None, vehicle=None, drain=True):  # once: the cage end 1e30 m away
-        solver.tick = tick
-        return tick(t, ship=(np.asarray(ship[0]) + 1e30, ship[1]), vehicle=vehicle, drain=drain)
-    solver.tick = bad
+    throw_end_once(h.node.driver.net.lines["excursion"], "ship")  # once: the cage end 1e30 m away
     n = {t: len(h.received[t]) for t in h.received}
     h.run(13.5, 16.0)
     d = h.node.driver

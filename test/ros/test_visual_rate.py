@@ -103,17 +103,12 @@ NETWORK_VISUAL = {"/tether/tether/marker", "/tether/tether/path", "/tether/excur
 @pytest.fixture(scope="module")
 def network_runs():
     """The line-network node of config/ropos_tms.yaml (the vehicle held) at the default visual rate and at 0."""
-    from tether_sim.network.params import load_network_files
-
-    tms = ROOT / "config/ropos_tms.yaml"
-    spec, config = load_network_files([tms])
-    vehicle = tuple(p - a for p, a in zip(spec.points["vehicle"].position, config.node.vehicle_attachment))
     context = rclpy.Context()
     rclpy.init(context=context)
     logs, calls = {}, {}
     try:
         for name, keys in (("tms_default", {}), ("tms_full", {"node.visual_rate": 0.0})):
-            driven = HandDriven.network(context, [tms], keys, node_name=name, held={"vehicle": vehicle})
+            driven = HandDriven.tms(context, keys, node_name=name)
             count = calls_of(convert)
             for _ in range(TICKS):
                 driven.tick(0.8 * math.sin(2.0 * math.pi * 0.5 * (driven.clock + 0.02 - 100.0)))
